@@ -1,0 +1,82 @@
+// bench: one line per stage with time (median of --repeat runs), size and
+// thread count. Speed is measured here, never asserted in tests.
+//   build/bench [INPUT] [--width 1280 --height 720 --repeat 9 --threads N]
+// INPUT defaults to the real 117,649-particle dam-break frame in data/.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include "meniscus/camera.h"
+#include "meniscus/io.h"
+#include "meniscus/params.h"
+#include "meniscus/particles.h"
+#include "meniscus/renderer.h"
+
+using namespace meniscus;
+
+namespace {
+
+double medianMs(int repeat, const std::function<void()>& fn) {
+    std::vector<double> ms;
+    for (int i = 0; i < repeat; ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        fn();
+        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
+    return ms[ms.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"bench: per-stage timings of the Meniscus pipeline (median of repeated runs)"};
+    std::string input = MENISCUS_BENCH_INPUT;
+    int width = defaults::kWidth, height = defaults::kHeight, repeat = 9, threads = 0;
+    app.add_option("input", input, "Particle file")->capture_default_str();
+    app.add_option("--width", width)->capture_default_str();
+    app.add_option("--height", height)->capture_default_str();
+    app.add_option("--repeat", repeat, "Runs per stage; the median is printed")->capture_default_str()->check(CLI::PositiveNumber);
+    app.add_option("--threads", threads, "Worker threads (default: all cores)");
+    CLI11_PARSE(app, argc, argv);
+
+    std::unique_ptr<tbb::global_control> limit;
+    if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+    const int nThreads = int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+
+    auto print = [&](const char* stage, const std::string& size, std::size_t particles, double ms) {
+        std::printf("%-16s %-10s %9zu particles  cpu %dt %9.2f ms\n", stage, size.c_str(), particles, nThreads, ms);
+    };
+    const std::string res = std::to_string(width) + "x" + std::to_string(height);
+
+    Result<ParticleSet> set = makeError(input, "not read");
+    const double readMs = medianMs(std::max(1, repeat / 3), [&] { set = readParticles(input); });
+    if (!set) {
+        std::fprintf(stderr, "bench: error: %s\n", set.error().describe().c_str());
+        return 1;
+    }
+    const std::size_t n = set->size();
+    print("read", "-", n, readMs);
+
+    RadiusEstimate radius;
+    print("radius-estimate", "-", n, medianMs(repeat, [&] { radius = estimateRadius(set->positions); }));
+
+    Camera base;
+    base.width = width;
+    base.height = height;
+    RenderSettings settings;
+    print("auto-camera", res, n, medianMs(repeat, [&] { settings.camera = autoFrameCamera(set->positions, radius.radius, base); }));
+    settings.radiusM = radius.radius;
+
+    Result<Aovs> aovs = makeError("", "not rendered");
+    print("depth-splat+view", res, n, medianMs(repeat, [&] { aovs = renderFrame(set->positions, settings); }));
+    return aovs ? 0 : 1;
+}

@@ -1,0 +1,64 @@
+// Pinhole camera and the pixel conventions of SPEC §2.
+//  - right-handed world, metres, +y up; view space looks down -z;
+//  - focal length in pixels f = (H/2) / tan(fov/2), square pixels;
+//  - pixel (i, j): i column, j row, row 0 at the TOP, centre (i+1/2, j+1/2);
+//  - view ray of a pixel d = ((i+1/2 - W/2)/f, -(j+1/2 - H/2)/f, -1);
+//  - eye depth z = -z_view > 0, so the ray parameter along d IS the eye depth.
+#pragma once
+
+#include <span>
+
+#include <glm/glm.hpp>
+
+#include "meniscus/result.h"
+#include "meniscus/types.h"
+
+namespace meniscus {
+
+struct Camera {
+    glm::vec3 eye{0.0f, 0.0f, 5.0f};   // metres, world space
+    glm::vec3 target{0.0f};            // the point the camera looks at
+    glm::vec3 up{0.0f, 1.0f, 0.0f};    // approximate up; orthogonalised
+    float fovYDegrees = 45.0f;         // full vertical field of view
+    float nearM = 0.01f;               // eye-depth clip range, metres
+    float farM = 1000.0f;
+    int width = 1280;                  // pixels
+    int height = 720;
+
+    // Focal length in pixels (same for x and y: square pixels).
+    float focalPx() const;
+
+    // World-space unit axes of view space: x = right, y = up, z = back (toward the eye).
+    glm::vec3 right() const;
+    glm::vec3 trueUp() const;
+    glm::vec3 back() const;
+
+    // World -> view space (camera at origin looking down -z).
+    glm::vec3 toView(const glm::vec3& world) const;
+    // View -> world space (a direction if w = 0).
+    glm::vec3 toWorld(const glm::vec3& view) const;
+    glm::vec3 dirToWorld(const glm::vec3& viewDir) const;
+
+    // View-space ray through continuous pixel coordinates (px, py); its z is -1,
+    // so the point at eye depth z is z * ray. Pixel centres are (i+0.5, j+0.5).
+    glm::vec3 pixelRay(float px, float py) const;
+    // View-space point seen at continuous pixel (px, py) with eye depth z.
+    glm::vec3 unproject(float px, float py, float eyeDepth) const { return eyeDepth * pixelRay(px, py); }
+    // Continuous pixel coordinates of a view-space point (must have z < 0).
+    glm::vec2 projectView(const glm::vec3& view) const;
+};
+
+// Checks the camera describes a real view: finite vectors, eye != target, up not
+// parallel to the view direction, 0 < fov < 180, 0 < near < far, W, H > 0.
+Status validateCamera(const Camera& camera);
+
+// With no camera given: a pleasant three-quarter view (from the front-right,
+// above; angles in params.h) of the particles themselves. The distance is the
+// smallest at which all but the outermost kAutoOutlierFraction of the spheres
+// (centres grown by `radiusM`) fit in kAutoFill of the image, and the target is
+// shifted so that what is framed sits in the middle. Lone spray particles far
+// from the fluid may fall outside. `fovYDegrees`, `width`, `height` come from
+// `base`; eye, target, up, near and far are set (near/far scale with the scene).
+Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const Camera& base);
+
+}  // namespace meniscus

@@ -1,0 +1,103 @@
+// File input and output: particle readers, sequence discovery, image writers.
+// Nothing here exits or throws for bad input: every function returns a Result
+// whose Error names the file and the problem.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "meniscus/result.h"
+#include "meniscus/types.h"
+
+namespace meniscus {
+
+// ---------------------------------------------------------------- particles
+
+enum class ParticleFormat { Auto, Bgeo, VtkLegacy, Vtu, Ply, Csv, Xyz };
+
+// Each parser reads a whole file already in memory. `name` is used in error
+// messages only. Parsers return what the file holds (NaN positions included);
+// readParticles()/parseParticles() then apply the common checks.
+Result<ParticleSet> parseBgeo(ByteView data, const std::string& name);       // src/io/bgeo.cpp
+Result<ParticleSet> parseVtkLegacy(ByteView data, const std::string& name);  // src/io/vtk_legacy.cpp
+Result<ParticleSet> parseVtu(ByteView data, const std::string& name);        // src/io/vtu.cpp
+Result<ParticleSet> parsePly(ByteView data, const std::string& name);        // src/io/ply.cpp
+Result<ParticleSet> parseCsv(ByteView data, const std::string& name);        // src/io/text.cpp
+Result<ParticleSet> parseXyz(ByteView data, const std::string& name);        // src/io/text.cpp
+
+// Format from the file name (.bgeo, .bgeo.gz, .vtk, .vtu, .ply, .csv, .xyz, .txt);
+// Auto when unknown.
+ParticleFormat formatFromName(std::string_view name);
+
+// Parse with the given (or detected) format, then: drop particles with
+// non-finite positions (all attributes alike; the count goes into `warnings`),
+// and reject sets with no particles left.
+Result<ParticleSet> parseParticles(ByteView data, const std::string& name,
+                                   ParticleFormat format = ParticleFormat::Auto);
+Result<ParticleSet> readParticles(const std::filesystem::path& path,
+                                  ParticleFormat format = ParticleFormat::Auto);
+
+// Whole file into memory. Error names the file.
+Result<std::vector<std::uint8_t>> readFileBytes(const std::filesystem::path& path);
+
+// gzip/zlib stream (auto-detected header) inflated into memory.
+Result<std::vector<std::uint8_t>> inflateGzip(ByteView data, const std::string& name);
+
+// ---------------------------------------------------------------- sequences
+
+// Expands an input spec into an ordered frame list:
+//  - an existing regular file: just that file;
+//  - a directory: every particle file in it (known extensions);
+//  - a printf pattern with one integer conversion (frame_%04d.ply, f_%d.bgeo);
+//  - a glob pattern with * and ? in the file name (ParticleData_Fluid_*.bgeo).
+// Frames are sorted in natural numeric order ("_2" before "_10"). An empty
+// result is an error that names the spec.
+Result<std::vector<std::filesystem::path>> expandSequence(const std::string& spec);
+
+// True when `spec` names more than a single file (a directory or a pattern).
+bool isSequenceSpec(const std::string& spec);
+
+// Natural order comparison: digit runs compare by value.
+bool naturalLess(std::string_view a, std::string_view b);
+
+// Output name for frame `index` (0-based position) / `number` (the frame's
+// own number if known) from a printf pattern such as out_%04d.png.
+Result<std::string> formatFramePattern(const std::string& pattern, long number);
+
+// ---------------------------------------------------------------- images
+
+// 8-bit PNG, sRGB-encoded from linear RGBA in [0,1] (alpha stays linear).
+// withAlpha=false writes RGB. Written to a temporary name and renamed.
+Status writePng(const std::filesystem::path& path, const Image<glm::vec4>& linearRgba,
+                bool withAlpha = true);
+
+// One named float32 channel of an EXR file.
+struct ExrChannel {
+    std::string name;
+    const Image<float>* image = nullptr;
+};
+
+// OpenEXR, float32 channels, scanline 0 = top row, ZIP compression.
+// All channels must have the same size. Written to a temporary name and renamed.
+Status writeExr(const std::filesystem::path& path, const std::vector<ExrChannel>& channels);
+
+// The per-pixel outputs of a render (arbitrary output variables). Images that
+// are empty are omitted from the EXR.
+struct Aovs {
+    Image<glm::vec4> color;    // linear RGB, A = coverage                -> R G B A
+    Image<float> depth;        // smoothed linear eye depth, +inf = none -> Z
+    Image<float> rawDepth;     // splatted linear eye depth, +inf = none -> Zraw
+    Image<glm::vec3> normal;   // view-space unit normal, 0 = none       -> N.X N.Y N.Z
+    Image<float> thickness;    // metres                                 -> T
+};
+Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs);
+
+}  // namespace meniscus
+
+namespace meniscus {
+// The frame number a file name carries: the last run of digits in its name
+// without extensions (ParticleData_Fluid_21.bgeo -> 21), or -1 when none.
+long frameNumberFromName(std::string_view fileName);
+}  // namespace meniscus

@@ -1,0 +1,136 @@
+// Camera math of SPEC §2 and the automatic three-quarter framing.
+#include "meniscus/camera.h"
+
+#include <algorithm>
+#include <vector>
+#include <cmath>
+
+#include "meniscus/params.h"
+#include "meniscus/particles.h"
+
+namespace meniscus {
+
+namespace {
+bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+}  // namespace
+
+float Camera::focalPx() const {
+    return 0.5f * float(height) / std::tan(0.5f * glm::radians(fovYDegrees));
+}
+
+glm::vec3 Camera::back() const { return glm::normalize(eye - target); }
+glm::vec3 Camera::right() const { return glm::normalize(glm::cross(up, back())); }
+glm::vec3 Camera::trueUp() const { return glm::cross(back(), right()); }
+
+glm::vec3 Camera::toView(const glm::vec3& world) const {
+    const glm::vec3 d = world - eye;
+    return {glm::dot(d, right()), glm::dot(d, trueUp()), glm::dot(d, back())};
+}
+
+glm::vec3 Camera::dirToWorld(const glm::vec3& v) const { return v.x * right() + v.y * trueUp() + v.z * back(); }
+glm::vec3 Camera::toWorld(const glm::vec3& view) const { return eye + dirToWorld(view); }
+
+glm::vec3 Camera::pixelRay(float px, float py) const {
+    const float f = focalPx();
+    return {(px - 0.5f * float(width)) / f, -(py - 0.5f * float(height)) / f, -1.0f};
+}
+
+glm::vec2 Camera::projectView(const glm::vec3& v) const {
+    const float f = focalPx();
+    const float z = -v.z;  // eye depth
+    return {0.5f * float(width) + f * v.x / z, 0.5f * float(height) - f * v.y / z};
+}
+
+Status validateCamera(const Camera& c) {
+    if (!finite3(c.eye) || !finite3(c.target) || !finite3(c.up))
+        return makeError("", "camera: eye, target and up must be finite numbers");
+    if (glm::length(c.eye - c.target) <= 0.0f) return makeError("", "camera: eye and target are the same point");
+    if (glm::length(c.up) <= 0.0f) return makeError("", "camera: up vector is zero");
+    const glm::vec3 fwd = glm::normalize(c.target - c.eye);
+    if (glm::length(glm::cross(fwd, glm::normalize(c.up))) < 1e-4f)
+        return makeError("", "camera: up vector is parallel to the view direction; choose another --up");
+    if (!(c.fovYDegrees > 0.0f && c.fovYDegrees < 180.0f))
+        return makeError("", "camera: field of view must be between 0 and 180 degrees");
+    if (!(c.nearM > 0.0f && c.farM > c.nearM)) return makeError("", "camera: need 0 < near < far");
+    if (c.width <= 0 || c.height <= 0 || c.width > 16384 || c.height > 16384)
+        return makeError("", "camera: image size must be between 1 and 16384 pixels");
+    return okStatus();
+}
+
+namespace {
+
+// The q-quantile (0..1) of v; v is reordered.
+float quantile(std::vector<float>& v, float q) {
+    const std::size_t k = std::min(v.size() - 1, std::size_t(q * float(v.size() - 1) + 0.5f));
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+    return v[k];
+}
+
+}  // namespace
+
+Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const Camera& base) {
+    Camera cam = base;
+    cam.up = {0.0f, 1.0f, 0.0f};
+    // At most ~50k points decide the framing (an even stride through the set).
+    std::vector<glm::vec3> pts;
+    const std::size_t stride = std::max<std::size_t>(1, points.size() / 50000);
+    for (std::size_t i = 0; i < points.size(); i += stride)
+        if (finite3(points[i])) pts.push_back(points[i]);
+    if (pts.empty()) pts = {glm::vec3(-1.0f), glm::vec3(1.0f)};
+    const float pad = std::isfinite(radiusM) ? std::max(radiusM, 0.0f) : 0.0f;
+
+    const float az = glm::radians(defaults::kAutoAzimuthDegrees);
+    const float el = glm::radians(defaults::kAutoElevationDegrees);
+    const glm::vec3 toEye{std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el)};
+    const glm::vec3 fwd = -toEye;
+    const glm::vec3 right = glm::normalize(glm::cross(fwd, cam.up));
+    const glm::vec3 up = glm::cross(right, fwd);
+    const float tanY = std::tan(0.5f * glm::radians(cam.fovYDegrees)) * defaults::kAutoFill;
+    const float tanX = tanY * float(cam.width) / float(cam.height);
+    const float keep = 1.0f - defaults::kAutoOutlierFraction;
+
+    std::vector<float> need(pts.size()), sx(pts.size()), sy(pts.size());
+    // Distance: each point needs |x| + pad <= tan * (d + z) in x and in y.
+    auto fitDistance = [&] {
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            const glm::vec3 c = pts[i] - cam.target;
+            const float x = glm::dot(c, right), y = glm::dot(c, up), z = glm::dot(c, fwd);
+            need[i] = std::max((std::abs(x) + pad) / tanX - z, (std::abs(y) + pad) / tanY - z);
+        }
+        const float size = glm::length(computeBounds(pts).extent()) + pad;
+        const float d = quantile(need, keep);
+        return d > 1e-3f * size ? d : std::max(size, 1e-3f);
+    };
+    // Centre: shift the target so the framed content's image extent is symmetric.
+    auto centre = [&](float d) {
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            const glm::vec3 c = pts[i] - cam.target;
+            const float depth = std::max(d + glm::dot(c, fwd), 1e-6f * d);
+            sx[i] = glm::dot(c, right) / depth;
+            sy[i] = glm::dot(c, up) / depth;
+        }
+        const float lo = 0.5f * (1.0f - keep);
+        const float cx = 0.5f * (quantile(sx, lo) + quantile(sx, 1.0f - lo));
+        const float cy = 0.5f * (quantile(sy, lo) + quantile(sy, 1.0f - lo));
+        cam.target += d * (cx * right + cy * up);
+    };
+    cam.target = computeBounds(pts).center();
+    for (int iter = 0; iter < 6; ++iter) centre(fitDistance());
+    const float dist = fitDistance();  // last: the fit holds exactly for the final target
+    cam.eye = cam.target + dist * toEye;
+
+    // Clip range around the particles, so a scaled scene gets a scaled range.
+    // The near plane follows the framed points (left-out spray may even be
+    // behind the eye); the far plane keeps everything.
+    float farthest = dist;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        need[i] = dist + glm::dot(pts[i] - cam.target, fwd);
+        farthest = std::max(farthest, need[i] + pad);
+    }
+    const float nearest = quantile(need, 1.0f - keep) - pad;
+    cam.nearM = std::max(0.5f * nearest, 1e-4f * dist);
+    cam.farM = std::max(10.0f * farthest, cam.nearM * 2.0f);
+    return cam;
+}
+
+}  // namespace meniscus

@@ -1,0 +1,133 @@
+// writePng: an 8-bit RGBA (or RGB) PNG from a linear float image.
+//
+// - Row order: Image row 0 is the top row, and PNG rows are stored top first,
+//   so row y of the image is PNG row y (no flip).
+// - Colour: R, G, B are encoded from linear with the exact piecewise sRGB
+//   transfer function, clamped to [0,1] and rounded to the nearest 8-bit value;
+//   the file carries an sRGB chunk (plus the matching gAMA/cHRM) so viewers
+//   know it. Alpha is coverage and stays linear (clamped, rounded). NaN -> 0.
+// - Written through writeAtomically: a failed write leaves no file behind.
+// - libpng reports errors with longjmp, so every libpng call lives in
+//   writePngRows(), a function with no C++ objects that have destructors.
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <png.h>
+
+#include "atomic_file.h"
+#include "meniscus/io.h"
+
+namespace meniscus {
+namespace {
+
+// Exact sRGB encoding of one linear value to 8 bits.
+png_byte encodeSrgb(float linear) {
+    double x = linear;
+    if (!(x > 0.0)) x = 0.0;  // also NaN -> 0
+    if (x > 1.0) x = 1.0;
+    const double v = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+    return png_byte(std::lround(v * 255.0));
+}
+
+// Linear (alpha) value to 8 bits.
+png_byte encodeLinear(float value) {
+    double x = value;
+    if (!(x > 0.0)) x = 0.0;  // also NaN -> 0
+    if (x > 1.0) x = 1.0;
+    return png_byte(std::lround(x * 255.0));
+}
+
+struct PngErrorState {
+    char message[256];
+    char warning[256];  // the last warning, often the detail behind an error
+};
+
+void onPngError(png_structp png, png_const_charp msg) {
+    auto* state = static_cast<PngErrorState*>(png_get_error_ptr(png));
+    std::snprintf(state->message, sizeof state->message, "%s", msg ? msg : "libpng error");
+    png_longjmp(png, 1);
+}
+
+void onPngWarning(png_structp png, png_const_charp msg) {
+    auto* state = static_cast<PngErrorState*>(png_get_error_ptr(png));
+    std::snprintf(state->warning, sizeof state->warning, "%s", msg ? msg : "");
+}
+
+// All libpng calls. No objects with non-trivial destructors live in this
+// frame, so the longjmp out of onPngError is safe. Returns false on error with
+// the reason in err->message.
+bool writePngRows(std::FILE* fp, int width, int height, int channels, const png_byte* data,
+                  PngErrorState* err) {
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, err, onPngError, onPngWarning);
+    if (!png) {
+        std::snprintf(err->message, sizeof err->message, "cannot initialise libpng");
+        return false;
+    }
+    png_infop info = png_create_info_struct(png);
+    if (!info) {
+        png_destroy_write_struct(&png, nullptr);
+        std::snprintf(err->message, sizeof err->message, "cannot initialise libpng");
+        return false;
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        return false;
+    }
+    png_init_io(png, fp);
+    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8,
+                 channels == 4 ? PNG_COLOR_TYPE_RGB_ALPHA : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+    png_write_info(png, info);
+    const std::size_t stride = std::size_t(width) * std::size_t(channels);
+    for (int y = 0; y < height; ++y) png_write_row(png, data + std::size_t(y) * stride);
+    png_write_end(png, info);
+    png_destroy_write_struct(&png, &info);
+    return true;
+}
+
+}  // namespace
+
+Status writePng(const std::filesystem::path& path, const Image<glm::vec4>& linearRgba, bool withAlpha) {
+    const std::string name = path.string();
+    if (linearRgba.width <= 0 || linearRgba.height <= 0 || linearRgba.empty())
+        return makeError(name, "cannot write an empty image");
+    if (linearRgba.pixels.size() != std::size_t(linearRgba.width) * std::size_t(linearRgba.height))
+        return makeError(name, "image size " + std::to_string(linearRgba.width) + "x" +
+                                   std::to_string(linearRgba.height) + " does not match its " +
+                                   std::to_string(linearRgba.pixels.size()) + " pixels");
+
+    const int channels = withAlpha ? 4 : 3;
+    std::vector<png_byte> bytes;
+    bytes.reserve(linearRgba.pixels.size() * std::size_t(channels));
+    for (const glm::vec4& p : linearRgba.pixels) {
+        bytes.push_back(encodeSrgb(p.r));
+        bytes.push_back(encodeSrgb(p.g));
+        bytes.push_back(encodeSrgb(p.b));
+        if (withAlpha) bytes.push_back(encodeLinear(p.a));
+    }
+
+    return writeAtomically(path, [&](const std::filesystem::path& tmp) -> Status {
+        std::FILE* fp = std::fopen(tmp.c_str(), "wb");
+        if (!fp) return makeError(name, std::string("cannot open for writing: ") + std::strerror(errno));
+        PngErrorState err{};
+        const bool ok = writePngRows(fp, linearRgba.width, linearRgba.height, channels, bytes.data(), &err);
+        const bool flushed = std::fflush(fp) == 0 && !std::ferror(fp);
+        const int flushErrno = errno;
+        const bool closed = std::fclose(fp) == 0;
+        if (!ok) {
+            std::string why = std::string("PNG write failed: ") + err.message;
+            if (err.warning[0]) why += std::string(" (") + err.warning + ")";
+            return makeError(name, why);
+        }
+        if (!flushed || !closed)
+            return makeError(name, std::string("write failed: ") + std::strerror(flushed ? errno : flushErrno));
+        return okStatus();
+    });
+}
+
+}  // namespace meniscus

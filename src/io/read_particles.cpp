@@ -1,0 +1,105 @@
+// Format dispatch and the checks every particle file gets, whatever its format:
+// non-finite positions dropped with a counted warning (SPEC §3.2), empty sets rejected.
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <new>
+
+#include "io/io_util.h"
+#include "meniscus/io.h"
+#include "meniscus/particles.h"
+
+namespace meniscus {
+
+namespace {
+
+using io_util::endsWith;
+using io_util::lower;
+
+// Content sniffing, for names without a known extension.
+ParticleFormat formatFromContent(ByteView data) {
+    auto startsWith = [&](std::string_view magic) {
+        return data.size() >= magic.size() && std::equal(magic.begin(), magic.end(), data.begin());
+    };
+    if (startsWith("\x1f\x8b") || startsWith("Bgeo")) return ParticleFormat::Bgeo;
+    if (startsWith("# vtk DataFile")) return ParticleFormat::VtkLegacy;
+    if (startsWith("ply")) return ParticleFormat::Ply;
+    if (startsWith("<?xml") || startsWith("<VTKFile")) return ParticleFormat::Vtu;
+    return ParticleFormat::Auto;
+}
+
+}  // namespace
+
+ParticleFormat formatFromName(std::string_view name) {
+    const std::string n = lower(name);
+    if (endsWith(n, ".bgeo") || endsWith(n, ".bgeo.gz") || endsWith(n, ".geo")) return ParticleFormat::Bgeo;
+    if (endsWith(n, ".vtk")) return ParticleFormat::VtkLegacy;
+    if (endsWith(n, ".vtu") || endsWith(n, ".vtp")) return ParticleFormat::Vtu;
+    if (endsWith(n, ".ply")) return ParticleFormat::Ply;
+    if (endsWith(n, ".csv")) return ParticleFormat::Csv;
+    if (endsWith(n, ".xyz") || endsWith(n, ".txt")) return ParticleFormat::Xyz;
+    return ParticleFormat::Auto;
+}
+
+Result<std::vector<std::uint8_t>> readFileBytes(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) return makeError(path.string(), "no such file");
+    if (std::filesystem::is_directory(path, ec)) return makeError(path.string(), "is a directory, not a file");
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (!in) return makeError(path.string(), "cannot open for reading");
+    const std::streamoff size = in.tellg();
+    if (size < 0) return makeError(path.string(), "cannot determine file size");
+    std::vector<std::uint8_t> bytes;
+    try {
+        bytes.resize(std::size_t(size));
+    } catch (const std::bad_alloc&) {
+        return makeError(path.string(), "file too large to read into memory");
+    }
+    in.seekg(0);
+    if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size))
+        return makeError(path.string(), "read error");
+    return bytes;
+}
+
+Result<ParticleSet> parseParticles(ByteView data, const std::string& name, ParticleFormat format) {
+    if (format == ParticleFormat::Auto) format = formatFromName(name);
+    if (format == ParticleFormat::Auto) format = formatFromContent(data);
+    if (data.empty()) return makeError(name, "file is empty");
+
+    Result<ParticleSet> parsed = [&]() -> Result<ParticleSet> {
+        switch (format) {
+            case ParticleFormat::Bgeo: return parseBgeo(data, name);
+            case ParticleFormat::VtkLegacy: return parseVtkLegacy(data, name);
+            case ParticleFormat::Vtu: return parseVtu(data, name);
+            case ParticleFormat::Ply: return parsePly(data, name);
+            case ParticleFormat::Csv: return parseCsv(data, name);
+            case ParticleFormat::Xyz: return parseXyz(data, name);
+            case ParticleFormat::Auto: break;
+        }
+        return makeError(name, "unknown particle file format (expected .bgeo, .vtk, .vtu, .vtp, .ply, .csv or .xyz)");
+    }();
+    if (!parsed) return parsed;
+
+    ParticleSet& set = parsed.value();
+    for (const Attribute& a : set.attributes)
+        if (a.count() != set.size())
+            return makeError(name, "attribute '" + a.name + "' has " + std::to_string(a.count()) +
+                                       " values but the file has " + std::to_string(set.size()) + " particles");
+    const std::size_t total = set.size();
+    const std::size_t dropped = dropNonFinite(set);
+    if (dropped > 0)
+        set.warnings.push_back(name + ": dropped " + std::to_string(dropped) + " of " + std::to_string(total) +
+                               " particles with NaN/Inf positions");
+    if (set.size() == 0)
+        return makeError(name, total == 0 ? "file contains no particles"
+                                          : "all " + std::to_string(total) + " particles have NaN/Inf positions");
+    return parsed;
+}
+
+Result<ParticleSet> readParticles(const std::filesystem::path& path, ParticleFormat format) {
+    auto bytes = readFileBytes(path);
+    if (!bytes) return bytes.error();
+    return parseParticles(bytes.value(), path.string(), format);
+}
+
+}  // namespace meniscus

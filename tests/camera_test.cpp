@@ -1,0 +1,182 @@
+// Camera conventions of SPEC §2: focal length, pixel rays, row 0 at the top,
+// auto-framing, validation.
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "meniscus/camera.h"
+#include "meniscus/particles.h"
+
+using namespace meniscus;
+
+namespace {
+Camera lookAlongMinusZ() {
+    Camera c;
+    c.eye = {0, 0, 5};
+    c.target = {0, 0, 0};
+    c.width = 640;
+    c.height = 480;
+    c.fovYDegrees = 90.0f;
+    return c;
+}
+}  // namespace
+
+TEST(Camera, FocalLengthFromVerticalFovAndHeight) {
+    Camera c = lookAlongMinusZ();
+    EXPECT_NEAR(c.focalPx(), 240.0f, 1e-4f);  // (H/2)/tan(45 deg)
+    c.fovYDegrees = 60.0f;
+    EXPECT_NEAR(c.focalPx(), 240.0f / std::tan(glm::radians(30.0f)), 1e-3f);
+}
+
+TEST(Camera, PointOnOpticalAxisLandsOnImageCentre) {
+    Camera c;
+    c.eye = {1.3f, 2.0f, -0.7f};
+    c.target = {-0.4f, 0.25f, 2.0f};
+    c.width = 1280;
+    c.height = 720;
+    const glm::vec3 onAxis = c.eye + 3.7f * glm::normalize(c.target - c.eye);
+    const glm::vec3 v = c.toView(onAxis);
+    EXPECT_NEAR(-v.z, 3.7f, 1e-5f);  // eye depth is the distance along the axis
+    const glm::vec2 px = c.projectView(v);
+    EXPECT_NEAR(px.x, 640.0f, 1e-3f);
+    EXPECT_NEAR(px.y, 360.0f, 1e-3f);
+}
+
+TEST(Camera, RowZeroIsTheTop) {
+    const Camera c = lookAlongMinusZ();
+    // A point above the axis (+y world = up) lands in the upper half: small row index.
+    const glm::vec2 above = c.projectView(c.toView({0.0f, 1.0f, 0.0f}));
+    EXPECT_LT(above.y, 240.0f);
+    EXPECT_NEAR(above.y, 240.0f - 240.0f * 1.0f / 5.0f, 1e-3f);
+    // A point to the right (+x) lands at a larger column.
+    const glm::vec2 right = c.projectView(c.toView({1.0f, 0.0f, 0.0f}));
+    EXPECT_GT(right.x, 320.0f);
+    // The ray of the top-left pixel points up and to the left.
+    const glm::vec3 d = c.pixelRay(0.5f, 0.5f);
+    EXPECT_LT(d.x, 0.0f);
+    EXPECT_GT(d.y, 0.0f);
+    EXPECT_EQ(d.z, -1.0f);
+}
+
+TEST(Camera, PixelRayMatchesSpecFormula) {
+    const Camera c = lookAlongMinusZ();
+    const float f = c.focalPx();
+    for (int j : {0, 17, 479})
+        for (int i : {0, 301, 639}) {
+            const glm::vec3 d = c.pixelRay(float(i) + 0.5f, float(j) + 0.5f);
+            EXPECT_FLOAT_EQ(d.x, (float(i) + 0.5f - 320.0f) / f);
+            EXPECT_FLOAT_EQ(d.y, -(float(j) + 0.5f - 240.0f) / f);
+        }
+}
+
+TEST(Camera, UnprojectInvertsProject) {
+    Camera c;
+    c.eye = {2, 1, 3};
+    c.target = {0, 0.3f, 0};
+    for (const glm::vec3 w : {glm::vec3(0.1f, 0.2f, 0.3f), glm::vec3(-0.5f, 0.9f, 0.0f), glm::vec3(0.0f)}) {
+        const glm::vec3 v = c.toView(w);
+        const glm::vec2 px = c.projectView(v);
+        const glm::vec3 back = c.toWorld(c.unproject(px.x, px.y, -v.z));
+        EXPECT_NEAR(glm::length(back - w), 0.0f, 1e-5f);
+    }
+}
+
+TEST(Camera, ViewBasisIsRightHanded) {
+    Camera c;
+    c.eye = {3, 2, 1};
+    c.target = {0, 0, 0};
+    EXPECT_NEAR(glm::dot(glm::cross(c.right(), c.trueUp()), c.back()), 1.0f, 1e-5f);
+    EXPECT_GT(c.trueUp().y, 0.0f);  // +y stays up
+}
+
+namespace {
+// A dam-break-like set: a low wide slab, a thin sheet up the right wall, and a
+// few far-flung spray particles.
+std::vector<glm::vec3> slabSheetAndSpray() {
+    std::vector<glm::vec3> pts;
+    for (int z = 0; z < 30; ++z)
+        for (int x = 0; x < 80; ++x)
+            for (int y = 0; y < 4; ++y) pts.push_back({-2.0f + 0.05f * float(x), 0.05f * float(y), -0.7f + 0.05f * float(z)});
+    for (int z = 0; z < 30; ++z)
+        for (int y = 0; y < 30; ++y) pts.push_back({1.95f, 0.2f + 0.05f * float(y), -0.7f + 0.05f * float(z)});
+    for (int k = 0; k < 5; ++k) pts.push_back({0.3f * float(k), 8.0f + float(k), 0.0f});  // spray, far up
+    return pts;
+}
+}  // namespace
+
+TEST(Camera, AutoFrameFitsTheParticlesFromAThreeQuarterView) {
+    const auto pts = slabSheetAndSpray();
+    Camera base;
+    base.width = 1280;
+    base.height = 720;
+    const float radius = 0.025f;
+    const Camera c = autoFrameCamera(pts, radius, base);
+    ASSERT_TRUE(validateCamera(c).ok());
+    const glm::vec3 centre = computeBounds(std::span(pts).first(pts.size() - 5)).center();
+    EXPECT_GT(c.eye.x, centre.x);  // from the front-right, above
+    EXPECT_GT(c.eye.y, centre.y);
+    EXPECT_GT(c.eye.z, 0.7f);
+    float minX = 1e9f, maxX = -1e9f, minY = 1e9f, maxY = -1e9f;
+    int outside = 0;
+    for (const auto& p : pts) {
+        const glm::vec3 v = c.toView(p);
+        ASSERT_LT(-v.z, c.farM);
+        const glm::vec2 q = c.projectView(v);
+        if (-v.z <= c.nearM || q.x < 0 || q.x > 1280 || q.y < 0 || q.y > 720) {
+            ++outside;
+            continue;
+        }
+        minX = std::min(minX, q.x), maxX = std::max(maxX, q.x);
+        minY = std::min(minY, q.y), maxY = std::max(maxY, q.y);
+    }
+    // The spray (5 of ~10k points) may be left out (0.1%); nothing else is.
+    EXPECT_LE(outside, 5);
+    // The fluid fills the frame up to the margin in one direction...
+    const float fillX = (maxX - minX) / 1280.0f, fillY = (maxY - minY) / 720.0f;
+    EXPECT_GT(std::max(fillX, fillY), 0.85f);
+    EXPECT_LT(std::max(fillX, fillY), 0.95f);  // 90% fill, give or take the 0.1% left-out points
+    // ...and sits in the middle.
+    EXPECT_NEAR(0.5f * (minX + maxX), 640.0f, 16.0f);
+    EXPECT_NEAR(0.5f * (minY + maxY), 360.0f, 16.0f);
+}
+
+TEST(Camera, AutoFrameScalesWithTheScene) {
+    auto pts = slabSheetAndSpray();
+    const Camera c1 = autoFrameCamera(pts, 0.025f, Camera{});
+    for (auto& p : pts) p *= 10.0f;
+    const Camera c10 = autoFrameCamera(pts, 0.25f, Camera{});
+    EXPECT_NEAR(glm::length(c10.eye - 10.0f * c1.eye), 0.0f, 1e-3f);
+    EXPECT_NEAR(glm::length(c10.target - 10.0f * c1.target), 0.0f, 1e-3f);
+    EXPECT_NEAR(c10.nearM, 10.0f * c1.nearM, 1e-4f);
+}
+
+TEST(Camera, AutoFrameOfASingleParticleSeesIt) {
+    const glm::vec3 p{1.0f, 2.0f, 3.0f};
+    const Camera c = autoFrameCamera(std::span(&p, 1), 0.1f, Camera{});
+    ASSERT_TRUE(validateCamera(c).ok());
+    const glm::vec2 q = c.projectView(c.toView(p));
+    EXPECT_NEAR(q.x, 640.0f, 1.0f);
+    EXPECT_NEAR(q.y, 360.0f, 1.0f);
+}
+
+TEST(Camera, ValidationRejectsDegenerateCameras) {
+    Camera c = lookAlongMinusZ();
+    EXPECT_TRUE(validateCamera(c).ok());
+    Camera same = c;
+    same.target = same.eye;
+    EXPECT_FALSE(validateCamera(same).ok());
+    Camera parallel = c;
+    parallel.up = {0, 0, 1};
+    EXPECT_FALSE(validateCamera(parallel).ok());
+    EXPECT_NE(validateCamera(parallel).error().message.find("up"), std::string::npos);
+    Camera fov = c;
+    fov.fovYDegrees = 180.0f;
+    EXPECT_FALSE(validateCamera(fov).ok());
+    Camera nan = c;
+    nan.eye.x = std::nanf("");
+    EXPECT_FALSE(validateCamera(nan).ok());
+    Camera size = c;
+    size.width = 0;
+    EXPECT_FALSE(validateCamera(size).ok());
+}

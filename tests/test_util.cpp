@@ -1,0 +1,75 @@
+#include "test_util.h"
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <zlib.h>
+
+namespace meniscus::test {
+namespace fs = std::filesystem;
+
+fs::path testData(const std::string& rel) { return fs::path(MENISCUS_TEST_DATA) / rel; }
+fs::path repoData(const std::string& rel) { return fs::path(MENISCUS_DATA_DIR) / rel; }
+
+fs::path tempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = info ? std::string(info->test_suite_name()) + "_" + info->name() : "meniscus_test";
+    for (char& c : name)
+        if (c == '/') c = '_';
+    fs::path dir = fs::temp_directory_path() / "meniscus_tests" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::vector<std::uint8_t> readBytes(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot open " + p.string());
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void writeBytes(const fs::path& p, const std::vector<std::uint8_t>& bytes) {
+    std::ofstream out(p, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
+void writeText(const fs::path& p, const std::string& text) { writeBytes(p, toBytes(text)); }
+
+std::vector<std::uint8_t> toBytes(const std::string& s) { return {s.begin(), s.end()}; }
+
+std::vector<std::uint8_t> gzipBytes(const std::vector<std::uint8_t>& raw) {
+    z_stream zs{};
+    if (deflateInit2(&zs, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+        throw std::runtime_error("deflateInit2 failed");
+    std::vector<std::uint8_t> out(deflateBound(&zs, uLong(raw.size())) + 64);
+    zs.next_in = const_cast<Bytef*>(raw.data());
+    zs.avail_in = uInt(raw.size());
+    zs.next_out = out.data();
+    zs.avail_out = uInt(out.size());
+    const int rc = deflate(&zs, Z_FINISH);
+    deflateEnd(&zs);
+    if (rc != Z_STREAM_END) throw std::runtime_error("deflate failed");
+    out.resize(zs.total_out);
+    return out;
+}
+
+int runCommand(const std::string& cmd, std::string* output) {
+    const std::string full = cmd + " 2>&1";
+    FILE* pipe = ::popen(full.c_str(), "r");
+    if (!pipe) return -1;
+    std::array<char, 4096> buf{};
+    std::string text;
+    while (std::fgets(buf.data(), int(buf.size()), pipe)) text += buf.data();
+    const int status = ::pclose(pipe);
+    if (output) *output = text;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string cliPath() { return MENISCUS_CLI; }
+
+}  // namespace meniscus::test
