@@ -22,20 +22,13 @@ int runCli(const std::string& args, std::string* out = nullptr) { return runComm
 
 // The frame_stats.csv row for (dataset, frame): count, then bounds min/max, then density min/median/max.
 std::vector<double> statsRow(const std::string& dataset, int frame) {
-    std::ifstream in(testData("splishsplash/frame_stats.csv"));
-    std::string line;
-    while (std::getline(in, line)) {
-        std::stringstream ss(line);
-        std::string cell;
-        std::vector<std::string> cells;
-        while (std::getline(ss, cell, ',')) cells.push_back(cell);
-        if (cells.size() == 15 && cells[0] == dataset && cells[1] == std::to_string(frame)) {
-            std::vector<double> v;
-            for (int k : {3, 4, 5, 6, 7, 8, 9, 12, 13, 14}) v.push_back(std::stod(cells[std::size_t(k)]));
-            return v;
-        }
-    }
-    return {};
+    const auto row = frameStatsRow(dataset, frame);
+    if (row.empty()) return {};
+    std::vector<double> v;
+    for (const char* column : {"num_particles", "xmin", "ymin", "zmin", "xmax", "ymax", "zmax", "density_min",
+                               "density_median", "density_max"})
+        v.push_back(statsNumber(row, column));
+    return v;
 }
 
 }  // namespace

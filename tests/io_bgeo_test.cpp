@@ -17,67 +17,12 @@
 namespace meniscus {
 namespace {
 
+using test::expectMatchesStats;
 using test::readBytes;
 using test::repoData;
 using test::testData;
 
 // ------------------------------------------------------------------ helpers
-
-// One row of tests/data/splishsplash/frame_stats.csv, by column name.
-std::map<std::string, std::string> frameStats(const std::string& dataset, int frame) {
-    std::ifstream in(testData("splishsplash/frame_stats.csv"));
-    std::string lineText;
-    std::vector<std::string> header;
-    auto split = [](const std::string& s) {
-        std::vector<std::string> out;
-        std::stringstream ss(s);
-        std::string cell;
-        while (std::getline(ss, cell, ',')) out.push_back(cell);
-        return out;
-    };
-    std::getline(in, lineText);
-    header = split(lineText);
-    while (std::getline(in, lineText)) {
-        const auto cells = split(lineText);
-        if (cells.size() == header.size() && cells[0] == dataset && std::stoi(cells[1]) == frame) {
-            std::map<std::string, std::string> row;
-            for (std::size_t i = 0; i < cells.size(); ++i) row[header[i]] = cells[i];
-            return row;
-        }
-    }
-    ADD_FAILURE() << "no frame_stats row for " << dataset << " frame " << frame;
-    return {};
-}
-
-double num(const std::map<std::string, std::string>& row, const std::string& key) {
-    const auto it = row.find(key);
-    return it == row.end() ? std::nan("") : std::stod(it->second);
-}
-
-// numpy-style median: middle element for odd n, mean of the two middle ones for even n.
-double median(std::vector<float> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? double(v[n / 2]) : 0.5 * (double(v[n / 2 - 1]) + double(v[n / 2]));
-}
-
-void expectMatchesStats(const ParticleSet& set, const std::map<std::string, std::string>& row) {
-    ASSERT_EQ(set.size(), std::size_t(num(row, "num_particles")));
-    Bounds b;
-    for (const auto& p : set.positions) b.extend(p);
-    EXPECT_NEAR(b.min.x, num(row, "xmin"), 1e-5);
-    EXPECT_NEAR(b.min.y, num(row, "ymin"), 1e-5);
-    EXPECT_NEAR(b.min.z, num(row, "zmin"), 1e-5);
-    EXPECT_NEAR(b.max.x, num(row, "xmax"), 1e-5);
-    EXPECT_NEAR(b.max.y, num(row, "ymax"), 1e-5);
-    EXPECT_NEAR(b.max.z, num(row, "zmax"), 1e-5);
-    const Attribute* rho = set.find(kAttrDensity);
-    ASSERT_NE(rho, nullptr);
-    ASSERT_EQ(rho->count(), set.size());
-    EXPECT_NEAR(*std::min_element(rho->floats.begin(), rho->floats.end()), num(row, "density_min"), 0.01);
-    EXPECT_NEAR(*std::max_element(rho->floats.begin(), rho->floats.end()), num(row, "density_max"), 0.01);
-    EXPECT_NEAR(median(rho->floats), num(row, "density_median"), 0.01);
-}
 
 void expectIdsArePermutation(const ParticleSet& set) {
     const Attribute* id = set.find(kAttrId);
@@ -195,7 +140,7 @@ TEST(BgeoRealData, SmallFramesMatchFrameStats) {
         const ParticleSet& set = r.value();
         EXPECT_EQ(set.size(), 6859u);
         EXPECT_TRUE(set.warnings.empty());
-        expectMatchesStats(set, frameStats("dambreak_r0.025_small", frame));
+        expectMatchesStats(set, test::frameStatsRow("dambreak_r0.025_small", frame));
         expectIdsArePermutation(set);
 
         // Small set order: id, density, velocity (all kept, header order).
@@ -218,7 +163,7 @@ TEST(BgeoRealData, LargeFrame21) {
     ASSERT_TRUE(r.ok()) << r.error().describe();
     const ParticleSet& set = r.value();
     EXPECT_EQ(set.size(), 117649u);
-    const auto row = frameStats("dambreak_r0.01", 21);
+    const auto row = test::frameStatsRow("dambreak_r0.01", 21);
     expectMatchesStats(set, row);
     expectIdsArePermutation(set);
     // Large set order: id, velocity, density.

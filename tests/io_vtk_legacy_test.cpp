@@ -23,43 +23,6 @@ using test::toBytes;
 
 // ------------------------------------------------------------------ helpers
 
-// One row of tests/data/splishsplash/frame_stats.csv, by column name.
-std::map<std::string, std::string> frameStats(const std::string& dataset, int frame) {
-    std::ifstream in(testData("splishsplash/frame_stats.csv"));
-    auto split = [](const std::string& s) {
-        std::vector<std::string> out;
-        std::stringstream ss(s);
-        std::string cell;
-        while (std::getline(ss, cell, ',')) out.push_back(cell);
-        return out;
-    };
-    std::string lineText;
-    std::getline(in, lineText);
-    const auto header = split(lineText);
-    while (std::getline(in, lineText)) {
-        const auto cells = split(lineText);
-        if (cells.size() == header.size() && cells[0] == dataset && std::stoi(cells[1]) == frame) {
-            std::map<std::string, std::string> row;
-            for (std::size_t i = 0; i < cells.size(); ++i) row[header[i]] = cells[i];
-            return row;
-        }
-    }
-    ADD_FAILURE() << "no frame_stats row for " << dataset << " frame " << frame;
-    return {};
-}
-
-double num(const std::map<std::string, std::string>& row, const std::string& key) {
-    const auto it = row.find(key);
-    return it == row.end() ? std::nan("") : std::stod(it->second);
-}
-
-// numpy-style median: middle element for odd n, mean of the two middle ones for even n.
-double median(std::vector<float> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? double(v[n / 2]) : 0.5 * (double(v[n / 2 - 1]) + double(v[n / 2]));
-}
-
 ParticleSet parseOk(const std::vector<std::uint8_t>& bytes, const std::string& name) {
     auto r = parseVtkLegacy(bytes, name);
     EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().describe());
@@ -158,21 +121,7 @@ TEST(VtkRealData, MatchesFrameStats) {
         SCOPED_TRACE("frame " + std::to_string(frame));
         const std::string name = "ParticleData_Fluid_" + std::to_string(frame) + ".vtk";
         const ParticleSet set = parseOk(readBytes(testData("splishsplash/vtk/" + name)), name);
-        const auto row = frameStats("dambreak_r0.025_small", frame);
-        ASSERT_EQ(set.size(), std::size_t(num(row, "num_particles")));
-        Bounds bounds;
-        for (const auto& p : set.positions) bounds.extend(p);
-        EXPECT_NEAR(bounds.min.x, num(row, "xmin"), 1e-5);
-        EXPECT_NEAR(bounds.min.y, num(row, "ymin"), 1e-5);
-        EXPECT_NEAR(bounds.min.z, num(row, "zmin"), 1e-5);
-        EXPECT_NEAR(bounds.max.x, num(row, "xmax"), 1e-5);
-        EXPECT_NEAR(bounds.max.y, num(row, "ymax"), 1e-5);
-        EXPECT_NEAR(bounds.max.z, num(row, "zmax"), 1e-5);
-        const Attribute* rho = set.find(kAttrDensity);
-        ASSERT_NE(rho, nullptr);
-        EXPECT_NEAR(*std::min_element(rho->floats.begin(), rho->floats.end()), num(row, "density_min"), 0.01);
-        EXPECT_NEAR(*std::max_element(rho->floats.begin(), rho->floats.end()), num(row, "density_max"), 0.01);
-        EXPECT_NEAR(median(rho->floats), num(row, "density_median"), 0.01);
+        ASSERT_NO_FATAL_FAILURE(test::expectMatchesStats(set, test::frameStatsRow("dambreak_r0.025_small", frame)));
         std::vector<std::int64_t> ids = set.find(kAttrId)->ints;
         std::sort(ids.begin(), ids.end());
         for (std::size_t i = 0; i < ids.size(); ++i) ASSERT_EQ(ids[i], std::int64_t(i));

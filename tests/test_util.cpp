@@ -1,9 +1,12 @@
 #include "test_util.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -71,5 +74,58 @@ int runCommand(const std::string& cmd, std::string* output) {
 }
 
 std::string cliPath() { return MENISCUS_CLI; }
+
+std::map<std::string, std::string> frameStatsRow(const std::string& dataset, int frame) {
+    std::ifstream in(testData("splishsplash/frame_stats.csv"));
+    auto split = [](const std::string& s) {
+        std::vector<std::string> out;
+        std::stringstream ss(s);
+        std::string cell;
+        while (std::getline(ss, cell, ',')) out.push_back(cell);
+        return out;
+    };
+    std::string lineText;
+    std::getline(in, lineText);
+    const auto header = split(lineText);
+    while (std::getline(in, lineText)) {
+        const auto cells = split(lineText);
+        if (cells.size() == header.size() && cells[0] == dataset && std::stoi(cells[1]) == frame) {
+            std::map<std::string, std::string> row;
+            for (std::size_t i = 0; i < cells.size(); ++i) row[header[i]] = cells[i];
+            return row;
+        }
+    }
+    ADD_FAILURE() << "no frame_stats row for " << dataset << " frame " << frame;
+    return {};
+}
+
+double statsNumber(const std::map<std::string, std::string>& row, const std::string& column) {
+    const auto it = row.find(column);
+    return it == row.end() ? std::nan("") : std::stod(it->second);
+}
+
+double numpyMedian(std::vector<float> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? double(v[n / 2]) : 0.5 * (double(v[n / 2 - 1]) + double(v[n / 2]));
+}
+
+void expectMatchesStats(const ParticleSet& set, const std::map<std::string, std::string>& row) {
+    ASSERT_EQ(set.size(), std::size_t(statsNumber(row, "num_particles")));
+    Bounds b;
+    for (const auto& p : set.positions) b.extend(p);
+    EXPECT_NEAR(b.min.x, statsNumber(row, "xmin"), 1e-5);
+    EXPECT_NEAR(b.min.y, statsNumber(row, "ymin"), 1e-5);
+    EXPECT_NEAR(b.min.z, statsNumber(row, "zmin"), 1e-5);
+    EXPECT_NEAR(b.max.x, statsNumber(row, "xmax"), 1e-5);
+    EXPECT_NEAR(b.max.y, statsNumber(row, "ymax"), 1e-5);
+    EXPECT_NEAR(b.max.z, statsNumber(row, "zmax"), 1e-5);
+    const Attribute* rho = set.find(kAttrDensity);
+    ASSERT_NE(rho, nullptr);
+    ASSERT_EQ(rho->count(), set.size());
+    EXPECT_NEAR(*std::min_element(rho->floats.begin(), rho->floats.end()), statsNumber(row, "density_min"), 0.01);
+    EXPECT_NEAR(*std::max_element(rho->floats.begin(), rho->floats.end()), statsNumber(row, "density_max"), 0.01);
+    EXPECT_NEAR(numpyMedian(rho->floats), statsNumber(row, "density_median"), 0.01);
+}
 
 }  // namespace meniscus::test

@@ -3,8 +3,11 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
+
+#include "meniscus/particles.h"
 
 namespace meniscus::test {
 
@@ -27,5 +30,18 @@ int runCommand(const std::string& cmd, std::string* output = nullptr);
 
 // Path of the built CLI.
 std::string cliPath();
+
+// One row of tests/data/splishsplash/frame_stats.csv, by column name; ADD_FAILUREs
+// and returns an empty map when there is no row for (dataset, frame).
+std::map<std::string, std::string> frameStatsRow(const std::string& dataset, int frame);
+
+// A frame_stats column as a number; NaN when the column is missing.
+double statsNumber(const std::map<std::string, std::string>& row, const std::string& column);
+
+// numpy-style median: middle element for odd n, mean of the two middle ones for even n.
+double numpyMedian(std::vector<float> v);
+
+// Count, bounds (1e-5) and density min/max/median (0.01) of `set` against a frame_stats row.
+void expectMatchesStats(const ParticleSet& set, const std::map<std::string, std::string>& row);
 
 }  // namespace meniscus::test
