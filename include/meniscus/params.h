@@ -1,7 +1,20 @@
-// Every user-facing default lives here (and only here), with its unit.
+// Every user-facing parameter and default lives here (and only here), with its
+// unit. Lengths given "in radii" are multiples of the particle radius r and
+// pixel sizes are derived from the real camera (projected radius r*f/z), so
+// every stage is scale-invariant: scaling particles, radius and camera by s
+// changes nothing in the image.
 #pragma once
 
-namespace meniscus::defaults {
+#include <string>
+#include <variant>
+
+#include <glm/glm.hpp>
+
+#include "meniscus/types.h"
+
+namespace meniscus {
+
+namespace defaults {
 
 inline constexpr int kWidth = 1280;           // pixels
 inline constexpr int kHeight = 720;           // pixels
@@ -18,4 +31,105 @@ inline constexpr float kAutoFill = 0.9f;
 // Fraction of particles (the outermost, e.g. lone spray) the auto camera may leave out.
 inline constexpr float kAutoOutlierFraction = 0.001f;
 
-}  // namespace meniscus::defaults
+// A depth step between neighbouring pixels larger than this many radii is a
+// discontinuity (silhouette / separate body): filters and normals never
+// difference or average across it.
+inline constexpr float kDepthJumpRadii = 2.0f;
+
+// Kernel radii in pixels are capped here (cost bound for near fluid).
+inline constexpr int kMaxKernelPx = 32;
+
+}  // namespace defaults
+
+// ---- Smoothing filters (SPEC §3.5) -------------------------------------------
+
+struct NoFilter {};
+
+// Separable Gaussian; sigma is constant in world space (projected per pixel).
+struct GaussianParams {
+    int iterations = 1;
+    float sigmaRadii = 1.0f;                 // spatial sigma, radii; kernel radius = 3 sigma
+    float jumpRadii = defaults::kDepthJumpRadii;
+    int maxKernelPx = defaults::kMaxKernelPx;
+};
+
+// Separable bilateral (thesis eq. 4.1-4.3, Pham & van Vliet 2005).
+struct BilateralParams {
+    int iterations = 2;
+    float sigmaRadii = 1.5f;                 // spatial sigma, radii; kernel radius = 3 sigma
+    float rangeSigmaRadii = 0.75f;           // depth-difference sigma, radii
+    float jumpRadii = defaults::kDepthJumpRadii;
+    int maxKernelPx = defaults::kMaxKernelPx;
+};
+
+// Separable binomial (Instant Liquids §2.2): kernel half-size = projected splat radius.
+struct BinomialParams {
+    int iterations = 2;
+    float sizeRadii = 1.0f;                  // kernel half-size, radii
+    float jumpRadii = defaults::kDepthJumpRadii;
+    int maxKernelPx = defaults::kMaxKernelPx;
+};
+
+// Screen-space curvature flow (van der Laan et al. 2009; SPEC §3.5).
+struct CurvatureFlowParams {
+    int iterations = 40;
+    float alpha = 0.4f;                      // time step dt = alpha * z / f (stable below 0.5)
+    float jumpRadii = defaults::kDepthJumpRadii;
+};
+
+// Narrow-range filter (Truong & Yuksel, I3D 2018; SPEC §3.5).
+struct NarrowRangeParams {
+    int iterations = 3;
+    float filterSizeRadii = 3.0f;            // world kernel radius, radii (sigma = radius / 3)
+    float lambda = 10.0f;                    // range threshold tau = lambda * r
+    float mu = 1.0f;                         // taps behind the range count as z0 + mu * r
+    int maxKernelPx = defaults::kMaxKernelPx;
+    bool separable = false;                  // 1-D x then y approximation
+};
+
+using FilterParams =
+    std::variant<NoFilter, GaussianParams, BilateralParams, BinomialParams, CurvatureFlowParams, NarrowRangeParams>;
+
+// ---- Thickness (SPEC §3.4) ---------------------------------------------------
+
+struct ThicknessParams {
+    float spacingM = 0.0f;                   // rest spacing s; 0 = 2 r (the radius is half the spacing)
+    float blurSigmaRadii = 1.0f;             // Gaussian blur sigma, radii; 0 = no blur
+    int maxKernelPx = defaults::kMaxKernelPx;
+};
+
+// ---- Scene (SPEC §3.1) ---------------------------------------------------------
+
+struct SceneParams {
+    bool background = true;                  // false: no floor/walls, transparent background
+    // Box the studio is built around (floor under it, back walls behind it);
+    // empty = the bounds of the particles being rendered. Set it once per
+    // sequence so the studio does not move between frames.
+    Bounds studioBounds;
+};
+
+// ---- Shading (SPEC §3.8) -----------------------------------------------------
+
+// One material = the parameters of the shading equation.
+struct Material {
+    std::string name = "water";
+    glm::vec3 fluidColor{0.02f, 0.16f, 0.24f};     // linear RGB seen through thick fluid
+    glm::vec3 absorptionPerM{1.6f, 0.55f, 0.35f};  // Beer-Lambert k per channel, 1/m
+    float ior = 1.33f;                              // Schlick F0 = ((ior-1)/(ior+1))^2
+    float refraction = 0.6f;                        // background offset = refraction * T projected (T*f/z px) along n
+    float specular = 0.6f;                          // k_s
+    float shininess = 120.0f;                       // Blinn-Phong exponent
+    float opacity = 0.0f;                           // 0 = transparent fluid, 1 = opaque (sand-like)
+};
+
+// Named presets: water (default), murky, milk, lava, sand. Returns false for an unknown name.
+bool materialPreset(const std::string& name, Material* out);
+// The preset names, comma separated (for --help).
+std::string materialPresetNames();
+
+struct ShadingParams {
+    Material material;
+    glm::vec3 lightDirWorld = glm::normalize(glm::vec3(-0.4f, 1.0f, 0.55f));  // toward the light
+};
+
+}  // namespace meniscus

@@ -1,0 +1,22 @@
+// Filter dispatch: picks the smoothing filter named by the FilterParams variant.
+#include "cpu/filters.h"
+
+#include <type_traits>
+
+namespace meniscus::cpu {
+
+Image<float> smoothDepth(const Image<float>& depth, const Camera& camera, float radius, const FilterParams& params) {
+    return std::visit(
+        [&](const auto& p) -> Image<float> {
+            using P = std::decay_t<decltype(p)>;
+            if constexpr (std::is_same_v<P, NoFilter>) return depth;
+            else if constexpr (std::is_same_v<P, GaussianParams>) return filterGaussian(depth, camera, radius, p);
+            else if constexpr (std::is_same_v<P, BilateralParams>) return filterBilateral(depth, camera, radius, p);
+            else if constexpr (std::is_same_v<P, BinomialParams>) return filterBinomial(depth, camera, radius, p);
+            else if constexpr (std::is_same_v<P, CurvatureFlowParams>) return filterCurvatureFlow(depth, camera, radius, p);
+            else return filterNarrowRange(depth, camera, radius, p);
+        },
+        params);
+}
+
+}  // namespace meniscus::cpu

@@ -1,0 +1,17 @@
+// CPU normals stage (SPEC §3.6): view-space normals from the smoothed eye depth
+// by exact back-projection.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "meniscus/camera.h"
+#include "meniscus/types.h"
+
+namespace meniscus::cpu {
+
+// Unit view-space normals (+z toward the camera) where depth is finite, (0,0,0)
+// elsewhere. At a discontinuity (|dz| > jumpRadii * r) the one-sided difference
+// with the smaller |dz| is used. Bit-identical for any thread count.
+Image<glm::vec3> computeNormals(const Image<float>& depth, const Camera& camera, float radius, float jumpRadii);
+
+}  // namespace meniscus::cpu

@@ -1,0 +1,39 @@
+// CPU scene stage (SPEC §3.1): the default studio (checker floor, two back
+// walls) ray-cast per pixel into colour and eye depth, and the procedural sky
+// that serves as background and environment map.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "meniscus/camera.h"
+#include "meniscus/params.h"
+#include "meniscus/types.h"
+
+namespace meniscus::cpu {
+
+// The studio's geometry, built once from a box (the particles' bounds) and the
+// camera. All lengths in metres, world space.
+struct Studio {
+    bool enabled = true;       // false: sky only, transparent background
+    float floorY = 0.0f;       // floor plane y = floorY, facing +y
+    float wallX = 0.0f;        // back wall plane x = wallX, facing the camera side
+    float wallXNormal = 1.0f;  // +1 or -1: the side of the wall the camera is on
+    float wallZ = 0.0f;        // back wall plane z = wallZ
+    float wallZNormal = 1.0f;
+    float checkerM = 0.1f;     // checker square size
+};
+
+Studio makeStudio(const Bounds& box, float radius, const Camera& camera, const SceneParams& params);
+
+// Procedural sky (environment map) along a world-space direction; linear RGB.
+glm::vec3 skyColor(const glm::vec3& dirWorld);
+
+struct SceneLayer {
+    Image<glm::vec4> color;  // linear RGB; alpha 1 where opaque, 0 for a transparent background
+    Image<float> depth;      // eye depth of the studio geometry, +inf where only sky is seen
+};
+
+// Ray-casts the studio for every pixel. Bit-identical for any thread count.
+SceneLayer castScene(const Camera& camera, const Studio& studio);
+
+}  // namespace meniscus::cpu
