@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 
@@ -126,6 +127,46 @@ void expectMatchesStats(const ParticleSet& set, const std::map<std::string, std:
     EXPECT_NEAR(*std::min_element(rho->floats.begin(), rho->floats.end()), statsNumber(row, "density_min"), 0.01);
     EXPECT_NEAR(*std::max_element(rho->floats.begin(), rho->floats.end()), statsNumber(row, "density_max"), 0.01);
     EXPECT_NEAR(numpyMedian(rho->floats), statsNumber(row, "density_median"), 0.01);
+}
+
+std::vector<glm::vec3> jitteredBlock(glm::ivec3 n, float spacing, float jitter, glm::vec3 origin, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-jitter * spacing, jitter * spacing);
+    std::vector<glm::vec3> out;
+    out.reserve(std::size_t(n.x) * n.y * n.z);
+    for (int k = 0; k < n.z; ++k)
+        for (int j = 0; j < n.y; ++j)
+            for (int i = 0; i < n.x; ++i) {
+                const glm::vec3 p = origin + spacing * glm::vec3(i, j, k);
+                const float dx = u(rng), dy = u(rng), dz = u(rng);
+                out.push_back(p + glm::vec3(dx, dy, dz));
+            }
+    return out;
+}
+
+std::vector<glm::vec3> ballOfParticles(glm::vec3 centre, float ballRadius, float spacing) {
+    std::vector<glm::vec3> out;
+    const int m = int(std::ceil(ballRadius / spacing));
+    for (int k = -m; k <= m; ++k)
+        for (int j = -m; j <= m; ++j)
+            for (int i = -m; i <= m; ++i) {
+                const glm::vec3 o = spacing * glm::vec3(i, j, k);
+                if (glm::length(o) <= ballRadius) out.push_back(centre + o);
+            }
+    return out;
+}
+
+Camera faceOnCamera(glm::vec3 target, float distance, int width, int height, float fovYDegrees) {
+    Camera c;
+    c.target = target;
+    c.eye = target + glm::vec3(0.0f, 0.0f, distance);
+    c.up = glm::vec3(0.0f, 1.0f, 0.0f);
+    c.fovYDegrees = fovYDegrees;
+    c.nearM = 0.01f * distance;
+    c.farM = 100.0f * distance;
+    c.width = width;
+    c.height = height;
+    return c;
 }
 
 }  // namespace meniscus::test

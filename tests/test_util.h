@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "meniscus/camera.h"
 #include "meniscus/particles.h"
 
 namespace meniscus::test {
@@ -43,5 +44,19 @@ double numpyMedian(std::vector<float> v);
 
 // Count, bounds (1e-5) and density min/max/median (0.01) of `set` against a frame_stats row.
 void expectMatchesStats(const ParticleSet& set, const std::map<std::string, std::string>& row);
+
+// ---- Synthetic scenes for the pipeline tests ------------------------------
+
+// nx*ny*nz particles on a grid of `spacing` starting at `origin` (x, y, z
+// increasing), each moved by a uniform random offset in [-jitter, jitter]*spacing
+// per axis (fixed seed: the same block every run).
+std::vector<glm::vec3> jitteredBlock(glm::ivec3 n, float spacing, float jitter, glm::vec3 origin,
+                                     unsigned seed = 1);
+
+// Grid points at `spacing` inside a ball of radius `ballRadius` around `centre`.
+std::vector<glm::vec3> ballOfParticles(glm::vec3 centre, float ballRadius, float spacing);
+
+// A camera at target + (0, 0, distance) looking down -z at `target`, up +y.
+Camera faceOnCamera(glm::vec3 target, float distance, int width, int height, float fovYDegrees = 40.0f);
 
 }  // namespace meniscus::test

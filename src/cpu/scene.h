@@ -8,6 +8,7 @@
 #include "meniscus/camera.h"
 #include "meniscus/params.h"
 #include "meniscus/types.h"
+#include "cpu/sky.h"
 
 namespace meniscus::cpu {
 
@@ -25,8 +26,8 @@ struct Studio {
 
 Studio makeStudio(const Bounds& box, float radius, const Camera& camera, const SceneParams& params);
 
-// Procedural sky (environment map) along a world-space direction; linear RGB.
-glm::vec3 skyColor(const glm::vec3& dirWorld);
+
+
 
 struct SceneLayer {
     Image<glm::vec4> color;  // linear RGB; alpha 1 where opaque, 0 for a transparent background
