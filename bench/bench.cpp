@@ -1,11 +1,14 @@
 // bench: one line per stage with time (median of --repeat runs), size and
 // thread count. Speed is measured here, never asserted in tests.
-//   build/bench [INPUT] [--width 1280 --height 720 --repeat 9 --threads N]
-// INPUT defaults to the real 117,649-particle dam-break frame in data/.
+//   build/bench [INPUT] [--width 1280 --height 720 --repeat 9 --threads N --filter NAME]
+// INPUT defaults to the real 117,649-particle dam-break frame in data/. The
+// whole pipeline runs once per filter (all of them unless --filter is given);
+// each stage line is the median over the repeats of that stage's own time.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,6 +27,11 @@ using namespace meniscus;
 
 namespace {
 
+double median(std::vector<double> ms) {
+    std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
+    return ms[ms.size() / 2];
+}
+
 double medianMs(int repeat, const std::function<void()>& fn) {
     std::vector<double> ms;
     for (int i = 0; i < repeat; ++i) {
@@ -31,8 +39,7 @@ double medianMs(int repeat, const std::function<void()>& fn) {
         fn();
         ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
-    std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-    return ms[ms.size() / 2];
+    return median(ms);
 }
 
 }  // namespace
@@ -46,6 +53,10 @@ int main(int argc, char** argv) {
     app.add_option("--height", height)->capture_default_str();
     app.add_option("--repeat", repeat, "Runs per stage; the median is printed")->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--threads", threads, "Worker threads (default: all cores)");
+    std::vector<std::string> filters;
+    bool separable = false;
+    app.add_option("--filter", filters, "Smoothing filter(s) to time: " + filterNames() + " (default: all)");
+    app.add_flag("--separable", separable, "narrow-range: time the separable 1-D approximation as well");
     CLI11_PARSE(app, argc, argv);
 
     std::unique_ptr<tbb::global_control> limit;
@@ -53,7 +64,7 @@ int main(int argc, char** argv) {
     const int nThreads = int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
 
     auto print = [&](const char* stage, const std::string& size, std::size_t particles, double ms) {
-        std::printf("%-16s %-10s %9zu particles  cpu %dt %9.2f ms\n", stage, size.c_str(), particles, nThreads, ms);
+        std::printf("%-34s %-10s %9zu particles  cpu %dt %9.2f ms\n", stage, size.c_str(), particles, nThreads, ms);
     };
     const std::string res = std::to_string(width) + "x" + std::to_string(height);
 
@@ -76,7 +87,46 @@ int main(int argc, char** argv) {
     print("auto-camera", res, n, medianMs(repeat, [&] { settings.camera = autoFrameCamera(set->positions, radius.radius, base); }));
     settings.radiusM = radius.radius;
 
-    Result<Aovs> aovs = makeError("", "not rendered");
-    print("depth-splat+view", res, n, medianMs(repeat, [&] { aovs = renderFrame(set->positions, settings); }));
-    return aovs ? 0 : 1;
+    // Each configuration: filter name, parameters.
+    std::vector<std::pair<std::string, FilterParams>> configs;
+    if (filters.empty()) filters = {"none", "gaussian", "bilateral", "binomial", "curvature-flow", "narrow-range"};
+    for (const auto& name : filters) {
+        FilterParams f;
+        if (!filterFromName(name, &f)) {
+            std::fprintf(stderr, "bench: error: --filter %s: expected one of %s\n", name.c_str(), filterNames().c_str());
+            return 2;
+        }
+        configs.emplace_back(name + "(" + std::to_string(filterIterations(f)) + ")", f);
+        if (name == "narrow-range" && (separable || filters.size() > 1)) {
+            std::get<NarrowRangeParams>(f).separable = true;
+            configs.emplace_back(name + "-1d(" + std::to_string(filterIterations(f)) + ")", f);
+        }
+    }
+
+    for (const auto& [label, filter] : configs) {
+        settings.filter = filter;
+        std::map<std::string, std::vector<double>> perStage;
+        std::vector<std::string> order;
+        std::vector<double> totals;
+        for (int i = 0; i < repeat; ++i) {
+            std::vector<StageTime> times;
+            const auto t0 = std::chrono::steady_clock::now();
+            auto aovs = renderFrame(set->positions, settings, &times);
+            totals.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            if (!aovs) {
+                std::fprintf(stderr, "bench: error: %s\n", aovs.error().describe().c_str());
+                return 1;
+            }
+            for (const auto& t : times) {
+                if (i == 0) order.push_back(t.stage);
+                perStage[t.stage].push_back(t.ms);
+            }
+        }
+        for (const auto& stage : order) {
+            const std::string name = stage == "smooth" ? "smooth " + label : stage;
+            print(name.c_str(), res, n, median(perStage[stage]));
+        }
+        print(("pipeline total, " + label).c_str(), res, n, median(totals));
+    }
+    return 0;
 }

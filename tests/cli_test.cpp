@@ -2,6 +2,7 @@
 // frames, rendering, sequences, and the malformed-input contract (non-zero exit,
 // one clear line naming the file, no output file left behind).
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -93,6 +94,65 @@ TEST(Cli, RendersPngAndExr) {
     ASSERT_GT(exr.size(), 4u);
     EXPECT_EQ(exr[0], 0x76);  // OpenEXR magic 76 2f 31 01
     EXPECT_EQ(exr[1], 0x2f);
+}
+
+// The EXR carries every AOV (R G B A Z Zraw N.X N.Y N.Z T) and the AOVs agree
+// with each other: Z and Zraw cover the same pixels (smoothing keeps the
+// coverage), thickness is positive exactly there, normals are unit there.
+TEST(Cli, ExrCarriesEveryAov) {
+    const fs::path dir = tempDir();
+    const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
+    std::string out;
+    ASSERT_EQ(runCli("render " + quote(in) + " -o " + quote(dir / "f.exr") + " --width 160 --height 90", &out), 0)
+        << out;
+    const test::ExrData exr = test::readExr(dir / "f.exr");
+    std::vector<std::string> names = exr.names;
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"A", "B", "G", "N.X", "N.Y", "N.Z", "R", "T", "Z", "Zraw"}));
+    auto channel = [&](const std::string& n) -> const std::vector<float>& {
+        const auto it = std::find(exr.names.begin(), exr.names.end(), n);
+        return exr.channels[std::size_t(it - exr.names.begin())].values;
+    };
+    const auto &z = channel("Z"), &zraw = channel("Zraw"), &t = channel("T");
+    const auto &nx = channel("N.X"), &ny = channel("N.Y"), &nz = channel("N.Z");
+    std::size_t fluid = 0;
+    for (std::size_t i = 0; i < z.size(); ++i) {
+        const bool covered = std::isfinite(zraw[i]);
+        ASSERT_EQ(std::isfinite(z[i]), covered) << i;
+        if (!covered) continue;
+        ++fluid;
+        EXPECT_GT(t[i], 0.0f) << i;
+        EXPECT_NEAR(nx[i] * nx[i] + ny[i] * ny[i] + nz[i] * nz[i], 1.0f, 1e-4f) << i;
+    }
+    EXPECT_GT(fluid, 500u);
+}
+
+// Every filter, material, view and background option renders; unknown names
+// fail with a message naming the option and the choices.
+TEST(Cli, PipelineOptions) {
+    const fs::path dir = tempDir();
+    const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
+    const std::string base = "render " + quote(in) + " --width 64 --height 36 -o ";
+    std::string out;
+    for (const char* f : {"none", "gaussian", "bilateral", "binomial", "curvature-flow", "narrow-range"})
+        EXPECT_EQ(runCli(base + quote(dir / "f.png") + " --filter " + f + " --iterations 2", &out), 0) << f << out;
+    EXPECT_EQ(runCli(base + quote(dir / "f.png") + " --filter narrow-range --separable", &out), 0) << out;
+    for (const char* m : {"water", "murky", "milk", "lava", "sand"})
+        EXPECT_EQ(runCli(base + quote(dir / "f.png") + " --material " + m, &out), 0) << m << out;
+    for (const char* v : {"final", "depth", "raw-depth", "normals", "thickness"})
+        EXPECT_EQ(runCli(base + quote(dir / "f.png") + " --view " + v, &out), 0) << v << out;
+    ASSERT_EQ(runCli(base + quote(dir / "t.png") + " --background none", &out), 0) << out;
+    EXPECT_EQ(test::readPng(dir / "t.png").format, png_uint_32(PNG_FORMAT_RGBA));
+
+    const std::pair<const char*, const char*> bad[] = {{"--filter", "median"}, {"--material", "honey"},
+                                                       {"--view", "shaded"}, {"--background", "black"}};
+    for (const auto& [opt, value] : bad) {
+        EXPECT_EQ(runCli(base + quote(dir / "bad.png") + " " + opt + " " + value, &out), 1) << opt;
+        EXPECT_NE(out.find(opt), std::string::npos) << out;
+        EXPECT_NE(out.find(value), std::string::npos) << out;
+    }
+    EXPECT_NE(runCli(base + quote(dir / "bad.png") + " --filter gaussian --separable", &out), 0);
+    EXPECT_FALSE(fs::exists(dir / "bad.png"));
 }
 
 TEST(Cli, DemoNeedsNoInput) {

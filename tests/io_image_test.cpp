@@ -26,6 +26,10 @@
 namespace meniscus {
 namespace {
 namespace fs = std::filesystem;
+using test::ExrData;
+using test::PngData;
+using test::readExr;
+using test::readPng;
 
 const float kInf = std::numeric_limits<float>::infinity();
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
@@ -46,34 +50,6 @@ std::vector<std::string> listDir(const fs::path& dir) {
     for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
     std::sort(names.begin(), names.end());
     return names;
-}
-
-struct PngData {
-    int width = 0, height = 0;
-    png_uint_32 format = 0, flags = 0;
-    std::vector<std::uint8_t> bytes;
-};
-
-// Reads a PNG with the simplified API in its own format (no conversion).
-PngData readPng(const fs::path& p) {
-    png_image image;
-    std::memset(&image, 0, sizeof image);
-    image.version = PNG_IMAGE_VERSION;
-    PngData out;
-    if (!png_image_begin_read_from_file(&image, p.c_str())) {
-        ADD_FAILURE() << "cannot read PNG " << p << ": " << image.message;
-        return out;
-    }
-    out.width = int(image.width);
-    out.height = int(image.height);
-    out.format = image.format;
-    out.flags = image.flags;
-    out.bytes.resize(PNG_IMAGE_SIZE(image));
-    if (!png_image_finish_read(&image, nullptr, out.bytes.data(), 0, nullptr)) {
-        ADD_FAILURE() << "cannot decode PNG " << p << ": " << image.message;
-        png_image_free(&image);
-    }
-    return out;
 }
 
 // 7x5 image, a distinct value in every channel of every pixel, plus the
@@ -254,58 +230,6 @@ TEST(PngWriter, OverwriteReplacesExistingFile) {
 }
 
 // ------------------------------------------------------------------ EXR
-
-struct ExrChannelData {
-    Imf::PixelType type;
-    std::vector<float> values;
-};
-
-struct ExrData {
-    int width = 0, height = 0;
-    int minX = 0, minY = 0;
-    Imf::Compression compression = Imf::NO_COMPRESSION;
-    Imf::LineOrder lineOrder = Imf::DECREASING_Y;
-    std::vector<std::string> names;  // header order
-    std::vector<ExrChannelData> channels;
-    std::vector<std::vector<float>> firstScanline;  // per channel, read alone
-};
-
-ExrData readExr(const fs::path& p) {
-    ExrData out;
-    Imf::InputFile file(p.c_str());
-    const Imf::Header& h = file.header();
-    const Imath::Box2i dw = h.dataWindow();
-    out.minX = dw.min.x;
-    out.minY = dw.min.y;
-    out.width = dw.max.x - dw.min.x + 1;
-    out.height = dw.max.y - dw.min.y + 1;
-    out.compression = h.compression();
-    out.lineOrder = h.lineOrder();
-    Imf::FrameBuffer fb;
-    for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
-        out.names.push_back(it.name());
-        out.channels.push_back({it.channel().type, std::vector<float>(std::size_t(out.width) * out.height)});
-    }
-    for (std::size_t i = 0; i < out.names.size(); ++i) {
-        char* base = reinterpret_cast<char*>(out.channels[i].values.data()) -
-                     (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * out.width) * std::ptrdiff_t(sizeof(float));
-        fb.insert(out.names[i], Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * out.width));
-    }
-    file.setFrameBuffer(fb);
-    file.readPixels(dw.min.y, dw.max.y);
-
-    // The first scanline on its own, into a one-row buffer.
-    Imf::FrameBuffer rowFb;
-    out.firstScanline.assign(out.names.size(), std::vector<float>(std::size_t(out.width)));
-    for (std::size_t i = 0; i < out.names.size(); ++i) {
-        char* base = reinterpret_cast<char*>(out.firstScanline[i].data()) -
-                     (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * out.width) * std::ptrdiff_t(sizeof(float));
-        rowFb.insert(out.names[i], Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * out.width));
-    }
-    file.setFrameBuffer(rowFb);
-    file.readPixels(dw.min.y, dw.min.y);
-    return out;
-}
 
 bool bitEqual(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 

@@ -5,11 +5,16 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <cstring>
 #include <iterator>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <zlib.h>
@@ -127,6 +132,65 @@ void expectMatchesStats(const ParticleSet& set, const std::map<std::string, std:
     EXPECT_NEAR(*std::min_element(rho->floats.begin(), rho->floats.end()), statsNumber(row, "density_min"), 0.01);
     EXPECT_NEAR(*std::max_element(rho->floats.begin(), rho->floats.end()), statsNumber(row, "density_max"), 0.01);
     EXPECT_NEAR(numpyMedian(rho->floats), statsNumber(row, "density_median"), 0.01);
+}
+
+// Reads a PNG with the simplified API in its own format (no conversion).
+PngData readPng(const std::filesystem::path& p) {
+    png_image image;
+    std::memset(&image, 0, sizeof image);
+    image.version = PNG_IMAGE_VERSION;
+    PngData out;
+    if (!png_image_begin_read_from_file(&image, p.c_str())) {
+        ADD_FAILURE() << "cannot read PNG " << p << ": " << image.message;
+        return out;
+    }
+    out.width = int(image.width);
+    out.height = int(image.height);
+    out.format = image.format;
+    out.flags = image.flags;
+    out.bytes.resize(PNG_IMAGE_SIZE(image));
+    if (!png_image_finish_read(&image, nullptr, out.bytes.data(), 0, nullptr)) {
+        ADD_FAILURE() << "cannot decode PNG " << p << ": " << image.message;
+        png_image_free(&image);
+    }
+    return out;
+}
+
+ExrData readExr(const std::filesystem::path& p) {
+    ExrData out;
+    Imf::InputFile file(p.c_str());
+    const Imf::Header& h = file.header();
+    const Imath::Box2i dw = h.dataWindow();
+    out.minX = dw.min.x;
+    out.minY = dw.min.y;
+    out.width = dw.max.x - dw.min.x + 1;
+    out.height = dw.max.y - dw.min.y + 1;
+    out.compression = h.compression();
+    out.lineOrder = h.lineOrder();
+    Imf::FrameBuffer fb;
+    for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
+        out.names.push_back(it.name());
+        out.channels.push_back({it.channel().type, std::vector<float>(std::size_t(out.width) * out.height)});
+    }
+    for (std::size_t i = 0; i < out.names.size(); ++i) {
+        char* base = reinterpret_cast<char*>(out.channels[i].values.data()) -
+                     (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * out.width) * std::ptrdiff_t(sizeof(float));
+        fb.insert(out.names[i], Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * out.width));
+    }
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+
+    // The first scanline on its own, into a one-row buffer.
+    Imf::FrameBuffer rowFb;
+    out.firstScanline.assign(out.names.size(), std::vector<float>(std::size_t(out.width)));
+    for (std::size_t i = 0; i < out.names.size(); ++i) {
+        char* base = reinterpret_cast<char*>(out.firstScanline[i].data()) -
+                     (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * out.width) * std::ptrdiff_t(sizeof(float));
+        rowFb.insert(out.names[i], Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * out.width));
+    }
+    file.setFrameBuffer(rowFb);
+    file.readPixels(dw.min.y, dw.min.y);
+    return out;
 }
 
 std::vector<glm::vec3> jitteredBlock(glm::ivec3 n, float spacing, float jitter, glm::vec3 origin, unsigned seed) {

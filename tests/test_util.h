@@ -7,6 +7,11 @@
 #include <string>
 #include <vector>
 
+#include <OpenEXR/ImfPixelType.h>
+#include <OpenEXR/ImfCompression.h>
+#include <OpenEXR/ImfLineOrder.h>
+#include <png.h>
+
 #include "meniscus/camera.h"
 #include "meniscus/particles.h"
 
@@ -44,6 +49,33 @@ double numpyMedian(std::vector<float> v);
 
 // Count, bounds (1e-5) and density min/max/median (0.01) of `set` against a frame_stats row.
 void expectMatchesStats(const ParticleSet& set, const std::map<std::string, std::string>& row);
+
+// ---- Reading images back (libpng / OpenEXR directly) ----------------------
+
+struct PngData {
+    int width = 0, height = 0;
+    png_uint_32 format = 0, flags = 0;
+    std::vector<std::uint8_t> bytes;
+};
+// Reads a PNG with the simplified API in its own format (no conversion).
+PngData readPng(const std::filesystem::path& p);
+
+struct ExrChannelData {
+    Imf::PixelType type;
+    std::vector<float> values;
+};
+
+struct ExrData {
+    int width = 0, height = 0;
+    int minX = 0, minY = 0;
+    Imf::Compression compression = Imf::NO_COMPRESSION;
+    Imf::LineOrder lineOrder = Imf::DECREASING_Y;
+    std::vector<std::string> names;  // header order
+    std::vector<ExrChannelData> channels;
+    std::vector<std::vector<float>> firstScanline;  // per channel, read alone
+};
+// Reads every channel as float, plus the first scanline on its own.
+ExrData readExr(const std::filesystem::path& p);
 
 // ---- Synthetic scenes for the pipeline tests ------------------------------
 

@@ -112,8 +112,33 @@ struct RenderOptions {
     std::string eye, target, up = "0,1,0";
     float fov = defaults::kFovYDegrees;
     float radius = 0.0f;  // 0 = estimate
-    std::string view = "depth";
+    std::string view = "final";
+    std::string filter = "narrow-range";
+    int iterations = -1;  // -1 = the filter's default
+    bool separable = false;
+    std::string material = "water";
+    std::string background = "studio";
 };
+
+// The pipeline settings named by the options (camera and radius come later).
+Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
+    RenderSettings s;
+    if (!viewFromName(o.view, &s.view)) return makeError("", "--view " + o.view + ": expected one of " + viewNames());
+    if (!filterFromName(o.filter, &s.filter))
+        return makeError("", "--filter " + o.filter + ": expected one of " + filterNames());
+    if (o.iterations >= 0) setFilterIterations(s.filter, o.iterations);
+    if (o.separable) {
+        auto* nr = std::get_if<NarrowRangeParams>(&s.filter);
+        if (!nr) return makeError("", "--separable applies to --filter narrow-range only");
+        nr->separable = true;
+    }
+    if (!materialPreset(o.material, &s.shading.material))
+        return makeError("", "--material " + o.material + ": expected one of " + materialPresetNames());
+    if (o.background != "studio" && o.background != "none")
+        return makeError("", "--background " + o.background + ": expected studio or none");
+    s.scene.background = o.background == "studio";
+    return s;
+}
 
 bool isExr(const std::string& path) { return fs::path(path).extension() == ".exr"; }
 bool isPng(const std::string& path) { return fs::path(path).extension() == ".png"; }
@@ -141,16 +166,17 @@ Result<Camera> chooseCamera(const RenderOptions& o, const std::vector<glm::vec3>
     return cam;
 }
 
-Status writeOutput(const std::string& path, const Aovs& aovs) {
+Status writeOutput(const std::string& path, const Aovs& aovs, bool withAlpha) {
     if (isExr(path)) return writeExrAovs(path, aovs);
-    return writePng(path, aovs.color, /*withAlpha=*/false);
+    return writePng(path, aovs.color, withAlpha);
 }
 
 int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     if (!isPng(o.output) && !isExr(o.output))
         return fail(o.output + ": output must end in .png or .exr");
-    if (o.view != "depth")
-        return fail("--view " + o.view + ": only 'depth' (the raw splatted eye depth) exists so far");
+    auto parsed = settingsFromOptions(o);
+    if (!parsed) return fail(parsed.error().describe());
+    RenderSettings settings = std::move(*parsed);
     if (!(o.radius >= 0.0f)) return fail("--radius must be a positive number of metres");
 
     std::vector<fs::path> frames;
@@ -197,10 +223,10 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     auto camera = chooseCamera(o, samplePoints, radius);
     if (!camera) return fail(camera.error().describe());
 
-    RenderSettings settings;
     settings.camera = *camera;
     settings.radiusM = radius;
-    settings.view = View::Depth;
+    // The studio is built around the first frame and stays put for the sequence.
+    settings.scene.studioBounds = computeBounds(first->positions);
 
     ProgressBar progress(count, "rendering");
     for (std::size_t i = 0; i < count; ++i) {
@@ -217,7 +243,7 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
             if (!name) return fail(name.error().describe());
             out = *name;
         }
-        if (auto st = writeOutput(out, *aovs); !st) return fail(st.error().describe());
+        if (auto st = writeOutput(out, *aovs, !settings.scene.background); !st) return fail(st.error().describe());
         progress.update(i + 1);
         if (count == 1) std::cerr << "meniscus: wrote " << out << "\n";
     }
@@ -234,7 +260,18 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o) {
     cmd->add_option("--fov", o.fov, "Vertical field of view in degrees")->capture_default_str();
     cmd->add_option("--radius", o.radius,
                     "Particle radius in metres (default: half the median nearest-neighbour distance)");
-    cmd->add_option("--view", o.view, "What to draw: depth (raw splatted eye depth; the shaded views come later)")
+    cmd->add_option("--view", o.view,
+                    "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
+                    "smoothing), normals, thickness")
+        ->capture_default_str();
+    cmd->add_option("--filter", o.filter, "Depth smoothing: " + filterNames())->capture_default_str();
+    cmd->add_option("--iterations", o.iterations,
+                    "Smoothing iterations (default: the filter's own, e.g. 3 for narrow-range, 40 for curvature-flow)")
+        ->check(CLI::Range(0, 10000));
+    cmd->add_flag("--separable", o.separable, "narrow-range: the faster separable 1-D approximation");
+    cmd->add_option("--material", o.material, "Fluid look: " + materialPresetNames())->capture_default_str();
+    cmd->add_option("--background", o.background,
+                    "studio (checker floor, two walls, sky) or none (transparent PNG background)")
         ->capture_default_str();
 }
 

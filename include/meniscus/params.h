@@ -90,6 +90,14 @@ struct NarrowRangeParams {
 using FilterParams =
     std::variant<NoFilter, GaussianParams, BilateralParams, BinomialParams, CurvatureFlowParams, NarrowRangeParams>;
 
+// CLI names: none, gaussian, bilateral, binomial, curvature-flow, narrow-range.
+// filterFromName returns false for an unknown name.
+bool filterFromName(const std::string& name, FilterParams* out);
+std::string filterName(const FilterParams& filter);
+std::string filterNames();  // comma separated, for --help
+int filterIterations(const FilterParams& filter);  // 0 for none
+void setFilterIterations(FilterParams& filter, int iterations);
+
 // ---- Thickness (SPEC §3.4) ---------------------------------------------------
 
 struct ThicknessParams {

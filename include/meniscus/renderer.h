@@ -3,27 +3,45 @@
 #pragma once
 
 #include <span>
+#include <string>
+#include <vector>
 
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
+#include "meniscus/params.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
 
 namespace meniscus {
 
-// What a person sees in the 8-bit output. Only the raw splat depth exists so
-// far; the shaded image, normals and thickness views arrive with the CPU
-// shading pipeline.
-enum class View { Depth };
+// What the colour AOV (and so the PNG) shows: the shaded, composited image or
+// a picture of one intermediate stage for a person to look at.
+enum class View { Final, Depth, RawDepth, Normals, Thickness };
+
+// CLI names: final, depth, raw-depth, normals, thickness.
+bool viewFromName(const std::string& name, View* out);
+std::string viewNames();
 
 struct RenderSettings {
     Camera camera;           // must be valid (see validateCamera / autoFrameCamera)
     float radiusM = 0.0f;    // particle radius in metres, > 0
-    View view = View::Depth;
+    View view = View::Final;
+    FilterParams filter = NarrowRangeParams{};
+    ThicknessParams thickness;
+    SceneParams scene;
+    ShadingParams shading;
 };
 
-// Renders one frame. Fills the AOVs that the implemented stages produce
-// (rawDepth and color; color.a is the fluid coverage).
-Result<Aovs> renderFrame(std::span<const glm::vec3> positions, const RenderSettings& settings);
+// Wall-clock time of one stage of one renderFrame call.
+struct StageTime {
+    std::string stage;
+    double ms = 0.0;
+};
+
+// Renders one frame: every AOV is filled (color = the chosen view; depth = the
+// smoothed eye depth; rawDepth = the splat; normal; thickness). When `timings`
+// is given it receives one entry per stage, in pipeline order.
+Result<Aovs> renderFrame(std::span<const glm::vec3> positions, const RenderSettings& settings,
+                         std::vector<StageTime>* timings = nullptr);
 
 }  // namespace meniscus

@@ -1,23 +1,43 @@
-// The stage order of the screen-space pipeline (SPEC §1), in one place.
-// Implemented so far: depth splat -> depth view. Smoothing, normals, thickness
-// and shading are the next stages to arrive here.
+// The stage order of the screen-space pipeline (SPEC §1), in one place:
+//   scene -> depth splat -> thickness -> smoothing -> normals -> shading.
+// Each stage is one function in src/cpu/ (one file per stage).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
+#include "cpu/filters.h"
+#include "cpu/normals.h"
+#include "cpu/scene.h"
+#include "cpu/shading.h"
 #include "cpu/splat.h"
+#include "cpu/thickness.h"
+#include "meniscus/particles.h"
 #include "meniscus/renderer.h"
 
 namespace meniscus {
 
 namespace {
 
-// A person-readable picture of eye depth: near = bright, far = dark, over the
-// depth range of the fluid in view; no fluid = dark background, A = coverage.
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Runs one stage, recording its wall-clock time when asked.
+template <class Fn>
+auto timed(std::vector<StageTime>* timings, const char* stage, Fn&& fn) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto out = fn();
+    if (timings)
+        timings->push_back({stage, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()});
+    return out;
+}
+
+// ---- Debug views: pictures of one stage for a person (not physically based).
+
+// Near = bright, far = dark over the fluid's own depth range; no fluid = dark.
 Image<glm::vec4> depthView(const Image<float>& depth) {
-    float zmin = std::numeric_limits<float>::infinity(), zmax = 0.0f;
+    float zmin = kInf, zmax = 0.0f;
     for (float z : depth.pixels)
-        if (std::isfinite(z)) {
+        if (z < kInf) {
             zmin = std::min(zmin, z);
             zmax = std::max(zmax, z);
         }
@@ -25,24 +45,95 @@ Image<glm::vec4> depthView(const Image<float>& depth) {
     Image<glm::vec4> out(depth.width, depth.height, glm::vec4(0.02f, 0.02f, 0.025f, 0.0f));
     for (std::size_t i = 0; i < depth.size(); ++i) {
         const float z = depth.pixels[i];
-        if (!std::isfinite(z)) continue;
+        if (!(z < kInf)) continue;
         const float s = 1.0f - 0.85f * (z - zmin) / span;  // 1 at the nearest fluid, 0.15 at the farthest
         out.pixels[i] = glm::vec4(s * s * glm::vec3(0.85f, 0.92f, 1.0f), 1.0f);
     }
     return out;
 }
 
+// The usual normal-map colours: rgb = n * 0.5 + 0.5 (view space), linearised so
+// the sRGB PNG shows exactly those values.
+Image<glm::vec4> normalsView(const Image<glm::vec3>& normals, const Image<float>& depth) {
+    Image<glm::vec4> out(normals.width, normals.height, glm::vec4(0.0f));
+    for (std::size_t i = 0; i < normals.size(); ++i) {
+        if (!(depth.pixels[i] < kInf)) continue;
+        const glm::vec3 c = normals.pixels[i] * 0.5f + 0.5f;
+        out.pixels[i] = glm::vec4(glm::pow(c, glm::vec3(2.2f)), 1.0f);
+    }
+    return out;
+}
+
+// Thickness as a heat ramp (black - blue - cyan - white) up to the 99th percentile.
+Image<glm::vec4> thicknessView(const Image<float>& thickness) {
+    std::vector<float> values;
+    for (float t : thickness.pixels)
+        if (t > 0.0f) values.push_back(t);
+    float top = 1.0f;
+    if (!values.empty()) {
+        auto k = values.begin() + std::ptrdiff_t(0.99 * double(values.size() - 1));
+        std::nth_element(values.begin(), k, values.end());
+        top = std::max(*k, 1e-30f);
+    }
+    Image<glm::vec4> out(thickness.width, thickness.height, glm::vec4(0.0f));
+    for (std::size_t i = 0; i < thickness.size(); ++i) {
+        const float t = thickness.pixels[i];
+        if (!(t > 0.0f)) continue;
+        const float u = std::min(1.0f, t / top);
+        const glm::vec3 c = u < 0.5f ? glm::mix(glm::vec3(0.0f, 0.02f, 0.15f), glm::vec3(0.0f, 0.55f, 0.9f), 2.0f * u)
+                                     : glm::mix(glm::vec3(0.0f, 0.55f, 0.9f), glm::vec3(1.0f), 2.0f * u - 1.0f);
+        out.pixels[i] = glm::vec4(c, 1.0f);
+    }
+    return out;
+}
+
 }  // namespace
 
-Result<Aovs> renderFrame(std::span<const glm::vec3> positions, const RenderSettings& s) {
+bool viewFromName(const std::string& name, View* out) {
+    static const std::pair<const char*, View> kViews[] = {{"final", View::Final},
+                                                          {"depth", View::Depth},
+                                                          {"raw-depth", View::RawDepth},
+                                                          {"normals", View::Normals},
+                                                          {"thickness", View::Thickness}};
+    for (const auto& [n, v] : kViews)
+        if (name == n) {
+            *out = v;
+            return true;
+        }
+    return false;
+}
+
+std::string viewNames() { return "final, depth, raw-depth, normals, thickness"; }
+
+Result<Aovs> renderFrame(std::span<const glm::vec3> positions, const RenderSettings& s,
+                         std::vector<StageTime>* timings) {
     if (auto st = validateCamera(s.camera); !st) return st.error();
     if (!(s.radiusM > 0.0f) || !std::isfinite(s.radiusM))
         return makeError("", "particle radius must be a positive number of metres");
+    const Camera& cam = s.camera;
+    const float r = s.radiusM;
 
+    const cpu::SceneLayer scene = timed(timings, "scene", [&] {
+        const Bounds box = s.scene.studioBounds.empty() ? computeBounds(positions) : s.scene.studioBounds;
+        return cpu::castScene(cam, cpu::makeStudio(box, r, cam, s.scene));
+    });
     Aovs aovs;
-    aovs.rawDepth = cpu::splatDepth(s.camera, positions, s.radiusM);
+    aovs.rawDepth = timed(timings, "depth-splat", [&] { return cpu::splatDepth(cam, positions, r, &scene.depth); });
+    aovs.thickness = timed(timings, "thickness", [&] {
+        return cpu::computeThickness(cam, positions, r, s.thickness, &scene.depth, aovs.rawDepth);
+    });
+    aovs.depth = timed(timings, "smooth", [&] { return cpu::smoothDepth(aovs.rawDepth, cam, r, s.filter); });
+    aovs.normal = timed(timings, "normals",
+                        [&] { return cpu::computeNormals(aovs.depth, cam, r, defaults::kDepthJumpRadii); });
+    aovs.color = timed(timings, "shade", [&] {
+        return cpu::shadeAndComposite(cam, scene, aovs.depth, aovs.normal, aovs.thickness, s.shading);
+    });
     switch (s.view) {
-        case View::Depth: aovs.color = depthView(aovs.rawDepth); break;
+        case View::Final: break;
+        case View::Depth: aovs.color = depthView(aovs.depth); break;
+        case View::RawDepth: aovs.color = depthView(aovs.rawDepth); break;
+        case View::Normals: aovs.color = normalsView(aovs.normal, aovs.depth); break;
+        case View::Thickness: aovs.color = thicknessView(aovs.thickness); break;
     }
     return aovs;
 }
