@@ -78,91 +78,132 @@ Studio makeStudio(const Bounds& particleBox, float radius, const Camera& camera,
     return s;
 }
 
+namespace {
+
+// Everything one pixel of castScene needs, by value: a row works on its own
+// copy, so no load in the loop can alias the output (the compiler then
+// if-converts and vectorises the plane pass).
+struct CastConstants {
+    glm::vec3 eye, right, up, back;
+    float invF, halfW, halfH, nearM;
+    float floorY, wallX, wallZ, nX, nZ, topY;
+    float invChecker, aoScale, fadeStart, invFade;
+    float litFloor, litWallX, litWallZ;
+    float floorLight[3], floorDark[3], wallLight[3], wallDark[3];  // linear RGB
+};
+
+void castRow(const CastConstants c, int y, int width, float* depthRow, glm::vec4* colourRow) {
+    // World ray D = dirToWorld(view ray with z = -1): eye + t D has eye depth t.
+    const glm::vec3 rowDir = (-(float(y) + 0.5f - c.halfH) * c.invF) * c.up - c.back;
+    // In chunks: a branch-free pass for the planes, then a scalar pass for the
+    // few pixels that need the sky (no hit, or the far fade).
+    constexpr int kChunk = 64;
+    float red[kChunk], green[kChunk], blue[kChunk], fade[kChunk];
+    for (int x0 = 0; x0 < width; x0 += kChunk) {
+        const int n = std::min(kChunk, width - x0);
+        for (int k = 0; k < n; ++k) {
+            const float vx = (float(x0 + k) + 0.5f - c.halfW) * c.invF;
+            const float Dx = rowDir.x + vx * c.right.x, Dy = rowDir.y + vx * c.right.y, Dz = rowDir.z + vx * c.right.z;
+            // Each plane counts only where hit from its front, beyond the near
+            // plane and inside the corner (walls above the floor and below their
+            // top, everything on the camera's side of the walls).
+            const float tF = (c.floorY - c.eye.y) / Dy;
+            const bool okF = Dy < 0.0f && tF >= c.nearM && (c.eye.x + tF * Dx - c.wallX) * c.nX >= 0.0f &&
+                             (c.eye.z + tF * Dz - c.wallZ) * c.nZ >= 0.0f;
+            const float tX = (c.wallX - c.eye.x) / Dx;
+            const float yX = c.eye.y + tX * Dy;
+            const bool okX = Dx * c.nX < 0.0f && tX >= c.nearM && yX >= c.floorY && yX <= c.topY &&
+                             (c.eye.z + tX * Dz - c.wallZ) * c.nZ >= 0.0f;
+            const float tZ = (c.wallZ - c.eye.z) / Dz;
+            const float yZ = c.eye.y + tZ * Dy;
+            const bool okZ = Dz * c.nZ < 0.0f && tZ >= c.nearM && yZ >= c.floorY && yZ <= c.topY &&
+                             (c.eye.x + tZ * Dx - c.wallX) * c.nX >= 0.0f;
+            // The nearest valid hit (in exact arithmetic at most one is valid).
+            float t = okF ? tF : kInf;
+            int plane = okF ? 0 : -1;
+            plane = okX && tX < t ? 1 : plane;
+            t = okX && tX < t ? tX : t;
+            plane = okZ && tZ < t ? 2 : plane;
+            t = okZ && tZ < t ? tZ : t;
+            const float tt = plane >= 0 ? t : 0.0f;  // keeps the arithmetic below finite
+            // Plane coordinates from the corner edges, so the squares line up
+            // across the corner; (a, b) are also the distances to the two other planes.
+            const float dx = (c.eye.x + tt * Dx - c.wallX) * c.nX;
+            const float dy = c.eye.y + tt * Dy - c.floorY;
+            const float dz = (c.eye.z + tt * Dz - c.wallZ) * c.nZ;
+            const float a = plane == 1 ? dz : dx;
+            const float b = plane == 0 ? dz : dy;
+            const bool odd = ((floorInt(a * c.invChecker) + floorInt(b * c.invChecker)) & 1) != 0;
+            const bool onFloor = plane == 0;
+            // Per channel (a select of whole vectors would become a load through a chosen address).
+            auto pick = [&](int ch) {
+                return odd ? (onFloor ? c.floorDark[ch] : c.wallDark[ch]) : (onFloor ? c.floorLight[ch] : c.wallLight[ch]);
+            };
+            const float lit = onFloor ? c.litFloor : plane == 1 ? c.litWallX : c.litWallZ;
+            const float ao = 1.0f - 0.25f * (cornerFall(a, c.aoScale) + cornerFall(b, c.aoScale));
+            const float shade = lit * ao;
+            red[k] = pick(0) * shade;
+            green[k] = pick(1) * shade;
+            blue[k] = pick(2) * shade;
+            // The weight of the sky: -1 where no plane is hit.
+            fade[k] = plane >= 0 ? std::clamp((std::max(a, b) - c.fadeStart) * c.invFade, 0.0f, 1.0f) : -1.0f;
+            depthRow[x0 + k] = t;
+        }
+        for (int k = 0; k < n; ++k) {
+            glm::vec3 rgb(red[k], green[k], blue[k]);
+            if (fade[k] != 0.0f) {
+                const float vx = (float(x0 + k) + 0.5f - c.halfW) * c.invF;
+                const glm::vec3 sky = skyColor(rowDir + vx * c.right);
+                rgb = fade[k] < 0.0f ? sky : glm::mix(rgb, sky, fade[k]);
+            }
+            colourRow[x0 + k] = glm::vec4(rgb, 1.0f);
+        }
+    }
+}
+
+}  // namespace
+
 SceneLayer castScene(const Camera& camera, const Studio& studio) {
     const int W = camera.width, H = camera.height;
     SceneLayer out{Image<glm::vec4>(W, H, glm::vec4(0.0f)), Image<float>(W, H, kInf)};
     if (!studio.enabled) return out;
 
-    // World ray D = dirToWorld(view ray with z = -1): eye + t D has eye depth t.
-    const glm::vec3 right = camera.right(), up = camera.trueUp(), back = camera.back();
-    const glm::vec3 eye = camera.eye;
-    const float invF = 1.0f / camera.focalPx();
-    const float halfW = 0.5f * float(W), halfH = 0.5f * float(H);
-    const float nearM = camera.nearM;
-
+    CastConstants c;
+    c.eye = camera.eye;
+    c.right = camera.right();
+    c.up = camera.trueUp();
+    c.back = camera.back();
+    c.invF = 1.0f / camera.focalPx();
+    c.halfW = 0.5f * float(W);
+    c.halfH = 0.5f * float(H);
+    c.nearM = camera.nearM;
+    c.floorY = studio.floorY;
+    c.wallX = studio.wallX;
+    c.wallZ = studio.wallZ;
+    c.nX = studio.wallXNormal;
+    c.nZ = studio.wallZNormal;
+    c.topY = studio.wallTopY;
+    c.invChecker = 1.0f / studio.checkerM;
+    c.aoScale = studio.checkerM;  // corner darkening reaches about one square
+    // The infinite floor fades into the sky's own colour far away (between 24
+    // and 80 squares from the corner), hiding the checker's aliasing there.
+    c.fadeStart = 24.0f * studio.checkerM;
+    c.invFade = 1.0f / (56.0f * studio.checkerM);
     // Lighting is constant per plane (flat, one directional key light plus a
     // sky-like ambient term), so it is computed once here.
     const glm::vec3 light = ShadingParams{}.lightDirWorld;
     const float ambient = 0.45f, key = 0.55f;
-    const float litFloor = ambient + key * std::max(0.0f, light.y);
-    const float litWallX = ambient + key * std::max(0.0f, studio.wallXNormal * light.x);
-    const float litWallZ = ambient + key * std::max(0.0f, studio.wallZNormal * light.z);
-    const glm::vec3 floorLight(0.72f), floorDark(0.40f);                                // grey floor
-    const glm::vec3 wallLight(0.62f, 0.64f, 0.68f), wallDark(0.44f, 0.46f, 0.50f);      // cooler walls
-    const float invChecker = 1.0f / studio.checkerM;
-    const float aoScale = studio.checkerM;  // corner darkening reaches about one square
-    // The infinite planes fade into the sky's own colour far away (between 24
-    // and 80 squares from the corner), hiding the checker's aliasing there.
-    const float fadeStart = 24.0f * studio.checkerM, fadeEnd = 80.0f * studio.checkerM;
+    c.litFloor = ambient + key * std::max(0.0f, light.y);
+    c.litWallX = ambient + key * std::max(0.0f, studio.wallXNormal * light.x);
+    c.litWallZ = ambient + key * std::max(0.0f, studio.wallZNormal * light.z);
+    const float floorLight[3] = {0.72f, 0.72f, 0.72f}, floorDark[3] = {0.40f, 0.40f, 0.40f};  // grey floor
+    const float wallLight[3] = {0.62f, 0.64f, 0.68f}, wallDark[3] = {0.44f, 0.46f, 0.50f};      // cooler walls
+    std::copy_n(floorLight, 3, c.floorLight);
+    std::copy_n(floorDark, 3, c.floorDark);
+    std::copy_n(wallLight, 3, c.wallLight);
+    std::copy_n(wallDark, 3, c.wallDark);
 
-    forEachRow(H, [&](int y) {
-        const float vy = -(float(y) + 0.5f - halfH) * invF;
-        for (int x = 0; x < W; ++x) {
-            const float vx = (float(x) + 0.5f - halfW) * invF;
-            const glm::vec3 D = vx * right + vy * up - back;
-
-            // Nearest front-facing hit among the three planes; each counts only
-            // inside the corner (walls above the floor, floor and walls on the
-            // camera's side of the other walls, walls below their top).
-            float best = kInf;
-            int plane = -1;  // 0 floor, 1 wall x, 2 wall z
-            glm::vec3 p(0.0f);
-            if (D.y < 0.0f) {
-                const float t = (studio.floorY - eye.y) / D.y;
-                const glm::vec3 q = eye + t * D;
-                if (t >= nearM && (q.x - studio.wallX) * studio.wallXNormal >= 0.0f &&
-                    (q.z - studio.wallZ) * studio.wallZNormal >= 0.0f) {
-                    best = t, plane = 0, p = q;
-                }
-            }
-            if (D.x * studio.wallXNormal < 0.0f) {
-                const float t = (studio.wallX - eye.x) / D.x;
-                const glm::vec3 q = eye + t * D;
-                if (t >= nearM && t < best && q.y >= studio.floorY && q.y <= studio.wallTopY &&
-                    (q.z - studio.wallZ) * studio.wallZNormal >= 0.0f)
-                    best = t, plane = 1, p = q;
-            }
-            if (D.z * studio.wallZNormal < 0.0f) {
-                const float t = (studio.wallZ - eye.z) / D.z;
-                const glm::vec3 q = eye + t * D;
-                if (t >= nearM && t < best && q.y >= studio.floorY && q.y <= studio.wallTopY &&
-                    (q.x - studio.wallX) * studio.wallXNormal >= 0.0f)
-                    best = t, plane = 2, p = q;
-            }
-
-            if (plane < 0) {
-                out.color.at(x, y) = glm::vec4(skyColor(D), 1.0f);
-                continue;
-            }
-            // Plane coordinates measured from the corner edges, so the squares
-            // line up across the corner; (a, b) = distances to the two other planes.
-            const float dx = (p.x - studio.wallX) * studio.wallXNormal;
-            const float dz = (p.z - studio.wallZ) * studio.wallZNormal;
-            const float dy = p.y - studio.floorY;
-            float a, b, lit;
-            if (plane == 0) a = dx, b = dz, lit = litFloor;
-            else if (plane == 1) a = dz, b = dy, lit = litWallX;
-            else a = dx, b = dy, lit = litWallZ;
-            const bool odd = ((floorInt(a * invChecker) + floorInt(b * invChecker)) & 1) != 0;
-            const glm::vec3 albedo = plane == 0 ? (odd ? floorDark : floorLight) : (odd ? wallDark : wallLight);
-            const float ao = 1.0f - 0.25f * (cornerFall(a, aoScale) + cornerFall(b, aoScale));
-            glm::vec3 c = albedo * (lit * ao);
-            const float far = std::max(a, b);
-            if (far > fadeStart) c = glm::mix(c, skyColor(D), std::min(1.0f, (far - fadeStart) / (fadeEnd - fadeStart)));
-            out.color.at(x, y) = glm::vec4(c, 1.0f);
-            out.depth.at(x, y) = best;
-        }
-    });
+    forEachRow(H, [&](int y) { castRow(c, y, W, &out.depth.at(0, y), &out.color.at(0, y)); });
     return out;
 }
 
