@@ -21,6 +21,7 @@ struct Studio {
     float wallXNormal = 1.0f;  // +1 or -1: the side of the wall the camera is on
     float wallZ = 0.0f;        // back wall plane z = wallZ
     float wallZNormal = 1.0f;
+    float wallTopY = 1.0f;     // the walls end at this height; the sky shows above them
     float checkerM = 0.1f;     // checker square size
 };
 

@@ -7,7 +7,9 @@
 //
 // Parallel scheme: particles are binned into fixed screen tiles, then each tile
 // is splatted by one task. A min is order-independent, so the result is the
-// same for any thread count.
+// same for any thread count. The same bins and tile pass also sum the chord
+// lengths of the thickness stage (SPEC §3.4, thickness.cpp), alone or in the
+// same pass as the depth, since both need the same ray-sphere intersection.
 #include "splat.h"
 
 #include <algorithm>
@@ -20,7 +22,7 @@ namespace meniscus::cpu {
 
 namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr int kTile = 32;  // pixels
+constexpr int kTile = kSplatTilePx;
 }  // namespace
 
 PixelRect projectedSphereBounds(const Camera& camera, const glm::vec3& c, float r) {
@@ -70,57 +72,139 @@ float raySphereEyeDepth(const glm::vec3& ray, const glm::vec3& c, float r) {
     return t / len;
 }
 
-Image<float> splatDepth(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
-                        const Image<float>* sceneDepth) {
+SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius) {
+    SplatBins bins;
     const int W = camera.width, H = camera.height;
-    Image<float> depth(W, H, kInf);
-    const int tilesX = (W + kTile - 1) / kTile, tilesY = (H + kTile - 1) / kTile;
+    bins.tilesX = (W + kTile - 1) / kTile;
+    bins.tilesY = (H + kTile - 1) / kTile;
 
     // View-space centres and screen rectangles, in parallel (independent per particle).
     const std::size_t n = positionsWorld.size();
-    std::vector<glm::vec3> centres(n);
-    std::vector<PixelRect> rects(n);
+    bins.centres.resize(n);
+    bins.rects.resize(n);
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-        centres[i] = camera.toView(positionsWorld[i]);
-        rects[i] = projectedSphereBounds(camera, centres[i], radius);
+        bins.centres[i] = camera.toView(positionsWorld[i]);
+        bins.rects[i] = projectedSphereBounds(camera, bins.centres[i], radius);
     });
 
     // Bin particle indices per tile: count, prefix sum, fill (serial, in
     // particle order, so the bins are the same for any thread count).
-    std::vector<std::uint32_t> start(std::size_t(tilesX) * std::size_t(tilesY) + 1, 0);
+    const int tilesX = bins.tilesX;
+    auto& start = bins.start;
+    start.assign(std::size_t(bins.tilesX) * std::size_t(bins.tilesY) + 1, 0);
     auto forTiles = [&](const PixelRect& r, auto&& fn) {
         if (r.empty()) return;
         for (int ty = r.y0 / kTile; ty <= (r.y1 - 1) / kTile; ++ty)
             for (int tx = r.x0 / kTile; tx <= (r.x1 - 1) / kTile; ++tx) fn(std::size_t(ty) * tilesX + tx);
     };
-    for (std::size_t i = 0; i < n; ++i) forTiles(rects[i], [&](std::size_t t) { ++start[t + 1]; });
+    for (std::size_t i = 0; i < n; ++i) forTiles(bins.rects[i], [&](std::size_t t) { ++start[t + 1]; });
     for (std::size_t t = 1; t < start.size(); ++t) start[t] += start[t - 1];
-    std::vector<std::uint32_t> items(start.back());
+    bins.items.resize(start.back());
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     for (std::size_t i = 0; i < n; ++i)
-        forTiles(rects[i], [&](std::size_t t) { items[fill[t]++] = std::uint32_t(i); });
+        forTiles(bins.rects[i], [&](std::size_t t) { bins.items[fill[t]++] = std::uint32_t(i); });
+    return bins;
+}
 
-    // Pixel rays without calling Camera per pixel (focalPx() costs a tan).
+namespace {
+
+// One tile of the splat. Per-pixel ray data lives in tile-local arrays (one
+// sqrt per pixel instead of one per sphere-pixel pair); the sphere-pixel loop
+// is branch-free so the compiler can vectorise it. Chords are summed in bin
+// order, a fixed order.
+template <bool kDepth, bool kChord>
+void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
+               Image<float>* depth, Image<float>* chordSum) {
+    constexpr int N = kTile * kTile;
+    const int W = camera.width, H = camera.height;
+    const int tx = t % bins.tilesX, ty = t / bins.tilesX;
+    const int bx0 = tx * kTile, by0 = ty * kTile;
+    const int bx1 = std::min(W, bx0 + kTile), by1 = std::min(H, by0 + kTile);
+
+    // Unit ray u per pixel; eye depth = (ray parameter) * invLen since ray.z = -1.
+    alignas(64) float ux[N], uy[N], uz[N], invLen[N];
+    alignas(64) float zScene[N];      // scene eye depth (depth test)
+    alignas(64) float tNear[N], tFar[N];  // near plane and scene, as ray parameters (chord clip)
+    alignas(64) float zBest[N], chord[N];
     const float nearM = camera.nearM;
     const float invF = 1.0f / camera.focalPx();
     const float halfW = 0.5f * float(W), halfH = 0.5f * float(H);
-    tbb::parallel_for(0, tilesX * tilesY, [&](int t) {
-        const int tx = t % tilesX, ty = t / tilesX;
-        const int bx0 = tx * kTile, by0 = ty * kTile;
-        const int bx1 = std::min(W, bx0 + kTile), by1 = std::min(H, by0 + kTile);
-        for (std::uint32_t k = start[t]; k < start[t + 1]; ++k) {
-            const std::uint32_t i = items[k];
-            const PixelRect& r = rects[i];
-            for (int y = std::max(r.y0, by0); y < std::min(r.y1, by1); ++y)
-                for (int x = std::max(r.x0, bx0); x < std::min(r.x1, bx1); ++x) {
-                    const glm::vec3 ray{(float(x) + 0.5f - halfW) * invF, -(float(y) + 0.5f - halfH) * invF, -1.0f};
-                    const float z = raySphereEyeDepth(ray, centres[i], radius);
-                    if (z < nearM) continue;  // clipped by the near plane (a miss is +inf and never wins)
-                    float& d = depth.at(x, y);
-                    if (z < d && (!sceneDepth || z < sceneDepth->at(x, y))) d = z;
-                }
+    for (int y = by0; y < by1; ++y)
+        for (int x = bx0; x < bx1; ++x) {
+            const int j = (y - by0) * kTile + (x - bx0);
+            const glm::vec3 ray{(float(x) + 0.5f - halfW) * invF, -(float(y) + 0.5f - halfH) * invF, -1.0f};
+            const float len = std::sqrt(glm::dot(ray, ray));
+            ux[j] = ray.x / len;
+            uy[j] = ray.y / len;
+            uz[j] = ray.z / len;
+            invLen[j] = 1.0f / len;
+            zScene[j] = sceneDepth ? sceneDepth->at(x, y) : kInf;
+            tNear[j] = nearM * len;
+            tFar[j] = zScene[j] * len;
+            zBest[j] = kInf;
+            chord[j] = 0.0f;
         }
-    });
+
+    const float r2 = radius * radius;
+    for (std::uint32_t k = bins.start[t]; k < bins.start[t + 1]; ++k) {
+        const std::uint32_t i = bins.items[k];
+        const PixelRect& rect = bins.rects[i];
+        const glm::vec3 c = bins.centres[i];
+        const int x0 = std::max(rect.x0, bx0), x1 = std::min(rect.x1, bx1);
+        for (int y = std::max(rect.y0, by0); y < std::min(rect.y1, by1); ++y) {
+            const int row = (y - by0) * kTile - bx0;
+            for (int x = x0; x < x1; ++x) {
+                const int j = row + x;
+                // As raySphereEyeDepth: closest approach b along u, squared miss
+                // distance from the offset vector (precision for small, far spheres).
+                const float b = ux[j] * c.x + uy[j] * c.y + uz[j] * c.z;
+                const float ox = c.x - b * ux[j], oy = c.y - b * uy[j], oz = c.z - b * uz[j];
+                const float h2 = r2 - (ox * ox + oy * oy + oz * oz);
+                const bool hit = h2 >= 0.0f;
+                const float h = std::sqrt(hit ? h2 : 0.0f);
+                const float t0 = b - h;
+                if constexpr (kDepth) {
+                    // Nearest hit only; a hit nearer than the near plane is clipped, not replaced by the exit.
+                    const float z = t0 * invLen[j];
+                    const bool win = hit && t0 > 0.0f && z >= nearM && z < zBest[j] && z < zScene[j];
+                    zBest[j] = win ? z : zBest[j];
+                }
+                if constexpr (kChord) {
+                    const float len = std::min(b + h, tFar[j]) - std::max(t0, tNear[j]);
+                    chord[j] += (hit && len > 0.0f) ? len : 0.0f;
+                }
+            }
+        }
+    }
+
+    for (int y = by0; y < by1; ++y)
+        for (int x = bx0; x < bx1; ++x) {
+            const int j = (y - by0) * kTile + (x - bx0);
+            if constexpr (kDepth) depth->at(x, y) = zBest[j];
+            if constexpr (kChord) chordSum->at(x, y) = chord[j];
+        }
+}
+
+}  // namespace
+
+void splatBins(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
+               Image<float>* depth, Image<float>* chordSum) {
+    const int tiles = bins.tilesX * bins.tilesY;
+    // One task per tile, each writing only its own pixels: thread-count independent.
+    auto run = [&](auto kernel) { tbb::parallel_for(0, tiles, [&](int t) { kernel(t); }); };
+    if (depth && chordSum)
+        run([&](int t) { splatTile<true, true>(t, camera, bins, radius, sceneDepth, depth, chordSum); });
+    else if (depth)
+        run([&](int t) { splatTile<true, false>(t, camera, bins, radius, sceneDepth, depth, chordSum); });
+    else if (chordSum)
+        run([&](int t) { splatTile<false, true>(t, camera, bins, radius, sceneDepth, depth, chordSum); });
+}
+
+Image<float> splatDepth(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
+                        const Image<float>* sceneDepth) {
+    Image<float> depth(camera.width, camera.height, kInf);
+    const SplatBins bins = binParticles(camera, positionsWorld, radius);
+    splatBins(camera, bins, radius, sceneDepth, &depth, nullptr);
     return depth;
 }
 

@@ -1,7 +1,11 @@
 // CPU depth splat (SPEC §3.3): exact ray-sphere nearest hit per pixel.
 #pragma once
 
+#include <cstdint>
 #include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
 
 #include "meniscus/camera.h"
 #include "meniscus/types.h"
@@ -28,5 +32,29 @@ float raySphereEyeDepth(const glm::vec3& ray, const glm::vec3& centreView, float
 // (when given) are discarded. Output does not depend on the thread count.
 Image<float> splatDepth(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                         const Image<float>* sceneDepth = nullptr);
+
+// ---- Shared by the depth and thickness splats (SPEC §3.3, §3.4) -------------
+
+// Particles binned into fixed kSplatTilePx-square screen tiles: view-space
+// centres, exact projected rectangles, and per tile the indices of the spheres
+// touching it (items[start[t] .. start[t+1]), in particle order, so the per-pixel
+// processing order is fixed whatever the thread count).
+inline constexpr int kSplatTilePx = 32;
+struct SplatBins {
+    int tilesX = 0, tilesY = 0;
+    std::vector<glm::vec3> centres;  // view space
+    std::vector<PixelRect> rects;
+    std::vector<std::uint32_t> start;  // tilesX*tilesY + 1 offsets into items
+    std::vector<std::uint32_t> items;
+};
+SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius);
+
+// One pass over the bins, one task per tile. With `depth`: the nearest-hit eye
+// depth as splatDepth. With `chordSum`: the summed length (metres, along the
+// ray) of each pixel ray inside the spheres, clipped to eye depths
+// [camera.nearM, sceneDepth(x, y)). Either output may be null; the non-null
+// ones must be camera-sized and are fully overwritten.
+void splatBins(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
+               Image<float>* depth, Image<float>* chordSum);
 
 }  // namespace meniscus::cpu
