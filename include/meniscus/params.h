@@ -121,8 +121,8 @@ struct SceneParams {
 // One material = the parameters of the shading equation.
 struct Material {
     std::string name = "water";
-    glm::vec3 fluidColor{0.02f, 0.16f, 0.24f};     // linear RGB seen through thick fluid
-    glm::vec3 absorptionPerM{1.6f, 0.55f, 0.35f};  // Beer-Lambert k per channel, 1/m
+    glm::vec3 fluidColor{0.03f, 0.19f, 0.27f};     // linear RGB seen through thick fluid
+    glm::vec3 absorptionPerM{6.0f, 2.0f, 1.3f};    // Beer-Lambert k per channel, 1/m
     float ior = 1.33f;                              // Schlick F0 = ((ior-1)/(ior+1))^2
     float refraction = 0.6f;                        // background offset = refraction * T projected (T*f/z px) along n
     float specular = 0.6f;                          // k_s

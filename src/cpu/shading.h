@@ -9,6 +9,18 @@
 
 namespace meniscus::cpu {
 
+// Schlick's reflectance at normal incidence for an interface air -> ior.
+inline float fresnelF0(float ior) {
+    const float q = (ior - 1.0f) / (ior + 1.0f);
+    return q * q;
+}
+
+// Schlick's approximation of the Fresnel reflectance, cosTheta = n·v in [0, 1].
+inline float schlickFresnel(float f0, float cosTheta) {
+    const float m = 1.0f - cosTheta, m2 = m * m;
+    return f0 + (1.0f - f0) * (m2 * m2 * m);
+}
+
 // Linear RGBA image: the scene where there is no fluid (alpha from the scene),
 // shaded fluid where depth is finite and in front of the scene (alpha 1). Where
 // the scene is transparent (no background), refraction samples the sky.

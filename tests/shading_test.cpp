@@ -1,0 +1,384 @@
+// Tests of the CPU shading and compositing stage (SPEC §3.8) and the material presets.
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include "cpu/normals.h"
+#include "cpu/shading.h"
+#include "cpu/sky.h"
+#include "cpu/splat.h"
+#include "meniscus/io.h"
+#include "meniscus/params.h"
+#include "meniscus/particles.h"
+#include "test_util.h"
+
+namespace meniscus {
+namespace {
+
+constexpr float kInf = INFINITY;
+
+// A checkerboard scene layer at a constant depth, opaque.
+cpu::SceneLayer checkerScene(int w, int h, float depth) {
+    cpu::SceneLayer s{Image<glm::vec4>(w, h), Image<float>(w, h, depth)};
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            s.color.at(x, y) = ((x / 4 + y / 4) % 2) ? glm::vec4(0.8f, 0.7f, 0.6f, 1.0f)
+                                                     : glm::vec4(0.1f, 0.2f, 0.3f, 1.0f);
+    return s;
+}
+
+// Unit normals facing the eye along each pixel's view ray.
+Image<glm::vec3> facingNormals(const Camera& cam) {
+    Image<glm::vec3> n(cam.width, cam.height);
+    for (int y = 0; y < cam.height; ++y)
+        for (int x = 0; x < cam.width; ++x) n.at(x, y) = -glm::normalize(cam.pixelRay(float(x) + 0.5f, float(y) + 0.5f));
+    return n;
+}
+
+glm::vec3 viewToWorldDir(const Camera& cam, const glm::vec3& v) { return cam.dirToWorld(v); }
+
+bool bitEqual(const Image<glm::vec4>& a, const Image<glm::vec4>& b) {
+    return a.size() == b.size() && std::memcmp(a.pixels.data(), b.pixels.data(), a.size() * sizeof(glm::vec4)) == 0;
+}
+
+// No fluid anywhere: the output is the scene colour, bit for bit, alpha included.
+TEST(Shading, NoFluidGivesTheSceneExactly) {
+    const Camera cam = test::faceOnCamera(glm::vec3(0.0f), 2.0f, 40, 30);
+    cpu::SceneLayer scene = checkerScene(40, 30, 5.0f);
+    scene.color.at(3, 3) = glm::vec4(0.2f, 0.4f, 0.6f, 0.0f);  // a transparent pixel keeps its alpha
+    scene.depth.at(3, 3) = kInf;
+    const Image<float> depth(40, 30, kInf);
+    const Image<glm::vec4> out =
+        cpu::shadeAndComposite(cam, scene, depth, Image<glm::vec3>(40, 30), Image<float>(40, 30), ShadingParams{});
+    EXPECT_TRUE(bitEqual(out, scene.color));
+}
+
+// Fluid at or behind the scene depth is hidden: scene colour, bit for bit.
+TEST(Shading, FluidBehindTheSceneIsHidden) {
+    const Camera cam = test::faceOnCamera(glm::vec3(0.0f), 2.0f, 40, 30);
+    const cpu::SceneLayer scene = checkerScene(40, 30, 5.0f);
+    Image<float> depth(40, 30, 6.0f);
+    for (int x = 0; x < 40; ++x) depth.at(x, 7) = 5.0f;  // exactly at the scene: hidden too
+    const Image<glm::vec4> out = cpu::shadeAndComposite(cam, scene, depth, facingNormals(cam),
+                                                        Image<float>(40, 30, 0.3f), ShadingParams{});
+    EXPECT_TRUE(bitEqual(out, scene.color));
+}
+
+// Very thick fluid absorbs the background completely: with F0 = 0 (ior 1), no
+// highlight and normals facing the eye (F = 0), the output is the fluid colour
+// (1e-6), alpha 1.
+TEST(Shading, ThickFluidShowsTheFluidColour) {
+    const Camera cam = test::faceOnCamera(glm::vec3(0.0f), 2.0f, 40, 30);
+    const cpu::SceneLayer scene = checkerScene(40, 30, 5.0f);
+    ShadingParams p;
+    p.material.ior = 1.0f;
+    p.material.specular = 0.0f;
+    const Image<glm::vec4> out = cpu::shadeAndComposite(cam, scene, Image<float>(40, 30, 2.0f), facingNormals(cam),
+                                                        Image<float>(40, 30, 1000.0f), p);
+    for (const glm::vec4& c : out.pixels) {
+        ASSERT_NEAR(c.r, p.material.fluidColor.r, 1e-6f);
+        ASSERT_NEAR(c.g, p.material.fluidColor.g, 1e-6f);
+        ASSERT_NEAR(c.b, p.material.fluidColor.b, 1e-6f);
+        ASSERT_EQ(c.a, 1.0f);
+    }
+}
+
+// Schlick at normal incidence is F0 = ((ior-1)/(ior+1))^2 = 0.0200593... for
+// water (1e-6), and 1 at grazing incidence.
+TEST(Shading, SchlickFresnel) {
+    const double q = (1.33 - 1.0) / (1.33 + 1.0);
+    EXPECT_NEAR(cpu::schlickFresnel(cpu::fresnelF0(1.33f), 1.0f), q * q, 1e-6);
+    EXPECT_NEAR(cpu::fresnelF0(1.33f), 0.0200593, 1e-6);
+    EXPECT_NEAR(cpu::schlickFresnel(cpu::fresnelF0(1.33f), 0.0f), 1.0, 1e-6);
+    EXPECT_NEAR(cpu::schlickFresnel(0.04f, 0.5f), 0.04 + 0.96 / 32.0, 1e-6);
+}
+
+// Zero thickness, normals facing the eye: no refraction offset and no
+// absorption, so C = S (1 - F0) + F0 * sky(reflect) + k_s (n.h)^shininess with
+// the reflection straight back along the view ray. Expected value computed
+// here independently (double for the blend), tolerance 1e-5.
+TEST(Shading, ZeroThicknessFacingTheCamera) {
+    Camera cam = test::faceOnCamera(glm::vec3(0.0f), 2.0f, 40, 30);
+    cam.eye = glm::vec3(1.0f, 0.8f, 2.0f);  // a general view: the light is not along the axis
+    const cpu::SceneLayer scene = checkerScene(40, 30, 5.0f);
+    ShadingParams p;
+    p.lightDirWorld = glm::normalize(cam.eye - cam.target + glm::vec3(0.3f, 0.2f, 0.0f));  // light near the eye: visible highlight
+    const Image<glm::vec3> n = facingNormals(cam);
+    const Image<glm::vec4> out =
+        cpu::shadeAndComposite(cam, scene, Image<float>(40, 30, 2.0f), n, Image<float>(40, 30, 0.0f), p);
+    const double f0 = std::pow((1.33 - 1.0) / (1.33 + 1.0), 2.0);
+    const glm::vec3 lView = glm::normalize(glm::vec3(glm::dot(p.lightDirWorld, cam.right()),
+                                                     glm::dot(p.lightDirWorld, cam.trueUp()),
+                                                     glm::dot(p.lightDirWorld, cam.back())));
+    double maxSpec = 0.0;
+    for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x) {
+            const glm::vec3 v = n.at(x, y);
+            const glm::vec3 b = cpu::skyColor(viewToWorldDir(cam, v));
+            double spec = 0.0;
+            if (glm::dot(v, lView) > 0.0f)
+                spec = p.material.specular * std::pow(double(glm::dot(v, glm::normalize(lView + v))),
+                                                      double(p.material.shininess));
+            maxSpec = std::max(maxSpec, spec);
+            for (int c = 0; c < 3; ++c) {
+                const double e = scene.color.at(x, y)[c] * (1.0 - f0) + f0 * b[c] + spec;
+                ASSERT_NEAR(out.at(x, y)[c], e, 1e-5) << x << "," << y << " channel " << c;
+            }
+            ASSERT_EQ(out.at(x, y).a, 1.0f);
+        }
+    EXPECT_GT(maxSpec, 0.01);  // the highlight term was really exercised
+}
+
+// Refraction: with a scene colour that is a ramp (red = 0.01 * column, green =
+// 0.01 * row) and a uniform tilted normal, the background is sampled
+// beta = refraction * T * f / z pixels along (n.x, -n.y) (row 0 is the top):
+// red = 0.01 (x + beta n.x), green = 0.01 (y - beta n.y). No absorption; the
+// Fresnel blend with the sky is undone with the same formula. 1e-5.
+TEST(Shading, RefractionOffsetFollowsTheNormal) {
+    const int W = 80, H = 60;
+    const Camera cam = test::faceOnCamera(glm::vec3(0.0f), 2.0f, W, H);
+    cpu::SceneLayer scene{Image<glm::vec4>(W, H), Image<float>(W, H, 10.0f)};
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) scene.color.at(x, y) = glm::vec4(0.01f * float(x), 0.01f * float(y), 0.5f, 1.0f);
+    ShadingParams p;
+    p.material.absorptionPerM = glm::vec3(0.0f);
+    p.material.specular = 0.0f;
+    p.material.refraction = 0.6f;
+    const glm::vec3 nrm = glm::normalize(glm::vec3(0.3f, 0.4f, 0.9f));
+    const float z = 2.0f, T = 0.3f;
+    const float beta = p.material.refraction * T * cam.focalPx() / z;  // ~7.4 px
+    ASSERT_GT(beta * nrm.y, 1.5f);  // a real shift of more than a pixel
+    const Image<glm::vec4> out = cpu::shadeAndComposite(cam, scene, Image<float>(W, H, z),
+                                                        Image<glm::vec3>(W, H, nrm), Image<float>(W, H, T), p);
+    const float f0 = cpu::fresnelF0(p.material.ior);
+    for (int y = 10; y < H - 10; ++y)
+        for (int x = 10; x < W - 10; ++x) {
+            const glm::vec3 v = -glm::normalize(cam.pixelRay(float(x) + 0.5f, float(y) + 0.5f));
+            const float nv = glm::dot(nrm, v);
+            const float F = cpu::schlickFresnel(f0, nv);
+            const glm::vec3 b = cpu::skyColor(cam.dirToWorld(2.0f * nv * nrm - v));
+            const glm::vec3 s = (glm::vec3(out.at(x, y)) - F * b) / (1.0f - F);
+            ASSERT_NEAR(s.r, 0.01f * (float(x) + beta * nrm.x), 1e-5f) << x << "," << y;
+            ASSERT_NEAR(s.g, 0.01f * (float(y) - beta * nrm.y), 1e-5f) << x << "," << y;
+        }
+}
+
+// A transparent scene (alpha 0, colour garbage) refracts the sky along the view
+// ray: the result equals that of an opaque scene painted with exactly that sky
+// (1e-6).
+TEST(Shading, TransparentSceneRefractsTheSky) {
+    const int W = 40, H = 30;
+    Camera cam = test::faceOnCamera(glm::vec3(0.0f), 2.0f, W, H);
+    cam.eye = glm::vec3(0.5f, 1.5f, 2.0f);
+    cpu::SceneLayer clear{Image<glm::vec4>(W, H, glm::vec4(1.0f, 0.0f, 1.0f, 0.0f)), Image<float>(W, H, kInf)};
+    cpu::SceneLayer painted{Image<glm::vec4>(W, H), Image<float>(W, H, kInf)};
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            painted.color.at(x, y) =
+                glm::vec4(cpu::skyColor(cam.dirToWorld(cam.pixelRay(float(x) + 0.5f, float(y) + 0.5f))), 1.0f);
+    const Image<glm::vec3> n = facingNormals(cam);
+    const Image<float> depth(W, H, 2.0f), thick(W, H, 0.0f);
+    const Image<glm::vec4> a = cpu::shadeAndComposite(cam, clear, depth, n, thick, ShadingParams{});
+    const Image<glm::vec4> b = cpu::shadeAndComposite(cam, painted, depth, n, thick, ShadingParams{});
+    for (std::size_t i = 0; i < a.size(); ++i)
+        for (int c = 0; c < 4; ++c) ASSERT_NEAR(a.pixels[i][c], b.pixels[i][c], 1e-6f) << i;
+}
+
+// An opaque material (sand, opacity 1) hides the background completely: two
+// different scenes give the same fluid pixels, bit for bit.
+TEST(Shading, OpaqueMaterialIgnoresTheBackground) {
+    const Camera cam = test::faceOnCamera(glm::vec3(0.0f), 2.0f, 40, 30);
+    ShadingParams p;
+    ASSERT_TRUE(materialPreset("sand", &p.material));
+    cpu::SceneLayer s1 = checkerScene(40, 30, 5.0f), s2 = checkerScene(40, 30, 5.0f);
+    for (auto& c : s2.color.pixels) c = glm::vec4(1.0f) - c;
+    const Image<float> depth(40, 30, 2.0f), thick(40, 30, 0.01f);
+    const Image<glm::vec3> n = facingNormals(cam);
+    EXPECT_TRUE(bitEqual(cpu::shadeAndComposite(cam, s1, depth, n, thick, p),
+                         cpu::shadeAndComposite(cam, s2, depth, n, thick, p)));
+}
+
+TEST(Materials, PresetsParseAndUnknownFails) {
+    for (const char* name : {"water", "murky", "milk", "lava", "sand"}) {
+        Material m;
+        m.name = "?";
+        ASSERT_TRUE(materialPreset(name, &m)) << name;
+        EXPECT_EQ(m.name, name);
+        EXPECT_NE(materialPresetNames().find(name), std::string::npos) << name;
+        EXPECT_GE(m.opacity, 0.0f);
+        EXPECT_LE(m.opacity, 1.0f);
+        EXPECT_GT(m.ior, 1.0f);
+    }
+    // water is exactly the Material{} defaults
+    Material w, d;
+    ASSERT_TRUE(materialPreset("water", &w));
+    EXPECT_EQ(w.fluidColor, d.fluidColor);
+    EXPECT_EQ(w.absorptionPerM, d.absorptionPerM);
+    EXPECT_EQ(w.ior, d.ior);
+    EXPECT_EQ(w.refraction, d.refraction);
+    EXPECT_EQ(w.specular, d.specular);
+    EXPECT_EQ(w.shininess, d.shininess);
+    EXPECT_EQ(w.opacity, d.opacity);
+    // unknown names fail and leave the output alone
+    Material m;
+    m.name = "keep";
+    EXPECT_FALSE(materialPreset("mercury", &m));
+    EXPECT_FALSE(materialPreset("", &m));
+    EXPECT_FALSE(materialPreset("Water ", &m));
+    EXPECT_EQ(m.name, "keep");
+    // sand is opaque, water is not
+    Material sand;
+    ASSERT_TRUE(materialPreset("sand", &sand));
+    EXPECT_EQ(sand.opacity, 1.0f);
+    EXPECT_EQ(w.opacity, 0.0f);
+}
+
+// A realistic input: a splatted block of particles, its normals, a constant
+// thickness, a checker scene partly in front of the fluid.
+struct Realistic {
+    Camera cam;
+    cpu::SceneLayer scene;
+    Image<float> depth, thick;
+    Image<glm::vec3> normals;
+};
+Realistic realistic() {
+    Realistic r;
+    r.cam = test::faceOnCamera(glm::vec3(0.05f, 0.1f, 0.0f), 1.2f, 160, 120);
+    r.cam.eye += glm::vec3(0.4f, 0.3f, 0.0f);
+    const float spacing = 0.02f, radius = 0.01f;
+    const auto pts = test::jitteredBlock({30, 20, 10}, spacing, 0.3f, glm::vec3(-0.3f, -0.2f, -0.1f));
+    r.scene = checkerScene(160, 120, 1.3f);
+    for (int y = 0; y < 120; ++y)
+        for (int x = 0; x < 20; ++x) r.scene.depth.at(x, y) = 0.5f;  // a post in front of the fluid
+    r.depth = cpu::splatDepth(r.cam, pts, radius);
+    r.normals = cpu::computeNormals(r.depth, r.cam, radius, defaults::kDepthJumpRadii);
+    r.thick = Image<float>(160, 120, 0.15f);
+    return r;
+}
+
+TEST(Shading, BitIdenticalForAnyThreadCount) {
+    const Realistic r = realistic();
+    for (const char* mat : {"water", "milk"}) {
+        ShadingParams p;
+        ASSERT_TRUE(materialPreset(mat, &p.material));
+        Image<glm::vec4> one;
+        {
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+            one = cpu::shadeAndComposite(r.cam, r.scene, r.depth, r.normals, r.thick, p);
+        }
+        int fluid = 0;
+        for (std::size_t i = 0; i < r.depth.size(); ++i) fluid += r.depth.pixels[i] < r.scene.depth.pixels[i];
+        EXPECT_GT(fluid, 2500);
+        for (int threads : {2, 3, 8}) {
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+            EXPECT_TRUE(bitEqual(one, cpu::shadeAndComposite(r.cam, r.scene, r.depth, r.normals, r.thick, p)));
+        }
+    }
+}
+
+// Stand-in for the smoothing stage in the timing below: a few separable box
+// passes over fluid pixels within 2 r in depth (so normals are as coherent as
+// after real smoothing; raw splat normals would make refraction lookups random).
+Image<float> roughSmooth(const Image<float>& d, float radius, int halfPx) {
+    Image<float> a = d;
+    for (int pass = 0; pass < 4; ++pass) {
+        Image<float> b = a;
+        const bool horizontal = pass % 2 == 0;
+        for (int y = 0; y < d.height; ++y)
+            for (int x = 0; x < d.width; ++x) {
+                const float z = a.at(x, y);
+                if (!std::isfinite(z)) continue;
+                double sum = 0.0;
+                int cnt = 0;
+                for (int k = -halfPx; k <= halfPx; ++k) {
+                    const int xx = horizontal ? x + k : x, yy = horizontal ? y : y + k;
+                    if (xx < 0 || yy < 0 || xx >= d.width || yy >= d.height) continue;
+                    const float zz = a.at(xx, yy);
+                    if (std::fabs(zz - z) > 2.0f * radius) continue;
+                    sum += zz;
+                    ++cnt;
+                }
+                b.at(x, y) = float(sum / cnt);
+            }
+        a = std::move(b);
+    }
+    return a;
+}
+
+// Timing on the real dam-break frame at 1280x720 (printed, not asserted):
+// splatted depth with the auto camera, roughly smoothed, constant thickness
+// 0.2 m, checker scene.
+// With MENISCUS_SHADING_PNG=path the shaded image is written there for a look.
+TEST(Shading, TimingOnTheDamBreakFrame) {
+    const auto path = test::repoData("dambreak_r0.01/ParticleData_Fluid_21.bgeo");
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+    auto set = readParticles(path);
+    ASSERT_TRUE(set) << set.error().message;
+    const auto& pos = set.value().positions;
+    const float radius = estimateRadius(pos).radius;
+    Camera base;
+    base.width = 1280;
+    base.height = 720;
+    base.fovYDegrees = defaults::kFovYDegrees;
+    const Camera cam = autoFrameCamera(pos, radius, base);
+    const Image<float> depth = roughSmooth(cpu::splatDepth(cam, pos, radius), radius, 4);
+    const cpu::SceneLayer scene = checkerScene(1280, 720, kInf);
+    const Image<float> thick(1280, 720, 0.2f);
+    std::size_t fluid = 0;
+    for (float z : depth.pixels) fluid += std::isfinite(z);
+
+    auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+    };
+    // Wall time on 2 threads, and the CPU time of one thread (robust when other
+    // jobs share the machine).
+    auto cpuMs = [] {
+        timespec t{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+        return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+    };
+    const ShadingParams sp;
+    Image<glm::vec3> n;
+    Image<glm::vec4> out;
+    std::vector<double> tn, ts, cn, cs;
+    for (int threads : {2, 1}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        for (int i = 0; i < 9; ++i) {
+            const double c0 = cpuMs();
+            const auto t0 = std::chrono::steady_clock::now();
+            n = cpu::computeNormals(depth, cam, radius, defaults::kDepthJumpRadii);
+            const double c1 = cpuMs();
+            const auto t1 = std::chrono::steady_clock::now();
+            out = cpu::shadeAndComposite(cam, scene, depth, n, thick, sp);
+            const double c2 = cpuMs();
+            const auto t2 = std::chrono::steady_clock::now();
+            if (threads == 2) {
+                tn.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+                ts.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+            } else {
+                cn.push_back(c1 - c0);
+                cs.push_back(c2 - c1);
+            }
+        }
+    }
+    std::printf("1280x720, fluid %.0f%% of the image (median of 9): normals %.2f ms | shading %.2f ms wall on 2 "
+                "threads; 1 thread CPU time: normals %.2f ms | shading %.2f ms\n",
+                100.0 * double(fluid) / double(depth.size()), median(tn), median(ts), median(cn), median(cs));
+    if (const char* png = std::getenv("MENISCUS_SHADING_PNG")) {
+        EXPECT_TRUE(writePng(png, out, false).ok());
+    }
+}
+
+}  // namespace
+}  // namespace meniscus
