@@ -32,6 +32,7 @@ constexpr float kWallGapRadii = 1.0f;
 // "nice" 1, 2 or 5 times a power of ten (a readable scale in the picture).
 float niceChecker(float extentM) {
     const float raw = extentM / 8.0f;
+    if (!(raw > 0.0f) || !std::isfinite(raw)) return 1.0f;  // degenerate box: any size will do
     const float decade = std::pow(10.0f, std::floor(std::log10(raw)));
     const float m = raw / decade;  // in [1, 10)
     const float nice = m < 1.5f ? 1.0f : m < 3.5f ? 2.0f : m < 7.5f ? 5.0f : 10.0f;

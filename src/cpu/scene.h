@@ -25,17 +25,21 @@ struct Studio {
     float checkerM = 0.1f;     // checker square size
 };
 
+// The studio around `box` (params.studioBounds instead when not empty): floor
+// just under the lowest sphere, walls ~1 radius outside the spheres on the far
+// side of the box from the eye, checker ~1/8 of the horizontal extent rounded
+// to 1, 2 or 5 x 10^k metres. params.background == false: enabled = false.
 Studio makeStudio(const Bounds& box, float radius, const Camera& camera, const SceneParams& params);
-
-
-
 
 struct SceneLayer {
     Image<glm::vec4> color;  // linear RGB; alpha 1 where opaque, 0 for a transparent background
     Image<float> depth;      // eye depth of the studio geometry, +inf where only sky is seen
 };
 
-// Ray-casts the studio for every pixel. Bit-identical for any thread count.
+// Ray-casts the studio for every pixel centre: colour (checker, flat lambert +
+// ambient, corner darkening, far fade into the sky) and eye depth of the
+// nearest plane; skyColor and +inf depth where none is hit; all (0,0,0,0) and
+// +inf when the studio is disabled. Bit-identical for any thread count.
 SceneLayer castScene(const Camera& camera, const Studio& studio);
 
 }  // namespace meniscus::cpu

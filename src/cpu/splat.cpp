@@ -25,7 +25,10 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr int kTile = kSplatTilePx;
 }  // namespace
 
-PixelRect projectedSphereBounds(const Camera& camera, const glm::vec3& c, float r) {
+namespace {
+
+// projectedSphereBounds with the focal length given (it costs a tan).
+PixelRect sphereBounds(const Camera& camera, float f, const glm::vec3& c, float r) {
     const float depth = -c.z;  // eye depth of the centre
     PixelRect full{0, 0, camera.width, camera.height};
     if (depth + r <= 0.0f) return {};      // wholly behind the eye
@@ -33,7 +36,6 @@ PixelRect projectedSphereBounds(const Camera& camera, const glm::vec3& c, float 
     // Tangent lines from the eye to the sphere's cross-section in the xz (resp.
     // yz) plane bound the projection exactly: the image-plane slope bounds are
     // (a*depth ± r*sqrt(a² + depth² - r²)) / (depth² - r²) for a = c.x or c.y.
-    const float f = camera.focalPx();
     const float den = depth * depth - r * r;
     auto slopes = [&](float a) {
         const float root = r * std::sqrt(std::max(a * a + den, 0.0f));
@@ -54,6 +56,12 @@ PixelRect projectedSphereBounds(const Camera& camera, const glm::vec3& c, float 
     rect.y0 = std::max(0, clampI(std::ceil(ylo - 0.5f - eps), camera.height));
     rect.y1 = std::min(camera.height, clampI(std::floor(yhi - 0.5f + eps), camera.height) + 1);
     return rect;
+}
+
+}  // namespace
+
+PixelRect projectedSphereBounds(const Camera& camera, const glm::vec3& c, float r) {
+    return sphereBounds(camera, camera.focalPx(), c, r);
 }
 
 float raySphereEyeDepth(const glm::vec3& ray, const glm::vec3& c, float r) {
@@ -82,9 +90,13 @@ SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> position
     const std::size_t n = positionsWorld.size();
     bins.centres.resize(n);
     bins.rects.resize(n);
+    // (Camera::toView, with the view axes computed once instead of per particle.)
+    const glm::vec3 right = camera.right(), up = camera.trueUp(), back = camera.back(), eye = camera.eye;
+    const float f = camera.focalPx();
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-        bins.centres[i] = camera.toView(positionsWorld[i]);
-        bins.rects[i] = projectedSphereBounds(camera, bins.centres[i], radius);
+        const glm::vec3 d = positionsWorld[i] - eye;
+        bins.centres[i] = {glm::dot(d, right), glm::dot(d, up), glm::dot(d, back)};
+        bins.rects[i] = sphereBounds(camera, f, bins.centres[i], radius);
     });
 
     // Bin particle indices per tile: count, prefix sum, fill (serial, in
@@ -123,10 +135,10 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
 
     // Unit ray u per pixel; eye depth = (ray parameter) * invLen since ray.z = -1.
     alignas(64) float ux[N], uy[N], uz[N], invLen[N];
-    alignas(64) float zScene[N];      // scene eye depth (depth test)
     alignas(64) float tNear[N], tFar[N];  // near plane and scene, as ray parameters (chord clip)
     alignas(64) float zBest[N], chord[N];
     const float nearM = camera.nearM;
+    const float zNear = std::max(nearM, std::numeric_limits<float>::min());
     const float invF = 1.0f / camera.focalPx();
     const float halfW = 0.5f * float(W), halfH = 0.5f * float(H);
     for (int y = by0; y < by1; ++y)
@@ -138,10 +150,12 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
             uy[j] = ray.y / len;
             uz[j] = ray.z / len;
             invLen[j] = 1.0f / len;
-            zScene[j] = sceneDepth ? sceneDepth->at(x, y) : kInf;
+            const float zScene = sceneDepth ? sceneDepth->at(x, y) : kInf;
             tNear[j] = nearM * len;
-            tFar[j] = zScene[j] * len;
-            zBest[j] = kInf;
+            tFar[j] = zScene * len;
+            // Starting the min at the scene depth discards hits at or behind it
+            // (the test is strict); still equal at the end = no fluid.
+            zBest[j] = zScene;
             chord[j] = 0.0f;
         }
 
@@ -164,14 +178,17 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
                 const float h = std::sqrt(hit ? h2 : 0.0f);
                 const float t0 = b - h;
                 if constexpr (kDepth) {
-                    // Nearest hit only; a hit nearer than the near plane is clipped, not replaced by the exit.
-                    const float z = t0 * invLen[j];
-                    const bool win = hit && t0 > 0.0f && z >= nearM && z < zBest[j] && z < zScene[j];
-                    zBest[j] = win ? z : zBest[j];
+                    // Nearest hit only; a hit nearer than the near plane is clipped,
+                    // not replaced by the exit (zNear > 0 also rejects hits behind the eye).
+                    // A miss or a clipped hit adds +inf: unlike chained selects, this
+                    // form lets the compiler vectorise the loop.
+                    const float zHit = t0 * invLen[j];
+                    const float z = zHit + (hit ? 0.0f : kInf) + (zHit >= zNear ? 0.0f : kInf);
+                    zBest[j] = z < zBest[j] ? z : zBest[j];
                 }
                 if constexpr (kChord) {
                     const float len = std::min(b + h, tFar[j]) - std::max(t0, tNear[j]);
-                    chord[j] += (hit && len > 0.0f) ? len : 0.0f;
+                    chord[j] += (hit & (len > 0.0f)) ? len : 0.0f;
                 }
             }
         }
@@ -180,7 +197,10 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
     for (int y = by0; y < by1; ++y)
         for (int x = bx0; x < bx1; ++x) {
             const int j = (y - by0) * kTile + (x - bx0);
-            if constexpr (kDepth) depth->at(x, y) = zBest[j];
+            if constexpr (kDepth) {
+                const float zScene = sceneDepth ? sceneDepth->at(x, y) : kInf;
+                depth->at(x, y) = zBest[j] < zScene ? zBest[j] : kInf;
+            }
             if constexpr (kChord) chordSum->at(x, y) = chord[j];
         }
 }

@@ -18,11 +18,12 @@
 // which thins the silhouettes smoothly as intended. The kernel radius is the
 // whole number of pixels R = ceil(3 sigma_px) (capped), and the weights use
 // sigma = R/3 from a table per R: sigma is rounded up by at most 1/3 px, and no
-// exp is evaluated per pixel.
+// exp is evaluated per pixel. Kernel radii are capped at min(maxKernelPx, 255).
 #include "cpu/thickness.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <vector>
 
@@ -53,47 +54,69 @@ struct GaussianTables {
     const float* weights(int R) const { return w.data() + (std::size_t(R) * std::size_t(R) - 1); }
 };
 
-// One 1-D pass: dst = src blurred along x (step 1) or y (step W) at fluid
-// pixels; other pixels copied. Taps outside the image are left out and the
-// remaining weights renormalised.
-void blurPass(const Image<float>& src, Image<float>& dst, const Image<float>& rawDepth, const GaussianTables& tables,
-              float worldRadiusM, float focalPx, int maxR, bool alongX) {
+// One 1-D pass: dst = src blurred along x or y at the pixels with a kernel
+// radius (radiusPx > 0); other pixels copied. Taps outside the image are left
+// out and the remaining weights renormalised.
+void blurPass(const Image<float>& src, Image<float>& dst, const Image<std::uint8_t>& radiusPx,
+              const GaussianTables& tables, bool alongX) {
     const int W = src.width, H = src.height;
+    const std::ptrdiff_t step = alongX ? 1 : W;
     forEachRow(H, [&](int y) {
         const float* srow = &src.pixels[std::size_t(y) * std::size_t(W)];
+        const std::uint8_t* rrow = &radiusPx.pixels[std::size_t(y) * std::size_t(W)];
+        float* drow = &dst.pixels[std::size_t(y) * std::size_t(W)];
         for (int x = 0; x < W; ++x) {
-            const float z = rawDepth.at(x, y);
-            const int R = isFluid(z) ? projectedRadiusPx(worldRadiusM, focalPx, z, maxR) : 0;
+            const int R = rrow[x];
             if (R == 0) {
-                dst.at(x, y) = srow[x];
+                drow[x] = srow[x];
                 continue;
             }
             const float* w = tables.weights(R) + R;  // w[k] for k in [-R, R]
             const int pos = alongX ? x : y, size = alongX ? W : H;
             const int lo = std::max(-R, -pos), hi = std::min(R, size - 1 - pos);
-            const std::ptrdiff_t step = alongX ? 1 : W;
             const float* p = srow + x;
-            float sum = 0.0f, wsum = 0.0f;
-            for (int k = lo; k <= hi; ++k) {
-                sum += w[k] * p[k * step];
-                wsum += w[k];
+            if (lo == -R && hi == R) {
+                // The whole kernel (weights sum to 1): symmetric pairs into two
+                // partial sums, halving the multiplies and the add chain.
+                float s0 = w[0] * p[0], s1 = 0.0f;
+                int k = 1;
+                for (; k < R; k += 2) {
+                    s0 += w[k] * (p[-k * step] + p[k * step]);
+                    s1 += w[k + 1] * (p[-(k + 1) * step] + p[(k + 1) * step]);
+                }
+                if (k == R) s0 += w[k] * (p[-k * step] + p[k * step]);
+                drow[x] = s0 + s1;
+            } else {
+                float sum = 0.0f, wsum = 0.0f;
+                for (int k = lo; k <= hi; ++k) {
+                    sum += w[k] * p[k * step];
+                    wsum += w[k];
+                }
+                drow[x] = sum / wsum;
             }
-            dst.at(x, y) = sum / wsum;
         }
     });
 }
 
 void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, const Camera& camera, float radius,
                    const ThicknessParams& params) {
-    const int maxR = std::max(0, params.maxKernelPx);
+    const int maxR = std::min(255, std::max(0, params.maxKernelPx));
     if (!(params.blurSigmaRadii > 0.0f) || maxR == 0) return;
     if (rawDepth.width != thickness.width || rawDepth.height != thickness.height) return;
     const GaussianTables tables(maxR);
-    const float worldRadiusM = 3.0f * params.blurSigmaRadii * radius;  // kernel radius = 3 sigma
+    // Kernel radius (3 sigma) per pixel, once for both passes; 0 = no fluid, not blurred.
+    const float worldRadiusM = 3.0f * params.blurSigmaRadii * radius;
     const float f = camera.focalPx();
+    Image<std::uint8_t> radiusPx(thickness.width, thickness.height);
+    forEachRow(thickness.height, [&](int y) {
+        for (int x = 0; x < thickness.width; ++x) {
+            const float z = rawDepth.at(x, y);
+            radiusPx.at(x, y) = std::uint8_t(isFluid(z) ? projectedRadiusPx(worldRadiusM, f, z, maxR) : 0);
+        }
+    });
     Image<float> tmp(thickness.width, thickness.height);
-    blurPass(thickness, tmp, rawDepth, tables, worldRadiusM, f, maxR, true);
-    blurPass(tmp, thickness, rawDepth, tables, worldRadiusM, f, maxR, false);
+    blurPass(thickness, tmp, radiusPx, tables, true);
+    blurPass(tmp, thickness, radiusPx, tables, false);
 }
 
 // Chord sums -> calibrated thickness, then the optional blur.
