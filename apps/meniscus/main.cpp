@@ -228,12 +228,13 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     // The studio is built around the first frame and stays put for the sequence.
     settings.scene.studioBounds = computeBounds(first->positions);
 
+    Renderer renderer;
     ProgressBar progress(count, "rendering");
     for (std::size_t i = 0; i < count; ++i) {
         auto set = i == 0 ? std::move(first) : load(i);
         if (!set) return fail(set.error().describe());
         printWarnings(*set);
-        auto aovs = renderFrame(set->positions, settings);
+        auto aovs = renderer.render(set->positions, settings);
         if (!aovs) return fail(aovs.error().describe());
 
         std::string out = o.output;

@@ -25,6 +25,8 @@ struct Camera {
     int width = 1280;                  // pixels
     int height = 720;
 
+    bool operator==(const Camera&) const = default;
+
     // Focal length in pixels (same for x and y: square pixels).
     float focalPx() const;
 

@@ -2,6 +2,7 @@
 // src/core/pipeline.cpp and nowhere else.
 #pragma once
 
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -38,9 +39,28 @@ struct StageTime {
     double ms = 0.0;
 };
 
-// Renders one frame: every AOV is filled (color = the chosen view; depth = the
-// smoothed eye depth; rawDepth = the splat; normal; thickness). When `timings`
-// is given it receives one entry per stage, in pipeline order.
+// Renders frames, keeping what does not change between them: the scene layer
+// (studio colour and depth) is cast again only when the camera or the studio
+// changes, so a sequence or a viewer pays for it once.
+class Renderer {
+public:
+    Renderer();
+    ~Renderer();
+    Renderer(Renderer&&) noexcept;
+    Renderer& operator=(Renderer&&) noexcept;
+
+    // Renders one frame: every AOV is filled (color = the chosen view; depth =
+    // the smoothed eye depth; rawDepth = the splat; normal; thickness). When
+    // `timings` is given it receives one entry per stage, in pipeline order.
+    Result<Aovs> render(std::span<const glm::vec3> positions, const RenderSettings& settings,
+                        std::vector<StageTime>* timings = nullptr);
+
+private:
+    struct Cache;
+    std::unique_ptr<Cache> cache_;
+};
+
+// One frame with a fresh Renderer (nothing cached).
 Result<Aovs> renderFrame(std::span<const glm::vec3> positions, const RenderSettings& settings,
                          std::vector<StageTime>* timings = nullptr);
 

@@ -1,5 +1,5 @@
 // The stage order of the screen-space pipeline (SPEC §1), in one place:
-//   scene -> depth splat -> thickness -> smoothing -> normals -> shading.
+//   scene -> depth splat + thickness (one pass) -> smoothing -> normals -> shading.
 // Each stage is one function in src/cpu/ (one file per stage).
 #include <algorithm>
 #include <chrono>
@@ -23,9 +23,9 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Runs one stage, recording its wall-clock time when asked.
 template <class Fn>
-auto timed(std::vector<StageTime>* timings, const char* stage, Fn&& fn) {
+decltype(auto) timed(std::vector<StageTime>* timings, const char* stage, Fn&& fn) {
     const auto t0 = std::chrono::steady_clock::now();
-    auto out = fn();
+    decltype(auto) out = fn();
     if (timings)
         timings->push_back({stage, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()});
     return out;
@@ -105,22 +105,43 @@ bool viewFromName(const std::string& name, View* out) {
 
 std::string viewNames() { return "final, depth, raw-depth, normals, thickness"; }
 
-Result<Aovs> renderFrame(std::span<const glm::vec3> positions, const RenderSettings& s,
-                         std::vector<StageTime>* timings) {
+struct Renderer::Cache {
+    bool valid = false;
+    Camera camera;
+    cpu::Studio studio;
+    cpu::SceneLayer scene;
+};
+
+Renderer::Renderer() : cache_(std::make_unique<Cache>()) {}
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+Result<Aovs> Renderer::render(std::span<const glm::vec3> positions, const RenderSettings& s,
+                              std::vector<StageTime>* timings) {
     if (auto st = validateCamera(s.camera); !st) return st.error();
     if (!(s.radiusM > 0.0f) || !std::isfinite(s.radiusM))
         return makeError("", "particle radius must be a positive number of metres");
     const Camera& cam = s.camera;
     const float r = s.radiusM;
 
-    const cpu::SceneLayer scene = timed(timings, "scene", [&] {
+    const cpu::SceneLayer& scene = timed(timings, "scene", [&]() -> const cpu::SceneLayer& {
         const Bounds box = s.scene.studioBounds.empty() ? computeBounds(positions) : s.scene.studioBounds;
-        return cpu::castScene(cam, cpu::makeStudio(box, r, cam, s.scene));
+        const cpu::Studio studio = cpu::makeStudio(box, r, cam, s.scene);
+        if (!cache_->valid || !(cache_->camera == cam) || !(cache_->studio == studio)) {
+            cache_->scene = cpu::castScene(cam, studio);
+            cache_->camera = cam;
+            cache_->studio = studio;
+            cache_->valid = true;
+        }
+        return cache_->scene;
     });
     Aovs aovs;
-    aovs.rawDepth = timed(timings, "depth-splat", [&] { return cpu::splatDepth(cam, positions, r, &scene.depth); });
-    aovs.thickness = timed(timings, "thickness", [&] {
-        return cpu::computeThickness(cam, positions, r, s.thickness, &scene.depth, aovs.rawDepth);
+    timed(timings, "depth-splat+thickness", [&] {
+        auto dt = cpu::splatDepthAndThickness(cam, positions, r, s.thickness, &scene.depth);
+        aovs.rawDepth = std::move(dt.depth);
+        aovs.thickness = std::move(dt.thickness);
+        return 0;
     });
     aovs.depth = timed(timings, "smooth", [&] { return cpu::smoothDepth(aovs.rawDepth, cam, r, s.filter); });
     aovs.normal = timed(timings, "normals",
@@ -136,6 +157,11 @@ Result<Aovs> renderFrame(std::span<const glm::vec3> positions, const RenderSetti
         case View::Thickness: aovs.color = thicknessView(aovs.thickness); break;
     }
     return aovs;
+}
+
+Result<Aovs> renderFrame(std::span<const glm::vec3> positions, const RenderSettings& settings,
+                         std::vector<StageTime>* timings) {
+    return Renderer().render(positions, settings, timings);
 }
 
 }  // namespace meniscus

@@ -23,6 +23,8 @@ struct Studio {
     float wallZNormal = 1.0f;
     float wallTopY = 1.0f;     // the walls end at this height; the sky shows above them
     float checkerM = 0.1f;     // checker square size
+
+    bool operator==(const Studio&) const = default;
 };
 
 // The studio around `box` (params.studioBounds instead when not empty): floor
