@@ -32,9 +32,12 @@
 //  - Taps outside the image are ignored with their mirror (a −inf frame, i.e.
 //    "in front"), so the border neither pulls nor rounds the surface.
 //  - Deviations z − z0 are accumulated, not z, to keep float precision.
-//  - Speed: precomputed tap tables (offset, weight) per kernel radius, and four
-//    adjacent pixels filtered at once in SSE lanes (each lane is the exact
+//  - Speed: precomputed tap tables (offset, weight) per kernel radius, and eight
+//    adjacent pixels filtered at once in vector lanes (each lane is the exact
 //    scalar computation of its pixel, so results do not depend on grouping).
+//    The lane function is compiled twice (GCC target_clones: AVX2 and the SSE2
+//    baseline, picked at run time); both do the same IEEE operations (no FMA),
+//    so the output is the same on every x86-64 machine.
 // Each output pixel depends only on the previous buffer (row-parallel), so the
 // result is bit-identical for any thread count.
 #include <algorithm>
@@ -103,30 +106,31 @@ struct Setup {
     int Rmax;
 };
 
-// Four floats in one SSE register (GCC/Clang vector extension): compares give
-// lane masks, `m ? a : b` selects per lane, arithmetic is per lane IEEE.
-typedef float Float4 __attribute__((vector_size(16)));
+// Eight floats (GCC/Clang vector extension: one AVX register, or two SSE ones):
+// compares give lane masks, `m ? a : b` selects per lane, arithmetic is per
+// lane IEEE.
+constexpr int kLanes = 8;
+typedef float FloatN __attribute__((vector_size(4 * kLanes)));
 
-inline Float4 load4(const float* p) {
-    Float4 v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
-
-// Narrow-range means of the four adjacent pixels c[0..4) over the pairs
-// `taps` (one kernel for all four lanes). Each lane is exactly
+// Narrow-range means of the kLanes adjacent pixels c[0..kLanes) over the
+// pairs `taps` (one kernel for all lanes), into out[0..kLanes). Each lane is exactly
 // the scalar computation for its pixel; lanes of +inf pixels produce garbage
 // that the caller discards.
-Float4 filter4(const float* c, const std::vector<Tap>& taps, float tau, float behind) {
-    using T = Float4;
-    const T z0 = load4(c);
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void filterN(const float* c, const std::vector<Tap>& taps, float tau, float behind, float* out) {
+    using T = FloatN;
+    T z0, a, b;  // (loaded with memcpy: unaligned, and no vector-typed calls across the clones)
+    std::memcpy(&z0, c, sizeof z0);
     T lower = z0 - tau, upper = z0 + tau;
     const T zero{};
     T sum = zero;   // deviations from z0; the centre adds weight 1, deviation 0
     T wsum = zero;  // over pairs (each tap of a pair has weight w)
     const T dBehind = zero + behind;  // a behind tap counts as z0 + mu·r
     for (const Tap& t : taps) {
-        const T a = load4(c + t.offset), b = load4(c - t.offset);
+        std::memcpy(&a, c + t.offset, sizeof a);
+        std::memcpy(&b, c - t.offset, sizeof b);
         const auto frontA = a < lower, frontB = b < lower;
         const auto behindA = a > upper, behindB = b > upper;
         const T da = behindA ? dBehind : a - z0;
@@ -144,14 +148,15 @@ Float4 filter4(const float* c, const std::vector<Tap>& taps, float tau, float be
         upper = ua > upper ? ua : upper;
         upper = ub > upper ? ub : upper;
     }
-    return z0 + sum / (2.0f * wsum + 1.0f);
+    const T result = z0 + sum / (2.0f * wsum + 1.0f);
+    std::memcpy(out, &result, sizeof result);
 }
 
 // Kernel radius (pixels) of a pixel of depth z; 0 for +inf.
 int kernelPx(float z, const Setup& s) { return isFluid(z) ? projectedRadiusPx(s.world, s.f, z, s.Rmax) : 0; }
 
 // One pass over the padded buffers: dst = narrow-range(src) using `taps`.
-// Four adjacent pixels are filtered at once with the kernel of the first; the
+// kLanes adjacent pixels are filtered at once with the kernel of the first; the
 // leading ones that share that kernel radius are kept (at least the first),
 // the rest are redone in the next step with their own kernel.
 void pass(const std::vector<float>& src, std::vector<float>& dst, int W, int H, int pad, const TapTables& taps,
@@ -168,11 +173,10 @@ void pass(const std::vector<float>& src, std::vector<float>& dst, int W, int H, 
                 ++x;
                 continue;
             }
-            float z[4];
-            const Float4 v = filter4(in + x, taps[R], s.tau, s.behind);
-            std::memcpy(z, &v, sizeof z);
+            float z[kLanes];
+            filterN(in + x, taps[R], s.tau, s.behind, z);
             int n = 1;
-            while (n < 4 && x + n < W && kernelPx(in[x + n], s) == R) ++n;
+            while (n < kLanes && x + n < W && kernelPx(in[x + n], s) == R) ++n;
             std::copy(z, z + n, out + x);
             x += n;
         }
@@ -201,9 +205,9 @@ Image<float> filterNarrowRange(const Image<float>& depth, const Camera& camera, 
     s.Rmax = projectedRadiusPx(s.world, s.f, zMin, std::max(0, std::min(p.maxKernelPx, std::max(W, H))));
     if (s.Rmax == 0) return depth;
 
-    // Padded copies with a −inf frame of Rmax pixels: taps there are "in front"
-    // and are dropped with their mirror.
-    const int pad = s.Rmax + 3;  // + 3: the 4-lane loads run up to 3 pixels past a pixel
+    // Padded copies with a −inf frame: taps there are "in front" and are dropped
+    // with their mirror. Rmax + kLanes - 1 wide: lane loads reach further right.
+    const int pad = s.Rmax + kLanes - 1;
     const std::ptrdiff_t PW = W + 2 * pad;
     std::vector<float> a(std::size_t(PW) * std::size_t(H + 2 * pad), -kInf);
     forEachRow(H, [&](int y) {
