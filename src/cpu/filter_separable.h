@@ -11,7 +11,8 @@
 //    output continuous in depth (and so in scale).
 //  - Taps that are +inf or further than jumpM from z0 get weight 0 and the rest
 //    are renormalised, so separate bodies never blend and silhouettes are not
-//    pulled toward the background. A +inf centre stays +inf.
+//    pulled toward the background. A +inf centre stays +inf (so does NaN, which
+//    is not a valid depth, as +inf).
 // Each output pixel is computed by one task in a fixed tap order, so the result
 // is bit-identical for any thread count.
 #pragma once
@@ -66,8 +67,9 @@ public:
     static KernelTable binomial(int maxRadius);
 
     int maxRadius() const { return maxRadius_; }
-    // Zero taps stored on each side of tap 0 (and +inf padding the filtered
-    // lines need): maxRadius + 1 for the blend, + kLanes - 1 to finish a group.
+    // Taps stored on each side of tap 0, zero past n (and the no-fluid padding
+    // the filtered lines need): maxRadius + 1 for the blend, + kLanes - 1 to
+    // finish the last group of taps.
     int padPx() const { return half_; }
     // Weight of tap k in the kernel of radius n (n <= maxRadius + 1); 0 for |k| > n.
     float weight(int n, int k) const { return row(n)[k]; }
@@ -90,8 +92,9 @@ struct NoRangeWeight {
 };
 
 // Gaussian range weight exp(-dz^2 / (2 sigma^2)) on the depth difference
-// (bilateral, thesis eq. 4.3), kLanes at a time as 2^-x: 2^-trunc(x) from
-// the exponent bits times a degree-5 Taylor series of 2^-frac(x) around 1/2
+// (bilateral, thesis eq. 4.3), kLanes at a time as 2^-x with x = dz^2 / (2
+// sigma^2 ln 2): 2^-trunc(x) from the exponent bits times 2^-frac(x) =
+// 2^-1/2 exp((1/2 - frac(x)) ln 2), a degree-5 Taylor series on |arg| <= 0.35
 // (relative error < 3e-6). A table lookup would need a scalar gather per lane.
 class RangeGaussian {
 public:
