@@ -11,8 +11,8 @@
 //    output continuous in depth (and so in scale).
 //  - Taps that are +inf or further than jumpM from z0 get weight 0 and the rest
 //    are renormalised, so separate bodies never blend and silhouettes are not
-//    pulled toward the background. A +inf centre stays +inf (so does NaN, which
-//    is not a valid depth, as +inf).
+//    pulled toward the background. A +inf centre stays +inf (a NaN one, not a
+//    valid depth, comes out +inf too).
 // Each output pixel is computed by one task in a fixed tap order, so the result
 // is bit-identical for any thread count.
 #pragma once
