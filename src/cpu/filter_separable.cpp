@@ -6,8 +6,12 @@
 
 namespace meniscus::cpu {
 
+namespace {
+int padFor(int maxRadius) { return maxRadius + 1 + detail::kLanes - 1; }
+}  // namespace
+
 KernelTable::KernelTable(int maxRadius, std::vector<double> rows)
-    : maxRadius_(maxRadius), half_(maxRadius + 1), stride_(2 * (maxRadius + 1) + 1) {
+    : maxRadius_(maxRadius), half_(padFor(maxRadius)), stride_(2 * padFor(maxRadius) + 1) {
     const int nRows = maxRadius + 2;
     // Normalise each row in double, then store it (and the difference to the
     // next row, used by the blend) in float.
@@ -27,7 +31,7 @@ KernelTable::KernelTable(int maxRadius, std::vector<double> rows)
 
 KernelTable KernelTable::gaussian(int maxRadius) {
     maxRadius = std::max(0, maxRadius);
-    const int half = maxRadius + 1, stride = 2 * half + 1;
+    const int half = padFor(maxRadius), stride = 2 * half + 1;
     std::vector<double> rows(std::size_t(maxRadius + 2) * stride, 0.0);
     for (int n = 0; n <= maxRadius + 1; ++n) {
         double* row = rows.data() + std::size_t(n) * stride + half;
@@ -40,7 +44,7 @@ KernelTable KernelTable::gaussian(int maxRadius) {
 
 KernelTable KernelTable::binomial(int maxRadius) {
     maxRadius = std::max(0, maxRadius);
-    const int half = maxRadius + 1, stride = 2 * half + 1;
+    const int half = padFor(maxRadius), stride = 2 * half + 1;
     std::vector<double> rows(std::size_t(maxRadius + 2) * stride, 0.0);
     // Pascal's triangle built halving at every step, so row 2n holds
     // C(2n, j) / 4^n directly (no overflow: C(66, 33) > 2^64).
@@ -62,13 +66,10 @@ KernelTable KernelTable::binomial(int maxRadius) {
     return KernelTable(maxRadius, std::move(rows));
 }
 
-RangeGaussian::RangeGaussian(float sigmaM) : table_(kSteps + 2, 0.0f) {
-    const double span = 5.0 * double(sigmaM);
+RangeGaussian::RangeGaussian(float sigmaM) {
     // sigma <= 0 (or NaN): only equal depths count; sigma = inf: every tap does.
-    scale_ = sigmaM > 0.0f ? float(kSteps / (span * span)) : std::numeric_limits<float>::max();
-    // Entry i is the weight at (dz / span)^2 = i / kSteps.
-    for (int i = 0; i <= kSteps; ++i) table_[i] = float(std::exp(-0.5 * 25.0 * i / kSteps));
-    table_[kSteps] = table_[kSteps + 1] = 0.0f;  // cut off beyond 5 sigma
+    const double s = double(sigmaM);
+    scale_ = sigmaM > 0.0f ? float(1.0 / (2.0 * s * s * std::log(2.0))) : std::numeric_limits<float>::max();
 }
 
 }  // namespace meniscus::cpu
