@@ -105,7 +105,7 @@ TEST(Cli, ExrCarriesEveryAov) {
     std::string out;
     ASSERT_EQ(runCli("render " + quote(in) + " -o " + quote(dir / "f.exr") + " --width 160 --height 90", &out), 0)
         << out;
-    const test::ExrData exr = test::readExr(dir / "f.exr");
+    const ExrData exr = readExr(dir / "f.exr");
     std::vector<std::string> names = exr.names;
     std::sort(names.begin(), names.end());
     EXPECT_EQ(names, (std::vector<std::string>{"A", "B", "G", "N.X", "N.Y", "N.Z", "R", "T", "Z", "Zraw"}));
@@ -142,7 +142,7 @@ TEST(Cli, PipelineOptions) {
     for (const char* v : {"final", "depth", "raw-depth", "normals", "thickness"})
         EXPECT_EQ(runCli(base + quote(dir / "f.png") + " --view " + v, &out), 0) << v << out;
     ASSERT_EQ(runCli(base + quote(dir / "t.png") + " --background none", &out), 0) << out;
-    EXPECT_EQ(test::readPng(dir / "t.png").format, png_uint_32(PNG_FORMAT_RGBA));
+    EXPECT_EQ(readPng(dir / "t.png").format, png_uint_32(PNG_FORMAT_RGBA));
 
     const std::pair<const char*, const char*> bad[] = {{"--filter", "median"}, {"--material", "honey"},
                                                        {"--view", "shaded"}, {"--background", "black"}};

@@ -2,7 +2,6 @@
 // Every property is a typed test run for each of the three filters with its
 // default parameters; the weight tables are checked on their own.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -380,42 +379,5 @@ TEST(KernelTable, RangeGaussianMatchesExp) {
         const float dz = k * 1e-4f * (k % 2 ? 1.0f : -1.0f);
         const double expect = std::exp(-0.5 * double(dz) * dz / (double(sigma) * sigma));
         EXPECT_NEAR(g(dz), expect, 1e-5 * expect) << dz;
-    }
-}
-
-// Timing on the real frame (not asserted): run with
-//   build/tests/filter_separable_test --gtest_also_run_disabled_tests --gtest_filter='*Timing*'
-TEST(SeparableFilterTiming, DISABLED_RealFrame) {
-    auto set = readParticles(test::repoData("dambreak_r0.01/ParticleData_Fluid_21.bgeo"));
-    ASSERT_TRUE(set);
-    const float r = estimateRadius(set->positions).radius;
-    Camera base;
-    base.width = 1280;
-    base.height = 720;
-    base.fovYDegrees = 40.0f;
-    const Camera cam = autoFrameCamera(set->positions, r, base);
-    const Image<float> depth = cpu::splatDepth(cam, set->positions, r);
-    std::vector<float> px;
-    for (float z : depth.pixels)
-        if (std::isfinite(z)) px.push_back(r * cam.focalPx() / z);
-    std::sort(px.begin(), px.end());
-    std::printf("radius %.4f, fluid %.1f%% of the image, projected radius px min %.2f median %.2f max %.2f\n", r,
-                100.0 * px.size() / depth.size(), px.front(), px[px.size() / 2], px.back());
-    auto time = [&](const char* name, int threads, auto params) {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-        std::vector<double> ms;
-        for (int k = 0; k < 9; ++k) {
-            const auto t0 = std::chrono::steady_clock::now();
-            const Image<float> out = runFilter(depth, cam, r, params);
-            ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-        }
-        std::sort(ms.begin(), ms.end());
-        std::printf("%-10s %dt %d it: median %7.2f ms (%.2f ms / iteration)\n", name, threads, params.iterations,
-                    ms[4], ms[4] / std::max(1, params.iterations));
-    };
-    for (int threads : {1, 2}) {
-        time("gaussian", threads, GaussianParams{});
-        time("bilateral", threads, BilateralParams{});
-        time("binomial", threads, BinomialParams{});
     }
 }

@@ -46,6 +46,7 @@ std::vector<FilterCase> allFilterCases() {
     cases.push_back({"narrow-range", true});
     return cases;
 }
+void PrintTo(const FilterCase& c, std::ostream* os) { *os << c.name << (c.separable ? " (separable)" : ""); }
 std::string caseName(const testing::TestParamInfo<FilterCase>& info) {
     std::string n = info.param.name + (info.param.separable ? "_1d" : "");
     std::replace(n.begin(), n.end(), '-', '_');
@@ -96,19 +97,23 @@ TEST(Pipeline, OneParticleMatchesTheAnalyticSphere) {
     int hits = 0, checked = 0;
     for (int y = 0; y < cam.height; ++y)
         for (int x = 0; x < cam.width; ++x) {
-            const glm::vec3 ray = cam.pixelRay(x + 0.5f, y + 0.5f);
-            const glm::vec3 u = glm::normalize(ray);
-            const float b = glm::dot(u, cv);
-            const float h2 = r * r - (glm::dot(cv, cv) - b * b);
+            // Analytic nearest hit in double precision.
+            const glm::dvec3 u = glm::normalize(glm::dvec3(cam.pixelRay(x + 0.5f, y + 0.5f)));
+            const glm::dvec3 cd(cv);
+            const double b = glm::dot(u, cd);
+            const double h2 = double(r) * r - (glm::dot(cd, cd) - b * b);
             const float z = aovs->rawDepth.at(x, y);
-            if (h2 < 0.0f) {
+            // Rays within 1e-4 r^2 of grazing are skipped: there the depth's
+            // derivative with respect to the float inputs is unbounded.
+            if (std::abs(h2) < 1e-4 * r * r) continue;
+            if (h2 < 0.0) {
                 EXPECT_EQ(z, kInf);
                 continue;
             }
             ++hits;
-            const glm::vec3 p = (b - std::sqrt(h2)) * u;
-            const float zExact = -p.z;
-            ASSERT_NEAR(z, zExact, 1e-5f * zExact) << x << "," << y;
+            const glm::vec3 p(glm::dvec3((b - std::sqrt(h2)) * u));
+            const double zExact = -(b - std::sqrt(h2)) * u.z;
+            ASSERT_NEAR(z, zExact, 1e-5 * zExact) << x << "," << y;
             if (glm::length(glm::vec2(x + 0.5f, y + 0.5f) - cp) < projR - 3.0f) {
                 ++checked;
                 EXPECT_LT(angleDegrees(aovs->normal.at(x, y), p - cv), 1.0) << x << "," << y;
@@ -118,14 +123,16 @@ TEST(Pipeline, OneParticleMatchesTheAnalyticSphere) {
     EXPECT_GT(checked, 1000);
 }
 
-// A ball of many particles: the smoothed normals at the back-projected points
-// point away from the ball centre. The mean angle over the inner 70% of the
-// disc must be below 8 degrees for every filter and, for every real filter,
-// below the unfiltered one (the splat's bumps are what smoothing removes).
+// A ball of many particles (test::shellBall, spacing 2r): the smoothed normals
+// at the back-projected points point away from the ball centre. Over the inner
+// 70% of the disc the mean angle must be below 15 degrees and below 0.35 of the
+// unfiltered one (about 44 degrees: the bumps between spheres) for every real
+// filter. Measured when written: narrow-range 0.7, curvature-flow 8.4,
+// gaussian 9.5, bilateral 10.4, binomial 13.0 degrees.
 double ballMeanNormalError(const FilterParams& filter) {
     const float r = 0.05f, spacing = 2.0f * r;
     const glm::vec3 centre(0.0f);
-    const auto pts = test::ballOfParticles(centre, 1.0f, spacing);
+    const auto pts = test::shellBall(centre, 1.0f, spacing);
     const Camera cam = test::faceOnCamera(centre, 6.0f, 320, 240);
     RenderSettings s;
     s.camera = cam;
@@ -155,8 +162,10 @@ double ballMeanNormalError(const FilterParams& filter) {
 TEST_P(PipelineFilter, BallNormalsMatchTheAnalyticBall) {
     const double unfiltered = ballMeanNormalError(NoFilter{});
     const double filtered = ballMeanNormalError(filterNamed(GetParam().name, GetParam().separable));
-    EXPECT_LT(filtered, 8.0);
-    if (GetParam().name != "none") EXPECT_LT(filtered, unfiltered);
+    if (GetParam().name != "none") {
+        EXPECT_LT(filtered, 15.0);
+        EXPECT_LT(filtered, 0.35 * unfiltered);
+    }
     std::printf("ball mean normal error: %s%s %.2f deg (unfiltered %.2f)\n", GetParam().name.c_str(),
                 GetParam().separable ? "-1d" : "", filtered, unfiltered);
 }
@@ -241,28 +250,47 @@ TEST_P(PipelineFilter, ThreadCountDoesNotChangeAnyBit) {
     }
 }
 
-// Two blocks 10 radii apart in depth, overlapping on screen: wherever a pixel
-// sees the far block, its smoothed depth stays within 2 radii of the raw splat
-// (a pull toward the near block would be about 10 radii), and likewise for the
-// near block, including the pixels right at the near block's silhouette.
+// Two blocks 10 radii apart in depth, overlapping on screen. Each fluid pixel
+// belongs to the body its raw depth falls in (the gap between them is empty).
+// After smoothing, a near-body pixel may not move more than 1.5 r behind the
+// deepest raw depth of the near body, and a far-body pixel not more than 1.5 r
+// in front of the shallowest raw depth of the far body: a pull toward the
+// other body would be about 10 r. (Moves inside a body, e.g. filling the dips
+// between spheres, are what smoothing is for and are not limited here.)
 TEST_P(PipelineFilter, SeparateBodiesDoNotBleed) {
     const float r = 0.01f, s = 2.0f * r;
-    auto nearBlock = test::jitteredBlock({30, 30, 3}, s, 0.1f, glm::vec3(-0.45f, -0.3f, 0.0f), 1);
+    auto pts = test::jitteredBlock({30, 30, 3}, s, 0.1f, glm::vec3(-0.45f, -0.3f, 0.0f), 1);
     const auto farBlock = test::jitteredBlock({40, 30, 3}, s, 0.1f, glm::vec3(-0.2f, -0.3f, -10.0f * r - 3 * s), 2);
-    nearBlock.insert(nearBlock.end(), farBlock.begin(), farBlock.end());
-    RenderSettings set = settingsFor(test::faceOnCamera(glm::vec3(0.0f), 2.0f, 320, 240), r);
+    pts.insert(pts.end(), farBlock.begin(), farBlock.end());
+    const float distance = 2.0f;
+    RenderSettings set = settingsFor(test::faceOnCamera(glm::vec3(0.0f), distance, 320, 240), r);
     set.scene.background = false;
-    auto aovs = renderFrame(nearBlock, set);
+    auto aovs = renderFrame(pts, set);
     ASSERT_TRUE(aovs);
-    int compared = 0, bled = 0;
+    // Face-on camera: eye depth = distance - world z. The empty gap is centred
+    // on world z = -6r (near block back surface at -1.1r, far front at -10.9r).
+    const float gapEyeDepth = distance + 6.0f * r;
+    float nearMax = 0.0f, farMin = kInf;
+    for (float z : aovs->rawDepth.pixels) {
+        if (!(z < kInf)) continue;
+        if (z < gapEyeDepth) nearMax = std::max(nearMax, z);
+        else farMin = std::min(farMin, z);
+    }
+    int nearCount = 0, farCount = 0, bled = 0;
     for (std::size_t i = 0; i < aovs->depth.size(); ++i) {
         const float raw = aovs->rawDepth.pixels[i], smooth = aovs->depth.pixels[i];
         ASSERT_EQ(raw < kInf, smooth < kInf) << "smoothing must keep the coverage";
         if (!(raw < kInf)) continue;
-        ++compared;
-        if (std::abs(smooth - raw) > 2.0f * r) ++bled;
+        if (raw < gapEyeDepth) {
+            ++nearCount;
+            if (smooth > nearMax + 1.5f * r) ++bled;
+        } else {
+            ++farCount;
+            if (smooth < farMin - 1.5f * r) ++bled;
+        }
     }
-    EXPECT_GT(compared, 10000);
+    EXPECT_GT(nearCount, 8000);
+    EXPECT_GT(farCount, 4000);
     EXPECT_EQ(bled, 0);
 }
 

@@ -1,6 +1,5 @@
 // Tests of the CPU shading and compositing stage (SPEC §3.8) and the material presets.
 #include <algorithm>
-#include <chrono>
 #include <ctime>
 #include <cmath>
 #include <cstdio>
@@ -283,100 +282,6 @@ TEST(Shading, BitIdenticalForAnyThreadCount) {
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
             EXPECT_TRUE(bitEqual(one, cpu::shadeAndComposite(r.cam, r.scene, r.depth, r.normals, r.thick, p)));
         }
-    }
-}
-
-// Stand-in for the smoothing stage in the timing below: a few separable box
-// passes over fluid pixels within 2 r in depth (so normals are as coherent as
-// after real smoothing; raw splat normals would make refraction lookups random).
-Image<float> roughSmooth(const Image<float>& d, float radius, int halfPx) {
-    Image<float> a = d;
-    for (int pass = 0; pass < 4; ++pass) {
-        Image<float> b = a;
-        const bool horizontal = pass % 2 == 0;
-        for (int y = 0; y < d.height; ++y)
-            for (int x = 0; x < d.width; ++x) {
-                const float z = a.at(x, y);
-                if (!std::isfinite(z)) continue;
-                double sum = 0.0;
-                int cnt = 0;
-                for (int k = -halfPx; k <= halfPx; ++k) {
-                    const int xx = horizontal ? x + k : x, yy = horizontal ? y : y + k;
-                    if (xx < 0 || yy < 0 || xx >= d.width || yy >= d.height) continue;
-                    const float zz = a.at(xx, yy);
-                    if (std::fabs(zz - z) > 2.0f * radius) continue;
-                    sum += zz;
-                    ++cnt;
-                }
-                b.at(x, y) = float(sum / cnt);
-            }
-        a = std::move(b);
-    }
-    return a;
-}
-
-// Timing on the real dam-break frame at 1280x720 (printed, not asserted):
-// splatted depth with the auto camera, roughly smoothed, constant thickness
-// 0.2 m, checker scene.
-// With MENISCUS_SHADING_PNG=path the shaded image is written there for a look.
-TEST(Shading, TimingOnTheDamBreakFrame) {
-    const auto path = test::repoData("dambreak_r0.01/ParticleData_Fluid_21.bgeo");
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
-    auto set = readParticles(path);
-    ASSERT_TRUE(set) << set.error().message;
-    const auto& pos = set.value().positions;
-    const float radius = estimateRadius(pos).radius;
-    Camera base;
-    base.width = 1280;
-    base.height = 720;
-    base.fovYDegrees = defaults::kFovYDegrees;
-    const Camera cam = autoFrameCamera(pos, radius, base);
-    const Image<float> depth = roughSmooth(cpu::splatDepth(cam, pos, radius), radius, 4);
-    const cpu::SceneLayer scene = checkerScene(1280, 720, kInf);
-    const Image<float> thick(1280, 720, 0.2f);
-    std::size_t fluid = 0;
-    for (float z : depth.pixels) fluid += std::isfinite(z);
-
-    auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v[v.size() / 2];
-    };
-    // Wall time on 2 threads, and the CPU time of one thread (robust when other
-    // jobs share the machine).
-    auto cpuMs = [] {
-        timespec t{};
-        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-        return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
-    };
-    const ShadingParams sp;
-    Image<glm::vec3> n;
-    Image<glm::vec4> out;
-    std::vector<double> tn, ts, cn, cs;
-    for (int threads : {2, 1}) {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-        for (int i = 0; i < 9; ++i) {
-            const double c0 = cpuMs();
-            const auto t0 = std::chrono::steady_clock::now();
-            n = cpu::computeNormals(depth, cam, radius, defaults::kDepthJumpRadii);
-            const double c1 = cpuMs();
-            const auto t1 = std::chrono::steady_clock::now();
-            out = cpu::shadeAndComposite(cam, scene, depth, n, thick, sp);
-            const double c2 = cpuMs();
-            const auto t2 = std::chrono::steady_clock::now();
-            if (threads == 2) {
-                tn.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-                ts.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
-            } else {
-                cn.push_back(c1 - c0);
-                cs.push_back(c2 - c1);
-            }
-        }
-    }
-    std::printf("1280x720, fluid %.0f%% of the image (median of 9): normals %.2f ms | shading %.2f ms wall on 2 "
-                "threads; 1 thread CPU time: normals %.2f ms | shading %.2f ms\n",
-                100.0 * double(fluid) / double(depth.size()), median(tn), median(ts), median(cn), median(cs));
-    if (const char* png = std::getenv("MENISCUS_SHADING_PNG")) {
-        EXPECT_TRUE(writePng(png, out, false).ok());
     }
 }
 

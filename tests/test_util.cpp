@@ -220,6 +220,23 @@ std::vector<glm::vec3> ballOfParticles(glm::vec3 centre, float ballRadius, float
     return out;
 }
 
+std::vector<glm::vec3> shellBall(glm::vec3 centre, float ballRadius, float spacing) {
+    std::vector<glm::vec3> out;
+    const double golden = M_PI * (3.0 - std::sqrt(5.0));  // golden angle
+    for (float rho = ballRadius; rho > 0.5f * spacing; rho -= spacing) {
+        // Hexagonal packing: each point covers (sqrt(3)/2) s^2 of the shell.
+        const int n = std::max(1, int(std::lround(4.0 * M_PI * rho * rho / (0.8660254 * spacing * spacing))));
+        for (int i = 0; i < n; ++i) {
+            const double y = 1.0 - 2.0 * (i + 0.5) / n;
+            const double ring = std::sqrt(std::max(0.0, 1.0 - y * y));
+            const double phi = golden * i;
+            out.push_back(centre + rho * glm::vec3(float(ring * std::cos(phi)), float(y), float(ring * std::sin(phi))));
+        }
+    }
+    out.push_back(centre);
+    return out;
+}
+
 Camera faceOnCamera(glm::vec3 target, float distance, int width, int height, float fovYDegrees) {
     Camera c;
     c.target = target;

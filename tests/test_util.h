@@ -88,6 +88,13 @@ std::vector<glm::vec3> jitteredBlock(glm::ivec3 n, float spacing, float jitter, 
 // Grid points at `spacing` inside a ball of radius `ballRadius` around `centre`.
 std::vector<glm::vec3> ballOfParticles(glm::vec3 centre, float ballRadius, float spacing);
 
+// A ball whose particles lie on concentric spherical shells (radii R, R - s,
+// R - 2s, ...), each shell covered by a Fibonacci spiral at about `spacing`
+// between neighbours: its outer surface is the sphere of radius R + r with
+// only the small bumps between neighbouring particles (unlike a grid ball,
+// whose surface is terraced).
+std::vector<glm::vec3> shellBall(glm::vec3 centre, float ballRadius, float spacing);
+
 // A camera at target + (0, 0, distance) looking down -z at `target`, up +y.
 Camera faceOnCamera(glm::vec3 target, float distance, int width, int height, float fovYDegrees = 40.0f);
 

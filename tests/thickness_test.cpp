@@ -3,7 +3,6 @@
 // blur keeping the mean, the one-pass depth+thickness matching the two calls,
 // thread and scale invariance. A disabled test prints timings on the real frame.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -229,49 +228,4 @@ TEST(Thickness, ScaleInvariant) {
         ASSERT_NEAR(c.thickness.pixels[k], s * a.thickness.pixels[k], tol) << "pixel " << k;
     const double ma = meanOver(a.thickness, b.x0, b.y0, b.x1, b.y1), mc = meanOver(c.thickness, b.x0, b.y0, b.x1, b.y1);
     EXPECT_NEAR(mc, s * ma, 1e-4 * s * ma);
-}
-
-// Timings on the real frame (not asserted): run with --gtest_also_run_disabled_tests.
-TEST(Thickness, DISABLED_TimingRealFrame) {
-    auto set = readParticles(test::repoData("dambreak_r0.01/ParticleData_Fluid_21.bgeo").string());
-    ASSERT_TRUE(set);
-    const float r = estimateRadius(set->positions).radius;
-    Camera base;
-    base.width = 1280;
-    base.height = 720;
-    base.fovYDegrees = 40.0f;
-    const Camera cam = autoFrameCamera(set->positions, r, base);
-    Bounds box;
-    for (const auto& p : set->positions) box.extend(p);
-    const cpu::Studio studio = cpu::makeStudio(box, r, cam, SceneParams{});
-    auto median = [](auto&& fn) {
-        std::vector<double> ms;
-        for (int k = 0; k < 11; ++k) {
-            const auto t0 = std::chrono::steady_clock::now();
-            fn();
-            ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-        }
-        std::sort(ms.begin(), ms.end());
-        return ms[ms.size() / 2];
-    };
-    const cpu::SceneLayer layer = cpu::castScene(cam, studio);
-    const Image<float> depth = cpu::splatDepth(cam, set->positions, r, &layer.depth);
-    std::size_t fluid = 0;
-    for (float z : depth.pixels) fluid += std::isfinite(z);
-    std::printf("n %zu radius %.5f  fluid coverage %.1f%%  projected radius at median depth ~%.1f px\n",
-                set->size(), r, 100.0 * double(fluid) / double(depth.size()),
-                r * cam.focalPx() / glm::length(cam.eye - cam.target));
-    ThicknessParams blur, plain = noBlur();
-    for (int threads : {1, 2}) {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-        const double tScene = median([&] { (void)cpu::castScene(cam, studio); });
-        const double tDepth = median([&] { (void)cpu::splatDepth(cam, set->positions, r, &layer.depth); });
-        const double tThick = median([&] { (void)cpu::computeThickness(cam, set->positions, r, plain, &layer.depth, depth); });
-        const double tThickBlur = median([&] { (void)cpu::computeThickness(cam, set->positions, r, blur, &layer.depth, depth); });
-        const double tBoth = median([&] { (void)cpu::splatDepthAndThickness(cam, set->positions, r, plain, &layer.depth); });
-        const double tBothBlur = median([&] { (void)cpu::splatDepthAndThickness(cam, set->positions, r, blur, &layer.depth); });
-        std::printf("%dt: castScene %.2f  depth %.2f  thickness %.2f  thickness+blur %.2f  depth+thickness %.2f  "
-                    "depth+thickness+blur %.2f ms\n",
-                    threads, tScene, tDepth, tThick, tThickBlur, tBoth, tBothBlur);
-    }
 }
