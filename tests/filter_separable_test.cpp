@@ -209,7 +209,10 @@ TYPED_TEST(SeparableFilter, TiltedPlaneStaysPlanar) {
             worst = std::max(worst, double(std::abs(glm::dot(n, q - p0))));
         }
     std::printf("[%s] tilted plane: max distance %.3g r\n", Named<TypeParam>::name, worst / r);
-    EXPECT_LT(worst, 0.01 * r);
+    // A perspective plane's depth is 1/(a x + b y + c), not linear in pixels, so
+    // averaging bends it by ~ sigma^2 * z'' / 2: with the default sigma of 2 r
+    // (kernel 6 r) that is ~0.02 r here. Tolerance 0.05 r.
+    EXPECT_LT(worst, 0.05 * r);
 }
 
 // +inf stays +inf and finite stays finite (no NaN), exactly, on a ball with

@@ -34,7 +34,7 @@ inline constexpr float kAutoOutlierFraction = 0.001f;
 // A depth step between neighbouring pixels larger than this many radii is a
 // discontinuity (silhouette / separate body): filters and normals never
 // difference or average across it.
-inline constexpr float kDepthJumpRadii = 2.0f;
+inline constexpr float kDepthJumpRadii = 5.0f;
 
 // Kernel radii in pixels are capped here (cost bound for near fluid).
 inline constexpr int kMaxKernelPx = 32;
@@ -47,8 +47,8 @@ struct NoFilter {};
 
 // Separable Gaussian; sigma is constant in world space (projected per pixel).
 struct GaussianParams {
-    int iterations = 1;
-    float sigmaRadii = 1.0f;                 // spatial sigma, radii; kernel radius = 3 sigma
+    int iterations = 2;
+    float sigmaRadii = 2.0f;                 // spatial sigma, radii; kernel radius = 3 sigma
     float jumpRadii = defaults::kDepthJumpRadii;
     int maxKernelPx = defaults::kMaxKernelPx;
 };
@@ -56,16 +56,16 @@ struct GaussianParams {
 // Separable bilateral (thesis eq. 4.1-4.3, Pham & van Vliet 2005).
 struct BilateralParams {
     int iterations = 2;
-    float sigmaRadii = 1.5f;                 // spatial sigma, radii; kernel radius = 3 sigma
-    float rangeSigmaRadii = 0.75f;           // depth-difference sigma, radii
+    float sigmaRadii = 2.0f;                 // spatial sigma, radii; kernel radius = 3 sigma
+    float rangeSigmaRadii = 3.0f;            // depth-difference sigma, radii
     float jumpRadii = defaults::kDepthJumpRadii;
     int maxKernelPx = defaults::kMaxKernelPx;
 };
 
 // Separable binomial (Instant Liquids §2.2): kernel half-size = projected splat radius.
 struct BinomialParams {
-    int iterations = 2;
-    float sizeRadii = 1.0f;                  // kernel half-size, radii
+    int iterations = 4;
+    float sizeRadii = 2.0f;                  // kernel half-size, radii
     float jumpRadii = defaults::kDepthJumpRadii;
     int maxKernelPx = defaults::kMaxKernelPx;
 };
