@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Scores every depth filter against the true SPH iso-surface ray-traced by
+# refsurf (see docs/quality.md). Usage: scripts/quality_eval.sh REFSURF_DIR [OUT_DIR]
+# Assumes build/meniscus is built (Release), REFSURF_DIR/build/refsurf is built,
+# and /usr/bin/python3 has numpy + OpenImageIO. Prints markdown tables.
+set -euo pipefail
+RS=$(cd "$1" && pwd); OUT=${2:-/tmp/meniscus_quality}; ROOT=$(cd "$(dirname "$0")/.." && pwd)
+M=$ROOT/build/meniscus; W=640; H=360; FOV=40
+mkdir -p "$OUT"
+g++ -std=c++20 -O2 -I"$ROOT/include" "$ROOT/scripts/quality_to_raw.cpp" "$ROOT/build/libmeniscus.a" \
+    $(pkg-config --libs OpenEXR tinyxml2 libpng zlib tbb) -o "$OUT/to_raw"
+DAM=$ROOT/data/dambreak_r0.01/ParticleData_Fluid_21.bgeo
+SMALL=$ROOT/tests/data/splishsplash/partio/ParticleData_Fluid_21.bgeo
+# Auto cameras = what `meniscus render` picks with no --eye (fov 40, estimated radius).
+read -r _ DAM_E DAM_T _ _ < <("$OUT/to_raw" "$DAM" "$OUT/dam.raw" $W $H)
+read -r _ SM_E SM_T _ _ < <("$OUT/to_raw" "$SMALL" "$OUT/small.raw" $W $H)
+# name  particles  radius  eye  target. Radius = volume-equivalent (see docs/quality.md).
+DAM_R=${DAM_R:-0.0093}; SMALL_R=${SMALL_R:-0.025}
+CAMS="dam_auto $DAM $DAM_R $DAM_E $DAM_T
+dam_close $DAM $DAM_R 0.9,0.8,1.4 1.5,0.3,0.0
+small_auto $SMALL $SMALL_R $SM_E $SM_T"
+FILTERS="none gaussian bilateral binomial curvature-flow curvature-flow:40 curvature-flow:80 narrow-range narrow-range:sep"
+while read -r NAME IN R E T; do
+  RAW=$OUT/$( [[ $IN == "$DAM" ]] && echo dam || echo small ).raw
+  echo "## $NAME: radius $R, eye $E, target $T, fov $FOV, ${W}x${H}"
+  "$RS/build/refsurf" "$RAW" --out "$OUT/${NAME}_ref" --radius "$R" --eye "$E" --target "$T" \
+      --fov $FOV --width $W --height $H >/dev/null
+  echo "| filter | IoU | ref px | cand px | normal mean° | median° | p90° | depth abs rel | depth signed rel | abs / r | signed / r |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|"
+  for F in $FILTERS; do
+    ARGS=(--filter "${F%%:*}"); [[ $F == *:sep ]] && ARGS+=(--separable)
+    [[ $F == *:[0-9]* ]] && ARGS+=(--iterations "${F##*:}")
+    "$M" --threads 2 render "$IN" -o "$OUT/${NAME}_${F/:/_}.exr" "${ARGS[@]}" --background none \
+        --radius "$R" --eye "$E" --target "$T" --fov $FOV --width $W --height $H 2>/dev/null
+    /usr/bin/python3 "$RS/compare.py" "$OUT/${NAME}_ref" "$OUT/${NAME}_${F/:/_}.exr" | /usr/bin/python3 -c "
+import json,sys; j=json.load(sys.stdin)
+a,s,z=j['depth_mean_abs_rel'],j['depth_mean_signed_rel'],j['depth_median_ref']/$R
+print('| $F | %.4f | %d | %d | %.2f | %.2f | %.2f | %.5f | %+.5f | %.2f | %+.2f |' % (j['iou'],j['ref_covered'],
+  j['cand_covered'],j['normal_mean_deg'],j['normal_median_deg'],j['normal_p90_deg'],a,s,a*z,s*z))"
+  done
+  echo
+done <<< "$CAMS"
