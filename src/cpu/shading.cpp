@@ -24,7 +24,11 @@
 //    baseline; no FMA in either, so both give the same bits); only the bilinear
 //    background fetch stays scalar. exp and pow use the Cephes single-precision
 //    polynomials (relative error ~2e-7, vs libm's correctly rounded ~6e-8) so
-//    they vectorise; see fastExp/fastLog.
+//    they vectorise; see fastExp/fastLog. The sky along the view ray is only
+//    evaluated for batches with a transparent background, the highlight only
+//    for batches that have one. On the real dam-break frame the output is
+//    within 1.1e-5 of the libm / per-pixel version (the s^64 sun glow and the
+//    (n.h)^120 highlight amplify ulp differences).
 #include "cpu/shading.h"
 
 #include <algorithm>
@@ -144,9 +148,9 @@ struct Batch {
     float cr[kBatch], cg[kBatch], cb[kBatch];
 };
 
-// The vectorised part of a batch of n pixels (row y): everything but the
-// background fetch, which `fetch` does in between. Each lane is the scalar
-// computation of its pixel, so results do not depend on batching.
+// Shades a batch of n fluid pixels of row y: branch-free loops over the
+// arrays, vectorised, except the texel fetch of the background. Each lane is
+// the scalar computation of its pixel, so results do not depend on batching.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
 __attribute__((target_clones("avx2", "default")))
 #endif
@@ -329,7 +333,8 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
                                    const ShadingParams& params) {
     const int w = depth.width, h = depth.height;
     if (w <= 0 || h <= 0) return Image<glm::vec4>(w, h, glm::vec4(0.0f));
-    // Sized without filling: every row is written once below (scene copy, then fluid).
+    // (std::vector zero-fills here; each row is then overwritten in parallel:
+    // the scene colour copied, then the fluid pixels shaded.)
     Image<glm::vec4> out;
     out.width = w;
     out.height = h;
