@@ -112,8 +112,11 @@ void normalsRow(const float* row, const float* up, const float* down, const floa
 
 Image<glm::vec3> computeNormals(const Image<float>& depth, const Camera& camera, float radius, float jumpRadii) {
     const int w = depth.width, h = depth.height;
-    Image<glm::vec3> out(w, h, glm::vec3(0.0f));
-    if (w <= 0 || h <= 0) return out;
+    if (w <= 0 || h <= 0) return Image<glm::vec3>(w, h);
+    Image<glm::vec3> out;  // every pixel is written below
+    out.width = w;
+    out.height = h;
+    resizeFresh(out.pixels, std::size_t(w) * std::size_t(h));
 
     // Ray components per column / row, computed exactly as Camera::pixelRay does,
     // so P(x, y) = z * (rx[x], ry[y], -1) equals camera.unproject(x+0.5, y+0.5, z).

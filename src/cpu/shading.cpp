@@ -338,7 +338,7 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
     Image<glm::vec4> out;
     out.width = w;
     out.height = h;
-    out.pixels.resize(std::size_t(w) * std::size_t(h));
+    resizeFresh(out.pixels, std::size_t(w) * std::size_t(h));
 
     Setup S;
     S.scene = &scene;
