@@ -20,10 +20,12 @@
 //    the camera for a surface facing it.
 //  - Speed: the per-pixel logic is branch-free (both candidates computed, one
 //    selected) so GCC vectorises each row (target_clones: AVX2 or the SSE2
-//    baseline; the same IEEE operations in either, no FMA); non-fluid lanes are
-//    computed too and written as (0,0,0).
+//    baseline; the same IEEE operations in either, no FMA); non-fluid lanes
+//    between the first and last fluid pixel of a row are computed too and
+//    written as (0,0,0); outside that span the zero-filled output is kept.
 #include "cpu/normals.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -94,14 +96,21 @@ __attribute__((target_clones("avx2", "default")))
 void normalsRow(const float* row, const float* up, const float* down, const float* rx, float ryc, float ryu,
                 float ryd, int w, float jump, float* dst) {
     constexpr float kInf = INFINITY;
+    // Only the span from the first to the last fluid pixel of the row: the rest
+    // stays (0,0,0) from the zero-filled output (most of a frame is background).
+    int first = 0, last = w - 1;
+    while (first < w && !(row[first] < kInf)) ++first;
+    if (first == w) return;
+    while (!(row[last] < kInf)) --last;
     // rx[x + 1] is the ray of column x (rx[0], rx[w + 1]: the columns outside).
-    for (int x = 1; x + 1 < w; ++x)
+    for (int x = std::max(first, 1); x <= std::min(last, w - 2); ++x)
         normalAt(row[x], row[x - 1], row[x + 1], up[x], down[x], rx[x + 1], rx[x], rx[x + 2], ryc, ryu, ryd, jump,
                  &dst[3 * x], &dst[3 * x + 1], &dst[3 * x + 2]);
     // The two end columns: their outer neighbour is outside the image.
-    normalAt(row[0], kInf, w > 1 ? row[1] : kInf, up[0], down[0], rx[1], rx[0], rx[2], ryc, ryu, ryd, jump, &dst[0],
-             &dst[1], &dst[2]);
-    if (w > 1) {
+    if (first == 0)
+        normalAt(row[0], kInf, w > 1 ? row[1] : kInf, up[0], down[0], rx[1], rx[0], rx[2], ryc, ryu, ryd, jump,
+                 &dst[0], &dst[1], &dst[2]);
+    if (w > 1 && last == w - 1) {
         const int x = w - 1;
         normalAt(row[x], row[x - 1], kInf, up[x], down[x], rx[x + 1], rx[x], rx[x + 2], ryc, ryu, ryd, jump,
                  &dst[3 * x], &dst[3 * x + 1], &dst[3 * x + 2]);
