@@ -294,18 +294,21 @@ void shadeRow(const Setup& S, int y, Batch& B) {
         std::fill(out, out + w, glm::vec4(0.0f));
 
     const std::size_t nw = S.hasNormals ? row : 0, tw = S.hasThickness ? row : 0;
-    int x = 0;
-    while (x < w) {
+    // Only the span from the first to the last fluid pixel of the row.
+    int x = 0, end = w;
+    while (x < end && !(depth[x] < INFINITY)) ++x;
+    while (end > x && !(depth[end - 1] < INFINITY)) --end;
+    while (x < end) {
         // Up to kBatch fluid pixels in front of the scene (not +inf, not hidden),
         // listed without branches: every x is written, only fluid ones kept.
         int n = 0;
         if (sceneDepth) {
-            for (; x < w && n < kBatch; ++x) {
+            for (; x < end && n < kBatch; ++x) {
                 B.x[n] = x;
                 n += (depth[x] < sceneDepth[x]) & (depth[x] > 0.0f);
             }
         } else {
-            for (; x < w && n < kBatch; ++x) {
+            for (; x < end && n < kBatch; ++x) {
                 B.x[n] = x;
                 n += (depth[x] < INFINITY) & (depth[x] > 0.0f);
             }
