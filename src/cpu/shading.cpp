@@ -17,13 +17,25 @@
 //  - Opaque materials (sand, milk, lava): opacity mixes the transmitted colour
 //    toward a Lambert-lit fluid colour and fades the mirror reflection (a rough
 //    opaque surface reflects diffusely, not like glass); the highlight stays.
-//  - Everything per image (focal length, camera axes, light in view space, F0)
-//    is computed once; per pixel there are 3 exp and the sky lookup, and a pow
-//    only near the highlight.
+//  - Speed: the output starts as a copy of the scene colour (what every
+//    non-fluid pixel keeps), made row by row in parallel. Per row the fluid
+//    pixels are gathered into short structure-of-arrays batches and shaded by
+//    branch-free loops that GCC vectorises (target_clones: AVX2 or the SSE2
+//    baseline; no FMA in either, so both give the same bits); only the bilinear
+//    background fetch stays scalar. exp and pow use the Cephes single-precision
+//    polynomials (relative error ~2e-7, vs libm's correctly rounded ~6e-8) so
+//    they vectorise; see fastExp/fastLog. The sky along the view ray is only
+//    evaluated for batches with a transparent background, the highlight only
+//    for batches that have one. On the real dam-break frame the output is
+//    within 1.1e-5 of the libm / per-pixel version (the s^64 sun glow and the
+//    (n.h)^120 highlight amplify ulp differences).
 #include "cpu/shading.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "cpu/filter_util.h"
@@ -37,18 +49,284 @@ namespace {
 // light direction (sky fill), so faces turned away from the key light are not black.
 constexpr float kAmbient = 0.35f;
 
-// Bilinear sample of the scene colour at continuous pixel coordinates (pixel
-// centres at +0.5), clamped to the image; premultiplied: returns (alpha * rgb, alpha).
-inline glm::vec4 sampleScenePremul(const Image<glm::vec4>& img, float px, float py) {
-    const float fx = std::clamp(px - 0.5f, 0.0f, float(img.width - 1));
-    const float fy = std::clamp(py - 0.5f, 0.0f, float(img.height - 1));
-    const int x0 = int(fx), y0 = int(fy);
-    const int x1 = std::min(x0 + 1, img.width - 1), y1 = std::min(y0 + 1, img.height - 1);
-    const float tx = fx - float(x0), ty = fy - float(y0);
-    auto pm = [](const glm::vec4& c) { return glm::vec4(glm::vec3(c) * c.a, c.a); };
-    const glm::vec4 top = glm::mix(pm(img.at(x0, y0)), pm(img.at(x1, y0)), tx);
-    const glm::vec4 bottom = glm::mix(pm(img.at(x0, y1)), pm(img.at(x1, y1)), tx);
-    return glm::mix(top, bottom, ty);
+// Fluid pixels shaded together: small enough for the batch to stay in L1.
+constexpr int kBatch = 64;
+
+// e^x for x <= 88 (Cephes expf: x = n ln2 + r, |r| <= ln2/2, degree-6
+// polynomial, times 2^n built in the exponent bits). Relative error < 2e-7;
+// x below -87 gives e^-87 ~ 1.6e-38 instead of underflowing to 0. exp(0) = 1
+// exactly. Branch-free so loops calling it vectorise.
+inline float fastExp(float x) {
+    x = std::clamp(x, -87.0f, 88.0f);
+    // n = round(x / ln2) by the 1.5 * 2^23 trick (no floor: SSE2 has no vector round).
+    constexpr float kRound = 12582912.0f;
+    const float n = (x * 1.44269504088896341f + kRound) - kRound;
+    const float r = (x - n * 0.693359375f) - n * -2.12194440e-4f;
+    float p = 1.9875691500e-4f;
+    p = p * r + 1.3981999507e-3f;
+    p = p * r + 8.3334519073e-3f;
+    p = p * r + 4.1665795894e-2f;
+    p = p * r + 1.6666665459e-1f;
+    p = p * r + 5.0000001201e-1f;
+    const float e = p * (r * r) + r + 1.0f;
+    const std::int32_t bits = (static_cast<std::int32_t>(n) + 127) << 23;
+    return e * std::bit_cast<float>(bits);
+}
+
+// ln x for normal x > 0 (Cephes logf: x = m 2^e with m in [sqrt(1/2), sqrt(2)),
+// degree-8 polynomial in m - 1). Absolute error < 1e-7 near x = 1, where the
+// highlight needs it. Branch-free.
+inline float fastLog(float x) {
+    const std::int32_t bits = std::bit_cast<std::int32_t>(x);
+    float e = static_cast<float>((bits >> 23) - 126);
+    float m = std::bit_cast<float>((bits & 0x007fffff) | 0x3f000000);  // [0.5, 1)
+    const bool lo = m < 0.707106781186547524f;
+    e = lo ? e - 1.0f : e;
+    m = lo ? m + m - 1.0f : m - 1.0f;
+    const float z = m * m;
+    float p = 7.0376836292e-2f;
+    p = p * m - 1.1514610310e-1f;
+    p = p * m + 1.1676998740e-1f;
+    p = p * m - 1.2420140846e-1f;
+    p = p * m + 1.4249322787e-1f;
+    p = p * m - 1.6668057665e-1f;
+    p = p * m + 2.0000714765e-1f;
+    p = p * m - 2.4999993993e-1f;
+    p = p * m + 3.3333331174e-1f;
+    float y = p * m * z;
+    y += e * -2.12194440e-4f;
+    y += -0.5f * z;
+    return (m + y) + e * 0.693359375f;
+}
+
+// Four floats in one SSE register (GCC vector extension): the bilinear fetch
+// does each texel's RGBA in one operation, lane by lane the same IEEE
+// operations as the scalar formula.
+typedef float Float4 __attribute__((vector_size(16)));
+
+inline Float4 load4(const glm::vec4& c) {
+    Float4 v;
+    std::memcpy(&v, &c, sizeof v);
+    return v;
+}
+
+// Premultiplied texel: (alpha * rgb, alpha).
+inline Float4 premul(Float4 c) {
+    const Float4 a{c[3], c[3], c[3], 1.0f};
+    return c * a;
+}
+
+// Everything per image: computed once.
+struct Setup {
+    const SceneLayer* scene;
+    const Image<float>* depth;
+    const Image<glm::vec3>* normals;
+    const Image<float>* thickness;
+    Image<glm::vec4>* out;
+    bool hasScene, hasNormals, hasThickness;
+    const float* rx;  // view ray x per column (z = -1)
+    const float* ry;  // view ray y per row
+    float f;          // focal length, pixels
+    glm::vec3 axisX, axisY, axisZ;  // camera axes in world space (view -> world)
+    glm::vec3 light;                // unit, view space
+    glm::vec3 fluid, negK;
+    float f0, opacity, refraction, specular, shininess, nhMin;
+};
+
+// Structure-of-arrays temporaries of one batch of fluid pixels.
+struct Batch {
+    int x[kBatch + 1];  // + 1: the branch-free gather writes one slot past the last pixel
+    float rx[kBatch];  // view ray x of the column
+    float z[kBatch], T[kBatch];
+    float nx[kBatch], ny[kBatch], nz[kBatch];
+    float vx[kBatch], vy[kBatch], vz[kBatch];
+    int i00[kBatch], dx[kBatch], dy[kBatch];  // bilinear footprint: first texel, steps to +x / +y
+    float tx[kBatch], ty[kBatch];             // bilinear weights
+    float sr[kBatch], sg[kBatch], sb[kBatch], sa[kBatch];  // premultiplied background
+    float kr[kBatch], kg[kBatch], kb[kBatch];  // sky along the view ray
+    float nl[kBatch], nh[kBatch];
+    float cr[kBatch], cg[kBatch], cb[kBatch];
+};
+
+// Shades a batch of n fluid pixels of row y: branch-free loops over the
+// arrays, vectorised, except the texel fetch of the background. Each lane is
+// the scalar computation of its pixel, so results do not depend on batching.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void shadeBatch(const Setup& S, int y, int n, Batch& B) {
+    const float ryc = S.ry[y];
+    // 1. View vector, normal (the view vector where none), sanitised thickness.
+    for (int i = 0; i < n; ++i) {
+        const float rx = B.rx[i];
+        const float invLen = 1.0f / std::sqrt(rx * rx + ryc * ryc + 1.0f);
+        const float vx = -rx * invLen, vy = -ryc * invLen, vz = invLen;
+        const float nx = B.nx[i], ny = B.ny[i], nz = B.nz[i];
+        const bool ok = nx * nx + ny * ny + nz * nz > 0.0f;  // false for (0,0,0) and NaN
+        B.nx[i] = ok ? nx : vx;
+        B.ny[i] = ok ? ny : vy;
+        B.nz[i] = ok ? nz : vz;
+        B.vx[i] = vx;
+        B.vy[i] = vy;
+        B.vz[i] = vz;
+        const float T = B.T[i];
+        B.T[i] = T > 0.0f && T < INFINITY ? T : 0.0f;
+    }
+    // 2. Refraction: the background shifted along the normal by the projected
+    // thickness, sampled bilinearly (pixel centres at +0.5, clamped to the image)
+    // with premultiplied alpha. Footprints computed in vector lanes, texels
+    // fetched per pixel.
+    if (S.hasScene) {
+        const int w = S.scene->color.width, h = S.scene->color.height;
+        const float xMax = float(w - 1), yMax = float(h - 1);
+        for (int i = 0; i < n; ++i) {
+            const float beta = S.refraction * B.T[i] * S.f / B.z[i];
+            const float px = float(B.x[i]) + 0.5f + beta * B.nx[i], py = float(y) + 0.5f - beta * B.ny[i];
+            const float fx = std::min(xMax, std::max(0.0f, px - 0.5f));  // NaN (garbage normals) -> 0
+            const float fy = std::min(yMax, std::max(0.0f, py - 0.5f));
+            const int x0 = int(fx), y0 = int(fy);
+            B.tx[i] = fx - float(x0);
+            B.ty[i] = fy - float(y0);
+            B.i00[i] = y0 * w + x0;
+            B.dx[i] = x0 + 1 < w ? 1 : 0;
+            B.dy[i] = y0 + 1 < h ? w : 0;
+        }
+        const glm::vec4* img = S.scene->color.pixels.data();
+        for (int i = 0; i < n; ++i) {
+            const glm::vec4* p = img + B.i00[i];
+            const Float4 c00 = premul(load4(p[0])), c10 = premul(load4(p[B.dx[i]]));
+            const Float4 c01 = premul(load4(p[B.dy[i]])), c11 = premul(load4(p[B.dy[i] + B.dx[i]]));
+            const float tx = B.tx[i], ty = B.ty[i];
+            const Float4 top = c00 * (1.0f - tx) + c10 * tx;
+            const Float4 bottom = c01 * (1.0f - tx) + c11 * tx;
+            const Float4 s = top * (1.0f - ty) + bottom * ty;
+            B.sr[i] = s[0];
+            B.sg[i] = s[1];
+            B.sb[i] = s[2];
+            B.sa[i] = s[3];
+        }
+    } else {
+        for (int i = 0; i < n; ++i) B.sr[i] = B.sg[i] = B.sb[i] = B.sa[i] = 0.0f;
+    }
+    // 3. What the scene leaves transparent shows the sky along the view ray;
+    // skipped for batches over an opaque background (where it adds exactly 0).
+    const glm::vec3 X = S.axisX, Y = S.axisY, Z = S.axisZ, L = S.light, fc = S.fluid, k = S.negK;
+    float minAlpha = 1.0f;  // (reductions as min / sums so the loops vectorise)
+    for (int i = 0; i < n; ++i) minAlpha = std::min(minAlpha, B.sa[i]);
+    if (minAlpha < 1.0f) {
+        for (int i = 0; i < n; ++i) {
+            const float rx = B.rx[i];
+            skyColorRgb(rx * X.x + ryc * Y.x + -1.0f * Z.x, rx * X.y + ryc * Y.y + -1.0f * Z.y,
+                        rx * X.z + ryc * Y.z + -1.0f * Z.z, &B.kr[i], &B.kg[i], &B.kb[i]);
+            const float ta = 1.0f - B.sa[i];
+            B.sr[i] += ta * B.kr[i];
+            B.sg[i] += ta * B.kg[i];
+            B.sb[i] += ta * B.kb[i];
+        }
+    }
+    // 4. Absorption, Fresnel, reflection, branch-free.
+    const float f0 = S.f0, op = S.opacity, nhMin = S.nhMin;
+    int nSpec = 0;
+    for (int i = 0; i < n; ++i) {
+        const float nx = B.nx[i], ny = B.ny[i], nz = B.nz[i];
+        const float vx = B.vx[i], vy = B.vy[i], vz = B.vz[i];
+        const float T = B.T[i];
+        const float nv = std::clamp(nx * vx + ny * vy + nz * vz, 0.0f, 1.0f);
+        const float nl = nx * L.x + ny * L.y + nz * L.z;
+
+        // Beer-Lambert absorption through thickness T (eq. 18).
+        const float sr = B.sr[i], sg = B.sg[i], sb = B.sb[i];
+        float ar = fc.x + (sr - fc.x) * fastExp(k.x * T);
+        float ag = fc.y + (sg - fc.y) * fastExp(k.y * T);
+        float ab = fc.z + (sb - fc.z) * fastExp(k.z * T);
+        const float m = 1.0f - nv, m2 = m * m;
+        float F = f0 + (1.0f - f0) * (m2 * m2 * m);  // schlickFresnel
+        // Opaque materials: toward a Lambert-lit fluid colour (op = 0: a unchanged).
+        const float lit = kAmbient + (1.0f - kAmbient) * std::max(nl, 0.0f);
+        ar = op > 0.0f ? ar * (1.0f - op) + fc.x * lit * op : ar;
+        ag = op > 0.0f ? ag * (1.0f - op) + fc.y * lit * op : ag;
+        ab = op > 0.0f ? ab * (1.0f - op) + fc.z * lit * op : ab;
+        F = op > 0.0f ? F * (1.0f - op) : F;
+
+        // Mirror reflection of the environment, reflect(-v, n) in world space.
+        const float tn = 2.0f * nv;
+        const float ex = tn * nx - vx, ey = tn * ny - vy, ez = tn * nz - vz;
+        float br, bg, bb;
+        skyColorRgb(ex * X.x + ey * Y.x + ez * Z.x, ex * X.y + ey * Y.y + ez * Z.y, ex * X.z + ey * Y.z + ez * Z.z,
+                    &br, &bg, &bb);
+        B.cr[i] = ar * (1.0f - F) + br * F;
+        B.cg[i] = ag * (1.0f - F) + bg * F;
+        B.cb[i] = ab * (1.0f - F) + bb * F;
+
+        // Blinn-Phong half vector; the highlight is added below where visible.
+        const float hx = L.x + vx, hy = L.y + vy, hz = L.z + vz;
+        const float hInv = 1.0f / std::sqrt(hx * hx + hy * hy + hz * hz);
+        const float nh = nx * (hx * hInv) + ny * (hy * hInv) + nz * (hz * hInv);
+        B.nl[i] = nl;
+        B.nh[i] = nh;
+        nSpec += (nl > 0.0f) & (nh > nhMin);
+    }
+    // 5. Blinn-Phong highlight (eq. 20), only on the lit side and where it is
+    // visible: (n.h)^s = exp(s ln(n.h)) for n.h in (nhMin, 1]. Most batches have none.
+    if (nSpec > 0) {
+        const float ks = S.specular, sh = S.shininess;
+        for (int i = 0; i < n; ++i) {
+            const float nh = B.nh[i];
+            const bool on = (B.nl[i] > 0.0f) & (nh > nhMin);
+            const float spec = on ? ks * fastExp(sh * fastLog(std::max(nh, 1e-30f))) : 0.0f;
+            B.cr[i] += spec;
+            B.cg[i] += spec;
+            B.cb[i] += spec;
+        }
+    }
+}
+
+void shadeRow(const Setup& S, int y, Batch& B) {
+    const int w = S.depth->width;
+    const std::size_t row = std::size_t(y) * std::size_t(w);
+    const float* depth = &S.depth->pixels[row];
+    const float* sceneDepth = S.hasScene ? &S.scene->depth.pixels[row] : nullptr;
+    glm::vec4* out = &S.out->pixels[row];
+    // Non-fluid pixels are the scene colour (transparent black without a scene).
+    if (S.hasScene)
+        std::memcpy(out, &S.scene->color.pixels[row], std::size_t(w) * sizeof(glm::vec4));
+    else
+        std::fill(out, out + w, glm::vec4(0.0f));
+
+    const std::size_t nw = S.hasNormals ? row : 0, tw = S.hasThickness ? row : 0;
+    // Only the span from the first to the last fluid pixel of the row.
+    int x = 0, end = w;
+    while (x < end && !(depth[x] < INFINITY)) ++x;
+    while (end > x && !(depth[end - 1] < INFINITY)) --end;
+    while (x < end) {
+        // Up to kBatch fluid pixels in front of the scene (not +inf, not hidden),
+        // listed without branches: every x is written, only fluid ones kept.
+        int n = 0;
+        if (sceneDepth) {
+            for (; x < end && n < kBatch; ++x) {
+                B.x[n] = x;
+                n += (depth[x] < sceneDepth[x]) & (depth[x] > 0.0f);
+            }
+        } else {
+            for (; x < end && n < kBatch; ++x) {
+                B.x[n] = x;
+                n += (depth[x] < INFINITY) & (depth[x] > 0.0f);
+            }
+        }
+        if (n == 0) break;
+        for (int i = 0; i < n; ++i) {
+            const int xi = B.x[i];
+            B.rx[i] = S.rx[xi];
+            B.z[i] = depth[xi];
+            const glm::vec3 nv = S.hasNormals ? S.normals->pixels[nw + std::size_t(xi)] : glm::vec3(0.0f);
+            B.nx[i] = nv.x;
+            B.ny[i] = nv.y;
+            B.nz[i] = nv.z;
+            B.T[i] = S.hasThickness ? S.thickness->pixels[tw + std::size_t(xi)] : 0.0f;
+        }
+        shadeBatch(S, y, n, B);
+        for (int i = 0; i < n; ++i) out[B.x[i]] = glm::vec4(B.cr[i], B.cg[i], B.cb[i], 1.0f);
+    }
 }
 
 }  // namespace
@@ -57,84 +335,54 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
                                    const Image<glm::vec3>& normals, const Image<float>& thickness,
                                    const ShadingParams& params) {
     const int w = depth.width, h = depth.height;
-    Image<glm::vec4> out(w, h, glm::vec4(0.0f));
-    if (w <= 0 || h <= 0) return out;
+    if (w <= 0 || h <= 0) return Image<glm::vec4>(w, h, glm::vec4(0.0f));
+    // (std::vector zero-fills here; each row is then overwritten in parallel:
+    // the scene colour copied, then the fluid pixels shaded.)
+    Image<glm::vec4> out;
+    out.width = w;
+    out.height = h;
+    resizeFresh(out.pixels, std::size_t(w) * std::size_t(h));
+
+    Setup S;
+    S.scene = &scene;
+    S.depth = &depth;
+    S.normals = &normals;
+    S.thickness = &thickness;
+    S.out = &out;
     // A scene layer of another size (or none) counts as a transparent background.
-    const bool hasScene = scene.color.width == w && scene.color.height == h && scene.depth.width == w &&
-                          scene.depth.height == h;
-    const bool hasNormals = normals.width == w && normals.height == h;
-    const bool hasThickness = thickness.width == w && thickness.height == h;
+    S.hasScene = scene.color.width == w && scene.color.height == h && scene.depth.width == w &&
+                 scene.depth.height == h;
+    S.hasNormals = normals.width == w && normals.height == h;
+    S.hasThickness = thickness.width == w && thickness.height == h;
 
     const Material& m = params.material;
-    const float f = camera.focalPx();
+    S.f = camera.focalPx();
     std::vector<float> rx(static_cast<std::size_t>(w)), ry(static_cast<std::size_t>(h));
-    for (int x = 0; x < w; ++x) rx[std::size_t(x)] = (float(x) + 0.5f - 0.5f * float(w)) / f;
-    for (int y = 0; y < h; ++y) ry[std::size_t(y)] = -(float(y) + 0.5f - 0.5f * float(h)) / f;
-    const glm::vec3 axisX = camera.right(), axisY = camera.trueUp(), axisZ = camera.back();
-    auto toWorld = [&](const glm::vec3& d) { return d.x * axisX + d.y * axisY + d.z * axisZ; };
-    glm::vec3 light(glm::dot(params.lightDirWorld, axisX), glm::dot(params.lightDirWorld, axisY),
-                    glm::dot(params.lightDirWorld, axisZ));
+    for (int x = 0; x < w; ++x) rx[std::size_t(x)] = (float(x) + 0.5f - 0.5f * float(w)) / S.f;
+    for (int y = 0; y < h; ++y) ry[std::size_t(y)] = -(float(y) + 0.5f - 0.5f * float(h)) / S.f;
+    S.rx = rx.data();
+    S.ry = ry.data();
+    S.axisX = camera.right();
+    S.axisY = camera.trueUp();
+    S.axisZ = camera.back();
+    glm::vec3 light(glm::dot(params.lightDirWorld, S.axisX), glm::dot(params.lightDirWorld, S.axisY),
+                    glm::dot(params.lightDirWorld, S.axisZ));
     const float lightLen = glm::length(light);
-    light = lightLen > 0.0f ? light / lightLen : glm::vec3(0.0f, 0.0f, 1.0f);
-    const float f0 = fresnelF0(m.ior);
-    const float opacity = std::clamp(m.opacity, 0.0f, 1.0f);
-    const glm::vec3 negK = -glm::max(m.absorptionPerM, glm::vec3(0.0f));
+    S.light = lightLen > 0.0f ? light / lightLen : glm::vec3(0.0f, 0.0f, 1.0f);
+    S.fluid = m.fluidColor;
+    S.negK = -glm::max(m.absorptionPerM, glm::vec3(0.0f));
+    S.f0 = fresnelF0(m.ior);
+    S.opacity = std::clamp(m.opacity, 0.0f, 1.0f);
+    S.refraction = m.refraction;
+    S.specular = m.specular;
+    S.shininess = m.shininess;
     // The highlight k_s (n.h)^s is skipped where it is below 1e-6 (invisible in
-    // any output format): n.h < (1e-6 / k_s)^(1/s). Saves a pow on most pixels.
-    const float nhMin = m.specular > 1e-6f && m.shininess > 0.0f ? std::pow(1e-6f / m.specular, 1.0f / m.shininess)
-                                                                 : 2.0f;
+    // any output format): n.h < (1e-6 / k_s)^(1/s).
+    S.nhMin = m.specular > 1e-6f && m.shininess > 0.0f ? std::pow(1e-6f / m.specular, 1.0f / m.shininess) : 2.0f;
 
     forEachRow(h, [&](int y) {
-        for (int x = 0; x < w; ++x) {
-            const glm::vec4 sc = hasScene ? scene.color.at(x, y) : glm::vec4(0.0f);
-            const float sz = hasScene ? scene.depth.at(x, y) : INFINITY;
-            const float z = depth.at(x, y);
-            if (!(z < sz) || !(z > 0.0f)) {  // no fluid (+inf), or hidden by the scene
-                out.at(x, y) = sc;
-                continue;
-            }
-            const glm::vec3 ray(rx[std::size_t(x)], ry[std::size_t(y)], -1.0f);
-            const glm::vec3 v = -ray / glm::length(ray);  // toward the eye
-            glm::vec3 n = hasNormals ? normals.at(x, y) : v;
-            if (!(glm::dot(n, n) > 0.0f)) n = v;
-            const float nv = std::clamp(glm::dot(n, v), 0.0f, 1.0f);
-            const float nl = glm::dot(n, light);
-            float T = hasThickness ? thickness.at(x, y) : 0.0f;
-            if (!(T > 0.0f) || !std::isfinite(T)) T = 0.0f;
-
-            // Refraction: the background shifted along the normal by the projected thickness.
-            const float beta = m.refraction * T * f / z;
-            glm::vec3 s;
-            if (hasScene) {
-                const glm::vec4 pm = sampleScenePremul(scene.color, float(x) + 0.5f + beta * n.x,
-                                                       float(y) + 0.5f - beta * n.y);
-                s = glm::vec3(pm);
-                if (pm.a < 1.0f) s += (1.0f - pm.a) * skyColor(toWorld(ray));
-            } else {
-                s = skyColor(toWorld(ray));
-            }
-
-            // Beer-Lambert absorption through thickness T (eq. 18).
-            const glm::vec3 transmit(std::exp(negK.x * T), std::exp(negK.y * T), std::exp(negK.z * T));
-            glm::vec3 a = m.fluidColor + (s - m.fluidColor) * transmit;
-            float F = schlickFresnel(f0, nv);
-            if (opacity > 0.0f) {
-                const glm::vec3 diffuse = m.fluidColor * (kAmbient + (1.0f - kAmbient) * std::max(nl, 0.0f));
-                a = glm::mix(a, diffuse, opacity);
-                F *= 1.0f - opacity;
-            }
-
-            // Mirror reflection of the environment, reflect(-v, n) in world space.
-            const glm::vec3 b = skyColor(toWorld(2.0f * nv * n - v));
-            glm::vec3 c = a * (1.0f - F) + b * F;
-
-            // Blinn-Phong highlight (eq. 20), only on the lit side.
-            if (nl > 0.0f) {
-                const float nh = glm::dot(n, glm::normalize(light + v));
-                if (nh > nhMin) c += glm::vec3(m.specular * std::pow(nh, m.shininess));
-            }
-            out.at(x, y) = glm::vec4(c, 1.0f);
-        }
+        Batch B;
+        shadeRow(S, y, B);
     });
     return out;
 }
