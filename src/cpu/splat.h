@@ -53,8 +53,9 @@ SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> position
 // depth as splatDepth. With `chordSum`: the summed length (metres, along the
 // ray) of each pixel ray inside the spheres, clipped to eye depths
 // [camera.nearM, sceneDepth(x, y)). Either output may be null; the non-null
-// ones must be camera-sized and are fully overwritten.
+// ones must be camera-sized and are fully overwritten. The chord sums are
+// multiplied by chordScale on the way out (the thickness calibration weight).
 void splatBins(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
-               Image<float>* depth, Image<float>* chordSum);
+               Image<float>* depth, Image<float>* chordSum, float chordScale = 1.0f);
 
 }  // namespace meniscus::cpu

@@ -119,16 +119,6 @@ void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, const 
     blurPass(tmp, thickness, radiusPx, tables, false);
 }
 
-// Chord sums -> calibrated thickness, then the optional blur.
-void finishThickness(Image<float>& thickness, const Image<float>& rawDepth, const Camera& camera, float radius,
-                     const ThicknessParams& params) {
-    const float w = thicknessWeight(radius, params);
-    forEachRow(thickness.height, [&](int y) {
-        float* row = &thickness.pixels[std::size_t(y) * std::size_t(thickness.width)];
-        for (int x = 0; x < thickness.width; ++x) row[x] *= w;
-    });
-    blurThickness(thickness, rawDepth, camera, radius, params);
-}
 
 }  // namespace
 
@@ -143,8 +133,8 @@ Image<float> computeThickness(const Camera& camera, std::span<const glm::vec3> p
                               const Image<float>& rawDepth) {
     Image<float> thickness(camera.width, camera.height, 0.0f);
     const SplatBins bins = binParticles(camera, positionsWorld, radius);
-    splatBins(camera, bins, radius, sceneDepth, nullptr, &thickness);
-    finishThickness(thickness, rawDepth, camera, radius, params);
+    splatBins(camera, bins, radius, sceneDepth, nullptr, &thickness, thicknessWeight(radius, params));
+    blurThickness(thickness, rawDepth, camera, radius, params);
     return thickness;
 }
 
@@ -152,8 +142,8 @@ DepthAndThickness splatDepthAndThickness(const Camera& camera, std::span<const g
                                          const ThicknessParams& params, const Image<float>* sceneDepth) {
     DepthAndThickness out{Image<float>(camera.width, camera.height), Image<float>(camera.width, camera.height)};
     const SplatBins bins = binParticles(camera, positionsWorld, radius);
-    splatBins(camera, bins, radius, sceneDepth, &out.depth, &out.thickness);
-    finishThickness(out.thickness, out.depth, camera, radius, params);
+    splatBins(camera, bins, radius, sceneDepth, &out.depth, &out.thickness, thicknessWeight(radius, params));
+    blurThickness(out.thickness, out.depth, camera, radius, params);
     return out;
 }
 
