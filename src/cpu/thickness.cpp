@@ -27,6 +27,10 @@
 #include <numbers>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "cpu/filter_separable.h"  // KernelTable, the vector helpers, transpose
 #include "cpu/filter_util.h"
 #include "cpu/splat.h"
 
@@ -34,91 +38,86 @@ namespace meniscus::cpu {
 
 namespace {
 
-// Normalised Gaussian weights for kernel radius R = 1..maxR (sigma = R/3),
-// each 2R+1 long, stored one after another; offset(R) = R*R - 1 (sum of 2k+1 for k < R, minus the R=0 slot).
-struct GaussianTables {
-    std::vector<float> w;
-    explicit GaussianTables(int maxR) {
-        for (int R = 1; R <= maxR; ++R) {
-            const std::size_t first = w.size();
-            double sum = 0.0;
-            for (int k = -R; k <= R; ++k) {
-                const double v = std::exp(-4.5 * double(k) * double(k) / (double(R) * double(R)));
-                w.push_back(float(v));
-                sum += v;
-            }
-            for (std::size_t i = first; i < w.size(); ++i) w[i] = float(double(w[i]) / sum);
-        }
-    }
-    // The 2R+1 weights for radius R >= 1, centred: weights(R)[R] is the centre tap.
-    const float* weights(int R) const { return w.data() + (std::size_t(R) * std::size_t(R) - 1); }
-};
+using detail::FloatV;
+using detail::kLanes;
 
-// One 1-D pass: dst = src blurred along x or y at the pixels with a kernel
-// radius (radiusPx > 0); other pixels copied. Taps outside the image are left
-// out and the remaining weights renormalised.
-void blurPass(const Image<float>& src, Image<float>& dst, const Image<std::uint8_t>& radiusPx,
-              const GaussianTables& tables, bool alongX) {
-    const int W = src.width, H = src.height;
-    const std::ptrdiff_t step = alongX ? 1 : W;
-    forEachRow(H, [&](int y) {
-        const float* srow = &src.pixels[std::size_t(y) * std::size_t(W)];
-        const std::uint8_t* rrow = &radiusPx.pixels[std::size_t(y) * std::size_t(W)];
-        float* drow = &dst.pixels[std::size_t(y) * std::size_t(W)];
-        for (int x = 0; x < W; ++x) {
-            const int R = rrow[x];
-            if (R == 0) {
-                drow[x] = srow[x];
-                continue;
-            }
-            const float* w = tables.weights(R) + R;  // w[k] for k in [-R, R]
-            const int pos = alongX ? x : y, size = alongX ? W : H;
-            const int lo = std::max(-R, -pos), hi = std::min(R, size - 1 - pos);
-            const float* p = srow + x;
-            if (lo == -R && hi == R) {
-                // The whole kernel (weights sum to 1): symmetric pairs into two
-                // partial sums, halving the multiplies and the add chain.
-                float s0 = w[0] * p[0], s1 = 0.0f;
-                int k = 1;
-                for (; k < R; k += 2) {
-                    s0 += w[k] * (p[-k * step] + p[k * step]);
-                    s1 += w[k + 1] * (p[-(k + 1) * step] + p[(k + 1) * step]);
-                }
-                if (k == R) s0 += w[k] * (p[-k * step] + p[k * step]);
-                drow[x] = s0 + s1;
-            } else {
-                float sum = 0.0f, wsum = 0.0f;
-                for (int k = lo; k <= hi; ++k) {
-                    sum += w[k] * p[k * step];
-                    wsum += w[k];
-                }
-                drow[x] = sum / wsum;
-            }
+// One 1-D pass over a line of `len` pixels: out[i] = in[i] blurred with the
+// Gaussian of radius rad[i] (table row rad[i], sigma = rad[i] / 3), or copied
+// where rad[i] = 0. `in` is padded with table.padPx() zeros on both sides, so
+// the taps run in whole groups of kLanes (the table rows are zero past the
+// radius) without bounds checks. Taps off the image are left out and the
+// remaining weights renormalised.
+void blurLine(const float* in, const std::uint8_t* rad, float* out, int len, const KernelTable& table) {
+    for (int i = 0; i < len; ++i) {
+        const int R = rad[i];
+        if (R == 0) {
+            out[i] = in[i];
+            continue;
         }
-    });
+        const float* w = table.row(R);
+        const float* p = in + i;
+        FloatV s{};
+        for (int k = -R; k <= R; k += kLanes) s += detail::loadV(p + k) * detail::loadV(w + k);
+        float sum = (s[0] + s[1]) + (s[2] + s[3]);
+        if (i < R || i + R >= len) {
+            float wsum = 0.0f;
+            for (int k = std::max(-R, -i); k <= std::min(R, len - 1 - i); ++k) wsum += w[k];
+            sum /= wsum;
+        }
+        out[i] = sum;
+    }
 }
 
 void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, const Camera& camera, float radius,
                    const ThicknessParams& params) {
     const int maxR = std::min(255, std::max(0, params.maxKernelPx));
     if (!(params.blurSigmaRadii > 0.0f) || maxR == 0) return;
-    if (rawDepth.width != thickness.width || rawDepth.height != thickness.height) return;
-    const GaussianTables tables(maxR);
+    const int W = thickness.width, H = thickness.height;
+    if (rawDepth.width != W || rawDepth.height != H || W <= 0 || H <= 0) return;
+    const KernelTable table = KernelTable::gaussian(maxR);
+    const int pad = table.padPx();
     // Kernel radius (3 sigma) per pixel, once for both passes; 0 = no fluid, not blurred.
     const float worldRadiusM = 3.0f * params.blurSigmaRadii * radius;
     const float f = camera.focalPx();
-    Image<std::uint8_t> radiusPx(thickness.width, thickness.height);
-    forEachRow(thickness.height, [&](int y) {
-        for (int x = 0; x < thickness.width; ++x) {
+    Image<std::uint8_t> radiusPx(W, H);
+    forEachRow(H, [&](int y) {
+        for (int x = 0; x < W; ++x) {
             const float z = rawDepth.at(x, y);
             radiusPx.at(x, y) = std::uint8_t(isFluid(z) ? projectedRadiusPx(worldRadiusM, f, z, maxR) : 0);
         }
     });
-    Image<float> tmp(thickness.width, thickness.height);
-    blurPass(thickness, tmp, radiusPx, tables, true);
-    blurPass(tmp, thickness, radiusPx, tables, false);
+    Image<float> tmp(W, H);
+    // x pass: thickness -> tmp, through a zero-padded copy of each row.
+    tbb::parallel_for(tbb::blocked_range<int>(0, H, 4), [&](const tbb::blocked_range<int>& rows) {
+        std::vector<float> line(std::size_t(W + 2 * pad), 0.0f);
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+            const std::size_t o = std::size_t(y) * W;
+            std::copy_n(thickness.pixels.data() + o, W, line.data() + pad);
+            blurLine(line.data() + pad, radiusPx.pixels.data() + o, tmp.pixels.data() + o, W, table);
+        }
+    });
+    // y pass: tmp -> thickness, columns gathered kColumnBlock at a time into
+    // contiguous padded lines (row-wise reads, not one cache miss per tap).
+    constexpr int kBlock = detail::kColumnBlock;
+    const int blocks = (W + kBlock - 1) / kBlock;
+    tbb::parallel_for(tbb::blocked_range<int>(0, blocks, 1), [&](const tbb::blocked_range<int>& bs) {
+        const std::size_t lineLen = std::size_t(H + 2 * pad);
+        std::vector<float> lines(lineLen * kBlock, 0.0f), outs(std::size_t(H) * kBlock);
+        std::vector<std::uint8_t> rads(std::size_t(H) * kBlock);
+        for (int b = bs.begin(); b < bs.end(); ++b) {
+            const int x0 = b * kBlock, nc = std::min(kBlock, W - x0);
+            detail::transpose(&tmp.at(x0, 0), std::size_t(W), lines.data() + pad, lineLen, H, nc,
+                              [](float v) { return v; });
+            for (int y = 0; y < H; ++y)
+                for (int c = 0; c < nc; ++c) rads[std::size_t(c) * H + y] = radiusPx.at(x0 + c, y);
+            for (int c = 0; c < nc; ++c)
+                blurLine(lines.data() + c * lineLen + pad, rads.data() + std::size_t(c) * H,
+                         outs.data() + std::size_t(c) * H, H, table);
+            detail::transpose(outs.data(), std::size_t(H), &thickness.at(x0, 0), std::size_t(W), nc, H,
+                              [](float v) { return v; });
+        }
+    });
 }
-
 
 }  // namespace
 
