@@ -41,14 +41,15 @@ namespace {
 using detail::FloatV;
 using detail::kLanes;
 
-// One 1-D pass over a line of `len` pixels: out[i] = in[i] blurred with the
-// Gaussian of radius rad[i] (table row rad[i], sigma = rad[i] / 3), or copied
-// where rad[i] = 0. `in` is padded with table.padPx() zeros on both sides, so
-// the taps run in whole groups of kLanes (the table rows are zero past the
-// radius) without bounds checks. Taps off the image are left out and the
-// remaining weights renormalised.
-void blurLine(const float* in, const std::uint8_t* rad, float* out, int len, const KernelTable& table) {
-    for (int i = 0; i < len; ++i) {
+// One 1-D pass over pixels [begin, end) of a line of `len` pixels: out[i] =
+// in[i] blurred with the Gaussian of radius rad[i] (table row rad[i], sigma =
+// rad[i] / 3), or copied where rad[i] = 0. `in` holds the line at [0, len) and
+// table.padPx() zeros on both sides, so the taps run in whole groups of kLanes
+// (the table rows are zero past the radius) without bounds checks. Taps off
+// the image are left out and the remaining weights renormalised.
+void blurLine(const float* in, const std::uint8_t* rad, float* out, int begin, int end, int len,
+              const KernelTable& table) {
+    for (int i = begin; i < end; ++i) {
         const int R = rad[i];
         if (R == 0) {
             out[i] = in[i];
@@ -79,25 +80,52 @@ void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, const 
     // Kernel radius (3 sigma) per pixel, once for both passes; 0 = no fluid, not blurred.
     const float worldRadiusM = 3.0f * params.blurSigmaRadii * radius;
     const float f = camera.focalPx();
+    // As projectedRadiusPx (ceil(worldM f / z) in [0, maxR]; +inf depth gives
+    // 0), kLanes at a time: on baseline x86-64 std::ceil is a library call.
+    const float kPxDepth = worldRadiusM * f;
     Image<std::uint8_t> radiusPx(W, H);
     forEachRow(H, [&](int y) {
-        for (int x = 0; x < W; ++x) {
-            const float z = rawDepth.at(x, y);
-            radiusPx.at(x, y) = std::uint8_t(isFluid(z) ? projectedRadiusPx(worldRadiusM, f, z, maxR) : 0);
+        const float* z = &rawDepth.pixels[std::size_t(y) * W];
+        std::uint8_t* out = &radiusPx.pixels[std::size_t(y) * W];
+        int x = 0;
+        for (; x + kLanes <= W; x += kLanes) {
+            FloatV px = kPxDepth / detail::loadV(z + x);
+            px = detail::selectV(px > 0.0f, px);  // also NaN -> 0
+            const detail::IntV below = px < float(maxR);
+            px = detail::selectV(below, px) + detail::selectV(~below, FloatV{} + float(maxR));
+            const detail::IntV i = __builtin_convertvector(px, detail::IntV);  // px >= 0: trunc = floor
+            const detail::IntV up = __builtin_convertvector(i, FloatV) < px;   // -1 where px is not whole
+            for (int l = 0; l < kLanes; ++l) out[x + l] = std::uint8_t(i[l] - up[l]);
         }
+        for (; x < W; ++x) out[x] = std::uint8_t(isFluid(z[x]) ? projectedRadiusPx(worldRadiusM, f, z[x], maxR) : 0);
     });
     Image<float> tmp(W, H);
+    // Only the span of each line that holds fluid is filtered: the rest keeps
+    // its value through both passes (about half the image is never touched).
     // x pass: thickness -> tmp, through a zero-padded copy of each row.
     tbb::parallel_for(tbb::blocked_range<int>(0, H, 4), [&](const tbb::blocked_range<int>& rows) {
         std::vector<float> line(std::size_t(W + 2 * pad), 0.0f);
         for (int y = rows.begin(); y < rows.end(); ++y) {
             const std::size_t o = std::size_t(y) * W;
-            std::copy_n(thickness.pixels.data() + o, W, line.data() + pad);
-            blurLine(line.data() + pad, radiusPx.pixels.data() + o, tmp.pixels.data() + o, W, table);
+            const std::uint8_t* rad = radiusPx.pixels.data() + o;
+            int first = 0, last = W - 1;
+            while (first < W && rad[first] == 0) ++first;
+            while (last > first && rad[last] == 0) --last;
+            const float* src = thickness.pixels.data() + o;
+            float* dst = tmp.pixels.data() + o;
+            if (first == W) {
+                std::copy_n(src, W, dst);
+                continue;
+            }
+            std::copy_n(src, W, line.data() + pad);
+            std::copy_n(src, first, dst);
+            std::copy(src + last + 1, src + W, dst + last + 1);
+            blurLine(line.data() + pad, rad, dst, first, last + 1, W, table);
         }
     });
     // y pass: tmp -> thickness, columns gathered kColumnBlock at a time into
     // contiguous padded lines (row-wise reads, not one cache miss per tap).
+    // Outside the fluid rows of a block tmp equals thickness already.
     constexpr int kBlock = detail::kColumnBlock;
     const int blocks = (W + kBlock - 1) / kBlock;
     tbb::parallel_for(tbb::blocked_range<int>(0, blocks, 1), [&](const tbb::blocked_range<int>& bs) {
@@ -106,15 +134,26 @@ void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, const 
         std::vector<std::uint8_t> rads(std::size_t(H) * kBlock);
         for (int b = bs.begin(); b < bs.end(); ++b) {
             const int x0 = b * kBlock, nc = std::min(kBlock, W - x0);
-            detail::transpose(&tmp.at(x0, 0), std::size_t(W), lines.data() + pad, lineLen, H, nc,
+            int first = H, last = -1;
+            for (int y = 0; y < H; ++y) {
+                const std::uint8_t* rad = &radiusPx.at(x0, y);
+                std::uint8_t any = 0;
+                for (int c = 0; c < nc; ++c) {
+                    rads[std::size_t(c) * H + y] = rad[c];
+                    any |= rad[c];
+                }
+                if (any) first = std::min(first, y), last = y;
+            }
+            if (last < 0) continue;
+            // Taps reach maxR rows beyond the fluid rows; rows further away are never read.
+            const int lo = std::max(0, first - maxR), hi = std::min(H, last + 1 + maxR);
+            detail::transpose(&tmp.at(x0, lo), std::size_t(W), lines.data() + pad + lo, lineLen, hi - lo, nc,
                               [](float v) { return v; });
-            for (int y = 0; y < H; ++y)
-                for (int c = 0; c < nc; ++c) rads[std::size_t(c) * H + y] = radiusPx.at(x0 + c, y);
             for (int c = 0; c < nc; ++c)
                 blurLine(lines.data() + c * lineLen + pad, rads.data() + std::size_t(c) * H,
-                         outs.data() + std::size_t(c) * H, H, table);
-            detail::transpose(outs.data(), std::size_t(H), &thickness.at(x0, 0), std::size_t(W), nc, H,
-                              [](float v) { return v; });
+                         outs.data() + std::size_t(c) * H, first, last + 1, H, table);
+            detail::transpose(outs.data() + first, std::size_t(H), &thickness.at(x0, first), std::size_t(W), nc,
+                              last + 1 - first, [](float v) { return v; });
         }
     });
 }
