@@ -168,6 +168,17 @@ inline void storeV(float* p, FloatV v) { std::memcpy(p, &v, sizeof v); }
 constexpr int kStride = kTile + kLanes;
 constexpr int kTileN = kTile * kStride;
 
+// Smallest i with kDiv (i + 1/2) > x0 - 1/2, and one past the largest i with
+// kDiv (i + 1/2) < x1 + 1/2 (numerators shifted to stay positive for floor).
+template <int kDiv>
+int lowBegin(int x0) {
+    return (2 * x0 - 1 - kDiv + 2 * kDiv * 4) / (2 * kDiv) - 4 + 1;
+}
+template <int kDiv>
+int lowEnd(int x1) {
+    return (2 * x1 + 1 - kDiv + 2 * kDiv - 1) / (2 * kDiv);
+}
+
 // One tile of the splat, kLanes pixels of a row at a time in GCC/Clang vector
 // types (the projected spheres are only a few pixels wide, so vectorising
 // across a row of one sphere is the only way to fill the lanes). Per-pixel ray
@@ -175,19 +186,29 @@ constexpr int kTileN = kTile * kStride;
 // sphere-pixel pair). Lanes past the sphere's rectangle are masked, not
 // branched on. Chords are summed in bin order, a fixed order. The arithmetic
 // is the scalar raySphereEyeDepth's, operation for operation.
-template <bool kDepth, bool kChord>
+//
+// kDiv > 1 (chords only): the output has one pixel per kDiv x kDiv block, its
+// ray through the block's centre, and the scene depth of the block is its
+// nearest. Tile t then covers the kTile / kDiv square of low-resolution pixels
+// under the full-resolution tile t, and the spheres of bin t are tested
+// against the low-resolution pixels of their rectangle grown by one full
+// pixel: that holds every low-resolution centre inside the projection.
+template <bool kDepth, bool kChord, int kDiv = 1>
 void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
                Image<float>* depth, Image<float>* chordSum, float chordScale) {
+    static_assert(kDiv == 1 || (!kDepth && kTile % kDiv == 0));
     const int W = camera.width, H = camera.height;
     const int tx = t % bins.tilesX, ty = t / bins.tilesX;
-    const int bx0 = tx * kTile, by0 = ty * kTile;
-    const int bx1 = std::min(W, bx0 + kTile), by1 = std::min(H, by0 + kTile);
+    // This tile in output pixels (low-resolution ones when kDiv > 1).
+    const int bx0 = tx * (kTile / kDiv), by0 = ty * (kTile / kDiv);
+    const int bx1 = std::min((W + kDiv - 1) / kDiv, bx0 + kTile / kDiv);
+    const int by1 = std::min((H + kDiv - 1) / kDiv, by0 + kTile / kDiv);
 
     if (bins.start[t] == bins.start[t + 1]) {  // no sphere: nothing but the defaults
         for (int y = by0; y < by1; ++y)
             for (int x = bx0; x < bx1; ++x) {
                 if constexpr (kDepth) depth->at(x, y) = kInf;
-                if constexpr (kChord) chordSum->at(x, y) = 0.0f;
+                if constexpr (kChord) chordSum->at(x, y) = 0.0f;  // (x, y) in output pixels
             }
         return;
     }
@@ -201,10 +222,11 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
     const float invF = 1.0f / camera.focalPx();
     const float halfW = 0.5f * float(W), halfH = 0.5f * float(H);
     // Setup kLanes pixels at a time, with raySphereEyeDepth's operations.
-    const FloatV lanesF = {0.5f, 1.5f, 2.5f, 3.5f};
+    // Pixel centres in full-resolution coordinates: kDiv (i + 1/2).
+    const FloatV lanesF = FloatV{0.5f, 1.5f, 2.5f, 3.5f} * float(kDiv);
     const float* scene = sceneDepth ? sceneDepth->pixels.data() : nullptr;
-    for (int y = 0; y < kTile; ++y) {
-        const float ry = -(float(by0 + y) + 0.5f - halfH) * invF;
+    for (int y = 0; y < kTile / kDiv; ++y) {
+        const float ry = -(float(kDiv * (by0 + y)) + 0.5f * float(kDiv) - halfH) * invF;
         for (int x = 0; x < kStride; x += kLanes) {
             const int j = y * kStride + x;
             const int n = std::min(kLanes, bx1 - bx0 - x);  // pixels of the image in this group
@@ -212,14 +234,24 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
                 for (float* a : {ux, uy, uz, invLen, tNear, tFar, zBest, chord}) storeV(a + j, FloatV{});
                 continue;
             }
-            const FloatV rx = ((float(bx0 + x) + lanesF) - halfW) * invF;
+            const FloatV rx = ((float(kDiv * (bx0 + x)) + lanesF) - halfW) * invF;
             const FloatV len = sqrtV((rx * rx + ry * ry) + 1.0f);
             storeV(ux + j, rx / len);
             storeV(uy + j, ry / len);
             storeV(uz + j, -1.0f / len);
             storeV(invLen + j, 1.0f / len);
             FloatV zScene = FloatV{} + kInf;
-            if (scene) std::memcpy(&zScene, scene + std::size_t(by0 + y) * W + (bx0 + x), sizeof(float) * n);
+            if (scene && kDiv == 1) {
+                std::memcpy(&zScene, scene + std::size_t(by0 + y) * W + (bx0 + x), sizeof(float) * n);
+            } else if (scene) {
+                for (int l = 0; l < n; ++l) {
+                    const int fx0 = kDiv * (bx0 + x + l), fy0 = kDiv * (by0 + y);
+                    float z = kInf;
+                    for (int fy = fy0; fy < std::min(H, fy0 + kDiv); ++fy)
+                        for (int fx = fx0; fx < std::min(W, fx0 + kDiv); ++fx) z = std::min(z, scene[std::size_t(fy) * W + fx]);
+                    zScene[l] = z;
+                }
+            }
             storeV(tNear + j, nearM * len);
             storeV(tFar + j, zScene * len);
             // Starting the min at the scene depth discards hits at or behind it
@@ -237,8 +269,14 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
         const PixelRect& rect = bins.rects[i];
         const glm::vec3 c = bins.centres[i];
         const FloatV cx = FloatV{} + c.x, cy = FloatV{} + c.y, cz = FloatV{} + c.z, r2V = FloatV{} + r2;
-        const int x0 = std::max(rect.x0, bx0) - bx0, x1 = std::min(rect.x1, bx1) - bx0;
-        const int y0 = std::max(rect.y0, by0) - by0, y1 = std::min(rect.y1, by1) - by0;
+        // The rectangle [x0, x1) holds the full pixels whose centres lie in the
+        // projection (or is cut by the image border), so the projection lies in
+        // (x0 - 1/2, x1 + 1/2): the low-resolution centres kDiv (i + 1/2) inside
+        // that are i in [lowBegin(x0), lowEnd(x1)).
+        const int rx0 = kDiv == 1 ? rect.x0 : lowBegin<kDiv>(rect.x0), rx1 = kDiv == 1 ? rect.x1 : lowEnd<kDiv>(rect.x1);
+        const int ry0 = kDiv == 1 ? rect.y0 : lowBegin<kDiv>(rect.y0), ry1 = kDiv == 1 ? rect.y1 : lowEnd<kDiv>(rect.y1);
+        const int x0 = std::max(rx0, bx0) - bx0, x1 = std::min(rx1, bx1) - bx0;
+        const int y0 = std::max(ry0, by0) - by0, y1 = std::min(ry1, by1) - by0;
         for (int y = y0; y < y1; ++y) {
             for (int x = x0; x < x1; x += kLanes) {
                 const int j = y * kStride + x;
@@ -270,8 +308,9 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
     }
 
     // Write back; still at the scene depth (or +inf) = no fluid.
+    const std::size_t outW = std::size_t((W + kDiv - 1) / kDiv);
     for (int y = 0; y < by1 - by0; ++y) {
-        const std::size_t row = std::size_t(by0 + y) * W + bx0;
+        const std::size_t row = std::size_t(by0 + y) * outW + bx0;
         for (int x = 0; x < bx1 - bx0; ++x) {
             const int j = y * kStride + x;
             if constexpr (kDepth) {
@@ -296,6 +335,18 @@ void splatBins(const Camera& camera, const SplatBins& bins, float radius, const 
         run([&](int t) { splatTile<true, false>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale); });
     else if (chordSum)
         run([&](int t) { splatTile<false, true>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale); });
+}
+
+void splatChordsLowRes(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
+                       int divisor, Image<float>& chordSum, float chordScale) {
+    const int tiles = bins.tilesX * bins.tilesY;
+    auto run = [&](auto kernel) { tbb::parallel_for(0, tiles, [&](int t) { kernel(t); }); };
+    if (divisor == 2)
+        run([&](int t) { splatTile<false, true, 2>(t, camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale); });
+    else if (divisor == 4)
+        run([&](int t) { splatTile<false, true, 4>(t, camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale); });
+    else
+        splatBins(camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale);
 }
 
 Image<float> splatDepth(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,

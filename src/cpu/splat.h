@@ -58,4 +58,13 @@ SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> position
 void splatBins(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
                Image<float>* depth, Image<float>* chordSum, float chordScale = 1.0f);
 
+// The chord sums of splatBins on a coarser grid: one pixel per divisor x
+// divisor block of the camera's pixels (divisor 1, 2 or 4; chordSum sized
+// ceil(W / divisor) x ceil(H / divisor)), its ray through the block's centre,
+// clipped at the nearest scene depth of the block. `bins` are the camera's
+// full-resolution bins; spheres that cover no full-resolution pixel centre are
+// not in them and so are left out here too.
+void splatChordsLowRes(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
+                       int divisor, Image<float>& chordSum, float chordScale);
+
 }  // namespace meniscus::cpu

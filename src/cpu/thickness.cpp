@@ -19,11 +19,18 @@
 // whole number of pixels R = ceil(3 sigma_px) (capped), and the weights use
 // sigma = R/3 from a table per R: sigma is rounded up by at most 1/3 px, and no
 // exp is evaluated per pixel. Kernel radii are capped at min(maxKernelPx, 255).
+//
+// Lower resolution (SPEC §3.4 allows it; params.resolutionDivisor): the chords
+// through the centres of d x d pixel blocks, blurred on that grid, upsampled
+// bilinearly. The thickness only drives absorption and the refraction offset,
+// both low-frequency after the blur, while the chords and the blur are most
+// of this stage's time at full resolution.
 #include "cpu/thickness.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -38,6 +45,7 @@ namespace meniscus::cpu {
 
 namespace {
 
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
 using detail::FloatV;
 using detail::kLanes;
 
@@ -69,7 +77,7 @@ void blurLine(const float* in, const std::uint8_t* rad, float* out, int begin, i
     }
 }
 
-void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, const Camera& camera, float radius,
+void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, float f, float radius,
                    const ThicknessParams& params) {
     const int maxR = std::min(255, std::max(0, params.maxKernelPx));
     if (!(params.blurSigmaRadii > 0.0f) || maxR == 0) return;
@@ -79,7 +87,6 @@ void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, const 
     const int pad = table.padPx();
     // Kernel radius (3 sigma) per pixel, once for both passes; 0 = no fluid, not blurred.
     const float worldRadiusM = 3.0f * params.blurSigmaRadii * radius;
-    const float f = camera.focalPx();
     // As projectedRadiusPx (ceil(worldM f / z) in [0, maxR]; +inf depth gives
     // 0), kLanes at a time: on baseline x86-64 std::ceil is a library call.
     const float kPxDepth = worldRadiusM * f;
@@ -158,6 +165,80 @@ void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, const 
     });
 }
 
+int divisorOf(const ThicknessParams& params) {
+    return params.resolutionDivisor >= 4 ? 4 : params.resolutionDivisor >= 2 ? 2 : 1;
+}
+
+// Thickness on the grid of one pixel per d x d block (d > 1): the chords
+// through the block centres, blurred there (sigma projected with the nearest
+// fluid depth of the block and focal length f / d, so it is the same world
+// length), then bilinearly upsampled onto the full-resolution fluid pixels
+// (0 elsewhere). Chords and blur cost ~1/d^2 and ~1/d^3 of full resolution;
+// the thickness only feeds absorption and the refraction offset, which are
+// smooth, so the detail lost is below what the blur removes anyway.
+Image<float> lowResThickness(const Camera& camera, const SplatBins& bins, float radius, const ThicknessParams& params,
+                             const Image<float>* sceneDepth, const Image<float>& rawDepth, int d) {
+    const int W = camera.width, H = camera.height;
+    const int w = (W + d - 1) / d, h = (H + d - 1) / d;
+    Image<float> low(w, h);
+    splatChordsLowRes(camera, bins, radius, sceneDepth, d, low, thicknessWeight(radius, params));
+    Image<float> out(W, H, 0.0f);
+    if (rawDepth.width != W || rawDepth.height != H) return out;
+    // The nearest fluid depth of each block (+inf when it has none): the min
+    // over the block's rows, then over its columns.
+    Image<float> lowDepth(w, h);
+    forEachRow(h, [&](int j) {
+        std::vector<float> rowMin(rawDepth.pixels.begin() + std::size_t(d) * j * W,
+                                  rawDepth.pixels.begin() + (std::size_t(d) * j + 1) * W);
+        for (int y = d * j + 1; y < std::min(H, d * j + d); ++y) {
+            const float* z = &rawDepth.pixels[std::size_t(y) * W];
+            for (int x = 0; x < W; ++x) rowMin[x] = std::min(rowMin[x], z[x]);
+        }
+        for (int i = 0; i < w; ++i) {
+            float z = rowMin[d * i];
+            for (int x = d * i + 1; x < std::min(W, d * i + d); ++x) z = std::min(z, rowMin[x]);
+            lowDepth.at(i, j) = z;
+        }
+    });
+    blurThickness(low, lowDepth, camera.focalPx() / float(d), radius, params);
+    // Bilinear: full pixel x samples the low grid at (x + 1/2) / d - 1/2,
+    // clamped at the border. Taps and weights per column, once.
+    struct Tap {
+        int i0, i1;
+        float f;
+    };
+    auto taps = [d](int n, int lowN) {
+        std::vector<Tap> t(static_cast<std::size_t>(n));
+        for (int x = 0; x < n; ++x) {
+            const float u = std::clamp((float(x) + 0.5f) / float(d) - 0.5f, 0.0f, float(lowN - 1));
+            const int i0 = std::min(int(u), lowN - 1);
+            t[std::size_t(x)] = {i0, std::min(i0 + 1, lowN - 1), u - float(i0)};
+        }
+        return t;
+    };
+    const std::vector<Tap> tx = taps(W, w), ty = taps(H, h);
+    forEachRow(H, [&](int y) {
+        const float* z = &rawDepth.pixels[std::size_t(y) * W];
+        int first = 0, last = W - 1;  // only the span of the row that holds fluid
+        while (first < W && !isFluid(z[first])) ++first;
+        while (last > first && !isFluid(z[last])) --last;
+        if (first == W) return;
+        // Interpolate between the two low rows first, then along the row.
+        const Tap& v = ty[std::size_t(y)];
+        const float* r0 = &low.pixels[std::size_t(v.i0) * w];
+        const float* r1 = &low.pixels[std::size_t(v.i1) * w];
+        std::vector<float> row(static_cast<std::size_t>(w));
+        for (int i = tx[first].i0; i <= tx[last].i1; ++i) row[i] = r0[i] + v.f * (r1[i] - r0[i]);
+        float* o = &out.pixels[std::size_t(y) * W];
+        for (int x = first; x <= last; ++x) {
+            const Tap& u = tx[std::size_t(x)];
+            const float t = row[u.i0] + u.f * (row[u.i1] - row[u.i0]);
+            o[x] = isFluid(z[x]) ? t : 0.0f;
+        }
+    });
+    return out;
+}
+
 }  // namespace
 
 float thicknessWeight(float radius, const ThicknessParams& params) {
@@ -169,10 +250,12 @@ float thicknessWeight(float radius, const ThicknessParams& params) {
 Image<float> computeThickness(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                               const ThicknessParams& params, const Image<float>* sceneDepth,
                               const Image<float>& rawDepth) {
-    Image<float> thickness(camera.width, camera.height, 0.0f);
     const SplatBins bins = binParticles(camera, positionsWorld, radius);
+    if (const int d = divisorOf(params); d > 1)
+        return lowResThickness(camera, bins, radius, params, sceneDepth, rawDepth, d);
+    Image<float> thickness(camera.width, camera.height, 0.0f);
     splatBins(camera, bins, radius, sceneDepth, nullptr, &thickness, thicknessWeight(radius, params));
-    blurThickness(thickness, rawDepth, camera, radius, params);
+    blurThickness(thickness, rawDepth, camera.focalPx(), radius, params);
     return thickness;
 }
 
@@ -180,8 +263,13 @@ DepthAndThickness splatDepthAndThickness(const Camera& camera, std::span<const g
                                          const ThicknessParams& params, const Image<float>* sceneDepth) {
     DepthAndThickness out{Image<float>(camera.width, camera.height), Image<float>(camera.width, camera.height)};
     const SplatBins bins = binParticles(camera, positionsWorld, radius);
+    if (const int d = divisorOf(params); d > 1) {
+        splatBins(camera, bins, radius, sceneDepth, &out.depth, nullptr);
+        out.thickness = lowResThickness(camera, bins, radius, params, sceneDepth, out.depth, d);
+        return out;
+    }
     splatBins(camera, bins, radius, sceneDepth, &out.depth, &out.thickness, thicknessWeight(radius, params));
-    blurThickness(out.thickness, out.depth, camera, radius, params);
+    blurThickness(out.thickness, out.depth, camera.focalPx(), radius, params);
     return out;
 }
 
