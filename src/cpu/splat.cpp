@@ -108,22 +108,42 @@ SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> position
         bins.rects[i] = sphereBounds(camera, f, bins.centres[i], radius);
     });
 
-    // Bin particle indices per tile: count, prefix sum, fill (serial, in
-    // particle order, so the bins are the same for any thread count).
+    // Bin particle indices per tile, in particle order: kSlices fixed slices of
+    // the particles count their tiles in parallel, a prefix sum over (tile,
+    // slice) gives each slice its own range of every bin, and the slices fill
+    // them in parallel. The bins do not depend on the thread count.
+    constexpr std::size_t kSlices = 16;
     const int tilesX = bins.tilesX;
-    auto& start = bins.start;
-    start.assign(std::size_t(bins.tilesX) * std::size_t(bins.tilesY) + 1, 0);
+    const std::size_t tiles = std::size_t(bins.tilesX) * std::size_t(bins.tilesY);
     auto forTiles = [&](const PixelRect& r, auto&& fn) {
         if (r.empty()) return;
         for (int ty = r.y0 / kTile; ty <= (r.y1 - 1) / kTile; ++ty)
             for (int tx = r.x0 / kTile; tx <= (r.x1 - 1) / kTile; ++tx) fn(std::size_t(ty) * tilesX + tx);
     };
-    for (std::size_t i = 0; i < n; ++i) forTiles(bins.rects[i], [&](std::size_t t) { ++start[t + 1]; });
-    for (std::size_t t = 1; t < start.size(); ++t) start[t] += start[t - 1];
-    bins.items.resize(start.back());
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i)
-        forTiles(bins.rects[i], [&](std::size_t t) { bins.items[fill[t]++] = std::uint32_t(i); });
+    std::vector<std::uint32_t> next(kSlices * tiles, 0);  // [slice][tile]: count, then fill position
+    auto perSlice = [&](auto&& fn) {
+        tbb::parallel_for(std::size_t(0), kSlices, [&](std::size_t c) {
+            std::uint32_t* slice = &next[c * tiles];
+            for (std::size_t i = n * c / kSlices; i < n * (c + 1) / kSlices; ++i) fn(slice, i);
+        });
+    };
+    perSlice([&](std::uint32_t* slice, std::size_t i) { forTiles(bins.rects[i], [&](std::size_t t) { ++slice[t]; }); });
+    auto& start = bins.start;
+    start.assign(tiles + 1, 0);
+    std::uint32_t total = 0;
+    for (std::size_t t = 0; t < tiles; ++t) {
+        start[t] = total;
+        for (std::size_t c = 0; c < kSlices; ++c) {
+            const std::uint32_t count = next[c * tiles + t];
+            next[c * tiles + t] = total;
+            total += count;
+        }
+    }
+    start[tiles] = total;
+    bins.items.resize(total);
+    perSlice([&](std::uint32_t* slice, std::size_t i) {
+        forTiles(bins.rects[i], [&](std::size_t t) { bins.items[slice[t]++] = std::uint32_t(i); });
+    });
     return bins;
 }
 
