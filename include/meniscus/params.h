@@ -103,6 +103,7 @@ void setFilterIterations(FilterParams& filter, int iterations);
 struct ThicknessParams {
     float spacingM = 0.0f;                   // rest spacing s; 0 = 2 r (the radius is half the spacing)
     float blurSigmaRadii = 1.0f;             // Gaussian blur sigma, radii; 0 = no blur
+    int resolutionDivisor = 1;               // thickness on a 1/n-resolution grid, then upsampled: 1 = full, 2 = half (4 allowed)
     int maxKernelPx = defaults::kMaxKernelPx;
 };
 

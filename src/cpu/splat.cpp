@@ -14,9 +14,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include <tbb/parallel_for.h>
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#elif defined(__ARM_NEON) && defined(__aarch64__)
+#include <arm_neon.h>
+#endif
+
+#include "cpu/filter_separable.h"  // detail::FloatV and its helpers
 
 namespace meniscus::cpu {
 
@@ -99,125 +108,265 @@ SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> position
         bins.rects[i] = sphereBounds(camera, f, bins.centres[i], radius);
     });
 
-    // Bin particle indices per tile: count, prefix sum, fill (serial, in
-    // particle order, so the bins are the same for any thread count).
+    // Bin particle indices per tile, in particle order: kSlices fixed slices of
+    // the particles count their tiles in parallel, a prefix sum over (tile,
+    // slice) gives each slice its own range of every bin, and the slices fill
+    // them in parallel. The bins do not depend on the thread count.
+    constexpr std::size_t kSlices = 16;
     const int tilesX = bins.tilesX;
-    auto& start = bins.start;
-    start.assign(std::size_t(bins.tilesX) * std::size_t(bins.tilesY) + 1, 0);
+    const std::size_t tiles = std::size_t(bins.tilesX) * std::size_t(bins.tilesY);
     auto forTiles = [&](const PixelRect& r, auto&& fn) {
         if (r.empty()) return;
         for (int ty = r.y0 / kTile; ty <= (r.y1 - 1) / kTile; ++ty)
             for (int tx = r.x0 / kTile; tx <= (r.x1 - 1) / kTile; ++tx) fn(std::size_t(ty) * tilesX + tx);
     };
-    for (std::size_t i = 0; i < n; ++i) forTiles(bins.rects[i], [&](std::size_t t) { ++start[t + 1]; });
-    for (std::size_t t = 1; t < start.size(); ++t) start[t] += start[t - 1];
-    bins.items.resize(start.back());
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i)
-        forTiles(bins.rects[i], [&](std::size_t t) { bins.items[fill[t]++] = std::uint32_t(i); });
+    std::vector<std::uint32_t> next(kSlices * tiles, 0);  // [slice][tile]: count, then fill position
+    auto perSlice = [&](auto&& fn) {
+        tbb::parallel_for(std::size_t(0), kSlices, [&](std::size_t c) {
+            std::uint32_t* slice = &next[c * tiles];
+            for (std::size_t i = n * c / kSlices; i < n * (c + 1) / kSlices; ++i) fn(slice, i);
+        });
+    };
+    perSlice([&](std::uint32_t* slice, std::size_t i) { forTiles(bins.rects[i], [&](std::size_t t) { ++slice[t]; }); });
+    auto& start = bins.start;
+    start.assign(tiles + 1, 0);
+    std::uint32_t total = 0;
+    for (std::size_t t = 0; t < tiles; ++t) {
+        start[t] = total;
+        for (std::size_t c = 0; c < kSlices; ++c) {
+            const std::uint32_t count = next[c * tiles + t];
+            next[c * tiles + t] = total;
+            total += count;
+        }
+    }
+    start[tiles] = total;
+    bins.items.resize(total);
+    perSlice([&](std::uint32_t* slice, std::size_t i) {
+        forTiles(bins.rects[i], [&](std::size_t t) { bins.items[slice[t]++] = std::uint32_t(i); });
+    });
     return bins;
 }
 
 namespace {
 
-// One tile of the splat. Per-pixel ray data lives in tile-local arrays (one
-// sqrt per pixel instead of one per sphere-pixel pair); the sphere-pixel loop
-// is branch-free so the compiler can vectorise it. Chords are summed in bin
-// order, a fixed order.
-template <bool kDepth, bool kChord>
+using detail::FloatV;
+using detail::IntV;
+using detail::kLanes;
+static_assert(kLanes == 4, "sqrtV below is written for 4 lanes");
+
+inline FloatV blendV(IntV mask, FloatV a, FloatV b) {  // a where mask is set, else b
+    IntV ia, ib;
+    std::memcpy(&ia, &a, sizeof a);
+    std::memcpy(&ib, &b, sizeof b);
+    ia = (ia & mask) | (ib & ~mask);
+    std::memcpy(&a, &ia, sizeof a);
+    return a;
+}
+// Lane-wise IEEE square root (correctly rounded, so equal to std::sqrt). A
+// plain std::sqrt loop does not vectorise: it keeps the errno branch.
+inline FloatV sqrtV(FloatV v) {
+#if defined(__SSE__)
+    __m128 m;
+    std::memcpy(&m, &v, sizeof m);
+    m = _mm_sqrt_ps(m);
+    std::memcpy(&v, &m, sizeof v);
+#elif defined(__ARM_NEON) && defined(__aarch64__)
+    float32x4_t m;
+    std::memcpy(&m, &v, sizeof m);
+    m = vsqrtq_f32(m);
+    std::memcpy(&v, &m, sizeof v);
+#else
+    for (int l = 0; l < kLanes; ++l) v[l] = std::sqrt(v[l]);
+#endif
+    return v;
+}
+inline void storeV(float* p, FloatV v) { std::memcpy(p, &v, sizeof v); }
+
+// Tile-local arrays: rows of kStride floats, the last kLanes - 1 (+1 for
+// alignment) padding so that a group of kLanes pixels starting anywhere in the
+// row stays inside it; padding lanes are masked off.
+constexpr int kStride = kTile + kLanes;
+constexpr int kTileN = kTile * kStride;
+
+// Smallest i with kDiv (i + 1/2) > x0 - 1/2, and one past the largest i with
+// kDiv (i + 1/2) < x1 + 1/2 (numerators shifted to stay positive for floor).
+template <int kDiv>
+int lowBegin(int x0) {
+    return (2 * x0 - 1 - kDiv + 2 * kDiv * 4) / (2 * kDiv) - 4 + 1;
+}
+template <int kDiv>
+int lowEnd(int x1) {
+    return (2 * x1 + 1 - kDiv + 2 * kDiv - 1) / (2 * kDiv);
+}
+
+// One tile of the splat, kLanes pixels of a row at a time in GCC/Clang vector
+// types (the projected spheres are only a few pixels wide, so vectorising
+// across a row of one sphere is the only way to fill the lanes). Per-pixel ray
+// data lives in tile-local arrays (one sqrt per pixel instead of one per
+// sphere-pixel pair). Lanes past the sphere's rectangle are masked, not
+// branched on. Chords are summed in bin order, a fixed order. The arithmetic
+// is the scalar raySphereEyeDepth's, operation for operation.
+//
+// kDiv > 1 (chords only): the output has one pixel per kDiv x kDiv block, its
+// ray through the block's centre, and the scene depth of the block is its
+// nearest. Tile t then covers the kTile / kDiv square of low-resolution pixels
+// under the full-resolution tile t, and the spheres of bin t are tested
+// against the low-resolution pixels of their rectangle grown by one full
+// pixel: that holds every low-resolution centre inside the projection.
+template <bool kDepth, bool kChord, int kDiv = 1>
 void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
-               Image<float>* depth, Image<float>* chordSum) {
-    constexpr int N = kTile * kTile;
+               Image<float>* depth, Image<float>* chordSum, float chordScale) {
+    static_assert(kDiv == 1 || (!kDepth && kTile % kDiv == 0));
     const int W = camera.width, H = camera.height;
     const int tx = t % bins.tilesX, ty = t / bins.tilesX;
-    const int bx0 = tx * kTile, by0 = ty * kTile;
-    const int bx1 = std::min(W, bx0 + kTile), by1 = std::min(H, by0 + kTile);
+    // This tile in output pixels (low-resolution ones when kDiv > 1).
+    const int bx0 = tx * (kTile / kDiv), by0 = ty * (kTile / kDiv);
+    const int bx1 = std::min((W + kDiv - 1) / kDiv, bx0 + kTile / kDiv);
+    const int by1 = std::min((H + kDiv - 1) / kDiv, by0 + kTile / kDiv);
+
+    if (bins.start[t] == bins.start[t + 1]) {  // no sphere: nothing but the defaults
+        for (int y = by0; y < by1; ++y)
+            for (int x = bx0; x < bx1; ++x) {
+                if constexpr (kDepth) depth->at(x, y) = kInf;
+                if constexpr (kChord) chordSum->at(x, y) = 0.0f;  // (x, y) in output pixels
+            }
+        return;
+    }
 
     // Unit ray u per pixel; eye depth = (ray parameter) * invLen since ray.z = -1.
-    alignas(64) float ux[N], uy[N], uz[N], invLen[N];
-    alignas(64) float tNear[N], tFar[N];  // near plane and scene, as ray parameters (chord clip)
-    alignas(64) float zBest[N], chord[N];
+    alignas(64) float ux[kTileN], uy[kTileN], uz[kTileN], invLen[kTileN];
+    alignas(64) float tNear[kTileN], tFar[kTileN];  // near plane and scene, as ray parameters (chord clip)
+    alignas(64) float zBest[kTileN], chord[kTileN];
     const float nearM = camera.nearM;
     const float zNear = std::max(nearM, std::numeric_limits<float>::min());
     const float invF = 1.0f / camera.focalPx();
     const float halfW = 0.5f * float(W), halfH = 0.5f * float(H);
-    for (int y = by0; y < by1; ++y)
-        for (int x = bx0; x < bx1; ++x) {
-            const int j = (y - by0) * kTile + (x - bx0);
-            const glm::vec3 ray{(float(x) + 0.5f - halfW) * invF, -(float(y) + 0.5f - halfH) * invF, -1.0f};
-            const float len = std::sqrt(glm::dot(ray, ray));
-            ux[j] = ray.x / len;
-            uy[j] = ray.y / len;
-            uz[j] = ray.z / len;
-            invLen[j] = 1.0f / len;
-            const float zScene = sceneDepth ? sceneDepth->at(x, y) : kInf;
-            tNear[j] = nearM * len;
-            tFar[j] = zScene * len;
+    // Setup kLanes pixels at a time, with raySphereEyeDepth's operations.
+    // Pixel centres in full-resolution coordinates: kDiv (i + 1/2).
+    const FloatV lanesF = FloatV{0.5f, 1.5f, 2.5f, 3.5f} * float(kDiv);
+    const float* scene = sceneDepth ? sceneDepth->pixels.data() : nullptr;
+    for (int y = 0; y < kTile / kDiv; ++y) {
+        const float ry = -(float(kDiv * (by0 + y)) + 0.5f * float(kDiv) - halfH) * invF;
+        for (int x = 0; x < kStride; x += kLanes) {
+            const int j = y * kStride + x;
+            const int n = std::min(kLanes, bx1 - bx0 - x);  // pixels of the image in this group
+            if (by0 + y >= by1 || n <= 0) {  // padding: finite values, never used
+                for (float* a : {ux, uy, uz, invLen, tNear, tFar, zBest, chord}) storeV(a + j, FloatV{});
+                continue;
+            }
+            const FloatV rx = ((float(kDiv * (bx0 + x)) + lanesF) - halfW) * invF;
+            const FloatV len = sqrtV((rx * rx + ry * ry) + 1.0f);
+            storeV(ux + j, rx / len);
+            storeV(uy + j, ry / len);
+            storeV(uz + j, -1.0f / len);
+            storeV(invLen + j, 1.0f / len);
+            FloatV zScene = FloatV{} + kInf;
+            if (scene && kDiv == 1) {
+                std::memcpy(&zScene, scene + std::size_t(by0 + y) * W + (bx0 + x), sizeof(float) * n);
+            } else if (scene) {
+                for (int l = 0; l < n; ++l) {
+                    const int fx0 = kDiv * (bx0 + x + l), fy0 = kDiv * (by0 + y);
+                    float z = kInf;
+                    for (int fy = fy0; fy < std::min(H, fy0 + kDiv); ++fy)
+                        for (int fx = fx0; fx < std::min(W, fx0 + kDiv); ++fx) z = std::min(z, scene[std::size_t(fy) * W + fx]);
+                    zScene[l] = z;
+                }
+            }
+            storeV(tNear + j, nearM * len);
+            storeV(tFar + j, zScene * len);
             // Starting the min at the scene depth discards hits at or behind it
             // (the test is strict); still equal at the end = no fluid.
-            zBest[j] = zScene;
-            chord[j] = 0.0f;
+            storeV(zBest + j, zScene);
+            storeV(chord + j, FloatV{});
         }
+    }
 
     const float r2 = radius * radius;
+    const IntV lane = {0, 1, 2, 3};
+    const FloatV inf = FloatV{} + kInf, zero{}, zNearV = FloatV{} + zNear;
     for (std::uint32_t k = bins.start[t]; k < bins.start[t + 1]; ++k) {
         const std::uint32_t i = bins.items[k];
         const PixelRect& rect = bins.rects[i];
         const glm::vec3 c = bins.centres[i];
-        const int x0 = std::max(rect.x0, bx0), x1 = std::min(rect.x1, bx1);
-        for (int y = std::max(rect.y0, by0); y < std::min(rect.y1, by1); ++y) {
-            const int row = (y - by0) * kTile - bx0;
-            for (int x = x0; x < x1; ++x) {
-                const int j = row + x;
+        const FloatV cx = FloatV{} + c.x, cy = FloatV{} + c.y, cz = FloatV{} + c.z, r2V = FloatV{} + r2;
+        // The rectangle [x0, x1) holds the full pixels whose centres lie in the
+        // projection (or is cut by the image border), so the projection lies in
+        // (x0 - 1/2, x1 + 1/2): the low-resolution centres kDiv (i + 1/2) inside
+        // that are i in [lowBegin(x0), lowEnd(x1)).
+        const int rx0 = kDiv == 1 ? rect.x0 : lowBegin<kDiv>(rect.x0), rx1 = kDiv == 1 ? rect.x1 : lowEnd<kDiv>(rect.x1);
+        const int ry0 = kDiv == 1 ? rect.y0 : lowBegin<kDiv>(rect.y0), ry1 = kDiv == 1 ? rect.y1 : lowEnd<kDiv>(rect.y1);
+        const int x0 = std::max(rx0, bx0) - bx0, x1 = std::min(rx1, bx1) - bx0;
+        const int y0 = std::max(ry0, by0) - by0, y1 = std::min(ry1, by1) - by0;
+        for (int y = y0; y < y1; ++y) {
+            for (int x = x0; x < x1; x += kLanes) {
+                const int j = y * kStride + x;
+                const IntV in = lane < IntV{} + (x1 - x);  // lanes inside the rectangle
+                const FloatV vx = detail::loadV(ux + j), vy = detail::loadV(uy + j), vz = detail::loadV(uz + j);
                 // As raySphereEyeDepth: closest approach b along u, squared miss
                 // distance from the offset vector (precision for small, far spheres).
-                const float b = ux[j] * c.x + uy[j] * c.y + uz[j] * c.z;
-                const float ox = c.x - b * ux[j], oy = c.y - b * uy[j], oz = c.z - b * uz[j];
-                const float h2 = r2 - (ox * ox + oy * oy + oz * oz);
-                const bool hit = h2 >= 0.0f;
-                const float h = std::sqrt(hit ? h2 : 0.0f);
-                const float t0 = b - h;
+                const FloatV b = vx * cx + vy * cy + vz * cz;
+                const FloatV ox = cx - b * vx, oy = cy - b * vy, oz = cz - b * vz;
+                const FloatV h2 = r2V - (ox * ox + oy * oy + oz * oz);
+                const IntV hit = in & (h2 >= zero);
+                const FloatV h = sqrtV(blendV(hit, h2, zero));
+                const FloatV t0 = b - h;
                 if constexpr (kDepth) {
                     // Nearest hit only; a hit nearer than the near plane is clipped,
                     // not replaced by the exit (zNear > 0 also rejects hits behind the eye).
-                    // A miss or a clipped hit adds +inf: unlike chained selects, this
-                    // form lets the compiler vectorise the loop.
-                    const float zHit = t0 * invLen[j];
-                    const float z = zHit + (hit ? 0.0f : kInf) + (zHit >= zNear ? 0.0f : kInf);
-                    zBest[j] = z < zBest[j] ? z : zBest[j];
+                    const FloatV zHit = t0 * detail::loadV(invLen + j);
+                    const FloatV zb = detail::loadV(zBest + j);
+                    const FloatV z = blendV(hit & (zHit >= zNearV), zHit, inf);
+                    storeV(zBest + j, blendV(z < zb, z, zb));
                 }
                 if constexpr (kChord) {
-                    const float len = std::min(b + h, tFar[j]) - std::max(t0, tNear[j]);
-                    chord[j] += (hit & (len > 0.0f)) ? len : 0.0f;
+                    const FloatV t1 = b + h, tf = detail::loadV(tFar + j), tn = detail::loadV(tNear + j);
+                    const FloatV len = blendV(tf < t1, tf, t1) - blendV(t0 < tn, tn, t0);
+                    storeV(chord + j, detail::loadV(chord + j) + blendV(hit & (len > zero), len, zero));
                 }
             }
         }
     }
 
-    for (int y = by0; y < by1; ++y)
-        for (int x = bx0; x < bx1; ++x) {
-            const int j = (y - by0) * kTile + (x - bx0);
+    // Write back; still at the scene depth (or +inf) = no fluid.
+    const std::size_t outW = std::size_t((W + kDiv - 1) / kDiv);
+    for (int y = 0; y < by1 - by0; ++y) {
+        const std::size_t row = std::size_t(by0 + y) * outW + bx0;
+        for (int x = 0; x < bx1 - bx0; ++x) {
+            const int j = y * kStride + x;
             if constexpr (kDepth) {
-                const float zScene = sceneDepth ? sceneDepth->at(x, y) : kInf;
-                depth->at(x, y) = zBest[j] < zScene ? zBest[j] : kInf;
+                const float zScene = scene ? scene[row + x] : kInf;
+                depth->pixels[row + x] = zBest[j] < zScene ? zBest[j] : kInf;
             }
-            if constexpr (kChord) chordSum->at(x, y) = chord[j];
+            if constexpr (kChord) chordSum->pixels[row + x] = chord[j] * chordScale;
         }
+    }
 }
 
 }  // namespace
 
 void splatBins(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
-               Image<float>* depth, Image<float>* chordSum) {
+               Image<float>* depth, Image<float>* chordSum, float chordScale) {
     const int tiles = bins.tilesX * bins.tilesY;
     // One task per tile, each writing only its own pixels: thread-count independent.
     auto run = [&](auto kernel) { tbb::parallel_for(0, tiles, [&](int t) { kernel(t); }); };
     if (depth && chordSum)
-        run([&](int t) { splatTile<true, true>(t, camera, bins, radius, sceneDepth, depth, chordSum); });
+        run([&](int t) { splatTile<true, true>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale); });
     else if (depth)
-        run([&](int t) { splatTile<true, false>(t, camera, bins, radius, sceneDepth, depth, chordSum); });
+        run([&](int t) { splatTile<true, false>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale); });
     else if (chordSum)
-        run([&](int t) { splatTile<false, true>(t, camera, bins, radius, sceneDepth, depth, chordSum); });
+        run([&](int t) { splatTile<false, true>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale); });
+}
+
+void splatChordsLowRes(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
+                       int divisor, Image<float>& chordSum, float chordScale) {
+    const int tiles = bins.tilesX * bins.tilesY;
+    auto run = [&](auto kernel) { tbb::parallel_for(0, tiles, [&](int t) { kernel(t); }); };
+    if (divisor == 2)
+        run([&](int t) { splatTile<false, true, 2>(t, camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale); });
+    else if (divisor == 4)
+        run([&](int t) { splatTile<false, true, 4>(t, camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale); });
+    else
+        splatBins(camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale);
 }
 
 Image<float> splatDepth(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,

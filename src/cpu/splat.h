@@ -53,8 +53,18 @@ SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> position
 // depth as splatDepth. With `chordSum`: the summed length (metres, along the
 // ray) of each pixel ray inside the spheres, clipped to eye depths
 // [camera.nearM, sceneDepth(x, y)). Either output may be null; the non-null
-// ones must be camera-sized and are fully overwritten.
+// ones must be camera-sized and are fully overwritten. The chord sums are
+// multiplied by chordScale on the way out (the thickness calibration weight).
 void splatBins(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
-               Image<float>* depth, Image<float>* chordSum);
+               Image<float>* depth, Image<float>* chordSum, float chordScale = 1.0f);
+
+// The chord sums of splatBins on a coarser grid: one pixel per divisor x
+// divisor block of the camera's pixels (divisor 1, 2 or 4; chordSum sized
+// ceil(W / divisor) x ceil(H / divisor)), its ray through the block's centre,
+// clipped at the nearest scene depth of the block. `bins` are the camera's
+// full-resolution bins; spheres that cover no full-resolution pixel centre are
+// not in them and so are left out here too.
+void splatChordsLowRes(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
+                       int divisor, Image<float>& chordSum, float chordScale);
 
 }  // namespace meniscus::cpu

@@ -19,14 +19,25 @@
 // whole number of pixels R = ceil(3 sigma_px) (capped), and the weights use
 // sigma = R/3 from a table per R: sigma is rounded up by at most 1/3 px, and no
 // exp is evaluated per pixel. Kernel radii are capped at min(maxKernelPx, 255).
+//
+// Lower resolution (SPEC §3.4 allows it; params.resolutionDivisor): the chords
+// through the centres of d x d pixel blocks, blurred on that grid, upsampled
+// bilinearly. The thickness only drives absorption and the refraction offset,
+// both low-frequency after the blur, while the chords and the blur are most
+// of this stage's time at full resolution.
 #include "cpu/thickness.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "cpu/filter_separable.h"  // KernelTable, the vector helpers, transpose
 #include "cpu/filter_util.h"
 #include "cpu/splat.h"
 
@@ -34,100 +45,198 @@ namespace meniscus::cpu {
 
 namespace {
 
-// Normalised Gaussian weights for kernel radius R = 1..maxR (sigma = R/3),
-// each 2R+1 long, stored one after another; offset(R) = R*R - 1 (sum of 2k+1 for k < R, minus the R=0 slot).
-struct GaussianTables {
-    std::vector<float> w;
-    explicit GaussianTables(int maxR) {
-        for (int R = 1; R <= maxR; ++R) {
-            const std::size_t first = w.size();
-            double sum = 0.0;
-            for (int k = -R; k <= R; ++k) {
-                const double v = std::exp(-4.5 * double(k) * double(k) / (double(R) * double(R)));
-                w.push_back(float(v));
-                sum += v;
-            }
-            for (std::size_t i = first; i < w.size(); ++i) w[i] = float(double(w[i]) / sum);
-        }
-    }
-    // The 2R+1 weights for radius R >= 1, centred: weights(R)[R] is the centre tap.
-    const float* weights(int R) const { return w.data() + (std::size_t(R) * std::size_t(R) - 1); }
-};
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+using detail::FloatV;
+using detail::kLanes;
 
-// One 1-D pass: dst = src blurred along x or y at the pixels with a kernel
-// radius (radiusPx > 0); other pixels copied. Taps outside the image are left
-// out and the remaining weights renormalised.
-void blurPass(const Image<float>& src, Image<float>& dst, const Image<std::uint8_t>& radiusPx,
-              const GaussianTables& tables, bool alongX) {
-    const int W = src.width, H = src.height;
-    const std::ptrdiff_t step = alongX ? 1 : W;
-    forEachRow(H, [&](int y) {
-        const float* srow = &src.pixels[std::size_t(y) * std::size_t(W)];
-        const std::uint8_t* rrow = &radiusPx.pixels[std::size_t(y) * std::size_t(W)];
-        float* drow = &dst.pixels[std::size_t(y) * std::size_t(W)];
-        for (int x = 0; x < W; ++x) {
-            const int R = rrow[x];
-            if (R == 0) {
-                drow[x] = srow[x];
-                continue;
-            }
-            const float* w = tables.weights(R) + R;  // w[k] for k in [-R, R]
-            const int pos = alongX ? x : y, size = alongX ? W : H;
-            const int lo = std::max(-R, -pos), hi = std::min(R, size - 1 - pos);
-            const float* p = srow + x;
-            if (lo == -R && hi == R) {
-                // The whole kernel (weights sum to 1): symmetric pairs into two
-                // partial sums, halving the multiplies and the add chain.
-                float s0 = w[0] * p[0], s1 = 0.0f;
-                int k = 1;
-                for (; k < R; k += 2) {
-                    s0 += w[k] * (p[-k * step] + p[k * step]);
-                    s1 += w[k + 1] * (p[-(k + 1) * step] + p[(k + 1) * step]);
-                }
-                if (k == R) s0 += w[k] * (p[-k * step] + p[k * step]);
-                drow[x] = s0 + s1;
-            } else {
-                float sum = 0.0f, wsum = 0.0f;
-                for (int k = lo; k <= hi; ++k) {
-                    sum += w[k] * p[k * step];
-                    wsum += w[k];
-                }
-                drow[x] = sum / wsum;
-            }
+// One 1-D pass over pixels [begin, end) of a line of `len` pixels: out[i] =
+// in[i] blurred with the Gaussian of radius rad[i] (table row rad[i], sigma =
+// rad[i] / 3), or copied where rad[i] = 0. `in` holds the line at [0, len) and
+// table.padPx() zeros on both sides, so the taps run in whole groups of kLanes
+// (the table rows are zero past the radius) without bounds checks. Taps off
+// the image are left out and the remaining weights renormalised.
+void blurLine(const float* in, const std::uint8_t* rad, float* out, int begin, int end, int len,
+              const KernelTable& table) {
+    for (int i = begin; i < end; ++i) {
+        const int R = rad[i];
+        if (R == 0) {
+            out[i] = in[i];
+            continue;
         }
-    });
+        const float* w = table.row(R);
+        const float* p = in + i;
+        FloatV s{};
+        for (int k = -R; k <= R; k += kLanes) s += detail::loadV(p + k) * detail::loadV(w + k);
+        float sum = (s[0] + s[1]) + (s[2] + s[3]);
+        if (i < R || i + R >= len) {
+            float wsum = 0.0f;
+            for (int k = std::max(-R, -i); k <= std::min(R, len - 1 - i); ++k) wsum += w[k];
+            sum /= wsum;
+        }
+        out[i] = sum;
+    }
 }
 
-void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, const Camera& camera, float radius,
+void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, float f, float radius,
                    const ThicknessParams& params) {
     const int maxR = std::min(255, std::max(0, params.maxKernelPx));
     if (!(params.blurSigmaRadii > 0.0f) || maxR == 0) return;
-    if (rawDepth.width != thickness.width || rawDepth.height != thickness.height) return;
-    const GaussianTables tables(maxR);
+    const int W = thickness.width, H = thickness.height;
+    if (rawDepth.width != W || rawDepth.height != H || W <= 0 || H <= 0) return;
+    const KernelTable table = KernelTable::gaussian(maxR);
+    const int pad = table.padPx();
     // Kernel radius (3 sigma) per pixel, once for both passes; 0 = no fluid, not blurred.
     const float worldRadiusM = 3.0f * params.blurSigmaRadii * radius;
-    const float f = camera.focalPx();
-    Image<std::uint8_t> radiusPx(thickness.width, thickness.height);
-    forEachRow(thickness.height, [&](int y) {
-        for (int x = 0; x < thickness.width; ++x) {
-            const float z = rawDepth.at(x, y);
-            radiusPx.at(x, y) = std::uint8_t(isFluid(z) ? projectedRadiusPx(worldRadiusM, f, z, maxR) : 0);
+    // As projectedRadiusPx (ceil(worldM f / z) in [0, maxR]; +inf depth gives
+    // 0), kLanes at a time: on baseline x86-64 std::ceil is a library call.
+    const float kPxDepth = worldRadiusM * f;
+    Image<std::uint8_t> radiusPx(W, H);
+    forEachRow(H, [&](int y) {
+        const float* z = &rawDepth.pixels[std::size_t(y) * W];
+        std::uint8_t* out = &radiusPx.pixels[std::size_t(y) * W];
+        int x = 0;
+        for (; x + kLanes <= W; x += kLanes) {
+            FloatV px = kPxDepth / detail::loadV(z + x);
+            px = detail::selectV(px > 0.0f, px);  // also NaN -> 0
+            const detail::IntV below = px < float(maxR);
+            px = detail::selectV(below, px) + detail::selectV(~below, FloatV{} + float(maxR));
+            const detail::IntV i = __builtin_convertvector(px, detail::IntV);  // px >= 0: trunc = floor
+            const detail::IntV up = __builtin_convertvector(i, FloatV) < px;   // -1 where px is not whole
+            for (int l = 0; l < kLanes; ++l) out[x + l] = std::uint8_t(i[l] - up[l]);
+        }
+        for (; x < W; ++x) out[x] = std::uint8_t(isFluid(z[x]) ? projectedRadiusPx(worldRadiusM, f, z[x], maxR) : 0);
+    });
+    Image<float> tmp(W, H);
+    // Only the span of each line that holds fluid is filtered: the rest keeps
+    // its value through both passes (about half the image is never touched).
+    // x pass: thickness -> tmp, through a zero-padded copy of each row.
+    tbb::parallel_for(tbb::blocked_range<int>(0, H, 4), [&](const tbb::blocked_range<int>& rows) {
+        std::vector<float> line(std::size_t(W + 2 * pad), 0.0f);
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+            const std::size_t o = std::size_t(y) * W;
+            const std::uint8_t* rad = radiusPx.pixels.data() + o;
+            int first = 0, last = W - 1;
+            while (first < W && rad[first] == 0) ++first;
+            while (last > first && rad[last] == 0) --last;
+            const float* src = thickness.pixels.data() + o;
+            float* dst = tmp.pixels.data() + o;
+            if (first == W) {
+                std::copy_n(src, W, dst);
+                continue;
+            }
+            std::copy_n(src, W, line.data() + pad);
+            std::copy_n(src, first, dst);
+            std::copy(src + last + 1, src + W, dst + last + 1);
+            blurLine(line.data() + pad, rad, dst, first, last + 1, W, table);
         }
     });
-    Image<float> tmp(thickness.width, thickness.height);
-    blurPass(thickness, tmp, radiusPx, tables, true);
-    blurPass(tmp, thickness, radiusPx, tables, false);
+    // y pass: tmp -> thickness, columns gathered kColumnBlock at a time into
+    // contiguous padded lines (row-wise reads, not one cache miss per tap).
+    // Outside the fluid rows of a block tmp equals thickness already.
+    constexpr int kBlock = detail::kColumnBlock;
+    const int blocks = (W + kBlock - 1) / kBlock;
+    tbb::parallel_for(tbb::blocked_range<int>(0, blocks, 1), [&](const tbb::blocked_range<int>& bs) {
+        const std::size_t lineLen = std::size_t(H + 2 * pad);
+        std::vector<float> lines(lineLen * kBlock, 0.0f), outs(std::size_t(H) * kBlock);
+        std::vector<std::uint8_t> rads(std::size_t(H) * kBlock);
+        for (int b = bs.begin(); b < bs.end(); ++b) {
+            const int x0 = b * kBlock, nc = std::min(kBlock, W - x0);
+            int first = H, last = -1;
+            for (int y = 0; y < H; ++y) {
+                const std::uint8_t* rad = &radiusPx.at(x0, y);
+                std::uint8_t any = 0;
+                for (int c = 0; c < nc; ++c) {
+                    rads[std::size_t(c) * H + y] = rad[c];
+                    any |= rad[c];
+                }
+                if (any) first = std::min(first, y), last = y;
+            }
+            if (last < 0) continue;
+            // Taps reach maxR rows beyond the fluid rows; rows further away are never read.
+            const int lo = std::max(0, first - maxR), hi = std::min(H, last + 1 + maxR);
+            detail::transpose(&tmp.at(x0, lo), std::size_t(W), lines.data() + pad + lo, lineLen, hi - lo, nc,
+                              [](float v) { return v; });
+            for (int c = 0; c < nc; ++c)
+                blurLine(lines.data() + c * lineLen + pad, rads.data() + std::size_t(c) * H,
+                         outs.data() + std::size_t(c) * H, first, last + 1, H, table);
+            detail::transpose(outs.data() + first, std::size_t(H), &thickness.at(x0, first), std::size_t(W), nc,
+                              last + 1 - first, [](float v) { return v; });
+        }
+    });
 }
 
-// Chord sums -> calibrated thickness, then the optional blur.
-void finishThickness(Image<float>& thickness, const Image<float>& rawDepth, const Camera& camera, float radius,
-                     const ThicknessParams& params) {
-    const float w = thicknessWeight(radius, params);
-    forEachRow(thickness.height, [&](int y) {
-        float* row = &thickness.pixels[std::size_t(y) * std::size_t(thickness.width)];
-        for (int x = 0; x < thickness.width; ++x) row[x] *= w;
+int divisorOf(const ThicknessParams& params) {
+    return params.resolutionDivisor >= 4 ? 4 : params.resolutionDivisor >= 2 ? 2 : 1;
+}
+
+// Thickness on the grid of one pixel per d x d block (d > 1): the chords
+// through the block centres, blurred there (sigma projected with the nearest
+// fluid depth of the block and focal length f / d, so it is the same world
+// length), then bilinearly upsampled onto the full-resolution fluid pixels
+// (0 elsewhere). Chords and blur cost ~1/d^2 and ~1/d^3 of full resolution;
+// the thickness only feeds absorption and the refraction offset, which are
+// smooth, so the detail lost is below what the blur removes anyway.
+Image<float> lowResThickness(const Camera& camera, const SplatBins& bins, float radius, const ThicknessParams& params,
+                             const Image<float>* sceneDepth, const Image<float>& rawDepth, int d) {
+    const int W = camera.width, H = camera.height;
+    const int w = (W + d - 1) / d, h = (H + d - 1) / d;
+    Image<float> low(w, h);
+    splatChordsLowRes(camera, bins, radius, sceneDepth, d, low, thicknessWeight(radius, params));
+    Image<float> out(W, H, 0.0f);
+    if (rawDepth.width != W || rawDepth.height != H) return out;
+    // The nearest fluid depth of each block (+inf when it has none): the min
+    // over the block's rows, then over its columns.
+    Image<float> lowDepth(w, h);
+    forEachRow(h, [&](int j) {
+        std::vector<float> rowMin(rawDepth.pixels.begin() + std::size_t(d) * j * W,
+                                  rawDepth.pixels.begin() + (std::size_t(d) * j + 1) * W);
+        for (int y = d * j + 1; y < std::min(H, d * j + d); ++y) {
+            const float* z = &rawDepth.pixels[std::size_t(y) * W];
+            for (int x = 0; x < W; ++x) rowMin[x] = std::min(rowMin[x], z[x]);
+        }
+        for (int i = 0; i < w; ++i) {
+            float z = rowMin[d * i];
+            for (int x = d * i + 1; x < std::min(W, d * i + d); ++x) z = std::min(z, rowMin[x]);
+            lowDepth.at(i, j) = z;
+        }
     });
-    blurThickness(thickness, rawDepth, camera, radius, params);
+    blurThickness(low, lowDepth, camera.focalPx() / float(d), radius, params);
+    // Bilinear: full pixel x samples the low grid at (x + 1/2) / d - 1/2,
+    // clamped at the border. Taps and weights per column, once.
+    struct Tap {
+        int i0, i1;
+        float f;
+    };
+    auto taps = [d](int n, int lowN) {
+        std::vector<Tap> t(static_cast<std::size_t>(n));
+        for (int x = 0; x < n; ++x) {
+            const float u = std::clamp((float(x) + 0.5f) / float(d) - 0.5f, 0.0f, float(lowN - 1));
+            const int i0 = std::min(int(u), lowN - 1);
+            t[std::size_t(x)] = {i0, std::min(i0 + 1, lowN - 1), u - float(i0)};
+        }
+        return t;
+    };
+    const std::vector<Tap> tx = taps(W, w), ty = taps(H, h);
+    forEachRow(H, [&](int y) {
+        const float* z = &rawDepth.pixels[std::size_t(y) * W];
+        int first = 0, last = W - 1;  // only the span of the row that holds fluid
+        while (first < W && !isFluid(z[first])) ++first;
+        while (last > first && !isFluid(z[last])) --last;
+        if (first == W) return;
+        // Interpolate between the two low rows first, then along the row.
+        const Tap& v = ty[std::size_t(y)];
+        const float* r0 = &low.pixels[std::size_t(v.i0) * w];
+        const float* r1 = &low.pixels[std::size_t(v.i1) * w];
+        std::vector<float> row(static_cast<std::size_t>(w));
+        for (int i = tx[first].i0; i <= tx[last].i1; ++i) row[i] = r0[i] + v.f * (r1[i] - r0[i]);
+        float* o = &out.pixels[std::size_t(y) * W];
+        for (int x = first; x <= last; ++x) {
+            const Tap& u = tx[std::size_t(x)];
+            const float t = row[u.i0] + u.f * (row[u.i1] - row[u.i0]);
+            o[x] = isFluid(z[x]) ? t : 0.0f;
+        }
+    });
+    return out;
 }
 
 }  // namespace
@@ -141,10 +250,12 @@ float thicknessWeight(float radius, const ThicknessParams& params) {
 Image<float> computeThickness(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                               const ThicknessParams& params, const Image<float>* sceneDepth,
                               const Image<float>& rawDepth) {
-    Image<float> thickness(camera.width, camera.height, 0.0f);
     const SplatBins bins = binParticles(camera, positionsWorld, radius);
-    splatBins(camera, bins, radius, sceneDepth, nullptr, &thickness);
-    finishThickness(thickness, rawDepth, camera, radius, params);
+    if (const int d = divisorOf(params); d > 1)
+        return lowResThickness(camera, bins, radius, params, sceneDepth, rawDepth, d);
+    Image<float> thickness(camera.width, camera.height, 0.0f);
+    splatBins(camera, bins, radius, sceneDepth, nullptr, &thickness, thicknessWeight(radius, params));
+    blurThickness(thickness, rawDepth, camera.focalPx(), radius, params);
     return thickness;
 }
 
@@ -152,8 +263,13 @@ DepthAndThickness splatDepthAndThickness(const Camera& camera, std::span<const g
                                          const ThicknessParams& params, const Image<float>* sceneDepth) {
     DepthAndThickness out{Image<float>(camera.width, camera.height), Image<float>(camera.width, camera.height)};
     const SplatBins bins = binParticles(camera, positionsWorld, radius);
-    splatBins(camera, bins, radius, sceneDepth, &out.depth, &out.thickness);
-    finishThickness(out.thickness, out.depth, camera, radius, params);
+    if (const int d = divisorOf(params); d > 1) {
+        splatBins(camera, bins, radius, sceneDepth, &out.depth, nullptr);
+        out.thickness = lowResThickness(camera, bins, radius, params, sceneDepth, out.depth, d);
+        return out;
+    }
+    splatBins(camera, bins, radius, sceneDepth, &out.depth, &out.thickness, thicknessWeight(radius, params));
+    blurThickness(out.thickness, out.depth, camera.focalPx(), radius, params);
     return out;
 }
 

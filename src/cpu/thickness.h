@@ -17,8 +17,11 @@ namespace meniscus::cpu {
 // sphere is hit. Chords are clipped to [near, sceneDepth(x,y)) when sceneDepth
 // is given. Blurred when params.blurSigmaRadii > 0 (sigma projected with the
 // raw fluid depth `rawDepth`, which must then be camera-sized; only pixels with
-// fluid there are blurred, the others keep their unblurred value). Bit-identical
-// for any thread count.
+// fluid there are blurred, the others keep their unblurred value). With
+// params.resolutionDivisor d > 1 the chords are taken through the centres of
+// d x d pixel blocks, blurred on that grid and bilinearly upsampled onto the
+// fluid pixels of `rawDepth` (0 elsewhere; rawDepth must then be camera-sized).
+// Bit-identical for any thread count.
 Image<float> computeThickness(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                               const ThicknessParams& params, const Image<float>* sceneDepth,
                               const Image<float>& rawDepth);
