@@ -51,9 +51,7 @@ TEST(CurvatureFlow, TiltedPlaneStaysPlane) {
     const Camera cam = test::faceOnCamera(glm::vec3(0.0f), 2.0f, 320, 240);
     const Image<float> d = test::planeDepth(cam, 2.0f, glm::vec3(0.3f, -0.4f, 1.0f));
     const Image<float> out = flow(d, cam, 0.01f);
-    double worst = 0.0;
-    for (std::size_t i = 0; i < d.size(); ++i)
-        worst = std::max(worst, std::fabs(double(out.pixels[i]) / d.pixels[i] - 1.0));
+    const double worst = test::maxRelativeChange(d, out);
     std::printf("plane: max relative change %.3g\n", worst);
     // The spec's normal drops terms of order one pixel (the ray direction), so
     // a tilted perspective plane has a tiny non-zero H: 40 iterations move it
@@ -63,11 +61,10 @@ TEST(CurvatureFlow, TiltedPlaneStaysPlane) {
 }
 
 TEST(CurvatureFlow, InfStaysInfAndBorderIsHandled) {
-    // A ball cut by the left image border: +inf around it, fluid at the border.
-    const float r = 0.01f;
-    const auto pts = test::ballOfParticles(glm::vec3(-0.45f, 0.0f, 0.0f), 0.15f, 2.0f * r);
-    const Camera cam = test::faceOnCamera(glm::vec3(0.0f), 1.0f, 200, 150);
-    const Image<float> d = cpu::splatDepth(cam, pts, r);
+    const test::BorderBallScene sc = test::borderBallScene();
+    const float r = sc.r;
+    const Camera& cam = sc.cam;
+    const Image<float>& d = sc.depth;
     int borderFluid = 0;
     for (int y = 0; y < d.height; ++y) borderFluid += std::isfinite(d.at(0, y));
     ASSERT_GT(borderFluid, 10);

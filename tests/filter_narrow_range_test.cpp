@@ -46,9 +46,7 @@ TEST_P(NarrowRange, TiltedPlaneStaysPlane) {
     const Image<float> d = test::planeDepth(cam, 2.0f, glm::vec3(0.3f, -0.4f, 1.0f));
     // r = 0.02 m: projected radius ~3.3 px, kernel radius ~10 px.
     const Image<float> out = narrow(d, cam, 0.02f, GetParam());
-    double worst = 0.0;
-    for (std::size_t i = 0; i < d.size(); ++i)
-        worst = std::max(worst, std::fabs(double(out.pixels[i]) / d.pixels[i] - 1.0));
+    const double worst = test::maxRelativeChange(d, out);
     std::printf("plane: max relative change %.3g\n", worst);
     // Eye depth is not linear across the screen (1/z is), so a symmetric mean
     // moves a tilted plane by ~z_xx·σ²/2 = z·(tσ/f)² per pass (slope t = 0.5,
@@ -59,11 +57,10 @@ TEST_P(NarrowRange, TiltedPlaneStaysPlane) {
 }
 
 TEST_P(NarrowRange, InfStaysInfAndBorderIsHandled) {
-    // A ball cut by the left image border: +inf around it, fluid at the border.
-    const float r = 0.01f;
-    const auto pts = test::ballOfParticles(glm::vec3(-0.45f, 0.0f, 0.0f), 0.15f, 2.0f * r);
-    const Camera cam = test::faceOnCamera(glm::vec3(0.0f), 1.0f, 200, 150);
-    const Image<float> d = cpu::splatDepth(cam, pts, r);
+    const test::BorderBallScene sc = test::borderBallScene();
+    const float r = sc.r;
+    const Camera& cam = sc.cam;
+    const Image<float>& d = sc.depth;
     int borderFluid = 0;
     for (int y = 0; y < d.height; ++y) borderFluid += std::isfinite(d.at(0, y));
     ASSERT_GT(borderFluid, 10);

@@ -53,6 +53,17 @@ std::string caseName(const testing::TestParamInfo<FilterCase>& info) {
     return n;
 }
 
+// Default settings for the real frame at W x H: estimated radius, auto camera.
+RenderSettings realFrameSettings(const ParticleSet& set, int width, int height) {
+    RenderSettings s;
+    s.radiusM = estimateRadius(set.positions).radius;
+    Camera base;
+    base.width = width;
+    base.height = height;
+    s.camera = autoFrameCamera(set.positions, s.radiusM, base);
+    return s;
+}
+
 class PipelineFilter : public testing::TestWithParam<FilterCase> {
 protected:
     RenderSettings settingsFor(const Camera& cam, float radius) const {
@@ -178,12 +189,9 @@ TEST_P(PipelineFilter, BallNormalsMatchTheAnalyticBall) {
 // of silhouette pixels.
 TEST_P(PipelineFilter, ScalingSceneRadiusAndCameraChangesNothing) {
     const ParticleSet& set = realFrame();
-    const float r = estimateRadius(set.positions).radius;
-    Camera base;
-    base.width = 240;
-    base.height = 135;
-    const Camera cam = autoFrameCamera(set.positions, r, base);
-    RenderSettings a = settingsFor(cam, r);
+    const RenderSettings real = realFrameSettings(set, 240, 135);
+    const float r = real.radiusM;
+    RenderSettings a = settingsFor(real.camera, r);
 
     const float k = 10.0f;
     std::vector<glm::vec3> scaled;
@@ -225,11 +233,8 @@ TEST_P(PipelineFilter, ScalingSceneRadiusAndCameraChangesNothing) {
 // Every AOV is bit-identical with 1, 2 and 3 worker threads.
 TEST_P(PipelineFilter, ThreadCountDoesNotChangeAnyBit) {
     const ParticleSet& set = realFrame();
-    const float r = estimateRadius(set.positions).radius;
-    Camera base;
-    base.width = 320;
-    base.height = 180;
-    const RenderSettings s = settingsFor(autoFrameCamera(set.positions, r, base), r);
+    const RenderSettings real = realFrameSettings(set, 320, 180);
+    const RenderSettings s = settingsFor(real.camera, real.radiusM);
     auto renderWith = [&](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
         auto out = renderFrame(set.positions, s);
@@ -301,13 +306,7 @@ INSTANTIATE_TEST_SUITE_P(AllFilters, PipelineFilter, testing::ValuesIn(allFilter
 // stage timings come back in pipeline order.
 TEST(Pipeline, ViewsAndTimings) {
     const ParticleSet& set = realFrame();
-    const float r = estimateRadius(set.positions).radius;
-    Camera base;
-    base.width = 160;
-    base.height = 90;
-    RenderSettings s;
-    s.camera = autoFrameCamera(set.positions, r, base);
-    s.radiusM = r;
+    RenderSettings s = realFrameSettings(set, 160, 90);
     std::vector<StageTime> times;
     auto final = renderFrame(set.positions, s, &times);
     ASSERT_TRUE(final);

@@ -209,4 +209,26 @@ inline BleedStats bleedStats(const TwoBodyScene& t, const std::function<Image<fl
     return st;
 }
 
+// Largest |out/in - 1| over all pixels (both images finite where compared).
+inline double maxRelativeChange(const Image<float>& in, const Image<float>& out) {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < in.size(); ++i)
+        worst = std::max(worst, std::fabs(double(out.pixels[i]) / in.pixels[i] - 1.0));
+    return worst;
+}
+
+// A ball cut by the left image border: +inf around it, fluid at the border.
+struct BorderBallScene {
+    float r = 0.01f;
+    Camera cam;
+    Image<float> depth;
+};
+inline BorderBallScene borderBallScene() {
+    BorderBallScene sc;
+    const auto pts = ballOfParticles(glm::vec3(-0.45f, 0.0f, 0.0f), 0.15f, 2.0f * sc.r);
+    sc.cam = faceOnCamera(glm::vec3(0.0f), 1.0f, 200, 150);
+    sc.depth = cpu::splatDepth(sc.cam, pts, sc.r);
+    return sc;
+}
+
 }  // namespace meniscus::test
