@@ -286,6 +286,8 @@ int main(int argc, char** argv) {
         "  meniscus demo                                   render the bundled dam-break frame to demo.png\n"
         "  meniscus info frame_21.bgeo                     particle count, bounds, attributes, radius\n"
         "  meniscus render frame_21.bgeo -o f21.png        one frame, automatic camera and radius\n"
+        "  meniscus render frame_21.bgeo -o f21.exr --filter curvature-flow   every AOV as float EXR channels\n"
+        "  meniscus render frame_21.bgeo -o n.png --view normals              look at one stage of the pipeline\n"
         "  meniscus render 'ParticleData_Fluid_*.bgeo' -o out_%04d.png   a whole sequence"};
     app.require_subcommand(1);
     int threads = 0;
