@@ -310,7 +310,9 @@ int main(int argc, char** argv) {
 
     RenderOptions demo;
     demo.output = "demo.png";
-    auto* demoCmd = app.add_subcommand("demo", "Render the bundled SPlisHSPlasH dam-break frame (no input needed)");
+    demo.radius = kDemoRadiusM;
+    auto* demoCmd = app.add_subcommand(
+        "demo", "Render the bundled SPlisHSPlasH dam-break frame (no input needed; --radius defaults to 0.025 m, the simulation's own)");
     demoCmd->add_option("-o,--output", demo.output, "Output .png or .exr")->capture_default_str();
     addCameraOptions(demoCmd, demo);
 
