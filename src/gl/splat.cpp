@@ -17,7 +17,14 @@ namespace {
 constexpr GLuint kGroup = 64;          // local_size_x of both shaders
 constexpr GLuint kMaxGroups = 65535;   // the minimum GL_MAX_COMPUTE_WORK_GROUP_COUNT; shaders loop past it
 
-GLuint groupsFor(GLuint items) { return std::clamp<GLuint>((items + kGroup - 1) / kGroup, 1, kMaxGroups); }
+// Work groups for `items` with about `perInvocation` items per invocation (the
+// shaders loop): llvmpipe pays a fixed cost per work group, so the per-pixel
+// passes give each invocation a few pixels.
+GLuint groupsFor(GLuint items, GLuint perInvocation = 1) {
+    const GLuint perGroup = kGroup * perInvocation;
+    return std::clamp<GLuint>((items + perGroup - 1) / perGroup, 1, kMaxGroups);
+}
+constexpr GLuint kPixelsPerInvocation = 16;
 
 Result<Program> program(const char* file) {
     const std::string_view src = shaderSource(file);
@@ -56,13 +63,21 @@ void DepthSplat::run(const Camera& camera, float radius, const Image<float>* sce
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, depth_.id(), 0, GLsizeiptr(pixels) * 4);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, scene_.id());
 
-    // Clear to the scene depth (or +inf).
-    glUseProgram(resolve_.id());
-    glUniform1ui(0, pixels);
-    glUniform1i(1, hasScene ? 1 : 0);
-    glUniform1i(2, 0);
-    glDispatchCompute(groupsFor(pixels), 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    // Clear to the scene depth, or to +inf with the driver's fill (a memset on llvmpipe).
+    if (hasScene) {
+        glUseProgram(resolve_.id());
+        glUniform1ui(0, pixels);
+        glUniform1i(1, 1);
+        glUniform1i(2, 0);
+        glDispatchCompute(groupsFor(pixels, kPixelsPerInvocation), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    } else {
+        const GLuint infBits = 0x7f800000u;
+        glBindBuffer(GL_COPY_WRITE_BUFFER, depth_.id());
+        glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32UI, 0, GLsizeiptr(pixels) * 4, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                             &infBits);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
 
     // Splat. The view axes and 1/f come from the Camera, rounded as the CPU's.
     if (count_ > 0) {
@@ -88,7 +103,7 @@ void DepthSplat::run(const Camera& camera, float radius, const Image<float>* sce
     if (hasScene) {
         glUseProgram(resolve_.id());
         glUniform1i(2, 1);
-        glDispatchCompute(groupsFor(pixels), 1, 1);
+        glDispatchCompute(groupsFor(pixels, kPixelsPerInvocation), 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     } else {
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);

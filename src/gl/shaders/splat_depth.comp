@@ -78,9 +78,9 @@ void main() {
                 if (!(z >= uZNear)) continue;
                 const uint bits = floatBitsToUint(z);
                 const uint k = uint(y * W + x);
-                // A plain read first: the stored value only ever decreases, so a
-                // stale read can only let a useless atomic through.
-                if (bits < depthBits[k]) atomicMin(depthBits[k], bits);
+                // (A plain read before the atomic, to skip useless ones, made
+                // llvmpipe slower: 22 -> 18 ms at 1280x720 without it.)
+                atomicMin(depthBits[k], bits);
             }
         }
     }
