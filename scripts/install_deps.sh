@@ -1,5 +1,8 @@
 #!/usr/bin/env bash
 # Installs Meniscus's build and test dependencies from Debian 12 packages (run as root).
+# The GL backend needs libepoxy + EGL; Mesa's llvmpipe (libgl1-mesa-dri,
+# libegl-mesa0) gives CI a headless GL 4.5 context without a GPU, and
+# glslang-tools checks every shader file.
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 SUDO=""
@@ -9,5 +12,6 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   ca-certificates cmake make g++ pkg-config \
   libglm-dev zlib1g-dev libpng-dev libopenexr-dev libtbb-dev \
   nlohmann-json3-dev libcli11-dev libtinyxml2-dev \
-  libgtest-dev libgmock-dev libbenchmark-dev >/dev/null
+  libgtest-dev libgmock-dev libbenchmark-dev \
+  libepoxy-dev libegl-dev libgl1-mesa-dri libegl-mesa0 glslang-tools >/dev/null
 echo "meniscus: dependencies installed"

@@ -1,0 +1,152 @@
+// GL depth splat (SPEC §3.3, src/gl/splat.cpp) against the CPU reference
+// cpu::splatDepth: synthetic and real frames, with and without a scene depth.
+// Skips only when no headless GL 4.3 context can be created at all.
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "cpu/splat.h"
+#include "gl/context.h"
+#include "gl/splat.h"
+#include "meniscus/io.h"
+#include "meniscus/particles.h"
+#include "test_util.h"
+
+using namespace meniscus;
+using namespace meniscus::test;
+
+namespace {
+
+// One context for the whole binary (creating one per test costs ~50 ms on llvmpipe).
+gl::Context* sharedContext(std::string* why) {
+    static Result<std::unique_ptr<gl::Context>> ctx = [] {
+        auto c = gl::Context::createHeadless();
+        if (c)
+            std::printf("GL renderer: %s | %s (EGL %s)\n", (*c)->renderer().c_str(), (*c)->version().c_str(),
+                        (*c)->platform().c_str());
+        return c;
+    }();
+    if (!ctx) {
+        *why = ctx.error().describe();
+        return nullptr;
+    }
+    return ctx->get();
+}
+
+// Every test needs the context; without one it skips with the reason.
+class GlSplat : public ::testing::Test {
+protected:
+    void SetUp() override {
+        std::string why;
+        if (!sharedContext(&why)) GTEST_SKIP() << "no GL context: " << why;
+    }
+};
+
+struct Diff {
+    int coveredCpu = 0;      // pixels with fluid on the CPU
+    int coverageDiffer = 0;  // fluid on one side only
+    double maxRel = 0.0;     // max |gl - cpu| / cpu where both have fluid
+};
+
+Diff compare(const Image<float>& cpu, const Image<float>& gl) {
+    Diff d;
+    EXPECT_EQ(cpu.width, gl.width);
+    EXPECT_EQ(cpu.height, gl.height);
+    for (std::size_t k = 0; k < cpu.size() && k < gl.size(); ++k) {
+        const float a = cpu.pixels[k], b = gl.pixels[k];
+        d.coveredCpu += std::isfinite(a);
+        if (std::isfinite(a) != std::isfinite(b)) {
+            ++d.coverageDiffer;
+            continue;
+        }
+        if (std::isinf(a)) {
+            EXPECT_TRUE(b > 0) << "no-fluid pixel " << k << " is " << b;
+        } else {
+            d.maxRel = std::max(d.maxRel, double(std::abs(b - a)) / double(a));
+        }
+    }
+    return d;
+}
+
+Result<Image<float>> glSplat(const Camera& cam, std::span<const glm::vec3> pos, float r, const Image<float>* scene = nullptr) {
+    return gl::splatDepth(cam, pos, r, scene);
+}
+
+// Tolerances, shared by every case below:
+//  - depth: relative 1e-5 where both have fluid. Same operations in the same order
+//    on both sides (`precise` in the shader); llvmpipe's sqrt/division may differ
+//    from IEEE by an ulp or so, which moves depth by ~1e-7 relative.
+//  - coverage: a pixel may differ only where its ray grazes a sphere (squared miss
+//    distance within rounding of r^2): at most 0.05% of the covered pixels.
+constexpr double kDepthRel = 1e-5;
+constexpr double kCoverageFraction = 5e-4;
+
+}  // namespace
+
+TEST_F(GlSplat, OneParticleMatchesCpu) {
+    Camera cam;
+    cam.eye = {0.3f, 0.4f, 2.0f};
+    cam.target = {0.0f, 0.0f, 0.0f};
+    cam.width = 320;
+    cam.height = 240;
+    cam.fovYDegrees = 40.0f;
+    const glm::vec3 p{0.05f, -0.02f, 0.1f};
+    const float r = 0.15f;
+    const auto gl = glSplat(cam, std::span(&p, 1), r);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    const Diff d = compare(cpu::splatDepth(cam, std::span(&p, 1), r), *gl);
+    EXPECT_GT(d.coveredCpu, 1000);
+    EXPECT_LE(d.coverageDiffer, int(kCoverageFraction * d.coveredCpu) + 2);  // +2: the grazing edge of one disc
+    EXPECT_LE(d.maxRel, kDepthRel);
+}
+
+TEST_F(GlSplat, RealFrameMatchesCpu) {
+    auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
+    ASSERT_TRUE(set.ok()) << set.error().describe();
+    const float r = estimateRadius(set->positions).radius;
+    Camera base;
+    base.width = 320;
+    base.height = 180;
+    const Camera cam = autoFrameCamera(set->positions, r, base);
+    const auto gl = glSplat(cam, set->positions, r);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    const Diff d = compare(cpu::splatDepth(cam, set->positions, r), *gl);
+    std::printf("real frame: %zu particles, %d covered, %d coverage differences, max rel %.3g\n",
+                set->positions.size(), d.coveredCpu, d.coverageDiffer, d.maxRel);
+    EXPECT_GT(d.coveredCpu, 320 * 180 / 10);
+    EXPECT_LE(d.coverageDiffer, int(kCoverageFraction * d.coveredCpu));
+    EXPECT_LE(d.maxRel, kDepthRel);
+}
+
+TEST_F(GlSplat, SceneDepthAndNearPlaneMatchCpu) {
+    // A ball cut by a scene plane, camera close enough that the near plane clips
+    // the front spheres too.
+    const auto pos = ballOfParticles({0.0f, 0.0f, 0.0f}, 0.3f, 0.04f);
+    const float r = 0.02f;
+    Camera cam = faceOnCamera({0.0f, 0.0f, 0.0f}, 1.0f, 200, 150);
+    cam.nearM = 0.75f;
+    Image<float> scene(cam.width, cam.height, std::numeric_limits<float>::infinity());
+    for (int y = 0; y < cam.height; ++y)
+        for (int x = 0; x < cam.width; ++x)
+            if (x > cam.width / 3) scene.at(x, y) = 0.9f + 0.001f * float(y);  // a tilted wall through the ball
+    scene.at(0, 0) = -1.0f;  // a bad scene value: nothing in front of it, as on the CPU
+    const auto gl = glSplat(cam, pos, r, &scene);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    const Image<float> cpu = cpu::splatDepth(cam, pos, r, &scene);
+    const Diff d = compare(cpu, *gl);
+    EXPECT_GT(d.coveredCpu, 1000);
+    EXPECT_LE(d.coverageDiffer, int(kCoverageFraction * d.coveredCpu) + 2);
+    EXPECT_LE(d.maxRel, kDepthRel);
+    EXPECT_TRUE(std::isinf(gl->at(0, 0)));
+}
+
+TEST_F(GlSplat, NoParticlesIsAllInfinity) {
+    const Camera cam = faceOnCamera({0.0f, 0.0f, 0.0f}, 1.0f, 64, 48);
+    const auto gl = glSplat(cam, {}, 0.1f);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    ASSERT_EQ(gl->size(), std::size_t(64 * 48));
+    for (float z : gl->pixels) EXPECT_TRUE(std::isinf(z) && z > 0);
+}
