@@ -9,10 +9,10 @@
 #include <gtest/gtest.h>
 
 #include "cpu/splat.h"
-#include "gl/context.h"
 #include "gl/splat.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
+#include "gl_test_util.h"
 #include "test_util.h"
 
 using namespace meniscus;
@@ -20,56 +20,8 @@ using namespace meniscus::test;
 
 namespace {
 
-// One context for the whole binary (creating one per test costs ~50 ms on llvmpipe).
-gl::Context* sharedContext(std::string* why) {
-    static Result<std::unique_ptr<gl::Context>> ctx = [] {
-        auto c = gl::Context::createHeadless();
-        if (c)
-            std::printf("GL renderer: %s | %s (EGL %s)\n", (*c)->renderer().c_str(), (*c)->version().c_str(),
-                        (*c)->platform().c_str());
-        return c;
-    }();
-    if (!ctx) {
-        *why = ctx.error().describe();
-        return nullptr;
-    }
-    return ctx->get();
-}
-
 // Every test needs the context; without one it skips with the reason.
-class GlSplat : public ::testing::Test {
-protected:
-    void SetUp() override {
-        std::string why;
-        if (!sharedContext(&why)) GTEST_SKIP() << "no GL context: " << why;
-    }
-};
-
-struct Diff {
-    int coveredCpu = 0;      // pixels with fluid on the CPU
-    int coverageDiffer = 0;  // fluid on one side only
-    double maxRel = 0.0;     // max |gl - cpu| / cpu where both have fluid
-};
-
-Diff compare(const Image<float>& cpu, const Image<float>& gl) {
-    Diff d;
-    EXPECT_EQ(cpu.width, gl.width);
-    EXPECT_EQ(cpu.height, gl.height);
-    for (std::size_t k = 0; k < cpu.size() && k < gl.size(); ++k) {
-        const float a = cpu.pixels[k], b = gl.pixels[k];
-        d.coveredCpu += std::isfinite(a);
-        if (std::isfinite(a) != std::isfinite(b)) {
-            ++d.coverageDiffer;
-            continue;
-        }
-        if (std::isinf(a)) {
-            EXPECT_TRUE(b > 0) << "no-fluid pixel " << k << " is " << b;
-        } else {
-            d.maxRel = std::max(d.maxRel, double(std::abs(b - a)) / double(a));
-        }
-    }
-    return d;
-}
+class GlSplat : public GlTest {};
 
 Result<Image<float>> glSplat(const Camera& cam, std::span<const glm::vec3> pos, float r, const Image<float>* scene = nullptr) {
     return gl::splatDepth(cam, pos, r, scene);
@@ -97,7 +49,7 @@ TEST_F(GlSplat, OneParticleMatchesCpu) {
     const float r = 0.15f;
     const auto gl = glSplat(cam, std::span(&p, 1), r);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
-    const Diff d = compare(cpu::splatDepth(cam, std::span(&p, 1), r), *gl);
+    const DepthDiff d = compareDepth(cpu::splatDepth(cam, std::span(&p, 1), r), *gl);
     EXPECT_GT(d.coveredCpu, 1000);
     EXPECT_LE(d.coverageDiffer, int(kCoverageFraction * d.coveredCpu) + 2);  // +2: the grazing edge of one disc
     EXPECT_LE(d.maxRel, kDepthRel);
@@ -113,7 +65,7 @@ TEST_F(GlSplat, RealFrameMatchesCpu) {
     const Camera cam = autoFrameCamera(set->positions, r, base);
     const auto gl = glSplat(cam, set->positions, r);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
-    const Diff d = compare(cpu::splatDepth(cam, set->positions, r), *gl);
+    const DepthDiff d = compareDepth(cpu::splatDepth(cam, set->positions, r), *gl);
     std::printf("real frame: %zu particles, %d covered, %d coverage differences, max rel %.3g\n",
                 set->positions.size(), d.coveredCpu, d.coverageDiffer, d.maxRel);
     EXPECT_GT(d.coveredCpu, 320 * 180 / 10);
@@ -136,7 +88,7 @@ TEST_F(GlSplat, SceneDepthAndNearPlaneMatchCpu) {
     const auto gl = glSplat(cam, pos, r, &scene);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
     const Image<float> cpu = cpu::splatDepth(cam, pos, r, &scene);
-    const Diff d = compare(cpu, *gl);
+    const DepthDiff d = compareDepth(cpu, *gl);
     EXPECT_GT(d.coveredCpu, 1000);
     EXPECT_LE(d.coverageDiffer, int(kCoverageFraction * d.coveredCpu) + 2);
     EXPECT_LE(d.maxRel, kDepthRel);

@@ -26,18 +26,13 @@ GLuint groupsFor(GLuint items, GLuint perInvocation = 1) {
 }
 constexpr GLuint kPixelsPerInvocation = 16;
 
-Result<Program> program(const char* file) {
-    const std::string_view src = shaderSource(file);
-    if (src.empty()) return makeError(file, "shader not embedded in the build");
-    return computeProgram(src, file);
-}
 }  // namespace
 
 Result<DepthSplat> DepthSplat::create() {
     DepthSplat s;
-    auto splat = program("splat_depth.comp");
+    auto splat = loadComputeProgram("splat_depth.comp");
     if (!splat) return splat.error();
-    auto resolve = program("splat_depth_resolve.comp");
+    auto resolve = loadComputeProgram("splat_depth_resolve.comp");
     if (!resolve) return resolve.error();
     s.splat_ = std::move(*splat);
     s.resolve_ = std::move(*resolve);

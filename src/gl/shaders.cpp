@@ -1,0 +1,57 @@
+// Include resolution for the embedded shaders (see shaders.h).
+#include "gl/shaders.h"
+
+#include <set>
+
+namespace meniscus::gl {
+
+namespace {
+
+Status appendResolved(std::string_view fileName, std::set<std::string>& seen, std::string& out) {
+    const std::string_view text = shaderSource(fileName);
+    if (text.empty()) return makeError(std::string(fileName), "shader file not embedded in the build");
+    seen.insert(std::string(fileName));
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        std::size_t end = text.find('\n', pos);
+        if (end == std::string_view::npos) end = text.size();
+        const std::string_view line = text.substr(pos, end - pos);
+        pos = end + 1;
+        const std::size_t first = line.find_first_not_of(" \t");
+        const std::string_view trimmed = first == std::string_view::npos ? std::string_view{} : line.substr(first);
+        if (trimmed.starts_with("#extension GL_GOOGLE_include_directive")) {
+            out += '\n';  // keep line numbers of the rest roughly meaningful
+            continue;
+        }
+        if (trimmed.starts_with("#include")) {
+            const std::size_t a = trimmed.find('"'), b = trimmed.rfind('"');
+            if (a == std::string_view::npos || b <= a)
+                return makeError(std::string(fileName), "malformed #include line: " + std::string(line));
+            const std::string name(trimmed.substr(a + 1, b - a - 1));
+            if (!seen.count(name))
+                if (auto st = appendResolved(name, seen, out); !st) return st;
+            out += '\n';
+            continue;
+        }
+        out.append(line);
+        out += '\n';
+    }
+    return okStatus();
+}
+
+}  // namespace
+
+Result<std::string> resolveIncludes(std::string_view fileName) {
+    std::set<std::string> seen;
+    std::string out;
+    if (auto st = appendResolved(fileName, seen, out); !st) return st.error();
+    return out;
+}
+
+Result<Program> loadComputeProgram(std::string_view fileName) {
+    auto src = resolveIncludes(fileName);
+    if (!src) return src.error();
+    return computeProgram(*src, std::string(fileName));
+}
+
+}  // namespace meniscus::gl

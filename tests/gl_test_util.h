@@ -1,0 +1,153 @@
+// Helpers for the GL parity tests (gl_*_test.cpp): one headless context per test
+// binary, a fixture that skips with the reason only when no GL 4.3 context can
+// be created at all, and GL-vs-CPU comparisons in the units the tests state
+// their tolerances in (relative depth, normal angle, 8-bit sRGB steps).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gl/context.h"
+#include "meniscus/types.h"
+
+namespace meniscus::test {
+
+// One context for the whole binary (creating one per test costs ~50 ms on llvmpipe).
+inline gl::Context* sharedGlContext(std::string* why) {
+    static Result<std::unique_ptr<gl::Context>> ctx = [] {
+        auto c = gl::Context::createHeadless();
+        if (c)
+            std::printf("GL renderer: %s | %s (EGL %s)\n", (*c)->renderer().c_str(), (*c)->version().c_str(),
+                        (*c)->platform().c_str());
+        return c;
+    }();
+    if (!ctx) {
+        *why = ctx.error().describe();
+        return nullptr;
+    }
+    return ctx->get();
+}
+
+// Base fixture of every GL test: the context is current, or the test is skipped.
+class GlTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        std::string why;
+        if (!sharedGlContext(&why)) GTEST_SKIP() << "no GL context: " << why;
+    }
+};
+
+// ---- Depth (eye depth, +inf = no fluid) -------------------------------------
+struct DepthDiff {
+    int coveredCpu = 0;      // pixels with fluid on the CPU
+    int coverageDiffer = 0;  // fluid on one side only
+    double maxRel = 0.0;     // max |gl - cpu| / cpu where both have fluid
+    double meanRel = 0.0;
+};
+inline DepthDiff compareDepth(const Image<float>& cpu, const Image<float>& gl) {
+    DepthDiff d;
+    EXPECT_EQ(cpu.width, gl.width);
+    EXPECT_EQ(cpu.height, gl.height);
+    double sum = 0.0;
+    int both = 0;
+    for (std::size_t k = 0; k < cpu.size() && k < gl.size(); ++k) {
+        const float a = cpu.pixels[k], b = gl.pixels[k];
+        const bool fa = std::isfinite(a), fb = std::isfinite(b);
+        d.coveredCpu += fa;
+        if (fa != fb) {
+            ++d.coverageDiffer;
+            continue;
+        }
+        if (!fa) continue;
+        const double rel = std::abs(double(b) - double(a)) / std::abs(double(a));
+        d.maxRel = std::max(d.maxRel, rel);
+        sum += rel;
+        ++both;
+    }
+    d.meanRel = both ? sum / both : 0.0;
+    return d;
+}
+
+// ---- Plain scalars (thickness) ----------------------------------------------
+struct ScalarDiff {
+    double maxAbs = 0.0;   // max |gl - cpu|
+    double maxRel = 0.0;   // max |gl - cpu| / max(|cpu|, floor)
+    int nonFinite = 0;     // NaN/inf on either side where the other is finite
+};
+inline ScalarDiff compareScalar(const Image<float>& cpu, const Image<float>& gl, double relFloor) {
+    ScalarDiff d;
+    EXPECT_EQ(cpu.size(), gl.size());
+    for (std::size_t k = 0; k < cpu.size() && k < gl.size(); ++k) {
+        const double a = cpu.pixels[k], b = gl.pixels[k];
+        if (std::isfinite(a) != std::isfinite(b)) {
+            ++d.nonFinite;
+            continue;
+        }
+        if (!std::isfinite(a)) continue;
+        d.maxAbs = std::max(d.maxAbs, std::abs(b - a));
+        d.maxRel = std::max(d.maxRel, std::abs(b - a) / std::max(std::abs(a), relFloor));
+    }
+    return d;
+}
+
+// ---- Normals: angle in degrees over the pixels where `depth` has fluid -------
+struct NormalDiff {
+    double maxDeg = 0.0, meanDeg = 0.0, p99Deg = 0.0;
+    int compared = 0;
+};
+inline NormalDiff compareNormals(const Image<glm::vec3>& cpu, const Image<glm::vec3>& gl, const Image<float>& depth) {
+    NormalDiff d;
+    EXPECT_EQ(cpu.size(), gl.size());
+    std::vector<double> angles;
+    for (std::size_t k = 0; k < cpu.size() && k < gl.size() && k < depth.size(); ++k) {
+        if (!std::isfinite(depth.pixels[k])) continue;
+        const glm::vec3 a = cpu.pixels[k], b = gl.pixels[k];
+        const double la = glm::length(a), lb = glm::length(b);
+        double deg = 180.0;
+        if (la > 0 && lb > 0)
+            deg = std::acos(std::clamp(double(glm::dot(a, b)) / (la * lb), -1.0, 1.0)) * 180.0 / 3.14159265358979;
+        angles.push_back(deg);
+    }
+    d.compared = int(angles.size());
+    if (angles.empty()) return d;
+    double sum = 0.0;
+    for (double a : angles) sum += a;
+    d.meanDeg = sum / double(angles.size());
+    std::sort(angles.begin(), angles.end());
+    d.maxDeg = angles.back();
+    d.p99Deg = angles[std::size_t(0.99 * double(angles.size() - 1))];
+    return d;
+}
+
+// ---- Colour in 8-bit sRGB steps (what a PNG shows) --------------------------
+inline int srgb8(float linear) {
+    const double x = std::clamp(double(linear), 0.0, 1.0);
+    const double v = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+    return int(std::lround(v * 255.0));
+}
+struct ColorDiff {
+    int maxSteps = 0;          // largest |gl - cpu| of any channel in 8-bit sRGB steps (alpha linear x 255)
+    double fractionOver1 = 0;  // fraction of pixels with any channel off by more than one step
+};
+inline ColorDiff compareColor(const Image<glm::vec4>& cpu, const Image<glm::vec4>& gl) {
+    ColorDiff d;
+    EXPECT_EQ(cpu.size(), gl.size());
+    std::size_t over = 0;
+    for (std::size_t k = 0; k < cpu.size() && k < gl.size(); ++k) {
+        int worst = 0;
+        for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(srgb8(cpu.pixels[k][c]) - srgb8(gl.pixels[k][c])));
+        worst = std::max(worst, int(std::lround(std::abs(cpu.pixels[k].a - gl.pixels[k].a) * 255.0)));
+        d.maxSteps = std::max(d.maxSteps, worst);
+        over += worst > 1;
+    }
+    d.fractionOver1 = cpu.empty() ? 0.0 : double(over) / double(cpu.size());
+    return d;
+}
+
+}  // namespace meniscus::test
