@@ -1,0 +1,57 @@
+// GL separable depth smoothing (SPEC §3.5) and thickness blur (SPEC §3.4): the
+// GPU twins of cpu::filterGaussian / filterBilateral / filterBinomial
+// (src/cpu/filter_separable.h) and of the full-resolution blur inside
+// cpu::computeThickness. Needs a current GL 4.3 context on the calling thread.
+#pragma once
+
+#include "gl/gpu_image.h"
+#include "gl/objects.h"
+#include "meniscus/result.h"
+#include "shared/frame_params.h"
+
+namespace meniscus::gl {
+
+using shared::FrameParams;
+
+// Owns the programs, the weight tables (the CPU's KernelTable values, uploaded
+// when the kernel cap changes) and a scratch image; reuse one across frames.
+class SeparableFilters {
+public:
+    // Compiles the programs; an error carries the driver's log.
+    static Result<SeparableFilters> create();
+
+    // The filter picked by frame.filterKind (1 gaussian, 2 bilateral, 3
+    // binomial; any other kind copies `in`), parameters from the block fields
+    // (gaussianSigmaRadii, bilateral*, binomialSizeRadii, filterJumpRadii,
+    // filterMaxKernelPx, filterIterations; radius, focal length, size).
+    // `in`: W x H x 1 eye depth, +inf = no fluid. `out` (not `in`) is resized
+    // and receives the result. The frame block must be bound (binding 0); the
+    // kernel sizes are computed here from `frame` with the CPU's rounding.
+    // Asynchronous: nothing waits for the GPU.
+    void run(const FrameParams& frame, const GpuImage& in, GpuImage& out);
+
+    // The thickness blur of cpu::computeThickness at resolutionDivisor 1, in
+    // place on `thickness` (W x H x 1): sigma = thicknessBlurSigmaRadii radii
+    // projected with `rawDepth` (same size; pixels without fluid there keep
+    // their value), kernel radius capped at min(thicknessMaxKernelPx, 255).
+    // No-op when the sigma or the cap is 0 or the sizes differ.
+    void blurThickness(const FrameParams& frame, const GpuImage& rawDepth, GpuImage& thickness);
+
+private:
+    enum class TableKind { None, Gaussian, Binomial };
+    // The table for (kind, maxRadius) in `buffer`, rebuilt only when they change;
+    // returns the groups of 4 taps stored per radius.
+    struct CachedTable {
+        Buffer buffer;
+        TableKind kind = TableKind::None;
+        int maxRadius = -1;
+    };
+    static int ensureTable(CachedTable& t, TableKind kind, int maxRadius, bool withDiffs);
+
+    Program plain_, bilateral_, thickness_;
+    CachedTable filterTable_, thicknessTable_;
+    GpuImage scratch_;
+    Texture srcTex_, tableTex_;  // buffer-texture views (texelFetch gathers well on llvmpipe)
+};
+
+}  // namespace meniscus::gl
