@@ -29,7 +29,6 @@ layout(location = 2) uniform int uCap;     // min(maxKernelPx, max(W, H)): the t
 layout(location = 3) uniform int uStep;    // 0: the 2-D disc; else 1-D taps k·uStep (1: x, padded width: y)
 
 const int kRows = 4;  // pixels per invocation (a column strip): fewer work groups
-const float kInf = uintBitsToFloat(0x7f800000u);
 
 // The CPU's projectedRadiusPx: ceil(worldM·f/z) in [0, maxPx].
 int projectedRadiusPx(float worldM, float focalPx, float z, int maxPx) {
@@ -43,6 +42,7 @@ void main() {
     const int x = int(gl_GlobalInvocationID.x);
     const int y0 = int(gl_GlobalInvocationID.y) * kRows;
     if (x >= W || y0 >= H) return;
+    const float kInf = uintBitsToFloat(0x7f800000u);
     const float f = P.right.w;
     precise float world = P.nrFilterSizeRadii * P.radius;
     precise float tau = P.nrLambda * P.radius;
