@@ -87,14 +87,12 @@ TEST_P(GlNarrowRange, JitteredBlockFaceOnMatchesCpu) {
     const auto sc = blockScene();
     const DepthDiff d = expectParity(sc.depth, sc.camera, sc.radius, params(GetParam()), "block");
     EXPECT_GT(d.coveredCpu, 50000);
-    // The filter did something: the output differs from the input.
+    // The filter did something: some pixel moved by more than 0.1 r.
     const Image<float> gl = glNarrow(sc.depth, sc.camera, sc.radius, params(GetParam()));
-    EXPECT_GT(maxRelativeChange(sc.depth, gl) * 0.0 + [&] {
-        double worst = 0.0;
-        for (std::size_t i = 0; i < gl.size(); ++i)
-            if (std::isfinite(gl.pixels[i])) worst = std::max(worst, std::fabs(double(gl.pixels[i]) - sc.depth.pixels[i]));
-        return worst / sc.radius;
-    }(), 0.1);
+    double moved = 0.0;
+    for (std::size_t i = 0; i < gl.size(); ++i)
+        if (std::isfinite(gl.pixels[i])) moved = std::max(moved, std::fabs(double(gl.pixels[i]) - sc.depth.pixels[i]));
+    EXPECT_GT(moved / sc.radius, 0.1);
 }
 
 TEST_P(GlNarrowRange, BallOfParticlesMatchesCpu) {
@@ -210,6 +208,13 @@ TEST_P(GlNarrowRange, Timing1280x720) {
         if (i > 0) ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());  // first: warm-up
     }
     std::sort(ms.begin(), ms.end());
+    // Workload: fluid pixels and their mean kernel radius (pixels, uncapped by zMin).
+    int fluid = 0;
+    double sumR = 0.0;
+    for (float z : depth.pixels)
+        if (std::isfinite(z)) ++fluid, sumR += std::min<double>(p.maxKernelPx, std::ceil(p.filterSizeRadii * r * cam.focalPx() / z));
+    std::printf("workload: %d fluid px (%.0f%%), mean kernel radius %.1f px\n", fluid, 100.0 * fluid / depth.size(),
+                fluid ? sumR / fluid : 0.0);
     const auto c0 = std::chrono::steady_clock::now();
     const Image<float> cpu = cpu::filterNarrowRange(depth, cam, r, p);
     const auto c1 = std::chrono::steady_clock::now();

@@ -67,7 +67,10 @@ void CurvatureFlow::run(const FrameParams& frame, const GpuImage& in, GpuImage& 
     tileFlags_.reserve(GLsizeiptr(tiles) * 4);
     tileList_.reserve(GLsizeiptr(tiles) * 4);
     indirect_.reserve(3 * 4);
+    fillBuffer(a_, GLsizeiptr(padded) * 4, 0x7f800000u);  // +inf; the pad pass copies the fluid in
+    fillBuffer(b_, GLsizeiptr(padded) * 4, 0x7f800000u);
     fillBuffer(tileFlags_, GLsizeiptr(tiles) * 4, 0u);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     const GLuint args[3] = {0u, 1u, 1u};
     indirect_.upload(args, sizeof args);
 
@@ -77,12 +80,11 @@ void CurvatureFlow::run(const FrameParams& frame, const GpuImage& in, GpuImage& 
     glUniform3i(2, GLint(kGroup), GLint(kStepRows), GLint(tilesX));
     in.bind(1);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, a_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, b_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, tileFlags_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, tileList_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, indirect_.id());
     glUniform1i(1, 0);
-    glDispatchCompute(ceilDiv(padded, kGroup * kCopyPerInvocation), 1, 1);
+    glDispatchCompute(ceilDiv(GLuint(W) * GLuint(H), kGroup * kCopyPerInvocation), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glUniform1i(1, 1);
     glDispatchCompute(ceilDiv(tiles, kGroup * kCopyPerInvocation), 1, 1);

@@ -5,8 +5,9 @@
 // (shaders/filter_narrow_range_pad.comp).
 // Tap tables, built on the host exactly as the CPU's (weights in double):
 //  - 2-D: ONE list for the largest radius, sorted by (d², dy, dx); since d² is
-//    the first key, the list for any radius R is its prefix of length
-//    count[R] (the offsets with d² <= R²), so every pixel walks the same list;
+//    the first key, the list for any radius R is its prefix (the offsets with
+//    d² <= R²), so every pixel walks the same list, ring by ring (runs of
+//    equal d², which share a weight: one weight fetch per ring);
 //  - weights: gaussian(d², R) for d² in [0, R²], per R, shared by 2-D and 1-D
 //    (the 1-D tap k has d² = k²).
 // llvmpipe notes: SSBO loads/stores run one SIMD lane at a time while texel
@@ -62,7 +63,7 @@ Result<NarrowRange> NarrowRange::create() {
     if (!filter) return filter.error();
     f.pad_ = std::move(*pad);
     f.filter_ = std::move(*filter);
-    for (Texture* t : {&f.texA_, &f.texB_, &f.tapsTex_, &f.weightsTex_, &f.metaTex_}) *t = makeTexture();
+    for (Texture* t : {&f.texA_, &f.texB_, &f.tapsTex_, &f.ringsTex_, &f.weightsTex_, &f.metaTex_}) *t = makeTexture();
     return f;
 }
 
@@ -84,29 +85,38 @@ void NarrowRange::buildTables(int cap, int paddedWidth) {
         if (a.dy != b.dy) return a.dy < b.dy;
         return a.dx < b.dx;
     });
-    std::vector<GLint> taps;
-    taps.reserve(2 * offs.size() + 2);
-    for (const Off& o : offs) {
-        taps.push_back(o.dy * paddedWidth + o.dx);
-        taps.push_back(o.d2);
+    // Taps (linear offsets in the padded buffer) and rings: one per distinct
+    // d², (index one past its last tap, d²).
+    std::vector<GLint> taps, rings;
+    taps.reserve(offs.size() + 1);
+    for (std::size_t i = 0; i < offs.size(); ++i) {
+        taps.push_back(offs[i].dy * paddedWidth + offs[i].dx);
+        if (i + 1 == offs.size() || offs[i + 1].d2 != offs[i].d2) {
+            rings.push_back(GLint(i + 1));
+            rings.push_back(offs[i].d2);
+        }
     }
+    // meta[R]: rings of radius R's disc (d² <= R²); meta[cap + 1 + R]: where R's weights start.
     std::vector<GLint> meta(2 * std::size_t(cap + 1), 0);
     std::vector<float> weights;
     for (int R = 1; R <= cap; ++R) {
-        meta[R] = GLint(std::upper_bound(offs.begin(), offs.end(), R * R,
-                                         [](int v, const Off& o) { return v < o.d2; }) -
-                        offs.begin());
+        GLint n = 0;
+        while (2 * std::size_t(n) < rings.size() && rings[2 * std::size_t(n) + 1] <= R * R) ++n;
+        meta[R] = n;
         meta[cap + 1 + R] = GLint(weights.size());
         for (int d2 = 0; d2 <= R * R; ++d2) weights.push_back(gaussian(d2, R));
     }
-    if (taps.empty()) taps.assign(2, 0);  // buffer textures need storage
+    if (taps.empty()) taps.push_back(0);  // buffer textures need storage
+    if (rings.empty()) rings.assign(2, 0);
     if (weights.empty()) weights.push_back(0.0f);
-    taps_.upload(taps.data(), GLsizeiptr(taps.size() * sizeof(GLint)));
-    weights_.upload(weights.data(), GLsizeiptr(weights.size() * sizeof(float)));
-    meta_.upload(meta.data(), GLsizeiptr(meta.size() * sizeof(GLint)));
-    attach(tapsTex_, GL_RG32I, taps_, GLsizeiptr(taps.size() * sizeof(GLint)));
-    attach(weightsTex_, GL_R32F, weights_, GLsizeiptr(weights.size() * sizeof(float)));
-    attach(metaTex_, GL_R32I, meta_, GLsizeiptr(meta.size() * sizeof(GLint)));
+    auto upload = [](Buffer& buf, const Texture& tex, GLenum format, const void* data, std::size_t bytes) {
+        buf.upload(data, GLsizeiptr(bytes));
+        attach(tex, format, buf, GLsizeiptr(bytes));
+    };
+    upload(taps_, tapsTex_, GL_R32I, taps.data(), taps.size() * sizeof(GLint));
+    upload(rings_, ringsTex_, GL_RG32I, rings.data(), rings.size() * sizeof(GLint));
+    upload(weights_, weightsTex_, GL_R32F, weights.data(), weights.size() * sizeof(float));
+    upload(meta_, metaTex_, GL_R32I, meta.data(), meta.size() * sizeof(GLint));
     tablesCap_ = cap;
     tablesWidth_ = paddedWidth;
 }
@@ -157,6 +167,8 @@ void NarrowRange::run(const FrameParams& frame, const GpuImage& in, GpuImage& ou
     glBindTexture(GL_TEXTURE_BUFFER, weightsTex_.id());
     glActiveTexture(GL_TEXTURE3);
     glBindTexture(GL_TEXTURE_BUFFER, metaTex_.id());
+    glActiveTexture(GL_TEXTURE4);
+    glBindTexture(GL_TEXTURE_BUFFER, ringsTex_.id());
     glActiveTexture(GL_TEXTURE0);
     const Texture* src = &texA_;
     const Texture* dst = &texB_;
@@ -177,7 +189,7 @@ void NarrowRange::run(const FrameParams& frame, const GpuImage& in, GpuImage& ou
             pass(0);
         }
     }
-    for (GLenum unit : {GL_TEXTURE3, GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
+    for (GLenum unit : {GL_TEXTURE4, GL_TEXTURE3, GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
         glActiveTexture(unit);
         glBindTexture(GL_TEXTURE_BUFFER, 0);
     }

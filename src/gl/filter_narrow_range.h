@@ -38,8 +38,8 @@ private:
     Buffer a_, b_;                 // padded (pad = kernel cap) depth with a −inf frame
     Texture texA_, texB_;          // R32F buffer textures over a_ and b_
     Buffer zMin_;                  // one uint: the nearest input depth's float bits
-    Buffer taps_, weights_, meta_; // tap tables (see buildTables)
-    Texture tapsTex_, weightsTex_, metaTex_;
+    Buffer taps_, rings_, weights_, meta_;  // tap tables (see buildTables)
+    Texture tapsTex_, ringsTex_, weightsTex_, metaTex_;
     int tablesCap_ = -1, tablesWidth_ = -1;
 };
 

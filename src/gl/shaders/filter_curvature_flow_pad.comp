@@ -1,11 +1,12 @@
 #version 430 core
 // Curvature flow (SPEC §3.5, src/cpu/filter_curvature_flow.cpp) on the GPU:
 // the passes around the iterations.
-// Mode 0 (pad): every element of the (W + 2) x (H + 2) ping-pong buffers A and
-//   B = the input pixel, or +inf on the one-pixel frame, which makes the
-//   border "no fluid" as the CPU's padded copies do (so the step shader needs
-//   no bounds tests); each fluid pixel also flags its tile (64 x kRows pixels,
-//   one work group of the step shader), flags zeroed beforehand.
+// Mode 0 (pad): the (W + 2) x (H + 2) ping-pong buffers A and B are filled
+//   with +inf by the host (a memset on llvmpipe); this copies the fluid pixels
+//   into A's interior. The +inf frame makes the border "no fluid" as the CPU's
+//   padded copies do (so the step shader needs no bounds tests). Each fluid
+//   pixel also flags its tile (64 x kRows pixels, one work group of the step
+//   shader), flags zeroed beforehand.
 // Mode 1 (list): the flagged tiles are appended to the tile list, whose length
 //   is the x group count of the step's indirect dispatch: the fluid set never
 //   changes, so only tiles with fluid are ever visited (the rest stay +inf in
@@ -15,7 +16,6 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = 1) readonly buffer Img { float img[]; };  // W*H, row 0 = top
 layout(std430, binding = 2) buffer PadA { float padA[]; };
-layout(std430, binding = 3) writeonly buffer PadB { float padB[]; };
 layout(std430, binding = 4) writeonly buffer Out { float outImg[]; };
 layout(std430, binding = 5) buffer Tiles { uint tileFlags[]; };  // per tile, then...
 layout(std430, binding = 6) buffer TileList { uint tileList[]; };
@@ -30,20 +30,18 @@ const int kPerInvocation = 16;  // llvmpipe pays per work group: a few elements 
 void main() {
     const int W = uSize.x, H = uSize.y, PW = W + 2;
     const int nTiles = uTiles.z * ((H + uTiles.y - 1) / uTiles.y);
-    const int n = uMode == 0 ? PW * (H + 2) : uMode == 1 ? nTiles : W * H;
+    const int n = uMode == 1 ? nTiles : W * H;
     const int first = int(gl_WorkGroupID.x) * 64 * kPerInvocation + int(gl_LocalInvocationID.x);
     for (int j = 0; j < kPerInvocation; ++j) {
         const int k = first + 64 * j;
         if (k >= n) return;
         if (uMode == 0) {
-            const int px = k % PW - 1, py = k / PW - 1;
-            float v = uintBitsToFloat(0x7f800000u);
-            if (px >= 0 && px < W && py >= 0 && py < H) {
-                v = img[py * W + px];
-                if (v < uintBitsToFloat(0x7f800000u)) tileFlags[(py / uTiles.y) * uTiles.z + px / uTiles.x] = 1u;
+            const int px = k % W, py = k / W;
+            const float v = img[k];
+            if (v < uintBitsToFloat(0x7f800000u)) {
+                padA[(py + 1) * PW + px + 1] = v;
+                tileFlags[(py / uTiles.y) * uTiles.z + px / uTiles.x] = 1u;
             }
-            padA[k] = v;
-            padB[k] = v;
         } else if (uMode == 1) {
             if (tileFlags[k] != 0u) tileList[atomicAdd(dispatchArgs[0], 1u)] = uint(k);
         } else {

@@ -17,9 +17,10 @@
 layout(local_size_x = 64) in;
 
 layout(binding = 0) uniform samplerBuffer src;       // padded depth (R32F)
-layout(binding = 1) uniform isamplerBuffer taps;     // 2-D: (linear offset, d²) sorted centre outward
+layout(binding = 1) uniform isamplerBuffer taps;     // 2-D: linear offsets sorted centre outward
 layout(binding = 2) uniform samplerBuffer weights;   // gaussian(d², R) at weightBase(R) + d²
-layout(binding = 3) uniform isamplerBuffer meta;     // [R]: 2-D taps of radius R; [uCap + 1 + R]: weightBase(R)
+layout(binding = 3) uniform isamplerBuffer meta;     // [R]: 2-D rings of radius R; [uCap + 1 + R]: weightBase(R)
+layout(binding = 4) uniform isamplerBuffer rings;    // 2-D: per distinct d², (end tap index, d²)
 layout(r32f, binding = 0) writeonly uniform imageBuffer dst;
 layout(std430, binding = 5) readonly buffer ZMin { uint zMinBits; };  // nearest input depth
 
@@ -35,6 +36,31 @@ int projectedRadiusPx(float worldM, float focalPx, float z, int maxPx) {
     precise float px = worldM * focalPx / z;
     if (!(px > 0.0)) return 0;
     return int(min(ceil(px), float(maxPx)));
+}
+
+// One mirror pair (a, b) of weight w: the body of the CPU's filterN loop.
+void accumulate(float a, float b, float w, float z0, float tau, float behind, inout float lower, inout float upper,
+                inout float sum, inout float wsum) {
+    const bool frontA = a < lower, frontB = b < lower;
+    const bool behindA = a > upper, behindB = b > upper;
+    precise float da = behindA ? behind : a - z0;
+    precise float db = behindB ? behind : b - z0;
+    // A tap in front drops the pair (keeps the mean unbiased).
+    if (!(frontA || frontB)) {
+        precise float s = sum + w * (da + db);
+        precise float ws = wsum + w;
+        sum = s;
+        wsum = ws;
+    }
+    // Range extension by inside taps (both classified against the old range).
+    precise float la = frontA ? lower : a - tau, lb = frontB ? lower : b - tau;
+    precise float ua = behindA ? upper : a + tau, ub = behindB ? upper : b + tau;
+    precise float lo = la < lower ? la : lower;
+    lo = lb < lo ? lb : lo;
+    precise float hi = ua > upper ? ua : upper;
+    hi = ub > hi ? ub : hi;
+    lower = lo;
+    upper = hi;
 }
 
 void main() {
@@ -59,39 +85,31 @@ void main() {
         float result = z0;  // +inf, or a kernel under one pixel: unchanged
         const int R = z0 < kInf ? projectedRadiusPx(world, f, z0, Rmax) : 0;
         if (R > 0) {
-            const int n = uStep == 0 ? texelFetch(meta, R).x : R;
+            const int n = texelFetch(meta, R).x;  // 2-D: rings of radius R's disc
             const int wBase = texelFetch(meta, uCap + 1 + R).x;
             precise float lower = z0 - tau, upper = z0 + tau;
             precise float sum = 0.0;   // deviations from z0; the centre adds weight 1, deviation 0
             precise float wsum = 0.0;  // over pairs (each tap of a pair has weight w)
-            for (int t = 0; t < n; ++t) {
-                int off, d2;
-                if (uStep == 0) {
-                    const ivec2 tap = texelFetch(taps, t).xy;
-                    off = tap.x;
-                    d2 = tap.y;
-                } else {
-                    off = (t + 1) * uStep;
-                    d2 = (t + 1) * (t + 1);
+            if (uStep == 0) {
+                // 2-D: the disc's taps ring by ring (equal d², so one weight
+                // fetch per ring); the first n rings are radius R's disc.
+                int t = 0;
+                for (int g = 0; g < n; ++g) {
+                    const ivec2 ring = texelFetch(rings, g).xy;  // (end tap, d²)
+                    const float w = texelFetch(weights, wBase + ring.y).x;
+                    for (; t < ring.x; ++t) {
+                        const int off = texelFetch(taps, t).x;
+                        accumulate(texelFetch(src, c + off).x, texelFetch(src, c - off).x, w, z0, tau, behind, lower,
+                                   upper, sum, wsum);
+                    }
                 }
-                const float w = texelFetch(weights, wBase + d2).x;
-                const float a = texelFetch(src, c + off).x, b = texelFetch(src, c - off).x;
-                const bool frontA = a < lower, frontB = b < lower;
-                const bool behindA = a > upper, behindB = b > upper;
-                precise float da = behindA ? behind : a - z0;
-                precise float db = behindB ? behind : b - z0;
-                // A tap in front drops the pair (keeps the mean unbiased).
-                if (!(frontA || frontB)) {
-                    sum = sum + w * (da + db);
-                    wsum = wsum + w;
+            } else {
+                for (int k = 1; k <= R; ++k) {
+                    const int off = k * uStep;
+                    const float w = texelFetch(weights, wBase + k * k).x;
+                    accumulate(texelFetch(src, c + off).x, texelFetch(src, c - off).x, w, z0, tau, behind, lower,
+                               upper, sum, wsum);
                 }
-                // Range extension by inside taps (both classified first).
-                precise float la = frontA ? lower : a - tau, lb = frontB ? lower : b - tau;
-                precise float ua = behindA ? upper : a + tau, ub = behindB ? upper : b + tau;
-                lower = la < lower ? la : lower;
-                lower = lb < lower ? lb : lower;
-                upper = ua > upper ? ua : upper;
-                upper = ub > upper ? ub : upper;
             }
             precise float mean = z0 + sum / (2.0 * wsum + 1.0);
             result = mean;
