@@ -15,7 +15,8 @@
 layout(local_size_x = 64) in;
 
 // The source is read through a buffer texture over the same buffer: llvmpipe
-// fetches texels with vector gathers, SSBO loads one lane at a time.
+// fetches texels with vector gathers, SSBO loads one lane at a time; likewise
+// the result is written through an R32F image buffer over the other buffer.
 layout(binding = 0) uniform samplerBuffer src;
 layout(r32f, binding = 0) writeonly uniform imageBuffer dst;
 
