@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "cpu/splat.h"
+#include "cpu/thickness.h"
 #include "gl/splat.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
@@ -101,4 +102,72 @@ TEST_F(GlSplat, NoParticlesIsAllInfinity) {
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
     ASSERT_EQ(gl->size(), std::size_t(64 * 48));
     for (float z : gl->pixels) EXPECT_TRUE(std::isinf(z) && z > 0);
+}
+
+// ---- Thickness chords (SPEC §3.4): GL fixed-point sums vs the CPU's float sums.
+
+namespace {
+struct GlDepthAndThickness {
+    Image<float> depth, thickness;
+};
+GlDepthAndThickness glSplatWithThickness(const Camera& cam, std::span<const glm::vec3> pos, float r,
+                                         const ThicknessParams& tp, const Image<float>* scene) {
+    auto s = gl::Splat::create();
+    EXPECT_TRUE(s.ok()) << s.error().describe();
+    if (!s) return {};
+    gl::FrameParamsBlock block;
+    const gl::FrameParams frame = gl::packFrameParams(cam, r, NoFilter{}, tp, ShadingParams{});
+    block.upload(frame);
+    s->uploadParticles(pos);
+    gl::GpuImage sceneImg, depth, thickness;
+    if (scene) sceneImg.upload(*scene);
+    s->run(frame, scene ? &sceneImg : nullptr, depth, &thickness);
+    return {depth.download<float>(), thickness.download<float>()};
+}
+
+// Tolerance: each chord is rounded to 1/32768 of a radius in the fixed-point
+// sum (relative 1.5e-5 of r per sphere crossed); the CPU sums floats. Relative
+// to max(T, 2 r w) -- one whole diameter -- the difference stays below 1e-4.
+constexpr double kThicknessRel = 1e-4;
+
+void expectThicknessMatches(const Camera& cam, std::span<const glm::vec3> pos, float r, const Image<float>* scene) {
+    ThicknessParams tp;
+    tp.blurSigmaRadii = 0.0f;  // the blur is its own stage (gl_filter_separable_test)
+    const auto cpu = cpu::splatDepthAndThickness(cam, pos, r, tp, scene);
+    const auto gl = glSplatWithThickness(cam, pos, r, tp, scene);
+    const DepthDiff d = compareDepth(cpu.depth, gl.depth);
+    EXPECT_LE(d.coverageDiffer, int(kCoverageFraction * d.coveredCpu) + 2);
+    EXPECT_LE(d.maxRel, kDepthRel);
+    const double diameter = 2.0 * r * cpu::thicknessWeight(r, tp);
+    const ScalarDiff t = compareScalar(cpu.thickness, gl.thickness, diameter);
+    double maxT = 0.0;
+    for (float v : cpu.thickness.pixels) maxT = std::max(maxT, double(v));
+    std::printf("thickness: max %.4g m, max abs diff %.3g m, max rel %.3g\n", maxT, t.maxAbs, t.maxRel);
+    EXPECT_GT(maxT, 4.0 * diameter);  // several spheres deep, so the sums are exercised
+    EXPECT_EQ(t.nonFinite, 0);
+    EXPECT_LE(t.maxRel, kThicknessRel);
+}
+}  // namespace
+
+TEST_F(GlSplat, ThicknessOfRealFrameMatchesCpu) {
+    auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
+    ASSERT_TRUE(set.ok()) << set.error().describe();
+    const float r = estimateRadius(set->positions).radius;
+    Camera base;
+    base.width = 320;
+    base.height = 180;
+    const Camera cam = autoFrameCamera(set->positions, r, base);
+    expectThicknessMatches(cam, set->positions, r, nullptr);
+}
+
+TEST_F(GlSplat, ThicknessClippedByNearPlaneAndSceneMatchesCpu) {
+    const auto pos = ballOfParticles({0.0f, 0.0f, 0.0f}, 0.3f, 0.04f);
+    const float r = 0.02f;
+    Camera cam = faceOnCamera({0.0f, 0.0f, 0.0f}, 1.0f, 200, 150);
+    cam.nearM = 0.75f;
+    Image<float> scene(cam.width, cam.height, std::numeric_limits<float>::infinity());
+    for (int y = 0; y < cam.height; ++y)
+        for (int x = 0; x < cam.width; ++x)
+            if (x > cam.width / 3) scene.at(x, y) = 0.9f + 0.001f * float(y);
+    expectThicknessMatches(cam, pos, r, &scene);
 }

@@ -23,6 +23,10 @@ Status appendResolved(std::string_view fileName, std::set<std::string>& seen, st
             out += '\n';  // keep line numbers of the rest roughly meaningful
             continue;
         }
+        if (trimmed.starts_with("#include <")) {
+            out += '\n';  // a system header of the C++ side of a src/shared file (inside #ifdef __cplusplus)
+            continue;
+        }
         if (trimmed.starts_with("#include")) {
             const std::size_t a = trimmed.find('"'), b = trimmed.rfind('"');
             if (a == std::string_view::npos || b <= a)

@@ -18,7 +18,8 @@ std::string_view shaderSource(std::string_view fileName);
 // The source ready for the driver: every `#include "name"` line replaced by the
 // embedded file of that name (recursively, each file once), and the
 // `#extension GL_GOOGLE_include_directive` line (which lets glslangValidator
-// follow the same includes in CI) dropped. An error names the missing file.
+// follow the same includes in CI) dropped, as are `#include <...>` lines (the
+// C++ side of a src/shared header). An error names the missing file.
 Result<std::string> resolveIncludes(std::string_view fileName);
 
 // A compute program from one embedded shader file, includes resolved; an error

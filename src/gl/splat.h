@@ -1,47 +1,47 @@
-// GL depth splat (SPEC §3.3): the GPU twin of meniscus::cpu::splatDepth.
-// Needs a current GL 4.3 context (gl::Context) on the calling thread.
+// GL depth splat and thickness chords (SPEC §3.3, §3.4): the GPU twin of
+// cpu::splatBins. Needs a current GL 4.3 context (gl::Context) on the calling
+// thread and the frame's parameter block bound (gl::FrameParamsBlock).
 #pragma once
 
 #include <span>
 
 #include <glm/glm.hpp>
 
+#include "gl/gpu_image.h"
 #include "gl/objects.h"
+#include "gl/uniforms.h"
 #include "meniscus/camera.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
 
 namespace meniscus::gl {
 
-// Owns the splat's programs and GPU buffers; reuse one across frames (buffers
-// grow only when needed).
-class DepthSplat {
+// Owns the splat's programs and the particle buffer; reuse one across frames
+// (buffers grow only when needed).
+class Splat {
 public:
     // Compiles the shaders; an error carries the driver's log.
-    static Result<DepthSplat> create();
+    static Result<Splat> create();
 
     // Uploads the particles (world positions, metres) for the next run().
     void uploadParticles(std::span<const glm::vec3> positionsWorld);
 
-    // depthBuffer() = camera.width x camera.height float bits (row-major, row 0
-    // = top): per pixel the nearest-hit eye depth over the uploaded spheres,
-    // +inf where none; hits nearer than camera.nearM or at/behind sceneDepth
-    // (when given, camera-sized) are discarded -- exactly cpu::splatDepth.
-    // Asynchronous: nothing waits for the GPU here.
-    void run(const Camera& camera, float radius, const Image<float>* sceneDepth = nullptr);
-
-    // The last run's depth, read back (waits for the GPU).
-    Image<float> readDepth() const;
-    const Buffer& depthBuffer() const { return depth_; }
+    // depth (resized to the camera of `frame`): per pixel the nearest-hit eye
+    // depth over the uploaded spheres, +inf where none; hits nearer than the
+    // near plane or at/behind sceneDepth (when given, camera-sized) are
+    // discarded -- exactly cpu::splatDepth. thickness (when given): the summed
+    // chords clipped to [near, scene) times frame.thicknessWeight, unblurred --
+    // cpu::splatBins' chordSum to within the fixed-point rounding (1.5e-5 r
+    // per chord). Asynchronous: nothing waits for the GPU here.
+    void run(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& depth, GpuImage* thickness);
 
 private:
     Program splat_, resolve_;
-    Buffer positions_, depth_, scene_;
+    Buffer positions_, noScene_;
     GLuint count_ = 0;
-    int width_ = 0, height_ = 0;
 };
 
-// One-shot convenience: create, upload, run, read back.
+// One-shot convenience (tests): create, upload, run, read back the depth.
 Result<Image<float>> splatDepth(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                                 const Image<float>* sceneDepth = nullptr);
 

@@ -1,0 +1,46 @@
+// GL narrow-range filter (SPEC §3.5; Truong & Yuksel, "A Narrow-Range Filter
+// for Screen-Space Fluid Rendering", I3D 2018): the GPU twin of
+// meniscus::cpu::filterNarrowRange, 2-D and separable. Needs a current GL 4.3
+// context on the calling thread.
+#pragma once
+
+#include "gl/gpu_image.h"
+#include "gl/objects.h"
+#include "meniscus/result.h"
+#include "shared/frame_params.h"
+
+namespace meniscus::gl {
+
+using shared::FrameParams;
+
+// Owns the programs, the padded ping-pong buffers and the tap tables; reuse
+// one across frames (buffers grow only when needed, tables are rebuilt only
+// when the image width or the kernel cap changes).
+class NarrowRange {
+public:
+    // Compiles the shaders; an error carries the driver's log.
+    static Result<NarrowRange> create();
+
+    // GL twin of cpu::filterNarrowRange with the parameters of the bound
+    // FrameParams block (P.filterIterations, P.nrFilterSizeRadii, P.nrLambda,
+    // P.nrMu, P.filterMaxKernelPx, P.nrSeparable, P.radius, P.right.w = f);
+    // `frame` is the same block on the host (iterations, separable, kernel cap).
+    // `in`: W x H x 1 eye depth (+inf = no fluid); `out` is resized to W x H x 1;
+    // in != out. The nearest depth that bounds the kernel is found on the GPU:
+    // nothing waits for the GPU here. Ends with the barriers a later shader read
+    // or a download needs.
+    void run(const FrameParams& frame, const GpuImage& in, GpuImage& out);
+
+private:
+    void buildTables(int cap, int paddedWidth);
+
+    Program pad_, filter_;
+    Buffer a_, b_;                 // padded (pad = kernel cap) depth with a −inf frame
+    Texture texA_, texB_;          // R32F buffer textures over a_ and b_
+    Buffer zMin_;                  // one uint: the nearest input depth's float bits
+    Buffer taps_, rings_, weights_, meta_;  // tap tables (see buildTables)
+    Texture tapsTex_, ringsTex_, weightsTex_, metaTex_;
+    int tablesCap_ = -1, tablesWidth_ = -1;
+};
+
+}  // namespace meniscus::gl

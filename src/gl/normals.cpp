@@ -1,0 +1,51 @@
+// GL normals stage, SPEC §3.6: perspective-correct normals from the smoothed
+// eye depth (van der Laan, Green & Sainz 2009, US 8,947,430, eqs. 3-6; Cords &
+// Staadt 2008, "Instant Liquids" §2.3) by shaders/normals.comp, operation for
+// operation as src/cpu/normals.cpp.
+#include "gl/normals.h"
+
+#include "gl/shaders.h"
+
+namespace meniscus::gl {
+
+namespace {
+constexpr int kGroup = 64;  // local_size_x of normals.comp: columns per work group
+constexpr int kRows = 16;   // rows per work group's tile (<= kMaxRows in normals.comp)
+}  // namespace
+
+Result<Normals> Normals::create() {
+    Normals n;
+    auto p = loadComputeProgram("normals.comp");
+    if (!p) return p.error();
+    n.program_ = std::move(*p);
+    return n;
+}
+
+void Normals::run(const FrameParams& frame, const GpuImage& depth, GpuImage& normals) {
+    const int W = frame.size.x, H = frame.size.y;
+    normals.resize(W, H, 3);
+    if (W <= 0 || H <= 0) return;
+    if (depth.width != W || depth.height != H || depth.channels != 1 || depth.buffer.id() == 0) {
+        // No usable depth: no fluid anywhere, (0,0,0) as the CPU gives for +inf.
+        const float zero = 0.0f;
+        glBindBuffer(GL_COPY_WRITE_BUFFER, normals.buffer.id());
+        glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32F, 0, normals.bytes(), GL_RED, GL_FLOAT, &zero);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        return;
+    }
+    // Non-fluid pixels are (0,0,0): a driver fill (a memset on llvmpipe); the
+    // shader writes only the fluid pixels.
+    const float zero = 0.0f;
+    glBindBuffer(GL_COPY_WRITE_BUFFER, normals.buffer.id());
+    glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32F, 0, normals.bytes(), GL_RED, GL_FLOAT, &zero);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glUseProgram(program_.id());
+    glUniform1i(0, kRows);
+    depth.bind(1);
+    normals.bind(2);
+    glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint((H + kRows - 1) / kRows), 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glUseProgram(0);
+}
+
+}  // namespace meniscus::gl

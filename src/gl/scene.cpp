@@ -1,0 +1,73 @@
+// GL scene stage, SPEC §3.1: the studio of src/cpu/scene.cpp (checker floor and
+// two back walls, after the compositing order of van der Laan et al. 2009,
+// US 8,947,430, and Instant Liquids, Cords & Staadt 2008, §3) ray-cast per
+// pixel by shaders/scene.comp, operation for operation as the CPU's castRow.
+// What the CPU computes once per image (reciprocals, per-plane lighting) is
+// computed here the same way and passed as uniforms, so both see the same bits.
+#include "gl/scene.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "gl/shaders.h"
+
+namespace meniscus::gl {
+
+namespace {
+constexpr int kGroup = 64;  // local_size_x of scene.comp: columns per work group
+constexpr int kRows = 8;    // rows per invocation (llvmpipe pays a fixed cost per work group)
+
+// Fills the first `floats` floats of `buffer` with `value` (a memset on llvmpipe).
+void fill(const Buffer& buffer, std::size_t floats, float value) {
+    if (floats == 0) return;
+    glBindBuffer(GL_COPY_WRITE_BUFFER, buffer.id());
+    glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32F, 0, GLsizeiptr(floats * sizeof(float)), GL_RED, GL_FLOAT,
+                         &value);
+}
+}  // namespace
+
+Result<SceneCaster> SceneCaster::create() {
+    SceneCaster s;
+    auto p = loadComputeProgram("scene.comp");
+    if (!p) return p.error();
+    s.program_ = std::move(*p);
+    return s;
+}
+
+void SceneCaster::run(const FrameParams& frame, const cpu::Studio& studio, GpuImage& color, GpuImage& depth) {
+    const int W = frame.size.x, H = frame.size.y;
+    color.resize(W, H, 4);
+    depth.resize(W, H, 1);
+    if (W <= 0 || H <= 0) return;
+    if (!studio.enabled) {  // transparent background, no geometry
+        fill(color.buffer, color.floats(), 0.0f);
+        fill(depth.buffer, depth.floats(), std::numeric_limits<float>::infinity());
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        return;
+    }
+    // As castScene: corner darkening reaches about one square; the floor fades
+    // into the sky between 24 and 80 squares from the corner; flat lighting per
+    // plane from the default key light plus ambient.
+    const float invChecker = 1.0f / studio.checkerM;
+    const float fadeStart = 24.0f * studio.checkerM;
+    const float invFade = 1.0f / (56.0f * studio.checkerM);
+    const glm::vec3 light = ShadingParams{}.lightDirWorld;
+    const float ambient = 0.45f, key = 0.55f;
+    const float litFloor = ambient + key * std::max(0.0f, light.y);
+    const float litWallX = ambient + key * std::max(0.0f, studio.wallXNormal * light.x);
+    const float litWallZ = ambient + key * std::max(0.0f, studio.wallZNormal * light.z);
+
+    glUseProgram(program_.id());
+    glUniform4f(0, studio.floorY, studio.wallX, studio.wallZ, studio.wallTopY);
+    glUniform2f(1, studio.wallXNormal, studio.wallZNormal);
+    glUniform4f(2, invChecker, studio.checkerM, fadeStart, invFade);
+    glUniform3f(3, litFloor, litWallX, litWallZ);
+    glUniform1i(4, kRows);
+    color.bind(1);
+    depth.bind(2);
+    glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint((H + kRows - 1) / kRows), 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glUseProgram(0);
+}
+
+}  // namespace meniscus::gl

@@ -1,0 +1,30 @@
+// GL scene stage (SPEC §3.1): the GPU twin of meniscus::cpu::castScene.
+// Needs a current GL 4.3 context (gl::Context) on the calling thread.
+#pragma once
+
+#include "cpu/scene.h"
+#include "gl/gpu_image.h"
+#include "gl/objects.h"
+#include "gl/uniforms.h"
+#include "meniscus/result.h"
+
+namespace meniscus::gl {
+
+// Owns the scene program; reuse one across frames.
+class SceneCaster {
+public:
+    // Compiles the shader; an error carries the driver's log.
+    static Result<SceneCaster> create();
+
+    // GL twin of cpu::castScene: color (W x H x 4, linear RGBA) and depth
+    // (W x H x 1, +inf = sky) for the camera in the bound frame block (binding
+    // 0, uploaded by the caller from `frame`); the studio geometry goes in as
+    // plain uniforms. A disabled studio gives (0,0,0,0) and +inf everywhere.
+    // Asynchronous: nothing waits for the GPU here.
+    void run(const FrameParams& frame, const cpu::Studio& studio, GpuImage& color, GpuImage& depth);
+
+private:
+    Program program_;
+};
+
+}  // namespace meniscus::gl

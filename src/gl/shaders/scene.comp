@@ -1,0 +1,115 @@
+#version 430 core
+#extension GL_GOOGLE_include_directive : require
+// Scene stage (SPEC §3.1) on the GPU: the GL twin of src/cpu/scene.cpp. The
+// default studio (checker floor, two back walls forming the inside corner of a
+// box around the particles) ray-cast per pixel into colour and eye depth, with
+// the procedural sky (src/shared/sky.h) wherever no plane is hit. Rendering
+// the opaque scene first and splatting fluid against its depth is the
+// compositing order of van der Laan et al. 2009 (US 8,947,430) and Instant
+// Liquids (Cords & Staadt 2008, §3).
+// Every operation follows castRow in the same order, `precise` (no FMA
+// contraction or reassociation), so the two agree to the rounding of division
+// and sqrt. Camera from the frame block P; the studio from plain uniforms
+// (lighting per plane computed on the host, as the CPU does once per image).
+// Work: one invocation per column and uRows rows (llvmpipe pays per work group).
+#include "frame_params.h"
+#include "sky.h"
+
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 1) writeonly buffer Color { vec4 color[]; };  // W*H linear RGBA
+layout(std430, binding = 2) writeonly buffer Depth { float depth[]; };  // W*H, +inf = sky
+
+layout(location = 0) uniform vec4 uPlanes;   // floorY, wallX, wallZ, wallTopY
+layout(location = 1) uniform vec2 uNormals;  // wallXNormal, wallZNormal (+1 / -1)
+layout(location = 2) uniform vec4 uChecker;  // 1/checkerM, corner darkening scale, fade start, 1/fade length
+layout(location = 3) uniform vec3 uLit;      // flat lighting of floor, wall x, wall z
+layout(location = 4) uniform int uRows;      // rows per invocation
+
+#define kInf uintBitsToFloat(0x7f800000u)
+// Checker colours, linear RGB: grey floor, cooler walls.
+const vec3 kFloorLight = vec3(0.72, 0.72, 0.72), kFloorDark = vec3(0.40, 0.40, 0.40);
+const vec3 kWallLight = vec3(0.62, 0.64, 0.68), kWallDark = vec3(0.44, 0.46, 0.50);
+
+// floor(v) as an int; v is clamped first so far-away hits cannot overflow.
+int floorInt(float v) {
+    v = clamp(v, -1.0e6, 1.0e6);
+    const int i = int(v);
+    return i - (float(i) > v ? 1 : 0);
+}
+
+// Ambient-occlusion-like darkening toward a corner edge at distance d (0 at the edge).
+float cornerFall(float d, float scale) {
+    precise float u = max(0.0, 1.0 - d / scale);
+    precise float uu = u * u;
+    return uu;
+}
+
+void main() {
+    const int W = P.size.x, H = P.size.y;
+    const int x = int(gl_GlobalInvocationID.x);
+    const int y0 = int(gl_GlobalInvocationID.y) * uRows;
+    if (x >= W) return;
+    const vec3 eye = P.eye.xyz, right = P.right.xyz, up = P.up.xyz, back = P.back.xyz;
+    const float invF = P.up.w, nearM = P.eye.w;
+    const float floorY = uPlanes.x, wallX = uPlanes.y, wallZ = uPlanes.z, topY = uPlanes.w;
+    const float nX = uNormals.x, nZ = uNormals.y;
+    const float invChecker = uChecker.x, aoScale = uChecker.y, fadeStart = uChecker.z, invFade = uChecker.w;
+    precise float halfW = 0.5 * float(W), halfH = 0.5 * float(H);
+    precise float vx = ((float(x) + 0.5) - halfW) * invF;
+    for (int y = y0; y < min(y0 + uRows, H); ++y) {
+        // World ray D = dirToWorld(view ray with z = -1): eye + t D has eye depth t.
+        precise float vy = -((float(y) + 0.5) - halfH) * invF;
+        precise vec3 rowDir = vy * up - back;
+        precise float Dx = rowDir.x + vx * right.x, Dy = rowDir.y + vx * right.y, Dz = rowDir.z + vx * right.z;
+        // Each plane counts only where hit from its front, beyond the near plane
+        // and inside the corner (walls above the floor and below their top,
+        // everything on the camera's side of the walls).
+        precise float tF = (floorY - eye.y) / Dy;
+        precise float fxF = (eye.x + tF * Dx - wallX) * nX, fzF = (eye.z + tF * Dz - wallZ) * nZ;
+        const bool okF = Dy < 0.0 && tF >= nearM && fxF >= 0.0 && fzF >= 0.0;
+        precise float tX = (wallX - eye.x) / Dx;
+        precise float yX = eye.y + tX * Dy;
+        precise float sX = Dx * nX, fzX = (eye.z + tX * Dz - wallZ) * nZ;
+        const bool okX = sX < 0.0 && tX >= nearM && yX >= floorY && yX <= topY && fzX >= 0.0;
+        precise float tZ = (wallZ - eye.z) / Dz;
+        precise float yZ = eye.y + tZ * Dy;
+        precise float sZ = Dz * nZ, fxZ = (eye.x + tZ * Dx - wallX) * nX;
+        const bool okZ = sZ < 0.0 && tZ >= nearM && yZ >= floorY && yZ <= topY && fxZ >= 0.0;
+        // The nearest valid hit (in exact arithmetic at most one is valid).
+        float t = okF ? tF : kInf;
+        int plane = okF ? 0 : -1;
+        plane = okX && tX < t ? 1 : plane;
+        t = okX && tX < t ? tX : t;
+        plane = okZ && tZ < t ? 2 : plane;
+        t = okZ && tZ < t ? tZ : t;
+        const uint k = uint(y) * uint(W) + uint(x);
+        depth[k] = t;
+        // Branch-free, as the CPU's plane pass (llvmpipe would run both sides of
+        // a divergent branch anyway): the plane's colour with a finite stand-in
+        // ray length where none is hit, the sky once, then a select.
+        const float tt = plane >= 0 ? t : 0.0;  // keeps the arithmetic below finite
+        // Plane coordinates from the corner edges, so the squares line up
+        // across the corner; (a, b) are also the distances to the two other planes.
+        precise float dx = (eye.x + tt * Dx - wallX) * nX;
+        precise float dy = eye.y + tt * Dy - floorY;
+        precise float dz = (eye.z + tt * Dz - wallZ) * nZ;
+        const float a = plane == 1 ? dz : dx;
+        const float b = plane == 0 ? dz : dy;
+        precise float ca = a * invChecker, cb = b * invChecker;
+        const bool odd = ((floorInt(ca) + floorInt(cb)) & 1) != 0;
+        const bool onFloor = plane == 0;
+        const vec3 base = odd ? (onFloor ? kFloorDark : kWallDark) : (onFloor ? kFloorLight : kWallLight);
+        const float lit = onFloor ? uLit.x : plane == 1 ? uLit.y : uLit.z;
+        precise float ao = 1.0 - 0.25 * (cornerFall(a, aoScale) + cornerFall(b, aoScale));
+        precise float shade = lit * ao;
+        precise vec3 c = base * shade;
+        // The weight of the sky: -1 where no plane is hit; the far floor fades
+        // into the sky (hides the checker's aliasing there).
+        precise float fade = plane >= 0 ? clamp((max(a, b) - fadeStart) * invFade, 0.0, 1.0) : -1.0;
+        const vec3 sky = skyRadiance(Dx, Dy, Dz);
+        precise vec3 blend = c * (1.0 - fade) + sky * fade;  // glm::mix's formula
+        const vec3 rgb = fade == 0.0 ? c : fade < 0.0 ? sky : blend;
+        color[k] = vec4(rgb, 1.0);
+    }
+}

@@ -1,0 +1,184 @@
+#version 430 core
+#extension GL_GOOGLE_include_directive : require
+// Shading and compositing (SPEC §3.8) on the GPU: the GL twin of
+// src/cpu/shading.cpp. After van der Laan, Green & Sainz 2009 (US 8,947,430,
+// eqs. 18-20) with the reflection/refraction of Cords & Staadt 2008 ("Instant
+// Liquids" §3):
+//   a     = lerp(C_fluid, S(x + beta n_x, y - beta n_y), exp(-k_rgb T))   (eq. 18)
+//   C_out = a (1 - F) + b F + k_s (n·h)^alpha                              (eq. 20)
+// with b the sky (src/shared/sky.h) along reflect(-v, n) in world space, F
+// Schlick's Fresnel term, beta = refraction * T * f / z pixels, the background
+// sampled bilinearly with premultiplied alpha and the sky filling what the
+// scene leaves transparent; opaque materials mix toward a Lambert-lit fluid
+// colour and fade the mirror reflection.
+// Every operation follows the CPU's shadeBatch in the same order, `precise`
+// (no FMA contraction or reassociation). The one deliberate difference: exp
+// and log are the driver's built-ins where the CPU uses Cephes polynomials
+// (both ~1e-7 relative); the (n·h)^120 highlight and s^64 sun glow amplify
+// that, which the parity test's colour tolerance covers.
+// Work: a work group per tile of 64 columns x uRows rows lists the tile's
+// fluid pixels in shared memory, then shades the list 64 at a time (see main).
+#include "frame_params.h"
+#include "sky.h"
+
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 1) readonly buffer SceneColor { vec4 sceneColor[]; };  // W*H linear RGBA
+layout(std430, binding = 2) readonly buffer SceneDepth { float sceneDepth[]; };  // W*H, +inf = sky
+layout(std430, binding = 3) readonly buffer Depth { float depth[]; };            // W*H fluid eye depth, +inf = none
+layout(std430, binding = 4) readonly buffer Normals { float normals[]; };        // W*H*3 view space
+layout(std430, binding = 5) readonly buffer Thickness { float thickness[]; };    // W*H metres
+layout(std430, binding = 6) writeonly buffer Color { vec4 color[]; };           // W*H linear RGBA
+
+layout(location = 0) uniform int uRows;          // rows per invocation
+layout(location = 1) uniform ivec3 uHas;         // scene, normals, thickness bound (image-sized)
+layout(location = 2) uniform float uNhMin;       // highlight skipped below this n·h (computed on the host as the CPU)
+
+// A work group's tile: 64 columns x uRows rows, uRows <= kMaxRows.
+const int kMaxRows = 16;
+shared uint tileList[64 * kMaxRows];  // pixel indices of the tile's fluid pixels
+shared uint tileCount;
+
+#define kInf uintBitsToFloat(0x7f800000u)
+
+// Share of the diffuse lighting of opaque materials that does not depend on the
+// light direction (sky fill), so faces turned away from the key light are not black.
+const float kAmbient = 0.35;
+
+int W, H;
+
+// Premultiplied texel k of the scene: (alpha * rgb, alpha).
+vec4 premulTexel(int k) {
+    const vec4 c = sceneColor[k];
+    precise vec4 p = c * vec4(c.a, c.a, c.a, 1.0);
+    return p;
+}
+
+// The shaded colour of fluid pixel (x, y) with eye depth z; rx, ryc: its view ray.
+vec3 shade(int x, int y, float z, float rx, float ryc, uint k) {
+    const bool hasScene = uHas.x != 0, hasNormals = uHas.y != 0, hasThickness = uHas.z != 0;
+    const vec3 X = P.right.xyz, Y = P.up.xyz, Z = P.back.xyz;
+    // Per image on the CPU (Setup); cheap enough per pixel here, same operations.
+    precise vec3 Lw = P.lightDirWorld.xyz;
+    precise vec3 Lv = vec3(Lw.x * X.x + Lw.y * X.y + Lw.z * X.z, Lw.x * Y.x + Lw.y * Y.y + Lw.z * Y.z,
+                           Lw.x * Z.x + Lw.y * Z.y + Lw.z * Z.z);
+    precise float lightLen = sqrt(Lv.x * Lv.x + Lv.y * Lv.y + Lv.z * Lv.z);
+    precise vec3 L = lightLen > 0.0 ? Lv / lightLen : vec3(0.0, 0.0, 1.0);
+    const vec3 fc = P.fluidColor.xyz;
+    const vec3 negK = -max(P.absorptionPerM.xyz, vec3(0.0));
+    precise float q = (P.absorptionPerM.w - 1.0) / (P.absorptionPerM.w + 1.0);
+    precise float f0 = q * q;  // Schlick F0 (cpu::fresnelF0)
+    const float op = clamp(P.fluidColor.w, 0.0, 1.0);
+    const float refraction = P.lightDirWorld.w, f = P.right.w;
+
+    // 1. View vector, normal (the view vector where none), sanitised thickness.
+    precise float invLen = 1.0 / sqrt(rx * rx + ryc * ryc + 1.0);
+    precise vec3 v = vec3(-rx * invLen, -ryc * invLen, invLen);
+    precise vec3 n = hasNormals ? vec3(normals[3 * k], normals[3 * k + 1], normals[3 * k + 2]) : vec3(0.0);
+    precise float nn = n.x * n.x + n.y * n.y + n.z * n.z;
+    n = nn > 0.0 ? n : v;  // false for (0,0,0) and NaN
+    float T = hasThickness ? thickness[k] : 0.0;
+    T = T > 0.0 && T < kInf ? T : 0.0;
+
+    // 2. Refraction: the background shifted along the normal by the projected
+    // thickness, sampled bilinearly (pixel centres at +0.5, clamped to the
+    // image) with premultiplied alpha.
+    precise vec4 s = vec4(0.0);
+    if (hasScene) {
+        precise float beta = refraction * T * f / z;
+        precise float px = float(x) + 0.5 + beta * n.x, py = float(y) + 0.5 - beta * n.y;
+        // std::min(max, std::max(0, v)) with the CPU's NaN behaviour (NaN -> 0).
+        precise float mx = px - 0.5, my = py - 0.5;
+        float fx = 0.0 < mx ? mx : 0.0;
+        float fy = 0.0 < my ? my : 0.0;
+        fx = float(W - 1) < fx ? float(W - 1) : fx;
+        fy = float(H - 1) < fy ? float(H - 1) : fy;
+        const int x0 = int(fx), y0 = int(fy);
+        precise float tx = fx - float(x0), ty = fy - float(y0);
+        const int i00 = y0 * W + x0;
+        const int dx = x0 + 1 < W ? 1 : 0, dy = y0 + 1 < H ? W : 0;
+        const vec4 c00 = premulTexel(i00), c10 = premulTexel(i00 + dx);
+        const vec4 c01 = premulTexel(i00 + dy), c11 = premulTexel(i00 + dy + dx);
+        precise vec4 top = c00 * (1.0 - tx) + c10 * tx;
+        precise vec4 bottom = c01 * (1.0 - tx) + c11 * tx;
+        s = top * (1.0 - ty) + bottom * ty;
+    }
+    // 3. What the scene leaves transparent shows the sky along the view ray.
+    if (s.a < 1.0) {
+        precise vec3 dir = vec3(rx * X.x + ryc * Y.x + -1.0 * Z.x, rx * X.y + ryc * Y.y + -1.0 * Z.y,
+                                rx * X.z + ryc * Y.z + -1.0 * Z.z);
+        const vec3 sky = skyRadiance(dir.x, dir.y, dir.z);
+        precise float ta = 1.0 - s.a;
+        s.rgb = s.rgb + ta * sky;
+    }
+    // 4. Absorption, Fresnel, reflection.
+    precise float nv = clamp(n.x * v.x + n.y * v.y + n.z * v.z, 0.0, 1.0);
+    precise float nl = n.x * L.x + n.y * L.y + n.z * L.z;
+    // Beer-Lambert absorption through thickness T (eq. 18).
+    precise vec3 a = fc + (s.rgb - fc) * exp(negK * T);
+    precise float m = 1.0 - nv;
+    precise float m2 = m * m;
+    precise float F = f0 + (1.0 - f0) * (m2 * m2 * m);  // schlickFresnel
+    // Opaque materials: toward a Lambert-lit fluid colour (op = 0: a unchanged).
+    precise float lit = kAmbient + (1.0 - kAmbient) * max(nl, 0.0);
+    if (op > 0.0) {
+        a = a * (1.0 - op) + fc * lit * op;
+        F = F * (1.0 - op);
+    }
+    // Mirror reflection of the environment, reflect(-v, n) in world space.
+    precise float tn = 2.0 * nv;
+    precise vec3 e = tn * n - v;
+    precise vec3 ew = vec3(e.x * X.x + e.y * Y.x + e.z * Z.x, e.x * X.y + e.y * Y.y + e.z * Z.y,
+                           e.x * X.z + e.y * Y.z + e.z * Z.z);
+    const vec3 b = skyRadiance(ew.x, ew.y, ew.z);
+    precise vec3 c = a * (1.0 - F) + b * F;
+    // 5. Blinn-Phong highlight (eq. 20) on the lit side where visible:
+    // (n.h)^s = exp(s ln(n.h)) for n.h in (nhMin, 1].
+    precise vec3 h = L + v;
+    precise float hInv = 1.0 / sqrt(h.x * h.x + h.y * h.y + h.z * h.z);
+    precise float nh = n.x * (h.x * hInv) + n.y * (h.y * hInv) + n.z * (h.z * hInv);
+    if (nl > 0.0 && nh > uNhMin) {
+        precise float spec = P.specular * exp(P.shininess * log(max(nh, 1e-30)));
+        c = c + vec3(spec);
+    }
+    return c;
+}
+
+void main() {
+    W = P.size.x;
+    H = P.size.y;
+    const bool hasScene = uHas.x != 0;
+    const float f = P.right.w;
+    const uint lid = gl_LocalInvocationID.x;
+    // 1. List this tile's fluid pixels (in front of the scene: not +inf, not
+    // hidden). Every other pixel already holds the scene colour (copied by the
+    // driver before the dispatch). llvmpipe runs both sides of a divergent
+    // branch under a mask, so an `if (fluid) shade` would cost the full shading
+    // for every pixel; a loop over the list costs it only per fluid pixel.
+    if (lid == 0u) tileCount = 0u;
+    barrier();
+    const int x = int(gl_GlobalInvocationID.x);
+    const int y0 = int(gl_WorkGroupID.y) * uRows;
+    if (x < W) {
+        const int yEnd = min(y0 + uRows, H);
+        for (int y = y0; y < yEnd; ++y) {
+            const uint k = uint(y) * uint(W) + uint(x);
+            const float z = depth[k];
+            if ((hasScene ? z < sceneDepth[k] : z < kInf) && z > 0.0) tileList[atomicAdd(tileCount, 1u)] = k;
+        }
+    }
+    barrier();
+    // 2. Shade the listed pixels, 64 at a time.
+    const uint n = tileCount;
+    for (uint base = 0u; base < n; base += gl_WorkGroupSize.x) {
+        const uint i = base + lid;
+        if (i < n) {
+            const uint k = tileList[i];
+            const int px = int(k % uint(W)), py = int(k / uint(W));
+            // View rays exactly as the CPU's per-column and per-row tables.
+            precise float rx = ((float(px) + 0.5) - 0.5 * float(W)) / f;
+            precise float ryc = -((float(py) + 0.5) - 0.5 * float(H)) / f;
+            color[k] = vec4(shade(px, py, depth[k], rx, ryc, k), 1.0);
+        }
+    }
+}

@@ -1,0 +1,83 @@
+// GL shading and compositing, SPEC §3.8: refraction, Beer-Lambert absorption,
+// environment reflection, Schlick Fresnel and Blinn-Phong specular after van
+// der Laan, Green & Sainz 2009 (US 8,947,430, eqs. 18-20) and Cords & Staadt
+// 2008 ("Instant Liquids" §3), composited over the scene layer by
+// shaders/shade.comp, operation for operation as src/cpu/shading.cpp.
+#include "gl/shading.h"
+
+#include <cmath>
+
+#include "gl/shaders.h"
+
+namespace meniscus::gl {
+
+namespace {
+constexpr int kGroup = 64;  // local_size_x of shade.comp: columns per work group
+constexpr int kRows = 16;   // rows per work group's tile (<= kMaxRows in shade.comp)
+
+bool sized(const GpuImage& img, int w, int h, int c) {
+    return img.width == w && img.height == h && img.channels == c && img.buffer.id() != 0;
+}
+}  // namespace
+
+Result<Shading> Shading::create() {
+    Shading s;
+    auto p = loadComputeProgram("shade.comp");
+    if (!p) return p.error();
+    s.program_ = std::move(*p);
+    s.dummy_.reserve(16);
+    return s;
+}
+
+void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const GpuImage& sceneDepth,
+                  const GpuImage& depth, const GpuImage& normals, const GpuImage& thickness, GpuImage& color) {
+    const int W = frame.size.x, H = frame.size.y;
+    color.resize(W, H, 4);
+    if (W <= 0 || H <= 0) return;
+    const bool hasScene = sized(sceneColor, W, H, 4) && sized(sceneDepth, W, H, 1);
+    const bool hasNormals = sized(normals, W, H, 3);
+    const bool hasThickness = sized(thickness, W, H, 1);
+    // As the CPU: the highlight k_s (n.h)^s is skipped where it is below 1e-6
+    // (invisible in any output format), n.h < (1e-6 / k_s)^(1/s); std::pow here
+    // so both backends use the same threshold.
+    const float ks = frame.specular, sh = frame.shininess;
+    const float nhMin = ks > 1e-6f && sh > 0.0f ? std::pow(1e-6f / ks, 1.0f / sh) : 2.0f;
+
+    // Every pixel starts as the scene colour (transparent black without a
+    // scene), by the driver (a memcpy / memset on llvmpipe); the shader then
+    // writes only the fluid pixels.
+    if (hasScene) {
+        glBindBuffer(GL_COPY_READ_BUFFER, sceneColor.buffer.id());
+        glBindBuffer(GL_COPY_WRITE_BUFFER, color.buffer.id());
+        glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, color.bytes());
+    } else {
+        const float zero = 0.0f;
+        glBindBuffer(GL_COPY_WRITE_BUFFER, color.buffer.id());
+        glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32F, 0, color.bytes(), GL_RED, GL_FLOAT, &zero);
+    }
+    if (!sized(depth, W, H, 1)) {  // no usable fluid depth: the scene alone
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        return;
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+    glUseProgram(program_.id());
+    glUniform1i(0, kRows);
+    glUniform3i(1, hasScene ? 1 : 0, hasNormals ? 1 : 0, hasThickness ? 1 : 0);
+    glUniform1f(2, nhMin);
+    auto bindOr = [&](const GpuImage& img, bool present, GLuint binding) {
+        if (present) img.bind(binding);
+        else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, dummy_.id());
+    };
+    bindOr(sceneColor, hasScene, 1);
+    bindOr(sceneDepth, hasScene, 2);
+    depth.bind(3);
+    bindOr(normals, hasNormals, 4);
+    bindOr(thickness, hasThickness, 5);
+    color.bind(6);
+    glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint((H + kRows - 1) / kRows), 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glUseProgram(0);
+}
+
+}  // namespace meniscus::gl

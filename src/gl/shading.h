@@ -1,0 +1,37 @@
+// GL shading and compositing (SPEC §3.8): the GPU twin of
+// meniscus::cpu::shadeAndComposite. Needs a current GL 4.3 context
+// (gl::Context) on the calling thread.
+#pragma once
+
+#include "gl/gpu_image.h"
+#include "gl/objects.h"
+#include "gl/uniforms.h"
+#include "meniscus/result.h"
+
+namespace meniscus::gl {
+
+// Owns the shading program; reuse one across frames.
+class Shading {
+public:
+    // Compiles the shader; an error carries the driver's log.
+    static Result<Shading> create();
+
+    // GL twin of cpu::shadeAndComposite(camera, scene, depth, normals,
+    // thickness, shading): W x H x 4 linear RGBA, the scene colour where there
+    // is no fluid in front of it, shaded fluid (alpha 1) where there is.
+    // Camera, material and light from the bound frame block (binding 0,
+    // uploaded by the caller from `frame`: P.fluidColor, P.absorptionPerM,
+    // P.lightDirWorld, P.specular, P.shininess). As on the CPU, a scene
+    // (colour and depth), normals or thickness image of another size than
+    // P.size counts as absent: transparent background, normals facing the eye,
+    // zero thickness; a depth of another size means no fluid (the scene
+    // alone). Asynchronous: nothing waits for the GPU here.
+    void run(const FrameParams& frame, const GpuImage& sceneColor, const GpuImage& sceneDepth, const GpuImage& depth,
+             const GpuImage& normals, const GpuImage& thickness, GpuImage& color);
+
+private:
+    Program program_;
+    Buffer dummy_;  // bound in place of an absent input (never read)
+};
+
+}  // namespace meniscus::gl

@@ -1,0 +1,70 @@
+// The procedural sky (SPEC §3.1), written once for C++ and GLSL (STYLE.md:
+// src/shared/ is compiled by C++ and included by the GL shaders): the
+// background where no studio geometry is hit and the environment map the fluid
+// reflects. cpu::skyColorRgb (src/cpu/sky.h) and the GL scene and shading
+// shaders all call skyRadiance, so the two backends evaluate the same
+// operations in the same order; in GLSL every intermediate is `precise` (no
+// FMA contraction or reassociation), matching the CPU's plain IEEE arithmetic.
+// Branch-free (both candidates computed, one selected) so that the CPU's
+// per-row loops vectorise it.
+#ifndef MENISCUS_SHARED_SKY_H
+#define MENISCUS_SHARED_SKY_H
+
+#ifdef __cplusplus
+#include <algorithm>
+#include <cmath>
+#include <glm/glm.hpp>
+namespace meniscus::shared {
+using vec3 = glm::vec3;
+using std::max;
+using std::min;
+using std::sqrt;
+#define MENISCUS_SKY_INLINE inline
+#define MENISCUS_SKY_EXACT const  // C++: plain IEEE float arithmetic already
+#else
+#define MENISCUS_SKY_INLINE
+#define MENISCUS_SKY_EXACT precise
+#endif
+
+// Linear RGB radiance of the sky along a world-space direction (dx, dy, dz),
+// which need not be unit. Ground below the horizon, a bright horizon band
+// fading to a deep zenith blue, and a soft sun glow so reflections carry a
+// highlight.
+MENISCUS_SKY_INLINE vec3 skyRadiance(float dx, float dy, float dz) {
+    MENISCUS_SKY_EXACT float len = sqrt(dx * dx + dy * dy + dz * dz);
+    bool ok = len > 0.0f;
+    MENISCUS_SKY_EXACT float inv = 1.0f / len;  // one division, not three (shading calls this twice per pixel)
+    MENISCUS_SKY_EXACT float x = ok ? dx * inv : 0.0f;
+    MENISCUS_SKY_EXACT float y = ok ? dy * inv : 1.0f;
+    MENISCUS_SKY_EXACT float z = ok ? dz * inv : 0.0f;
+    // Above the horizon mix toward the zenith by sqrt(y), below toward the ground
+    // within 15 degrees or so; both branches computed, one selected.
+    bool up = y >= 0.0f;
+    MENISCUS_SKY_EXACT float t = up ? sqrt(max(y, 0.0f)) : min(1.0f, -4.0f * y);
+    MENISCUS_SKY_EXACT float u = 1.0f - t;
+    MENISCUS_SKY_EXACT float cr = 0.78f * u + (up ? 0.16f : 0.30f) * t;
+    MENISCUS_SKY_EXACT float cg = 0.85f * u + (up ? 0.34f : 0.28f) * t;
+    MENISCUS_SKY_EXACT float cb = 0.93f * u + (up ? 0.70f : 0.26f) * t;
+    // Sun glow toward the default key light (the same direction as ShadingParams),
+    // s^64 by squarings rather than pow.
+    MENISCUS_SKY_EXACT float sx = -0.4f;
+    MENISCUS_SKY_EXACT float sy = 1.0f;
+    MENISCUS_SKY_EXACT float sz = 0.55f;
+    MENISCUS_SKY_EXACT float sInv = 1.0f / sqrt(sx * sx + sy * sy + sz * sz);
+    MENISCUS_SKY_EXACT float s = max(0.0f, x * (sx * sInv) + y * (sy * sInv) + z * (sz * sInv));
+    MENISCUS_SKY_EXACT float s2 = s * s;
+    MENISCUS_SKY_EXACT float s4 = s2 * s2;
+    MENISCUS_SKY_EXACT float s8 = s4 * s4;
+    MENISCUS_SKY_EXACT float s16 = s8 * s8;
+    MENISCUS_SKY_EXACT float s32 = s16 * s16;
+    MENISCUS_SKY_EXACT float glow = 0.6f * (s32 * s32);
+    return vec3(cr + 1.0f * glow, cg + 0.95f * glow, cb + 0.85f * glow);
+}
+
+#ifdef __cplusplus
+}  // namespace meniscus::shared
+#endif
+#undef MENISCUS_SKY_INLINE
+#undef MENISCUS_SKY_EXACT
+
+#endif  // MENISCUS_SHARED_SKY_H

@@ -1,0 +1,256 @@
+// GL scene stage (SPEC §3.1, src/gl/scene.cpp) against the CPU reference
+// cpu::castScene: the studio of the real frame, a synthetic box seen from all
+// four sides and from above and near the horizon (far fade, sky), the
+// background switched off. Skips only when no headless GL 4.3 context can be
+// created at all.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "cpu/scene.h"
+#include "gl/scene.h"
+#include "gl/uniforms.h"
+#include "meniscus/io.h"
+#include "meniscus/particles.h"
+#include "gl_test_util.h"
+#include "test_util.h"
+
+using namespace meniscus;
+using namespace meniscus::test;
+
+namespace {
+
+class GlScene : public GlTest {};
+
+// Tolerances (same arithmetic in the same order on both sides, `precise` in the
+// shader; the sky formula is the same source, src/shared/sky.h):
+//  - colour: 0 8-bit sRGB steps, and |gl - cpu| <= 1e-5 in linear units (an
+//    ulp or two of division/sqrt rounding on llvmpipe, amplified at most by the
+//    sun glow's s^64);
+//  - depth: relative 1e-6 where both hit a plane;
+//  - hit / sky coverage: a pixel may differ only where its ray grazes a plane's
+//    edge (the wall top, the corner): at most 0.01% of the pixels, plus 2.
+constexpr int kColorSteps = 0;
+constexpr double kColorAbs = 1e-5;
+constexpr double kDepthRel = 1e-6;
+constexpr double kCoverageFraction = 1e-4;
+
+struct SceneDiff {
+    DepthDiff depth;
+    ColorDiff color;
+    double maxAbs = 0.0;  // max |gl - cpu| of any colour channel, linear
+};
+
+// Runs both backends for (camera, studio) and compares.
+SceneDiff compareScene(const Camera& cam, const cpu::Studio& studio, cpu::SceneLayer* cpuOut = nullptr,
+                       Image<glm::vec4>* glColorOut = nullptr, Image<float>* glDepthOut = nullptr) {
+    SceneDiff d;
+    auto caster = gl::SceneCaster::create();
+    EXPECT_TRUE(caster.ok()) << caster.error().describe();
+    if (!caster) return d;
+    const gl::FrameParams p = gl::packFrameParams(cam, 0.01f, FilterParams{}, ThicknessParams{}, ShadingParams{});
+    gl::FrameParamsBlock block;
+    block.upload(p);
+    gl::GpuImage color, depth;
+    caster->run(p, studio, color, depth);
+    const Image<glm::vec4> glColor = color.download<glm::vec4>();
+    const Image<float> glDepth = depth.download<float>();
+    const cpu::SceneLayer ref = cpu::castScene(cam, studio);
+    d.depth = compareDepth(ref.depth, glDepth);
+    d.color = compareColor(ref.color, glColor);
+    for (std::size_t k = 0; k < ref.color.size() && k < glColor.size(); ++k)
+        for (int c = 0; c < 4; ++c)
+            d.maxAbs = std::max(d.maxAbs, double(std::abs(ref.color.pixels[k][c] - glColor.pixels[k][c])));
+    if (cpuOut) *cpuOut = ref;
+    if (glColorOut) *glColorOut = glColor;
+    if (glDepthOut) *glDepthOut = glDepth;
+    return d;
+}
+
+void expectWithinTolerance(const SceneDiff& d, int pixels, const char* what) {
+    std::printf("%s: %d of %d pixels hit a plane, %d hit/sky differences, depth max rel %.3g, colour max %d steps"
+                " (max abs %.3g)\n",
+                what, d.depth.coveredCpu, pixels, d.depth.coverageDiffer, d.depth.maxRel, d.color.maxSteps, d.maxAbs);
+    EXPECT_LE(d.depth.coverageDiffer, int(kCoverageFraction * pixels) + 2) << what;
+    EXPECT_LE(d.depth.maxRel, kDepthRel) << what;
+    EXPECT_LE(d.color.maxSteps, kColorSteps) << what;
+    EXPECT_LE(d.maxAbs, kColorAbs) << what;
+}
+
+struct RealFrame {
+    std::vector<glm::vec3> positions;
+    float radius = 0.0f;
+};
+const RealFrame& realFrame() {
+    static const RealFrame frame = [] {
+        RealFrame f;
+        auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
+        EXPECT_TRUE(set.ok()) << set.error().describe();
+        if (set) {
+            f.positions = set->positions;
+            f.radius = estimateRadius(f.positions).radius;
+        }
+        return f;
+    }();
+    return frame;
+}
+
+Camera realCamera(int w, int h) {
+    Camera base;
+    base.width = w;
+    base.height = h;
+    return autoFrameCamera(realFrame().positions, realFrame().radius, base);
+}
+
+// A camera at azimuth/elevation (degrees) around the box centre, at `dist`.
+Camera orbitCamera(const Bounds& box, float azimuthDeg, float elevationDeg, float dist, int w, int h) {
+    Camera c;
+    const float az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
+    c.target = box.center();
+    c.eye = c.target + dist * glm::vec3(std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el));
+    c.width = w;
+    c.height = h;
+    c.fovYDegrees = 50.0f;
+    c.nearM = 0.01f;
+    return c;
+}
+
+}  // namespace
+
+TEST_F(GlScene, RealFrameStudioMatchesCpu) {
+    const RealFrame& f = realFrame();
+    ASSERT_FALSE(f.positions.empty());
+    const Camera cam = realCamera(320, 180);
+    const cpu::Studio studio = cpu::makeStudio(computeBounds(f.positions), f.radius, cam, SceneParams{});
+    const SceneDiff d = compareScene(cam, studio);
+    EXPECT_GT(d.depth.coveredCpu, 320 * 180 / 4);  // the studio fills much of the frame
+    expectWithinTolerance(d, 320 * 180, "real frame studio");
+}
+
+TEST_F(GlScene, EverySideAndHeightMatchesCpu) {
+    // A 1 m x 0.5 m x 0.8 m box: the walls flip sides with the camera (both
+    // normal signs), a high camera sees mostly floor, a low one the far fade
+    // into the sky and sky above the walls; an odd image size checks the
+    // column/row bounds of the dispatch.
+    Bounds box;
+    box.extend({-0.5f, 0.0f, -0.4f});
+    box.extend({0.5f, 0.5f, 0.4f});
+    const float r = 0.05f;
+    const float azimuths[] = {35.0f, 125.0f, 215.0f, 305.0f};
+    const float elevations[] = {2.0f, 25.0f, 70.0f};
+    for (float az : azimuths)
+        for (float el : elevations) {
+            const Camera cam = orbitCamera(box, az, el, 3.0f, 203, 117);
+            const cpu::Studio studio = cpu::makeStudio(box, r, cam, SceneParams{});
+            char what[64];
+            std::snprintf(what, sizeof what, "azimuth %.0f elevation %.0f", az, el);
+            const SceneDiff d = compareScene(cam, studio);
+            expectWithinTolerance(d, cam.width * cam.height, what);
+            EXPECT_GT(d.depth.coveredCpu, 0) << what;
+        }
+}
+
+TEST_F(GlScene, FarFloorFadesIntoTheSkyAsOnTheCpu) {
+    // Eye just above a big floor looking at the horizon: most floor pixels are
+    // beyond the fade start (24 squares), the blend of the checker and the sky.
+    Bounds box;
+    box.extend({-0.1f, 0.0f, -0.1f});
+    box.extend({0.1f, 0.1f, 0.1f});
+    Camera cam;
+    cam.eye = {3.0f, 0.3f, 3.0f};
+    cam.target = {50.0f, 0.2f, 50.0f};  // looking away from the walls, toward the open floor
+    cam.width = 256;
+    cam.height = 128;
+    cam.fovYDegrees = 30.0f;
+    cpu::Studio studio = cpu::makeStudio(box, 0.01f, cam, SceneParams{});
+    cpu::SceneLayer ref;
+    const SceneDiff d = compareScene(cam, studio, &ref);
+    int faded = 0;
+    for (int y = 0; y < cam.height; ++y)
+        for (int x = 0; x < cam.width; ++x)
+            faded += std::isfinite(ref.depth.at(x, y)) &&
+                     ref.depth.at(x, y) > 24.0f * studio.checkerM + glm::length(cam.eye);
+    EXPECT_GT(faded, 100);  // the fade is really exercised
+    expectWithinTolerance(d, cam.width * cam.height, "far fade");
+}
+
+TEST_F(GlScene, BackgroundOffIsTransparentAndInfinite) {
+    const Camera cam = realCamera(160, 90);
+    SceneParams params;
+    params.background = false;
+    const cpu::Studio studio = cpu::makeStudio(computeBounds(realFrame().positions), realFrame().radius, cam, params);
+    ASSERT_FALSE(studio.enabled);
+    cpu::SceneLayer ref;
+    Image<glm::vec4> glColor;
+    Image<float> glDepth;
+    const SceneDiff d = compareScene(cam, studio, &ref, &glColor, &glDepth);
+    ASSERT_EQ(glColor.size(), std::size_t(160 * 90));
+    ASSERT_EQ(glDepth.size(), std::size_t(160 * 90));
+    for (std::size_t k = 0; k < glColor.size(); ++k) {
+        ASSERT_EQ(glColor.pixels[k], glm::vec4(0.0f)) << k;  // exactly the CPU's (0,0,0,0)
+        ASSERT_TRUE(std::isinf(glDepth.pixels[k]) && glDepth.pixels[k] > 0.0f) << k;
+    }
+    EXPECT_EQ(d.depth.coverageDiffer, 0);
+    EXPECT_EQ(d.maxAbs, 0.0);
+}
+
+TEST_F(GlScene, ReusedAcrossSizesAndStudios) {
+    // One caster, the buffers reused: a big frame, then a small one with the
+    // background off, then the big one again must give the same as fresh.
+    const RealFrame& f = realFrame();
+    auto caster = gl::SceneCaster::create();
+    ASSERT_TRUE(caster.ok()) << caster.error().describe();
+    gl::FrameParamsBlock block;
+    gl::GpuImage color, depth;
+    const Camera big = realCamera(320, 180), small = realCamera(64, 36);
+    const cpu::Studio on = cpu::makeStudio(computeBounds(f.positions), f.radius, big, SceneParams{});
+    cpu::Studio off = on;
+    off.enabled = false;
+    const gl::FrameParams pBig = gl::packFrameParams(big, f.radius, FilterParams{}, ThicknessParams{}, ShadingParams{});
+    const gl::FrameParams pSmall =
+        gl::packFrameParams(small, f.radius, FilterParams{}, ThicknessParams{}, ShadingParams{});
+    block.upload(pBig);
+    caster->run(pBig, on, color, depth);
+    block.upload(pSmall);
+    caster->run(pSmall, off, color, depth);
+    EXPECT_EQ(color.width, 64);
+    EXPECT_EQ(depth.height, 36);
+    block.upload(pBig);
+    caster->run(pBig, on, color, depth);
+    const cpu::SceneLayer ref = cpu::castScene(big, on);
+    const ColorDiff c = compareColor(ref.color, color.download<glm::vec4>());
+    const DepthDiff z = compareDepth(ref.depth, depth.download<float>());
+    EXPECT_LE(c.maxSteps, kColorSteps);
+    EXPECT_LE(z.coverageDiffer, int(kCoverageFraction * 320 * 180) + 2);
+    EXPECT_LE(z.maxRel, kDepthRel);
+}
+
+TEST_F(GlScene, Timing1280x720) {
+    // Reported, never asserted: the median of a few runs at 1280x720.
+    const RealFrame& f = realFrame();
+    const Camera cam = realCamera(1280, 720);
+    const cpu::Studio studio = cpu::makeStudio(computeBounds(f.positions), f.radius, cam, SceneParams{});
+    auto caster = gl::SceneCaster::create();
+    ASSERT_TRUE(caster.ok()) << caster.error().describe();
+    const gl::FrameParams p = gl::packFrameParams(cam, f.radius, FilterParams{}, ThicknessParams{}, ShadingParams{});
+    gl::FrameParamsBlock block;
+    block.upload(p);
+    gl::GpuImage color, depth;
+    caster->run(p, studio, color, depth);  // warm-up (allocation, shader JIT)
+    glFinish();
+    std::vector<double> ms;
+    for (int i = 0; i < 7; ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        caster->run(p, studio, color, depth);
+        glFinish();
+        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(ms.begin(), ms.end());
+    std::printf("scene 1280x720: median %.2f ms (min %.2f, max %.2f)\n", ms[ms.size() / 2], ms.front(), ms.back());
+    const cpu::SceneLayer ref = cpu::castScene(cam, studio);
+    EXPECT_LE(compareColor(ref.color, color.download<glm::vec4>()).maxSteps, kColorSteps);
+}

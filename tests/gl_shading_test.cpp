@@ -1,0 +1,277 @@
+// GL shading and compositing (SPEC §3.8, src/gl/shading.cpp) against the CPU
+// reference cpu::shadeAndComposite, on the real frame's CPU AOVs (scene layer,
+// smoothed depth, normals, thickness) uploaded as the inputs: water, lava and
+// every other preset, the background off, and the edge cases: no fluid, no
+// scene, fluid hidden behind the scene, missing normals / thickness.
+// Skips only when no headless GL 4.3 context can be created at all.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "cpu/scene.h"
+#include "cpu/shading.h"
+#include "gl/shading.h"
+#include "gl/uniforms.h"
+#include "meniscus/io.h"
+#include "meniscus/particles.h"
+#include "meniscus/renderer.h"
+#include "gl_test_util.h"
+#include "test_util.h"
+
+using namespace meniscus;
+using namespace meniscus::test;
+
+namespace {
+
+class GlShading : public GlTest {};
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Tolerances. The shader runs shadeBatch's operations in the CPU's order,
+// `precise`, with the same sky source (src/shared/sky.h); the one difference is
+// exp/log: the driver's built-ins against the CPU's Cephes polynomials (both
+// ~1e-7 relative), amplified by the (n.h)^120 highlight (120 ln(n.h)) and by
+// absorption's exp(-kT):
+//  - colour: at most 1 8-bit sRGB step in any channel, on at most 0.1% of the
+//    pixels more than 0 steps (alpha exactly 1 on fluid, the scene's elsewhere);
+//  - linear: |gl - cpu| <= 1e-5 per channel on fluid pixels (measured up to
+//    5.5e-6 on the real frame; highlights reach ~1, so ~1e-5 relative);
+//    non-fluid pixels exactly the scene's (copied, never recomputed).
+constexpr int kColorSteps = 1;
+constexpr double kFractionOver0 = 1e-3;
+constexpr double kLinearAbs = 1e-5;
+
+struct RealAovs {
+    Camera camera;
+    cpu::SceneLayer scene, sceneOff;
+    Aovs aovs;
+    float radius = 0.0f;
+};
+
+// The real frame's CPU AOVs at w x h (what the GL shading stage will get from
+// the earlier GL stages).
+RealAovs makeRealAovs(int w, int h) {
+    RealAovs out;
+    auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
+    EXPECT_TRUE(set.ok()) << set.error().describe();
+    if (!set) return out;
+    out.radius = estimateRadius(set->positions).radius;
+    Camera base;
+    base.width = w;
+    base.height = h;
+    out.camera = autoFrameCamera(set->positions, out.radius, base);
+    RenderSettings s;
+    s.camera = out.camera;
+    s.radiusM = out.radius;
+    auto aovs = renderFrame(set->positions, s);
+    EXPECT_TRUE(aovs.ok()) << aovs.error().describe();
+    if (aovs) out.aovs = std::move(*aovs);
+    const Bounds box = computeBounds(set->positions);
+    out.scene = cpu::castScene(out.camera, cpu::makeStudio(box, out.radius, out.camera, SceneParams{}));
+    SceneParams off;
+    off.background = false;
+    out.sceneOff = cpu::castScene(out.camera, cpu::makeStudio(box, out.radius, out.camera, off));
+    return out;
+}
+
+const RealAovs& real320() {
+    static const RealAovs a = makeRealAovs(320, 180);
+    return a;
+}
+
+struct ShadeDiff {
+    ColorDiff color;
+    int fluid = 0;              // pixels the CPU shaded (alpha 1 over a transparent scene, or depth in front)
+    int over0 = 0;              // pixels with any channel off by >= 1 step
+    double maxAbsFluid = 0.0;   // max |gl - cpu| on shaded pixels, linear
+    double maxAbsOther = 0.0;   // max |gl - cpu| elsewhere (must be 0: the scene copied)
+    Image<glm::vec4> gl;
+};
+
+// GL inputs: empty images stay un-uploaded (absent), as the CPU's empty Images.
+ShadeDiff compareWithCpu(const Camera& cam, float r, const cpu::SceneLayer& scene, const Image<float>& depth,
+                         const Image<glm::vec3>& normals, const Image<float>& thickness, const ShadingParams& shading) {
+    ShadeDiff d;
+    auto shader = gl::Shading::create();
+    EXPECT_TRUE(shader.ok()) << shader.error().describe();
+    if (!shader) return d;
+    const gl::FrameParams p = gl::packFrameParams(cam, r, FilterParams{}, ThicknessParams{}, shading);
+    gl::FrameParamsBlock block;
+    block.upload(p);
+    gl::GpuImage sc, sd, z, n, t, out;
+    if (!scene.color.empty()) sc.upload(scene.color);
+    if (!scene.depth.empty()) sd.upload(scene.depth);
+    z.upload(depth);
+    if (!normals.empty()) n.upload(normals);
+    if (!thickness.empty()) t.upload(thickness);
+    shader->run(p, sc, sd, z, n, t, out);
+    d.gl = out.download<glm::vec4>();
+    const Image<glm::vec4> ref = cpu::shadeAndComposite(cam, scene, depth, normals, thickness, shading);
+    d.color = compareColor(ref, d.gl);
+    const bool hasScene = scene.depth.width == depth.width && scene.depth.height == depth.height;
+    for (std::size_t k = 0; k < ref.size() && k < d.gl.size(); ++k) {
+        const float zk = depth.pixels[k];
+        const bool fluid = (hasScene ? zk < scene.depth.pixels[k] : zk < kInf) && zk > 0.0f;
+        d.fluid += fluid;
+        double m = 0.0;
+        int steps = 0;
+        for (int c = 0; c < 4; ++c) {
+            m = std::max(m, double(std::abs(ref.pixels[k][c] - d.gl.pixels[k][c])));
+            if (c < 3) steps = std::max(steps, std::abs(srgb8(ref.pixels[k][c]) - srgb8(d.gl.pixels[k][c])));
+        }
+        d.over0 += steps > 0;
+        (fluid ? d.maxAbsFluid : d.maxAbsOther) = std::max(fluid ? d.maxAbsFluid : d.maxAbsOther, m);
+    }
+    return d;
+}
+
+void expectWithinTolerance(const ShadeDiff& d, std::size_t pixels, const std::string& what) {
+    std::printf("%s: %d shaded of %zu pixels, colour max %d steps, %d pixels off by >= 1 step, linear max %.3g"
+                " (shaded) %.3g (others)\n",
+                what.c_str(), d.fluid, pixels, d.color.maxSteps, d.over0, d.maxAbsFluid, d.maxAbsOther);
+    EXPECT_LE(d.color.maxSteps, kColorSteps) << what;
+    EXPECT_LE(d.over0, int(kFractionOver0 * double(pixels))) << what;
+    EXPECT_LE(d.maxAbsFluid, kLinearAbs) << what;
+    EXPECT_EQ(d.maxAbsOther, 0.0) << what;
+}
+
+ShadingParams preset(const std::string& name) {
+    ShadingParams s;
+    EXPECT_TRUE(materialPreset(name, &s.material)) << name;
+    return s;
+}
+
+}  // namespace
+
+TEST_F(GlShading, RealFrameWaterMatchesCpu) {
+    const RealAovs& a = real320();
+    ASSERT_FALSE(a.aovs.depth.empty());
+    const ShadeDiff d =
+        compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, preset("water"));
+    EXPECT_GT(d.fluid, 320 * 180 / 10);
+    expectWithinTolerance(d, a.aovs.depth.size(), "water");
+}
+
+TEST_F(GlShading, RealFrameLavaMatchesCpu) {
+    // Opaque: the Lambert-lit fluid colour, faded mirror reflection.
+    const RealAovs& a = real320();
+    ASSERT_FALSE(a.aovs.depth.empty());
+    const ShadingParams lava = preset("lava");
+    ASSERT_GT(lava.material.opacity, 0.0f);
+    const ShadeDiff d =
+        compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, lava);
+    expectWithinTolerance(d, a.aovs.depth.size(), "lava");
+}
+
+TEST_F(GlShading, RealFrameEveryPresetAndAnotherLightMatchCpu) {
+    const RealAovs& a = real320();
+    ASSERT_FALSE(a.aovs.depth.empty());
+    for (const char* name : {"murky", "milk", "sand"}) {
+        const ShadeDiff d =
+            compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, preset(name));
+        expectWithinTolerance(d, a.aovs.depth.size(), name);
+    }
+    ShadingParams s = preset("water");
+    s.lightDirWorld = glm::normalize(glm::vec3(0.7f, 0.4f, -0.2f));  // a light from the side
+    s.material.shininess = 30.0f;
+    const ShadeDiff d = compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, s);
+    expectWithinTolerance(d, a.aovs.depth.size(), "water, side light, shininess 30");
+}
+
+TEST_F(GlShading, RealFrameBackgroundOffMatchesCpu) {
+    // Transparent scene: refraction samples the sky, non-fluid pixels (0,0,0,0).
+    const RealAovs& a = real320();
+    ASSERT_FALSE(a.aovs.depth.empty());
+    for (const char* name : {"water", "lava"}) {
+        const ShadeDiff d = compareWithCpu(a.camera, a.radius, a.sceneOff, a.aovs.depth, a.aovs.normal,
+                                           a.aovs.thickness, preset(name));
+        expectWithinTolerance(d, a.aovs.depth.size(), std::string("background off, ") + name);
+        int transparent = 0;
+        for (const glm::vec4& c : d.gl.pixels) transparent += c == glm::vec4(0.0f);
+        EXPECT_EQ(transparent, int(a.aovs.depth.size()) - d.fluid);
+    }
+}
+
+TEST_F(GlShading, NoFluidGivesTheSceneExactly) {
+    const RealAovs& a = real320();
+    ASSERT_FALSE(a.scene.color.empty());
+    const Image<float> none(a.camera.width, a.camera.height, kInf);
+    const ShadeDiff d =
+        compareWithCpu(a.camera, a.radius, a.scene, none, a.aovs.normal, a.aovs.thickness, preset("water"));
+    EXPECT_EQ(d.fluid, 0);
+    ASSERT_EQ(d.gl.size(), a.scene.color.size());
+    for (std::size_t k = 0; k < d.gl.size(); ++k) ASSERT_EQ(d.gl.pixels[k], a.scene.color.pixels[k]) << k;
+    // And without any scene: transparent black.
+    const ShadeDiff e = compareWithCpu(a.camera, a.radius, cpu::SceneLayer{}, none, {}, {}, preset("water"));
+    for (const glm::vec4& c : e.gl.pixels) ASSERT_EQ(c, glm::vec4(0.0f));
+}
+
+TEST_F(GlShading, FluidBehindTheSceneIsHidden) {
+    // A scene depth nearer than the fluid over the left half: the scene shows
+    // there, the fluid on the right; the refraction still samples the whole scene.
+    const RealAovs& a = real320();
+    ASSERT_FALSE(a.aovs.depth.empty());
+    cpu::SceneLayer scene = a.scene;
+    for (int y = 0; y < a.camera.height; ++y)
+        for (int x = 0; x < a.camera.width / 2; ++x) scene.depth.at(x, y) = 1e-3f;
+    const ShadeDiff d =
+        compareWithCpu(a.camera, a.radius, scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, preset("water"));
+    expectWithinTolerance(d, a.aovs.depth.size(), "left half hidden");
+    for (int y = 0; y < a.camera.height; ++y)
+        for (int x = 0; x < a.camera.width / 2; ++x) ASSERT_EQ(d.gl.at(x, y), scene.color.at(x, y));
+}
+
+TEST_F(GlShading, NoSceneNoNormalsNoThicknessMatchCpu) {
+    // Absent inputs (empty images on the CPU, never-uploaded GpuImages on GL):
+    // transparent background with the sky refracted, normals facing the eye,
+    // zero thickness.
+    const RealAovs& a = real320();
+    ASSERT_FALSE(a.aovs.depth.empty());
+    const ShadeDiff d = compareWithCpu(a.camera, a.radius, cpu::SceneLayer{}, a.aovs.depth, a.aovs.normal,
+                                       a.aovs.thickness, preset("water"));
+    expectWithinTolerance(d, a.aovs.depth.size(), "no scene");
+    const ShadeDiff e = compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, {}, {}, preset("water"));
+    expectWithinTolerance(e, a.aovs.depth.size(), "no normals, no thickness");
+}
+
+TEST_F(GlShading, Timing1280x720) {
+    // Reported, never asserted: the median of a few runs at 1280x720 on the
+    // real frame's AOVs.
+    const RealAovs a = makeRealAovs(1280, 720);
+    ASSERT_FALSE(a.aovs.depth.empty());
+    const ShadingParams water = preset("water");
+    auto shader = gl::Shading::create();
+    ASSERT_TRUE(shader.ok()) << shader.error().describe();
+    const gl::FrameParams p = gl::packFrameParams(a.camera, a.radius, FilterParams{}, ThicknessParams{}, water);
+    gl::FrameParamsBlock block;
+    block.upload(p);
+    gl::GpuImage sc, sd, z, n, t, out;
+    sc.upload(a.scene.color);
+    sd.upload(a.scene.depth);
+    z.upload(a.aovs.depth);
+    n.upload(a.aovs.normal);
+    t.upload(a.aovs.thickness);
+    shader->run(p, sc, sd, z, n, t, out);  // warm-up (allocation, shader JIT)
+    glFinish();
+    std::vector<double> ms;
+    for (int i = 0; i < 7; ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        shader->run(p, sc, sd, z, n, t, out);
+        glFinish();
+        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(ms.begin(), ms.end());
+    std::printf("shading 1280x720: median %.2f ms (min %.2f, max %.2f)\n", ms[ms.size() / 2], ms.front(), ms.back());
+    const ColorDiff d = compareColor(
+        cpu::shadeAndComposite(a.camera, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, water),
+        out.download<glm::vec4>());
+    std::printf("shading 1280x720: colour max %d steps, %.3g%% of pixels over 1 step\n", d.maxSteps,
+                100.0 * d.fractionOver1);
+    EXPECT_LE(d.maxSteps, kColorSteps);
+}
