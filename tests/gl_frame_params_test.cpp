@@ -84,7 +84,7 @@ void main() {
 }
 
 TEST_F(GlFrameParams, IncludesResolveAndMissingOnesAreErrors) {
-    auto ok = gl::resolveIncludes("splat_depth.comp");
+    auto ok = gl::resolveIncludes("splat.comp");
     ASSERT_TRUE(ok.ok()) << ok.error().describe();
     EXPECT_EQ(ok->find("#include"), std::string::npos);
     auto missing = gl::resolveIncludes("no_such_shader.comp");
