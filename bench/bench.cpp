@@ -1,9 +1,11 @@
 // bench: one line per stage with time (median of --repeat runs), size and
 // thread count. Speed is measured here, never asserted in tests.
-//   build/bench [INPUT] [--width 1280 --height 720 --repeat 9 --threads N --filter NAME]
+//   build/bench [INPUT] [--width 1280 --height 720 --repeat 9 --threads N --filter NAME --backend B]
 // INPUT defaults to the real 117,649-particle dam-break frame in data/. The
-// whole pipeline runs once per filter (all of them unless --filter is given);
-// each stage line is the median over the repeats of that stage's own time.
+// whole pipeline runs once per filter (all of them unless --filter is given)
+// and per backend (cpu and gl by default); each stage line is the median over
+// the repeats of that stage's own time -- wall clock on the CPU, GPU time from
+// timer queries on GL -- with the CPU and GL lines of a stage side by side.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -57,14 +59,22 @@ int main(int argc, char** argv) {
     bool separable = false;
     app.add_option("--filter", filters, "Smoothing filter(s) to time: " + filterNames() + " (default: all)");
     app.add_flag("--separable", separable, "narrow-range: time the separable 1-D approximation as well");
+    std::string backendOpt = "both";
+    app.add_option("--backend", backendOpt, "cpu, gl, auto, or both (cpu and gl side by side; gl skipped with a note when no context)")
+        ->capture_default_str();
     CLI11_PARSE(app, argc, argv);
 
     std::unique_ptr<tbb::global_control> limit;
     if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
     const int nThreads = int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
 
+    auto printOn = [&](const char* stage, const std::string& size, std::size_t particles, const std::string& where,
+                       double ms) {
+        std::printf("%-34s %-10s %9zu particles  %-6s %9.2f ms\n", stage, size.c_str(), particles, where.c_str(), ms);
+    };
+    const std::string cpuLabel = "cpu " + std::to_string(nThreads) + "t";
     auto print = [&](const char* stage, const std::string& size, std::size_t particles, double ms) {
-        std::printf("%-34s %-10s %9zu particles  cpu %dt %9.2f ms\n", stage, size.c_str(), particles, nThreads, ms);
+        printOn(stage, size, particles, cpuLabel, ms);
     };
     const std::string res = std::to_string(width) + "x" + std::to_string(height);
 
@@ -116,31 +126,62 @@ int main(int argc, char** argv) {
         print("scene (uncached)", res, n, median(ms));
     }
 
+    // The renderers, one per backend (each keeps its scene cast across runs).
+    std::vector<std::pair<std::string, Renderer>> renderers;
+    auto addRenderer = [&](BackendChoice choice) {
+        std::string note;
+        auto r = Renderer::create(choice, &note);
+        if (!note.empty()) std::fprintf(stderr, "bench: %s\n", note.c_str());
+        if (!r) {
+            std::fprintf(stderr, "bench: %s; GL lines skipped\n", r.error().describe().c_str());
+            return;
+        }
+        const std::string label = r->backendName() == "cpu" ? cpuLabel : "gl";
+        if (label == "gl") std::fprintf(stderr, "bench: %s\n", r->backendName().c_str());
+        renderers.emplace_back(label, std::move(*r));
+    };
+    if (backendOpt == "both") {
+        addRenderer(BackendChoice::Cpu);
+        addRenderer(BackendChoice::Gl);
+    } else {
+        BackendChoice choice;
+        if (!backendFromName(backendOpt, &choice)) {
+            std::fprintf(stderr, "bench: error: --backend %s: expected cpu, gl, auto or both\n", backendOpt.c_str());
+            return 2;
+        }
+        addRenderer(choice);
+    }
+    if (renderers.empty()) return 1;
+
     for (const auto& [label, filter] : configs) {
         settings.filter = filter;
-        Renderer renderer;
-        std::map<std::string, std::vector<double>> perStage;
+        // Per backend: stage -> run times, and the stage order.
+        std::vector<std::map<std::string, std::vector<double>>> perStage(renderers.size());
         std::vector<std::string> order;
-        std::vector<double> totals;
-        for (int i = 0; i < repeat; ++i) {
-            std::vector<StageTime> times;
-            const auto t0 = std::chrono::steady_clock::now();
-            auto aovs = renderer.render(set->positions, settings, &times);
-            totals.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-            if (!aovs) {
-                std::fprintf(stderr, "bench: error: %s\n", aovs.error().describe().c_str());
-                return 1;
-            }
-            for (const auto& t : times) {
-                if (i == 0) order.push_back(t.stage);
-                perStage[t.stage].push_back(t.ms);
+        std::vector<std::vector<double>> totals(renderers.size());
+        for (std::size_t b = 0; b < renderers.size(); ++b) {
+            for (int i = 0; i < repeat; ++i) {
+                std::vector<StageTime> times;
+                const auto t0 = std::chrono::steady_clock::now();
+                auto aovs = renderers[b].second.render(set->positions, settings, &times);
+                totals[b].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+                if (!aovs) {
+                    std::fprintf(stderr, "bench: error: %s\n", aovs.error().describe().c_str());
+                    return 1;
+                }
+                for (const auto& t : times) {
+                    if (std::find(order.begin(), order.end(), t.stage) == order.end()) order.push_back(t.stage);
+                    perStage[b][t.stage].push_back(t.ms);
+                }
             }
         }
         for (const auto& stage : order) {
             const std::string name = stage == "smooth" ? "smooth " + label : stage == "scene" ? "scene (cached)" : stage;
-            print(name.c_str(), res, n, median(perStage[stage]));
+            for (std::size_t b = 0; b < renderers.size(); ++b)
+                if (perStage[b].count(stage)) printOn(name.c_str(), res, n, renderers[b].first, median(perStage[b][stage]));
         }
-        print(("pipeline total, " + label).c_str(), res, n, median(totals));
+        for (std::size_t b = 0; b < renderers.size(); ++b)
+            printOn(("pipeline total (wall), " + label).c_str(), res, n, renderers[b].first, median(totals[b]));
     }
     return 0;
 }

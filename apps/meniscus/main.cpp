@@ -118,6 +118,7 @@ struct RenderOptions {
     bool separable = false;
     std::string material = "water";
     std::string background = "studio";
+    std::string backend = "auto";
 };
 
 // The pipeline settings named by the options (camera and radius come later).
@@ -228,7 +229,13 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     // The studio is built around the first frame and stays put for the sequence.
     settings.scene.studioBounds = computeBounds(first->positions);
 
-    Renderer renderer;
+    BackendChoice choice = BackendChoice::Auto;
+    if (!backendFromName(o.backend, &choice)) return fail("--backend " + o.backend + ": expected one of " + backendNames());
+    std::string note;
+    auto made = Renderer::create(choice, &note);
+    if (!made) return fail(made.error().describe());
+    if (!note.empty()) std::cerr << "meniscus: " << note << "\n";
+    Renderer renderer = std::move(*made);
     ProgressBar progress(count, "rendering");
     for (std::size_t i = 0; i < count; ++i) {
         auto set = i == 0 ? std::move(first) : load(i);
@@ -273,6 +280,10 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o) {
     cmd->add_option("--material", o.material, "Fluid look: " + materialPresetNames())->capture_default_str();
     cmd->add_option("--background", o.background,
                     "studio (checker floor, two walls, sky) or none (transparent PNG background)")
+        ->capture_default_str();
+    cmd->add_option("--backend", o.backend,
+                    "Where the stages run: cpu, gl (OpenGL 4.3 through headless EGL) or auto (gl when a context "
+                    "can be created, else cpu with a one-line note)")
         ->capture_default_str();
 }
 

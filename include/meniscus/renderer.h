@@ -39,25 +39,46 @@ struct StageTime {
     double ms = 0.0;
 };
 
+// Where the stages run: the CPU reference, the OpenGL backend (a headless GL
+// 4.3 context made on the calling thread; the Renderer must then be used from
+// that thread), or Auto = GL when a context can be created, else the CPU.
+enum class BackendChoice { Cpu, Gl, Auto };
+
+// CLI names: cpu, gl, auto.
+bool backendFromName(const std::string& name, BackendChoice* out);
+std::string backendNames();
+
+class Backend;  // src/core/backend.h
+
 // Renders frames, keeping what does not change between them: the scene layer
 // (studio colour and depth) is cast again only when the camera or the studio
 // changes, so a sequence or a viewer pays for it once.
 class Renderer {
 public:
-    Renderer();
+    Renderer();  // the CPU backend
+
+    // A renderer on the chosen backend. Gl: an error saying why when no GL
+    // context can be created (or the build has no GL). Auto: falls back to the
+    // CPU and sets *note to one line saying why.
+    static Result<Renderer> create(BackendChoice choice, std::string* note = nullptr);
+
+    // "cpu", or "gl (<GL renderer>)".
+    std::string backendName() const;
     ~Renderer();
     Renderer(Renderer&&) noexcept;
     Renderer& operator=(Renderer&&) noexcept;
 
     // Renders one frame: every AOV is filled (color = the chosen view; depth =
     // the smoothed eye depth; rawDepth = the splat; normal; thickness). When
-    // `timings` is given it receives one entry per stage, in pipeline order.
+    // `timings` is given it receives one entry per stage, in pipeline order
+    // (CPU: wall clock; GL: GPU time from timer queries), then, on GL, one
+    // "readback" entry (wall clock of copying the AOVs back).
     Result<Aovs> render(std::span<const glm::vec3> positions, const RenderSettings& settings,
                         std::vector<StageTime>* timings = nullptr);
 
 private:
-    struct Cache;
-    std::unique_ptr<Cache> cache_;
+    explicit Renderer(std::unique_ptr<Backend> backend);
+    std::unique_ptr<Backend> backend_;
 };
 
 // One frame with a fresh Renderer (nothing cached).

@@ -1,17 +1,14 @@
 // The stage order of the screen-space pipeline (SPEC §1), in one place:
 //   scene -> depth splat + thickness (one pass) -> smoothing -> normals -> shading.
-// Each stage is one function in src/cpu/ (one file per stage).
+// Each stage is one method of the backend (src/core/backend.h): one function
+// in src/cpu/ on the CPU, one shader stage in src/gl/ on the GL backend.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 
-#include "cpu/filters.h"
-#include "cpu/normals.h"
+#include "core/backend.h"
 #include "cpu/scene.h"
-#include "cpu/shading.h"
-#include "cpu/splat.h"
-#include "cpu/thickness.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
 
@@ -20,16 +17,6 @@ namespace meniscus {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-
-// Runs one stage, recording its wall-clock time when asked.
-template <class Fn>
-decltype(auto) timed(std::vector<StageTime>* timings, const char* stage, Fn&& fn) {
-    const auto t0 = std::chrono::steady_clock::now();
-    decltype(auto) out = fn();
-    if (timings)
-        timings->push_back({stage, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()});
-    return out;
-}
 
 // ---- Debug views: pictures of one stage for a person (not physically based).
 
@@ -105,50 +92,76 @@ bool viewFromName(const std::string& name, View* out) {
 
 std::string viewNames() { return "final, depth, raw-depth, normals, thickness"; }
 
-struct Renderer::Cache {
-    bool valid = false;
-    Camera camera;
-    cpu::Studio studio;
-    cpu::SceneLayer scene;
-};
+bool backendFromName(const std::string& name, BackendChoice* out) {
+    static const std::pair<const char*, BackendChoice> kBackends[] = {
+        {"cpu", BackendChoice::Cpu}, {"gl", BackendChoice::Gl}, {"auto", BackendChoice::Auto}};
+    for (const auto& [n, b] : kBackends)
+        if (name == n) {
+            *out = b;
+            return true;
+        }
+    return false;
+}
 
-Renderer::Renderer() : cache_(std::make_unique<Cache>()) {}
+std::string backendNames() { return "cpu, gl, auto"; }
+
+Renderer::Renderer() : backend_(makeCpuBackend()) {}
+Renderer::Renderer(std::unique_ptr<Backend> backend) : backend_(std::move(backend)) {}
 Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+Result<Renderer> Renderer::create(BackendChoice choice, std::string* note) {
+    auto b = makeBackend(choice, note);
+    if (!b) return b.error();
+    return Renderer(std::move(*b));
+}
+
+std::string Renderer::backendName() const { return backend_->name(); }
 
 Result<Aovs> Renderer::render(std::span<const glm::vec3> positions, const RenderSettings& s,
                               std::vector<StageTime>* timings) {
     if (auto st = validateCamera(s.camera); !st) return st.error();
     if (!(s.radiusM > 0.0f) || !std::isfinite(s.radiusM))
         return makeError("", "particle radius must be a positive number of metres");
-    const Camera& cam = s.camera;
-    const float r = s.radiusM;
+    FrameSettings f;
+    f.camera = s.camera;
+    f.radius = s.radiusM;
+    f.filter = s.filter;
+    f.thickness = s.thickness;
+    f.shading = s.shading;
+    const Bounds box = s.scene.studioBounds.empty() ? computeBounds(positions) : s.scene.studioBounds;
+    f.studio = cpu::makeStudio(box, s.radiusM, s.camera, s.scene);
+    Backend& b = *backend_;
+    if (auto st = b.beginFrame(positions, f); !st) return st.error();
 
-    const cpu::SceneLayer& scene = timed(timings, "scene", [&]() -> const cpu::SceneLayer& {
-        const Bounds box = s.scene.studioBounds.empty() ? computeBounds(positions) : s.scene.studioBounds;
-        const cpu::Studio studio = cpu::makeStudio(box, r, cam, s.scene);
-        if (!cache_->valid || !(cache_->camera == cam) || !(cache_->studio == studio)) {
-            cache_->scene = cpu::castScene(cam, studio);
-            cache_->camera = cam;
-            cache_->studio = studio;
-            cache_->valid = true;
-        }
-        return cache_->scene;
+    // The stage order (SPEC §1), in one place.
+    // Timing brackets only when asked for (on GL they wait for the GPU).
+    auto stage = [&](const char* name, auto&& run) {
+        if (timings) b.beginStage(name);
+        run();
+        if (timings) b.endStage();
+    };
+    stage("scene", [&] { b.castScene(Slot::SceneColor, Slot::SceneDepth); });
+    stage("depth-splat+thickness", [&] { b.splat(Slot::SceneDepth, Slot::RawDepth, Slot::Thickness); });
+    stage("smooth", [&] { b.smooth(Slot::RawDepth, Slot::Depth); });
+    stage("normals", [&] { b.normals(Slot::Depth, Slot::Normal); });
+    stage("shade", [&] {
+        b.shade(Slot::SceneColor, Slot::SceneDepth, Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Color);
     });
+
+    const auto t0 = std::chrono::steady_clock::now();
     Aovs aovs;
-    timed(timings, "depth-splat+thickness", [&] {
-        auto dt = cpu::splatDepthAndThickness(cam, positions, r, s.thickness, &scene.depth);
-        aovs.rawDepth = std::move(dt.depth);
-        aovs.thickness = std::move(dt.thickness);
-        return 0;
-    });
-    aovs.depth = timed(timings, "smooth", [&] { return cpu::smoothDepth(aovs.rawDepth, cam, r, s.filter); });
-    aovs.normal = timed(timings, "normals",
-                        [&] { return cpu::computeNormals(aovs.depth, cam, r, defaults::kDepthJumpRadii); });
-    aovs.color = timed(timings, "shade", [&] {
-        return cpu::shadeAndComposite(cam, scene, aovs.depth, aovs.normal, aovs.thickness, s.shading);
-    });
+    aovs.rawDepth = b.readScalar(Slot::RawDepth);
+    aovs.depth = b.readScalar(Slot::Depth);
+    aovs.thickness = b.readScalar(Slot::Thickness);
+    aovs.normal = b.readVec3(Slot::Normal);
+    aovs.color = b.readColor(Slot::Color);
+    const double readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (timings) {
+        *timings = b.stageTimes();
+        if (b.name() != "cpu") timings->push_back({"readback", readMs});  // GPU -> host copies of every AOV
+    }
     switch (s.view) {
         case View::Final: break;
         case View::Depth: aovs.color = depthView(aovs.depth); break;

@@ -1,0 +1,85 @@
+// The backend interface the stage order calls (src/core/pipeline.cpp): one
+// method per stage of SPEC §3, reading and writing images named by opaque
+// handles. The CPU reference (src/cpu/backend.cpp) and the GL backend
+// (src/gl/backend.cpp) implement it; each keeps its own storage per handle
+// (CPU: Image<T>; GL: GPU buffers), so the pipeline never touches pixels.
+// No GL header is included here or by anything outside src/gl/.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "cpu/scene.h"
+#include "meniscus/camera.h"
+#include "meniscus/params.h"
+#include "meniscus/renderer.h"
+#include "meniscus/result.h"
+#include "meniscus/types.h"
+
+namespace meniscus {
+
+// Opaque handles of the images one frame passes between stages.
+enum class Slot { SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Color };
+inline constexpr int kSlotCount = 7;
+
+// Everything the stages read besides images, resolved once per frame.
+struct FrameSettings {
+    Camera camera;
+    float radius = 0.0f;
+    FilterParams filter;
+    ThicknessParams thickness;
+    ShadingParams shading;
+    cpu::Studio studio;
+};
+
+class Backend {
+public:
+    virtual ~Backend() = default;
+
+    // "cpu", or "gl (<GL_RENDERER>)".
+    virtual std::string name() const = 0;
+
+    // Starts a frame: the particles and the settings every stage reads.
+    virtual Status beginFrame(std::span<const glm::vec3> positions, const FrameSettings& settings) = 0;
+
+    // ---- The stages (SPEC §3.1-3.8), each the twin of one src/cpu/ function.
+    // Scene colour (RGBA) and depth; may keep the previous cast when the camera
+    // and the studio have not changed (cpu::castScene).
+    virtual void castScene(Slot color, Slot depth) = 0;
+    // Depth splat and thickness (chords, calibration, blur) in one pass
+    // (cpu::splatDepthAndThickness), in front of the scene depth.
+    virtual void splat(Slot sceneDepth, Slot depth, Slot thickness) = 0;
+    // The chosen smoothing filter (cpu::smoothDepth); `none` copies.
+    virtual void smooth(Slot in, Slot out) = 0;
+    // View-space normals of the smoothed depth (cpu::computeNormals).
+    virtual void normals(Slot depth, Slot normal) = 0;
+    // Shading and compositing over the scene (cpu::shadeAndComposite).
+    virtual void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot color) = 0;
+
+    // ---- Timing: when timings are asked for, the pipeline brackets each
+    // stage; stageTimes() returns one entry per bracket of this frame, in order
+    // (CPU: wall clock; GL: GPU timer queries, or the wall time of the stage
+    // when the driver's queries read 0, as llvmpipe's do).
+    virtual void beginStage(const char* name) = 0;
+    virtual void endStage() = 0;
+    virtual std::vector<StageTime> stageTimes() = 0;
+
+    // ---- Read back (GL: waits for the GPU).
+    virtual Image<float> readScalar(Slot slot) = 0;
+    virtual Image<glm::vec3> readVec3(Slot slot) = 0;
+    virtual Image<glm::vec4> readColor(Slot slot) = 0;
+};
+
+// The CPU reference backend (always available).
+std::unique_ptr<Backend> makeCpuBackend();
+
+// The backend for a choice: CPU; GL (an error when no context can be made or
+// the build has no GL); Auto = GL when a context can be made, else the CPU
+// with *note set to one line saying why.
+Result<std::unique_ptr<Backend>> makeBackend(BackendChoice choice, std::string* note);
+
+}  // namespace meniscus

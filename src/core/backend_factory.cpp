@@ -1,0 +1,27 @@
+// Picks the backend for a BackendChoice. The GL backend is compiled in only
+// when CMake found libepoxy and EGL (MENISCUS_HAVE_GL); src/gl/backend.h
+// includes no GL header, so nothing GL leaks into the core.
+#include "core/backend.h"
+
+#if MENISCUS_HAVE_GL
+#include "gl/backend.h"
+#endif
+
+namespace meniscus {
+
+Result<std::unique_ptr<Backend>> makeBackend(BackendChoice choice, std::string* note) {
+    if (choice == BackendChoice::Cpu) return makeCpuBackend();
+    std::string why;
+#if MENISCUS_HAVE_GL
+    auto gl = gl::makeGlBackend();
+    if (gl) return std::move(*gl);
+    why = gl.error().describe();
+#else
+    why = "this build has no GL backend (libepoxy or EGL were not found when it was configured)";
+#endif
+    if (choice == BackendChoice::Gl) return makeError("", "GL backend unavailable: " + why);
+    if (note) *note = "GL backend unavailable (" + why + "); using the CPU backend";
+    return makeCpuBackend();
+}
+
+}  // namespace meniscus

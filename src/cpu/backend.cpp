@@ -1,0 +1,105 @@
+// The CPU reference backend: each stage method calls its src/cpu/ function on
+// images kept per slot. Stage times are wall clock.
+#include <chrono>
+
+#include "core/backend.h"
+#include "cpu/filters.h"
+#include "cpu/normals.h"
+#include "cpu/scene.h"
+#include "cpu/shading.h"
+#include "cpu/thickness.h"
+
+namespace meniscus {
+
+namespace {
+
+class CpuBackend final : public Backend {
+public:
+    std::string name() const override { return "cpu"; }
+
+    Status beginFrame(std::span<const glm::vec3> positions, const FrameSettings& settings) override {
+        positions_ = positions;
+        s_ = settings;
+        times_.clear();
+        return okStatus();
+    }
+
+    void castScene(Slot color, Slot depth) override {
+        if (!sceneValid_ || !(sceneCamera_ == s_.camera) || !(sceneStudio_ == s_.studio)) {
+            scene_ = cpu::castScene(s_.camera, s_.studio);
+            sceneCamera_ = s_.camera;
+            sceneStudio_ = s_.studio;
+            sceneValid_ = true;
+        }
+        // The slots name the cached layer itself (no per-frame copy).
+        sceneColorSlot_ = int(color);
+        sceneDepthSlot_ = int(depth);
+    }
+
+    void splat(Slot sceneDepth, Slot depth, Slot thickness) override {
+        auto dt = cpu::splatDepthAndThickness(s_.camera, positions_, s_.radius, s_.thickness, &scalar(sceneDepth));
+        scalars_[int(depth)] = std::move(dt.depth);
+        scalars_[int(thickness)] = std::move(dt.thickness);
+    }
+
+    void smooth(Slot in, Slot out) override {
+        scalars_[int(out)] = cpu::smoothDepth(scalar(in), s_.camera, s_.radius, s_.filter);
+    }
+
+    void normals(Slot depth, Slot normal) override {
+        vec3s_[int(normal)] = cpu::computeNormals(scalar(depth), s_.camera, s_.radius, defaults::kDepthJumpRadii);
+    }
+
+    void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot color) override {
+        // shadeAndComposite reads the scene as one layer: the cached cast when
+        // the slots name it (always, in the pipeline), else a copy.
+        const cpu::SceneLayer* scene = &scene_;
+        cpu::SceneLayer copy;
+        if (int(sceneColor) != sceneColorSlot_ || int(sceneDepth) != sceneDepthSlot_) {
+            copy = {colorImage(sceneColor), scalar(sceneDepth)};
+            scene = &copy;
+        }
+        colors_[int(color)] = cpu::shadeAndComposite(s_.camera, *scene, scalar(depth), vec3s_[int(normal)],
+                                                     scalar(thickness), s_.shading);
+    }
+
+    void beginStage(const char* name) override {
+        stage_ = name;
+        t0_ = std::chrono::steady_clock::now();
+    }
+    void endStage() override {
+        times_.push_back({stage_, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count()});
+    }
+    std::vector<StageTime> stageTimes() override { return times_; }
+
+    Image<float> readScalar(Slot slot) override { return scalar(slot); }
+    Image<glm::vec3> readVec3(Slot slot) override { return vec3s_[int(slot)]; }
+    Image<glm::vec4> readColor(Slot slot) override { return colorImage(slot); }
+
+private:
+    const Image<float>& scalar(Slot s) const { return int(s) == sceneDepthSlot_ ? scene_.depth : scalars_[int(s)]; }
+    const Image<glm::vec4>& colorImage(Slot s) const {
+        return int(s) == sceneColorSlot_ ? scene_.color : colors_[int(s)];
+    }
+
+    std::span<const glm::vec3> positions_;
+    FrameSettings s_;
+    Image<float> scalars_[kSlotCount];
+    Image<glm::vec3> vec3s_[kSlotCount];
+    Image<glm::vec4> colors_[kSlotCount];
+    // The last scene cast, kept while camera and studio stay the same.
+    bool sceneValid_ = false;
+    Camera sceneCamera_;
+    cpu::Studio sceneStudio_;
+    cpu::SceneLayer scene_;
+    int sceneColorSlot_ = -1, sceneDepthSlot_ = -1;
+    std::string stage_;
+    std::chrono::steady_clock::time_point t0_;
+    std::vector<StageTime> times_;
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> makeCpuBackend() { return std::make_unique<CpuBackend>(); }
+
+}  // namespace meniscus

@@ -1,0 +1,191 @@
+// The GL backend: each stage method runs its src/gl/ stage class on GPU
+// images kept per slot. Parameters reach every shader through the one
+// FrameParams uniform block, uploaded in beginFrame. Stage times come from
+// GL_TIME_ELAPSED queries, one per stage bracket.
+#include "gl/backend.h"
+
+#include <chrono>
+#include <utility>
+#include <vector>
+
+#include "gl/context.h"
+#include "gl/filter_curvature_flow.h"
+#include "gl/filter_narrow_range.h"
+#include "gl/filter_separable.h"
+#include "gl/gpu_image.h"
+#include "gl/normals.h"
+#include "gl/scene.h"
+#include "gl/shading.h"
+#include "gl/splat.h"
+#include "gl/uniforms.h"
+
+namespace meniscus::gl {
+
+namespace {
+
+struct Stages {
+    Splat splat;
+    SeparableFilters separable;
+    CurvatureFlow curvatureFlow;
+    NarrowRange narrowRange;
+    SceneCaster scene;
+    Normals normals;
+    Shading shading;
+};
+
+template <class T>
+Status take(Result<T>&& r, T& out) {
+    if (!r) return r.error();
+    out = std::move(*r);
+    return okStatus();
+}
+
+class GlBackend final : public Backend {
+public:
+    GlBackend(std::unique_ptr<Context> ctx, Stages stages) : ctx_(std::move(ctx)), st_(std::move(stages)) {}
+    ~GlBackend() override {
+        // GL objects are released with the context current.
+        (void)ctx_->makeCurrent();
+    }
+
+    std::string name() const override { return "gl (" + ctx_->renderer() + ")"; }
+
+    Status beginFrame(std::span<const glm::vec3> positions, const FrameSettings& settings) override {
+        if (auto st = ctx_->makeCurrent(); !st) return st;
+        s_ = settings;
+        fp_ = packFrameParams(settings.camera, settings.radius, settings.filter, settings.thickness, settings.shading);
+        block_.upload(fp_);
+        st_.splat.uploadParticles(positions);
+        stage_ = 0;
+        return okStatus();
+    }
+
+    void castScene(Slot color, Slot depth) override {
+        const bool same = sceneValid_ && sceneCamera_ == s_.camera && sceneStudio_ == s_.studio &&
+                          sceneSlots_ == std::pair(int(color), int(depth));
+        if (same) return;
+        st_.scene.run(fp_, s_.studio, img(color), img(depth));
+        sceneValid_ = true;
+        sceneCamera_ = s_.camera;
+        sceneStudio_ = s_.studio;
+        sceneSlots_ = {int(color), int(depth)};
+    }
+
+    void splat(Slot sceneDepth, Slot depth, Slot thickness) override {
+        forget(depth);
+        forget(thickness);
+        // Thickness at full resolution: resolutionDivisor is a CPU speed option.
+        st_.splat.run(fp_, &img(sceneDepth), img(depth), &img(thickness));
+        st_.separable.blurThickness(fp_, img(depth), img(thickness));
+    }
+
+    void smooth(Slot in, Slot out) override {
+        forget(out);
+        GpuImage& src = img(in);
+        GpuImage& dst = img(out);
+        switch (fp_.filterKind) {
+            case 1:
+            case 2:
+            case 3: st_.separable.run(fp_, src, dst); break;
+            case 4: st_.curvatureFlow.run(fp_, src, dst); break;
+            case 5: st_.narrowRange.run(fp_, src, dst); break;
+            default:  // none: a copy
+                dst.resize(src.width, src.height, src.channels);
+                glBindBuffer(GL_COPY_READ_BUFFER, src.buffer.id());
+                glBindBuffer(GL_COPY_WRITE_BUFFER, dst.buffer.id());
+                if (src.bytes() > 0) glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, src.bytes());
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        }
+    }
+
+    void normals(Slot depth, Slot normal) override {
+        forget(normal);
+        st_.normals.run(fp_, img(depth), img(normal));
+    }
+
+    void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot color) override {
+        forget(color);
+        st_.shading.run(fp_, img(sceneColor), img(sceneDepth), img(depth), img(normal), img(thickness), img(color));
+    }
+
+    // Each stage gets a GL_TIME_ELAPSED query and, after a glFinish, its wall
+    // time: llvmpipe answers timer queries with ~0 (it runs the work on the CPU
+    // outside the query's window), so when the queries of a frame sum to under
+    // 1% of the wall times, the wall times are reported instead. Brackets are only made when timings
+    // are asked for, so untimed frames never wait.
+    void beginStage(const char* name) override {
+        if (stage_ >= timers_.size()) timers_.push_back({makeQuery(), {}, 0.0, {}});
+        Timer& t = timers_[stage_];
+        t.name = name;
+        glFinish();
+        t.t0 = std::chrono::steady_clock::now();
+        glBeginQuery(GL_TIME_ELAPSED, t.query.id());
+    }
+    void endStage() override {
+        glEndQuery(GL_TIME_ELAPSED);
+        glFinish();
+        Timer& t = timers_[stage_];
+        t.wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t.t0).count();
+        ++stage_;
+    }
+    std::vector<StageTime> stageTimes() override {
+        std::vector<StageTime> gpu, wall;
+        double gpuSum = 0.0, wallSum = 0.0;
+        for (std::size_t k = 0; k < stage_; ++k) {
+            GLuint64 ns = 0;
+            glGetQueryObjectui64v(timers_[k].query.id(), GL_QUERY_RESULT, &ns);
+            gpu.push_back({timers_[k].name, double(ns) * 1e-6});
+            wall.push_back({timers_[k].name, timers_[k].wallMs});
+            gpuSum += double(ns) * 1e-6;
+            wallSum += timers_[k].wallMs;
+        }
+        return gpuSum > 0.01 * wallSum ? gpu : wall;
+    }
+
+    Image<float> readScalar(Slot slot) override { return img(slot).download<float>(); }
+    Image<glm::vec3> readVec3(Slot slot) override { return img(slot).download<glm::vec3>(); }
+    Image<glm::vec4> readColor(Slot slot) override { return img(slot).download<glm::vec4>(); }
+
+private:
+    GpuImage& img(Slot s) { return images_[int(s)]; }
+    // A stage writing a slot that held the cached scene invalidates the cache.
+    void forget(Slot s) {
+        if (sceneValid_ && (int(s) == sceneSlots_.first || int(s) == sceneSlots_.second)) sceneValid_ = false;
+    }
+
+    struct Timer {
+        Query query;
+        std::string name;
+        double wallMs = 0.0;
+        std::chrono::steady_clock::time_point t0;
+    };
+
+    std::unique_ptr<Context> ctx_;  // first: destroyed last
+    Stages st_;
+    FrameParamsBlock block_;
+    FrameParams fp_{};
+    FrameSettings s_;
+    GpuImage images_[kSlotCount];
+    bool sceneValid_ = false;
+    Camera sceneCamera_;
+    cpu::Studio sceneStudio_;
+    std::pair<int, int> sceneSlots_{-1, -1};
+    std::vector<Timer> timers_;
+    std::size_t stage_ = 0;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<Backend>> makeGlBackend() {
+    auto ctx = Context::createHeadless();
+    if (!ctx) return ctx.error();
+    Stages s;
+    for (Status st : {take(Splat::create(), s.splat), take(SeparableFilters::create(), s.separable),
+                      take(CurvatureFlow::create(), s.curvatureFlow), take(NarrowRange::create(), s.narrowRange),
+                      take(SceneCaster::create(), s.scene), take(Normals::create(), s.normals),
+                      take(Shading::create(), s.shading)})
+        if (!st) return st.error();
+    return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(*ctx), std::move(s)));
+}
+
+}  // namespace meniscus::gl

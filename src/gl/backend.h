@@ -1,0 +1,16 @@
+// The GL backend behind the core's Backend interface. This header includes no
+// GL header: the core (backend_factory.cpp) includes it to make the backend.
+#pragma once
+
+#include <memory>
+
+#include "core/backend.h"
+#include "meniscus/result.h"
+
+namespace meniscus::gl {
+
+// Creates a headless GL 4.3 context (current on the calling thread from then
+// on) and compiles every stage's shaders; an error says what failed.
+Result<std::unique_ptr<Backend>> makeGlBackend();
+
+}  // namespace meniscus::gl

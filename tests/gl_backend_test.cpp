@@ -1,0 +1,178 @@
+// The whole pipeline on the GL backend against the CPU reference, through the
+// public Renderer: every filter, the real frame, background on and off, every
+// AOV. Skips only when no GL 4.3 context can be created at all.
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "cpu/thickness.h"
+#include "gl_test_util.h"
+#include "meniscus/io.h"
+#include "meniscus/particles.h"
+#include "meniscus/renderer.h"
+#include "test_util.h"
+
+using namespace meniscus;
+using namespace meniscus::test;
+
+namespace {
+
+class GlBackend : public GlTest {};
+
+// Tolerances of the whole pipeline, GL vs CPU:
+//  - depth (raw and smoothed): relative 1e-5; every depth stage is bit-identical
+//    on llvmpipe, the margin is for drivers that round sqrt/division otherwise;
+//  - coverage: no pixel may have fluid on one side only beyond 0.05% (grazing rays);
+//  - thickness: 1e-4 of max(T, one calibrated diameter) (fixed-point chord sums);
+//  - normals: 0.01 degrees at the 99th percentile (they follow the depth);
+//  - colour: at most 2 8-bit sRGB steps anywhere, and at most 0.1% of pixels off
+//    by more than 1 (exp/log of the driver vs the CPU's polynomials, thickness).
+void expectSame(const Aovs& cpu, const Aovs& gl, float r) {
+    const DepthDiff raw = compareDepth(cpu.rawDepth, gl.rawDepth), z = compareDepth(cpu.depth, gl.depth);
+    EXPECT_LE(raw.maxRel, 1e-5);
+    EXPECT_LE(z.maxRel, 1e-5);
+    EXPECT_LE(raw.coverageDiffer, int(5e-4 * raw.coveredCpu) + 2);
+    EXPECT_LE(z.coverageDiffer, int(5e-4 * z.coveredCpu) + 2);
+    const double diameter = 2.0 * r * cpu::thicknessWeight(r, ThicknessParams{});
+    const ScalarDiff t = compareScalar(cpu.thickness, gl.thickness, diameter);
+    EXPECT_LE(t.maxRel, 1e-4);
+    const NormalDiff n = compareNormals(cpu.normal, gl.normal, cpu.depth);
+    EXPECT_LE(n.p99Deg, 0.01);
+    const ColorDiff c = compareColor(cpu.color, gl.color);
+    EXPECT_LE(c.maxSteps, 2);
+    EXPECT_LE(c.fractionOver1, 1e-3);
+    std::printf("  depth rel %.2g (raw %.2g), thickness rel %.2g, normals p99 %.3g deg, colour max %d steps\n",
+                z.maxRel, raw.maxRel, t.maxRel, n.p99Deg, c.maxSteps);
+}
+
+struct Frame {
+    std::vector<glm::vec3> positions;
+    RenderSettings settings;
+};
+
+Frame realFrame() {
+    Frame f;
+    auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
+    EXPECT_TRUE(set.ok()) << set.error().describe();
+    if (!set) return f;
+    f.positions = set->positions;
+    f.settings.radiusM = estimateRadius(f.positions).radius;
+    Camera base;
+    base.width = 320;
+    base.height = 180;
+    f.settings.camera = autoFrameCamera(f.positions, f.settings.radiusM, base);
+    return f;
+}
+
+}  // namespace
+
+TEST_F(GlBackend, EveryFilterMatchesCpuOnTheRealFrame) {
+    Frame f = realFrame();
+    ASSERT_FALSE(f.positions.empty());
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    EXPECT_EQ(gl->backendName().rfind("gl (", 0), 0u) << gl->backendName();
+    Renderer cpu;
+    for (const std::string name : {"none", "gaussian", "bilateral", "binomial", "curvature-flow", "narrow-range"}) {
+        for (bool separable : {false, true}) {
+            if (separable && name != "narrow-range") continue;
+            ASSERT_TRUE(filterFromName(name, &f.settings.filter));
+            if (separable) std::get<NarrowRangeParams>(f.settings.filter).separable = true;
+            SCOPED_TRACE(name + (separable ? " (separable)" : ""));
+            std::printf("%s%s\n", name.c_str(), separable ? " (separable)" : "");
+            auto a = cpu.render(f.positions, f.settings);
+            auto b = gl->render(f.positions, f.settings);
+            ASSERT_TRUE(a.ok() && b.ok());
+            expectSame(*a, *b, f.settings.radiusM);
+        }
+    }
+}
+
+TEST_F(GlBackend, MaterialsBackgroundAndViewsMatchCpu) {
+    Frame f = realFrame();
+    ASSERT_FALSE(f.positions.empty());
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    Renderer cpu;
+    ASSERT_TRUE(materialPreset("lava", &f.settings.shading.material));
+    f.settings.scene.background = false;
+    for (View v : {View::Final, View::Normals, View::Thickness}) {
+        f.settings.view = v;
+        auto a = cpu.render(f.positions, f.settings);
+        auto b = gl->render(f.positions, f.settings);
+        ASSERT_TRUE(a.ok() && b.ok());
+        expectSame(*a, *b, f.settings.radiusM);
+    }
+}
+
+TEST_F(GlBackend, SequenceReusesTheSceneAndCameraChangesRecastIt) {
+    Frame f = realFrame();
+    ASSERT_FALSE(f.positions.empty());
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    Renderer cpu;
+    f.settings.filter = CurvatureFlowParams{};
+    for (int k = 0; k < 3; ++k) {
+        if (k == 2) f.settings.camera.eye += glm::vec3(0.2f, 0.1f, 0.0f);  // a new camera: the scene is cast again
+        std::vector<StageTime> times;
+        auto a = cpu.render(f.positions, f.settings);
+        auto b = gl->render(f.positions, f.settings, &times);
+        ASSERT_TRUE(a.ok() && b.ok());
+        expectSame(*a, *b, f.settings.radiusM);
+        ASSERT_EQ(times.size(), 6u);  // five stages + readback
+        EXPECT_EQ(times[0].stage, "scene");
+        EXPECT_EQ(times[4].stage, "shade");
+        EXPECT_EQ(times[5].stage, "readback");
+    }
+}
+
+TEST_F(GlBackend, NoParticlesGivesTheSceneAsOnTheCpu) {
+    RenderSettings s;
+    s.radiusM = 0.05f;
+    s.camera = faceOnCamera({0.0f, 0.0f, 0.0f}, 2.0f, 96, 64);
+    s.scene.studioBounds.extend({-0.5f, -0.5f, -0.5f});
+    s.scene.studioBounds.extend({0.5f, 0.5f, 0.5f});
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    auto a = Renderer().render({}, s);
+    auto b = gl->render({}, s);
+    ASSERT_TRUE(a.ok() && b.ok());
+    expectSame(*a, *b, s.radiusM);
+}
+
+TEST(Backends, NamesParseAndCpuIsTheDefault) {
+    BackendChoice c;
+    EXPECT_TRUE(backendFromName("cpu", &c) && c == BackendChoice::Cpu);
+    EXPECT_TRUE(backendFromName("gl", &c) && c == BackendChoice::Gl);
+    EXPECT_TRUE(backendFromName("auto", &c) && c == BackendChoice::Auto);
+    EXPECT_FALSE(backendFromName("vulkan", &c));
+    EXPECT_EQ(Renderer().backendName(), "cpu");
+    std::string note;
+    auto cpu = Renderer::create(BackendChoice::Cpu, &note);
+    ASSERT_TRUE(cpu.ok());
+    EXPECT_EQ(cpu->backendName(), "cpu");
+    EXPECT_TRUE(note.empty());
+}
+
+// The CLI: --backend gl and --backend cpu write the same picture (PNG bytes
+// within 2 steps, as above); a bad name is a usage error naming the choices.
+TEST_F(GlBackend, CliBackendsWriteTheSameImage) {
+    const auto dir = tempDir();
+    const std::string in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo").string();
+    std::string out;
+    for (const char* b : {"cpu", "gl"}) {
+        const std::string cmd = cliPath() + " render " + in + " -o " + (dir / (std::string(b) + ".png")).string() +
+                                " --width 160 --height 90 --filter curvature-flow --backend " + b;
+        ASSERT_EQ(runCommand(cmd, &out), 0) << out;
+    }
+    const PngData a = readPng(dir / "cpu.png"), g = readPng(dir / "gl.png");
+    ASSERT_EQ(a.bytes.size(), g.bytes.size());
+    ASSERT_FALSE(a.bytes.empty());
+    int worst = 0;
+    for (std::size_t k = 0; k < a.bytes.size(); ++k) worst = std::max(worst, std::abs(int(a.bytes[k]) - int(g.bytes[k])));
+    EXPECT_LE(worst, 2);
+    EXPECT_NE(runCommand(cliPath() + " render " + in + " -o " + (dir / "x.png").string() + " --backend vulkan", &out), 0);
+    EXPECT_NE(out.find("cpu, gl, auto"), std::string::npos) << out;
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+}
