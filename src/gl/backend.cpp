@@ -90,10 +90,7 @@ public:
             case 4: st_.curvatureFlow.run(fp_, src, dst); break;
             case 5: st_.narrowRange.run(fp_, src, dst); break;
             default:  // none: a copy
-                dst.resize(src.width, src.height, src.channels);
-                glBindBuffer(GL_COPY_READ_BUFFER, src.buffer.id());
-                glBindBuffer(GL_COPY_WRITE_BUFFER, dst.buffer.id());
-                if (src.bytes() > 0) glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, src.bytes());
+                dst.copyFrom(src);
                 glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         }
     }

@@ -24,18 +24,6 @@ constexpr GLuint kStepRows = 8;            // filter_curvature_flow.comp's kRows
 
 GLuint ceilDiv(GLuint a, GLuint b) { return (a + b - 1) / b; }
 
-// Copies `bytes` from buffer `src` to `dst` (no shader needed).
-void copyBuffer(const Buffer& src, const Buffer& dst, GLsizeiptr bytes) {
-    glBindBuffer(GL_COPY_READ_BUFFER, src.id());
-    glBindBuffer(GL_COPY_WRITE_BUFFER, dst.id());
-    glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, bytes);
-}
-
-// Fills the first `bytes` of `buf` with the 32-bit `value`.
-void fillBuffer(const Buffer& buf, GLsizeiptr bytes, GLuint value) {
-    glBindBuffer(GL_COPY_WRITE_BUFFER, buf.id());
-    glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32UI, 0, bytes, GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
-}
 }  // namespace
 
 Result<CurvatureFlow> CurvatureFlow::create() {
@@ -56,7 +44,7 @@ void CurvatureFlow::run(const FrameParams& frame, const GpuImage& in, GpuImage& 
     out.resize(W, H, 1);
     if (W <= 0 || H <= 0) return;
     if (frame.filterIterations <= 0) {  // as the CPU: the input unchanged
-        copyBuffer(in.buffer, out.buffer, in.bytes());
+        out.buffer.copyFrom(in.buffer, in.bytes());
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;
     }
@@ -67,9 +55,9 @@ void CurvatureFlow::run(const FrameParams& frame, const GpuImage& in, GpuImage& 
     tileFlags_.reserve(GLsizeiptr(tiles) * 4);
     tileList_.reserve(GLsizeiptr(tiles) * 4);
     indirect_.reserve(3 * 4);
-    fillBuffer(a_, GLsizeiptr(padded) * 4, 0x7f800000u);  // +inf; the pad pass copies the fluid in
-    fillBuffer(b_, GLsizeiptr(padded) * 4, 0x7f800000u);
-    fillBuffer(tileFlags_, GLsizeiptr(tiles) * 4, 0u);
+    a_.fill(GLsizeiptr(padded) * 4, 0x7f800000u);  // +inf; the pad pass copies the fluid in
+    b_.fill(GLsizeiptr(padded) * 4, 0x7f800000u);
+    tileFlags_.fill(GLsizeiptr(tiles) * 4, 0u);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     const GLuint args[3] = {0u, 1u, 1u};
     indirect_.upload(args, sizeof args);

@@ -31,17 +31,6 @@ constexpr GLuint kRows = 4;               // filter_narrow_range.comp's kRows
 
 GLuint ceilDiv(GLuint a, GLuint b) { return (a + b - 1) / b; }
 
-void copyBuffer(const Buffer& src, const Buffer& dst, GLsizeiptr bytes) {
-    glBindBuffer(GL_COPY_READ_BUFFER, src.id());
-    glBindBuffer(GL_COPY_WRITE_BUFFER, dst.id());
-    glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, bytes);
-}
-
-void fillBuffer(const Buffer& buf, GLsizeiptr bytes, GLuint value) {
-    glBindBuffer(GL_COPY_WRITE_BUFFER, buf.id());
-    glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32UI, 0, bytes, GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
-}
-
 // The CPU's gaussian(d2, R): sigma = R/3, evaluated in double.
 float gaussian(int d2, int R) {
     const double sigma = double(R) / 3.0;
@@ -128,7 +117,7 @@ void NarrowRange::run(const FrameParams& frame, const GpuImage& in, GpuImage& ou
     // The tables' largest radius: the CPU's cap before the nearest-depth bound.
     const int cap = std::max(0, std::min(frame.filterMaxKernelPx, std::max(W, H)));
     if (frame.filterIterations <= 0 || !(frame.radius > 0.0f) || cap == 0) {  // as the CPU: unchanged
-        copyBuffer(in.buffer, out.buffer, in.bytes());
+        out.buffer.copyFrom(in.buffer, in.bytes());
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;
     }
@@ -139,9 +128,9 @@ void NarrowRange::run(const FrameParams& frame, const GpuImage& in, GpuImage& ou
     b_.reserve(paddedBytes);
     zMin_.reserve(4);
     // −inf frames (the interiors are overwritten), zMin = +inf: driver fills.
-    fillBuffer(a_, paddedBytes, 0xff800000u);
-    fillBuffer(b_, paddedBytes, 0xff800000u);
-    fillBuffer(zMin_, 4, 0x7f800000u);
+    a_.fill(paddedBytes, 0xff800000u);
+    b_.fill(paddedBytes, 0xff800000u);
+    zMin_.fill(4, 0x7f800000u);
     attach(texA_, GL_R32F, a_, paddedBytes);
     attach(texB_, GL_R32F, b_, paddedBytes);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);

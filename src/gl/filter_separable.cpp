@@ -46,13 +46,6 @@ void bindTexBuffer(GLuint unit, const Texture& tex, const Buffer& buf, GLenum fo
     glActiveTexture(GL_TEXTURE0);
 }
 
-void copyImage(const GpuImage& from, GpuImage& to) {
-    to.resize(from.width, from.height, from.channels);
-    if (from.bytes() == 0) return;
-    glBindBuffer(GL_COPY_READ_BUFFER, from.buffer.id());
-    glBindBuffer(GL_COPY_WRITE_BUFFER, to.buffer.id());
-    glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, from.bytes());
-}
 
 }  // namespace
 
@@ -129,7 +122,7 @@ void SeparableFilters::run(const FrameParams& frame, const GpuImage& in, GpuImag
         default: break;
     }
     if (kind == TableKind::None || frame.filterIterations <= 0 || w <= 0 || h <= 0) {
-        copyImage(in, out);
+        out.copyFrom(in);
         glMemoryBarrier(kPassBarrier | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;
     }

@@ -31,6 +31,12 @@ struct GpuImage {
         glBindBufferRange(GL_SHADER_STORAGE_BUFFER, binding, buffer.id(), 0, std::max<GLsizeiptr>(bytes(), 4));
     }
 
+    // Becomes a GPU-side copy of `src` (shape and pixels).
+    void copyFrom(const GpuImage& src) {
+        resize(src.width, src.height, src.channels);
+        buffer.copyFrom(src.buffer, src.bytes());
+    }
+
     template <class T>
     void upload(const Image<T>& img) {
         static_assert(sizeof(T) % sizeof(float) == 0, "float pixels");

@@ -27,17 +27,13 @@ void Normals::run(const FrameParams& frame, const GpuImage& depth, GpuImage& nor
     if (W <= 0 || H <= 0) return;
     if (depth.width != W || depth.height != H || depth.channels != 1 || depth.buffer.id() == 0) {
         // No usable depth: no fluid anywhere, (0,0,0) as the CPU gives for +inf.
-        const float zero = 0.0f;
-        glBindBuffer(GL_COPY_WRITE_BUFFER, normals.buffer.id());
-        glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32F, 0, normals.bytes(), GL_RED, GL_FLOAT, &zero);
+        normals.buffer.fill(normals.bytes(), 0u);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;
     }
     // Non-fluid pixels are (0,0,0): a driver fill (a memset on llvmpipe); the
     // shader writes only the fluid pixels.
-    const float zero = 0.0f;
-    glBindBuffer(GL_COPY_WRITE_BUFFER, normals.buffer.id());
-    glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32F, 0, normals.bytes(), GL_RED, GL_FLOAT, &zero);
+    normals.buffer.fill(normals.bytes(), 0u);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glUseProgram(program_.id());
     glUniform1i(0, kRows);

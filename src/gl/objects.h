@@ -87,6 +87,20 @@ public:
         glBindBuffer(GL_COPY_WRITE_BUFFER, h_.id());
         glBufferSubData(GL_COPY_WRITE_BUFFER, 0, bytes, data);
     }
+    // Sets the first `bytes` (a multiple of 4) to the 32-bit pattern `bits`:
+    // the driver's fill, a memset on llvmpipe (+inf floats = 0x7f800000).
+    void fill(GLsizeiptr bytes, GLuint bits) const {
+        if (bytes <= 0) return;
+        glBindBuffer(GL_COPY_WRITE_BUFFER, h_.id());
+        glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32UI, 0, bytes, GL_RED_INTEGER, GL_UNSIGNED_INT, &bits);
+    }
+    // Copies the first `bytes` of `src` to the start of this buffer, on the GPU.
+    void copyFrom(const Buffer& src, GLsizeiptr bytes) const {
+        if (bytes <= 0) return;
+        glBindBuffer(GL_COPY_READ_BUFFER, src.id());
+        glBindBuffer(GL_COPY_WRITE_BUFFER, h_.id());
+        glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, bytes);
+    }
     // Reads `bytes` from offset 0 into `out` (waits for the GPU).
     void download(void* out, GLsizeiptr bytes) const {
         glBindBuffer(GL_COPY_READ_BUFFER, h_.id());

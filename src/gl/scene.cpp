@@ -17,13 +17,6 @@ namespace {
 constexpr int kGroup = 64;  // local_size_x of scene.comp: columns per work group
 constexpr int kRows = 8;    // rows per invocation (llvmpipe pays a fixed cost per work group)
 
-// Fills the first `floats` floats of `buffer` with `value` (a memset on llvmpipe).
-void fill(const Buffer& buffer, std::size_t floats, float value) {
-    if (floats == 0) return;
-    glBindBuffer(GL_COPY_WRITE_BUFFER, buffer.id());
-    glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32F, 0, GLsizeiptr(floats * sizeof(float)), GL_RED, GL_FLOAT,
-                         &value);
-}
 }  // namespace
 
 Result<SceneCaster> SceneCaster::create() {
@@ -40,8 +33,8 @@ void SceneCaster::run(const FrameParams& frame, const cpu::Studio& studio, GpuIm
     depth.resize(W, H, 1);
     if (W <= 0 || H <= 0) return;
     if (!studio.enabled) {  // transparent background, no geometry
-        fill(color.buffer, color.floats(), 0.0f);
-        fill(depth.buffer, depth.floats(), std::numeric_limits<float>::infinity());
+        color.buffer.fill(color.bytes(), 0u);
+        depth.buffer.fill(depth.bytes(), 0x7f800000u);  // +inf
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;
     }

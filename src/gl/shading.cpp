@@ -46,15 +46,8 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
     // Every pixel starts as the scene colour (transparent black without a
     // scene), by the driver (a memcpy / memset on llvmpipe); the shader then
     // writes only the fluid pixels.
-    if (hasScene) {
-        glBindBuffer(GL_COPY_READ_BUFFER, sceneColor.buffer.id());
-        glBindBuffer(GL_COPY_WRITE_BUFFER, color.buffer.id());
-        glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, color.bytes());
-    } else {
-        const float zero = 0.0f;
-        glBindBuffer(GL_COPY_WRITE_BUFFER, color.buffer.id());
-        glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32F, 0, color.bytes(), GL_RED, GL_FLOAT, &zero);
-    }
+    if (hasScene) color.buffer.copyFrom(sceneColor.buffer, color.bytes());
+    else color.buffer.fill(color.bytes(), 0u);
     if (!sized(depth, W, H, 1)) {  // no usable fluid depth: the scene alone
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;

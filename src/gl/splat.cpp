@@ -25,10 +25,6 @@ GLuint groupsFor(GLuint items, GLuint perInvocation = 1) {
 }
 constexpr GLuint kPixelsPerInvocation = 16;
 
-void fill(const GpuImage& img, GLuint bits) {
-    glBindBuffer(GL_COPY_WRITE_BUFFER, img.buffer.id());
-    glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32UI, 0, img.bytes(), GL_RED_INTEGER, GL_UNSIGNED_INT, &bits);
-}
 }  // namespace
 
 Result<Splat> Splat::create() {
@@ -73,8 +69,8 @@ void Splat::run(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& 
         glUniform1i(3, thickness ? 1 : 0);
         glDispatchCompute(groupsFor(pixels, kPixelsPerInvocation), 1, 1);
     } else {
-        fill(depth, 0x7f800000u);
-        if (thickness) fill(*thickness, 0u);
+        depth.buffer.fill(depth.bytes(), 0x7f800000u);
+        if (thickness) thickness->buffer.fill(thickness->bytes(), 0u);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
