@@ -68,7 +68,9 @@ public:
     virtual void endStage() = 0;
     virtual std::vector<StageTime> stageTimes() = 0;
 
-    // ---- Read back (GL: waits for the GPU).
+    // ---- Read back (GL: waits for the GPU). The backend may hand its storage
+    // over: a slot read back holds nothing until a stage writes it again
+    // (the scene slots excepted, which stay cached).
     virtual Image<float> readScalar(Slot slot) = 0;
     virtual Image<glm::vec3> readVec3(Slot slot) = 0;
     virtual Image<glm::vec4> readColor(Slot slot) = 0;
