@@ -51,24 +51,19 @@ struct Frame {
     RenderSettings settings;
 };
 
-Frame realFrame() {
+// The real frame with the default settings at 320x180.
+Frame realFrameSettings() {
     Frame f;
-    auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-    EXPECT_TRUE(set.ok()) << set.error().describe();
-    if (!set) return f;
-    f.positions = set->positions;
-    f.settings.radiusM = estimateRadius(f.positions).radius;
-    Camera base;
-    base.width = 320;
-    base.height = 180;
-    f.settings.camera = autoFrameCamera(f.positions, f.settings.radiusM, base);
+    f.positions = realFrame().positions;
+    f.settings.radiusM = realFrame().radius;
+    f.settings.camera = realFrameCamera(320, 180);
     return f;
 }
 
 }  // namespace
 
 TEST_F(GlBackend, EveryFilterMatchesCpuOnTheRealFrame) {
-    Frame f = realFrame();
+    Frame f = realFrameSettings();
     ASSERT_FALSE(f.positions.empty());
     auto gl = Renderer::create(BackendChoice::Gl);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
@@ -90,7 +85,7 @@ TEST_F(GlBackend, EveryFilterMatchesCpuOnTheRealFrame) {
 }
 
 TEST_F(GlBackend, MaterialsBackgroundAndViewsMatchCpu) {
-    Frame f = realFrame();
+    Frame f = realFrameSettings();
     ASSERT_FALSE(f.positions.empty());
     auto gl = Renderer::create(BackendChoice::Gl);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
@@ -107,7 +102,7 @@ TEST_F(GlBackend, MaterialsBackgroundAndViewsMatchCpu) {
 }
 
 TEST_F(GlBackend, SequenceReusesTheSceneAndCameraChangesRecastIt) {
-    Frame f = realFrame();
+    Frame f = realFrameSettings();
     ASSERT_FALSE(f.positions.empty());
     auto gl = Renderer::create(BackendChoice::Gl);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();

@@ -67,12 +67,6 @@ DepthDiff expectParity(const Image<float>& depth, const Camera& cam, float r, co
     return d;
 }
 
-Camera realFrameCamera(const std::vector<glm::vec3>& pos, float r, int w, int h) {
-    Camera base;
-    base.width = w;
-    base.height = h;
-    return autoFrameCamera(pos, r, base);
-}
 
 }  // namespace
 
@@ -92,11 +86,11 @@ TEST_F(GlCurvatureFlow, BallOfParticlesMatchesCpu) {
 }
 
 TEST_F(GlCurvatureFlow, RealFrameMatchesCpu) {
-    auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-    ASSERT_TRUE(set.ok()) << set.error().describe();
-    const float r = estimateRadius(set->positions).radius;
-    const Camera cam = realFrameCamera(set->positions, r, 320, 180);
-    const Image<float> depth = cpu::splatDepth(cam, set->positions, r);
+    const RealFrame& frame = realFrame();
+    ASSERT_FALSE(frame.positions.empty());
+    const float r = frame.radius;
+    const Camera cam = realFrameCamera(320, 180);
+    const Image<float> depth = cpu::splatDepth(cam, frame.positions, r);
     const DepthDiff d = expectParity(depth, cam, r, "real frame");
     EXPECT_GT(d.coveredCpu, 320 * 180 / 10);
 }
@@ -152,11 +146,11 @@ TEST_F(GlCurvatureFlow, ZeroIterationsCopies) {
 TEST_F(GlCurvatureFlow, Timing1280x720) {
     // The real frame at 1280x720, default parameters (40 iterations): median of
     // 5 runs, glFinish around run(). Printed, never asserted.
-    auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-    ASSERT_TRUE(set.ok()) << set.error().describe();
-    const float r = estimateRadius(set->positions).radius;
-    const Camera cam = realFrameCamera(set->positions, r, 1280, 720);
-    const Image<float> depth = cpu::splatDepth(cam, set->positions, r);
+    const RealFrame& frame = realFrame();
+    ASSERT_FALSE(frame.positions.empty());
+    const float r = frame.radius;
+    const Camera cam = realFrameCamera(1280, 720);
+    const Image<float> depth = cpu::splatDepth(cam, frame.positions, r);
     auto flow = gl::CurvatureFlow::create();
     ASSERT_TRUE(flow.ok()) << flow.error().describe();
     const CurvatureFlowParams p;

@@ -74,12 +74,6 @@ DepthDiff expectParity(const Image<float>& depth, const Camera& cam, float r, co
     return d;
 }
 
-Camera realFrameCamera(const std::vector<glm::vec3>& pos, float r, int w, int h) {
-    Camera base;
-    base.width = w;
-    base.height = h;
-    return autoFrameCamera(pos, r, base);
-}
 
 }  // namespace
 
@@ -105,11 +99,11 @@ TEST_P(GlNarrowRange, BallOfParticlesMatchesCpu) {
 }
 
 TEST_P(GlNarrowRange, RealFrameMatchesCpu) {
-    auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-    ASSERT_TRUE(set.ok()) << set.error().describe();
-    const float r = estimateRadius(set->positions).radius;
-    const Camera cam = realFrameCamera(set->positions, r, 320, 180);
-    const Image<float> depth = cpu::splatDepth(cam, set->positions, r);
+    const RealFrame& frame = realFrame();
+    ASSERT_FALSE(frame.positions.empty());
+    const float r = frame.radius;
+    const Camera cam = realFrameCamera(320, 180);
+    const Image<float> depth = cpu::splatDepth(cam, frame.positions, r);
     const DepthDiff d = expectParity(depth, cam, r, params(GetParam()), "real frame");
     EXPECT_GT(d.coveredCpu, 320 * 180 / 10);
 }
@@ -185,11 +179,11 @@ TEST_P(GlNarrowRange, ReusedAcrossSizesAndZeroIterations) {
 TEST_P(GlNarrowRange, Timing1280x720) {
     // The real frame at 1280x720, default parameters (3 iterations): median of
     // 5 runs, glFinish around run(). Printed, never asserted.
-    auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-    ASSERT_TRUE(set.ok()) << set.error().describe();
-    const float r = estimateRadius(set->positions).radius;
-    const Camera cam = realFrameCamera(set->positions, r, 1280, 720);
-    const Image<float> depth = cpu::splatDepth(cam, set->positions, r);
+    const RealFrame& frame = realFrame();
+    ASSERT_FALSE(frame.positions.empty());
+    const float r = frame.radius;
+    const Camera cam = realFrameCamera(1280, 720);
+    const Image<float> depth = cpu::splatDepth(cam, frame.positions, r);
     auto f = gl::NarrowRange::create();
     ASSERT_TRUE(f.ok()) << f.error().describe();
     const NarrowRangeParams p = params(GetParam());

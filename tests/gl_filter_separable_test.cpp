@@ -131,22 +131,14 @@ struct FlatBlock {
     }
 };
 
-struct RealFrame {
-    std::vector<glm::vec3> positions;
-    float r = 0.0f;
+// The shared real frame (gl_test_util.h) splatted at w x h.
+struct SplattedRealFrame {
+    const std::vector<glm::vec3>& positions = realFrame().positions;
+    float r = realFrame().radius;
     Camera camera;
     Image<float> depth;
-    RealFrame(int w, int h) {
-        auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-        EXPECT_TRUE(set.ok()) << set.error().describe();
-        if (!set.ok()) return;
-        positions = set->positions;
-        r = estimateRadius(positions).radius;
-        Camera base;
-        base.width = w;
-        base.height = h;
-        camera = autoFrameCamera(positions, r, base);
-        depth = cpu::splatDepth(camera, positions, r);
+    SplattedRealFrame(int w, int h) : camera(realFrameCamera(w, h)) {
+        if (!positions.empty()) depth = cpu::splatDepth(camera, positions, r);
     }
 };
 
@@ -167,7 +159,7 @@ TEST_F(GlSeparable, BallMatchesCpu) {
 }
 
 TEST_F(GlSeparable, RealFrameMatchesCpu) {
-    const RealFrame f(320, 180);
+    const SplattedRealFrame f(320, 180);
     ASSERT_FALSE(f.depth.empty());
     for (int kind = 1; kind <= 3; ++kind) expectFilterMatches(f.depth, f.camera, f.r, withKind(kind), "real frame");
 }
@@ -320,7 +312,7 @@ ScalarDiff expectThicknessMatches(const Image<float>& cpu, const Image<float>& g
 }  // namespace
 
 TEST_F(GlSeparable, ThicknessBlurRealFrameMatchesCpu) {
-    const RealFrame f(320, 180);
+    const SplattedRealFrame f(320, 180);
     ASSERT_FALSE(f.depth.empty());
     ThicknessParams raw;
     raw.blurSigmaRadii = 0.0f;
@@ -352,7 +344,7 @@ TEST_F(GlSeparable, ThicknessBlurCappedAndBorderMatchesCpu) {
 }
 
 TEST_F(GlSeparable, ThicknessBlurZeroSigmaIsNoOp) {
-    const RealFrame f(160, 90);
+    const SplattedRealFrame f(160, 90);
     ASSERT_FALSE(f.depth.empty());
     ThicknessParams raw;
     raw.blurSigmaRadii = 0.0f;
@@ -364,7 +356,7 @@ TEST_F(GlSeparable, ThicknessBlurZeroSigmaIsNoOp) {
 // Not a check: the time of each stage at 1280x720 on the real frame, for the
 // report (median of 5 runs after a warm-up; glFinish around run()).
 TEST_F(GlSeparable, Timing1280x720) {
-    const RealFrame f(1280, 720);
+    const SplattedRealFrame f(1280, 720);
     ASSERT_FALSE(f.depth.empty());
     ThicknessParams raw;
     raw.blurSigmaRadii = 0.0f;

@@ -88,29 +88,6 @@ void expectWithinTolerance(const Result3& r, const char* what) {
     EXPECT_EQ(r.nonFluidBad, 0) << what;
 }
 
-struct RealFrame {
-    std::vector<glm::vec3> positions;
-    float radius = 0.0f;
-};
-const RealFrame& realFrame() {
-    static const RealFrame frame = [] {
-        RealFrame f;
-        auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-        EXPECT_TRUE(set.ok()) << set.error().describe();
-        if (set) {
-            f.positions = set->positions;
-            f.radius = estimateRadius(f.positions).radius;
-        }
-        return f;
-    }();
-    return frame;
-}
-Camera realCamera(int w, int h) {
-    Camera base;
-    base.width = w;
-    base.height = h;
-    return autoFrameCamera(realFrame().positions, realFrame().radius, base);
-}
 
 }  // namespace
 
@@ -143,7 +120,7 @@ TEST_F(GlNormals, BallMatchesCpu) {
 TEST_F(GlNormals, RealFrameRawAndSmoothedMatchCpu) {
     const RealFrame& f = realFrame();
     ASSERT_FALSE(f.positions.empty());
-    const Camera cam = realCamera(320, 180);
+    const Camera cam = realFrameCamera(320, 180);
     const Image<float> raw = cpu::splatDepth(cam, f.positions, f.radius);
     const Result3 a = compareWithCpu(raw, cam, f.radius);
     EXPECT_GT(a.diff.compared, 320 * 180 / 10);
@@ -213,7 +190,7 @@ TEST_F(GlNormals, Timing1280x720) {
     // Reported, never asserted: the median of a few runs at 1280x720 on the
     // real frame's smoothed depth.
     const RealFrame& f = realFrame();
-    const Camera cam = realCamera(1280, 720);
+    const Camera cam = realFrameCamera(1280, 720);
     const Image<float> depth =
         cpu::smoothDepth(cpu::splatDepth(cam, f.positions, f.radius), cam, f.radius, NarrowRangeParams{});
     auto normals = gl::Normals::create();

@@ -81,30 +81,7 @@ void expectWithinTolerance(const SceneDiff& d, int pixels, const char* what) {
     EXPECT_LE(d.maxAbs, kColorAbs) << what;
 }
 
-struct RealFrame {
-    std::vector<glm::vec3> positions;
-    float radius = 0.0f;
-};
-const RealFrame& realFrame() {
-    static const RealFrame frame = [] {
-        RealFrame f;
-        auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-        EXPECT_TRUE(set.ok()) << set.error().describe();
-        if (set) {
-            f.positions = set->positions;
-            f.radius = estimateRadius(f.positions).radius;
-        }
-        return f;
-    }();
-    return frame;
-}
 
-Camera realCamera(int w, int h) {
-    Camera base;
-    base.width = w;
-    base.height = h;
-    return autoFrameCamera(realFrame().positions, realFrame().radius, base);
-}
 
 // A camera at azimuth/elevation (degrees) around the box centre, at `dist`.
 Camera orbitCamera(const Bounds& box, float azimuthDeg, float elevationDeg, float dist, int w, int h) {
@@ -124,7 +101,7 @@ Camera orbitCamera(const Bounds& box, float azimuthDeg, float elevationDeg, floa
 TEST_F(GlScene, RealFrameStudioMatchesCpu) {
     const RealFrame& f = realFrame();
     ASSERT_FALSE(f.positions.empty());
-    const Camera cam = realCamera(320, 180);
+    const Camera cam = realFrameCamera(320, 180);
     const cpu::Studio studio = cpu::makeStudio(computeBounds(f.positions), f.radius, cam, SceneParams{});
     const SceneDiff d = compareScene(cam, studio);
     EXPECT_GT(d.depth.coveredCpu, 320 * 180 / 4);  // the studio fills much of the frame
@@ -179,7 +156,7 @@ TEST_F(GlScene, FarFloorFadesIntoTheSkyAsOnTheCpu) {
 }
 
 TEST_F(GlScene, BackgroundOffIsTransparentAndInfinite) {
-    const Camera cam = realCamera(160, 90);
+    const Camera cam = realFrameCamera(160, 90);
     SceneParams params;
     params.background = false;
     const cpu::Studio studio = cpu::makeStudio(computeBounds(realFrame().positions), realFrame().radius, cam, params);
@@ -206,7 +183,7 @@ TEST_F(GlScene, ReusedAcrossSizesAndStudios) {
     ASSERT_TRUE(caster.ok()) << caster.error().describe();
     gl::FrameParamsBlock block;
     gl::GpuImage color, depth;
-    const Camera big = realCamera(320, 180), small = realCamera(64, 36);
+    const Camera big = realFrameCamera(320, 180), small = realFrameCamera(64, 36);
     const cpu::Studio on = cpu::makeStudio(computeBounds(f.positions), f.radius, big, SceneParams{});
     cpu::Studio off = on;
     off.enabled = false;
@@ -232,7 +209,7 @@ TEST_F(GlScene, ReusedAcrossSizesAndStudios) {
 TEST_F(GlScene, Timing1280x720) {
     // Reported, never asserted: the median of a few runs at 1280x720.
     const RealFrame& f = realFrame();
-    const Camera cam = realCamera(1280, 720);
+    const Camera cam = realFrameCamera(1280, 720);
     const cpu::Studio studio = cpu::makeStudio(computeBounds(f.positions), f.radius, cam, SceneParams{});
     auto caster = gl::SceneCaster::create();
     ASSERT_TRUE(caster.ok()) << caster.error().describe();

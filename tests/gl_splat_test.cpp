@@ -57,18 +57,15 @@ TEST_F(GlSplat, OneParticleMatchesCpu) {
 }
 
 TEST_F(GlSplat, RealFrameMatchesCpu) {
-    auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-    ASSERT_TRUE(set.ok()) << set.error().describe();
-    const float r = estimateRadius(set->positions).radius;
-    Camera base;
-    base.width = 320;
-    base.height = 180;
-    const Camera cam = autoFrameCamera(set->positions, r, base);
-    const auto gl = glSplat(cam, set->positions, r);
+    const RealFrame& frame = realFrame();
+    ASSERT_FALSE(frame.positions.empty());
+    const float r = frame.radius;
+    const Camera cam = realFrameCamera(320, 180);
+    const auto gl = glSplat(cam, frame.positions, r);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
-    const DepthDiff d = compareDepth(cpu::splatDepth(cam, set->positions, r), *gl);
+    const DepthDiff d = compareDepth(cpu::splatDepth(cam, frame.positions, r), *gl);
     std::printf("real frame: %zu particles, %d covered, %d coverage differences, max rel %.3g\n",
-                set->positions.size(), d.coveredCpu, d.coverageDiffer, d.maxRel);
+                frame.positions.size(), d.coveredCpu, d.coverageDiffer, d.maxRel);
     EXPECT_GT(d.coveredCpu, 320 * 180 / 10);
     EXPECT_LE(d.coverageDiffer, int(kCoverageFraction * d.coveredCpu));
     EXPECT_LE(d.maxRel, kDepthRel);
@@ -150,14 +147,11 @@ void expectThicknessMatches(const Camera& cam, std::span<const glm::vec3> pos, f
 }  // namespace
 
 TEST_F(GlSplat, ThicknessOfRealFrameMatchesCpu) {
-    auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-    ASSERT_TRUE(set.ok()) << set.error().describe();
-    const float r = estimateRadius(set->positions).radius;
-    Camera base;
-    base.width = 320;
-    base.height = 180;
-    const Camera cam = autoFrameCamera(set->positions, r, base);
-    expectThicknessMatches(cam, set->positions, r, nullptr);
+    const RealFrame& frame = realFrame();
+    ASSERT_FALSE(frame.positions.empty());
+    const float r = frame.radius;
+    const Camera cam = realFrameCamera(320, 180);
+    expectThicknessMatches(cam, frame.positions, r, nullptr);
 }
 
 TEST_F(GlSplat, ThicknessClippedByNearPlaneAndSceneMatchesCpu) {

@@ -14,7 +14,11 @@
 #include <gtest/gtest.h>
 
 #include "gl/context.h"
+#include "meniscus/camera.h"
+#include "meniscus/io.h"
+#include "meniscus/particles.h"
 #include "meniscus/types.h"
+#include "test_util.h"
 
 namespace meniscus::test {
 
@@ -42,6 +46,34 @@ protected:
         if (!sharedGlContext(&why)) GTEST_SKIP() << "no GL context: " << why;
     }
 };
+
+// ---- The real frame every parity test uses --------------------------------
+// tests/data/splishsplash/partio/ParticleData_Fluid_21.bgeo (a SPlisHSPlasH
+// dam break), read once per test binary, with its estimated particle radius.
+struct RealFrame {
+    std::vector<glm::vec3> positions;
+    float radius = 0.0f;
+};
+inline const RealFrame& realFrame() {
+    static const RealFrame frame = [] {
+        RealFrame f;
+        auto set = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
+        EXPECT_TRUE(set.ok()) << set.error().describe();
+        if (set) {
+            f.positions = set->positions;
+            f.radius = estimateRadius(f.positions).radius;
+        }
+        return f;
+    }();
+    return frame;
+}
+// The auto-framed camera of the real frame at w x h pixels.
+inline Camera realFrameCamera(int w, int h) {
+    Camera base;
+    base.width = w;
+    base.height = h;
+    return autoFrameCamera(realFrame().positions, realFrame().radius, base);
+}
 
 // ---- Depth (eye depth, +inf = no fluid) -------------------------------------
 struct DepthDiff {
