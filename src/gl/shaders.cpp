@@ -1,14 +1,31 @@
 // Include resolution for the embedded shaders (see shaders.h).
 #include "gl/shaders.h"
 
+#include <cstdlib>
+#include <fstream>
 #include <set>
+#include <sstream>
 
 namespace meniscus::gl {
 
 namespace {
 
+// Shader development: with MENISCUS_SHADER_DIR set, a file of that name in the
+// directory replaces the embedded one (edit and re-run without rebuilding;
+// A/B timing of variants in one session). Unset: the embedded files only.
+std::string overrideSource(std::string_view fileName) {
+    const char* dir = std::getenv("MENISCUS_SHADER_DIR");
+    if (!dir || !*dir) return {};
+    std::ifstream in(std::string(dir) + "/" + std::string(fileName), std::ios::binary);
+    if (!in) return {};
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
 Status appendResolved(std::string_view fileName, std::set<std::string>& seen, std::string& out) {
-    const std::string_view text = shaderSource(fileName);
+    const std::string overridden = overrideSource(fileName);
+    const std::string_view text = overridden.empty() ? shaderSource(fileName) : std::string_view(overridden);
     if (text.empty()) return makeError(std::string(fileName), "shader file not embedded in the build");
     seen.insert(std::string(fileName));
     std::size_t pos = 0;
