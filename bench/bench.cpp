@@ -59,6 +59,8 @@ int main(int argc, char** argv) {
     bool separable = false;
     app.add_option("--filter", filters, "Smoothing filter(s) to time: " + filterNames() + " (default: all)");
     app.add_flag("--separable", separable, "narrow-range: time the separable 1-D approximation as well");
+    bool allAovs = false;
+    app.add_flag("--all-aovs", allAovs, "Read back every AOV (as for an EXR); default: the colour only (as for a PNG)");
     std::string backendOpt = "both";
     app.add_option("--backend", backendOpt, "cpu, gl, auto, or both (cpu and gl side by side; gl skipped with a note when no context)")
         ->capture_default_str();
@@ -155,6 +157,7 @@ int main(int argc, char** argv) {
 
     for (const auto& [label, filter] : configs) {
         settings.filter = filter;
+        settings.colorOnly = !allAovs;
         // Per backend: stage -> run times, and the stage order.
         std::vector<std::map<std::string, std::vector<double>>> perStage(renderers.size());
         std::vector<std::string> order;
@@ -179,6 +182,15 @@ int main(int argc, char** argv) {
             const std::string name = stage == "smooth" ? "smooth " + label : stage == "scene" ? "scene (cached)" : stage;
             for (std::size_t b = 0; b < renderers.size(); ++b)
                 if (perStage[b].count(stage)) printOn(name.c_str(), res, n, renderers[b].first, median(perStage[b][stage]));
+        }
+        // The stages alone (GL: rendered on the GPU, nothing copied back, as a
+        // viewer or another GL renderer's timing), then the whole call.
+        for (std::size_t b = 0; b < renderers.size(); ++b) {
+            std::vector<double> sums(repeat, 0.0);
+            for (const auto& [stage, runs] : perStage[b])
+                if (stage != "readback")
+                    for (std::size_t i = 0; i < runs.size() && i < sums.size(); ++i) sums[i] += runs[i];
+            printOn(("pipeline stages (sum), " + label).c_str(), res, n, renderers[b].first, median(sums));
         }
         for (std::size_t b = 0; b < renderers.size(); ++b)
             printOn(("pipeline total (wall), " + label).c_str(), res, n, renderers[b].first, median(totals[b]));

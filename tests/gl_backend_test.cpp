@@ -101,6 +101,27 @@ TEST_F(GlBackend, MaterialsBackgroundAndViewsMatchCpu) {
     }
 }
 
+// colorOnly reads back only what the view pictures; the colour is the same.
+TEST_F(GlBackend, ColorOnlyMatchesCpuForEveryView) {
+    Frame f = realFrameSettings();
+    ASSERT_FALSE(f.positions.empty());
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    Renderer cpu;
+    f.settings.colorOnly = true;
+    for (View v : {View::Final, View::Depth, View::RawDepth, View::Normals, View::Thickness}) {
+        f.settings.view = v;
+        auto a = cpu.render(f.positions, f.settings);
+        auto b = gl->render(f.positions, f.settings);
+        ASSERT_TRUE(a.ok() && b.ok());
+        EXPECT_TRUE(b->depth.empty() && b->rawDepth.empty() && b->normal.empty() && b->thickness.empty());
+        ASSERT_FALSE(b->color.empty());
+        const ColorDiff c = compareColor(a->color, b->color);  // the whole-pipeline colour tolerance above
+        EXPECT_LE(c.maxSteps, 2) << int(v);
+        EXPECT_LE(c.fractionOver1, 1e-3) << int(v);
+    }
+}
+
 TEST_F(GlBackend, SequenceReusesTheSceneAndCameraChangesRecastIt) {
     Frame f = realFrameSettings();
     ASSERT_FALSE(f.positions.empty());

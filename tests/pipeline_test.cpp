@@ -326,6 +326,27 @@ TEST(Pipeline, ViewsAndTimings) {
     EXPECT_FALSE(viewFromName("shaded", &unused));
 }
 
+// colorOnly (a PNG) gives the same colour for every view and leaves the other
+// AOVs empty; without it every AOV is filled.
+TEST(Pipeline, ColorOnlyGivesTheSameColourAndNothingElse) {
+    const ParticleSet& set = realFrame();
+    RenderSettings s = realFrameSettings(set, 160, 90);
+    Renderer renderer;
+    for (View v : {View::Final, View::Depth, View::RawDepth, View::Normals, View::Thickness}) {
+        s.view = v;
+        s.colorOnly = false;
+        auto all = renderer.render(set.positions, s);
+        s.colorOnly = true;
+        auto only = renderer.render(set.positions, s);
+        ASSERT_TRUE(all && only);
+        EXPECT_FALSE(all->depth.empty() || all->rawDepth.empty() || all->normal.empty() || all->thickness.empty());
+        EXPECT_TRUE(only->depth.empty() && only->rawDepth.empty() && only->normal.empty() && only->thickness.empty());
+        ASSERT_EQ(only->color.size(), all->color.size());
+        EXPECT_EQ(std::memcmp(only->color.pixels.data(), all->color.pixels.data(), all->color.size() * sizeof(glm::vec4)), 0)
+            << int(v);
+    }
+}
+
 TEST(Pipeline, RejectsABadRadiusOrCamera) {
     const std::vector<glm::vec3> pts{glm::vec3(0.0f)};
     RenderSettings s;

@@ -226,6 +226,7 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
 
     settings.camera = *camera;
     settings.radiusM = radius;
+    settings.colorOnly = !isExr(o.output);  // a PNG needs only the colour AOV
     // The studio is built around the first frame and stays put for the sequence.
     settings.scene.studioBounds = computeBounds(first->positions);
 

@@ -31,6 +31,10 @@ struct RenderSettings {
     ThicknessParams thickness;
     SceneParams scene;
     ShadingParams shading;
+    // Only `color` is needed (a PNG, a preview): render() leaves the other AOVs
+    // empty, which on GL saves their GPU -> host copies. Every AOV otherwise
+    // (an EXR).
+    bool colorOnly = false;
 };
 
 // Wall-clock time of one stage of one renderFrame call.
@@ -69,7 +73,8 @@ public:
     Renderer& operator=(Renderer&&) noexcept;
 
     // Renders one frame: every AOV is filled (color = the chosen view; depth =
-    // the smoothed eye depth; rawDepth = the splat; normal; thickness). When
+    // the smoothed eye depth; rawDepth = the splat; normal; thickness), or
+    // only color with settings.colorOnly. When
     // `timings` is given it receives one entry per stage, in pipeline order
     // (CPU: wall clock; GL: GPU time from timer queries), then, on GL, one
     // "readback" entry (wall clock of copying the AOVs back).

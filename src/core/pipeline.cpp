@@ -151,16 +151,20 @@ Result<Aovs> Renderer::render(std::span<const glm::vec3> positions, const Render
     });
 
     const auto t0 = std::chrono::steady_clock::now();
+    // Read back what the output needs: every AOV, or (colorOnly) the colour
+    // or the stage a debug view pictures.
+    const bool all = !s.colorOnly;
+    const View v = s.view;
     Aovs aovs;
-    aovs.rawDepth = b.readScalar(Slot::RawDepth);
-    aovs.depth = b.readScalar(Slot::Depth);
-    aovs.thickness = b.readScalar(Slot::Thickness);
-    aovs.normal = b.readVec3(Slot::Normal);
-    aovs.color = b.readColor(Slot::Color);
+    if (all || v == View::RawDepth) aovs.rawDepth = b.readScalar(Slot::RawDepth);
+    if (all || v == View::Depth || v == View::Normals) aovs.depth = b.readScalar(Slot::Depth);
+    if (all || v == View::Thickness) aovs.thickness = b.readScalar(Slot::Thickness);
+    if (all || v == View::Normals) aovs.normal = b.readVec3(Slot::Normal);
+    if (all || v == View::Final) aovs.color = b.readColor(Slot::Color);
     const double readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (timings) {
         *timings = b.stageTimes();
-        if (b.name() != "cpu") timings->push_back({"readback", readMs});  // GPU -> host copies of every AOV
+        if (b.name() != "cpu") timings->push_back({"readback", readMs});  // GPU -> host copies of the AOVs read
     }
     switch (s.view) {
         case View::Final: break;
@@ -169,6 +173,7 @@ Result<Aovs> Renderer::render(std::span<const glm::vec3> positions, const Render
         case View::Normals: aovs.color = normalsView(aovs.normal, aovs.depth); break;
         case View::Thickness: aovs.color = thicknessView(aovs.thickness); break;
     }
+    if (s.colorOnly) aovs.depth = aovs.rawDepth = aovs.thickness = {}, aovs.normal = {};
     return aovs;
 }
 
