@@ -74,6 +74,28 @@ Image<glm::vec4> thicknessView(const Image<float>& thickness) {
     return out;
 }
 
+// Every AOV of the frame just rendered, read back from the backend.
+Aovs readAovs(Backend& b) {
+    Aovs aovs;
+    aovs.rawDepth = b.readScalar(Slot::RawDepth);
+    aovs.depth = b.readScalar(Slot::Depth);
+    aovs.thickness = b.readScalar(Slot::Thickness);
+    aovs.normal = b.readVec3(Slot::Normal);
+    aovs.color = b.readColor(Slot::Color);
+    return aovs;
+}
+
+// Replaces the colour by the chosen debug view (Final keeps it).
+void applyView(View view, Aovs& aovs) {
+    switch (view) {
+        case View::Final: break;
+        case View::Depth: aovs.color = depthView(aovs.depth); break;
+        case View::RawDepth: aovs.color = depthView(aovs.rawDepth); break;
+        case View::Normals: aovs.color = normalsView(aovs.normal, aovs.depth); break;
+        case View::Thickness: aovs.color = thicknessView(aovs.thickness); break;
+    }
+}
+
 }  // namespace
 
 bool viewFromName(const std::string& name, View* out) {
@@ -117,10 +139,16 @@ Result<Renderer> Renderer::create(BackendChoice choice, std::string* note) {
     return Renderer(std::move(*b));
 }
 
+Result<Renderer> Renderer::createOnCurrentGlContext() {
+    auto b = makeGlBackendOnCurrentContext();
+    if (!b) return b.error();
+    return Renderer(std::move(*b));
+}
+
 std::string Renderer::backendName() const { return backend_->name(); }
 
-Result<Aovs> Renderer::render(std::span<const glm::vec3> positions, const RenderSettings& s,
-                              std::vector<StageTime>* timings) {
+Status Renderer::runStages(std::span<const glm::vec3> positions, const RenderSettings& s,
+                           std::vector<StageTime>* timings) {
     if (auto st = validateCamera(s.camera); !st) return st.error();
     if (!(s.radiusM > 0.0f) || !std::isfinite(s.radiusM))
         return makeError("", "particle radius must be a positive number of metres");
@@ -149,27 +177,35 @@ Result<Aovs> Renderer::render(std::span<const glm::vec3> positions, const Render
     stage("shade", [&] {
         b.shade(Slot::SceneColor, Slot::SceneDepth, Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Color);
     });
+    return okStatus();
+}
 
+Result<Aovs> Renderer::render(std::span<const glm::vec3> positions, const RenderSettings& s,
+                              std::vector<StageTime>* timings) {
+    if (auto st = runStages(positions, s, timings); !st) return st.error();
+    Backend& b = *backend_;
     const auto t0 = std::chrono::steady_clock::now();
-    Aovs aovs;
-    aovs.rawDepth = b.readScalar(Slot::RawDepth);
-    aovs.depth = b.readScalar(Slot::Depth);
-    aovs.thickness = b.readScalar(Slot::Thickness);
-    aovs.normal = b.readVec3(Slot::Normal);
-    aovs.color = b.readColor(Slot::Color);
+    Aovs aovs = readAovs(b);
     const double readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (timings) {
         *timings = b.stageTimes();
         if (b.name() != "cpu") timings->push_back({"readback", readMs});  // GPU -> host copies of every AOV
     }
-    switch (s.view) {
-        case View::Final: break;
-        case View::Depth: aovs.color = depthView(aovs.depth); break;
-        case View::RawDepth: aovs.color = depthView(aovs.rawDepth); break;
-        case View::Normals: aovs.color = normalsView(aovs.normal, aovs.depth); break;
-        case View::Thickness: aovs.color = thicknessView(aovs.thickness); break;
-    }
+    applyView(s.view, aovs);
     return aovs;
+}
+
+Status Renderer::draw(std::span<const glm::vec3> positions, const RenderSettings& s) {
+    if (auto st = runStages(positions, s, nullptr); !st) return st;
+    if (s.view == View::Final) return okStatus();  // the colour is already in its slot
+    Aovs aovs = readAovs(*backend_);
+    applyView(s.view, aovs);
+    backend_->writeColor(Slot::Color, std::move(aovs.color));
+    return okStatus();
+}
+
+Status Renderer::present(int framebufferWidth, int framebufferHeight) {
+    return backend_->present(Slot::Color, framebufferWidth, framebufferHeight);
 }
 
 Result<Aovs> renderFrame(std::span<const glm::vec3> positions, const RenderSettings& settings,
