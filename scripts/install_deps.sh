@@ -3,7 +3,9 @@
 # The GL backend needs libepoxy + EGL; Mesa's llvmpipe (libgl1-mesa-dri,
 # libegl-mesa0) gives CI a headless GL 4.5 context without a GPU, and
 # glslang-tools checks every shader file. The viewer's window needs GLFW
-# (libglfw3-dev, its context through Mesa's GLX: libglx-mesa0).
+# (libglfw3-dev, its context through Mesa's GLX: libglx-mesa0) and an X
+# display; CI has none, so its tests run inside a virtual X server (xvfb-run
+# from xvfb, which needs xauth).
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 SUDO=""
@@ -15,5 +17,5 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   nlohmann-json3-dev libcli11-dev libtinyxml2-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
   libepoxy-dev libegl-dev libgl1-mesa-dri libegl-mesa0 glslang-tools \
-  libglfw3-dev libglx-mesa0 >/dev/null
+  libglfw3-dev libglx-mesa0 xvfb xauth >/dev/null
 echo "meniscus: dependencies installed"
