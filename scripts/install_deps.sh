@@ -2,7 +2,10 @@
 # Installs Meniscus's build and test dependencies from Debian 12 packages (run as root).
 # The GL backend needs libepoxy + EGL; Mesa's llvmpipe (libgl1-mesa-dri,
 # libegl-mesa0) gives CI a headless GL 4.5 context without a GPU, and
-# glslang-tools checks every shader file.
+# glslang-tools checks every shader file. The viewer's window needs GLFW
+# (libglfw3-dev, its context through Mesa's GLX: libglx-mesa0) and an X
+# display; CI has none, so its tests run inside a virtual X server (xvfb-run
+# from xvfb, which needs xauth).
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 SUDO=""
@@ -13,5 +16,6 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   libglm-dev zlib1g-dev libpng-dev libopenexr-dev libtbb-dev \
   nlohmann-json3-dev libcli11-dev libtinyxml2-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
-  libepoxy-dev libegl-dev libgl1-mesa-dri libegl-mesa0 glslang-tools >/dev/null
+  libepoxy-dev libegl-dev libgl1-mesa-dri libegl-mesa0 glslang-tools \
+  libglfw3-dev libglx-mesa0 xvfb xauth >/dev/null
 echo "meniscus: dependencies installed"

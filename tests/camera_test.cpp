@@ -180,3 +180,38 @@ TEST(Camera, ValidationRejectsDegenerateCameras) {
     size.width = 0;
     EXPECT_FALSE(validateCamera(size).ok());
 }
+
+// The viewer's orbit: the target stays, the distance scales only with zoom,
+// a positive azimuth moves the eye toward the camera's right, a full turn comes
+// back, the elevation stops short of the pole, and the near plane follows a zoom in.
+TEST(Camera, OrbitTurnsAroundTheTarget) {
+    Camera c = lookAlongMinusZ();
+    c.target = {1, 2, 3};
+    c.eye = c.target + glm::vec3(0, 0, 5);
+    c.nearM = 1.0f;
+    c.farM = 100.0f;
+    const Camera turned = orbitCamera(c, 90.0f, 0.0f, 1.0f);
+    EXPECT_EQ(turned.target, c.target);
+    EXPECT_NEAR(glm::length(turned.eye - turned.target), 5.0f, 1e-5f);
+    EXPECT_NEAR(turned.eye.x - c.target.x, 5.0f, 1e-5f);  // toward the camera's right, +x
+    EXPECT_NEAR(turned.eye.z - c.target.z, 0.0f, 1e-5f);
+    EXPECT_TRUE(validateCamera(turned).ok());
+    const Camera around = orbitCamera(orbitCamera(turned, 200.0f, 0.0f, 1.0f), 70.0f, 0.0f, 1.0f);
+    EXPECT_NEAR(glm::length(around.eye - c.eye), 0.0f, 1e-4f);
+
+    const Camera up = orbitCamera(c, 0.0f, 30.0f, 1.0f);
+    EXPECT_NEAR(up.eye.y - c.target.y, 5.0f * std::sin(glm::radians(30.0f)), 1e-5f);
+    const Camera pole = orbitCamera(c, 0.0f, 500.0f, 1.0f);
+    EXPECT_NEAR(std::asin((pole.eye.y - c.target.y) / 5.0f), glm::radians(89.0f), 1e-4f);
+    EXPECT_TRUE(validateCamera(pole).ok());
+
+    const Camera in = orbitCamera(c, 0.0f, 0.0f, 0.5f);
+    EXPECT_NEAR(glm::length(in.eye - in.target), 2.5f, 1e-5f);
+    EXPECT_NEAR(in.nearM, 2.5e-3f, 1e-7f);
+    EXPECT_EQ(in.farM, c.farM);
+    const Camera out = orbitCamera(c, 0.0f, 0.0f, 4.0f);
+    EXPECT_NEAR(glm::length(out.eye - out.target), 20.0f, 1e-4f);
+    EXPECT_EQ(out.farM, 4.0f * c.farM);
+    EXPECT_EQ(out.width, c.width);
+    EXPECT_EQ(out.fovYDegrees, c.fovYDegrees);
+}

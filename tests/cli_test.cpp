@@ -262,3 +262,28 @@ TEST(Cli, HelpExplainsTheCommands) {
     EXPECT_EQ(runCli("render --help", &out), 0);
     for (const char* word : {"--eye", "--radius", "--fov", "--width"}) EXPECT_NE(out.find(word), std::string::npos) << word;
 }
+
+// `meniscus view` needs a display: with none (DISPLAY and WAYLAND_DISPLAY
+// unset) it fails at once, exit code 1, with one line that says why (GLFW's
+// reason), and writes no screenshot. A build without GLFW fails the same way,
+// saying it has no viewer. Its help names the controls and the view options.
+TEST(Cli, ViewWithoutADisplayFailsClearly) {
+    const fs::path dir = tempDir();
+    std::string out;
+    EXPECT_EQ(runCommand("env -u DISPLAY -u WAYLAND_DISPLAY " + cliPath() + " view --frames 1 --screenshot " +
+                             quote(dir / "s.png"),
+                         &out),
+              1)
+        << out;
+    EXPECT_EQ(out.rfind("meniscus: error: ", 0), 0u) << out;
+    EXPECT_NE(out.find("GLFW"), std::string::npos) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+    EXPECT_FALSE(fs::exists(dir / "s.png"));
+
+    EXPECT_EQ(runCli("--help", &out), 0);
+    EXPECT_NE(out.find("view"), std::string::npos);
+    EXPECT_EQ(runCli("view --help", &out), 0);
+    for (const char* word : {"orbit", "zoom", "Esc", "display", "--filter", "--material", "--screenshot"})
+        EXPECT_NE(out.find(word), std::string::npos) << word;
+    EXPECT_EQ(out.find("--backend"), std::string::npos) << "the viewer always renders with GL";
+}

@@ -63,4 +63,14 @@ Status validateCamera(const Camera& camera);
 // `base`; eye, target, up, near and far are set (near/far scale with the scene).
 Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const Camera& base);
 
+// A valid camera moved on a sphere around its target, as a viewer's mouse
+// moves it: `azimuthDegrees` about the `up` axis (positive = toward the camera's
+// right), `elevationDegrees` toward `up` (the result stays within 89 degrees
+// of the horizon, so the view never flips over the pole), and the distance
+// times `zoom` (> 0). Up, size and field of view are kept. The near plane
+// comes to no more than 1e-3 of the new distance, so content nearer the
+// camera after a turn or a zoom is not clipped (eye depth is linear, so a
+// small near plane costs no precision); the far plane grows with zoom > 1.
+Camera orbitCamera(const Camera& camera, float azimuthDegrees, float elevationDegrees, float zoom);
+
 }  // namespace meniscus

@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/ext/vector_uint4_sized.hpp>
+
 #include "meniscus/result.h"
 #include "meniscus/types.h"
 
@@ -72,6 +74,9 @@ Result<std::string> formatFramePattern(const std::string& pattern, long number);
 // withAlpha=false writes RGB. Written to a temporary name and renamed.
 Status writePng(const std::filesystem::path& path, const Image<glm::vec4>& linearRgba,
                 bool withAlpha = true);
+// The same for 8-bit RGBA already sRGB-encoded (e.g. a window's framebuffer
+// read back), written as it is.
+Status writePng(const std::filesystem::path& path, const Image<glm::u8vec4>& srgba8, bool withAlpha = true);
 
 // One named float32 channel of an EXR file.
 struct ExrChannel {

@@ -66,6 +66,12 @@ public:
     // CPU and sets *note to one line saying why.
     static Result<Renderer> create(BackendChoice choice, std::string* note = nullptr);
 
+    // A GL renderer on the OpenGL 4.3 context current on the calling thread (a
+    // viewer's window) instead of a headless context of its own. That context
+    // must outlive the renderer and be current whenever it is used, destroyed
+    // included. An error when the build has no GL or no GL 4.3 context is current.
+    static Result<Renderer> createOnCurrentGlContext();
+
     // "cpu", or "gl (<GL renderer>)".
     std::string backendName() const;
     ~Renderer();
@@ -81,8 +87,24 @@ public:
     Result<Aovs> render(std::span<const glm::vec3> positions, const RenderSettings& settings,
                         std::vector<StageTime>* timings = nullptr);
 
+    // For a viewer: renders one frame as render() does but keeps the colour
+    // (the chosen view) on the backend for present() instead of returning the
+    // AOVs. For View::Final nothing is read back; the other views are drawn on
+    // the host from the read-back AOVs and handed back to the backend.
+    Status draw(std::span<const glm::vec3> positions, const RenderSettings& settings);
+
+    // Draws the colour of the last draw() into the default framebuffer of the
+    // current GL context, framebufferWidth x framebufferHeight pixels (the
+    // camera's size), encoded to 8-bit sRGB exactly as the PNG writer does.
+    // Only a renderer made by createOnCurrentGlContext() can; others return an
+    // error. Does not swap the window's buffers.
+    Status present(int framebufferWidth, int framebufferHeight);
+
 private:
     explicit Renderer(std::unique_ptr<Backend> backend);
+    // Checks the settings and runs every stage; the images stay on the backend.
+    Status runStages(std::span<const glm::vec3> positions, const RenderSettings& settings,
+                     std::vector<StageTime>* timings);
     std::unique_ptr<Backend> backend_;
 };
 

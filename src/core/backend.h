@@ -74,10 +74,25 @@ public:
     virtual Image<float> readScalar(Slot slot) = 0;
     virtual Image<glm::vec3> readVec3(Slot slot) = 0;
     virtual Image<glm::vec4> readColor(Slot slot) = 0;
+
+    // ---- Display (a viewer's window).
+    // Puts a host image into a colour slot (a debug view drawn on the host).
+    virtual void writeColor(Slot slot, Image<glm::vec4> image) = 0;
+    // Draws the colour slot into the default framebuffer of the current GL
+    // context (framebufferWidth x framebufferHeight pixels), 8-bit sRGB as the
+    // PNG writer encodes. Only a GL backend made on a window's context can; the
+    // others return an error.
+    virtual Status present(Slot color, int framebufferWidth, int framebufferHeight) = 0;
 };
 
 // The CPU reference backend (always available).
 std::unique_ptr<Backend> makeCpuBackend();
+
+// The GL backend on the GL 4.3 context current on the calling thread (a
+// window's, gl::Window) rather than a headless one of its own; that context
+// must outlive the backend and be current whenever it is used. An error when
+// the build has no GL or the current context is not GL 4.3.
+Result<std::unique_ptr<Backend>> makeGlBackendOnCurrentContext();
 
 // The backend for a choice: CPU; GL (an error when no context can be made or
 // the build has no GL); Auto = GL when a context can be made, else the CPU

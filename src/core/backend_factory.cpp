@@ -9,6 +9,19 @@
 
 namespace meniscus {
 
+namespace {
+[[maybe_unused]] constexpr const char* kNoGl =
+    "this build has no GL backend (libepoxy or EGL were not found when it was configured)";
+}  // namespace
+
+Result<std::unique_ptr<Backend>> makeGlBackendOnCurrentContext() {
+#if MENISCUS_HAVE_GL
+    return gl::makeGlBackendOnCurrentContext();
+#else
+    return makeError("", kNoGl);
+#endif
+}
+
 Result<std::unique_ptr<Backend>> makeBackend(BackendChoice choice, std::string* note) {
     if (choice == BackendChoice::Cpu) return makeCpuBackend();
     std::string why;
@@ -17,7 +30,7 @@ Result<std::unique_ptr<Backend>> makeBackend(BackendChoice choice, std::string* 
     if (gl) return std::move(*gl);
     why = gl.error().describe();
 #else
-    why = "this build has no GL backend (libepoxy or EGL were not found when it was configured)";
+    why = kNoGl;
 #endif
     if (choice == BackendChoice::Gl) return makeError("", "GL backend unavailable: " + why);
     if (note) *note = "GL backend unavailable (" + why + "); using the CPU backend";

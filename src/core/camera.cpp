@@ -133,4 +133,27 @@ Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const C
     return cam;
 }
 
+Camera orbitCamera(const Camera& camera, float azimuthDegrees, float elevationDegrees, float zoom) {
+    constexpr float kMaxElevation = glm::radians(89.0f);
+    Camera cam = camera;
+    const glm::vec3 u = glm::normalize(camera.up);
+    const glm::vec3 offset = camera.eye - camera.target;
+    const float dist = glm::length(offset);
+    const glm::vec3 dir = offset / dist;
+    // The direction to the eye as an elevation and a horizontal unit vector
+    // (not zero: a valid camera's up is not along its view direction).
+    const float elevation = std::asin(std::clamp(glm::dot(dir, u), -1.0f, 1.0f));
+    glm::vec3 h = glm::normalize(dir - glm::dot(dir, u) * u);
+    // Turn h about u (Rodrigues, h perpendicular to u): toward the right of a
+    // camera looking back along -h is toward u x h.
+    const float a = glm::radians(azimuthDegrees);
+    h = std::cos(a) * h + std::sin(a) * glm::cross(u, h);
+    const float e = std::clamp(elevation + glm::radians(elevationDegrees), -kMaxElevation, kMaxElevation);
+    const float newDist = dist * zoom;
+    cam.eye = camera.target + newDist * (std::cos(e) * h + std::sin(e) * u);
+    cam.nearM = std::min(camera.nearM, 1e-3f * newDist);
+    cam.farM = camera.farM * std::max(zoom, 1.0f);
+    return cam;
+}
+
 }  // namespace meniscus

@@ -74,6 +74,33 @@ Image<glm::vec4> thicknessView(const Image<float>& thickness) {
     return out;
 }
 
+// Every AOV of the frame just rendered, read back from the backend.
+// Reads back what the output needs: every AOV, or (colorOnly) the colour or
+// the stages the debug view pictures.
+Aovs readAovs(Backend& b, View v, bool colorOnly) {
+    const bool all = !colorOnly;
+    Aovs aovs;
+    if (all || v == View::RawDepth) aovs.rawDepth = b.readScalar(Slot::RawDepth);
+    if (all || v == View::Depth || v == View::Normals) aovs.depth = b.readScalar(Slot::Depth);
+    if (all || v == View::Thickness) aovs.thickness = b.readScalar(Slot::Thickness);
+    if (all || v == View::Normals) aovs.normal = b.readVec3(Slot::Normal);
+    if (all || v == View::Final) aovs.color = b.readColor(Slot::Color);
+    return aovs;
+}
+
+// Replaces the colour by the chosen debug view (Final keeps it); colorOnly
+// then drops the rest.
+void applyView(View view, bool colorOnly, Aovs& aovs) {
+    switch (view) {
+        case View::Final: break;
+        case View::Depth: aovs.color = depthView(aovs.depth); break;
+        case View::RawDepth: aovs.color = depthView(aovs.rawDepth); break;
+        case View::Normals: aovs.color = normalsView(aovs.normal, aovs.depth); break;
+        case View::Thickness: aovs.color = thicknessView(aovs.thickness); break;
+    }
+    if (colorOnly) aovs.depth = aovs.rawDepth = aovs.thickness = {}, aovs.normal = {};
+}
+
 }  // namespace
 
 bool viewFromName(const std::string& name, View* out) {
@@ -117,10 +144,16 @@ Result<Renderer> Renderer::create(BackendChoice choice, std::string* note) {
     return Renderer(std::move(*b));
 }
 
+Result<Renderer> Renderer::createOnCurrentGlContext() {
+    auto b = makeGlBackendOnCurrentContext();
+    if (!b) return b.error();
+    return Renderer(std::move(*b));
+}
+
 std::string Renderer::backendName() const { return backend_->name(); }
 
-Result<Aovs> Renderer::render(std::span<const glm::vec3> positions, const RenderSettings& s,
-                              std::vector<StageTime>* timings) {
+Status Renderer::runStages(std::span<const glm::vec3> positions, const RenderSettings& s,
+                           std::vector<StageTime>* timings) {
     if (auto st = validateCamera(s.camera); !st) return st.error();
     if (!(s.radiusM > 0.0f) || !std::isfinite(s.radiusM))
         return makeError("", "particle radius must be a positive number of metres");
@@ -149,32 +182,35 @@ Result<Aovs> Renderer::render(std::span<const glm::vec3> positions, const Render
     stage("shade", [&] {
         b.shade(Slot::SceneColor, Slot::SceneDepth, Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Color);
     });
+    return okStatus();
+}
 
+Result<Aovs> Renderer::render(std::span<const glm::vec3> positions, const RenderSettings& s,
+                              std::vector<StageTime>* timings) {
+    if (auto st = runStages(positions, s, timings); !st) return st.error();
+    Backend& b = *backend_;
     const auto t0 = std::chrono::steady_clock::now();
-    // Read back what the output needs: every AOV, or (colorOnly) the colour
-    // or the stage a debug view pictures.
-    const bool all = !s.colorOnly;
-    const View v = s.view;
-    Aovs aovs;
-    if (all || v == View::RawDepth) aovs.rawDepth = b.readScalar(Slot::RawDepth);
-    if (all || v == View::Depth || v == View::Normals) aovs.depth = b.readScalar(Slot::Depth);
-    if (all || v == View::Thickness) aovs.thickness = b.readScalar(Slot::Thickness);
-    if (all || v == View::Normals) aovs.normal = b.readVec3(Slot::Normal);
-    if (all || v == View::Final) aovs.color = b.readColor(Slot::Color);
+    Aovs aovs = readAovs(b, s.view, s.colorOnly);
     const double readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (timings) {
         *timings = b.stageTimes();
         if (b.name() != "cpu") timings->push_back({"readback", readMs});  // GPU -> host copies of the AOVs read
     }
-    switch (s.view) {
-        case View::Final: break;
-        case View::Depth: aovs.color = depthView(aovs.depth); break;
-        case View::RawDepth: aovs.color = depthView(aovs.rawDepth); break;
-        case View::Normals: aovs.color = normalsView(aovs.normal, aovs.depth); break;
-        case View::Thickness: aovs.color = thicknessView(aovs.thickness); break;
-    }
-    if (s.colorOnly) aovs.depth = aovs.rawDepth = aovs.thickness = {}, aovs.normal = {};
+    applyView(s.view, s.colorOnly, aovs);
     return aovs;
+}
+
+Status Renderer::draw(std::span<const glm::vec3> positions, const RenderSettings& s) {
+    if (auto st = runStages(positions, s, nullptr); !st) return st;
+    if (s.view == View::Final) return okStatus();  // the colour is already in its slot
+    Aovs aovs = readAovs(*backend_, s.view, true);
+    applyView(s.view, true, aovs);
+    backend_->writeColor(Slot::Color, std::move(aovs.color));
+    return okStatus();
+}
+
+Status Renderer::present(int framebufferWidth, int framebufferHeight) {
+    return backend_->present(Slot::Color, framebufferWidth, framebufferHeight);
 }
 
 Result<Aovs> renderFrame(std::span<const glm::vec3> positions, const RenderSettings& settings,

@@ -82,6 +82,14 @@ public:
         return int(slot) == sceneColorSlot_ ? scene_.color : std::move(colors_[int(slot)]);
     }
 
+    void writeColor(Slot slot, Image<glm::vec4> image) override {
+        if (int(slot) == sceneColorSlot_) sceneColorSlot_ = -1;  // the slot no longer names the cached cast
+        colors_[int(slot)] = std::move(image);
+    }
+    Status present(Slot, int, int) override {
+        return makeError("", "the CPU backend cannot draw into a window (the viewer needs the GL backend)");
+    }
+
 private:
     const Image<float>& scalar(Slot s) const { return int(s) == sceneDepthSlot_ ? scene_.depth : scalars_[int(s)]; }
     const Image<glm::vec4>& colorImage(Slot s) const {

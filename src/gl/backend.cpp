@@ -1,10 +1,13 @@
 // The GL backend: each stage method runs its src/gl/ stage class on GPU
 // images kept per slot. Parameters reach every shader through the one
 // FrameParams uniform block, uploaded in beginFrame. Stage times come from
-// GL_TIME_ELAPSED queries, one per stage bracket.
+// GL_TIME_ELAPSED queries, one per stage bracket. The backend runs on its own
+// headless context or on one already current (a viewer's window), where it
+// can also present its colour.
 #include "gl/backend.h"
 
 #include <chrono>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -14,6 +17,7 @@
 #include "gl/filter_separable.h"
 #include "gl/gpu_image.h"
 #include "gl/normals.h"
+#include "gl/present.h"
 #include "gl/scene.h"
 #include "gl/shading.h"
 #include "gl/splat.h"
@@ -40,18 +44,27 @@ Status take(Result<T>&& r, T& out) {
     return okStatus();
 }
 
+std::string glString(GLenum e) {
+    const GLubyte* s = glGetString(e);
+    return s ? std::string(reinterpret_cast<const char*>(s)) : std::string();
+}
+
 class GlBackend final : public Backend {
 public:
-    GlBackend(std::unique_ptr<Context> ctx, Stages stages) : ctx_(std::move(ctx)), st_(std::move(stages)) {}
+    // `ctx` null: the context current at construction, owned by someone else
+    // (a gl::Window), which keeps it current while the backend is used.
+    GlBackend(std::unique_ptr<Context> ctx, Stages stages)
+        : ctx_(std::move(ctx)), renderer_(ctx_ ? ctx_->renderer() : glString(GL_RENDERER)), st_(std::move(stages)) {}
     ~GlBackend() override {
         // GL objects are released with the context current.
-        (void)ctx_->makeCurrent();
+        if (ctx_) (void)ctx_->makeCurrent();
     }
 
-    std::string name() const override { return "gl (" + ctx_->renderer() + ")"; }
+    std::string name() const override { return "gl (" + renderer_ + ")"; }
 
     Status beginFrame(std::span<const glm::vec3> positions, const FrameSettings& settings) override {
-        if (auto st = ctx_->makeCurrent(); !st) return st;
+        if (ctx_)
+            if (auto st = ctx_->makeCurrent(); !st) return st;
         s_ = settings;
         fp_ = packFrameParams(settings.camera, settings.radius, settings.filter, settings.thickness, settings.shading);
         block_.upload(fp_);
@@ -143,6 +156,21 @@ public:
     Image<glm::vec3> readVec3(Slot slot) override { return img(slot).download<glm::vec3>(); }
     Image<glm::vec4> readColor(Slot slot) override { return img(slot).download<glm::vec4>(); }
 
+    void writeColor(Slot slot, Image<glm::vec4> image) override {
+        forget(slot);
+        img(slot).upload(image);
+    }
+    Status present(Slot color, int framebufferWidth, int framebufferHeight) override {
+        if (ctx_) return makeError("", "a headless GL backend has no window to draw into");
+        if (!presenter_) {  // compiled on first use: headless backends never need it
+            auto p = Presenter::create();
+            if (!p) return p.error();
+            presenter_ = std::move(*p);
+        }
+        presenter_->draw(img(color), framebufferWidth, framebufferHeight);
+        return okStatus();
+    }
+
 private:
     GpuImage& img(Slot s) { return images_[int(s)]; }
     // A stage writing a slot that held the cached scene invalidates the cache.
@@ -157,8 +185,10 @@ private:
         std::chrono::steady_clock::time_point t0;
     };
 
-    std::unique_ptr<Context> ctx_;  // first: destroyed last
+    std::unique_ptr<Context> ctx_;  // first: destroyed last; null on a window's context
+    std::string renderer_;          // GL_RENDERER
     Stages st_;
+    std::optional<Presenter> presenter_;
     FrameParamsBlock block_;
     FrameParams fp_{};
     FrameSettings s_;
@@ -171,18 +201,34 @@ private:
     std::size_t stage_ = 0;
 };
 
-}  // namespace
-
-Result<std::unique_ptr<Backend>> makeGlBackend() {
-    auto ctx = Context::createHeadless();
-    if (!ctx) return ctx.error();
+// Compiles every stage on the current context; `ctx` is that context when the
+// backend owns it, else null.
+Result<std::unique_ptr<Backend>> makeOnCurrent(std::unique_ptr<Context> ctx) {
     Stages s;
     for (Status st : {take(Splat::create(), s.splat), take(SeparableFilters::create(), s.separable),
                       take(CurvatureFlow::create(), s.curvatureFlow), take(NarrowRange::create(), s.narrowRange),
                       take(SceneCaster::create(), s.scene), take(Normals::create(), s.normals),
                       take(Shading::create(), s.shading)})
         if (!st) return st.error();
-    return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(*ctx), std::move(s)));
+    return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(ctx), std::move(s)));
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Backend>> makeGlBackend() {
+    auto ctx = Context::createHeadless();
+    if (!ctx) return ctx.error();
+    return makeOnCurrent(std::move(*ctx));
+}
+
+Result<std::unique_ptr<Backend>> makeGlBackendOnCurrentContext() {
+    // epoxy_gl_version() reads GL_VERSION: 0 when no context is current.
+    if (epoxy_gl_version() < 43) {
+        const std::string version = glString(GL_VERSION);
+        return makeError("", "the current OpenGL context is not version 4.3 or later (GL_VERSION: " +
+                                 (version.empty() ? std::string("none, no context is current") : version) + ")");
+    }
+    return makeOnCurrent(nullptr);
 }
 
 }  // namespace meniscus::gl

@@ -13,4 +13,10 @@ namespace meniscus::gl {
 // on) and compiles every stage's shaders; an error says what failed.
 Result<std::unique_ptr<Backend>> makeGlBackend();
 
+// The same on the GL context already current on the calling thread (a
+// gl::Window's), which must outlive the backend and stay current while it is
+// used; only such a backend can present(). An error when that context is not
+// GL 4.3 or later.
+Result<std::unique_ptr<Backend>> makeGlBackendOnCurrentContext();
+
 }  // namespace meniscus::gl

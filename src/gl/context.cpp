@@ -70,6 +70,14 @@ std::vector<Candidate> candidateDisplays() {
 
 }  // namespace
 
+void enableDebugOutput() {
+#ifndef NDEBUG
+    glEnable(GL_DEBUG_OUTPUT);
+    glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+    glDebugMessageCallback(debugCallback, nullptr);
+#endif
+}
+
 Result<std::unique_ptr<Context>> Context::createHeadless() {
     std::string why;  // what failed on each candidate, for the error message
     auto note = [&](const std::string& name, const std::string& what) {
@@ -135,11 +143,7 @@ Result<std::unique_ptr<Context>> Context::createHeadless() {
         };
         c->renderer_ = str(GL_RENDERER);
         c->version_ = str(GL_VERSION);
-#ifndef NDEBUG
-        glEnable(GL_DEBUG_OUTPUT);
-        glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-        glDebugMessageCallback(debugCallback, nullptr);
-#endif
+        enableDebugOutput();
         return c;
     }
     return makeError("", "cannot create a headless OpenGL 4.3 context: " + (why.empty() ? std::string("no EGL display") : why));

@@ -36,4 +36,9 @@ private:
     std::string renderer_, version_, platform_;
 };
 
+// Debug builds: sends every GL error and warning of the current context (made
+// with the debug flag) to stderr as it happens. Release builds: does nothing.
+// Every context the backend runs on (headless here, gl::Window) calls it.
+void enableDebugOutput();
+
 }  // namespace meniscus::gl

@@ -46,6 +46,7 @@ struct BufferDeleter { static void release(GLuint id) { glDeleteBuffers(1, &id);
 struct TextureDeleter { static void release(GLuint id) { glDeleteTextures(1, &id); } };
 struct FramebufferDeleter { static void release(GLuint id) { glDeleteFramebuffers(1, &id); } };
 struct QueryDeleter { static void release(GLuint id) { glDeleteQueries(1, &id); } };
+struct VertexArrayDeleter { static void release(GLuint id) { glDeleteVertexArrays(1, &id); } };
 struct ShaderDeleter { static void release(GLuint id) { glDeleteShader(id); } };
 struct ProgramDeleter { static void release(GLuint id) { glDeleteProgram(id); } };
 }  // namespace detail
@@ -53,12 +54,14 @@ struct ProgramDeleter { static void release(GLuint id) { glDeleteProgram(id); } 
 using Texture = Handle<detail::TextureDeleter>;
 using Framebuffer = Handle<detail::FramebufferDeleter>;
 using Query = Handle<detail::QueryDeleter>;
+using VertexArray = Handle<detail::VertexArrayDeleter>;
 using Shader = Handle<detail::ShaderDeleter>;
 using Program = Handle<detail::ProgramDeleter>;
 
 inline Texture makeTexture() { GLuint id = 0; glGenTextures(1, &id); return Texture(id); }
 inline Framebuffer makeFramebuffer() { GLuint id = 0; glGenFramebuffers(1, &id); return Framebuffer(id); }
 inline Query makeQuery() { GLuint id = 0; glGenQueries(1, &id); return Query(id); }
+inline VertexArray makeVertexArray() { GLuint id = 0; glGenVertexArrays(1, &id); return VertexArray(id); }
 
 // A buffer object that remembers its size in bytes; resize() only reallocates
 // when it must grow, so per-frame reuse does not churn the driver.

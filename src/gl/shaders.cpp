@@ -75,4 +75,16 @@ Result<Program> loadComputeProgram(std::string_view fileName) {
     return computeProgram(*src, std::string(fileName));
 }
 
+Result<Program> loadRenderProgram(std::string_view vertexFile, std::string_view fragmentFile) {
+    auto vsrc = resolveIncludes(vertexFile);
+    if (!vsrc) return vsrc.error();
+    auto fsrc = resolveIncludes(fragmentFile);
+    if (!fsrc) return fsrc.error();
+    auto vs = compileShader(GL_VERTEX_SHADER, *vsrc, std::string(vertexFile));
+    if (!vs) return vs.error();
+    auto fs = compileShader(GL_FRAGMENT_SHADER, *fsrc, std::string(fragmentFile));
+    if (!fs) return fs.error();
+    return linkProgram(std::string(vertexFile) + " + " + std::string(fragmentFile), *vs, *fs);
+}
+
 }  // namespace meniscus::gl

@@ -26,4 +26,7 @@ Result<std::string> resolveIncludes(std::string_view fileName);
 // carries the driver's log.
 Result<Program> loadComputeProgram(std::string_view fileName);
 
+// A vertex + fragment program from two embedded files, includes resolved.
+Result<Program> loadRenderProgram(std::string_view vertexFile, std::string_view fragmentFile);
+
 }  // namespace meniscus::gl

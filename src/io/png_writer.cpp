@@ -3,9 +3,11 @@
 // - Row order: Image row 0 is the top row, and PNG rows are stored top first,
 //   so row y of the image is PNG row y (no flip).
 // - Colour: R, G, B are encoded from linear with the exact piecewise sRGB
-//   transfer function, clamped to [0,1] and rounded to the nearest 8-bit value;
+//   transfer function (src/shared/srgb.h, which the viewer's present shader
+//   uses too), clamped to [0,1] and rounded to the nearest 8-bit value;
 //   the file carries an sRGB chunk (plus the matching gAMA/cHRM) so viewers
 //   know it. Alpha is coverage and stays linear (clamped, rounded). NaN -> 0.
+// - An 8-bit image already encoded (a window's framebuffer) is written as is.
 // - Written through writeAtomically: a failed write leaves no file behind.
 // - libpng reports errors with longjmp, so every libpng call lives in
 //   writePngRows(), a function with no C++ objects that have destructors.
@@ -20,18 +22,13 @@
 
 #include "atomic_file.h"
 #include "meniscus/io.h"
+#include "shared/srgb.h"
 
 namespace meniscus {
 namespace {
 
 // Exact sRGB encoding of one linear value to 8 bits.
-png_byte encodeSrgb(float linear) {
-    double x = linear;
-    if (!(x > 0.0)) x = 0.0;  // also NaN -> 0
-    if (x > 1.0) x = 1.0;
-    const double v = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
-    return png_byte(std::lround(v * 255.0));
-}
+png_byte encodeSrgb(float linear) { return png_byte(std::lround(shared::srgbEncode(linear) * 255.0)); }
 
 // Linear (alpha) value to 8 bits.
 png_byte encodeLinear(float value) {
@@ -90,32 +87,16 @@ bool writePngRows(std::FILE* fp, int width, int height, int channels, const png_
     return true;
 }
 
-}  // namespace
-
-Status writePng(const std::filesystem::path& path, const Image<glm::vec4>& linearRgba, bool withAlpha) {
+// Writes rows already encoded to 8 bits (`channels` bytes a pixel, top row
+// first) to a temporary name and renames it.
+Status writeEncoded(const std::filesystem::path& path, int width, int height, int channels,
+                    const std::vector<png_byte>& bytes) {
     const std::string name = path.string();
-    if (linearRgba.width <= 0 || linearRgba.height <= 0 || linearRgba.empty())
-        return makeError(name, "cannot write an empty image");
-    if (linearRgba.pixels.size() != std::size_t(linearRgba.width) * std::size_t(linearRgba.height))
-        return makeError(name, "image size " + std::to_string(linearRgba.width) + "x" +
-                                   std::to_string(linearRgba.height) + " does not match its " +
-                                   std::to_string(linearRgba.pixels.size()) + " pixels");
-
-    const int channels = withAlpha ? 4 : 3;
-    std::vector<png_byte> bytes;
-    bytes.reserve(linearRgba.pixels.size() * std::size_t(channels));
-    for (const glm::vec4& p : linearRgba.pixels) {
-        bytes.push_back(encodeSrgb(p.r));
-        bytes.push_back(encodeSrgb(p.g));
-        bytes.push_back(encodeSrgb(p.b));
-        if (withAlpha) bytes.push_back(encodeLinear(p.a));
-    }
-
     return writeAtomically(path, [&](const std::filesystem::path& tmp) -> Status {
         std::FILE* fp = std::fopen(tmp.c_str(), "wb");
         if (!fp) return makeError(name, std::string("cannot open for writing: ") + std::strerror(errno));
         PngErrorState err{};
-        const bool ok = writePngRows(fp, linearRgba.width, linearRgba.height, channels, bytes.data(), &err);
+        const bool ok = writePngRows(fp, width, height, channels, bytes.data(), &err);
         const bool flushed = std::fflush(fp) == 0 && !std::ferror(fp);
         const int flushErrno = errno;
         const bool closed = std::fclose(fp) == 0;
@@ -128,6 +109,43 @@ Status writePng(const std::filesystem::path& path, const Image<glm::vec4>& linea
             return makeError(name, std::string("write failed: ") + std::strerror(flushed ? errno : flushErrno));
         return okStatus();
     });
+}
+
+// An empty image or one whose pixel count does not match its size is an error.
+template <class T>
+Status checkShape(const std::filesystem::path& path, const Image<T>& image) {
+    const std::string name = path.string();
+    if (image.width <= 0 || image.height <= 0 || image.empty()) return makeError(name, "cannot write an empty image");
+    if (image.pixels.size() != std::size_t(image.width) * std::size_t(image.height))
+        return makeError(name, "image size " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                                   " does not match its " + std::to_string(image.pixels.size()) + " pixels");
+    return okStatus();
+}
+
+}  // namespace
+
+Status writePng(const std::filesystem::path& path, const Image<glm::vec4>& linearRgba, bool withAlpha) {
+    if (auto st = checkShape(path, linearRgba); !st) return st;
+    const int channels = withAlpha ? 4 : 3;
+    std::vector<png_byte> bytes;
+    bytes.reserve(linearRgba.pixels.size() * std::size_t(channels));
+    for (const glm::vec4& p : linearRgba.pixels) {
+        bytes.push_back(encodeSrgb(p.r));
+        bytes.push_back(encodeSrgb(p.g));
+        bytes.push_back(encodeSrgb(p.b));
+        if (withAlpha) bytes.push_back(encodeLinear(p.a));
+    }
+    return writeEncoded(path, linearRgba.width, linearRgba.height, channels, bytes);
+}
+
+Status writePng(const std::filesystem::path& path, const Image<glm::u8vec4>& srgba8, bool withAlpha) {
+    if (auto st = checkShape(path, srgba8); !st) return st;
+    const int channels = withAlpha ? 4 : 3;
+    std::vector<png_byte> bytes;
+    bytes.reserve(srgba8.pixels.size() * std::size_t(channels));
+    for (const glm::u8vec4& p : srgba8.pixels)
+        for (int c = 0; c < channels; ++c) bytes.push_back(p[c]);
+    return writeEncoded(path, srgba8.width, srgba8.height, channels, bytes);
 }
 
 }  // namespace meniscus

@@ -1,0 +1,170 @@
+// The render options and sequence set-up shared by render, demo and view (see common.h).
+#include "common.h"
+
+#include <algorithm>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+
+#include "meniscus/camera.h"
+#include "meniscus/io.h"
+#include "meniscus/particles.h"
+
+namespace fs = std::filesystem;
+
+namespace meniscus::app {
+
+namespace {
+
+std::optional<glm::vec3> parseVec3(const std::string& text) {
+    std::istringstream in(text);
+    glm::vec3 v;
+    char c1 = 0, c2 = 0;
+    if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',') return std::nullopt;
+    in >> std::ws;
+    if (!in.eof()) return std::nullopt;
+    return v;
+}
+
+// The camera for a whole sequence: the user's, or auto-framed on the particles
+// of a few frames (first, last, three between).
+Result<Camera> chooseCamera(const RenderOptions& o, const std::vector<glm::vec3>& samplePoints, float radius) {
+    Camera cam;
+    cam.width = o.width;
+    cam.height = o.height;
+    cam.fovYDegrees = o.fov;
+    cam.nearM = defaults::kNearM;
+    cam.farM = defaults::kFarM;
+    if (o.eye.empty() != o.target.empty()) return makeError("", "give both --eye and --target, or neither");
+    if (!o.eye.empty()) {
+        auto eye = parseVec3(o.eye), target = parseVec3(o.target), up = parseVec3(o.up);
+        if (!eye || !target || !up) return makeError("", "--eye, --target and --up take three numbers: x,y,z");
+        cam.eye = *eye;
+        cam.target = *target;
+        cam.up = *up;
+    } else {
+        cam = autoFrameCamera(samplePoints, radius, cam);
+    }
+    if (auto st = validateCamera(cam); !st) return st.error();
+    return cam;
+}
+
+}  // namespace
+
+int fail(const std::string& line) {
+    std::cerr << "meniscus: error: " << line << "\n";
+    return 1;
+}
+
+void printWarnings(const ParticleSet& set) {
+    for (const auto& w : set.warnings) std::cerr << "meniscus: warning: " << w << "\n";
+}
+
+bool isExr(const std::string& path) { return fs::path(path).extension() == ".exr"; }
+bool isPng(const std::string& path) { return fs::path(path).extension() == ".png"; }
+
+void addCameraOptions(CLI::App* cmd, RenderOptions& o) {
+    cmd->add_option("--width", o.width, "Image width in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
+    cmd->add_option("--height", o.height, "Image height in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
+    cmd->add_option("--eye", o.eye, "Camera position x,y,z in metres (default: automatic three-quarter view)");
+    cmd->add_option("--target", o.target, "Point the camera looks at, x,y,z in metres");
+    cmd->add_option("--up", o.up, "Camera up direction x,y,z")->capture_default_str();
+    cmd->add_option("--fov", o.fov, "Vertical field of view in degrees")->capture_default_str();
+    cmd->add_option("--radius", o.radius,
+                    "Particle radius in metres (default: half the median nearest-neighbour distance)");
+    cmd->add_option("--view", o.view,
+                    "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
+                    "smoothing), normals, thickness")
+        ->capture_default_str();
+    cmd->add_option("--filter", o.filter, "Depth smoothing: " + filterNames())->capture_default_str();
+    cmd->add_option("--iterations", o.iterations,
+                    "Smoothing iterations (default: the filter's own, e.g. 3 for narrow-range, 40 for curvature-flow)")
+        ->check(CLI::Range(0, 10000));
+    cmd->add_flag("--separable", o.separable, "narrow-range: the faster separable 1-D approximation");
+    cmd->add_option("--material", o.material, "Fluid look: " + materialPresetNames())->capture_default_str();
+    cmd->add_option("--background", o.background,
+                    "studio (checker floor, two walls, sky) or none (transparent PNG background)")
+        ->capture_default_str();
+}
+
+void addBackendOption(CLI::App* cmd, RenderOptions& o) {
+    cmd->add_option("--backend", o.backend,
+                    "Where the stages run: cpu, gl (OpenGL 4.3 through headless EGL) or auto (gl when a context "
+                    "can be created, else cpu with a one-line note)")
+        ->capture_default_str();
+}
+
+Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
+    RenderSettings s;
+    if (!viewFromName(o.view, &s.view)) return makeError("", "--view " + o.view + ": expected one of " + viewNames());
+    if (!filterFromName(o.filter, &s.filter))
+        return makeError("", "--filter " + o.filter + ": expected one of " + filterNames());
+    if (o.iterations >= 0) setFilterIterations(s.filter, o.iterations);
+    if (o.separable) {
+        auto* nr = std::get_if<NarrowRangeParams>(&s.filter);
+        if (!nr) return makeError("", "--separable applies to --filter narrow-range only");
+        nr->separable = true;
+    }
+    if (!materialPreset(o.material, &s.shading.material))
+        return makeError("", "--material " + o.material + ": expected one of " + materialPresetNames());
+    if (o.background != "studio" && o.background != "none")
+        return makeError("", "--background " + o.background + ": expected studio or none");
+    s.scene.background = o.background == "studio";
+    if (!(o.radius >= 0.0f)) return makeError("", "--radius must be a positive number of metres");
+    return s;
+}
+
+Result<ParticleSet> Frames::load(std::size_t i) const {
+    if (embedded) return *embedded;
+    return readParticles(files[i]);
+}
+
+Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded) {
+    Frames frames;
+    frames.embedded = embedded;
+    if (!embedded) {
+        auto list = expandSequence(input);
+        if (!list) return list.error();
+        frames.files = std::move(*list);
+    }
+    return frames;
+}
+
+Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames, RenderSettings& settings) {
+    auto first = frames.load(0);
+    if (!first) return first.error();
+    float radius = o.radius;
+    if (radius == 0.0f) {
+        const RadiusEstimate est = estimateRadius(first->positions);
+        radius = est.radius;
+        if (est.fallback)
+            std::cerr << "meniscus: warning: too few particles to estimate the radius; using " << radius
+                      << " m (set --radius)\n";
+    }
+    std::vector<glm::vec3> samplePoints;
+    auto addSample = [&](const std::vector<glm::vec3>& p) {
+        const std::size_t stride = std::max<std::size_t>(1, p.size() / 20000);
+        for (std::size_t i = 0; i < p.size(); i += stride) samplePoints.push_back(p[i]);
+    };
+    const std::size_t count = frames.count();
+    if (o.eye.empty()) {
+        addSample(first->positions);
+        for (std::size_t k = 1; count > 1 && k <= 4; ++k) {
+            auto s = frames.load(k * (count - 1) / 4);
+            if (!s) return s.error();
+            addSample(s->positions);
+        }
+    }
+    auto camera = chooseCamera(o, samplePoints, radius);
+    if (!camera) return camera.error();
+
+    settings.camera = *camera;
+    settings.radiusM = radius;
+    // The studio is built around the first frame and stays put for the sequence.
+    settings.scene.studioBounds = computeBounds(first->positions);
+    return first;
+}
+
+}  // namespace meniscus::app

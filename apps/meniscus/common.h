@@ -1,0 +1,69 @@
+// What the subcommands that render (render, demo, view) share: the one-line
+// messages, the render options and their parsing, the frames an input names,
+// and the settings fixed once for a whole sequence.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "meniscus/params.h"
+#include "meniscus/renderer.h"
+#include "meniscus/result.h"
+#include "meniscus/types.h"
+
+namespace CLI {
+class App;
+}
+
+namespace meniscus::app {
+
+// "meniscus: error: LINE" on stderr; returns the exit code 1.
+int fail(const std::string& line);
+void printWarnings(const ParticleSet& set);
+
+bool isPng(const std::string& path);
+bool isExr(const std::string& path);
+
+struct RenderOptions {
+    std::string input;
+    std::string output;
+    int width = defaults::kWidth;
+    int height = defaults::kHeight;
+    std::string eye, target, up = "0,1,0";
+    float fov = defaults::kFovYDegrees;
+    float radius = 0.0f;  // 0 = estimate
+    std::string view = "final";
+    std::string filter = "narrow-range";
+    int iterations = -1;  // -1 = the filter's default
+    bool separable = false;
+    std::string material = "water";
+    std::string background = "studio";
+    std::string backend = "auto";
+};
+
+// Size, camera, radius and look (--width ... --background) on `cmd`.
+void addCameraOptions(CLI::App* cmd, RenderOptions& o);
+// --backend on `cmd`.
+void addBackendOption(CLI::App* cmd, RenderOptions& o);
+
+// The pipeline settings named by the options (camera and radius come later).
+Result<RenderSettings> settingsFromOptions(const RenderOptions& o);
+
+// The frames to render: the files an input names, or the one embedded frame.
+struct Frames {
+    std::vector<std::filesystem::path> files;  // empty for the embedded frame
+    const ParticleSet* embedded = nullptr;
+
+    std::size_t count() const { return embedded ? 1 : files.size(); }
+    Result<ParticleSet> load(std::size_t i) const;
+};
+Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded);
+
+// Fixes radius, camera (the options' or auto-framed on a few frames) and the
+// studio in `settings` once for the whole sequence, so an animation does not
+// flicker; returns the first frame, already read.
+Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames, RenderSettings& settings);
+
+}  // namespace meniscus::app

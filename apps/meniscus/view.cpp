@@ -1,0 +1,142 @@
+// `meniscus view` (see view.h). A frame is rendered only when something it
+// depends on changes (camera, window size, the frame of a sequence) and the
+// loop sleeps in waitEvents between, so an idle viewer costs nothing; the last
+// frame is drawn again when the window loses its contents.
+#include "view.h"
+
+#include <cmath>
+#include <iostream>
+#include <utility>
+
+#if MENISCUS_HAVE_GLFW
+#include "gl/window.h"
+#endif
+#include "meniscus/camera.h"
+#include "meniscus/io.h"
+#include "meniscus/renderer.h"
+
+namespace meniscus::app {
+
+#if !MENISCUS_HAVE_GLFW
+
+int runView(const ViewOptions&, const ParticleSet*) {
+    return fail("this build has no viewer (it was configured without GLFW or without the GL backend); "
+                "`meniscus render` writes images without one");
+}
+
+#else
+
+namespace {
+
+constexpr float kDegreesPerDragUnit = 0.3f;  // orbit per screen unit the cursor moves with the button held
+constexpr float kZoomPerWheelStep = 0.9f;    // camera distance factor per wheel step away from the user
+
+std::string title(const ViewOptions& o, const Frames& frames, std::size_t index) {
+    std::string t = "meniscus view: " + (frames.embedded ? std::string("demo") : o.render.input);
+    if (frames.count() > 1)
+        t += " (" + std::to_string(index + 1) + "/" + std::to_string(frames.count()) + ": " +
+             frames.files[index].filename().string() + ")";
+    return t;
+}
+
+}  // namespace
+
+int runView(const ViewOptions& o, const ParticleSet* embedded) {
+    auto parsed = settingsFromOptions(o.render);
+    if (!parsed) return fail(parsed.error().describe());
+    RenderSettings settings = std::move(*parsed);
+    if (!o.screenshot.empty() && !isPng(o.screenshot)) return fail(o.screenshot + ": --screenshot must end in .png");
+    auto frames = openFrames(o.render.input, embedded);
+    if (!frames) return fail(frames.error().describe());
+
+    // The window first: without a display nothing else is worth doing.
+    auto window = gl::Window::create(o.render.width, o.render.height, title(o, *frames, 0));
+    if (!window)
+        return fail(window.error().describe() +
+                    "; meniscus view needs a display (`meniscus render` writes images without one)");
+    gl::Window& win = **window;
+
+    // The camera is framed for the framebuffer's real size (HiDPI screens differ).
+    RenderOptions sized = o.render;
+    const glm::ivec2 fb = win.framebufferSize();
+    if (fb.x > 0 && fb.y > 0) {
+        sized.width = fb.x;
+        sized.height = fb.y;
+    }
+    auto first = fixForSequence(sized, *frames, settings);
+    if (!first) return fail(first.error().describe());
+    ParticleSet current = std::move(*first);
+    printWarnings(current);
+
+    auto made = Renderer::createOnCurrentGlContext();  // after the window, so destroyed before it
+    if (!made) return fail(made.error().describe());
+    Renderer renderer = std::move(*made);
+    std::cerr << "meniscus: viewing on " << renderer.backendName() << ": drag to orbit, scroll to zoom, "
+              << (frames->count() > 1 ? "left/right for frames, " : "") << "Esc or Q to quit\n";
+
+    std::size_t index = 0;
+    bool stale = true;  // the frame on the backend does not show the current particles, camera and size
+    int rendered = 0;
+    while (!win.shouldClose()) {
+        gl::WindowInput in = win.takeInput();
+        bool quit = false;
+        for (gl::Key key : in.keys) {
+            quit |= key == gl::Key::Escape || key == gl::Key::Q;
+            if ((key != gl::Key::Left && key != gl::Key::Right) || frames->count() < 2) continue;
+            const std::size_t n = frames->count();
+            const std::size_t next = key == gl::Key::Right ? (index + 1) % n : (index + n - 1) % n;
+            auto set = frames->load(next);
+            if (!set) {  // keep showing the frame we have
+                std::cerr << "meniscus: error: " << set.error().describe() << "\n";
+                continue;
+            }
+            printWarnings(*set);
+            current = std::move(*set);
+            index = next;
+            win.setTitle(title(o, *frames, index));
+            stale = true;
+        }
+        if (quit) break;
+        if (in.drag != glm::dvec2(0.0) || in.scroll != 0.0) {
+            // The scene follows the cursor: dragging right turns the camera left.
+            settings.camera = orbitCamera(settings.camera, -kDegreesPerDragUnit * float(in.drag.x),
+                                          kDegreesPerDragUnit * float(in.drag.y),
+                                          std::pow(kZoomPerWheelStep, float(in.scroll)));
+            stale = true;
+        }
+        const glm::ivec2 size = win.framebufferSize();
+        if (size.x > 0 && size.y > 0) {  // 0 x 0 while minimised: nothing to draw
+            if (size.x != settings.camera.width || size.y != settings.camera.height) {
+                settings.camera.width = size.x;
+                settings.camera.height = size.y;
+                stale = true;
+            }
+            if (stale || o.frames > 0) {
+                if (auto st = renderer.draw(current.positions, settings); !st) return fail(st.error().describe());
+                ++rendered;
+                stale = false;
+                in.damaged = true;
+            }
+            if (in.damaged) {
+                if (auto st = renderer.present(size.x, size.y); !st) return fail(st.error().describe());
+                win.swapBuffers();
+            }
+        }
+        if (o.frames > 0 && rendered >= o.frames) break;
+        if (o.frames > 0) win.pollEvents();
+        else win.waitEvents();
+    }
+
+    if (!o.screenshot.empty()) {
+        // The back buffer is undefined after a swap: draw the last frame again and read that.
+        const glm::ivec2 size = win.framebufferSize();
+        if (auto st = renderer.present(size.x, size.y); !st) return fail(st.error().describe());
+        if (auto st = writePng(o.screenshot, win.readPixels(), false); !st) return fail(st.error().describe());
+        std::cerr << "meniscus: wrote " << o.screenshot << "\n";
+    }
+    return 0;
+}
+
+#endif
+
+}  // namespace meniscus::app
