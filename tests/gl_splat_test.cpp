@@ -127,7 +127,8 @@ GlDepthAndThickness glSplatWithThickness(const Camera& cam, std::span<const glm:
 // to max(T, 2 r w) -- one whole diameter -- the difference stays below 1e-4.
 constexpr double kThicknessRel = 1e-4;
 
-void expectThicknessMatches(const Camera& cam, std::span<const glm::vec3> pos, float r, const Image<float>* scene) {
+// Compares depth and thickness with the CPU; returns the CPU's largest thickness.
+double expectThicknessMatches(const Camera& cam, std::span<const glm::vec3> pos, float r, const Image<float>* scene) {
     ThicknessParams tp;
     tp.blurSigmaRadii = 0.0f;  // the blur is its own stage (gl_filter_separable_test)
     const auto cpu = cpu::splatDepthAndThickness(cam, pos, r, tp, scene);
@@ -140,9 +141,9 @@ void expectThicknessMatches(const Camera& cam, std::span<const glm::vec3> pos, f
     double maxT = 0.0;
     for (float v : cpu.thickness.pixels) maxT = std::max(maxT, double(v));
     std::printf("thickness: max %.4g m, max abs diff %.3g m, max rel %.3g\n", maxT, t.maxAbs, t.maxRel);
-    EXPECT_GT(maxT, 4.0 * diameter);  // several spheres deep, so the sums are exercised
     EXPECT_EQ(t.nonFinite, 0);
     EXPECT_LE(t.maxRel, kThicknessRel);
+    return maxT / diameter;
 }
 }  // namespace
 
@@ -151,7 +152,7 @@ TEST_F(GlSplat, ThicknessOfRealFrameMatchesCpu) {
     ASSERT_FALSE(frame.positions.empty());
     const float r = frame.radius;
     const Camera cam = realFrameCamera(320, 180);
-    expectThicknessMatches(cam, frame.positions, r, nullptr);
+    EXPECT_GT(expectThicknessMatches(cam, frame.positions, r, nullptr), 4.0);  // diameters: the sums are exercised
 }
 
 TEST_F(GlSplat, ThicknessClippedByNearPlaneAndSceneMatchesCpu) {
@@ -163,5 +164,54 @@ TEST_F(GlSplat, ThicknessClippedByNearPlaneAndSceneMatchesCpu) {
     for (int y = 0; y < cam.height; ++y)
         for (int x = 0; x < cam.width; ++x)
             if (x > cam.width / 3) scene.at(x, y) = 0.9f + 0.001f * float(y);
-    expectThicknessMatches(cam, pos, r, &scene);
+    EXPECT_GT(expectThicknessMatches(cam, pos, r, &scene), 4.0);
+}
+
+// The rectangle's special cases: spheres reaching the eye plane (the whole
+// image: one holds the eye, so only its clipped exit chord counts; one beside
+// it), behind the eye (nothing), wholly and partly off screen, one close
+// enough to cover a quarter of the image; with a scene and its bad values.
+TEST_F(GlSplat, SpheresAtTheEyeOffScreenAndLargeMatchCpu) {
+    const float r = 0.1f;
+    Camera cam = faceOnCamera({0.0f, 0.0f, 0.0f}, 1.0f, 160, 120);
+    cam.nearM = 0.05f;
+    const glm::vec3 eye = cam.eye;
+    const std::vector<glm::vec3> pos = {
+        eye + glm::vec3(0.05f, 0.0f, 0.0f),     // holds the eye
+        eye + glm::vec3(0.15f, 0.02f, -0.05f),  // crosses the eye plane beside it
+        eye + glm::vec3(0.0f, 0.0f, 0.5f),      // behind the eye
+        {5.0f, 0.0f, 0.0f},                     // off screen
+        {-0.5f, 0.1f, 0.0f},                    // across the left border
+        {0.2f, 0.37f, 0.1f},                    // across the top border
+        {0.1f, -0.1f, 0.6f},                    // close: ~60 px across
+        {0.0f, 0.0f, 0.0f},
+        {0.05f, 0.02f, -0.05f},
+    };
+    Image<float> scene(cam.width, cam.height, std::numeric_limits<float>::infinity());
+    for (int y = 0; y < cam.height; ++y)
+        for (int x = cam.width / 2; x < cam.width; ++x) scene.at(x, y) = 0.95f + 0.002f * float(y);
+    scene.at(80, 60) = -1.0f;
+    scene.at(81, 60) = std::numeric_limits<float>::quiet_NaN();
+    const auto gl = glSplat(cam, pos, r, &scene);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    const DepthDiff d = compareDepth(cpu::splatDepth(cam, pos, r, &scene), *gl);
+    EXPECT_GT(d.coveredCpu, cam.width * cam.height / 4);
+    EXPECT_LE(d.coverageDiffer, int(kCoverageFraction * d.coveredCpu) + 2);
+    EXPECT_LE(d.maxRel, kDepthRel);
+    EXPECT_GT(expectThicknessMatches(cam, pos, r, &scene), 1.0);
+}
+
+// A camera facing away from every particle, and no particles at all: no
+// fluid (+inf) and zero thickness everywhere, as on the CPU.
+TEST_F(GlSplat, NothingInViewGivesEmptyDepthAndThickness) {
+    Camera away = faceOnCamera({0.0f, 0.0f, 0.0f}, 1.0f, 64, 48);
+    away.target = away.eye + glm::vec3(0.0f, 0.0f, 1.0f);
+    const auto ball = ballOfParticles({0.0f, 0.0f, 0.0f}, 0.3f, 0.04f);
+    for (const std::span<const glm::vec3> pos : {std::span<const glm::vec3>(ball), std::span<const glm::vec3>()}) {
+        const auto gl = glSplatWithThickness(away, pos, 0.02f, ThicknessParams{}, nullptr);
+        ASSERT_EQ(gl.depth.size(), std::size_t(64 * 48));
+        ASSERT_EQ(gl.thickness.size(), std::size_t(64 * 48));
+        for (float z : gl.depth.pixels) EXPECT_TRUE(std::isinf(z) && z > 0);
+        for (float t : gl.thickness.pixels) EXPECT_EQ(t, 0.0f);
+    }
 }
