@@ -2,6 +2,8 @@
 // one invocation per particle over its exact projected bounding box, with an
 // atomic min on the depth bits and a fixed-point atomic add for the chords
 // (shaders/splat.comp); the CPU reference's arithmetic operation for operation.
+// Spheres over 4096 pixels (near the camera) are listed and spread over many
+// invocations in a second, indirect dispatch (see splat.comp).
 // Chosen over GL's own rasteriser because it measured faster on Mesa llvmpipe,
 // what CI runs. The rasteriser variant (point sprites or quads over the same
 // rectangles, the same ray test per fragment, blended into R32F attachments:
@@ -33,6 +35,10 @@ GLuint groupsFor(GLuint items, GLuint perInvocation = 1) {
     return std::clamp<GLuint>((items + perGroup - 1) / perGroup, 1, kMaxGroups);
 }
 constexpr GLuint kPixelsPerInvocation = 16;
+// Work groups per large sphere in splat.comp's pass 1: 4096 invocations, so a
+// full-screen rectangle even at 4K is a few hundred pixels per invocation,
+// far below llvmpipe's cap of 65,535 loop iterations per invocation.
+constexpr GLuint kBigGroups = 64;
 
 }  // namespace
 
@@ -89,7 +95,23 @@ void Splat::run(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& 
         glUniform1ui(0, count_);
         glUniform1i(1, hasScene ? 1 : 0);
         glUniform1i(2, thickness ? 1 : 0);
+        // Pass 0: spheres of up to kMaxPixels pixels, the larger ones listed
+        // with pass 1's indirect dispatch (x = kBigGroups, y = listed, z = 1).
+        const GLuint header[4] = {kBigGroups, 0, 1, 0};
+        big_.reserve(GLsizeiptr(sizeof header) + GLsizeiptr(count_) * GLsizeiptr(sizeof(GLuint)));
+        glBindBuffer(GL_COPY_WRITE_BUFFER, big_.id());
+        glBufferSubData(GL_COPY_WRITE_BUFFER, 0, sizeof header, header);
+        glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, big_.id());
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glUniform1i(3, 0);
         glDispatchCompute(groupsFor(count_), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+        // Pass 1: each listed rectangle over kBigGroups work groups.
+        glUniform1i(3, 1);
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, big_.id());
+        glDispatchComputeIndirect(0);
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
 

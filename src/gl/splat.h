@@ -38,6 +38,7 @@ public:
 private:
     Program splat_, resolve_;
     Buffer positions_, noScene_;
+    Buffer big_;  // splat.comp's Big block: pass 1's indirect dispatch and the large spheres
     GLuint count_ = 0;
 };
 

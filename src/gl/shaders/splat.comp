@@ -12,6 +12,13 @@
 //    clipped to eye depths [near, scene), summed with atomicAdd in fixed point
 //    (GL 4.3 has no float atomics): units of radius / kChordScale, so the sum
 //    does not depend on the order the GPU runs the particles in.
+//  - Large spheres (uPass): llvmpipe silently stops an invocation's loops
+//    after 65,535 iterations in all (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS),
+//    which one invocation walking a near sphere's rectangle of over 65,535
+//    pixels would hit. Pass 0 splats the spheres of up to kMaxPixels pixels
+//    and lists the others; pass 1 (an indirect dispatch: kBigGroups work
+//    groups per listed sphere) spreads each listed rectangle over
+//    kBigGroups x 64 invocations. The atomics make the split invisible.
 // Depth buffer: W*H uints, row-major, row 0 = the TOP row (SPEC §2), set
 // beforehand by splat_resolve.comp to the scene depth bits (or +inf).
 #extension GL_GOOGLE_include_directive : require
@@ -28,6 +35,18 @@ layout(std430, binding = 3) buffer Chords { uint chordFixed[]; };
 layout(location = 0) uniform uint uCount;     // particles
 layout(location = 1) uniform int uHasScene;   // sceneDepth is bound and camera-sized
 layout(location = 2) uniform int uThickness;  // also sum the chords
+layout(location = 3) uniform int uPass;       // 0: small spheres, listing the large; 1: the listed ones
+
+// The indirect dispatch of pass 1 and its list (the host sets x = kBigGroups,
+// y = 0, z = 1, count = 0 before pass 0).
+layout(std430, binding = 4) buffer Big {
+    uint groupsX, groupsY, groupsZ;  // pass 1's work groups: y = listed spheres, at most kMaxGroups
+    uint bigCount;                   // listed spheres
+    uint bigList[];                  // their particle indices
+};
+
+const int kMaxPixels = 4096;      // largest rectangle one invocation walks in pass 0
+const uint kMaxGroups = 65535u;   // the minimum GL_MAX_COMPUTE_WORK_GROUP_COUNT
 
 // The CPU's sphereBounds: exact projected rectangle [x0, x1) x [y0, y1) of the
 // sphere (view centre c, radius r), clipped to the image; empty: x0 >= x1.
@@ -54,51 +73,78 @@ ivec4 sphereBounds(vec3 c, float r) {
     return rect;
 }
 
-void main() {
+// The view-space centre of particle i (Camera::toView with glm::dot's order: (x + y) + z).
+vec3 viewCentre(uint i) {
+    precise vec3 d = vec3(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]) - P.eye.xyz;
+    precise vec3 c = vec3(d.x * P.right.x + d.y * P.right.y + d.z * P.right.z,
+                          d.x * P.up.x + d.y * P.up.y + d.z * P.up.z,
+                          d.x * P.back.x + d.y * P.back.y + d.z * P.back.z);
+    return c;
+}
+
+// Pixel (x, y) against the sphere of view centre c: the nearest hit into the
+// depth bits, the clipped chord into the sums.
+void splatPixel(vec3 c, int x, int y) {
     const int W = P.size.x;
     const float invF = P.up.w, zNear = P.eye.w, r = P.radius;
     precise float halfW = 0.5 * float(P.size.x), halfH = 0.5 * float(P.size.y);
     precise float r2 = r * r;
-    const float toFixed = kChordScale / r;
-    // Grid-stride loop: any particle count with a bounded dispatch size.
-    for (uint i = gl_GlobalInvocationID.x; i < uCount; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
-        precise vec3 d = vec3(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]) - P.eye.xyz;
-        // Camera::toView with glm::dot's order: (x + y) + z.
-        precise vec3 c = vec3(d.x * P.right.x + d.y * P.right.y + d.z * P.right.z,
-                              d.x * P.up.x + d.y * P.up.y + d.z * P.up.z,
-                              d.x * P.back.x + d.y * P.back.y + d.z * P.back.z);
-        const ivec4 rect = sphereBounds(c, r);
-        for (int y = rect.y; y < rect.w; ++y) {
-            precise float ry = -((float(y) + 0.5) - halfH) * invF;
-            for (int x = rect.x; x < rect.z; ++x) {
-                // raySphereEyeDepth along the unit ray u: closest approach b, squared
-                // miss distance from the offset vector (precision for small, far spheres).
-                precise float rx = ((float(x) + 0.5) - halfW) * invF;
-                precise float len = sqrt((rx * rx + ry * ry) + 1.0);
-                precise vec3 u = vec3(rx / len, ry / len, -1.0 / len);
-                precise float b = u.x * c.x + u.y * c.y + u.z * c.z;
-                precise vec3 o = c - b * u;
-                precise float h2 = r2 - (o.x * o.x + o.y * o.y + o.z * o.z);
-                if (h2 < 0.0) continue;
-                precise float h = sqrt(h2);
-                precise float t0 = b - h;
-                const uint k = uint(y * W + x);
-                if (uThickness != 0) {
-                    // The CPU's clip: [max(t0, near len), min(t1, scene len)) along the ray.
-                    precise float t1 = b + h;
-                    precise float tn = P.eye.w * len;
-                    precise float tf = uHasScene != 0 ? sceneDepth[k] * len : 1.0 / 0.0;
-                    precise float chord = (tf < t1 ? tf : t1) - (t0 < tn ? tn : t0);
-                    if (chord > 0.0) atomicAdd(chordFixed[k], uint(chord * toFixed + 0.5));
-                }
-                precise float z = t0 * (1.0 / len);
-                // Nearest hit only: one nearer than the near plane is clipped, not
-                // replaced by the exit (zNear > 0 also rejects hits behind the eye).
-                if (!(z >= zNear)) continue;
-                // (A plain read before the atomic, to skip useless ones, made
-                // llvmpipe slower: 22 -> 18 ms at 1280x720 without it.)
-                atomicMin(depthBits[k], floatBitsToUint(z));
+    // raySphereEyeDepth along the unit ray u: closest approach b, squared
+    // miss distance from the offset vector (precision for small, far spheres).
+    precise float ry = -((float(y) + 0.5) - halfH) * invF;
+    precise float rx = ((float(x) + 0.5) - halfW) * invF;
+    precise float len = sqrt((rx * rx + ry * ry) + 1.0);
+    precise vec3 u = vec3(rx / len, ry / len, -1.0 / len);
+    precise float b = u.x * c.x + u.y * c.y + u.z * c.z;
+    precise vec3 o = c - b * u;
+    precise float h2 = r2 - (o.x * o.x + o.y * o.y + o.z * o.z);
+    if (h2 < 0.0) return;
+    precise float h = sqrt(h2);
+    precise float t0 = b - h;
+    const uint k = uint(y * W + x);
+    if (uThickness != 0) {
+        // The CPU's clip: [max(t0, near len), min(t1, scene len)) along the ray.
+        precise float t1 = b + h;
+        precise float tn = P.eye.w * len;
+        precise float tf = uHasScene != 0 ? sceneDepth[k] * len : 1.0 / 0.0;
+        precise float chord = (tf < t1 ? tf : t1) - (t0 < tn ? tn : t0);
+        if (chord > 0.0) atomicAdd(chordFixed[k], uint(chord * (kChordScale / r) + 0.5));
+    }
+    precise float z = t0 * (1.0 / len);
+    // Nearest hit only: one nearer than the near plane is clipped, not
+    // replaced by the exit (zNear > 0 also rejects hits behind the eye).
+    if (!(z >= zNear)) return;
+    // (A plain read before the atomic, to skip useless ones, made llvmpipe
+    // slower: 22 -> 18 ms at 1280x720 without it.)
+    atomicMin(depthBits[k], floatBitsToUint(z));
+}
+
+void main() {
+    if (uPass == 0) {
+        // Grid-stride loop: any particle count with a bounded dispatch size.
+        for (uint i = gl_GlobalInvocationID.x; i < uCount; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+            const vec3 c = viewCentre(i);
+            const ivec4 rect = sphereBounds(c, P.radius);
+            if (rect.x >= rect.z || rect.y >= rect.w) continue;
+            if ((rect.z - rect.x) * (rect.w - rect.y) > kMaxPixels) {
+                const uint slot = atomicAdd(bigCount, 1u);
+                bigList[slot] = i;
+                if (slot < kMaxGroups) atomicAdd(groupsY, 1u);
+                continue;
             }
+            for (int y = rect.y; y < rect.w; ++y)
+                for (int x = rect.x; x < rect.z; ++x) splatPixel(c, x, y);
+        }
+    } else {
+        // Work group (gx, gy): listed spheres gy, gy + kMaxGroups, ...; its
+        // invocations take every (groupsX * 64)-th pixel of the rectangle.
+        const uint stride = groupsX * gl_WorkGroupSize.x;
+        const uint first = gl_WorkGroupID.x * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
+        for (uint s = gl_WorkGroupID.y; s < bigCount; s += kMaxGroups) {
+            const vec3 c = viewCentre(bigList[s]);
+            const ivec4 rect = sphereBounds(c, P.radius);
+            const uint w = uint(rect.z - rect.x), n = w * uint(rect.w - rect.y);
+            for (uint p = first; p < n; p += stride) splatPixel(c, rect.x + int(p % w), rect.y + int(p / w));
         }
     }
 }
