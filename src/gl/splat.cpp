@@ -74,20 +74,11 @@ void Splat::run(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& 
     if (thickness) thickness->bind(3);
     else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, noScene_.id());
 
-    // Clear: depth to the scene depth (a pass) or +inf, chords to 0 (the
-    // driver's fill, a memset on llvmpipe).
-    if (hasScene) {
-        glUseProgram(resolve_.id());
-        glUniform1ui(0, pixels);
-        glUniform1i(1, 1);
-        glUniform1i(2, 0);
-        glUniform1i(3, thickness ? 1 : 0);
-        glDispatchCompute(groupsFor(pixels, kPixelsPerInvocation), 1, 1);
-    } else {
-        depth.buffer.fill(depth.bytes(), 0x7f800000u);
-        if (thickness) thickness->buffer.fill(thickness->bytes(), 0u);
-    }
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    // Clear: depth to +inf, chords to 0 (the driver's fills, memsets on
+    // llvmpipe); the splat keeps only hits strictly in front of the scene.
+    depth.buffer.fill(depth.bytes(), 0x7f800000u);
+    if (thickness) thickness->buffer.fill(thickness->bytes(), 0u);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
     if (count_ > 0) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions_.id());
@@ -115,14 +106,10 @@ void Splat::run(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& 
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
 
-    // Resolve: no-fluid pixels to +inf, chord sums to metres. Without a scene
-    // or thickness there is nothing to do.
-    if (hasScene || thickness) {
+    // Resolve: chord sums to metres.
+    if (thickness) {
         glUseProgram(resolve_.id());
         glUniform1ui(0, pixels);
-        glUniform1i(1, hasScene ? 1 : 0);
-        glUniform1i(2, 1);
-        glUniform1i(3, thickness ? 1 : 0);
         glDispatchCompute(groupsFor(pixels, kPixelsPerInvocation), 1, 1);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);

@@ -20,7 +20,9 @@
 //    groups per listed sphere) spreads each listed rectangle over
 //    kBigGroups x 64 invocations. The atomics make the split invisible.
 // Depth buffer: W*H uints, row-major, row 0 = the TOP row (SPEC §2), set
-// beforehand by splat_resolve.comp to the scene depth bits (or +inf).
+// beforehand to +inf; it keeps the nearest hit in front of the scene (+inf:
+// no fluid). Chord sums: set to 0 beforehand, turned into metres by
+// splat_resolve.comp.
 #extension GL_GOOGLE_include_directive : require
 #include "frame_params.h"
 #include "splat_common.glsl"
@@ -102,18 +104,21 @@ void splatPixel(vec3 c, int x, int y) {
     precise float h = sqrt(h2);
     precise float t0 = b - h;
     const uint k = uint(y * W + x);
+    const float zScene = uHasScene != 0 ? sceneDepth[k] : 1.0 / 0.0;
     if (uThickness != 0) {
         // The CPU's clip: [max(t0, near len), min(t1, scene len)) along the ray.
         precise float t1 = b + h;
         precise float tn = P.eye.w * len;
-        precise float tf = uHasScene != 0 ? sceneDepth[k] * len : 1.0 / 0.0;
+        precise float tf = zScene * len;
         precise float chord = (tf < t1 ? tf : t1) - (t0 < tn ? tn : t0);
         if (chord > 0.0) atomicAdd(chordFixed[k], uint(chord * (kChordScale / r) + 0.5));
     }
     precise float z = t0 * (1.0 / len);
     // Nearest hit only: one nearer than the near plane is clipped, not
-    // replaced by the exit (zNear > 0 also rejects hits behind the eye).
-    if (!(z >= zNear)) return;
+    // replaced by the exit (zNear > 0 also rejects hits behind the eye); one
+    // at or behind the scene is hidden (so is any, when the scene depth is
+    // not positive or NaN), as the CPU's min starting at the scene depth.
+    if (!(z >= zNear) || !(z < zScene)) return;
     // (A plain read before the atomic, to skip useless ones, made llvmpipe
     // slower: 22 -> 18 ms at 1280x720 without it.)
     atomicMin(depthBits[k], floatBitsToUint(z));
