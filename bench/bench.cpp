@@ -61,6 +61,10 @@ int main(int argc, char** argv) {
     app.add_flag("--separable", separable, "narrow-range: time the separable 1-D approximation as well");
     bool allAovs = false;
     app.add_flag("--all-aovs", allAovs, "Read back every AOV (as for an EXR); default: the colour only (as for a PNG)");
+    int thicknessDivisor = 1;
+    app.add_option("--thickness-divisor", thicknessDivisor, "Thickness on a 1/n resolution grid: 1, 2 or 4")
+        ->capture_default_str()
+        ->check(CLI::IsMember({1, 2, 4}));
     std::string backendOpt = "both";
     app.add_option("--backend", backendOpt, "cpu, gl, auto, or both (cpu and gl side by side; gl skipped with a note when no context)")
         ->capture_default_str();
@@ -158,6 +162,7 @@ int main(int argc, char** argv) {
     for (const auto& [label, filter] : configs) {
         settings.filter = filter;
         settings.colorOnly = !allAovs;
+        settings.thickness.resolutionDivisor = thicknessDivisor;
         // Per backend: stage -> run times, and the stage order.
         std::vector<std::map<std::string, std::vector<double>>> perStage(renderers.size());
         std::vector<std::string> order;

@@ -122,6 +122,22 @@ TEST_F(GlBackend, ColorOnlyMatchesCpuForEveryView) {
     }
 }
 
+// Thickness at 1/2 and 1/4 resolution through the whole pipeline.
+TEST_F(GlBackend, LowResolutionThicknessMatchesCpu) {
+    Frame f = realFrameSettings();
+    ASSERT_FALSE(f.positions.empty());
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    Renderer cpu;
+    for (int divisor : {2, 4}) {
+        f.settings.thickness.resolutionDivisor = divisor;
+        auto a = cpu.render(f.positions, f.settings);
+        auto b = gl->render(f.positions, f.settings);
+        ASSERT_TRUE(a.ok() && b.ok());
+        expectSame(*a, *b, f.settings.radiusM);
+    }
+}
+
 TEST_F(GlBackend, SequenceReusesTheSceneAndCameraChangesRecastIt) {
     Frame f = realFrameSettings();
     ASSERT_FALSE(f.positions.empty());

@@ -11,6 +11,8 @@
 #include "cpu/splat.h"
 #include "cpu/thickness.h"
 #include "gl/splat.h"
+#include "gl/thickness_lowres.h"
+#include "gl/filter_separable.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "gl_test_util.h"
@@ -220,4 +222,56 @@ TEST_F(GlSplat, NothingInViewGivesEmptyDepthAndThickness) {
         for (float z : gl.depth.pixels) EXPECT_TRUE(std::isinf(z) && z > 0);
         for (float t : gl.thickness.pixels) EXPECT_EQ(t, 0.0f);
     }
+}
+
+// Thickness on a 1/2 and 1/4 resolution grid (chords through block centres,
+// blurred there, upsampled), as cpu::splatDepthAndThickness computes it with
+// resolutionDivisor 2 and 4: on the real frame at a size no divisor divides,
+// with and without a scene (nearest of each block) and with and without the
+// blur. Tolerance as at full resolution (fixed-point chords), relative to one
+// calibrated diameter.
+TEST_F(GlSplat, LowResolutionThicknessMatchesCpu) {
+    const RealFrame& frame = realFrame();
+    ASSERT_FALSE(frame.positions.empty());
+    const float r = frame.radius;
+    const Camera cam = realFrameCamera(322, 181);
+    Image<float> scene(cam.width, cam.height, std::numeric_limits<float>::infinity());
+    {
+        const Image<float> fluid = cpu::splatDepth(cam, frame.positions, r);
+        for (int y = 0; y < cam.height; ++y)  // a wall through the fluid on the right half
+            for (int x = cam.width / 2; x < cam.width; ++x)
+                if (std::isfinite(fluid.at(x, y))) scene.at(x, y) = fluid.at(x, y) + 4.0f * r;
+    }
+    auto splat = gl::Splat::create();
+    auto blur = gl::SeparableFilters::create();
+    auto lowRes = gl::LowResThickness::create();
+    ASSERT_TRUE(splat.ok() && blur.ok() && lowRes.ok());
+    splat->uploadParticles(frame.positions);
+    for (const int divisor : {2, 4})
+        for (const bool withScene : {false, true})
+            for (const float sigma : {0.0f, 1.0f}) {
+                SCOPED_TRACE(testing::Message() << "divisor " << divisor << ", scene " << withScene << ", sigma " << sigma);
+                ThicknessParams tp;
+                tp.resolutionDivisor = divisor;
+                tp.blurSigmaRadii = sigma;
+                const Image<float>* sc = withScene ? &scene : nullptr;
+                const auto cpu = cpu::splatDepthAndThickness(cam, frame.positions, r, tp, sc);
+                gl::FrameParamsBlock block;
+                const gl::FrameParams fp = gl::packFrameParams(cam, r, NoFilter{}, tp, ShadingParams{});
+                block.upload(fp);
+                gl::GpuImage sceneImg, depth, thickness;
+                if (sc) sceneImg.upload(*sc);
+                splat->run(fp, sc ? &sceneImg : nullptr, depth, nullptr);
+                lowRes->run(fp, *splat, *blur, sc ? &sceneImg : nullptr, depth, divisor, thickness);
+                const Image<float> gl = thickness.download<float>();
+                const double diameter = 2.0 * r * cpu::thicknessWeight(r, tp);
+                const ScalarDiff t = compareScalar(cpu.thickness, gl, diameter);
+                double maxT = 0.0;
+                for (float v : cpu.thickness.pixels) maxT = std::max(maxT, double(v));
+                std::printf("thickness 1/%d: max %.4g m, max abs diff %.3g m, max rel %.3g\n", divisor, maxT, t.maxAbs,
+                            t.maxRel);
+                EXPECT_GT(maxT, 2.0 * diameter);
+                EXPECT_EQ(t.nonFinite, 0);
+                EXPECT_LE(t.maxRel, kThicknessRel);
+            }
 }

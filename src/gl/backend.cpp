@@ -21,6 +21,7 @@
 #include "gl/scene.h"
 #include "gl/shading.h"
 #include "gl/splat.h"
+#include "gl/thickness_lowres.h"
 #include "gl/uniforms.h"
 
 namespace meniscus::gl {
@@ -35,6 +36,7 @@ struct Stages {
     SceneCaster scene;
     Normals normals;
     Shading shading;
+    LowResThickness lowResThickness;
 };
 
 template <class T>
@@ -87,9 +89,15 @@ public:
     void splat(Slot sceneDepth, Slot depth, Slot thickness) override {
         forget(depth);
         forget(thickness);
-        // Thickness at full resolution: resolutionDivisor is a CPU speed option.
-        st_.splat.run(fp_, &img(sceneDepth), img(depth), &img(thickness));
-        st_.separable.blurThickness(fp_, img(depth), img(thickness));
+        // The thickness grid: 1, 2 or 4 pixels per block side (cpu divisorOf).
+        const int n = fp_.thicknessResolutionDivisor, d = n >= 4 ? 4 : n >= 2 ? 2 : 1;
+        if (d == 1) {
+            st_.splat.run(fp_, &img(sceneDepth), img(depth), &img(thickness));
+            st_.separable.blurThickness(fp_, img(depth), img(thickness));
+        } else {
+            st_.splat.run(fp_, &img(sceneDepth), img(depth), nullptr);
+            st_.lowResThickness.run(fp_, st_.splat, st_.separable, &img(sceneDepth), img(depth), d, img(thickness));
+        }
     }
 
     void smooth(Slot in, Slot out) override {
@@ -208,7 +216,7 @@ Result<std::unique_ptr<Backend>> makeOnCurrent(std::unique_ptr<Context> ctx) {
     for (Status st : {take(Splat::create(), s.splat), take(SeparableFilters::create(), s.separable),
                       take(CurvatureFlow::create(), s.curvatureFlow), take(NarrowRange::create(), s.narrowRange),
                       take(SceneCaster::create(), s.scene), take(Normals::create(), s.normals),
-                      take(Shading::create(), s.shading)})
+                      take(Shading::create(), s.shading), take(LowResThickness::create(), s.lowResThickness)})
         if (!st) return st.error();
     return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(ctx), std::move(s)));
 }

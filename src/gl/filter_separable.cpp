@@ -167,6 +167,11 @@ void SeparableFilters::run(const FrameParams& frame, const GpuImage& in, GpuImag
 }
 
 void SeparableFilters::blurThickness(const FrameParams& frame, const GpuImage& rawDepth, GpuImage& thickness) {
+    blurThickness(frame, rawDepth, thickness, frame.right.w);
+}
+
+void SeparableFilters::blurThickness(const FrameParams& frame, const GpuImage& rawDepth, GpuImage& thickness,
+                                     float focalPx) {
     const int maxR = std::min(255, std::max(0, frame.thicknessMaxKernelPx));
     if (!(frame.thicknessBlurSigmaRadii > 0.0f) || maxR == 0) return;
     const int w = thickness.width, h = thickness.height;
@@ -174,7 +179,7 @@ void SeparableFilters::blurThickness(const FrameParams& frame, const GpuImage& r
     const int groups = ensureTable(thicknessTable_, TableKind::Gaussian, maxR, false);
     // cpu thickness.cpp: worldRadiusM = 3 sigma r, kPxDepth = worldRadiusM * f.
     const float worldRadiusM = 3.0f * frame.thicknessBlurSigmaRadii * frame.radius;
-    const float kPxDepth = worldRadiusM * frame.right.w;
+    const float kPxDepth = worldRadiusM * focalPx;
 
     scratch_.resize(w, h, 1);
     glUseProgram(thickness_.id());

@@ -36,6 +36,9 @@ public:
     // their value), kernel radius capped at min(thicknessMaxKernelPx, 255).
     // No-op when the sigma or the cap is 0 or the sizes differ.
     void blurThickness(const FrameParams& frame, const GpuImage& rawDepth, GpuImage& thickness);
+    // The same on another grid (the low-resolution thickness): sigma projected
+    // with focal length `focalPx` (f / d there) instead of the frame's.
+    void blurThickness(const FrameParams& frame, const GpuImage& rawDepth, GpuImage& thickness, float focalPx);
 
 private:
     enum class TableKind { None, Gaussian, Binomial };

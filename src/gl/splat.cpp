@@ -63,20 +63,32 @@ void Splat::uploadParticles(std::span<const glm::vec3> positionsWorld) {
 }
 
 void Splat::run(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& depth, GpuImage* thickness) {
-    const int W = frame.size.x, H = frame.size.y;
-    const GLuint pixels = GLuint(W) * GLuint(H);
-    depth.resize(W, H, 1);
-    if (thickness) thickness->resize(W, H, 1);
+    runAt(frame, sceneDepth, &depth, thickness, 1);
+}
+
+void Splat::runChordsLowRes(const FrameParams& frame, const GpuImage* sceneDepth, int divisor, GpuImage& thickness) {
+    runAt(frame, sceneDepth, nullptr, &thickness, divisor);
+}
+
+void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage* depth, GpuImage* thickness,
+                  int divisor) {
+    const int W = frame.size.x, H = frame.size.y, d = divisor;
+    const int outW = (W + d - 1) / d, outH = (H + d - 1) / d;
+    const GLuint pixels = GLuint(outW) * GLuint(outH);
+    if (depth) depth->resize(W, H, 1);
+    if (thickness) thickness->resize(outW, outH, 1);
     const bool hasScene = sceneDepth && sceneDepth->width == W && sceneDepth->height == H && sceneDepth->channels == 1;
-    depth.bind(1);
-    if (hasScene) sceneDepth->bind(2);
-    else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, noScene_.id());
-    if (thickness) thickness->bind(3);
-    else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, noScene_.id());
+    auto bindOr = [&](const GpuImage* img, GLuint binding) {
+        if (img) img->bind(binding);
+        else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, noScene_.id());
+    };
+    bindOr(depth, 1);
+    bindOr(hasScene ? sceneDepth : nullptr, 2);
+    bindOr(thickness, 3);
 
     // Clear: depth to +inf, chords to 0 (the driver's fills, memsets on
     // llvmpipe); the splat keeps only hits strictly in front of the scene.
-    depth.buffer.fill(depth.bytes(), 0x7f800000u);
+    if (depth) depth->buffer.fill(depth->bytes(), 0x7f800000u);
     if (thickness) thickness->buffer.fill(thickness->bytes(), 0u);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
@@ -86,6 +98,7 @@ void Splat::run(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& 
         glUniform1ui(0, count_);
         glUniform1i(1, hasScene ? 1 : 0);
         glUniform1i(2, thickness ? 1 : 0);
+        glUniform1i(4, d);
         // Pass 0: spheres of up to kMaxPixels pixels, the larger ones listed
         // with pass 1's indirect dispatch (x = kBigGroups, y = listed, z = 1).
         const GLuint header[4] = {kBigGroups, 0, 1, 0};

@@ -35,7 +35,16 @@ public:
     // per chord). Asynchronous: nothing waits for the GPU here.
     void run(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& depth, GpuImage* thickness);
 
+    // The chords alone on the grid of one pixel per divisor x divisor block
+    // (2 or 4), rays through the block centres, each block's scene depth the
+    // nearest of its pixels: `thickness` is resized to ceil(W / divisor) x
+    // ceil(H / divisor) -- cpu::splatChordsLowRes, unblurred.
+    void runChordsLowRes(const FrameParams& frame, const GpuImage* sceneDepth, int divisor, GpuImage& thickness);
+
 private:
+    void runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage* depth, GpuImage* thickness,
+               int divisor);
+
     Program splat_, resolve_;
     Buffer positions_, noScene_;
     Buffer big_;  // splat.comp's Big block: pass 1's indirect dispatch and the large spheres

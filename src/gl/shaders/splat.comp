@@ -12,6 +12,10 @@
 //    clipped to eye depths [near, scene), summed with atomicAdd in fixed point
 //    (GL 4.3 has no float atomics): units of radius / kChordScale, so the sum
 //    does not depend on the order the GPU runs the particles in.
+//  - Reduced resolution (uDiv = d > 1; cpu splatTile<.., kDiv>): chords only,
+//    one output pixel per d x d block, its ray through the block's centre and
+//    its scene depth the nearest of the block's; a sphere covers the blocks
+//    whose centres d (i + 1/2) lie in its rectangle grown by half a pixel.
 //  - Large spheres (uPass): llvmpipe silently stops an invocation's loops
 //    after 65,535 iterations in all (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS),
 //    which one invocation walking a near sphere's rectangle of over 65,535
@@ -38,6 +42,7 @@ layout(location = 0) uniform uint uCount;     // particles
 layout(location = 1) uniform int uHasScene;   // sceneDepth is bound and camera-sized
 layout(location = 2) uniform int uThickness;  // also sum the chords
 layout(location = 3) uniform int uPass;       // 0: small spheres, listing the large; 1: the listed ones
+layout(location = 4) uniform int uDiv;        // 1: full resolution; 2 or 4: chords only, one pixel per uDiv x uDiv block
 
 // The indirect dispatch of pass 1 and its list (the host sets x = kBigGroups,
 // y = 0, z = 1, count = 0 before pass 0).
@@ -87,14 +92,16 @@ vec3 viewCentre(uint i) {
 // Pixel (x, y) against the sphere of view centre c: the nearest hit into the
 // depth bits, the clipped chord into the sums.
 void splatPixel(vec3 c, int x, int y) {
-    const int W = P.size.x;
+    const int W = P.size.x, H = P.size.y, d = uDiv;
+    const int outW = (W + d - 1) / d;
     const float invF = P.up.w, zNear = P.eye.w, r = P.radius;
     precise float halfW = 0.5 * float(P.size.x), halfH = 0.5 * float(P.size.y);
     precise float r2 = r * r;
     // raySphereEyeDepth along the unit ray u: closest approach b, squared
     // miss distance from the offset vector (precision for small, far spheres).
-    precise float ry = -((float(y) + 0.5) - halfH) * invF;
-    precise float rx = ((float(x) + 0.5) - halfW) * invF;
+    // Pixel (or block) centres: d x + d / 2 (x + 1/2 at full resolution).
+    precise float ry = -((float(d * y) + 0.5 * float(d)) - halfH) * invF;
+    precise float rx = ((float(d * x) + 0.5 * float(d)) - halfW) * invF;
     precise float len = sqrt((rx * rx + ry * ry) + 1.0);
     precise vec3 u = vec3(rx / len, ry / len, -1.0 / len);
     precise float b = u.x * c.x + u.y * c.y + u.z * c.z;
@@ -103,8 +110,17 @@ void splatPixel(vec3 c, int x, int y) {
     if (h2 < 0.0) return;
     precise float h = sqrt(h2);
     precise float t0 = b - h;
-    const uint k = uint(y * W + x);
-    const float zScene = uHasScene != 0 ? sceneDepth[k] : 1.0 / 0.0;
+    const uint k = uint(y * outW + x);
+    float zScene = 1.0 / 0.0;
+    if (uHasScene != 0 && d == 1) {
+        zScene = sceneDepth[k];
+    } else if (uHasScene != 0) {  // the nearest of the block (std::min's order: NaN skipped)
+        for (int fy = d * y; fy < min(H, d * y + d); ++fy)
+            for (int fx = d * x; fx < min(W, d * x + d); ++fx) {
+                const float z = sceneDepth[fy * W + fx];
+                zScene = z < zScene ? z : zScene;
+            }
+    }
     if (uThickness != 0) {
         // The CPU's clip: [max(t0, near len), min(t1, scene len)) along the ray.
         precise float t1 = b + h;
@@ -113,6 +129,7 @@ void splatPixel(vec3 c, int x, int y) {
         precise float chord = (tf < t1 ? tf : t1) - (t0 < tn ? tn : t0);
         if (chord > 0.0) atomicAdd(chordFixed[k], uint(chord * (kChordScale / r) + 0.5));
     }
+    if (d != 1) return;  // chords only
     precise float z = t0 * (1.0 / len);
     // Nearest hit only: one nearer than the near plane is clipped, not
     // replaced by the exit (zNear > 0 also rejects hits behind the eye); one
@@ -124,12 +141,24 @@ void splatPixel(vec3 c, int x, int y) {
     atomicMin(depthBits[k], floatBitsToUint(z));
 }
 
+// The output pixels the sphere of view centre c covers: its rectangle, or at
+// reduced resolution the blocks i with d (i + 1/2) in (x0 - 1/2, x1 + 1/2)
+// (cpu lowBegin / lowEnd; numerators shifted to stay positive).
+ivec4 outputRect(vec3 c) {
+    const ivec4 rect = sphereBounds(c, P.radius);
+    const int d = uDiv;
+    if (d == 1) return rect;
+    const ivec2 lo = (2 * rect.xy - 1 - d + 8 * d) / (2 * d) - 3;
+    const ivec2 hi = (2 * rect.zw + 1 - d + 2 * d - 1) / (2 * d);
+    return ivec4(lo, min(hi, (P.size.xy + d - 1) / d));
+}
+
 void main() {
     if (uPass == 0) {
         // Grid-stride loop: any particle count with a bounded dispatch size.
         for (uint i = gl_GlobalInvocationID.x; i < uCount; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
             const vec3 c = viewCentre(i);
-            const ivec4 rect = sphereBounds(c, P.radius);
+            const ivec4 rect = outputRect(c);
             if (rect.x >= rect.z || rect.y >= rect.w) continue;
             if ((rect.z - rect.x) * (rect.w - rect.y) > kMaxPixels) {
                 const uint slot = atomicAdd(bigCount, 1u);
@@ -147,7 +176,7 @@ void main() {
         const uint first = gl_WorkGroupID.x * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
         for (uint s = gl_WorkGroupID.y; s < bigCount; s += kMaxGroups) {
             const vec3 c = viewCentre(bigList[s]);
-            const ivec4 rect = sphereBounds(c, P.radius);
+            const ivec4 rect = outputRect(c);
             const uint w = uint(rect.z - rect.x), n = w * uint(rect.w - rect.y);
             for (uint p = first; p < n; p += stride) splatPixel(c, rect.x + int(p % w), rect.y + int(p / w));
         }

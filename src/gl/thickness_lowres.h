@@ -1,0 +1,33 @@
+// GL thickness at reduced resolution (SPEC §3.4; ThicknessParams::
+// resolutionDivisor 2 or 4): the GPU twin of the low-resolution path of
+// cpu::splatDepthAndThickness (lowResThickness in src/cpu/thickness.cpp).
+// Needs a current GL 4.3 context and the frame's parameter block bound.
+#pragma once
+
+#include "gl/filter_separable.h"
+#include "gl/gpu_image.h"
+#include "gl/objects.h"
+#include "gl/splat.h"
+#include "meniscus/result.h"
+
+namespace meniscus::gl {
+
+class LowResThickness {
+public:
+    // Compiles the shader; an error carries the driver's log.
+    static Result<LowResThickness> create();
+
+    // Chords through the centres of divisor x divisor blocks (splat), blurred
+    // on that grid with sigma projected by each block's nearest raw depth and
+    // focal length f / divisor (blur), bilinearly upsampled onto the fluid
+    // pixels of rawDepth (0 elsewhere) into `thickness` (W x H). The splat's
+    // particles must be uploaded. Asynchronous.
+    void run(const FrameParams& frame, Splat& splat, SeparableFilters& blur, const GpuImage* sceneDepth,
+             const GpuImage& rawDepth, int divisor, GpuImage& thickness);
+
+private:
+    Program program_;
+    GpuImage low_, lowDepth_;
+};
+
+}  // namespace meniscus::gl
