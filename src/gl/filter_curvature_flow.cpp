@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "gl/dispatch.h"
 #include "gl/shaders.h"
 
 namespace meniscus::gl {
@@ -21,8 +22,6 @@ namespace {
 constexpr GLuint kGroup = 64;              // local_size_x of both shaders = tile width
 constexpr GLuint kCopyPerInvocation = 16;  // filter_curvature_flow_pad.comp's kPerInvocation
 constexpr GLuint kStepRows = 8;            // filter_curvature_flow.comp's kRows = tile height
-
-GLuint ceilDiv(GLuint a, GLuint b) { return (a + b - 1) / b; }
 
 }  // namespace
 

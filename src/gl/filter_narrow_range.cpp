@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "gl/dispatch.h"
 #include "gl/shaders.h"
 
 namespace meniscus::gl {
@@ -28,8 +29,6 @@ namespace {
 constexpr GLuint kGroup = 64;             // local_size_x of both shaders
 constexpr GLuint kCopyPerInvocation = 16; // filter_narrow_range_pad.comp's kPerInvocation
 constexpr GLuint kRows = 4;               // filter_narrow_range.comp's kRows
-
-GLuint ceilDiv(GLuint a, GLuint b) { return (a + b - 1) / b; }
 
 // The CPU's gaussian(d2, R): sigma = R/3, evaluated in double.
 float gaussian(int d2, int R) {

@@ -17,6 +17,7 @@
 #include <glm/glm.hpp>
 
 #include "cpu/filter_separable.h"  // KernelTable: the weights written once
+#include "gl/dispatch.h"
 #include "gl/shaders.h"
 
 namespace meniscus::gl {
@@ -25,13 +26,12 @@ namespace {
 
 constexpr GLuint kGroupX = 64;  // local_size_x of the shaders
 constexpr GLuint kRows = 16;    // rows per invocation (kRows in the shaders)
-constexpr GLuint kMaxGroups = 65535;
 // Between passes: the next pass reads the storage-buffer writes through a buffer texture.
 constexpr GLbitfield kPassBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT;
 
 void dispatchImage(int w, int h) {
-    const GLuint gx = (GLuint(w) + kGroupX - 1) / kGroupX;
-    const GLuint gy = std::min<GLuint>((GLuint(h) + kRows - 1) / kRows, kMaxGroups);  // shaders loop past it
+    const GLuint gx = ceilDiv(GLuint(w), kGroupX);
+    const GLuint gy = std::min(ceilDiv(GLuint(h), kRows), kMaxGroups);  // shaders loop past it
     glDispatchCompute(gx, gy, 1);
 }
 
@@ -149,21 +149,23 @@ void SeparableFilters::run(const FrameParams& frame, const GpuImage& in, GpuImag
     }
     bindTexBuffer(1, tableTex_, filterTable_.buffer, GL_RGBA32F, filterTable_.buffer.size());
     // Iteration 0 reads `in`; later ones `out`. x pass -> scratch, y pass -> out.
-    for (int it = 0; it < frame.filterIterations; ++it) {
-        const GpuImage& src = it == 0 ? in : out;
-        bindTexBuffer(0, srcTex_, src.buffer, GL_R32F, src.bytes());
-        scratch_.bind(1);
-        glUniform1i(1, 0);
-        dispatchImage(w, h);
-        glMemoryBarrier(kPassBarrier);
-        bindTexBuffer(0, srcTex_, scratch_.buffer, GL_R32F, scratch_.bytes());
-        out.bind(1);
-        glUniform1i(1, 1);
-        dispatchImage(w, h);
-        glMemoryBarrier(kPassBarrier);
-    }
+    for (int it = 0; it < frame.filterIterations; ++it) xyPasses(it == 0 ? in : out, out);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
+}
+
+void SeparableFilters::xyPasses(const GpuImage& src, GpuImage& dst) {
+    const int w = src.width, h = src.height;
+    bindTexBuffer(0, srcTex_, src.buffer, GL_R32F, src.bytes());
+    scratch_.bind(1);
+    glUniform1i(1, 0);
+    dispatchImage(w, h);
+    glMemoryBarrier(kPassBarrier);
+    bindTexBuffer(0, srcTex_, scratch_.buffer, GL_R32F, scratch_.bytes());
+    dst.bind(1);
+    glUniform1i(1, 1);
+    dispatchImage(w, h);
+    glMemoryBarrier(kPassBarrier);
 }
 
 void SeparableFilters::blurThickness(const FrameParams& frame, const GpuImage& rawDepth, GpuImage& thickness) {
@@ -189,17 +191,8 @@ void SeparableFilters::blurThickness(const FrameParams& frame, const GpuImage& r
     glUniform1i(4, groups);
     bindTexBuffer(1, tableTex_, thicknessTable_.buffer, GL_RGBA32F, thicknessTable_.buffer.size());
     rawDepth.bind(3);
-    // x pass: thickness -> scratch; y pass: scratch -> thickness.
-    bindTexBuffer(0, srcTex_, thickness.buffer, GL_R32F, thickness.bytes());
-    scratch_.bind(1);
-    glUniform1i(1, 0);
-    dispatchImage(w, h);
-    glMemoryBarrier(kPassBarrier);
-    bindTexBuffer(0, srcTex_, scratch_.buffer, GL_R32F, scratch_.bytes());
-    thickness.bind(1);
-    glUniform1i(1, 1);
-    dispatchImage(w, h);
-    glMemoryBarrier(kPassBarrier | GL_BUFFER_UPDATE_BARRIER_BIT);
+    xyPasses(thickness, thickness);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
 }
 

@@ -50,6 +50,9 @@ private:
         int maxRadius = -1;
     };
     static int ensureTable(CachedTable& t, TableKind kind, int maxRadius, bool withDiffs);
+    // With the program and its uniforms set: the x pass src -> scratch, then
+    // the y pass scratch -> dst (dst may be src), each followed by its barrier.
+    void xyPasses(const GpuImage& src, GpuImage& dst);
 
     Program plain_, bilateral_, thickness_;
     CachedTable filterTable_, thicknessTable_;

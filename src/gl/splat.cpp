@@ -17,24 +17,14 @@
 // instance.
 #include "gl/splat.h"
 
-#include <algorithm>
-
+#include "gl/dispatch.h"
 #include "gl/shaders.h"
 
 namespace meniscus::gl {
 
 namespace {
-constexpr GLuint kGroup = 64;          // local_size_x of both shaders
-constexpr GLuint kMaxGroups = 65535;   // the minimum GL_MAX_COMPUTE_WORK_GROUP_COUNT; shaders loop past it
-
-// Work groups for `items` with about `perInvocation` items per invocation (the
-// shaders loop): llvmpipe pays a fixed cost per work group, so the per-pixel
-// passes give each invocation a few pixels.
-GLuint groupsFor(GLuint items, GLuint perInvocation = 1) {
-    const GLuint perGroup = kGroup * perInvocation;
-    return std::clamp<GLuint>((items + perGroup - 1) / perGroup, 1, kMaxGroups);
-}
-constexpr GLuint kPixelsPerInvocation = 16;
+constexpr GLuint kGroup = 64;  // local_size_x of both shaders
+constexpr GLuint kPixelsPerInvocation = 16;  // splat_resolve.comp (grid-stride)
 // Work groups per large sphere in splat.comp's pass 1: 4096 invocations, so a
 // full-screen rectangle even at 4K is a few hundred pixels per invocation,
 // far below llvmpipe's cap of 65,535 loop iterations per invocation.
@@ -77,7 +67,9 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
     const GLuint pixels = GLuint(outW) * GLuint(outH);
     if (depth) depth->resize(W, H, 1);
     if (thickness) thickness->resize(outW, outH, 1);
-    const bool hasScene = sceneDepth && sceneDepth->width == W && sceneDepth->height == H && sceneDepth->channels == 1;
+    // The scene depth is on the output grid (see runChordsLowRes).
+    const bool hasScene =
+        sceneDepth && sceneDepth->width == outW && sceneDepth->height == outH && sceneDepth->channels == 1;
     auto bindOr = [&](const GpuImage* img, GLuint binding) {
         if (img) img->bind(binding);
         else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, noScene_.id());
@@ -109,7 +101,7 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, big_.id());
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         glUniform1i(3, 0);
-        glDispatchCompute(groupsFor(count_), 1, 1);
+        glDispatchCompute(gridGroups(count_, kGroup), 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
         // Pass 1: each listed rectangle over kBigGroups work groups.
         glUniform1i(3, 1);
@@ -123,7 +115,7 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
     if (thickness) {
         glUseProgram(resolve_.id());
         glUniform1ui(0, pixels);
-        glDispatchCompute(groupsFor(pixels, kPixelsPerInvocation), 1, 1);
+        glDispatchCompute(gridGroups(pixels, kGroup * kPixelsPerInvocation), 1, 1);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);

@@ -36,9 +36,9 @@ public:
     void run(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& depth, GpuImage* thickness);
 
     // The chords alone on the grid of one pixel per divisor x divisor block
-    // (2 or 4), rays through the block centres, each block's scene depth the
-    // nearest of its pixels: `thickness` is resized to ceil(W / divisor) x
-    // ceil(H / divisor) -- cpu::splatChordsLowRes, unblurred.
+    // (2 or 4), rays through the block centres; `sceneDepth` (when given) is
+    // on that grid, each block's nearest scene depth. `thickness` is resized to
+    // ceil(W / divisor) x ceil(H / divisor) -- cpu::splatChordsLowRes, unblurred.
     void runChordsLowRes(const FrameParams& frame, const GpuImage* sceneDepth, int divisor, GpuImage& thickness);
 
 private:

@@ -4,8 +4,7 @@
 // (shaders/filter_separable_thickness.comp) -- cpu lowResThickness step by step.
 #include "gl/thickness_lowres.h"
 
-#include <algorithm>
-
+#include "gl/dispatch.h"
 #include "gl/shaders.h"
 
 namespace meniscus::gl {
@@ -13,12 +12,8 @@ namespace meniscus::gl {
 namespace {
 constexpr GLuint kGroup = 64;          // local_size_x of the shader
 constexpr GLuint kPerInvocation = 16;  // pixels per invocation (the shader loops)
-constexpr GLuint kMaxGroups = 65535;
 
-void dispatchPixels(GLuint pixels) {
-    const GLuint perGroup = kGroup * kPerInvocation;
-    glDispatchCompute(std::clamp<GLuint>((pixels + perGroup - 1) / perGroup, 1, kMaxGroups), 1, 1);
-}
+void dispatchPixels(GLuint pixels) { glDispatchCompute(gridGroups(pixels, kGroup * kPerInvocation), 1, 1); }
 }  // namespace
 
 Result<LowResThickness> LowResThickness::create() {
@@ -34,18 +29,25 @@ void LowResThickness::run(const FrameParams& frame, Splat& splat, SeparableFilte
     const int W = frame.size.x, H = frame.size.y, d = divisor;
     const int w = (W + d - 1) / d, h = (H + d - 1) / d;
     thickness.resize(W, H, 1);
-    splat.runChordsLowRes(frame, sceneDepth, d, low_);
 
     glUseProgram(program_.id());
     glUniform2i(0, W, H);
     glUniform1i(1, d);
-    // The nearest raw depth per block.
-    lowDepth_.resize(w, h, 1);
-    rawDepth.bind(1);
-    lowDepth_.bind(3);
     glUniform1i(2, 0);
-    dispatchPixels(GLuint(w) * GLuint(h));
+    // The nearest depth per block: of the scene (once per block here, not per
+    // sphere and block in the splat) and of the raw fluid depth.
+    auto nearestPerBlock = [&](const GpuImage& full, GpuImage& low) {
+        low.resize(w, h, 1);
+        full.bind(1);
+        low.bind(3);
+        dispatchPixels(GLuint(w) * GLuint(h));
+    };
+    const bool hasScene = sceneDepth && sceneDepth->width == W && sceneDepth->height == H;
+    if (hasScene) nearestPerBlock(*sceneDepth, lowScene_);
+    nearestPerBlock(rawDepth, lowDepth_);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+
+    splat.runChordsLowRes(frame, hasScene ? &lowScene_ : nullptr, d, low_);
 
     blur.blurThickness(frame, lowDepth_, low_, frame.right.w / float(d));
 

@@ -27,7 +27,7 @@ public:
 
 private:
     Program program_;
-    GpuImage low_, lowDepth_;
+    GpuImage low_, lowDepth_, lowScene_;  // chords, nearest raw depth, nearest scene depth per block
 };
 
 }  // namespace meniscus::gl

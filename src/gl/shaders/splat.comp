@@ -14,7 +14,8 @@
 //    does not depend on the order the GPU runs the particles in.
 //  - Reduced resolution (uDiv = d > 1; cpu splatTile<.., kDiv>): chords only,
 //    one output pixel per d x d block, its ray through the block's centre and
-//    its scene depth the nearest of the block's; a sphere covers the blocks
+//    its scene depth the nearest of the block's (sceneDepth is then that
+//    low-resolution image, thickness_lowres.comp mode 0); a sphere covers the blocks
 //    whose centres d (i + 1/2) lie in its rectangle grown by half a pixel.
 //  - Large spheres (uPass): llvmpipe silently stops an invocation's loops
 //    after 65,535 iterations in all (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS),
@@ -92,7 +93,7 @@ vec3 viewCentre(uint i) {
 // Pixel (x, y) against the sphere of view centre c: the nearest hit into the
 // depth bits, the clipped chord into the sums.
 void splatPixel(vec3 c, int x, int y) {
-    const int W = P.size.x, H = P.size.y, d = uDiv;
+    const int W = P.size.x, d = uDiv;
     const int outW = (W + d - 1) / d;
     const float invF = P.up.w, zNear = P.eye.w, r = P.radius;
     precise float halfW = 0.5 * float(P.size.x), halfH = 0.5 * float(P.size.y);
@@ -111,16 +112,7 @@ void splatPixel(vec3 c, int x, int y) {
     precise float h = sqrt(h2);
     precise float t0 = b - h;
     const uint k = uint(y * outW + x);
-    float zScene = 1.0 / 0.0;
-    if (uHasScene != 0 && d == 1) {
-        zScene = sceneDepth[k];
-    } else if (uHasScene != 0) {  // the nearest of the block (std::min's order: NaN skipped)
-        for (int fy = d * y; fy < min(H, d * y + d); ++fy)
-            for (int fx = d * x; fx < min(W, d * x + d); ++fx) {
-                const float z = sceneDepth[fy * W + fx];
-                zScene = z < zScene ? z : zScene;
-            }
-    }
+    const float zScene = uHasScene != 0 ? sceneDepth[k] : 1.0 / 0.0;
     if (uThickness != 0) {
         // The CPU's clip: [max(t0, near len), min(t1, scene len)) along the ray.
         precise float t1 = b + h;

@@ -3,15 +3,17 @@
 // resolutionDivisor), the GPU twin of lowResThickness in src/cpu/thickness.cpp
 // around the low-resolution chords (splat.comp, uDiv > 1) and their blur
 // (filter_separable_thickness.comp on the low grid):
-// Mode 0: the nearest raw fluid depth of each d x d block (+inf: none), the
-//   depth the low-resolution blur projects its sigma with.
+// Mode 0: the nearest depth of each d x d block (+inf: none; NaN skipped, as
+//   std::min(z, v) on the CPU): of the raw fluid depth, which the
+//   low-resolution blur projects its sigma with, and of the scene depth, which
+//   clips the low-resolution chords.
 // Mode 1: bilinear upsampling onto the full-resolution fluid pixels (0
 //   elsewhere): full pixel x samples the low grid at (x + 1/2) / d - 1/2,
 //   clamped to the grid; the two low rows are interpolated first, then along
 //   the row, in the CPU's operation order (`precise`).
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 1) readonly buffer Src { float src[]; };       // mode 0: raw depth W x H; mode 1: low thickness w x h
+layout(std430, binding = 1) readonly buffer Src { float src[]; };       // mode 0: a depth W x H; mode 1: low thickness w x h
 layout(std430, binding = 2) readonly buffer Raw { float rawDepth[]; };  // mode 1: raw depth W x H
 layout(std430, binding = 3) writeonly buffer Dst { float dst[]; };      // mode 0: w x h; mode 1: W x H
 
@@ -41,7 +43,10 @@ void main() {
             const int i = int(k % uint(w)), j = int(k / uint(w));
             float z = kInf;
             for (int y = d * j; y < min(H, d * j + d); ++y)
-                for (int x = d * i; x < min(W, d * i + d); ++x) z = min(z, src[y * W + x]);
+                for (int x = d * i; x < min(W, d * i + d); ++x) {
+                    const float v = src[y * W + x];
+                    z = v < z ? v : z;
+                }
             dst[k] = z;
         } else {
             const int x = int(k % uint(W)), y = int(k / uint(W));
