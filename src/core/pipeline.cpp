@@ -74,7 +74,6 @@ Image<glm::vec4> thicknessView(const Image<float>& thickness) {
     return out;
 }
 
-// Every AOV of the frame just rendered, read back from the backend.
 // Reads back what the output needs: every AOV, or (colorOnly) the colour or
 // the stages the debug view pictures.
 Aovs readAovs(Backend& b, View v, bool colorOnly) {
@@ -98,7 +97,10 @@ void applyView(View view, bool colorOnly, Aovs& aovs) {
         case View::Normals: aovs.color = normalsView(aovs.normal, aovs.depth); break;
         case View::Thickness: aovs.color = thicknessView(aovs.thickness); break;
     }
-    if (colorOnly) aovs.depth = aovs.rawDepth = aovs.thickness = {}, aovs.normal = {};
+    if (colorOnly) {
+        aovs.depth = aovs.rawDepth = aovs.thickness = {};
+        aovs.normal = {};
+    }
 }
 
 }  // namespace
