@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <vector>
@@ -149,6 +150,29 @@ TEST_P(GlNarrowRange, NoFluidStaysInfinity) {
     const Image<float> gl = glNarrow(depth, cam, 0.01f, params(GetParam()));
     ASSERT_EQ(gl.size(), depth.size());
     for (float z : gl.pixels) ASSERT_TRUE(std::isinf(z) && z > 0);
+}
+
+TEST_P(GlNarrowRange, ScatteredPixelsOddWidthMatchCpu) {
+    // The GL passes walk only the 8-pixel row segments that hold fluid
+    // (gl/fluid_segments.h): isolated fluid pixels (segments with one fluid
+    // lane), a full last column of a width that 8 does not divide (a partial
+    // last segment) and runs of background between them.
+    const Camera cam = faceOnCamera(glm::vec3(0.0f), 1.0f, 67, 45);
+    const float r = 0.01f;
+    Image<float> depth(cam.width, cam.height, std::numeric_limits<float>::infinity());
+    std::uint32_t seed = 12345u;
+    auto next = [&] { return (seed = seed * 1664525u + 1013904223u) >> 8; };
+    for (int y = 0; y < cam.height; ++y)
+        for (int x = 0; x < cam.width; ++x) {
+            const bool fluid = x == cam.width - 1 || next() % 10 < 3;
+            if (fluid) depth.at(x, y) = 1.0f + 0.002f * float(next() % 1000) / 1000.0f;
+        }
+    const DepthDiff d = expectParity(depth, cam, r, params(GetParam()), "scattered");
+    EXPECT_GT(d.coveredCpu, 0);
+    const Image<float> cpu = cpu::filterNarrowRange(depth, cam, r, params(GetParam()));
+    int changed = 0;
+    for (std::size_t i = 0; i < cpu.size(); ++i) changed += cpu.pixels[i] != depth.pixels[i];
+    EXPECT_GT(changed, d.coveredCpu / 2);  // the filter did act on most fluid pixels
 }
 
 TEST_P(GlNarrowRange, ReusedAcrossSizesAndZeroIterations) {

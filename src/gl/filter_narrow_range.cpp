@@ -1,8 +1,8 @@
 // GL narrow-range filter, SPEC §3.5 (Truong & Yuksel, I3D 2018): the CPU's
-// passes over −inf-padded ping-pong buffers, one dispatch per pass
-// (shaders/filter_narrow_range.comp), after a pad pass that also finds the
-// nearest depth on the GPU and before an unpad pass
-// (shaders/filter_narrow_range_pad.comp).
+// passes over −inf-padded ping-pong buffers (the image copied in row by row),
+// one indirect dispatch per pass over the row segments that hold fluid
+// (gl/fluid_segments.h; shaders/filter_narrow_range_2d.comp or _1d.comp; the
+// last pass writes the output, which starts as a copy of the input).
 // Tap tables, built on the host exactly as the CPU's (weights in double):
 //  - 2-D: ONE list for the largest radius, sorted by (d², dy, dx); since d² is
 //    the first key, the list for any radius R is its prefix (the offsets with
@@ -20,38 +20,32 @@
 #include <utility>
 #include <vector>
 
-#include "gl/dispatch.h"
 #include "gl/shaders.h"
 
 namespace meniscus::gl {
 
 namespace {
-constexpr GLuint kGroup = 64;             // local_size_x of both shaders
-constexpr GLuint kCopyPerInvocation = 16; // filter_narrow_range_pad.comp's kPerInvocation
-constexpr GLuint kRows = 4;               // filter_narrow_range.comp's kRows
-
 // The CPU's gaussian(d2, R): sigma = R/3, evaluated in double.
 float gaussian(int d2, int R) {
     const double sigma = double(R) / 3.0;
     return float(std::exp(-double(d2) / (2.0 * sigma * sigma)));
 }
 
-void attach(const Texture& tex, GLenum format, const Buffer& buf, GLsizeiptr bytes) {
-    glBindTexture(GL_TEXTURE_BUFFER, tex.id());
-    glTexBufferRange(GL_TEXTURE_BUFFER, format, buf.id(), 0, bytes);
-    glBindTexture(GL_TEXTURE_BUFFER, 0);
-}
 }  // namespace
 
 Result<NarrowRange> NarrowRange::create() {
     NarrowRange f;
-    auto pad = loadComputeProgram("filter_narrow_range_pad.comp");
-    if (!pad) return pad.error();
-    auto filter = loadComputeProgram("filter_narrow_range.comp");
-    if (!filter) return filter.error();
-    f.pad_ = std::move(*pad);
-    f.filter_ = std::move(*filter);
-    for (Texture* t : {&f.texA_, &f.texB_, &f.tapsTex_, &f.ringsTex_, &f.weightsTex_, &f.metaTex_}) *t = makeTexture();
+    auto segments = FluidSegments::create();
+    if (!segments) return segments.error();
+    f.segments_ = std::move(*segments);
+    auto filter2D = loadComputeProgram("filter_narrow_range_2d.comp");
+    if (!filter2D) return filter2D.error();
+    auto filter1D = loadComputeProgram("filter_narrow_range_1d.comp");
+    if (!filter1D) return filter1D.error();
+    f.filter2D_ = std::move(*filter2D);
+    f.filter1D_ = std::move(*filter1D);
+    for (Texture* t : {&f.texA_, &f.texB_, &f.outTex_, &f.tapsTex_, &f.ringsTex_, &f.weightsTex_, &f.metaTex_})
+        *t = makeTexture();
     return f;
 }
 
@@ -99,7 +93,7 @@ void NarrowRange::buildTables(int cap, int paddedWidth) {
     if (weights.empty()) weights.push_back(0.0f);
     auto upload = [](Buffer& buf, const Texture& tex, GLenum format, const void* data, std::size_t bytes) {
         buf.upload(data, GLsizeiptr(bytes));
-        attach(tex, format, buf, GLsizeiptr(bytes));
+        attachBufferTexture(tex, format, buf, GLsizeiptr(bytes));
     };
     upload(taps_, tapsTex_, GL_R32I, taps.data(), taps.size() * sizeof(GLint));
     upload(rings_, ringsTex_, GL_RG32I, rings.data(), rings.size() * sizeof(GLint));
@@ -113,81 +107,67 @@ void NarrowRange::run(const FrameParams& frame, const GpuImage& in, GpuImage& ou
     const int W = in.width, H = in.height;
     out.resize(W, H, 1);
     if (W <= 0 || H <= 0) return;
+    // Pixels outside the fluid segments keep their input value.
+    out.buffer.copyFrom(in.buffer, in.bytes());
     // The tables' largest radius: the CPU's cap before the nearest-depth bound.
     const int cap = std::max(0, std::min(frame.filterMaxKernelPx, std::max(W, H)));
     if (frame.filterIterations <= 0 || !(frame.radius > 0.0f) || cap == 0) {  // as the CPU: unchanged
-        out.buffer.copyFrom(in.buffer, in.bytes());
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;
     }
     const int pad = cap, PW = W + 2 * pad;
     const GLsizeiptr paddedBytes = GLsizeiptr(PW) * GLsizeiptr(H + 2 * pad) * 4;
     buildTables(cap, PW);
+    // The fluid segments and the nearest depth (the kernel bound).
+    segments_.build(in);
+    // −inf frames with the image inside: driver fills and copies (memset and
+    // memcpy on llvmpipe, cheaper than a shader's scattered stores).
     a_.reserve(paddedBytes);
     b_.reserve(paddedBytes);
-    zMin_.reserve(4);
-    // −inf frames (the interiors are overwritten), zMin = +inf: driver fills.
     a_.fill(paddedBytes, 0xff800000u);
     b_.fill(paddedBytes, 0xff800000u);
-    zMin_.fill(4, 0x7f800000u);
-    attach(texA_, GL_R32F, a_, paddedBytes);
-    attach(texB_, GL_R32F, b_, paddedBytes);
+    for (int y = 0; y < H; ++y) {
+        const GLintptr from = GLintptr(y) * W * 4, to = (GLintptr(y + pad) * PW + pad) * 4;
+        a_.copyRange(in.buffer, from, to, GLsizeiptr(W) * 4);
+        b_.copyRange(in.buffer, from, to, GLsizeiptr(W) * 4);
+    }
+    attachBufferTexture(texA_, GL_R32F, a_, paddedBytes);
+    attachBufferTexture(texB_, GL_R32F, b_, paddedBytes);
+    attachBufferTexture(outTex_, GL_R32F, out.buffer, out.bytes());
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
 
-    const GLuint pixels = GLuint(W) * GLuint(H);
-    glUseProgram(pad_.id());
-    glUniform2i(0, W, H);
-    glUniform1i(1, 0);
-    glUniform1i(2, pad);
-    in.bind(1);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, a_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, zMin_.id());
-    glDispatchCompute(ceilDiv(pixels, kGroup * kCopyPerInvocation), 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-
-    glUseProgram(filter_.id());
+    glUseProgram(frame.nrSeparable ? filter1D_.id() : filter2D_.id());
     glUniform2i(0, W, H);
     glUniform1i(1, pad);
     glUniform1i(2, cap);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_BUFFER, tapsTex_.id());
-    glActiveTexture(GL_TEXTURE2);
-    glBindTexture(GL_TEXTURE_BUFFER, weightsTex_.id());
-    glActiveTexture(GL_TEXTURE3);
-    glBindTexture(GL_TEXTURE_BUFFER, metaTex_.id());
-    glActiveTexture(GL_TEXTURE4);
-    glBindTexture(GL_TEXTURE_BUFFER, ringsTex_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, segments_.nearestDepthBits().id());
+    const std::pair<GLenum, const Texture*> tables[] = {
+        {GL_TEXTURE1, &tapsTex_}, {GL_TEXTURE2, &weightsTex_}, {GL_TEXTURE3, &metaTex_}, {GL_TEXTURE4, &ringsTex_}};
+    for (const auto& [unit, tex] : tables) {
+        glActiveTexture(unit);
+        glBindTexture(GL_TEXTURE_BUFFER, tex->id());
+    }
+    segments_.bindList(5);
     glActiveTexture(GL_TEXTURE0);
+    const int passes = frame.filterIterations * (frame.nrSeparable ? 2 : 1);
     const Texture* src = &texA_;
     const Texture* dst = &texB_;
-    auto pass = [&](int step) {
-        glUniform1i(3, step);
+    for (int i = 0; i < passes; ++i) {
+        const bool last = i + 1 == passes;
+        glUniform1i(3, frame.nrSeparable && i % 2 == 1 ? PW : 1);
+        glUniform1i(4, last ? 1 : 0);
         glBindTexture(GL_TEXTURE_BUFFER, src->id());
-        glBindImageTexture(0, dst->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-        glDispatchCompute(ceilDiv(GLuint(W), kGroup), ceilDiv(GLuint(H), kRows), 1);
+        glBindImageTexture(0, last ? outTex_.id() : dst->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        segments_.dispatch();
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
-                        GL_SHADER_STORAGE_BARRIER_BIT);
+                        GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         std::swap(src, dst);
-    };
-    for (int it = 0; it < frame.filterIterations; ++it) {
-        if (frame.nrSeparable) {
-            pass(1);
-            pass(PW);
-        } else {
-            pass(0);
-        }
     }
-    for (GLenum unit : {GL_TEXTURE4, GL_TEXTURE3, GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
+    glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    for (GLenum unit : {GL_TEXTURE5, GL_TEXTURE4, GL_TEXTURE3, GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
         glActiveTexture(unit);
         glBindTexture(GL_TEXTURE_BUFFER, 0);
     }
-
-    glUseProgram(pad_.id());
-    glUniform1i(1, 1);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, src == &texA_ ? a_.id() : b_.id());
-    out.bind(4);
-    glDispatchCompute(ceilDiv(pixels, kGroup * kCopyPerInvocation), 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
 }
 

@@ -4,6 +4,7 @@
 // context on the calling thread.
 #pragma once
 
+#include "gl/fluid_segments.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "meniscus/result.h"
@@ -34,10 +35,11 @@ public:
 private:
     void buildTables(int cap, int paddedWidth);
 
-    Program pad_, filter_;
+    FluidSegments segments_;       // of the input; also its nearest depth
+    Program filter2D_, filter1D_;
     Buffer a_, b_;                 // padded (pad = kernel cap) depth with a −inf frame
     Texture texA_, texB_;          // R32F buffer textures over a_ and b_
-    Buffer zMin_;                  // one uint: the nearest input depth's float bits
+    Texture outTex_;               // R32F buffer texture over the output image
     Buffer taps_, rings_, weights_, meta_;  // tap tables (see buildTables)
     Texture tapsTex_, ringsTex_, weightsTex_, metaTex_;
     int tablesCap_ = -1, tablesWidth_ = -1;

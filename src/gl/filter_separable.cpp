@@ -57,6 +57,9 @@ Result<SeparableFilters> SeparableFilters::create() {
     if (!bilateral) return bilateral.error();
     auto thickness = loadComputeProgram("filter_separable_thickness.comp");
     if (!thickness) return thickness.error();
+    auto segments = FluidSegments::create();
+    if (!segments) return segments.error();
+    f.segments_ = std::move(*segments);
     f.plain_ = std::move(*plain);
     f.bilateral_ = std::move(*bilateral);
     f.thickness_ = std::move(*thickness);
@@ -154,17 +157,21 @@ void SeparableFilters::run(const FrameParams& frame, const GpuImage& in, GpuImag
     glUseProgram(0);
 }
 
-void SeparableFilters::xyPasses(const GpuImage& src, GpuImage& dst) {
+void SeparableFilters::xyPasses(const GpuImage& src, GpuImage& dst, const FluidSegments* segments) {
     const int w = src.width, h = src.height;
+    auto dispatch = [&] {
+        if (segments) segments->dispatch();
+        else dispatchImage(w, h);
+    };
     bindTexBuffer(0, srcTex_, src.buffer, GL_R32F, src.bytes());
     scratch_.bind(1);
     glUniform1i(1, 0);
-    dispatchImage(w, h);
+    dispatch();
     glMemoryBarrier(kPassBarrier);
     bindTexBuffer(0, srcTex_, scratch_.buffer, GL_R32F, scratch_.bytes());
     dst.bind(1);
     glUniform1i(1, 1);
-    dispatchImage(w, h);
+    dispatch();
     glMemoryBarrier(kPassBarrier);
 }
 
@@ -183,7 +190,11 @@ void SeparableFilters::blurThickness(const FrameParams& frame, const GpuImage& r
     const float worldRadiusM = 3.0f * frame.thicknessBlurSigmaRadii * frame.radius;
     const float kPxDepth = worldRadiusM * focalPx;
 
-    scratch_.resize(w, h, 1);
+    // Only the fluid pixels of the raw depth change; the others are copies,
+    // already in place once the scratch image starts as the source.
+    segments_.build(rawDepth);
+    scratch_.copyFrom(thickness);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(thickness_.id());
     glUniform2i(0, w, h);
     glUniform1f(2, kPxDepth);
@@ -191,7 +202,8 @@ void SeparableFilters::blurThickness(const FrameParams& frame, const GpuImage& r
     glUniform1i(4, groups);
     bindTexBuffer(1, tableTex_, thicknessTable_.buffer, GL_RGBA32F, thicknessTable_.buffer.size());
     rawDepth.bind(3);
-    xyPasses(thickness, thickness);
+    segments_.bindList(2);
+    xyPasses(thickness, thickness, &segments_);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
 }

@@ -4,6 +4,7 @@
 // cpu::computeThickness. Needs a current GL 4.3 context on the calling thread.
 #pragma once
 
+#include "gl/fluid_segments.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "meniscus/result.h"
@@ -51,12 +52,14 @@ private:
     };
     static int ensureTable(CachedTable& t, TableKind kind, int maxRadius, bool withDiffs);
     // With the program and its uniforms set: the x pass src -> scratch, then
-    // the y pass scratch -> dst (dst may be src), each followed by its barrier.
-    void xyPasses(const GpuImage& src, GpuImage& dst);
+    // the y pass scratch -> dst (dst may be src), each followed by its barrier;
+    // over the whole image, or only over `segments` (bound by the caller).
+    void xyPasses(const GpuImage& src, GpuImage& dst, const FluidSegments* segments = nullptr);
 
     Program plain_, bilateral_, thickness_;
     CachedTable filterTable_, thicknessTable_;
     GpuImage scratch_;
+    FluidSegments segments_;  // the thickness blur's: fluid in the raw depth
     Texture srcTex_, tableTex_;  // buffer-texture views (texelFetch gathers well on llvmpipe)
 };
 

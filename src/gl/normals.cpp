@@ -18,6 +18,7 @@ Result<Normals> Normals::create() {
     auto p = loadComputeProgram("normals.comp");
     if (!p) return p.error();
     n.program_ = std::move(*p);
+    n.depthTex_ = makeTexture();
     return n;
 }
 
@@ -37,10 +38,13 @@ void Normals::run(const FrameParams& frame, const GpuImage& depth, GpuImage& nor
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glUseProgram(program_.id());
     glUniform1i(0, kRows);
-    depth.bind(1);
+    attachBufferTexture(depthTex_, GL_R32F, depth.buffer, depth.bytes());
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_BUFFER, depthTex_.id());
     normals.bind(2);
     glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint((H + kRows - 1) / kRows), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindTexture(GL_TEXTURE_BUFFER, 0);
     glUseProgram(0);
 }
 

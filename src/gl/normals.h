@@ -25,6 +25,7 @@ public:
 
 private:
     Program program_;
+    Texture depthTex_;  // R32F buffer texture over the depth
 };
 
 }  // namespace meniscus::gl

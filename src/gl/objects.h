@@ -104,6 +104,13 @@ public:
         glBindBuffer(GL_COPY_WRITE_BUFFER, h_.id());
         glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, bytes);
     }
+    // Copies `bytes` of `src` from byte `srcOffset` to byte `dstOffset` of this buffer, on the GPU.
+    void copyRange(const Buffer& src, GLintptr srcOffset, GLintptr dstOffset, GLsizeiptr bytes) const {
+        if (bytes <= 0) return;
+        glBindBuffer(GL_COPY_READ_BUFFER, src.id());
+        glBindBuffer(GL_COPY_WRITE_BUFFER, h_.id());
+        glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, srcOffset, dstOffset, bytes);
+    }
     // Reads `bytes` from offset 0 into `out` (waits for the GPU).
     void download(void* out, GLsizeiptr bytes) const {
         glBindBuffer(GL_COPY_READ_BUFFER, h_.id());
@@ -114,6 +121,14 @@ private:
     Handle<detail::BufferDeleter> h_;
     GLsizeiptr size_ = 0;
 };
+
+// Makes `tex` a buffer texture over the first `bytes` of `buf` (texelFetch and
+// image-buffer access: vectorised on llvmpipe, unlike storage buffers).
+inline void attachBufferTexture(const Texture& tex, GLenum format, const Buffer& buf, GLsizeiptr bytes) {
+    glBindTexture(GL_TEXTURE_BUFFER, tex.id());
+    glTexBufferRange(GL_TEXTURE_BUFFER, format, buf.id(), 0, bytes);
+    glBindTexture(GL_TEXTURE_BUFFER, 0);
+}
 
 // Compiles one shader stage; the error carries the driver's log and `name`.
 inline Result<Shader> compileShader(GLenum stage, std::string_view source, const std::string& name) {

@@ -11,13 +11,17 @@
 // lane, added as (l0 + l1) + (l2 + l3); here a group is a vec4 (its weights
 // one texel of the table) with the same pairing, and all arithmetic is
 // `precise`. Off-image taps multiply the CPU's zero padding, exact zeros.
-// Work: one invocation per pixel of a row segment of 64, kRows rows each.
+// Work: only the 8-pixel row segments with fluid in the raw depth
+// (fluid_segments.glsl); the host has copied the source into the destination,
+// so the other pixels (no fluid: copied) already hold their result.
 layout(local_size_x = 64) in;
 
 layout(binding = 0) uniform samplerBuffer uSrc;    // R32F view of the source thickness
 layout(binding = 1) uniform samplerBuffer uTable;  // RGBA32F: radius R, group j at R * uGroups + j
 layout(std430, binding = 1) writeonly buffer Dst { float dst[]; };
 layout(std430, binding = 3) readonly buffer RawDepth { float rawDepth[]; };
+layout(binding = 2) uniform isamplerBuffer uSegments;  // fluid segments of the raw depth
+#include "fluid_segments.glsl"
 
 layout(location = 0) uniform ivec2 uSize;      // W, H
 layout(location = 1) uniform int uAxis;        // 0: x pass, 1: y pass
@@ -25,7 +29,6 @@ layout(location = 2) uniform float uKPxDepth;  // 3 blurSigmaRadii r * focalPx, 
 layout(location = 3) uniform int uMaxRadius;   // min(255, maxKernelPx) >= 1
 layout(location = 4) uniform int uGroups;      // groups of 4 taps stored per radius
 
-const int kRows = 16;  // pixels per invocation
 
 // ceil(kPxDepth / z) in [0, maxR]; 0 for +inf, NaN or non-positive depth (the
 // CPU's vectorised projectedRadiusPx).
@@ -62,13 +65,14 @@ vec4 accumulate(const bool checked, int idx, int pos, int len, int step, int R) 
 
 void main() {
     const int W = uSize.x, H = uSize.y;
-    const int x = int(gl_GlobalInvocationID.x);
-    if (x >= W) return;
     const int len = uAxis == 0 ? W : H;
     const int step = uAxis == 0 ? 1 : W;
-    for (int y = int(gl_WorkGroupID.y) * kRows; y < H; y += int(gl_NumWorkGroups.y) * kRows) {
-        for (int r = 0; r < kRows && y + r < H; ++r) {
-            const int row = y + r;
+    for (int k = 0; k < kSegmentRounds; ++k) {
+        int x, row;
+        const int on = segmentPixel(k, W, x, row);
+        if (on < 0) break;
+        if (on == 0) continue;
+        {
             const int idx = row * W + x;
             const int pos = uAxis == 0 ? x : row;
             const int R = kernelRadius(rawDepth[idx]);

@@ -18,7 +18,9 @@
 
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 1) readonly buffer Depth { float depth[]; };      // W*H eye depth, +inf = none
+// The depth through a buffer texture: llvmpipe gathers texel fetches in SIMD
+// but reads storage buffers lane by lane (about 5x slower per read).
+layout(binding = 0) uniform samplerBuffer uDepth;                           // W*H eye depth, +inf = none
 layout(std430, binding = 2) writeonly buffer Normals { float normals[]; };  // W*H*3 view-space unit normals
 
 layout(location = 0) uniform int uRows;  // rows per work group's tile, <= kMaxRows
@@ -34,7 +36,7 @@ int W, H;
 
 // Depth at (x, y), +inf outside the image.
 float depthAt(int x, int y) {
-    return x >= 0 && x < W && y >= 0 && y < H ? depth[y * W + x] : kInf;
+    return x >= 0 && x < W && y >= 0 && y < H ? texelFetch(uDepth, y * W + x).x : kInf;
 }
 
 // Tangent along one image axis from the point p (depth z) and its two
@@ -98,7 +100,7 @@ void main() {
         const int yEnd = min(y0 + uRows, H);
         for (int y = y0; y < yEnd; ++y) {
             const uint k = uint(y) * uint(W) + uint(x);
-            if (depth[k] < kInf) tileList[atomicAdd(tileCount, 1u)] = k;
+            if (texelFetch(uDepth, int(k)).x < kInf) tileList[atomicAdd(tileCount, 1u)] = k;
         }
     }
     barrier();
@@ -119,7 +121,7 @@ void main() {
             precise float ryc = -((float(py) + 0.5) - halfH) / f;
             precise float ryu = -((float(py - 1) + 0.5) - halfH) / f;
             precise float ryd = -((float(py + 1) + 0.5) - halfH) / f;
-            const vec3 nrm = normalAt(depth[k], depthAt(px - 1, py), depthAt(px + 1, py), depthAt(px, py - 1),
+            const vec3 nrm = normalAt(texelFetch(uDepth, int(k)).x, depthAt(px - 1, py), depthAt(px + 1, py), depthAt(px, py - 1),
                                       depthAt(px, py + 1), rxc, rxl, rxr, ryc, ryu, ryd, jump);
             normals[3 * k + 0] = nrm.x;
             normals[3 * k + 1] = nrm.y;

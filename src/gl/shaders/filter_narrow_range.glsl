@@ -1,5 +1,3 @@
-#version 430 core
-#extension GL_GOOGLE_include_directive : require
 // One pass of the narrow-range filter: N. Truong and C. Yuksel, "A Narrow-Range
 // Filter for Screen-Space Fluid Rendering", Proc. ACM Comput. Graph. Interact.
 // Tech. 1(1) (I3D 2018), as restated in SPEC §3.5 -- the GPU twin of filterN
@@ -12,6 +10,11 @@
 // Buffers: depth padded by uPad >= any kernel radius with −inf (taps outside
 // the image are "in front"). Reads and writes go through buffer textures /
 // image buffers: llvmpipe vectorises those, SSBO accesses run lane by lane.
+// Work: only the 8-pixel row segments that hold fluid (fluid_segments.glsl).
+// Pixels outside them keep their value, which both ping-pong buffers and the
+// output already hold.
+// Included by filter_narrow_range_2d.comp and _1d.comp, which set kTwoD: two
+// programs, as llvmpipe would run the unused kernel's code masked as well.
 #include "frame_params.h"
 
 layout(local_size_x = 64) in;
@@ -21,15 +24,17 @@ layout(binding = 1) uniform isamplerBuffer taps;     // 2-D: linear offsets sort
 layout(binding = 2) uniform samplerBuffer weights;   // gaussian(d², R) at weightBase(R) + d²
 layout(binding = 3) uniform isamplerBuffer meta;     // [R]: 2-D rings of radius R; [uCap + 1 + R]: weightBase(R)
 layout(binding = 4) uniform isamplerBuffer rings;    // 2-D: per distinct d², (end tap index, d²)
-layout(r32f, binding = 0) writeonly uniform imageBuffer dst;
+layout(binding = 5) uniform isamplerBuffer uSegments;  // the fluid segments (fluid_segments.glsl)
+#include "fluid_segments.glsl"
+layout(r32f, binding = 0) writeonly uniform imageBuffer dst;  // padded, or the W x H output (uFinal)
 layout(std430, binding = 5) readonly buffer ZMin { uint zMinBits; };  // nearest input depth
 
 layout(location = 0) uniform ivec2 uSize;  // W, H of the image (unpadded)
 layout(location = 1) uniform int uPad;     // frame width = uCap
 layout(location = 2) uniform int uCap;     // min(maxKernelPx, max(W, H)): the tables' largest radius
-layout(location = 3) uniform int uStep;    // 0: the 2-D disc; else 1-D taps k·uStep (1: x, padded width: y)
+layout(location = 3) uniform int uStep;    // 1-D: taps k·uStep (1: x, padded width: y)
+layout(location = 4) uniform int uFinal;   // 1: write the unpadded W x H output
 
-const int kRows = 4;  // pixels per invocation (a column strip): fewer work groups
 
 // The CPU's projectedRadiusPx: ceil(worldM·f/z) in [0, maxPx].
 int projectedRadiusPx(float worldM, float focalPx, float z, int maxPx) {
@@ -64,10 +69,7 @@ void accumulate(float a, float b, float w, float z0, float tau, float behind, in
 }
 
 void main() {
-    const int W = uSize.x, H = uSize.y, PW = W + 2 * uPad;
-    const int x = int(gl_GlobalInvocationID.x);
-    const int y0 = int(gl_GlobalInvocationID.y) * kRows;
-    if (x >= W || y0 >= H) return;
+    const int W = uSize.x, PW = W + 2 * uPad;
     const float kInf = uintBitsToFloat(0x7f800000u);
     const float f = P.right.w;
     precise float world = P.nrFilterSizeRadii * P.radius;
@@ -78,8 +80,11 @@ void main() {
     const float zMin = uintBitsToFloat(zMinBits);
     const int Rmax = zMin < kInf ? projectedRadiusPx(world, f, zMin, uCap) : 0;
 
-    const int yEnd = min(y0 + kRows, H);
-    for (int y = y0; y < yEnd; ++y) {
+    for (int k = 0; k < kSegmentRounds; ++k) {
+        int x, y;
+        const int on = segmentPixel(k, W, x, y);
+        if (on < 0) break;
+        if (on == 0) continue;
         const int c = (y + uPad) * PW + x + uPad;
         const float z0 = texelFetch(src, c).x;
         float result = z0;  // +inf, or a kernel under one pixel: unchanged
@@ -90,7 +95,7 @@ void main() {
             precise float lower = z0 - tau, upper = z0 + tau;
             precise float sum = 0.0;   // deviations from z0; the centre adds weight 1, deviation 0
             precise float wsum = 0.0;  // over pairs (each tap of a pair has weight w)
-            if (uStep == 0) {
+            if (kTwoD) {
                 // 2-D: the disc's taps ring by ring (equal d², so one weight
                 // fetch per ring); the first n rings are radius R's disc.
                 int t = 0;
@@ -114,6 +119,6 @@ void main() {
             precise float mean = z0 + sum / (2.0 * wsum + 1.0);
             result = mean;
         }
-        imageStore(dst, c, vec4(result));
+        imageStore(dst, uFinal != 0 ? y * W + x : c, vec4(result));
     }
 }
