@@ -84,17 +84,12 @@ TEST(CurvatureFlow, InfStaysInfAndBorderIsHandled) {
 TEST(CurvatureFlow, TwoBodiesDoNotBleed) {
     const auto t = test::twoBodyScene();
     const auto st = test::bleedStats(t, [&](const Image<float>& d) { return flow(d, t.far.camera, t.far.radius); });
-    std::printf("two bodies: near band %d px max diff %.3f r, far band %d px max pull %.3f r\n", st.nNear,
-                st.nearMaxDiff, st.nFar, st.farMaxPull);
-    ASSERT_GT(st.nNear, 1000);
-    ASSERT_GT(st.nFar, 1000);
     // The bodies' faces are 18 r apart. Near-body pixels next to the far body
     // come out exactly as with the near body alone (tolerance 0.01 r); far-body
     // pixels next to the near body are never pulled toward it by more than
     // 1.25 r compared with the far body alone (they lose some neighbours, so
     // bumps are smoothed a little differently, but a bleed would be ~9 r).
-    EXPECT_LT(st.nearMaxDiff, 0.01);
-    EXPECT_LT(st.farMaxPull, 1.25);
+    test::expectNoBleed(st, "two bodies");
 }
 
 TEST(CurvatureFlow, ScaleInvariant) {

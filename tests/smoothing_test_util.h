@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <gtest/gtest.h>
 
 #include "cpu/splat.h"
 #include "meniscus/camera.h"
@@ -207,6 +209,25 @@ inline BleedStats bleedStats(const TwoBodyScene& t, const std::function<Image<fl
             }
         }
     return st;
+}
+
+// The two-body bleed bounds every smoothing test uses (faces 18 r apart, a
+// bleed would be ~9 r): near-body pixels as with the near body alone within
+// 0.01 r, far-body pixels pulled toward the near body by at most 1.25 r; both
+// bands must hold over 1000 pixels. `who` prefixes the printed line.
+inline void expectNoBleed(const BleedStats& st, const char* who) {
+    std::printf("%s: near band %d px max diff %.3f r, far band %d px max pull %.3f r\n", who, st.nNear,
+                st.nearMaxDiff, st.nFar, st.farMaxPull);
+    ASSERT_GT(st.nNear, 1000);
+    ASSERT_GT(st.nFar, 1000);
+    EXPECT_LT(st.nearMaxDiff, 0.01);
+    EXPECT_LT(st.farMaxPull, 1.25);
+}
+
+// A filter keeps the coverage: +inf (no fluid) stays +inf, fluid stays finite.
+inline void expectCoverageKept(const Image<float>& in, const Image<float>& out) {
+    ASSERT_EQ(in.size(), out.size());
+    for (std::size_t i = 0; i < in.size(); ++i) ASSERT_EQ(std::isinf(in.pixels[i]), std::isinf(out.pixels[i])) << i;
 }
 
 // Largest |out/in - 1| over all pixels (both images finite where compared).
