@@ -73,17 +73,34 @@ TEST_F(GlSplat, RealFrameMatchesCpu) {
     EXPECT_LE(d.maxRel, kDepthRel);
 }
 
+namespace {
+// A ball (r = 0.02 m) cut by a scene wall, seen from close enough that the near
+// plane clips the front spheres too.
+struct ClippedBall {
+    std::vector<glm::vec3> positions;
+    float r = 0.02f;
+    Camera cam;
+    Image<float> scene;
+};
+ClippedBall clippedBall() {
+    ClippedBall c;
+    c.positions = ballOfParticles({0.0f, 0.0f, 0.0f}, 0.3f, 0.04f);
+    c.cam = faceOnCamera({0.0f, 0.0f, 0.0f}, 1.0f, 200, 150);
+    c.cam.nearM = 0.75f;
+    c.scene = Image<float>(c.cam.width, c.cam.height, std::numeric_limits<float>::infinity());
+    for (int y = 0; y < c.cam.height; ++y)
+        for (int x = 0; x < c.cam.width; ++x)
+            if (x > c.cam.width / 3) c.scene.at(x, y) = 0.9f + 0.001f * float(y);  // a tilted wall through the ball
+    return c;
+}
+}  // namespace
+
 TEST_F(GlSplat, SceneDepthAndNearPlaneMatchCpu) {
-    // A ball cut by a scene plane, camera close enough that the near plane clips
-    // the front spheres too.
-    const auto pos = ballOfParticles({0.0f, 0.0f, 0.0f}, 0.3f, 0.04f);
-    const float r = 0.02f;
-    Camera cam = faceOnCamera({0.0f, 0.0f, 0.0f}, 1.0f, 200, 150);
-    cam.nearM = 0.75f;
-    Image<float> scene(cam.width, cam.height, std::numeric_limits<float>::infinity());
-    for (int y = 0; y < cam.height; ++y)
-        for (int x = 0; x < cam.width; ++x)
-            if (x > cam.width / 3) scene.at(x, y) = 0.9f + 0.001f * float(y);  // a tilted wall through the ball
+    ClippedBall c = clippedBall();
+    const auto& pos = c.positions;
+    const float r = c.r;
+    const Camera& cam = c.cam;
+    Image<float>& scene = c.scene;
     scene.at(0, 0) = -1.0f;  // a bad scene value: nothing in front of it, as on the CPU
     const auto gl = glSplat(cam, pos, r, &scene);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
@@ -158,15 +175,8 @@ TEST_F(GlSplat, ThicknessOfRealFrameMatchesCpu) {
 }
 
 TEST_F(GlSplat, ThicknessClippedByNearPlaneAndSceneMatchesCpu) {
-    const auto pos = ballOfParticles({0.0f, 0.0f, 0.0f}, 0.3f, 0.04f);
-    const float r = 0.02f;
-    Camera cam = faceOnCamera({0.0f, 0.0f, 0.0f}, 1.0f, 200, 150);
-    cam.nearM = 0.75f;
-    Image<float> scene(cam.width, cam.height, std::numeric_limits<float>::infinity());
-    for (int y = 0; y < cam.height; ++y)
-        for (int x = 0; x < cam.width; ++x)
-            if (x > cam.width / 3) scene.at(x, y) = 0.9f + 0.001f * float(y);
-    EXPECT_GT(expectThicknessMatches(cam, pos, r, &scene), 4.0);
+    const ClippedBall c = clippedBall();
+    EXPECT_GT(expectThicknessMatches(c.cam, c.positions, c.r, &c.scene), 4.0);
 }
 
 // The rectangle's special cases: spheres reaching the eye plane (the whole
