@@ -79,10 +79,8 @@ void CurvatureFlow::run(const FrameParams& frame, const GpuImage& in, GpuImage& 
                     GL_COMMAND_BARRIER_BIT);
 
     // (Re)attach the buffer textures: the buffers may have been reallocated.
-    for (auto [tex, buf] : {std::pair{&texA_, &a_}, std::pair{&texB_, &b_}}) {
-        glBindTexture(GL_TEXTURE_BUFFER, tex->id());
-        glTexBufferRange(GL_TEXTURE_BUFFER, GL_R32F, buf->id(), 0, GLsizeiptr(padded) * 4);
-    }
+    attachBufferTexture(texA_, GL_R32F, a_, GLsizeiptr(padded) * 4);
+    attachBufferTexture(texB_, GL_R32F, b_, GLsizeiptr(padded) * 4);
 
     glUseProgram(step_.id());
     glUniform2i(0, W, H);

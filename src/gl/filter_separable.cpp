@@ -40,9 +40,9 @@ void dispatchImage(int w, int h) {
 int groupsPerRadius(int maxRadius) { return (2 * (maxRadius + 1) + 4) / 4; }
 
 void bindTexBuffer(GLuint unit, const Texture& tex, const Buffer& buf, GLenum format, GLsizeiptr bytes) {
+    attachBufferTexture(tex, format, buf, bytes);
     glActiveTexture(GL_TEXTURE0 + unit);
     glBindTexture(GL_TEXTURE_BUFFER, tex.id());
-    glTexBufferRange(GL_TEXTURE_BUFFER, format, buf.id(), 0, bytes);
     glActiveTexture(GL_TEXTURE0);
 }
 
