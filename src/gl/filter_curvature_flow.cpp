@@ -1,40 +1,33 @@
 // GL curvature flow, SPEC §3.5 (van der Laan, Green & Sainz, I3D 2009): the
 // CPU's double-buffered Jacobi iteration on padded buffers, one dispatch per
-// iteration (shaders/filter_curvature_flow.comp), bracketed by a pad and an
-// unpad pass (shaders/filter_curvature_flow_pad.comp).
+// iteration (shaders/filter_curvature_flow.comp).
 // llvmpipe notes (measured at 1280x720): SSBO loads and stores run one SIMD lane
 // at a time, texel fetches and image stores are vectorised, so the step reads
-// and writes the ping-pong buffers through R32F buffer textures over the same
-// buffer objects; each work group also costs a few microseconds, so the step
-// visits only the 64 x 8 tiles that hold fluid (an indirect dispatch over a
-// tile list built once per run: the fluid set never changes).
+// and writes the ping-pong buffers through R32F buffer textures; a pass over
+// the whole image pays for background pixels as for fluid ones, so the step
+// walks only the row segments with fluid (gl/fluid_segments.h; the fluid set
+// never changes). The +inf frame and the image inside it are driver fills and
+// row copies, and the last step writes the output directly.
 #include "gl/filter_curvature_flow.h"
 
 #include <algorithm>
 #include <utility>
 
-#include "gl/dispatch.h"
 #include "gl/shaders.h"
 
 namespace meniscus::gl {
 
-namespace {
-constexpr GLuint kGroup = 64;              // local_size_x of both shaders = tile width
-constexpr GLuint kCopyPerInvocation = 16;  // filter_curvature_flow_pad.comp's kPerInvocation
-constexpr GLuint kStepRows = 8;            // filter_curvature_flow.comp's kRows = tile height
-
-}  // namespace
-
 Result<CurvatureFlow> CurvatureFlow::create() {
     CurvatureFlow f;
-    auto pad = loadComputeProgram("filter_curvature_flow_pad.comp");
-    if (!pad) return pad.error();
     auto step = loadComputeProgram("filter_curvature_flow.comp");
     if (!step) return step.error();
-    f.pad_ = std::move(*pad);
     f.step_ = std::move(*step);
     f.texA_ = makeTexture();
     f.texB_ = makeTexture();
+    f.outTex_ = makeTexture();
+    auto segments = FluidSegments::create();
+    if (!segments) return segments.error();
+    f.segments_ = std::move(*segments);
     return f;
 }
 
@@ -47,66 +40,48 @@ void CurvatureFlow::run(const FrameParams& frame, const GpuImage& in, GpuImage& 
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;
     }
-    const GLuint padded = GLuint(W + 2) * GLuint(H + 2);
-    const GLuint tilesX = ceilDiv(GLuint(W), kGroup), tiles = tilesX * ceilDiv(GLuint(H), kStepRows);
-    a_.reserve(GLsizeiptr(padded) * 4);
-    b_.reserve(GLsizeiptr(padded) * 4);
-    tileFlags_.reserve(GLsizeiptr(tiles) * 4);
-    tileList_.reserve(GLsizeiptr(tiles) * 4);
-    indirect_.reserve(3 * 4);
-    a_.fill(GLsizeiptr(padded) * 4, 0x7f800000u);  // +inf; the pad pass copies the fluid in
-    b_.fill(GLsizeiptr(padded) * 4, 0x7f800000u);
-    tileFlags_.fill(GLsizeiptr(tiles) * 4, 0u);
+    // Pixels outside the fluid segments keep their input value (+inf).
+    out.buffer.copyFrom(in.buffer, in.bytes());
+    segments_.build(in);
+    // +inf frames with the image inside: driver fills and row copies (memset
+    // and memcpy on llvmpipe).
+    const int PW = W + 2;
+    const GLsizeiptr paddedBytes = GLsizeiptr(PW) * GLsizeiptr(H + 2) * 4;
+    a_.reserve(paddedBytes);
+    b_.reserve(paddedBytes);
+    a_.fill(paddedBytes, 0x7f800000u);
+    b_.fill(paddedBytes, 0x7f800000u);
+    for (int y = 0; y < H; ++y) {
+        const GLintptr from = GLintptr(y) * W * 4, to = (GLintptr(y + 1) * PW + 1) * 4;
+        a_.copyRange(in.buffer, from, to, GLsizeiptr(W) * 4);
+        b_.copyRange(in.buffer, from, to, GLsizeiptr(W) * 4);
+    }
+    attachBufferTexture(texA_, GL_R32F, a_, paddedBytes);
+    attachBufferTexture(texB_, GL_R32F, b_, paddedBytes);
+    attachBufferTexture(outTex_, GL_R32F, out.buffer, out.bytes());
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    const GLuint args[3] = {0u, 1u, 1u};
-    indirect_.upload(args, sizeof args);
-
-    // Pad (and flag the tiles with fluid), then list those tiles.
-    glUseProgram(pad_.id());
-    glUniform2i(0, W, H);
-    glUniform3i(2, GLint(kGroup), GLint(kStepRows), GLint(tilesX));
-    in.bind(1);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, a_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, tileFlags_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, tileList_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, indirect_.id());
-    glUniform1i(1, 0);
-    glDispatchCompute(ceilDiv(GLuint(W) * GLuint(H), kGroup * kCopyPerInvocation), 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    glUniform1i(1, 1);
-    glDispatchCompute(ceilDiv(tiles, kGroup * kCopyPerInvocation), 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
-                    GL_COMMAND_BARRIER_BIT);
-
-    // (Re)attach the buffer textures: the buffers may have been reallocated.
-    attachBufferTexture(texA_, GL_R32F, a_, GLsizeiptr(padded) * 4);
-    attachBufferTexture(texB_, GL_R32F, b_, GLsizeiptr(padded) * 4);
 
     glUseProgram(step_.id());
     glUniform2i(0, W, H);
-    glUniform1i(1, GLint(tilesX));
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, indirect_.id());
+    segments_.bindList(1);
     glActiveTexture(GL_TEXTURE0);
     const Texture* src = &texA_;
     const Texture* dst = &texB_;
     for (int it = 0; it < frame.filterIterations; ++it) {
+        const bool last = it + 1 == frame.filterIterations;
+        glUniform1i(1, last ? 1 : 0);
         glBindTexture(GL_TEXTURE_BUFFER, src->id());
-        glBindImageTexture(0, dst->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-        glDispatchComputeIndirect(0);
+        glBindImageTexture(0, last ? outTex_.id() : dst->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        segments_.dispatch();
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
-                        GL_SHADER_STORAGE_BARRIER_BIT);
+                        GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         std::swap(src, dst);
     }
-    glBindTexture(GL_TEXTURE_BUFFER, 0);
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-
-    // The last result is in `src`'s buffer.
-    glUseProgram(pad_.id());
-    glUniform1i(1, 2);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, src == &texA_ ? a_.id() : b_.id());
-    out.bind(4);
-    glDispatchCompute(ceilDiv(GLuint(W) * GLuint(H), kGroup * kCopyPerInvocation), 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    for (GLenum unit : {GL_TEXTURE1, GL_TEXTURE0}) {
+        glActiveTexture(unit);
+        glBindTexture(GL_TEXTURE_BUFFER, 0);
+    }
     glUseProgram(0);
 }
 

@@ -3,6 +3,7 @@
 // GL 4.3 context on the calling thread.
 #pragma once
 
+#include "gl/fluid_segments.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "meniscus/result.h"
@@ -28,10 +29,10 @@ public:
     void run(const FrameParams& frame, const GpuImage& in, GpuImage& out);
 
 private:
-    Program pad_, step_;
-    Buffer a_, b_;         // (W + 2) x (H + 2) floats with a +inf frame
-    Texture texA_, texB_;  // R32F buffer textures over a_ and b_ (the step reads and writes through them)
-    Buffer tileFlags_, tileList_, indirect_;  // tiles with fluid, and the step's dispatch size
+    Program step_;
+    Buffer a_, b_;                  // (W + 2) x (H + 2) floats with a +inf frame
+    Texture texA_, texB_, outTex_;  // R32F buffer textures over a_, b_ and the output (read / written through them)
+    FluidSegments segments_;        // of the input (the fluid never changes)
 };
 
 }  // namespace meniscus::gl

@@ -101,6 +101,7 @@ void NarrowRange::buildTables(int cap, int paddedWidth) {
     upload(meta_, metaTex_, GL_R32I, meta.data(), meta.size() * sizeof(GLint));
     tablesCap_ = cap;
     tablesWidth_ = paddedWidth;
+    tablesLoops_ = int(offs.size() + rings.size() / 2);
 }
 
 void NarrowRange::run(const FrameParams& frame, const GpuImage& in, GpuImage& out) {
@@ -119,7 +120,10 @@ void NarrowRange::run(const FrameParams& frame, const GpuImage& in, GpuImage& ou
     const GLsizeiptr paddedBytes = GLsizeiptr(PW) * GLsizeiptr(H + 2 * pad) * 4;
     buildTables(cap, PW);
     // The fluid segments and the nearest depth (the kernel bound).
-    segments_.build(in);
+    // Segments per invocation: a pixel's loops run at most once per ring and
+    // tap of the largest disc (2-D) or per tap (1-D), plus one.
+    const int loopsPerPixel = (frame.nrSeparable ? cap : tablesLoops_) + 2;
+    segments_.build(in, FluidSegments::kLoopBudget / loopsPerPixel);
     // −inf frames with the image inside: driver fills and copies (memset and
     // memcpy on llvmpipe, cheaper than a shader's scattered stores).
     a_.reserve(paddedBytes);

@@ -43,6 +43,7 @@ private:
     Buffer taps_, rings_, weights_, meta_;  // tap tables (see buildTables)
     Texture tapsTex_, ringsTex_, weightsTex_, metaTex_;
     int tablesCap_ = -1, tablesWidth_ = -1;
+    int tablesLoops_ = 0;          // 2-D taps + rings of the largest disc (loop iterations)
 };
 
 }  // namespace meniscus::gl

@@ -1,6 +1,7 @@
 // See fluid_segments.h.
 #include "gl/fluid_segments.h"
 
+#include <algorithm>
 #include <utility>
 
 #include "gl/dispatch.h"
@@ -11,6 +12,7 @@ namespace meniscus::gl {
 namespace {
 constexpr GLuint kGroup = 64;                 // fluid_segments.comp's local_size_x
 constexpr GLuint kSegmentsPerInvocation = 4;  // fluid_segments.comp's kPerInvocation
+constexpr GLint kRoundsLocation = 15;         // fluid_segments.glsl's uSegmentRounds
 
 }  // namespace
 
@@ -24,7 +26,8 @@ Result<FluidSegments> FluidSegments::create() {
     return s;
 }
 
-void FluidSegments::build(const GpuImage& depth) {
+void FluidSegments::build(const GpuImage& depth, int rounds) {
+    rounds_ = std::clamp(rounds, 1, kMaxRounds);
     const int W = depth.width, H = depth.height;
     const GLuint segments = W > 0 && H > 0 ? ceilDiv(GLuint(W), 8) * GLuint(H) : 0;
     const GLsizeiptr listBytes = GLsizeiptr(1 + segments) * 4;
@@ -39,7 +42,7 @@ void FluidSegments::build(const GpuImage& depth) {
 
     glUseProgram(program_.id());
     glUniform2i(0, W, H);
-    glUniform1i(3, GLint(kPerGroup));
+    glUniform1i(3, GLint(8 * rounds_));  // segments per work group of 64 invocations
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_BUFFER, depthTex_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, zMin_.id());
@@ -64,6 +67,7 @@ void FluidSegments::bindList(GLuint unit) const {
 }
 
 void FluidSegments::dispatch() const {
+    glUniform1i(kRoundsLocation, rounds_);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, args_.id());
     glDispatchComputeIndirect(0);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);

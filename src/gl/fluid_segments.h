@@ -16,20 +16,30 @@ namespace meniscus::gl {
 
 class FluidSegments {
 public:
-    // Segments per work group of a pass (64 invocations, 8 per segment,
-    // fluid_segments.glsl's kSegmentRounds = 4 rounds).
-    static constexpr GLuint kPerGroup = 32;
+    // Segments one invocation of a pass walks, at most (fluid_segments.glsl's
+    // uSegmentRounds): more per work group means fewer work groups, which
+    // llvmpipe charges for (~0.65 us each), and 16 still leaves many groups for
+    // the threads. A pass whose loops run long per pixel asks for fewer (see
+    // build), as gallivm stops an invocation's loops after 65,535 iterations in
+    // all.
+    static constexpr int kMaxRounds = 16;
+    // The loop iterations a pass may plan for one invocation (below that cap,
+    // leaving room for the round loop itself).
+    static constexpr int kLoopBudget = 60000;
 
     static Result<FluidSegments> create();
 
     // Lists the segments of `depth` (W x H x 1) with a depth < +inf, and finds
     // its nearest depth (nearestDepthBits); nothing waits for the GPU. Ends
-    // with the barriers the passes need.
-    void build(const GpuImage& depth);
+    // with the barriers the passes need. The passes will walk `rounds`
+    // segments per invocation, clamped to [1, kMaxRounds].
+    void build(const GpuImage& depth, int rounds = kMaxRounds);
+    int rounds() const { return rounds_; }
 
     // Binds the list to texture unit `unit` as the pass's isamplerBuffer.
     void bindList(GLuint unit) const;
-    // Runs the bound compute program over the listed segments (indirect).
+    // Runs the compute program in use over the listed segments (an indirect
+    // dispatch), setting its uSegmentRounds (uniform location 15).
     void dispatch() const;
     // One uint: the float bits of the nearest depth (+inf bits: no fluid).
     const Buffer& nearestDepthBits() const { return zMin_; }
@@ -38,6 +48,7 @@ private:
     Program program_;
     Buffer list_, args_, zMin_;
     Texture listTex_, depthTex_;
+    int rounds_ = kMaxRounds;
 };
 
 }  // namespace meniscus::gl

@@ -6,14 +6,13 @@
 #include "gl/shading.h"
 
 #include <cmath>
+#include <utility>
 
 #include "gl/shaders.h"
 
 namespace meniscus::gl {
 
 namespace {
-constexpr int kGroup = 64;  // local_size_x of shade.comp: columns per work group
-constexpr int kRows = 16;   // rows per work group's tile (<= kMaxRows in shade.comp)
 
 bool sized(const GpuImage& img, int w, int h, int c) {
     return img.width == w && img.height == h && img.channels == c && img.buffer.id() != 0;
@@ -26,6 +25,11 @@ Result<Shading> Shading::create() {
     if (!p) return p.error();
     s.program_ = std::move(*p);
     s.dummy_.reserve(16);
+    for (Texture& t : s.inTex_) t = makeTexture();
+    s.outTex_ = makeTexture();
+    auto segments = FluidSegments::create();
+    if (!segments) return segments.error();
+    s.segments_ = std::move(*segments);
     return s;
 }
 
@@ -52,24 +56,35 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;
     }
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    segments_.build(depth);  // the 8-pixel row segments with fluid
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
     glUseProgram(program_.id());
-    glUniform1i(0, kRows);
     glUniform3i(1, hasScene ? 1 : 0, hasNormals ? 1 : 0, hasThickness ? 1 : 0);
     glUniform1f(2, nhMin);
-    auto bindOr = [&](const GpuImage& img, bool present, GLuint binding) {
-        if (present) img.bind(binding);
-        else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, dummy_.id());
-    };
-    bindOr(sceneColor, hasScene, 1);
-    bindOr(sceneDepth, hasScene, 2);
-    depth.bind(3);
-    bindOr(normals, hasNormals, 4);
-    bindOr(thickness, hasThickness, 5);
-    color.bind(6);
-    glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint((H + kRows - 1) / kRows), 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    // Texture unit i reads input i; an absent one reads a tiny dummy (never used).
+    const std::pair<const GpuImage*, GLenum> inputs[kInputs] = {
+        {hasScene ? &sceneColor : nullptr, GL_RGBA32F}, {hasScene ? &sceneDepth : nullptr, GL_R32F},
+        {&depth, GL_R32F}, {hasNormals ? &normals : nullptr, GL_R32F}, {hasThickness ? &thickness : nullptr, GL_R32F}};
+    for (int i = 0; i < kInputs; ++i) {  // (attaching binds and unbinds on the active unit)
+        const auto [img, format] = inputs[i];
+        if (img) attachBufferTexture(inTex_[i], format, img->buffer, img->bytes());
+        else attachBufferTexture(inTex_[i], format, dummy_, 16);
+    }
+    attachBufferTexture(outTex_, GL_RGBA32F, color.buffer, color.bytes());
+    for (int i = 0; i < kInputs; ++i) {
+        glActiveTexture(GL_TEXTURE0 + GLenum(i));
+        glBindTexture(GL_TEXTURE_BUFFER, inTex_[i].id());
+    }
+    glBindImageTexture(0, outTex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    segments_.bindList(kInputs);
+    segments_.dispatch();
+    glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    for (int i = kInputs; i >= 0; --i) {
+        glActiveTexture(GL_TEXTURE0 + GLenum(i));
+        glBindTexture(GL_TEXTURE_BUFFER, 0);
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
 }
 

@@ -3,6 +3,7 @@
 // (gl::Context) on the calling thread.
 #pragma once
 
+#include "gl/fluid_segments.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "gl/uniforms.h"
@@ -31,7 +32,11 @@ public:
 
 private:
     Program program_;
-    Buffer dummy_;  // bound in place of an absent input (never read)
+    static constexpr int kInputs = 5;  // scene colour and depth, depth, normals, thickness
+    Buffer dummy_;                     // read in place of an absent input (never used)
+    Texture inTex_[kInputs];           // buffer textures over the inputs (units 0..4)
+    Texture outTex_;                   // RGBA32F image buffer over the colour
+    FluidSegments segments_;           // of the depth (unit kInputs)
 };
 
 }  // namespace meniscus::gl

@@ -41,6 +41,7 @@ Result<Splat> Splat::create() {
     s.splat_ = std::move(*splat);
     s.resolve_ = std::move(*resolve);
     s.noScene_.reserve(4);
+    s.sceneTex_ = makeTexture();
     return s;
 }
 
@@ -75,8 +76,9 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
         else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, noScene_.id());
     };
     bindOr(depth, 1);
-    bindOr(hasScene ? sceneDepth : nullptr, 2);
     bindOr(thickness, 3);
+    if (hasScene) attachBufferTexture(sceneTex_, GL_R32F, sceneDepth->buffer, sceneDepth->bytes());
+    else attachBufferTexture(sceneTex_, GL_R32F, noScene_, 4);
 
     // Clear: depth to +inf, chords to 0 (the driver's fills, memsets on
     // llvmpipe); the splat keeps only hits strictly in front of the scene.
@@ -87,6 +89,8 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
     if (count_ > 0) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions_.id());
         glUseProgram(splat_.id());
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_BUFFER, sceneTex_.id());
         glUniform1ui(0, count_);
         glUniform1i(1, hasScene ? 1 : 0);
         glUniform1i(2, thickness ? 1 : 0);
@@ -109,6 +113,7 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
         glDispatchComputeIndirect(0);
         glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glBindTexture(GL_TEXTURE_BUFFER, 0);
     }
 
     // Resolve: chord sums to metres.

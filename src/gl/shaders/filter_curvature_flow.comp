@@ -7,9 +7,11 @@
 // (D = C²G with G = z_x² + z_y² + (Cz)², analytic ∂D, z ← z − Δt·H,
 // Δt = alpha·z/f) and the discontinuity rules. Every operation follows the CPU
 // in the same order and is `precise` (no FMA contraction or reassociation).
-// Buffers are (W + 2) x (H + 2) with a +inf frame (filter_curvature_flow_pad.comp).
-// Each invocation walks a column strip of kRows pixels keeping the 3x3
-// neighbourhood in registers: 3 loads per pixel instead of 9.
+// Buffers are (W + 2) x (H + 2) with a +inf frame (set by the host), so the
+// stencil needs no bounds tests.
+// Work: only the 8-pixel row segments that hold fluid (fluid_segments.glsl):
+// the fluid set never changes, and every other pixel stays +inf in both
+// buffers and in the output.
 #include "frame_params.h"
 
 layout(local_size_x = 64) in;
@@ -20,34 +22,29 @@ layout(local_size_x = 64) in;
 layout(binding = 0) uniform samplerBuffer src;
 layout(r32f, binding = 0) writeonly uniform imageBuffer dst;
 
-layout(std430, binding = 6) readonly buffer TileList { uint tileList[]; };  // tiles with fluid
+layout(binding = 1) uniform isamplerBuffer uSegments;  // the fluid segments (fluid_segments.glsl)
+#include "fluid_segments.glsl"
 
 layout(location = 0) uniform ivec2 uSize;  // W, H of the image (unpadded)
-layout(location = 1) uniform int uTilesX;  // tiles (64 x kRows pixels, one work group each) per row
-
-const int kRows = 8;
+layout(location = 1) uniform int uFinal;   // 1: write the unpadded W x H output
 
 void main() {
-    const int W = uSize.x, H = uSize.y, PW = W + 2;
-    // One work group per listed tile (filter_curvature_flow_pad.comp, mode 1).
-    const int tile = int(tileList[gl_WorkGroupID.x]);
-    const int x = (tile % uTilesX) * 64 + int(gl_LocalInvocationID.x);
-    const int y0 = (tile / uTilesX) * kRows;
-    if (x >= W || y0 >= H) return;
+    const int W = uSize.x, PW = W + 2;
     const float kInf = uintBitsToFloat(0x7f800000u);
     const float C = P.up.w;  // 1/f, rounded on the CPU as there
     precise float thr = P.filterJumpRadii * P.radius;
     precise float halfAlpha = 0.5 * P.cfAlpha;
-
-    // Padded index of (x - 1, y0 - 1): padded column x, padded row y0.
-    int k = y0 * PW + x;
-    vec3 u = vec3(texelFetch(src, k).x, texelFetch(src, k + 1).x, texelFetch(src, k + 2).x);
-    k += PW;
-    vec3 c = vec3(texelFetch(src, k).x, texelFetch(src, k + 1).x, texelFetch(src, k + 2).x);
-    k += PW;
-    const int yEnd = min(y0 + kRows, H);
-    for (int y = y0; y < yEnd; ++y, k += PW) {
-        const vec3 d = vec3(texelFetch(src, k).x, texelFetch(src, k + 1).x, texelFetch(src, k + 2).x);
+    for (int r = 0; r < uSegmentRounds; ++r) {
+        int x, y;
+        const int on = segmentPixel(r, W, x, y);
+        if (on < 0) break;
+        if (on == 0) continue;
+        // Padded index of (x - 1, y - 1): padded column x, padded row y.
+        const int k = y * PW + x;
+        const vec3 u = vec3(texelFetch(src, k).x, texelFetch(src, k + 1).x, texelFetch(src, k + 2).x);
+        const vec3 c = vec3(texelFetch(src, k + PW).x, texelFetch(src, k + PW + 1).x, texelFetch(src, k + PW + 2).x);
+        const vec3 d =
+            vec3(texelFetch(src, k + 2 * PW).x, texelFetch(src, k + 2 * PW + 1).x, texelFetch(src, k + 2 * PW + 2).x);
         const float z = c.y;
         float result = z;  // +inf stays +inf
         if (z < kInf) {
@@ -72,8 +69,6 @@ void main() {
             precise float zNew = z - halfAlpha * w * num / (G * sqrt(G));
             result = zNew;
         }
-        imageStore(dst, (y + 1) * PW + x + 1, vec4(result));
-        u = c;
-        c = d;
+        imageStore(dst, uFinal != 0 ? y * W + x : k + PW + 1, vec4(result));
     }
 }

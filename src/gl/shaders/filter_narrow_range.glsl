@@ -80,7 +80,7 @@ void main() {
     const float zMin = uintBitsToFloat(zMinBits);
     const int Rmax = zMin < kInf ? projectedRadiusPx(world, f, zMin, uCap) : 0;
 
-    for (int k = 0; k < kSegmentRounds; ++k) {
+    for (int k = 0; k < uSegmentRounds; ++k) {
         int x, y;
         const int on = segmentPixel(k, W, x, y);
         if (on < 0) break;

@@ -67,7 +67,7 @@ void main() {
     const int W = uSize.x, H = uSize.y;
     const int len = uAxis == 0 ? W : H;
     const int step = uAxis == 0 ? 1 : W;
-    for (int k = 0; k < kSegmentRounds; ++k) {
+    for (int k = 0; k < uSegmentRounds; ++k) {
         int x, row;
         const int on = segmentPixel(k, W, x, row);
         if (on < 0) break;

@@ -16,28 +16,28 @@
 // and log are the driver's built-ins where the CPU uses Cephes polynomials
 // (both ~1e-7 relative); the (n·h)^120 highlight and s^64 sun glow amplify
 // that, which the parity test's colour tolerance covers.
-// Work: a work group per tile of 64 columns x uRows rows lists the tile's
-// fluid pixels in shared memory, then shades the list 64 at a time (see main).
+// Work: only the 8-pixel row segments that hold fluid (fluid_segments.glsl,
+// listed from the fluid depth); every other pixel already holds the scene
+// colour (copied by the driver before the dispatch).
 #include "frame_params.h"
 #include "sky.h"
 
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 1) readonly buffer SceneColor { vec4 sceneColor[]; };  // W*H linear RGBA
-layout(std430, binding = 2) readonly buffer SceneDepth { float sceneDepth[]; };  // W*H, +inf = sky
-layout(std430, binding = 3) readonly buffer Depth { float depth[]; };            // W*H fluid eye depth, +inf = none
-layout(std430, binding = 4) readonly buffer Normals { float normals[]; };        // W*H*3 view space
-layout(std430, binding = 5) readonly buffer Thickness { float thickness[]; };    // W*H metres
-layout(std430, binding = 6) writeonly buffer Color { vec4 color[]; };           // W*H linear RGBA
+// Reads through buffer textures, the write through an image buffer: llvmpipe
+// gathers and scatters those in SIMD but runs storage-buffer accesses lane by
+// lane (about 5x slower per read).
+layout(binding = 0) uniform samplerBuffer sceneColor;  // W*H linear RGBA (RGBA32F)
+layout(binding = 1) uniform samplerBuffer sceneDepth;  // W*H, +inf = sky
+layout(binding = 2) uniform samplerBuffer depth;       // W*H fluid eye depth, +inf = none
+layout(binding = 3) uniform samplerBuffer normals;     // W*H*3 view space (R32F)
+layout(binding = 4) uniform samplerBuffer thickness;   // W*H metres
+layout(binding = 5) uniform isamplerBuffer uSegments;  // the fluid segments (fluid_segments.glsl)
+#include "fluid_segments.glsl"
+layout(rgba32f, binding = 0) writeonly uniform imageBuffer color;  // W*H linear RGBA
 
-layout(location = 0) uniform int uRows;          // rows per invocation
 layout(location = 1) uniform ivec3 uHas;         // scene, normals, thickness bound (image-sized)
 layout(location = 2) uniform float uNhMin;       // highlight skipped below this n·h (computed on the host as the CPU)
-
-// A work group's tile: 64 columns x uRows rows, uRows <= kMaxRows.
-const int kMaxRows = 16;
-shared uint tileList[64 * kMaxRows];  // pixel indices of the tile's fluid pixels
-shared uint tileCount;
 
 #define kInf uintBitsToFloat(0x7f800000u)
 
@@ -49,13 +49,13 @@ int W, H;
 
 // Premultiplied texel k of the scene: (alpha * rgb, alpha).
 vec4 premulTexel(int k) {
-    const vec4 c = sceneColor[k];
+    const vec4 c = texelFetch(sceneColor, k);
     precise vec4 p = c * vec4(c.a, c.a, c.a, 1.0);
     return p;
 }
 
 // The shaded colour of fluid pixel (x, y) with eye depth z; rx, ryc: its view ray.
-vec3 shade(int x, int y, float z, float rx, float ryc, uint k) {
+vec3 shade(int x, int y, float z, float rx, float ryc, int k) {
     const bool hasScene = uHas.x != 0, hasNormals = uHas.y != 0, hasThickness = uHas.z != 0;
     const vec3 X = P.right.xyz, Y = P.up.xyz, Z = P.back.xyz;
     // Per image on the CPU (Setup); cheap enough per pixel here, same operations.
@@ -74,10 +74,12 @@ vec3 shade(int x, int y, float z, float rx, float ryc, uint k) {
     // 1. View vector, normal (the view vector where none), sanitised thickness.
     precise float invLen = 1.0 / sqrt(rx * rx + ryc * ryc + 1.0);
     precise vec3 v = vec3(-rx * invLen, -ryc * invLen, invLen);
-    precise vec3 n = hasNormals ? vec3(normals[3 * k], normals[3 * k + 1], normals[3 * k + 2]) : vec3(0.0);
+    precise vec3 n = hasNormals ? vec3(texelFetch(normals, 3 * k).x, texelFetch(normals, 3 * k + 1).x,
+                                       texelFetch(normals, 3 * k + 2).x)
+                                : vec3(0.0);
     precise float nn = n.x * n.x + n.y * n.y + n.z * n.z;
     n = nn > 0.0 ? n : v;  // false for (0,0,0) and NaN
-    float T = hasThickness ? thickness[k] : 0.0;
+    float T = hasThickness ? texelFetch(thickness, k).x : 0.0;
     T = T > 0.0 && T < kInf ? T : 0.0;
 
     // 2. Refraction: the background shifted along the normal by the projected
@@ -149,36 +151,18 @@ void main() {
     H = P.size.y;
     const bool hasScene = uHas.x != 0;
     const float f = P.right.w;
-    const uint lid = gl_LocalInvocationID.x;
-    // 1. List this tile's fluid pixels (in front of the scene: not +inf, not
-    // hidden). Every other pixel already holds the scene colour (copied by the
-    // driver before the dispatch). llvmpipe runs both sides of a divergent
-    // branch under a mask, so an `if (fluid) shade` would cost the full shading
-    // for every pixel; a loop over the list costs it only per fluid pixel.
-    if (lid == 0u) tileCount = 0u;
-    barrier();
-    const int x = int(gl_GlobalInvocationID.x);
-    const int y0 = int(gl_WorkGroupID.y) * uRows;
-    if (x < W) {
-        const int yEnd = min(y0 + uRows, H);
-        for (int y = y0; y < yEnd; ++y) {
-            const uint k = uint(y) * uint(W) + uint(x);
-            const float z = depth[k];
-            if ((hasScene ? z < sceneDepth[k] : z < kInf) && z > 0.0) tileList[atomicAdd(tileCount, 1u)] = k;
-        }
-    }
-    barrier();
-    // 2. Shade the listed pixels, 64 at a time.
-    const uint n = tileCount;
-    for (uint base = 0u; base < n; base += gl_WorkGroupSize.x) {
-        const uint i = base + lid;
-        if (i < n) {
-            const uint k = tileList[i];
-            const int px = int(k % uint(W)), py = int(k / uint(W));
-            // View rays exactly as the CPU's per-column and per-row tables.
-            precise float rx = ((float(px) + 0.5) - 0.5 * float(W)) / f;
-            precise float ryc = -((float(py) + 0.5) - 0.5 * float(H)) / f;
-            color[k] = vec4(shade(px, py, depth[k], rx, ryc, k), 1.0);
-        }
+    for (int k = 0; k < uSegmentRounds; ++k) {
+        int px, py;
+        const int on = segmentPixel(k, W, px, py);
+        if (on < 0) break;
+        if (on == 0) continue;
+        const int i = py * W + px;
+        const float z = texelFetch(depth, i).x;
+        // View rays exactly as the CPU's per-column and per-row tables.
+        precise float rx = ((float(px) + 0.5) - 0.5 * float(W)) / f;
+        precise float ryc = -((float(py) + 0.5) - 0.5 * float(H)) / f;
+        const vec3 c = shade(px, py, z, rx, ryc, i);
+        // Fluid in front of the scene (not +inf, not hidden); the scene elsewhere.
+        if ((hasScene ? z < texelFetch(sceneDepth, i).x : z < kInf) && z > 0.0) imageStore(color, i, vec4(c, 1.0));
     }
 }

@@ -36,7 +36,9 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Positions { float positions[]; };  // world xyz, tightly packed
 layout(std430, binding = 1) buffer Depth { uint depthBits[]; };
-layout(std430, binding = 2) readonly buffer Scene { float sceneDepth[]; };
+// The scene depth through a buffer texture: llvmpipe gathers texel fetches in
+// SIMD but reads storage buffers lane by lane.
+layout(binding = 0) uniform samplerBuffer sceneDepth;  // +inf where nothing
 layout(std430, binding = 3) buffer Chords { uint chordFixed[]; };
 
 layout(location = 0) uniform uint uCount;     // particles
@@ -112,7 +114,7 @@ void splatPixel(vec3 c, int x, int y) {
     precise float h = sqrt(h2);
     precise float t0 = b - h;
     const uint k = uint(y * outW + x);
-    const float zScene = uHasScene != 0 ? sceneDepth[k] : 1.0 / 0.0;
+    const float zScene = uHasScene != 0 ? texelFetch(sceneDepth, int(k)).x : 1.0 / 0.0;
     if (uThickness != 0) {
         // The CPU's clip: [max(t0, near len), min(t1, scene len)) along the ray.
         precise float t1 = b + h;
