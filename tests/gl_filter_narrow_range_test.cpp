@@ -170,6 +170,26 @@ TEST_P(GlNarrowRange, ScatteredPixelsOddWidthMatchCpu) {
     EXPECT_GT(changed, d.coveredCpu / 2);  // the filter did act on most fluid pixels
 }
 
+TEST_P(GlNarrowRange, WideKernelsStayWithinTheLoopLimit) {
+    // Kernels of 64 px on every pixel of a 64 x 64 close-up: 6,433 tap pairs
+    // per pixel in 2-D. gallivm (llvmpipe) silently stops an invocation's
+    // loops after 65,535 iterations in all, so the passes must walk fewer
+    // segments per invocation here (FluidSegments::kLoopBudget) than for the
+    // usual kernels of a few pixels, or most pixels would come out half
+    // filtered.
+    const Camera cam = faceOnCamera(glm::vec3(0.0f), 1.0f, 64, 64);
+    NarrowRangeParams p = params(GetParam());
+    p.maxKernelPx = 64;
+    p.iterations = 1;
+    const float r = 1.2f * float(p.maxKernelPx) / (p.filterSizeRadii * cam.focalPx());  // kernel > the cap at z = 1
+    Image<float> depth(cam.width, cam.height, 1.0f);
+    std::uint32_t seed = 777u;
+    auto next = [&] { return (seed = seed * 1664525u + 1013904223u) >> 8; };
+    for (float& z : depth.pixels) z = 1.0f + 0.2f * r * float(next() % 1000) / 1000.0f;
+    const DepthDiff d = expectParity(depth, cam, r, p, "64 px kernels");
+    EXPECT_EQ(d.coveredCpu, 64 * 64);
+}
+
 TEST_P(GlNarrowRange, ReusedAcrossSizesAndZeroIterations) {
     // One object, two image sizes (tables rebuilt for the new padded width),
     // then zero iterations (a copy).
