@@ -160,8 +160,17 @@ void main() {
                 if (slot < kMaxGroups) atomicAdd(groupsY, 1u);
                 continue;
             }
-            for (int y = rect.y; y < rect.w; ++y)
-                for (int x = rect.x; x < rect.z; ++x) splatPixel(c, x, y);
+            // One loop over the rectangle's pixels, not rows x columns: lanes
+            // run as long as the largest rectangle of the vector, not as its
+            // tallest times its widest.
+            const int n = (rect.z - rect.x) * (rect.w - rect.y);
+            int x = rect.x, y = rect.y;
+            for (int p = 0; p < n; ++p) {
+                splatPixel(c, x, y);
+                const bool wrap = x + 1 == rect.z;
+                x = wrap ? rect.x : x + 1;
+                y = wrap ? y + 1 : y;
+            }
         }
     } else {
         // Work group (gx, gy): listed spheres gy, gy + kMaxGroups, ...; its
