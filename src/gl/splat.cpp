@@ -42,6 +42,7 @@ Result<Splat> Splat::create() {
     s.resolve_ = std::move(*resolve);
     s.noScene_.reserve(4);
     s.sceneTex_ = makeTexture();
+    s.depthTex_ = makeTexture();
     return s;
 }
 
@@ -79,6 +80,8 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
     bindOr(thickness, 3);
     if (hasScene) attachBufferTexture(sceneTex_, GL_R32F, sceneDepth->buffer, sceneDepth->bytes());
     else attachBufferTexture(sceneTex_, GL_R32F, noScene_, 4);
+    if (depth) attachBufferTexture(depthTex_, GL_R32F, depth->buffer, depth->bytes());
+    else attachBufferTexture(depthTex_, GL_R32F, noScene_, 4);
 
     // Clear: depth to +inf, chords to 0 (the driver's fills, memsets on
     // llvmpipe); the splat keeps only hits strictly in front of the scene.
@@ -89,6 +92,8 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
     if (count_ > 0) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions_.id());
         glUseProgram(splat_.id());
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_BUFFER, depthTex_.id());
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_BUFFER, sceneTex_.id());
         glUniform1ui(0, count_);
@@ -106,7 +111,7 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         glUniform1i(3, 0);
         glDispatchCompute(gridGroups(count_, kGroup), 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         // Pass 1: each listed rectangle over kBigGroups work groups.
         glUniform1i(3, 1);
         glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, big_.id());
@@ -114,6 +119,9 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
         glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         glBindTexture(GL_TEXTURE_BUFFER, 0);
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_BUFFER, 0);
+        glActiveTexture(GL_TEXTURE0);
     }
 
     // Resolve: chord sums to metres.

@@ -48,6 +48,7 @@ private:
     Program splat_, resolve_;
     Buffer positions_, noScene_;
     Texture sceneTex_;  // R32F buffer texture over the scene depth (or noScene_)
+    Texture depthTex_;  // R32F buffer texture over the depth being splatted
     Buffer big_;  // splat.comp's Big block: pass 1's indirect dispatch and the large spheres
     GLuint count_ = 0;
 };
