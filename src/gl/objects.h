@@ -123,11 +123,14 @@ private:
 };
 
 // Makes `tex` a buffer texture over the first `bytes` of `buf` (texelFetch and
-// image-buffer access: vectorised on llvmpipe, unlike storage buffers).
+// image-buffer access: vectorised on llvmpipe, unlike storage buffers). The
+// active unit's buffer-texture binding is left as it was.
 inline void attachBufferTexture(const Texture& tex, GLenum format, const Buffer& buf, GLsizeiptr bytes) {
+    GLint bound = 0;
+    glGetIntegerv(GL_TEXTURE_BINDING_BUFFER, &bound);
     glBindTexture(GL_TEXTURE_BUFFER, tex.id());
     glTexBufferRange(GL_TEXTURE_BUFFER, format, buf.id(), 0, bytes);
-    glBindTexture(GL_TEXTURE_BUFFER, 0);
+    glBindTexture(GL_TEXTURE_BUFFER, GLuint(bound));
 }
 
 // Compiles one shader stage; the error carries the driver's log and `name`.

@@ -66,7 +66,7 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
     const std::pair<const GpuImage*, GLenum> inputs[kInputs] = {
         {hasScene ? &sceneColor : nullptr, GL_RGBA32F}, {hasScene ? &sceneDepth : nullptr, GL_R32F},
         {&depth, GL_R32F}, {hasNormals ? &normals : nullptr, GL_R32F}, {hasThickness ? &thickness : nullptr, GL_R32F}};
-    for (int i = 0; i < kInputs; ++i) {  // (attaching binds and unbinds on the active unit)
+    for (int i = 0; i < kInputs; ++i) {
         const auto [img, format] = inputs[i];
         if (img) attachBufferTexture(inTex_[i], format, img->buffer, img->bytes());
         else attachBufferTexture(inTex_[i], format, dummy_, 16);
