@@ -2,7 +2,7 @@
 // a small synthetic frame rendered on the window's context and drawn into its
 // default framebuffer must read back (glReadPixels) as the 8-bit sRGB values a
 // PNG of the same frame holds; `meniscus view` shows what `meniscus render`
-// writes. These need a display: CI runs this binary under `xvfb-run -a`
+// writes, and follows scripted input (drags, wheel, keys). These need a display: CI runs this binary under `xvfb-run -a`
 // (tests/CMakeLists.txt); elsewhere without one they skip, saying so. The
 // error paths need no display and always run.
 #include <algorithm>
@@ -193,6 +193,88 @@ TEST_F(GlWindow, ViewCommandShowsWhatRenderWrites) {
             worst = std::max(worst, std::abs(int(a.bytes[k]) - int(b.bytes[k])));
         EXPECT_LE(worst, 1) << c.view;
     }
+}
+
+// Input automation: `view --input-script` feeds drags, wheel steps and keys
+// into the viewer's own input, one per frame, through the same code as real
+// events. Turning the camera changes the picture and turning it back restores
+// it; zooming likewise; the arrow keys step through a sequence (wrapping) and
+// show what `render` writes for that frame; Q quits early; a bad script is a
+// clear error.
+namespace {
+
+struct PngDiff {
+    int worst = 0;    // largest byte difference
+    double off = 0.0; // fraction of bytes differing by more than 8 steps
+};
+
+PngDiff comparePng(const std::filesystem::path& a, const std::filesystem::path& b) {
+    const PngData x = readPng(a), y = readPng(b);
+    EXPECT_EQ(x.width, y.width);
+    EXPECT_EQ(x.height, y.height);
+    EXPECT_FALSE(x.bytes.empty());
+    PngDiff d;
+    if (x.bytes.size() != y.bytes.size() || x.bytes.empty()) return PngDiff{255, 1.0};
+    std::size_t off = 0;
+    for (std::size_t k = 0; k < x.bytes.size(); ++k) {
+        const int e = std::abs(int(x.bytes[k]) - int(y.bytes[k]));
+        d.worst = std::max(d.worst, e);
+        off += e > 8;
+    }
+    d.off = double(off) / double(x.bytes.size());
+    return d;
+}
+
+}  // namespace
+
+TEST_F(GlWindow, ScriptedInputOrbitsZoomsAndStepsFrames) {
+    const auto dir = tempDir();
+    const std::string frame = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo").string();
+    const std::string opts = " --width 160 --height 90 --frames 2";
+    auto view = [&](const std::string& input, const std::string& script, const std::string& name) {
+        const auto shot = dir / (name + ".png");
+        std::string out;
+        const std::string cmd = cliPath() + " view " + input + opts +
+                                (script.empty() ? "" : " --input-script '" + script + "'") + " --screenshot " +
+                                shot.string();
+        EXPECT_EQ(runCommand(cmd, &out), 0) << cmd << "\n" << out;
+        return shot;
+    };
+    const auto still = view(frame, "", "still");
+    struct Move {
+        std::string there, back;
+    };
+    for (const Move& m : {Move{"drag:120,-40", "drag:-120,40"}, Move{"scroll:3", "scroll:-3"}}) {
+        const PngDiff moved = comparePng(still, view(frame, m.there, "there"));
+        EXPECT_GT(moved.off, 0.05) << m.there << ": the picture should change";
+        const PngDiff restored = comparePng(still, view(frame, m.there + ";" + m.back, "back"));
+        std::printf("%s: %.3f of the bytes changed; and back: %.4f (worst %d)\n", m.there.c_str(), moved.off,
+                    restored.off, restored.worst);
+        // Back to the same camera up to float rounding: a few edge pixels at most.
+        EXPECT_LT(restored.off, 0.002) << m.there << ";" << m.back;
+    }
+
+    // A sequence of four frames (1, 9, 21, 61): right shows frame 9, left from
+    // the first wraps to frame 61, as `render` writes them with the
+    // sequence's camera.
+    const std::string seq = (testData("splishsplash/partio") / "ParticleData_Fluid_*.bgeo").string();
+    std::string out;
+    ASSERT_EQ(runCommand(cliPath() + " render '" + seq + "' --width 160 --height 90 --backend gl -o " +
+                             (dir / "seq_%04d.png").string(),
+                         &out),
+              0)
+        << out;
+    EXPECT_LE(comparePng(view("'" + seq + "'", "key:right", "right"), dir / "seq_0009.png").worst, 1);
+    EXPECT_LE(comparePng(view("'" + seq + "'", "key:left", "left"), dir / "seq_0061.png").worst, 1);
+    EXPECT_LE(comparePng(view("'" + seq + "'", "key:right;key:left", "rightleft"), dir / "seq_0001.png").worst, 1);
+
+    // Q quits before the 1000 frames asked for; a bad event is an error.
+    EXPECT_EQ(runCommand(cliPath() + " view " + frame + " --width 64 --height 36 --frames 1000 --input-script key:q",
+                         &out),
+              0)
+        << out;
+    EXPECT_NE(runCommand(cliPath() + " view --frames 1 --input-script 'drag:1'", &out), 0);
+    EXPECT_NE(out.find("'drag:1' is not an event"), std::string::npos) << out;
 }
 
 // ---- Error paths: no display needed.

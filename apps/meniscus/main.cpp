@@ -195,6 +195,9 @@ int main(int argc, char** argv) {
     viewCmd->add_option("--frames", view.frames, "Render and show N frames, then exit")
         ->check(CLI::PositiveNumber)
         ->group("");
+    viewCmd->add_option("--input-script", view.inputScript,
+                        "Replay input, one event per frame: drag:DX,DY;scroll:N;key:left|right|q|escape")
+        ->group("");
 
     CLI11_PARSE(app, argc, argv);
 

@@ -5,8 +5,11 @@
 #include "view.h"
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
+#include <sstream>
 #include <utility>
+#include <vector>
 
 #if MENISCUS_HAVE_GLFW
 #include "gl/window.h"
@@ -31,6 +34,34 @@ namespace {
 constexpr float kDegreesPerDragUnit = 0.3f;  // orbit per screen unit the cursor moves with the button held
 constexpr float kZoomPerWheelStep = 0.9f;    // camera distance factor per wheel step away from the user
 
+// One gl::WindowInput per event of an input script ("drag:DX,DY;scroll:N;key:K").
+Result<std::vector<gl::WindowInput>> parseInputScript(const std::string& script) {
+    std::vector<gl::WindowInput> events;
+    std::stringstream all(script);
+    std::string item;
+    while (std::getline(all, item, ';')) {
+        if (item.empty()) continue;
+        gl::WindowInput in;
+        double a = 0.0, b = 0.0;
+        char end = 0;
+        bool ok = true;
+        if (std::sscanf(item.c_str(), "drag:%lf,%lf%c", &a, &b, &end) == 2 && std::isfinite(a) && std::isfinite(b))
+            in.drag = glm::dvec2(a, b);
+        else if (std::sscanf(item.c_str(), "scroll:%lf%c", &a, &end) == 1 && std::isfinite(a))
+            in.scroll = a;
+        else if (item == "key:left") in.keys.push_back(gl::Key::Left);
+        else if (item == "key:right") in.keys.push_back(gl::Key::Right);
+        else if (item == "key:q") in.keys.push_back(gl::Key::Q);
+        else if (item == "key:escape") in.keys.push_back(gl::Key::Escape);
+        else ok = false;
+        if (!ok)
+            return makeError("", "--input-script: '" + item +
+                                     "' is not an event (drag:DX,DY, scroll:N, key:left|right|q|escape; separated by ;)");
+        events.push_back(std::move(in));
+    }
+    return events;
+}
+
 std::string title(const ViewOptions& o, const Frames& frames, std::size_t index) {
     std::string t = "meniscus view: " + (frames.embedded ? std::string("demo") : o.render.input);
     if (frames.count() > 1)
@@ -46,6 +77,8 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     if (!parsed) return fail(parsed.error().describe());
     RenderSettings settings = std::move(*parsed);
     if (!o.screenshot.empty() && !isPng(o.screenshot)) return fail(o.screenshot + ": --screenshot must end in .png");
+    auto script = parseInputScript(o.inputScript);
+    if (!script) return fail(script.error().describe());
     auto frames = openFrames(o.render.input, embedded);
     if (!frames) return fail(frames.error().describe());
 
@@ -77,8 +110,15 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     std::size_t index = 0;
     bool stale = true;  // the frame on the backend does not show the current particles, camera and size
     int rendered = 0;
+    std::size_t scripted = 0;  // events of the script replayed so far
     while (!win.shouldClose()) {
         gl::WindowInput in = win.takeInput();
+        if (scripted < script->size()) {  // as if the user had done it during the last frame
+            const gl::WindowInput& e = (*script)[scripted++];
+            in.drag += e.drag;
+            in.scroll += e.scroll;
+            in.keys.insert(in.keys.end(), e.keys.begin(), e.keys.end());
+        }
         bool quit = false;
         for (gl::Key key : in.keys) {
             quit |= key == gl::Key::Escape || key == gl::Key::Q;
@@ -122,7 +162,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
                 win.swapBuffers();
             }
         }
-        if (o.frames > 0 && rendered >= o.frames) break;
+        if (o.frames > 0 && rendered >= o.frames && scripted >= script->size()) break;
         if (o.frames > 0) win.pollEvents();
         else win.waitEvents();
     }
