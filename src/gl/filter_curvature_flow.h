@@ -5,6 +5,7 @@
 
 #include "gl/fluid_segments.h"
 #include "gl/gpu_image.h"
+#include "gl/padded_passes.h"
 #include "gl/objects.h"
 #include "meniscus/result.h"
 #include "shared/frame_params.h"
@@ -30,9 +31,8 @@ public:
 
 private:
     Program step_;
-    Buffer a_, b_;                  // (W + 2) x (H + 2) floats with a +inf frame
-    Texture texA_, texB_, outTex_;  // R32F buffer textures over a_, b_ and the output (read / written through them)
-    FluidSegments segments_;        // of the input (the fluid never changes)
+    PaddedPasses passes_;     // (W + 2) x (H + 2) with a +inf frame
+    FluidSegments segments_;  // of the input (the fluid never changes)
 };
 
 }  // namespace meniscus::gl

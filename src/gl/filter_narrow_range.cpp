@@ -44,7 +44,8 @@ Result<NarrowRange> NarrowRange::create() {
     if (!filter1D) return filter1D.error();
     f.filter2D_ = std::move(*filter2D);
     f.filter1D_ = std::move(*filter1D);
-    for (Texture* t : {&f.texA_, &f.texB_, &f.outTex_, &f.tapsTex_, &f.ringsTex_, &f.weightsTex_, &f.metaTex_})
+    f.passes_ = PaddedPasses::create();
+    for (Texture* t : {&f.tapsTex_, &f.ringsTex_, &f.weightsTex_, &f.metaTex_})
         *t = makeTexture();
     return f;
 }
@@ -117,28 +118,14 @@ void NarrowRange::run(const FrameParams& frame, const GpuImage& in, GpuImage& ou
         return;
     }
     const int pad = cap, PW = W + 2 * pad;
-    const GLsizeiptr paddedBytes = GLsizeiptr(PW) * GLsizeiptr(H + 2 * pad) * 4;
     buildTables(cap, PW);
     // The fluid segments and the nearest depth (the kernel bound).
     // Segments per invocation: a pixel's loops run at most once per ring and
     // tap of the largest disc (2-D) or per tap (1-D), plus one.
     const int loopsPerPixel = (frame.nrSeparable ? cap : tablesLoops_) + 2;
     segments_.build(in, FluidSegments::kLoopBudget / loopsPerPixel);
-    // −inf frames with the image inside: driver fills and copies (memset and
-    // memcpy on llvmpipe, cheaper than a shader's scattered stores).
-    a_.reserve(paddedBytes);
-    b_.reserve(paddedBytes);
-    a_.fill(paddedBytes, 0xff800000u);
-    b_.fill(paddedBytes, 0xff800000u);
-    for (int y = 0; y < H; ++y) {
-        const GLintptr from = GLintptr(y) * W * 4, to = (GLintptr(y + pad) * PW + pad) * 4;
-        a_.copyRange(in.buffer, from, to, GLsizeiptr(W) * 4);
-        b_.copyRange(in.buffer, from, to, GLsizeiptr(W) * 4);
-    }
-    attachBufferTexture(texA_, GL_R32F, a_, paddedBytes);
-    attachBufferTexture(texB_, GL_R32F, b_, paddedBytes);
-    attachBufferTexture(outTex_, GL_R32F, out.buffer, out.bytes());
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    // A −inf frame (taps off the image are "in front") with the image inside.
+    passes_.load(in, pad, 0xff800000u, out);
 
     glUseProgram(frame.nrSeparable ? filter1D_.id() : filter2D_.id());
     glUniform2i(0, W, H);
@@ -152,22 +139,10 @@ void NarrowRange::run(const FrameParams& frame, const GpuImage& in, GpuImage& ou
         glBindTexture(GL_TEXTURE_BUFFER, tex->id());
     }
     segments_.bindList(5);
-    glActiveTexture(GL_TEXTURE0);
-    const int passes = frame.filterIterations * (frame.nrSeparable ? 2 : 1);
-    const Texture* src = &texA_;
-    const Texture* dst = &texB_;
-    for (int i = 0; i < passes; ++i) {
-        const bool last = i + 1 == passes;
+    passes_.run(frame.filterIterations * (frame.nrSeparable ? 2 : 1), segments_, [&](int i, bool last) {
         glUniform1i(3, frame.nrSeparable && i % 2 == 1 ? PW : 1);
         glUniform1i(4, last ? 1 : 0);
-        glBindTexture(GL_TEXTURE_BUFFER, src->id());
-        glBindImageTexture(0, last ? outTex_.id() : dst->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-        segments_.dispatch();
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
-                        GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-        std::swap(src, dst);
-    }
-    glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    });
     for (GLenum unit : {GL_TEXTURE5, GL_TEXTURE4, GL_TEXTURE3, GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
         glActiveTexture(unit);
         glBindTexture(GL_TEXTURE_BUFFER, 0);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "gl/fluid_segments.h"
+#include "gl/padded_passes.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "meniscus/result.h"
@@ -37,9 +38,7 @@ private:
 
     FluidSegments segments_;       // of the input; also its nearest depth
     Program filter2D_, filter1D_;
-    Buffer a_, b_;                 // padded (pad = kernel cap) depth with a −inf frame
-    Texture texA_, texB_;          // R32F buffer textures over a_ and b_
-    Texture outTex_;               // R32F buffer texture over the output image
+    PaddedPasses passes_;          // padded (pad = kernel cap) depth with a −inf frame
     Buffer taps_, rings_, weights_, meta_;  // tap tables (see buildTables)
     Texture tapsTex_, ringsTex_, weightsTex_, metaTex_;
     int tablesCap_ = -1, tablesWidth_ = -1;
