@@ -34,7 +34,6 @@ public:
     // with the barriers the passes need. The passes will walk `rounds`
     // segments per invocation, clamped to [1, kMaxRounds].
     void build(const GpuImage& depth, int rounds = kMaxRounds);
-    int rounds() const { return rounds_; }
 
     // Binds the list to texture unit `unit` as the pass's isamplerBuffer.
     void bindList(GLuint unit) const;

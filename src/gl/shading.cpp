@@ -70,12 +70,10 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
         const auto [img, format] = inputs[i];
         if (img) attachBufferTexture(inTex_[i], format, img->buffer, img->bytes());
         else attachBufferTexture(inTex_[i], format, dummy_, 16);
-    }
-    attachBufferTexture(outTex_, GL_RGBA32F, color.buffer, color.bytes());
-    for (int i = 0; i < kInputs; ++i) {
         glActiveTexture(GL_TEXTURE0 + GLenum(i));
         glBindTexture(GL_TEXTURE_BUFFER, inTex_[i].id());
     }
+    attachBufferTexture(outTex_, GL_RGBA32F, color.buffer, color.bytes());
     glBindImageTexture(0, outTex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     segments_.bindList(kInputs);
     segments_.dispatch();

@@ -2,7 +2,7 @@
 // fluid_segments.comp (gl/fluid_segments.h), in a pass dispatched with
 // FluidSegments::dispatch: work groups of 64 invocations, 8 per segment (one
 // SIMD vector on llvmpipe, lanes on adjacent pixels), uSegmentRounds segments
-// per invocation (FluidSegments::rounds(), set by FluidSegments::dispatch).
+// per invocation (chosen in FluidSegments::build, set by FluidSegments::dispatch).
 // The includer declares local_size_x = 64 and
 //   layout(binding = N) uniform isamplerBuffer uSegments;
 // ([0]: count; [1 + e]: segment y * ceil(W/8) + k) and keeps uniform location
