@@ -108,23 +108,30 @@ TEST(Cli, ExrCarriesEveryAov) {
     const ExrData exr = readExr(dir / "f.exr");
     std::vector<std::string> names = exr.names;
     std::sort(names.begin(), names.end());
-    EXPECT_EQ(names, (std::vector<std::string>{"A", "B", "G", "N.X", "N.Y", "N.Z", "R", "T", "Z", "Zraw"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"A", "B", "G", "N.X", "N.Y", "N.Z", "R", "T", "Z", "Zraw", "coverage"}));
     auto channel = [&](const std::string& n) -> const std::vector<float>& {
         const auto it = std::find(exr.names.begin(), exr.names.end(), n);
         return exr.channels[std::size_t(it - exr.names.begin())].values;
     };
     const auto &z = channel("Z"), &zraw = channel("Zraw"), &t = channel("T");
     const auto &nx = channel("N.X"), &ny = channel("N.Y"), &nz = channel("N.Z");
-    std::size_t fluid = 0;
+    const auto &coverage = channel("coverage"), &alpha = channel("A");
+    std::size_t fluid = 0, opaque = 0;
     for (std::size_t i = 0; i < z.size(); ++i) {
         const bool covered = std::isfinite(zraw[i]);
         ASSERT_EQ(std::isfinite(z[i]), covered) << i;
+        ASSERT_EQ(coverage[i], covered ? 1.0f : 0.0f) << i;
+        opaque += alpha[i] == 1.0f;
         if (!covered) continue;
         ++fluid;
         EXPECT_GT(t[i], 0.0f) << i;
         EXPECT_NEAR(nx[i] * nx[i] + ny[i] * ny[i] + nz[i] * nz[i], 1.0f, 1e-4f) << i;
     }
     EXPECT_GT(fluid, 500u);
+    // With the studio background the colour is opaque everywhere, so A says
+    // nothing about the fluid: that is what `coverage` is for.
+    EXPECT_EQ(opaque, z.size());
+    EXPECT_LT(fluid, z.size());
 }
 
 // Every filter, material, view and background option renders; unknown names

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include <cstdlib>
+
 #include <gtest/gtest.h>
 
 #include "cpu/thickness.h"
@@ -156,6 +158,26 @@ TEST_F(GlBackend, SequenceReusesTheSceneAndCameraChangesRecastIt) {
         EXPECT_EQ(times[0].stage, "scene");
         EXPECT_EQ(times[4].stage, "shade");
         EXPECT_EQ(times[5].stage, "readback");
+    }
+}
+
+// A GL stage that fails (here a real GL error, made by the backend's fault
+// injection) gives an error naming the stage, in release builds too, and no
+// image; the next frame renders again.
+TEST_F(GlBackend, AFailingStageIsAnErrorNamingIt) {
+    const Frame f = realFrameSettings();
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    for (const char* stage : {"scene", "smooth", "shade"}) {
+        setenv("MENISCUS_GL_FAIL_STAGE", stage, 1);
+        auto failed = gl->render(f.positions, f.settings);
+        unsetenv("MENISCUS_GL_FAIL_STAGE");
+        ASSERT_FALSE(failed.ok()) << stage;
+        const std::string why = failed.error().describe();
+        EXPECT_NE(why.find(std::string("GL stage '") + stage + "'"), std::string::npos) << why;
+        EXPECT_NE(why.find("GL_INVALID_ENUM"), std::string::npos) << why;
+        auto again = gl->render(f.positions, f.settings);
+        EXPECT_TRUE(again.ok()) << stage << ": " << (again ? "" : again.error().describe());
     }
 }
 

@@ -3,7 +3,6 @@
 // particles, two bodies, a ball cut by the border, an empty image and the real
 // SPlisHSPlasH frame. Skips only when no headless GL 4.3 context exists.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -138,29 +137,3 @@ TEST_F(GlCurvatureFlow, ZeroIterationsCopies) {
     for (std::size_t i = 0; i < gl.size(); ++i) ASSERT_EQ(std::memcmp(&gl.pixels[i], &sc.depth.pixels[i], 4), 0) << i;
 }
 
-TEST_F(GlCurvatureFlow, Timing1280x720) {
-    // The real frame at 1280x720, default parameters (40 iterations): median of
-    // 5 runs, glFinish around run(). Printed, never asserted.
-    const RealFrame& frame = realFrame();
-    ASSERT_FALSE(frame.positions.empty());
-    const float r = frame.radius;
-    const Camera cam = realFrameCamera(1280, 720);
-    const Image<float> depth = cpu::splatDepth(cam, frame.positions, r);
-    auto flow = gl::CurvatureFlow::create();
-    ASSERT_TRUE(flow.ok()) << flow.error().describe();
-    const CurvatureFlowParams p;
-    const gl::FrameParams fp = frameParams(cam, r, p);
-    gl::FrameParamsBlock block;
-    block.upload(fp);
-    gl::GpuImage in, out;
-    in.upload(depth);
-    const double glMs = medianGlMs(6, [&] { flow->run(fp, in, out); });
-    const auto c0 = std::chrono::steady_clock::now();
-    const Image<float> cpu = cpu::filterCurvatureFlow(depth, cam, r, p);
-    const auto c1 = std::chrono::steady_clock::now();
-    const DepthDiff d = compareDepth(cpu, out.download<float>());
-    std::printf("1280x720 real frame, %d iterations: GL median %.1f ms (CPU %.1f ms), max rel %.3g\n", p.iterations,
-                glMs, std::chrono::duration<double, std::milli>(c1 - c0).count(), d.maxRel);
-    EXPECT_EQ(d.coverageDiffer, 0);
-    EXPECT_LE(d.maxRel, kDepthRel);
-}

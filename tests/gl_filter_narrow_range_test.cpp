@@ -4,7 +4,6 @@
 // image, small kernel caps and the real SPlisHSPlasH frame. Skips only when no
 // headless GL 4.3 context exists.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
@@ -213,41 +212,6 @@ TEST_P(GlNarrowRange, ReusedAcrossSizesAndZeroIterations) {
         EXPECT_EQ(d.coverageDiffer, 0) << pass;
         EXPECT_LE(d.maxRel, pass == 2 ? 0.0 : kDepthRel) << pass;
     }
-}
-
-TEST_P(GlNarrowRange, Timing1280x720) {
-    // The real frame at 1280x720, default parameters (3 iterations): median of
-    // 5 runs, glFinish around run(). Printed, never asserted.
-    const RealFrame& frame = realFrame();
-    ASSERT_FALSE(frame.positions.empty());
-    const float r = frame.radius;
-    const Camera cam = realFrameCamera(1280, 720);
-    const Image<float> depth = cpu::splatDepth(cam, frame.positions, r);
-    auto f = gl::NarrowRange::create();
-    ASSERT_TRUE(f.ok()) << f.error().describe();
-    const NarrowRangeParams p = params(GetParam());
-    const gl::FrameParams fp = frameParams(cam, r, p);
-    gl::FrameParamsBlock block;
-    block.upload(fp);
-    gl::GpuImage in, out;
-    in.upload(depth);
-    const double glMs = medianGlMs(6, [&] { f->run(fp, in, out); });
-    // Workload: fluid pixels and their mean kernel radius (pixels, uncapped by zMin).
-    int fluid = 0;
-    double sumR = 0.0;
-    for (float z : depth.pixels)
-        if (std::isfinite(z)) ++fluid, sumR += std::min<double>(p.maxKernelPx, std::ceil(p.filterSizeRadii * r * cam.focalPx() / z));
-    std::printf("workload: %d fluid px (%.0f%%), mean kernel radius %.1f px\n", fluid, 100.0 * fluid / depth.size(),
-                fluid ? sumR / fluid : 0.0);
-    const auto c0 = std::chrono::steady_clock::now();
-    const Image<float> cpu = cpu::filterNarrowRange(depth, cam, r, p);
-    const auto c1 = std::chrono::steady_clock::now();
-    const DepthDiff d = compareDepth(cpu, out.download<float>());
-    std::printf("1280x720 real frame (%s, %d iterations): GL median %.1f ms (CPU %.1f ms), max rel %.3g\n",
-                p.separable ? "separable" : "2-D", p.iterations, glMs,
-                std::chrono::duration<double, std::milli>(c1 - c0).count(), d.maxRel);
-    EXPECT_EQ(d.coverageDiffer, 0);
-    EXPECT_LE(d.maxRel, kDepthRel);
 }
 
 INSTANTIATE_TEST_SUITE_P(Variants, GlNarrowRange, ::testing::Bool(),

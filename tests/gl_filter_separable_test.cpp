@@ -79,7 +79,7 @@ protected:
         block_.upload(gl::packFrameParams(cam, r, p, ThicknessParams{}, ShadingParams{}));
         gl::GpuImage in, out;
         in.upload(depth);
-        filters_->run(gl::packFrameParams(cam, r, p, ThicknessParams{}, ShadingParams{}), in, out);
+        filters_->run(gl::packFrameParams(cam, r, p, ThicknessParams{}, ShadingParams{}), *gl::separableKind(p), in, out);
         return out.download<float>();
     }
 
@@ -353,66 +353,3 @@ TEST_F(GlSeparable, ThicknessBlurZeroSigmaIsNoOp) {
     EXPECT_EQ(gl.pixels, unblurred.thickness.pixels);
 }
 
-// Not a check: the time of each stage at 1280x720 on the real frame, for the
-// report (median of 5 runs after a warm-up; glFinish around run()).
-TEST_F(GlSeparable, Timing1280x720) {
-    const SplattedRealFrame f(1280, 720);
-    ASSERT_FALSE(f.depth.empty());
-    ThicknessParams raw;
-    raw.blurSigmaRadii = 0.0f;
-    const cpu::DepthAndThickness unblurred = cpu::splatDepthAndThickness(f.camera, f.positions, f.r, raw);
-    gl::GpuImage in, out, depth, thick;
-    in.upload(f.depth);
-    depth.upload(unblurred.depth);
-    auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v[v.size() / 2];
-    };
-    // Process CPU time (all llvmpipe threads): less sensitive than wall time to
-    // other processes on a shared machine.
-    auto cpuNow = [] {
-        rusage u{};
-        getrusage(RUSAGE_SELF, &u);
-        return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 + double(u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
-    };
-    double cpuTimeMs = 0.0;
-    auto time = [&](auto&& fn) {
-        fn();
-        glFinish();
-        std::vector<double> ms, cpuMs;
-        for (int i = 0; i < 5; ++i) {
-            const auto t0 = std::chrono::steady_clock::now();
-            const double c0 = cpuNow();
-            fn();
-            glFinish();
-            cpuMs.push_back(cpuNow() - c0);
-            ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-        }
-        cpuTimeMs = median(cpuMs);
-        return median(ms);
-    };
-    int covered = 0;
-    for (float z : f.depth.pixels) covered += std::isfinite(z);
-    std::printf("1280x720 real frame, %d fluid pixels (%.0f%%), r = %.4g, f = %.1f px\n", covered,
-                100.0 * covered / double(f.depth.size()), f.r, f.camera.focalPx());
-    for (int kind = 1; kind <= 3; ++kind) {
-        const FilterParams p = withKind(kind);
-        const auto frame = gl::packFrameParams(f.camera, f.r, p, ThicknessParams{}, ShadingParams{});
-        block_.upload(frame);
-        const double ms = time([&] { filters_->run(frame, in, out); });
-        const auto t0 = std::chrono::steady_clock::now();
-        (void)cpuFilter(f.depth, f.camera, f.r, p);
-        const double cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        std::printf("  %-9s (%d iterations): GL %.1f ms wall, %.1f ms process CPU time (CPU backend %.1f ms, one run)\n",
-                    kindName(kind), frame.filterIterations, ms, cpuTimeMs, cpuMs);
-    }
-    const ThicknessParams t;
-    const auto frame = gl::packFrameParams(f.camera, f.r, NoFilter{}, t, ShadingParams{});
-    block_.upload(frame);
-    const double ms = time([&] {
-        thick.upload(unblurred.thickness);  // in place: start from the raw thickness each run
-        filters_->blurThickness(frame, depth, thick);
-    });
-    std::printf("  thickness blur (sigma %.1f r): GL %.1f ms wall, %.1f ms process CPU time (incl. a 3.7 MB upload)\n",
-                t.blurSigmaRadii, ms, cpuTimeMs);
-}

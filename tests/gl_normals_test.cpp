@@ -186,33 +186,3 @@ TEST_F(GlNormals, WrongSizedDepthGivesZeros) {
     for (const glm::vec3& v : out.pixels) ASSERT_EQ(v, glm::vec3(0.0f));
 }
 
-TEST_F(GlNormals, Timing1280x720) {
-    // Reported, never asserted: the median of a few runs at 1280x720 on the
-    // real frame's smoothed depth.
-    const RealFrame& f = realFrame();
-    const Camera cam = realFrameCamera(1280, 720);
-    const Image<float> depth =
-        cpu::smoothDepth(cpu::splatDepth(cam, f.positions, f.radius), cam, f.radius, NarrowRangeParams{});
-    auto normals = gl::Normals::create();
-    ASSERT_TRUE(normals.ok()) << normals.error().describe();
-    const gl::FrameParams p = gl::packFrameParams(cam, f.radius, FilterParams{}, ThicknessParams{}, ShadingParams{});
-    gl::FrameParamsBlock block;
-    block.upload(p);
-    gl::GpuImage in, n;
-    in.upload(depth);
-    normals->run(p, in, n);  // warm-up (allocation, shader JIT)
-    glFinish();
-    std::vector<double> ms;
-    for (int i = 0; i < 7; ++i) {
-        const auto t0 = std::chrono::steady_clock::now();
-        normals->run(p, in, n);
-        glFinish();
-        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    }
-    std::sort(ms.begin(), ms.end());
-    std::printf("normals 1280x720: median %.2f ms (min %.2f, max %.2f)\n", ms[ms.size() / 2], ms.front(), ms.back());
-    const NormalDiff d =
-        compareNormals(cpu::computeNormals(depth, cam, f.radius, p.normalsJumpRadii), n.download<glm::vec3>(), depth);
-    std::printf("normals 1280x720: angle max %.3g deg, p99 %.3g\n", d.maxDeg, d.p99Deg);
-    EXPECT_LE(d.p99Deg, kMaxDeg);
-}

@@ -206,28 +206,3 @@ TEST_F(GlScene, ReusedAcrossSizesAndStudios) {
     EXPECT_LE(z.maxRel, kDepthRel);
 }
 
-TEST_F(GlScene, Timing1280x720) {
-    // Reported, never asserted: the median of a few runs at 1280x720.
-    const RealFrame& f = realFrame();
-    const Camera cam = realFrameCamera(1280, 720);
-    const cpu::Studio studio = cpu::makeStudio(computeBounds(f.positions), f.radius, cam, SceneParams{});
-    auto caster = gl::SceneCaster::create();
-    ASSERT_TRUE(caster.ok()) << caster.error().describe();
-    const gl::FrameParams p = gl::packFrameParams(cam, f.radius, FilterParams{}, ThicknessParams{}, ShadingParams{});
-    gl::FrameParamsBlock block;
-    block.upload(p);
-    gl::GpuImage color, depth;
-    caster->run(p, studio, color, depth);  // warm-up (allocation, shader JIT)
-    glFinish();
-    std::vector<double> ms;
-    for (int i = 0; i < 7; ++i) {
-        const auto t0 = std::chrono::steady_clock::now();
-        caster->run(p, studio, color, depth);
-        glFinish();
-        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    }
-    std::sort(ms.begin(), ms.end());
-    std::printf("scene 1280x720: median %.2f ms (min %.2f, max %.2f)\n", ms[ms.size() / 2], ms.front(), ms.back());
-    const cpu::SceneLayer ref = cpu::castScene(cam, studio);
-    EXPECT_LE(compareColor(ref.color, color.download<glm::vec4>()).maxSteps, kColorSteps);
-}

@@ -240,38 +240,3 @@ TEST_F(GlShading, NoSceneNoNormalsNoThicknessMatchCpu) {
     expectWithinTolerance(e, a.aovs.depth.size(), "no normals, no thickness");
 }
 
-TEST_F(GlShading, Timing1280x720) {
-    // Reported, never asserted: the median of a few runs at 1280x720 on the
-    // real frame's AOVs.
-    const RealAovs a = makeRealAovs(1280, 720);
-    ASSERT_FALSE(a.aovs.depth.empty());
-    const ShadingParams water = preset("water");
-    auto shader = gl::Shading::create();
-    ASSERT_TRUE(shader.ok()) << shader.error().describe();
-    const gl::FrameParams p = gl::packFrameParams(a.camera, a.radius, FilterParams{}, ThicknessParams{}, water);
-    gl::FrameParamsBlock block;
-    block.upload(p);
-    gl::GpuImage sc, sd, z, n, t, out;
-    sc.upload(a.scene.color);
-    sd.upload(a.scene.depth);
-    z.upload(a.aovs.depth);
-    n.upload(a.aovs.normal);
-    t.upload(a.aovs.thickness);
-    shader->run(p, sc, sd, z, n, t, out);  // warm-up (allocation, shader JIT)
-    glFinish();
-    std::vector<double> ms;
-    for (int i = 0; i < 7; ++i) {
-        const auto t0 = std::chrono::steady_clock::now();
-        shader->run(p, sc, sd, z, n, t, out);
-        glFinish();
-        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    }
-    std::sort(ms.begin(), ms.end());
-    std::printf("shading 1280x720: median %.2f ms (min %.2f, max %.2f)\n", ms[ms.size() / 2], ms.front(), ms.back());
-    const ColorDiff d = compareColor(
-        cpu::shadeAndComposite(a.camera, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, water),
-        out.download<glm::vec4>());
-    std::printf("shading 1280x720: colour max %d steps, %.3g%% of pixels over 1 step\n", d.maxSteps,
-                100.0 * d.fractionOver1);
-    EXPECT_LE(d.maxSteps, kColorSteps);
-}

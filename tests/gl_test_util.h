@@ -5,7 +5,6 @@
 #pragma once
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -48,23 +47,6 @@ protected:
         if (!sharedGlContext(&why)) GTEST_SKIP() << "no GL context: " << why;
     }
 };
-
-// Median wall time (ms) of `run` on the GPU, glFinish before and after, over
-// runs - 1 runs after one warm-up. For printing only: tests never assert a time.
-template <class Fn>
-double medianGlMs(int runs, Fn&& run) {
-    std::vector<double> ms;
-    for (int i = 0; i < runs; ++i) {
-        glFinish();
-        const auto t0 = std::chrono::steady_clock::now();
-        run();
-        glFinish();
-        const auto t1 = std::chrono::steady_clock::now();
-        if (i > 0) ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-    }
-    std::sort(ms.begin(), ms.end());
-    return ms.empty() ? 0.0 : ms[ms.size() / 2];
-}
 
 // ---- The real frame every parity test uses --------------------------------
 // tests/data/splishsplash/partio/ParticleData_Fluid_21.bgeo (a SPlisHSPlasH

@@ -1,4 +1,4 @@
-// The viewer's window (gl::Window, GLFW) and the GL backend presenting into it:
+// The viewer's window (Window, GLFW) and the GL backend presenting into it:
 // a small synthetic frame rendered on the window's context and drawn into its
 // default framebuffer must read back (glReadPixels) as the 8-bit sRGB values a
 // PNG of the same frame holds; `meniscus view` shows what `meniscus render`
@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "gl/window.h"
+#include "meniscus/window.h"
 #include "gl_test_util.h"
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
@@ -80,7 +80,7 @@ protected:
     void SetUp() override {
         if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
             GTEST_SKIP() << "no display (DISPLAY unset); CI runs this test under xvfb-run -a";
-        auto w = gl::Window::create(160, 120, "meniscus gl_window_test");
+        auto w = Window::create(160, 120, "meniscus gl_window_test");
         if (!w) GTEST_SKIP() << "no window: " << w.error().describe();
         window_ = std::move(*w);
         std::printf("window GL: %s | %s\n", window_->renderer().c_str(), window_->version().c_str());
@@ -93,7 +93,7 @@ protected:
         window_.reset();
     }
 
-    std::unique_ptr<gl::Window> window_;
+    std::unique_ptr<Window> window_;
     std::optional<Renderer> renderer_;
 };
 
@@ -285,7 +285,7 @@ TEST(GlWindowErrors, CreateWithoutADisplayIsAnError) {
     const char* display = std::getenv("DISPLAY");
     const std::string saved = display ? display : "";
     ::unsetenv("DISPLAY");
-    auto w = gl::Window::create(64, 64, "no display");
+    auto w = Window::create(64, 64, "no display");
     if (display) ::setenv("DISPLAY", saved.c_str(), 1);
     ASSERT_FALSE(w.ok());
     const std::string msg = w.error().describe();

@@ -271,7 +271,7 @@ TEST(ExrWriter, AovsRoundTripBitIdentical) {
     EXPECT_EQ(exr.compression, Imf::ZIP_COMPRESSION);
     EXPECT_EQ(exr.lineOrder, Imf::INCREASING_Y);
 
-    const std::set<std::string> expected{"R", "G", "B", "A", "Z", "Zraw", "N.X", "N.Y", "N.Z", "T"};
+    const std::set<std::string> expected{"R", "G", "B", "A", "coverage", "Z", "Zraw", "N.X", "N.Y", "N.Z", "T"};
     ASSERT_EQ(exr.names.size(), expected.size());
     EXPECT_EQ(std::set<std::string>(exr.names.begin(), exr.names.end()), expected);
 
@@ -282,6 +282,7 @@ TEST(ExrWriter, AovsRoundTripBitIdentical) {
         if (name == "A") return a.color.at(x, y).a;
         if (name == "Z") return a.depth.at(x, y);
         if (name == "Zraw") return a.rawDepth.at(x, y);
+        if (name == "coverage") return std::isfinite(a.rawDepth.at(x, y)) ? 1.0f : 0.0f;
         if (name == "N.X") return a.normal.at(x, y).x;
         if (name == "N.Y") return a.normal.at(x, y).y;
         if (name == "N.Z") return a.normal.at(x, y).z;

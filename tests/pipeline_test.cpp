@@ -1,7 +1,10 @@
-// The whole CPU pipeline (src/core/pipeline.cpp) end to end, for every filter:
+// The whole CPU pipeline (src/render/pipeline.cpp) end to end, for every filter:
 // one particle against the analytic sphere, a ball against the analytic ball,
 // scale invariance, thread invariance, no bleeding between bodies, all AOVs.
 #include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -9,10 +12,13 @@
 #include <string>
 #include <vector>
 
+#include <sys/resource.h>
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
 #include "meniscus/io.h"
+#include "meniscus/particle_view.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
 #include "test_util.h"
@@ -359,6 +365,96 @@ TEST(Pipeline, RejectsABadRadiusOrCamera) {
     s.camera.eye = s.camera.target;
     EXPECT_FALSE(renderFrame(pts, s));
 }
+
+// The particle view: an array of records (position among other fields) and a
+// view of a ParticleSet render exactly what the plain positions render, and
+// attributes are checked against the positions.
+TEST(Pipeline, StridedParticleViewsRenderLikeContiguousPositions) {
+    const std::vector<glm::vec3> pts = test::ballOfParticles(glm::vec3(0.0f), 0.2f, 0.05f);
+    RenderSettings s;
+    s.camera = test::faceOnCamera(glm::vec3(0.0f), 1.5f, 96, 64);
+    s.radiusM = 0.025f;
+    auto plain = renderFrame(pts, s);
+    ASSERT_TRUE(plain) << plain.error().describe();
+
+    struct Record {
+        std::int64_t id;
+        float density;
+        glm::vec3 position;
+        glm::vec3 velocity;
+        std::uint8_t flag;  // odd size: the records' stride is not a multiple of 12
+    };
+    std::vector<Record> records;
+    for (std::size_t i = 0; i < pts.size(); ++i)
+        records.push_back({std::int64_t(i), 1000.0f, pts[i], glm::vec3(0.0f, -1.0f, 0.0f), 1});
+    const std::span<const Record> rs(records);
+    ParticleView view;
+    view.positions = StridedView<glm::vec3>::of(rs, &Record::position);
+    view.velocity = StridedView<glm::vec3>::of(rs, &Record::velocity);
+    view.density = StridedView<float>::of(rs, &Record::density);
+    view.id = StridedView<std::int64_t>::of(rs, &Record::id);
+    ASSERT_EQ(view.positions.strideBytes, sizeof(Record));
+    auto strided = renderFrame(view, s);
+    ASSERT_TRUE(strided) << strided.error().describe();
+    ASSERT_EQ(strided->color.size(), plain->color.size());
+    EXPECT_EQ(std::memcmp(strided->color.pixels.data(), plain->color.pixels.data(),
+                          plain->color.size() * sizeof(glm::vec4)), 0);
+    EXPECT_EQ(std::memcmp(strided->depth.pixels.data(), plain->depth.pixels.data(),
+                          plain->depth.size() * sizeof(float)), 0);
+
+    // A set with attributes under the canonical names: views of each.
+    ParticleSet set;
+    set.positions = pts;
+    Attribute vel{std::string(kAttrVelocity), AttributeType::Float, 3, std::vector<float>(pts.size() * 3, 0.5f), {}};
+    Attribute ids{std::string(kAttrId), AttributeType::Int, 1, {}, std::vector<std::int64_t>(pts.size(), 7)};
+    Attribute wrong{std::string(kAttrDensity), AttributeType::Float, 3, std::vector<float>(pts.size() * 3), {}};
+    set.attributes = {vel, ids, wrong};
+    const ParticleView fromSet = ParticleView::of(set);
+    EXPECT_EQ(fromSet.size(), pts.size());
+    EXPECT_EQ(fromSet.velocity.count, pts.size());
+    EXPECT_EQ(fromSet.velocity[3], glm::vec3(0.5f));
+    EXPECT_EQ(fromSet.id[2], 7);
+    EXPECT_FALSE(fromSet.density.present());  // 3 components: not a density
+    EXPECT_FALSE(fromSet.fluid.present());
+    auto fromSetFrame = renderFrame(fromSet, s);
+    ASSERT_TRUE(fromSetFrame);
+    EXPECT_EQ(std::memcmp(fromSetFrame->color.pixels.data(), plain->color.pixels.data(),
+                          plain->color.size() * sizeof(glm::vec4)), 0);
+
+    // An attribute with a value count other than the positions' is an error.
+    ParticleView bad = view;
+    bad.density.count = pts.size() - 1;
+    auto refused = renderFrame(bad, s);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("density"), std::string::npos) << refused.error().describe();
+    bad = view;
+    bad.velocity.strideBytes = 4;
+    EXPECT_FALSE(renderFrame(bad, s));
+}
+
+// The library never lets an exception out: a frame too large for the memory
+// this process may use (bad_alloc inside a stage) is an error. Run in a child
+// process with its address space capped (not under ASan, which reserves far
+// more address space than any cap here allows).
+#if !defined(__SANITIZE_ADDRESS__)
+TEST(PipelineDeathTest, OutOfMemoryIsAnErrorNotAnException) {
+    const std::vector<glm::vec3> pts = test::ballOfParticles(glm::vec3(0.0f), 0.2f, 0.05f);
+    EXPECT_EXIT(
+        {
+            RenderSettings s;
+            s.camera = test::faceOnCamera(glm::vec3(0.0f), 1.5f, 5000, 5000);
+            s.radiusM = 0.025f;
+            rlimit limit{};
+            getrlimit(RLIMIT_AS, &limit);
+            limit.rlim_cur = rlim_t(1) << 30;  // 1 GiB: a 5000^2 frame needs about 2
+            setrlimit(RLIMIT_AS, &limit);
+            auto r = renderFrame(pts, s);
+            std::fprintf(stderr, "%s\n", r ? "rendered" : r.error().describe().c_str());
+            std::exit(r ? 1 : 3);
+        },
+        testing::ExitedWithCode(3), "out of memory");
+}
+#endif
 
 }  // namespace
 }  // namespace meniscus

@@ -120,7 +120,7 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
         auto set = i == 0 ? std::move(first) : frames->load(i);
         if (!set) return fail(set.error().describe());
         printWarnings(*set);
-        auto aovs = renderer.render(set->positions, settings);
+        auto aovs = renderer.render(ParticleView::of(*set), settings);
         if (!aovs) return fail(aovs.error().describe());
 
         std::string out = o.output;

@@ -12,7 +12,7 @@
 #include <vector>
 
 #if MENISCUS_HAVE_GLFW
-#include "gl/window.h"
+#include "meniscus/window.h"
 #endif
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
@@ -34,14 +34,14 @@ namespace {
 constexpr float kDegreesPerDragUnit = 0.3f;  // orbit per screen unit the cursor moves with the button held
 constexpr float kZoomPerWheelStep = 0.9f;    // camera distance factor per wheel step away from the user
 
-// One gl::WindowInput per event of an input script ("drag:DX,DY;scroll:N;key:K").
-Result<std::vector<gl::WindowInput>> parseInputScript(const std::string& script) {
-    std::vector<gl::WindowInput> events;
+// One WindowInput per event of an input script ("drag:DX,DY;scroll:N;key:K").
+Result<std::vector<WindowInput>> parseInputScript(const std::string& script) {
+    std::vector<WindowInput> events;
     std::stringstream all(script);
     std::string item;
     while (std::getline(all, item, ';')) {
         if (item.empty()) continue;
-        gl::WindowInput in;
+        WindowInput in;
         double a = 0.0, b = 0.0;
         char end = 0;
         bool ok = true;
@@ -49,10 +49,10 @@ Result<std::vector<gl::WindowInput>> parseInputScript(const std::string& script)
             in.drag = glm::dvec2(a, b);
         else if (std::sscanf(item.c_str(), "scroll:%lf%c", &a, &end) == 1 && std::isfinite(a))
             in.scroll = a;
-        else if (item == "key:left") in.keys.push_back(gl::Key::Left);
-        else if (item == "key:right") in.keys.push_back(gl::Key::Right);
-        else if (item == "key:q") in.keys.push_back(gl::Key::Q);
-        else if (item == "key:escape") in.keys.push_back(gl::Key::Escape);
+        else if (item == "key:left") in.keys.push_back(Key::Left);
+        else if (item == "key:right") in.keys.push_back(Key::Right);
+        else if (item == "key:q") in.keys.push_back(Key::Q);
+        else if (item == "key:escape") in.keys.push_back(Key::Escape);
         else ok = false;
         if (!ok)
             return makeError("", "--input-script: '" + item +
@@ -83,11 +83,11 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     if (!frames) return fail(frames.error().describe());
 
     // The window first: without a display nothing else is worth doing.
-    auto window = gl::Window::create(o.render.width, o.render.height, title(o, *frames, 0));
+    auto window = Window::create(o.render.width, o.render.height, title(o, *frames, 0));
     if (!window)
         return fail(window.error().describe() +
                     "; meniscus view needs a display (`meniscus render` writes images without one)");
-    gl::Window& win = **window;
+    Window& win = **window;
 
     // The camera is framed for the framebuffer's real size (HiDPI screens differ).
     RenderOptions sized = o.render;
@@ -112,19 +112,19 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     int rendered = 0;
     std::size_t scripted = 0;  // events of the script replayed so far
     while (!win.shouldClose()) {
-        gl::WindowInput in = win.takeInput();
+        WindowInput in = win.takeInput();
         if (scripted < script->size()) {  // as if the user had done it during the last frame
-            const gl::WindowInput& e = (*script)[scripted++];
+            const WindowInput& e = (*script)[scripted++];
             in.drag += e.drag;
             in.scroll += e.scroll;
             in.keys.insert(in.keys.end(), e.keys.begin(), e.keys.end());
         }
         bool quit = false;
-        for (gl::Key key : in.keys) {
-            quit |= key == gl::Key::Escape || key == gl::Key::Q;
-            if ((key != gl::Key::Left && key != gl::Key::Right) || frames->count() < 2) continue;
+        for (Key key : in.keys) {
+            quit |= key == Key::Escape || key == Key::Q;
+            if ((key != Key::Left && key != Key::Right) || frames->count() < 2) continue;
             const std::size_t n = frames->count();
-            const std::size_t next = key == gl::Key::Right ? (index + 1) % n : (index + n - 1) % n;
+            const std::size_t next = key == Key::Right ? (index + 1) % n : (index + n - 1) % n;
             auto set = frames->load(next);
             if (!set) {  // keep showing the frame we have
                 std::cerr << "meniscus: error: " << set.error().describe() << "\n";
@@ -152,7 +152,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
                 stale = true;
             }
             if (stale || o.frames > 0) {
-                if (auto st = renderer.draw(current.positions, settings); !st) return fail(st.error().describe());
+                if (auto st = renderer.draw(ParticleView::of(current), settings); !st) return fail(st.error().describe());
                 ++rendered;
                 stale = false;
                 in.damaged = true;

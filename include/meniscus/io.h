@@ -91,7 +91,8 @@ Status writeExr(const std::filesystem::path& path, const std::vector<ExrChannel>
 // The per-pixel outputs of a render (arbitrary output variables). Images that
 // are empty are omitted from the EXR.
 struct Aovs {
-    Image<glm::vec4> color;    // linear RGB, A = coverage                -> R G B A
+    Image<glm::vec4> color;    // linear RGB, A = alpha (1 over the studio) -> R G B A
+                               // (1 where rawDepth, else depth, is finite)  -> coverage
     Image<float> depth;        // smoothed linear eye depth, +inf = none -> Z
     Image<float> rawDepth;     // splatted linear eye depth, +inf = none -> Zraw
     Image<glm::vec3> normal;   // view-space unit normal, 0 = none       -> N.X N.Y N.Z

@@ -1,5 +1,5 @@
 // The screen-space pipeline's public entry point. The stage order lives in
-// src/core/pipeline.cpp and nowhere else.
+// src/render/pipeline.cpp and nowhere else.
 #pragma once
 
 #include <memory>
@@ -10,6 +10,7 @@
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
 #include "meniscus/params.h"
+#include "meniscus/particle_view.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
 
@@ -78,20 +79,21 @@ public:
     Renderer(Renderer&&) noexcept;
     Renderer& operator=(Renderer&&) noexcept;
 
-    // Renders one frame: every AOV is filled (color = the chosen view; depth =
+    // Renders one frame of `particles` (positions, and the attributes later
+    // stages read; a span of positions converts): every AOV is filled (color = the chosen view; depth =
     // the smoothed eye depth; rawDepth = the splat; normal; thickness), or
     // only color with settings.colorOnly. When
     // `timings` is given it receives one entry per stage, in pipeline order
     // (CPU: wall clock; GL: GPU time from timer queries), then, on GL, one
     // "readback" entry (wall clock of copying the AOVs back).
-    Result<Aovs> render(std::span<const glm::vec3> positions, const RenderSettings& settings,
+    Result<Aovs> render(const ParticleView& particles, const RenderSettings& settings,
                         std::vector<StageTime>* timings = nullptr);
 
     // For a viewer: renders one frame as render() does but keeps the colour
     // (the chosen view) on the backend for present() instead of returning the
     // AOVs. For View::Final nothing is read back; the other views are drawn on
     // the host from the read-back AOVs and handed back to the backend.
-    Status draw(std::span<const glm::vec3> positions, const RenderSettings& settings);
+    Status draw(const ParticleView& particles, const RenderSettings& settings);
 
     // Draws the colour of the last draw() into the default framebuffer of the
     // current GL context, framebufferWidth x framebufferHeight pixels (the
@@ -103,13 +105,14 @@ public:
 private:
     explicit Renderer(std::unique_ptr<Backend> backend);
     // Checks the settings and runs every stage; the images stay on the backend.
-    Status runStages(std::span<const glm::vec3> positions, const RenderSettings& settings,
+    Status runStages(const ParticleView& particles, const RenderSettings& settings,
                      std::vector<StageTime>* timings);
     std::unique_ptr<Backend> backend_;
+    std::vector<glm::vec3> gathered_;  // positions of a strided view, made contiguous for the backend
 };
 
 // One frame with a fresh Renderer (nothing cached).
-Result<Aovs> renderFrame(std::span<const glm::vec3> positions, const RenderSettings& settings,
+Result<Aovs> renderFrame(const ParticleView& particles, const RenderSettings& settings,
                          std::vector<StageTime>* timings = nullptr);
 
 }  // namespace meniscus

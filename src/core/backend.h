@@ -1,4 +1,4 @@
-// The backend interface the stage order calls (src/core/pipeline.cpp): one
+// The backend interface the stage order calls (src/render/pipeline.cpp): one
 // method per stage of SPEC §3, reading and writing images named by opaque
 // handles. The CPU reference (src/cpu/backend.cpp) and the GL backend
 // (src/gl/backend.cpp) implement it; each keeps its own storage per handle
@@ -16,6 +16,7 @@
 #include "cpu/scene.h"
 #include "meniscus/camera.h"
 #include "meniscus/params.h"
+#include "meniscus/particle_view.h"
 #include "meniscus/renderer.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
@@ -34,6 +35,10 @@ struct FrameSettings {
     ThicknessParams thickness;
     ShadingParams shading;
     cpu::Studio studio;
+    // The particles' views (attributes for the stages that read them; the
+    // positions also come contiguous as beginFrame's argument). Valid for
+    // this frame only: they point into the caller's memory.
+    ParticleView particles;
 };
 
 class Backend {
@@ -59,6 +64,13 @@ public:
     virtual void normals(Slot depth, Slot normal) = 0;
     // Shading and compositing over the scene (cpu::shadeAndComposite).
     virtual void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot color) = 0;
+
+    // Whether the stage just run (or the read-back) failed: OK, or an error
+    // naming `stage` and what went wrong (GL: a GL error, GPU memory, a lost
+    // context). The pipeline asks after every stage and stops at the first
+    // failure, so no garbage image is returned. CPU stages report failure by
+    // throwing (bad_alloc), which the Renderer turns into an error.
+    virtual Status stageStatus(const char* stage) = 0;
 
     // ---- Timing: when timings are asked for, the pipeline brackets each
     // stage; stageTimes() returns one entry per bracket of this frame, in order

@@ -63,6 +63,8 @@ public:
                                                      scalar(thickness), s_.shading);
     }
 
+    Status stageStatus(const char*) override { return okStatus(); }
+
     void beginStage(const char* name) override {
         stage_ = name;
         t0_ = std::chrono::steady_clock::now();

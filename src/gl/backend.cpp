@@ -7,7 +7,12 @@
 #include "gl/backend.h"
 
 #include <chrono>
+#include <cstdlib>
+#include <string>
+#include <string_view>
 #include <optional>
+#include <type_traits>
+#include <variant>
 #include <utility>
 #include <vector>
 
@@ -46,6 +51,28 @@ Status take(Result<T>&& r, T& out) {
     return okStatus();
 }
 
+const char* glErrorName(GLenum e) {
+    switch (e) {
+        case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+        case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+        case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+        case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+        case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+        case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
+        case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
+        case GL_CONTEXT_LOST: return "GL_CONTEXT_LOST";
+        default: return "an unknown GL error";
+    }
+}
+
+// Fault injection for the tests of stageStatus (tests/gl_backend_test.cpp):
+// MENISCUS_GL_FAIL_STAGE=<stage> makes that stage issue one invalid GL call,
+// so the real detection path sees a real GL error.
+bool failStageForTest(const char* stage) {
+    const char* v = std::getenv("MENISCUS_GL_FAIL_STAGE");
+    return v && std::string_view(v) == stage;
+}
+
 std::string glString(GLenum e) {
     const GLubyte* s = glGetString(e);
     return s ? std::string(reinterpret_cast<const char*>(s)) : std::string();
@@ -67,6 +94,10 @@ public:
     Status beginFrame(std::span<const glm::vec3> positions, const FrameSettings& settings) override {
         if (ctx_)
             if (auto st = ctx_->makeCurrent(); !st) return st;
+        // Errors left by GL calls before this frame (a viewer's own) are not
+        // this frame's stages' to report.
+        while (glGetError() != GL_NO_ERROR) {
+        }
         s_ = settings;
         fp_ = packFrameParams(settings.camera, settings.radius, settings.filter, settings.thickness, settings.shading);
         block_.upload(fp_);
@@ -104,16 +135,29 @@ public:
         forget(out);
         GpuImage& src = img(in);
         GpuImage& dst = img(out);
-        switch (fp_.filterKind) {
-            case 1:
-            case 2:
-            case 3: st_.separable.run(fp_, src, dst); break;
-            case 4: st_.curvatureFlow.run(fp_, src, dst); break;
-            case 5: st_.narrowRange.run(fp_, src, dst); break;
-            default:  // none: a copy
-                dst.copyFrom(src);
-                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-        }
+        // The stage follows the filter variant itself: a filter added to
+        // FilterParams without a GL stage does not compile.
+        std::visit(
+            [&](const auto& q) {
+                using Q = std::decay_t<decltype(q)>;
+                if constexpr (std::is_same_v<Q, NoFilter>) {
+                    dst.copyFrom(src);
+                    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+                } else if constexpr (std::is_same_v<Q, GaussianParams>) {
+                    st_.separable.run(fp_, SeparableKind::Gaussian, src, dst);
+                } else if constexpr (std::is_same_v<Q, BilateralParams>) {
+                    st_.separable.run(fp_, SeparableKind::Bilateral, src, dst);
+                } else if constexpr (std::is_same_v<Q, BinomialParams>) {
+                    st_.separable.run(fp_, SeparableKind::Binomial, src, dst);
+                } else if constexpr (std::is_same_v<Q, CurvatureFlowParams>) {
+                    st_.curvatureFlow.run(fp_, src, dst);
+                } else if constexpr (std::is_same_v<Q, NarrowRangeParams>) {
+                    st_.narrowRange.run(fp_, src, dst);
+                } else {
+                    static_assert(sizeof(Q) == 0, "a filter without a GL stage");
+                }
+            },
+            s_.filter);
     }
 
     void normals(Slot depth, Slot normal) override {
@@ -124,6 +168,30 @@ public:
     void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot color) override {
         forget(color);
         st_.shading.run(fp_, img(sceneColor), img(sceneDepth), img(depth), img(normal), img(thickness), img(color));
+    }
+
+    // A GL error since the last check, out of GPU memory among them, or a
+    // lost context (GL 4.5 / KHR_robustness reset status) fails the stage.
+    // glGetError does not wait for the GPU, so every frame checks.
+    Status stageStatus(const char* stage) override {
+        if (failStageForTest(stage)) glBindBuffer(GLenum(0xFFFF), 0);
+        if (epoxy_gl_version() >= 45 || epoxy_has_gl_extension("GL_KHR_robustness")) {
+            const GLenum reset = glGetGraphicsResetStatus();
+            if (reset != GL_NO_ERROR)
+                return makeError("", std::string("GL stage '") + stage + "': the GL context was lost (" +
+                                         (reset == GL_GUILTY_CONTEXT_RESET ? "reset caused by this context"
+                                                                           : "reset by the driver or another context") +
+                                         "); create a new renderer");
+        }
+        GLenum first = glGetError();
+        if (first == GL_NO_ERROR) return okStatus();
+        int more = 0;
+        for (GLenum e = glGetError(); e != GL_NO_ERROR && more < 64; e = glGetError()) ++more;
+        std::string what = std::string("GL stage '") + stage + "' failed: " + glErrorName(first);
+        if (first == GL_OUT_OF_MEMORY) what += " (out of GPU memory: try a smaller image)";
+        else if (first == GL_CONTEXT_LOST) what += " (the GL context was lost; create a new renderer)";
+        if (more) what += " and " + std::to_string(more) + " more GL error(s)";
+        return makeError("", what);
     }
 
     // Each stage gets a GL_TIME_ELAPSED query and, after a glFinish, its wall

@@ -1,5 +1,5 @@
 // The GL backend behind the core's Backend interface. This header includes no
-// GL header: the core (backend_factory.cpp) includes it to make the backend.
+// GL header: the renderer (src/render/backend_factory.cpp) includes it to make the backend.
 #pragma once
 
 #include <memory>

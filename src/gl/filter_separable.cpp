@@ -101,28 +101,34 @@ int SeparableFilters::ensureTable(CachedTable& t, TableKind kind, int maxRadius,
     return groups;
 }
 
-void SeparableFilters::run(const FrameParams& frame, const GpuImage& in, GpuImage& out) {
+std::optional<SeparableKind> separableKind(const FilterParams& filter) {
+    if (std::holds_alternative<GaussianParams>(filter)) return SeparableKind::Gaussian;
+    if (std::holds_alternative<BilateralParams>(filter)) return SeparableKind::Bilateral;
+    if (std::holds_alternative<BinomialParams>(filter)) return SeparableKind::Binomial;
+    return std::nullopt;
+}
+
+void SeparableFilters::run(const FrameParams& frame, SeparableKind filter, const GpuImage& in, GpuImage& out) {
     const int w = in.width, h = in.height;
     const float radius = frame.radius, focalPx = frame.right.w;
     // Per kind, exactly the CPU's filter{Gaussian,Bilateral,Binomial}: the
     // table, the kernel's world radius and the range weight.
     TableKind kind = TableKind::None;
     float kernelWorldM = 0.0f, rangeSigmaM = 0.0f;
-    switch (frame.filterKind) {
-        case 1:
+    switch (filter) {  // every kind, no default: a new kind is a compiler warning here
+        case SeparableKind::Gaussian:
             kind = TableKind::Gaussian;
             kernelWorldM = 3.0f * frame.gaussianSigmaRadii * radius;
             break;
-        case 2:
+        case SeparableKind::Bilateral:
             kind = TableKind::Gaussian;
             kernelWorldM = 3.0f * frame.bilateralSigmaRadii * radius;
             rangeSigmaM = frame.bilateralRangeSigmaRadii * radius;
             break;
-        case 3:
+        case SeparableKind::Binomial:
             kind = TableKind::Binomial;
             kernelWorldM = frame.binomialSizeRadii * radius;
             break;
-        default: break;
     }
     if (kind == TableKind::None || frame.filterIterations <= 0 || w <= 0 || h <= 0) {
         out.copyFrom(in);
@@ -136,14 +142,15 @@ void SeparableFilters::run(const FrameParams& frame, const GpuImage& in, GpuImag
 
     out.resize(w, h, 1);
     scratch_.resize(w, h, 1);
-    const Program& prog = frame.filterKind == 2 ? bilateral_ : plain_;
+    const bool bilateral = filter == SeparableKind::Bilateral;
+    const Program& prog = bilateral ? bilateral_ : plain_;
     glUseProgram(prog.id());
     glUniform2i(0, w, h);
     glUniform1f(2, kernelPxDepth);
     glUniform1f(3, jumpM);
     glUniform1i(4, maxRadius);
     glUniform1i(5, groups);
-    if (frame.filterKind == 2) {
+    if (bilateral) {
         // RangeGaussian's scale: sigma <= 0 (or NaN) keeps only equal depths.
         const double s = double(rangeSigmaM);
         const float scale =

@@ -4,9 +4,12 @@
 // cpu::computeThickness. Needs a current GL 4.3 context on the calling thread.
 #pragma once
 
+#include <optional>
+
 #include "gl/fluid_segments.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
+#include "meniscus/params.h"
 #include "meniscus/result.h"
 #include "shared/frame_params.h"
 
@@ -16,20 +19,25 @@ using shared::FrameParams;
 
 // Owns the programs, the weight tables (the CPU's KernelTable values, uploaded
 // when the kernel cap changes) and a scratch image; reuse one across frames.
+// The three filters this class runs (cpu::filterGaussian, filterBilateral,
+// filterBinomial).
+enum class SeparableKind { Gaussian, Bilateral, Binomial };
+// The kind of a separable filter; nullopt for the others.
+std::optional<SeparableKind> separableKind(const FilterParams& filter);
+
 class SeparableFilters {
 public:
     // Compiles the programs; an error carries the driver's log.
     static Result<SeparableFilters> create();
 
-    // The filter picked by frame.filterKind (1 gaussian, 2 bilateral, 3
-    // binomial; any other kind copies `in`), parameters from the block fields
+    // The separable filter `kind`, parameters from the block fields
     // (gaussianSigmaRadii, bilateral*, binomialSizeRadii, filterJumpRadii,
     // filterMaxKernelPx, filterIterations; radius, focal length, size).
     // `in`: W x H x 1 eye depth, +inf = no fluid. `out` (not `in`) is resized
     // and receives the result. The frame block must be bound (binding 0); the
     // kernel sizes are computed here from `frame` with the CPU's rounding.
     // Asynchronous: nothing waits for the GPU.
-    void run(const FrameParams& frame, const GpuImage& in, GpuImage& out);
+    void run(const FrameParams& frame, SeparableKind kind, const GpuImage& in, GpuImage& out);
 
     // The thickness blur of cpu::computeThickness at resolutionDivisor 1, in
     // place on `thickness` (W x H x 1): sigma = thicknessBlurSigmaRadii radii

@@ -2,7 +2,7 @@
 // window and terminated with the last, so a process that never opens one
 // never touches the display. GLFW reports errors through a process-wide
 // callback; the last message is kept and put into create()'s error.
-#include "gl/window.h"
+#include "meniscus/window.h"
 
 #include <algorithm>
 #include <string>
@@ -14,7 +14,7 @@
 
 #include "gl/context.h"
 
-namespace meniscus::gl {
+namespace meniscus {
 
 namespace {
 
@@ -90,7 +90,7 @@ Result<std::unique_ptr<Window>> Window::create(int width, int height, const std:
     win->version_ = str(GL_VERSION);
     if (epoxy_gl_version() < 43)  // GLFW asked for 4.3; a driver may still hand out less
         return makeError("", "the window's OpenGL context is " + win->version_ + "; 4.3 or later is needed");
-    enableDebugOutput();
+    gl::enableDebugOutput();
     glfwSwapInterval(1);  // no faster than the display: a viewer has no use for torn frames
 
     glfwSetKeyCallback(win->window_, WindowCallbacks::key);
@@ -137,4 +137,4 @@ Image<glm::u8vec4> Window::readPixels() const {
     return out;
 }
 
-}  // namespace meniscus::gl
+}  // namespace meniscus

@@ -10,6 +10,7 @@
 //   OpenEXR exceptions are caught and turned into an Error naming the file.
 #include <exception>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <string>
 #include <vector>
@@ -94,7 +95,7 @@ Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs) {
     };
 
     std::vector<Image<float>> planes;
-    planes.reserve(7);  // stable addresses for the ExrChannel pointers below
+    planes.reserve(8);  // stable addresses for the ExrChannel pointers below
     std::vector<ExrChannel> channels;
     auto add = [&](const char* channelName, Image<float> image) {
         planes.push_back(std::move(image));
@@ -107,6 +108,10 @@ Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs) {
         add("B", plane(aovs.color, [](const glm::vec4& p) { return p.b; }));
         add("A", plane(aovs.color, [](const glm::vec4& p) { return p.a; }));
     }
+    // coverage: 1 where fluid was splatted, 0 elsewhere. A is the colour's
+    // alpha, which over the studio background is 1 everywhere.
+    const Image<float>& covered = aovs.rawDepth.empty() ? aovs.depth : aovs.rawDepth;
+    if (!covered.empty()) add("coverage", plane(covered, [](float z) { return z < std::numeric_limits<float>::infinity() ? 1.0f : 0.0f; }));
     if (!aovs.depth.empty()) channels.push_back({"Z", &aovs.depth});
     if (!aovs.rawDepth.empty()) channels.push_back({"Zraw", &aovs.rawDepth});
     if (!aovs.normal.empty()) {

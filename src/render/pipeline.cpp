@@ -5,7 +5,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <exception>
 #include <limits>
+#include <new>
+#include <string>
 
 #include "core/backend.h"
 #include "cpu/scene.h"
@@ -134,6 +138,26 @@ bool backendFromName(const std::string& name, BackendChoice* out) {
 
 std::string backendNames() { return "cpu, gl, auto"; }
 
+namespace {
+
+// The library never lets an exception out: what escapes a backend (bad_alloc
+// for a frame too large for memory, a std::exception of a library it uses)
+// becomes an Error naming where it happened.
+template <class F>
+auto guarded(const char* where, F&& run) -> decltype(run()) {
+    try {
+        return run();
+    } catch (const std::bad_alloc&) {
+        return makeError("", std::string(where) + ": out of memory");
+    } catch (const std::exception& e) {
+        return makeError("", std::string(where) + ": " + e.what());
+    } catch (...) {
+        return makeError("", std::string(where) + ": unexpected failure");
+    }
+}
+
+}  // namespace
+
 Renderer::Renderer() : backend_(makeCpuBackend()) {}
 Renderer::Renderer(std::unique_ptr<Backend> backend) : backend_(std::move(backend)) {}
 Renderer::~Renderer() = default;
@@ -141,83 +165,112 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 Result<Renderer> Renderer::create(BackendChoice choice, std::string* note) {
-    auto b = makeBackend(choice, note);
-    if (!b) return b.error();
-    return Renderer(std::move(*b));
+    return guarded("creating the renderer", [&]() -> Result<Renderer> {
+        auto b = makeBackend(choice, note);
+        if (!b) return b.error();
+        return Renderer(std::move(*b));
+    });
 }
 
 Result<Renderer> Renderer::createOnCurrentGlContext() {
-    auto b = makeGlBackendOnCurrentContext();
-    if (!b) return b.error();
-    return Renderer(std::move(*b));
+    return guarded("creating the renderer", [&]() -> Result<Renderer> {
+        auto b = makeGlBackendOnCurrentContext();
+        if (!b) return b.error();
+        return Renderer(std::move(*b));
+    });
 }
 
 std::string Renderer::backendName() const { return backend_->name(); }
 
-Status Renderer::runStages(std::span<const glm::vec3> positions, const RenderSettings& s,
+Status Renderer::runStages(const ParticleView& particles, const RenderSettings& s,
                            std::vector<StageTime>* timings) {
     if (auto st = validateCamera(s.camera); !st) return st.error();
     if (!(s.radiusM > 0.0f) || !std::isfinite(s.radiusM))
         return makeError("", "particle radius must be a positive number of metres");
+    if (auto st = particles.validate(); !st) return st;
+    // The backends read positions as one contiguous array: the caller's own
+    // when the view is one, else gathered here (a strided view).
+    std::span<const glm::vec3> positions;
+    const std::byte* first = particles.positions.data;
+    if (particles.positions.contiguous() && reinterpret_cast<std::uintptr_t>(first) % alignof(glm::vec3) == 0) {
+        positions = {reinterpret_cast<const glm::vec3*>(first), particles.size()};
+    } else {
+        gathered_.resize(particles.size());
+        for (std::size_t i = 0; i < gathered_.size(); ++i) gathered_[i] = particles.positions[i];
+        positions = gathered_;
+    }
     FrameSettings f;
     f.camera = s.camera;
     f.radius = s.radiusM;
     f.filter = s.filter;
     f.thickness = s.thickness;
     f.shading = s.shading;
+    f.particles = particles;
     const Bounds box = s.scene.studioBounds.empty() ? computeBounds(positions) : s.scene.studioBounds;
     f.studio = cpu::makeStudio(box, s.radiusM, s.camera, s.scene);
     Backend& b = *backend_;
     if (auto st = b.beginFrame(positions, f); !st) return st.error();
 
-    // The stage order (SPEC §1), in one place.
+    // The stage order (SPEC §1), in one place. After each stage the backend
+    // says whether it failed (GL: a GL error, out of GPU memory, a lost
+    // context), and the frame stops there with an error naming the stage.
     // Timing brackets only when asked for (on GL they wait for the GPU).
-    auto stage = [&](const char* name, auto&& run) {
+    auto stage = [&](const char* name, auto&& run) -> Status {
         if (timings) b.beginStage(name);
         run();
         if (timings) b.endStage();
+        return b.stageStatus(name);
     };
-    stage("scene", [&] { b.castScene(Slot::SceneColor, Slot::SceneDepth); });
-    stage("depth-splat+thickness", [&] { b.splat(Slot::SceneDepth, Slot::RawDepth, Slot::Thickness); });
-    stage("smooth", [&] { b.smooth(Slot::RawDepth, Slot::Depth); });
-    stage("normals", [&] { b.normals(Slot::Depth, Slot::Normal); });
-    stage("shade", [&] {
+    if (auto st = stage("scene", [&] { b.castScene(Slot::SceneColor, Slot::SceneDepth); }); !st) return st;
+    if (auto st = stage("depth-splat+thickness", [&] { b.splat(Slot::SceneDepth, Slot::RawDepth, Slot::Thickness); });
+        !st)
+        return st;
+    if (auto st = stage("smooth", [&] { b.smooth(Slot::RawDepth, Slot::Depth); }); !st) return st;
+    if (auto st = stage("normals", [&] { b.normals(Slot::Depth, Slot::Normal); }); !st) return st;
+    return stage("shade", [&] {
         b.shade(Slot::SceneColor, Slot::SceneDepth, Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Color);
     });
-    return okStatus();
 }
 
-Result<Aovs> Renderer::render(std::span<const glm::vec3> positions, const RenderSettings& s,
+Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSettings& s,
                               std::vector<StageTime>* timings) {
-    if (auto st = runStages(positions, s, timings); !st) return st.error();
-    Backend& b = *backend_;
-    const auto t0 = std::chrono::steady_clock::now();
-    Aovs aovs = readAovs(b, s.view, s.colorOnly);
-    const double readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (timings) {
-        *timings = b.stageTimes();
-        if (b.name() != "cpu") timings->push_back({"readback", readMs});  // GPU -> host copies of the AOVs read
-    }
-    applyView(s.view, s.colorOnly, aovs);
-    return aovs;
+    return guarded("rendering", [&]() -> Result<Aovs> {
+        if (auto st = runStages(particles, s, timings); !st) return st.error();
+        Backend& b = *backend_;
+        const auto t0 = std::chrono::steady_clock::now();
+        Aovs aovs = readAovs(b, s.view, s.colorOnly);
+        if (auto st = b.stageStatus("readback"); !st) return st.error();
+        const double readMs =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (timings) {
+            *timings = b.stageTimes();
+            if (b.name() != "cpu") timings->push_back({"readback", readMs});  // GPU -> host copies of the AOVs read
+        }
+        applyView(s.view, s.colorOnly, aovs);
+        return aovs;
+    });
 }
 
-Status Renderer::draw(std::span<const glm::vec3> positions, const RenderSettings& s) {
-    if (auto st = runStages(positions, s, nullptr); !st) return st;
-    if (s.view == View::Final) return okStatus();  // the colour is already in its slot
-    Aovs aovs = readAovs(*backend_, s.view, true);
-    applyView(s.view, true, aovs);
-    backend_->writeColor(Slot::Color, std::move(aovs.color));
-    return okStatus();
+Status Renderer::draw(const ParticleView& particles, const RenderSettings& s) {
+    return guarded("drawing", [&]() -> Status {
+        if (auto st = runStages(particles, s, nullptr); !st) return st;
+        if (s.view == View::Final) return okStatus();  // the colour is already in its slot
+        Aovs aovs = readAovs(*backend_, s.view, true);
+        applyView(s.view, true, aovs);
+        backend_->writeColor(Slot::Color, std::move(aovs.color));
+        return backend_->stageStatus("debug view");
+    });
 }
 
 Status Renderer::present(int framebufferWidth, int framebufferHeight) {
-    return backend_->present(Slot::Color, framebufferWidth, framebufferHeight);
+    return guarded("presenting", [&]() -> Status {
+        return backend_->present(Slot::Color, framebufferWidth, framebufferHeight);
+    });
 }
 
-Result<Aovs> renderFrame(std::span<const glm::vec3> positions, const RenderSettings& settings,
+Result<Aovs> renderFrame(const ParticleView& particles, const RenderSettings& settings,
                          std::vector<StageTime>* timings) {
-    return Renderer().render(positions, settings, timings);
+    return guarded("rendering", [&]() -> Result<Aovs> { return Renderer().render(particles, settings, timings); });
 }
 
 }  // namespace meniscus

@@ -1,7 +1,9 @@
 // A desktop window with its own OpenGL 4.3 core context, through GLFW, for the
-// viewer (`meniscus view`). GL entry points are loaded with libepoxy as for the
-// headless context (gl/context.h). This header includes neither GLFW nor GL,
-// so a caller outside src/gl/ never sees them.
+// viewer (`meniscus view`) and any application that shows frames live
+// (Renderer::createOnCurrentGlContext + present). Implemented in src/gl/
+// (meniscus_gl, built when GL and GLFW are found: MENISCUS_HAVE_WINDOW in the
+// installed package). This header includes neither GLFW nor GL, so callers
+// never see them.
 #pragma once
 
 #include <memory>
@@ -16,7 +18,7 @@
 
 struct GLFWwindow;
 
-namespace meniscus::gl {
+namespace meniscus {
 
 // The keys a viewer reacts to; every other key is Other.
 enum class Key { Escape, Q, Left, Right, Other };
@@ -75,4 +77,4 @@ private:
     std::string renderer_, version_;
 };
 
-}  // namespace meniscus::gl
+}  // namespace meniscus
