@@ -14,7 +14,8 @@ Image<float> smoothDepth(const Image<float>& depth, const Camera& camera, float 
             else if constexpr (std::is_same_v<P, BilateralParams>) return filterBilateral(depth, camera, radius, p);
             else if constexpr (std::is_same_v<P, BinomialParams>) return filterBinomial(depth, camera, radius, p);
             else if constexpr (std::is_same_v<P, CurvatureFlowParams>) return filterCurvatureFlow(depth, camera, radius, p);
-            else return filterNarrowRange(depth, camera, radius, p);
+            else if constexpr (std::is_same_v<P, NarrowRangeParams>) return filterNarrowRange(depth, camera, radius, p);
+            else static_assert(sizeof(P) == 0, "a filter without a CPU stage");
         },
         params);
 }
