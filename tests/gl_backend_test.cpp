@@ -1,12 +1,14 @@
 // The whole pipeline on the GL backend against the CPU reference, through the
 // public Renderer: every filter, the real frame, background on and off, every
 // AOV. Skips only when no GL 4.3 context can be created at all.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include <gtest/gtest.h>
 
-#include "cpu/thickness.h"
+#include "shared/thickness.h"
 #include "gl_test_util.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
@@ -34,7 +36,7 @@ void expectSame(const Aovs& cpu, const Aovs& gl, float r) {
     EXPECT_LE(z.maxRel, 1e-5);
     EXPECT_LE(raw.coverageDiffer, int(5e-4 * raw.coveredCpu) + 2);
     EXPECT_LE(z.coverageDiffer, int(5e-4 * z.coveredCpu) + 2);
-    const double diameter = 2.0 * r * cpu::thicknessWeight(r, ThicknessParams{});
+    const double diameter = 2.0 * r * shared::thicknessWeight(r, ThicknessParams{});
     const ScalarDiff t = compareScalar(cpu.thickness, gl.thickness, diameter);
     EXPECT_LE(t.maxRel, 1e-4);
     const NormalDiff n = compareNormals(cpu.normal, gl.normal, cpu.depth);
