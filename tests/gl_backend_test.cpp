@@ -161,6 +161,31 @@ TEST_F(GlBackend, SequenceReusesTheSceneAndCameraChangesRecastIt) {
     }
 }
 
+TEST_F(GlBackend, ReusedRendererRecastsTheSceneWhenTheLightChanges) {
+    // The GL backend caches the scene per camera and studio; a new light must
+    // recast it: each frame of one GL renderer matches a CPU render of the
+    // same settings (a stale scene would keep the first light's planes).
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    RenderSettings s;
+    s.camera = realFrameCamera(160, 90);
+    s.radiusM = realFrame().radius;
+    s.colorOnly = true;
+    std::vector<Image<glm::vec4>> images;
+    for (const glm::vec3& light : {ShadingParams{}.lightDirWorld, glm::normalize(glm::vec3(0.9f, 0.3f, -0.4f))}) {
+        s.shading.lightDirWorld = light;
+        auto a = Renderer().render(realFrame().positions, s);
+        auto b = gl->render(realFrame().positions, s);
+        ASSERT_TRUE(a.ok() && b.ok());
+        EXPECT_LE(compareColor(a->color, b->color).maxSteps, 2);
+        images.push_back(b->color);
+    }
+    double maxDiff = 0.0;
+    for (std::size_t k = 0; k < images[0].size(); ++k)
+        maxDiff = std::max(maxDiff, double(glm::length(images[0].pixels[k] - images[1].pixels[k])));
+    EXPECT_GT(maxDiff, 0.1);  // the light really changed the picture
+}
+
 TEST_F(GlBackend, NoParticlesGivesTheSceneAsOnTheCpu) {
     RenderSettings s;
     s.radiusM = 0.05f;

@@ -13,12 +13,12 @@
 
 #include <glm/glm.hpp>
 
-#include "cpu/scene.h"
 #include "meniscus/camera.h"
 #include "meniscus/params.h"
 #include "meniscus/renderer.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
+#include "shared/studio.h"
 
 namespace meniscus {
 
@@ -33,7 +33,7 @@ struct FrameSettings {
     FilterParams filter;
     ThicknessParams thickness;
     ShadingParams shading;
-    cpu::Studio studio;
+    shared::Studio studio;
 };
 
 class Backend {

@@ -8,9 +8,9 @@
 #include <limits>
 
 #include "core/backend.h"
-#include "cpu/scene.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
+#include "shared/studio.h"
 
 namespace meniscus {
 
@@ -166,7 +166,7 @@ Status Renderer::runStages(std::span<const glm::vec3> positions, const RenderSet
     f.thickness = s.thickness;
     f.shading = s.shading;
     const Bounds box = s.scene.studioBounds.empty() ? computeBounds(positions) : s.scene.studioBounds;
-    f.studio = cpu::makeStudio(box, s.radiusM, s.camera, s.scene);
+    f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
     Backend& b = *backend_;
     if (auto st = b.beginFrame(positions, f); !st) return st.error();
 

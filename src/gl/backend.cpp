@@ -204,7 +204,7 @@ private:
     GpuImage images_[kSlotCount];
     bool sceneValid_ = false;
     Camera sceneCamera_;
-    cpu::Studio sceneStudio_;
+    shared::Studio sceneStudio_;
     std::pair<int, int> sceneSlots_{-1, -1};
     std::vector<Timer> timers_;
     std::size_t stage_ = 0;
