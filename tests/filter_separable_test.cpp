@@ -328,7 +328,7 @@ TYPED_TEST(SeparableFilter, BitIdenticalForAnyThreadCount) {
 // sigma^2) with sigma = n / 3 up to normalisation (relative 1e-5) and zero past n.
 TEST(KernelTable, GaussianRowsAreNormalisedGaussians) {
     const int maxR = 32;
-    const cpu::KernelTable t = cpu::KernelTable::gaussian(maxR);
+    const shared::KernelTable t = shared::KernelTable::gaussian(maxR);
     for (int n = 0; n <= maxR + 1; ++n) {
         double sum = 0;
         for (int k = -(maxR + 1); k <= maxR + 1; ++k) {
@@ -349,7 +349,7 @@ TEST(KernelTable, GaussianRowsAreNormalisedGaussians) {
 // integers in 64 bits up to C(66, 33)) and sums to 1 within 1e-6.
 TEST(KernelTable, BinomialRowsArePascalOver4PowN) {
     const int maxR = 32;
-    const cpu::KernelTable t = cpu::KernelTable::binomial(maxR);
+    const shared::KernelTable t = shared::KernelTable::binomial(maxR);
     std::vector<std::uint64_t> pascal{1};
     for (int level = 1; level <= 2 * (maxR + 1); ++level) {
         std::vector<std::uint64_t> next(pascal.size() + 1, 0);

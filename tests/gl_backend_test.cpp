@@ -1,14 +1,16 @@
 // The whole pipeline on the GL backend against the CPU reference, through the
 // public Renderer: every filter, the real frame, background on and off, every
 // AOV. Skips only when no GL 4.3 context can be created at all.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include <cstdlib>
 
 #include <gtest/gtest.h>
 
-#include "cpu/thickness.h"
+#include "shared/thickness.h"
 #include "gl_test_util.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
@@ -36,7 +38,7 @@ void expectSame(const Aovs& cpu, const Aovs& gl, float r) {
     EXPECT_LE(z.maxRel, 1e-5);
     EXPECT_LE(raw.coverageDiffer, int(5e-4 * raw.coveredCpu) + 2);
     EXPECT_LE(z.coverageDiffer, int(5e-4 * z.coveredCpu) + 2);
-    const double diameter = 2.0 * r * cpu::thicknessWeight(r, ThicknessParams{});
+    const double diameter = 2.0 * r * shared::thicknessWeight(r, ThicknessParams{});
     const ScalarDiff t = compareScalar(cpu.thickness, gl.thickness, diameter);
     EXPECT_LE(t.maxRel, 1e-4);
     const NormalDiff n = compareNormals(cpu.normal, gl.normal, cpu.depth);
@@ -179,6 +181,31 @@ TEST_F(GlBackend, AFailingStageIsAnErrorNamingIt) {
         auto again = gl->render(f.positions, f.settings);
         EXPECT_TRUE(again.ok()) << stage << ": " << (again ? "" : again.error().describe());
     }
+}
+
+TEST_F(GlBackend, ReusedRendererRecastsTheSceneWhenTheLightChanges) {
+    // The GL backend caches the scene per camera and studio; a new light must
+    // recast it: each frame of one GL renderer matches a CPU render of the
+    // same settings (a stale scene would keep the first light's planes).
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    RenderSettings s;
+    s.camera = realFrameCamera(160, 90);
+    s.radiusM = realFrame().radius;
+    s.colorOnly = true;
+    std::vector<Image<glm::vec4>> images;
+    for (const glm::vec3& light : {ShadingParams{}.lightDirWorld, glm::normalize(glm::vec3(0.9f, 0.3f, -0.4f))}) {
+        s.shading.lightDirWorld = light;
+        auto a = Renderer().render(realFrame().positions, s);
+        auto b = gl->render(realFrame().positions, s);
+        ASSERT_TRUE(a.ok() && b.ok());
+        EXPECT_LE(compareColor(a->color, b->color).maxSteps, 2);
+        images.push_back(b->color);
+    }
+    double maxDiff = 0.0;
+    for (std::size_t k = 0; k < images[0].size(); ++k)
+        maxDiff = std::max(maxDiff, double(glm::length(images[0].pixels[k] - images[1].pixels[k])));
+    EXPECT_GT(maxDiff, 0.1);  // the light really changed the picture
 }
 
 TEST_F(GlBackend, NoParticlesGivesTheSceneAsOnTheCpu) {

@@ -1,7 +1,7 @@
 // GL scene stage (SPEC §3.1, src/gl/scene.cpp) against the CPU reference
 // cpu::castScene: the studio of the real frame, a synthetic box seen from all
 // four sides and from above and near the horizon (far fade, sky), the
-// background switched off. Skips only when no headless GL 4.3 context can be
+// background switched off, the light direction (planes' lighting, the sun). Skips only when no headless GL 4.3 context can be
 // created at all.
 #include <algorithm>
 #include <chrono>
@@ -46,7 +46,7 @@ struct SceneDiff {
 };
 
 // Runs both backends for (camera, studio) and compares.
-SceneDiff compareScene(const Camera& cam, const cpu::Studio& studio, cpu::SceneLayer* cpuOut = nullptr,
+SceneDiff compareScene(const Camera& cam, const shared::Studio& studio, cpu::SceneLayer* cpuOut = nullptr,
                        Image<glm::vec4>* glColorOut = nullptr, Image<float>* glDepthOut = nullptr) {
     SceneDiff d;
     auto caster = gl::SceneCaster::create();
@@ -102,7 +102,8 @@ TEST_F(GlScene, RealFrameStudioMatchesCpu) {
     const RealFrame& f = realFrame();
     ASSERT_FALSE(f.positions.empty());
     const Camera cam = realFrameCamera(320, 180);
-    const cpu::Studio studio = cpu::makeStudio(computeBounds(f.positions), f.radius, cam, SceneParams{});
+    const shared::Studio studio =
+        shared::makeStudio(computeBounds(f.positions), f.radius, cam, SceneParams{}, ShadingParams{}.lightDirWorld);
     const SceneDiff d = compareScene(cam, studio);
     EXPECT_GT(d.depth.coveredCpu, 320 * 180 / 4);  // the studio fills much of the frame
     expectWithinTolerance(d, 320 * 180, "real frame studio");
@@ -122,7 +123,7 @@ TEST_F(GlScene, EverySideAndHeightMatchesCpu) {
     for (float az : azimuths)
         for (float el : elevations) {
             const Camera cam = orbitCamera(box, az, el, 3.0f, 203, 117);
-            const cpu::Studio studio = cpu::makeStudio(box, r, cam, SceneParams{});
+            const shared::Studio studio = shared::makeStudio(box, r, cam, SceneParams{}, ShadingParams{}.lightDirWorld);
             char what[64];
             std::snprintf(what, sizeof what, "azimuth %.0f elevation %.0f", az, el);
             const SceneDiff d = compareScene(cam, studio);
@@ -143,7 +144,7 @@ TEST_F(GlScene, FarFloorFadesIntoTheSkyAsOnTheCpu) {
     cam.width = 256;
     cam.height = 128;
     cam.fovYDegrees = 30.0f;
-    cpu::Studio studio = cpu::makeStudio(box, 0.01f, cam, SceneParams{});
+    shared::Studio studio = shared::makeStudio(box, 0.01f, cam, SceneParams{}, ShadingParams{}.lightDirWorld);
     cpu::SceneLayer ref;
     const SceneDiff d = compareScene(cam, studio, &ref);
     int faded = 0;
@@ -159,7 +160,8 @@ TEST_F(GlScene, BackgroundOffIsTransparentAndInfinite) {
     const Camera cam = realFrameCamera(160, 90);
     SceneParams params;
     params.background = false;
-    const cpu::Studio studio = cpu::makeStudio(computeBounds(realFrame().positions), realFrame().radius, cam, params);
+    const shared::Studio studio = shared::makeStudio(computeBounds(realFrame().positions), realFrame().radius, cam,
+                                                     params, ShadingParams{}.lightDirWorld);
     ASSERT_FALSE(studio.enabled);
     cpu::SceneLayer ref;
     Image<glm::vec4> glColor;
@@ -184,8 +186,9 @@ TEST_F(GlScene, ReusedAcrossSizesAndStudios) {
     gl::FrameParamsBlock block;
     gl::GpuImage color, depth;
     const Camera big = realFrameCamera(320, 180), small = realFrameCamera(64, 36);
-    const cpu::Studio on = cpu::makeStudio(computeBounds(f.positions), f.radius, big, SceneParams{});
-    cpu::Studio off = on;
+    const shared::Studio on =
+        shared::makeStudio(computeBounds(f.positions), f.radius, big, SceneParams{}, ShadingParams{}.lightDirWorld);
+    shared::Studio off = on;
     off.enabled = false;
     const gl::FrameParams pBig = gl::packFrameParams(big, f.radius, FilterParams{}, ThicknessParams{}, ShadingParams{});
     const gl::FrameParams pSmall =
@@ -206,3 +209,52 @@ TEST_F(GlScene, ReusedAcrossSizesAndStudios) {
     EXPECT_LE(z.maxRel, kDepthRel);
 }
 
+TEST_F(GlScene, LightDirectionLightsThePlanesAndPlacesTheSunAsOnTheCpu) {
+    // Three lights (straight up, from the side, low behind the walls): the
+    // studio seen from the real frame's camera, and the sky seen from high
+    // above looking along each light (the sun glow in the middle). Both
+    // backends agree for every light and camera; the GL image really changes
+    // with the light (the planes' lighting, the sun at the centre).
+    const RealFrame& f = realFrame();
+    const Bounds box = computeBounds(f.positions);
+    const glm::vec3 lights[] = {{0.0f, 1.0f, 0.0f},
+                                glm::normalize(glm::vec3(0.8f, 0.5f, 0.3f)),
+                                glm::normalize(glm::vec3(-0.3f, 0.2f, -1.0f))};
+    auto skyCamera = [&](const glm::vec3& along) {
+        Camera c;
+        c.eye = box.center() + glm::vec3(0.0f, 50.0f * glm::length(box.extent()), 0.0f);
+        c.target = c.eye + along;
+        c.up = std::abs(along.y) > 0.9f ? glm::vec3(0.0f, 0.0f, 1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
+        c.width = 65;
+        c.height = 65;
+        return c;
+    };
+    const Camera studioCam = realFrameCamera(160, 90);
+    std::vector<Image<glm::vec4>> studioImages;
+    for (int k = 0; k < 3; ++k) {
+        char what[64];
+        std::snprintf(what, sizeof what, "light %d, studio", k);
+        Image<glm::vec4> glColor;
+        const shared::Studio studio = shared::makeStudio(box, f.radius, studioCam, SceneParams{}, lights[k]);
+        expectWithinTolerance(compareScene(studioCam, studio, nullptr, &glColor), 160 * 90, what);
+        studioImages.push_back(glColor);
+        // The sky camera looks along light k; the sun is there only for light k.
+        const Camera skyCam = skyCamera(lights[k]);
+        std::snprintf(what, sizeof what, "light %d, sky", k);
+        Image<glm::vec4> own, other;
+        expectWithinTolerance(
+            compareScene(skyCam, shared::makeStudio(box, f.radius, skyCam, SceneParams{}, lights[k]), nullptr, &own),
+            65 * 65, what);
+        compareScene(skyCam, shared::makeStudio(box, f.radius, skyCam, SceneParams{}, lights[(k + 1) % 3]), nullptr,
+                     &other);
+        ASSERT_EQ(own.size(), std::size_t(65 * 65));
+        ASSERT_EQ(other.size(), own.size());
+        EXPECT_GT(own.at(32, 32).r - other.at(32, 32).r, 0.5f) << what;  // nearly the full glow of 0.6
+    }
+    for (int k = 1; k < 3; ++k) {
+        double maxDiff = 0.0;
+        for (std::size_t i = 0; i < studioImages[0].size(); ++i)
+            maxDiff = std::max(maxDiff, double(glm::length(studioImages[0].pixels[i] - studioImages[k].pixels[i])));
+        EXPECT_GT(maxDiff, 0.1) << "light " << k;
+    }
+}

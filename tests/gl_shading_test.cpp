@@ -73,10 +73,12 @@ RealAovs makeRealAovs(int w, int h) {
     EXPECT_TRUE(aovs.ok()) << aovs.error().describe();
     if (aovs) out.aovs = std::move(*aovs);
     const Bounds box = computeBounds(set->positions);
-    out.scene = cpu::castScene(out.camera, cpu::makeStudio(box, out.radius, out.camera, SceneParams{}));
+    out.scene = cpu::castScene(
+        out.camera, shared::makeStudio(box, out.radius, out.camera, SceneParams{}, ShadingParams{}.lightDirWorld));
     SceneParams off;
     off.background = false;
-    out.sceneOff = cpu::castScene(out.camera, cpu::makeStudio(box, out.radius, out.camera, off));
+    out.sceneOff =
+        cpu::castScene(out.camera, shared::makeStudio(box, out.radius, out.camera, off, ShadingParams{}.lightDirWorld));
     return out;
 }
 
@@ -182,6 +184,33 @@ TEST_F(GlShading, RealFrameEveryPresetAndAnotherLightMatchCpu) {
     s.material.shininess = 30.0f;
     const ShadeDiff d = compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, s);
     expectWithinTolerance(d, a.aovs.depth.size(), "water, side light, shininess 30");
+}
+
+TEST_F(GlShading, SkySunFollowsTheLightAsOnTheCpu) {
+    // A transparent background (the sky refracted and reflected everywhere)
+    // under lights from three directions: GL matches the CPU for each, and the
+    // GL image changes with the light (its sun is the light's, not a fixed one:
+    // with no highlight and a transparent material nothing else depends on it).
+    const RealAovs& a = real320();
+    ASSERT_FALSE(a.aovs.depth.empty());
+    ShadingParams s = preset("water");
+    s.material.specular = 0.0f;  // the sky alone changes
+    std::vector<Image<glm::vec4>> images;
+    for (const glm::vec3& light : {glm::vec3(0.0f, 1.0f, 0.0f), glm::normalize(glm::vec3(0.8f, 0.5f, 0.3f)),
+                                   glm::normalize(glm::vec3(-0.3f, 0.2f, -1.0f))}) {
+        s.lightDirWorld = light;
+        const ShadeDiff d =
+            compareWithCpu(a.camera, a.radius, a.sceneOff, a.aovs.depth, a.aovs.normal, a.aovs.thickness, s);
+        expectWithinTolerance(d, a.aovs.depth.size(), "background off, another sun");
+        images.push_back(d.gl);
+    }
+    for (std::size_t k = 1; k < images.size(); ++k) {
+        ASSERT_EQ(images[k].size(), images[0].size());
+        double maxDiff = 0.0;
+        for (std::size_t i = 0; i < images[0].size(); ++i)
+            maxDiff = std::max(maxDiff, double(glm::length(images[0].pixels[i] - images[k].pixels[i])));
+        EXPECT_GT(maxDiff, 1e-3) << "light " << k;  // 0 if the sun ignored the light; measured >= 0.019
+    }
 }
 
 TEST_F(GlShading, RealFrameBackgroundOffMatchesCpu) {

@@ -10,6 +10,7 @@
 
 #include "cpu/splat.h"
 #include "cpu/thickness.h"
+#include "shared/thickness.h"
 #include "gl/splat.h"
 #include "gl/thickness_lowres.h"
 #include "gl/filter_separable.h"
@@ -155,7 +156,7 @@ double expectThicknessMatches(const Camera& cam, std::span<const glm::vec3> pos,
     const DepthDiff d = compareDepth(cpu.depth, gl.depth);
     EXPECT_LE(d.coverageDiffer, int(kCoverageFraction * d.coveredCpu) + 2);
     EXPECT_LE(d.maxRel, kDepthRel);
-    const double diameter = 2.0 * r * cpu::thicknessWeight(r, tp);
+    const double diameter = 2.0 * r * shared::thicknessWeight(r, tp);
     const ScalarDiff t = compareScalar(cpu.thickness, gl.thickness, diameter);
     double maxT = 0.0;
     for (float v : cpu.thickness.pixels) maxT = std::max(maxT, double(v));
@@ -274,7 +275,7 @@ TEST_F(GlSplat, LowResolutionThicknessMatchesCpu) {
                 splat->run(fp, sc ? &sceneImg : nullptr, depth, nullptr);
                 lowRes->run(fp, *splat, *blur, sc ? &sceneImg : nullptr, depth, divisor, thickness);
                 const Image<float> gl = thickness.download<float>();
-                const double diameter = 2.0 * r * cpu::thicknessWeight(r, tp);
+                const double diameter = 2.0 * r * shared::thicknessWeight(r, tp);
                 const ScalarDiff t = compareScalar(cpu.thickness, gl, diameter);
                 double maxT = 0.0;
                 for (float v : cpu.thickness.pixels) maxT = std::max(maxT, double(v));

@@ -1,7 +1,9 @@
 // Scene stage (SPEC §3.1): the studio's floor depth against the analytic
 // ray-plane depth, walls behind the fluid from every side, sky pixels, fluid
 // hidden behind a wall, a transparent background, the checker, thread and
-// scale invariance.
+// scale invariance, the light direction lighting the planes and placing the
+// sky's sun (also through a reused Renderer, whose scene cache must notice it).
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -10,7 +12,9 @@
 #include <tbb/global_control.h>
 
 #include "cpu/scene.h"
+#include "cpu/sky.h"
 #include "cpu/splat.h"
+#include "meniscus/renderer.h"
 #include "test_util.h"
 
 using namespace meniscus;
@@ -59,7 +63,7 @@ TEST(Scene, FloorDepthIsTheAnalyticRayPlaneEyeDepth) {
     const auto pts = blockParticles();
     const Bounds box = boundsOf(pts);
     const Camera cam = orbitCamera(box, 35.0f, 40.0f, 3.0f);
-    const cpu::Studio studio = cpu::makeStudio(box, kRadius, cam, SceneParams{});
+    const shared::Studio studio = shared::makeStudio(box, kRadius, cam, SceneParams{}, ShadingParams{}.lightDirWorld);
     EXPECT_LT(studio.floorY, box.min.y - kRadius);
     EXPECT_GT(studio.floorY, box.min.y - 2.0f * kRadius);
     const cpu::SceneLayer layer = cpu::castScene(cam, studio);
@@ -88,7 +92,8 @@ TEST(Scene, WallsStandBehindTheFluidFromEveryCamera) {
         for (float el : {10.0f, 35.0f, 70.0f}) {
             SCOPED_TRACE(testing::Message() << "azimuth " << az << " elevation " << el);
             const Camera cam = orbitCamera(box, az, el, 2.5f);
-            const cpu::Studio studio = cpu::makeStudio(box, kRadius, cam, SceneParams{});
+            const shared::Studio studio =
+                shared::makeStudio(box, kRadius, cam, SceneParams{}, ShadingParams{}.lightDirWorld);
             // The eye and every sphere are on the open side of both walls and above the floor.
             EXPECT_GT((cam.eye.x - studio.wallX) * studio.wallXNormal, 0.0f);
             EXPECT_GT((cam.eye.z - studio.wallZ) * studio.wallZNormal, 0.0f);
@@ -117,7 +122,8 @@ TEST(Scene, SkyPixelsHaveInfiniteDepthAndTheSkyColour) {
     const auto pts = blockParticles();
     const Bounds box = boundsOf(pts);
     const Camera cam = orbitCamera(box, 35.0f, 5.0f, 3.0f);  // low: sky over the walls
-    const cpu::SceneLayer layer = cpu::castScene(cam, cpu::makeStudio(box, kRadius, cam, SceneParams{}));
+    const shared::Studio studio = shared::makeStudio(box, kRadius, cam, SceneParams{}, ShadingParams{}.lightDirWorld);
+    const cpu::SceneLayer layer = cpu::castScene(cam, studio);
     int sky = 0, opaque = 0;
     for (int j = 0; j < cam.height; ++j)
         for (int i = 0; i < cam.width; ++i) {
@@ -128,7 +134,8 @@ TEST(Scene, SkyPixelsHaveInfiniteDepthAndTheSkyColour) {
                 continue;
             }
             ++sky;
-            const glm::vec3 want = cpu::skyColor(cam.dirToWorld(cam.pixelRay(i + 0.5f, j + 0.5f)));
+            const glm::vec3 want =
+                cpu::skyColor(cam.dirToWorld(cam.pixelRay(i + 0.5f, j + 0.5f)), studio.lightDirWorld);
             // Rays built in a different order than castScene's: 1e-4 absolute.
             EXPECT_NEAR(c.r, want.r, 1e-4f);
             EXPECT_NEAR(c.g, want.g, 1e-4f);
@@ -145,7 +152,7 @@ TEST(Scene, ParticleBehindAWallIsHidden) {
     const auto pts = blockParticles();
     const Bounds box = boundsOf(pts);
     const Camera cam = orbitCamera(box, 35.0f, 25.0f, 3.0f);
-    const cpu::Studio studio = cpu::makeStudio(box, kRadius, cam, SceneParams{});
+    const shared::Studio studio = shared::makeStudio(box, kRadius, cam, SceneParams{}, ShadingParams{}.lightDirWorld);
     const cpu::SceneLayer layer = cpu::castScene(cam, studio);
     // A point on the x wall above the floor, and a sphere beyond it on the same sight line.
     const glm::vec3 onWall{studio.wallX, box.center().y, box.center().z};
@@ -167,7 +174,7 @@ TEST(Scene, NoBackgroundIsTransparent) {
     const Camera cam = orbitCamera(box, 35.0f, 25.0f, 3.0f);
     SceneParams params;
     params.background = false;
-    const cpu::Studio studio = cpu::makeStudio(box, kRadius, cam, params);
+    const shared::Studio studio = shared::makeStudio(box, kRadius, cam, params, ShadingParams{}.lightDirWorld);
     EXPECT_FALSE(studio.enabled);
     const cpu::SceneLayer layer = cpu::castScene(cam, studio);
     for (const auto& c : layer.color.pixels) ASSERT_EQ(c, glm::vec4(0.0f));
@@ -184,7 +191,7 @@ TEST(Scene, CheckerAlternates) {
     cam.width = 400;
     cam.height = 400;
     cam.fovYDegrees = 40.0f;
-    const cpu::Studio studio = cpu::makeStudio(box, kRadius, cam, SceneParams{});
+    const shared::Studio studio = shared::makeStudio(box, kRadius, cam, SceneParams{}, ShadingParams{}.lightDirWorld);
     // 1/8 of the extent, a nice round number: 1.0 m + margins -> 0.1 m here.
     EXPECT_FLOAT_EQ(studio.checkerM, 0.1f);
     const cpu::SceneLayer layer = cpu::castScene(cam, studio);
@@ -211,7 +218,7 @@ TEST(Scene, BitIdenticalForAnyThreadCount) {
     const auto pts = blockParticles();
     const Bounds box = boundsOf(pts);
     const Camera cam = orbitCamera(box, 35.0f, 25.0f, 3.0f, 640, 360);
-    const cpu::Studio studio = cpu::makeStudio(box, kRadius, cam, SceneParams{});
+    const shared::Studio studio = shared::makeStudio(box, kRadius, cam, SceneParams{}, ShadingParams{}.lightDirWorld);
     cpu::SceneLayer one;
     {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
@@ -235,8 +242,9 @@ TEST(Scene, ScaleInvariant) {
     cam10.target *= s;
     cam10.nearM *= s;
     cam10.farM *= s;
-    const cpu::Studio st = cpu::makeStudio(box, kRadius, cam, SceneParams{});
-    const cpu::Studio st10 = cpu::makeStudio(box10, s * kRadius, cam10, SceneParams{});
+    const shared::Studio st = shared::makeStudio(box, kRadius, cam, SceneParams{}, ShadingParams{}.lightDirWorld);
+    const shared::Studio st10 =
+        shared::makeStudio(box10, s * kRadius, cam10, SceneParams{}, ShadingParams{}.lightDirWorld);
     EXPECT_NEAR(st10.checkerM, s * st.checkerM, 1e-5f * s);
     const cpu::SceneLayer a = cpu::castScene(cam, st), b = cpu::castScene(cam10, st10);
     // Float rounding may flip a pixel at a checker or plane edge: all but 0.5% of
@@ -249,4 +257,87 @@ TEST(Scene, ScaleInvariant) {
         mismatches += !(depthOk && colourOk);
     }
     EXPECT_LE(mismatches, int(a.depth.size() / 200));
+}
+
+// The light direction lights the studio (SPEC §3.1: flat key + ambient per
+// plane) and places the sky's sun. A light straight up against one along the
+// x wall's normal: the floor goes from ambient + key (1.0) to ambient (0.45),
+// the x wall the other way, the z wall stays at ambient; each square's colour
+// scales by exactly that ratio (same checker, corner and fade factors), 1e-5.
+TEST(Scene, LightDirectionLightsTheStudioPlanes) {
+    const auto pts = blockParticles();
+    const Bounds box = boundsOf(pts);
+    const Camera cam = orbitCamera(box, 35.0f, 25.0f, 3.0f);
+    const shared::Studio up = shared::makeStudio(box, kRadius, cam, SceneParams{}, glm::vec3(0.0f, 2.0f, 0.0f));
+    const shared::Studio side =
+        shared::makeStudio(box, kRadius, cam, SceneParams{}, glm::vec3(up.wallXNormal, 0.0f, 0.0f));
+    ASSERT_EQ(up.lightDirWorld, glm::vec3(0.0f, 1.0f, 0.0f));  // normalised
+    const cpu::SceneLayer a = cpu::castScene(cam, up), b = cpu::castScene(cam, side);
+    // Points in the middle of each plane, away from the corner edges.
+    const glm::vec3 c = box.center();
+    const glm::vec3 onFloor{c.x, up.floorY, c.z};
+    const glm::vec3 onWallX{up.wallX, 0.5f * (up.floorY + up.wallTopY), c.z};
+    const glm::vec3 onWallZ{c.x, 0.5f * (up.floorY + up.wallTopY), up.wallZ};
+    const std::pair<glm::vec3, float> expected[] = {{onFloor, 0.45f / 1.0f}, {onWallX, 1.0f / 0.45f}, {onWallZ, 1.0f}};
+    for (const auto& [p, ratio] : expected) {
+        const glm::vec2 px = cam.projectView(cam.toView(p));
+        const int i = int(px.x), j = int(px.y);
+        ASSERT_TRUE(i >= 0 && i < cam.width && j >= 0 && j < cam.height);
+        const float z = -cam.toView(p).z;
+        ASSERT_NEAR(a.depth.at(i, j), z, 0.02f * z);  // the plane itself is seen there
+        EXPECT_EQ(a.depth.at(i, j), b.depth.at(i, j));          // the light moves no geometry
+        for (int ch = 0; ch < 3; ++ch)
+            EXPECT_NEAR(b.color.at(i, j)[ch], ratio * a.color.at(i, j)[ch], 1e-5f) << i << "," << j;
+    }
+}
+
+// The sun glow (0.6 at its centre) sits along the light: a camera looking
+// along one light sees it in the middle of the image, and not when the light
+// points elsewhere.
+TEST(Scene, SkySunFollowsTheLight) {
+    const auto pts = blockParticles();
+    const Bounds box = boundsOf(pts);
+    const glm::vec3 lights[] = {glm::normalize(glm::vec3(-0.4f, 1.0f, 0.55f)),
+                                glm::normalize(glm::vec3(0.8f, 0.5f, 0.3f))};
+    auto centre = [&](const glm::vec3& lookAlong, const glm::vec3& light) {
+        Camera cam;
+        cam.eye = box.center() + glm::vec3(0.0f, 20.0f, 0.0f);  // high above the walls: only sky in view
+        cam.target = cam.eye + lookAlong;
+        cam.width = 64;
+        cam.height = 64;
+        cam.up = std::abs(lookAlong.y) > 0.9f ? glm::vec3(0.0f, 0.0f, 1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
+        const cpu::SceneLayer l = cpu::castScene(cam, shared::makeStudio(box, kRadius, cam, SceneParams{}, light));
+        EXPECT_TRUE(std::isinf(l.depth.at(32, 32)));
+        return glm::vec3(l.color.at(32, 32));
+    };
+    for (int k = 0; k < 2; ++k) {
+        const glm::vec3 own = centre(lights[k], lights[k]), other = centre(lights[k], lights[1 - k]);
+        EXPECT_GT(own.r - other.r, 0.5f) << "light " << k;  // nearly the full glow of 0.6
+        const glm::vec3 want = cpu::skyColor(lights[k], lights[k]);
+        EXPECT_NEAR(own.r, want.r, 0.01f);  // the pixel centre is a fraction of a degree off the sun
+    }
+}
+
+// A Renderer keeps its scene cast while camera and studio stay the same; a
+// new light must recast it: the second frame equals a fresh renderer's, bit
+// for bit, and differs from the first.
+TEST(Scene, ReusedRendererRecastsTheSceneWhenTheLightChanges) {
+    const auto pts = blockParticles();
+    RenderSettings s;
+    s.camera = orbitCamera(boundsOf(pts), 35.0f, 25.0f, 3.0f, 160, 120);
+    s.radiusM = kRadius;
+    s.colorOnly = true;
+    Renderer reused;
+    auto first = reused.render(pts, s);
+    ASSERT_TRUE(first.ok()) << first.error().describe();
+    s.shading.lightDirWorld = glm::normalize(glm::vec3(0.9f, 0.3f, -0.4f));
+    auto second = reused.render(pts, s);
+    auto fresh = Renderer().render(pts, s);
+    ASSERT_TRUE(second.ok() && fresh.ok());
+    EXPECT_EQ(0, std::memcmp(second->color.pixels.data(), fresh->color.pixels.data(),
+                             fresh->color.size() * sizeof(glm::vec4)));
+    double maxDiff = 0.0;
+    for (std::size_t k = 0; k < first->color.size(); ++k)
+        maxDiff = std::max(maxDiff, double(glm::length(first->color.pixels[k] - second->color.pixels[k])));
+    EXPECT_GT(maxDiff, 0.1);
 }

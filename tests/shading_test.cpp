@@ -149,7 +149,7 @@ TEST(Shading, ZeroThicknessFacingTheCamera) {
     for (int y = 0; y < 30; ++y)
         for (int x = 0; x < 40; ++x) {
             const glm::vec3 v = n.at(x, y);
-            const glm::vec3 b = cpu::skyColor(viewToWorldDir(cam, v));
+            const glm::vec3 b = cpu::skyColor(viewToWorldDir(cam, v), shared::sunDirection(p.lightDirWorld));
             double spec = 0.0;
             if (glm::dot(v, lView) > 0.0f)
                 spec = p.material.specular * std::pow(double(glm::dot(v, glm::normalize(lView + v))),
@@ -191,11 +191,46 @@ TEST(Shading, RefractionOffsetFollowsTheNormal) {
             const glm::vec3 v = -glm::normalize(cam.pixelRay(float(x) + 0.5f, float(y) + 0.5f));
             const float nv = glm::dot(nrm, v);
             const float F = cpu::schlickFresnel(f0, nv);
-            const glm::vec3 b = cpu::skyColor(cam.dirToWorld(2.0f * nv * nrm - v));
+            const glm::vec3 b =
+                cpu::skyColor(cam.dirToWorld(2.0f * nv * nrm - v), shared::sunDirection(p.lightDirWorld));
             const glm::vec3 s = (glm::vec3(out.at(x, y)) - F * b) / (1.0f - F);
             ASSERT_NEAR(s.r, 0.01f * (float(x) + beta * nrm.x), 1e-5f) << x << "," << y;
             ASSERT_NEAR(s.g, 0.01f * (float(y) - beta * nrm.y), 1e-5f) << x << "," << y;
         }
+}
+
+// The sky's sun follows the light (both what a transparent background lets
+// through and what the fluid reflects): with the light along the view
+// direction, the sky seen through zero-thickness fluid carries the sun glow
+// (0.6); with the light behind the camera, the reflection carries it, weighted
+// by Fresnel F0 only. Each pixel matches the formula with
+// skyColor(dir, sunDirection(light)), 1e-5; the centre changes by > 0.4.
+TEST(Shading, SkySunFollowsTheLight) {
+    const int W = 41, H = 31;
+    Camera cam = test::faceOnCamera(glm::vec3(0.0f), 2.0f, W, H);
+    cam.eye = glm::vec3(0.5f, 1.5f, 2.0f);
+    const cpu::SceneLayer clear{Image<glm::vec4>(W, H, glm::vec4(0.0f)), Image<float>(W, H, kInf)};
+    const Image<glm::vec3> n = facingNormals(cam);
+    const Image<float> depth(W, H, 2.0f), thick(W, H, 0.0f);
+    const glm::vec3 viewDir = glm::normalize(cam.target - cam.eye);
+    const float f0 = cpu::fresnelF0(ShadingParams{}.material.ior);
+    float centre[2];
+    for (int k = 0; k < 2; ++k) {
+        ShadingParams p;
+        p.material.specular = 0.0f;  // the sky alone
+        p.lightDirWorld = k == 0 ? viewDir : -viewDir;
+        const glm::vec3 sun = shared::sunDirection(p.lightDirWorld);
+        const Image<glm::vec4> out = cpu::shadeAndComposite(cam, clear, depth, n, thick, p);
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                const glm::vec3 ray = cam.dirToWorld(cam.pixelRay(float(x) + 0.5f, float(y) + 0.5f));
+                // Facing normals: no refraction offset, the reflection straight back.
+                const glm::vec3 want = cpu::skyColor(ray, sun) * (1.0f - f0) + cpu::skyColor(-ray, sun) * f0;
+                for (int c = 0; c < 3; ++c) ASSERT_NEAR(out.at(x, y)[c], want[c], 1e-5f) << x << "," << y;
+            }
+        centre[k] = out.at(W / 2, H / 2).r;
+    }
+    EXPECT_GT(centre[0] - centre[1], 0.4f);
 }
 
 // A transparent scene (alpha 0, colour garbage) refracts the sky along the view
@@ -207,10 +242,11 @@ TEST(Shading, TransparentSceneRefractsTheSky) {
     cam.eye = glm::vec3(0.5f, 1.5f, 2.0f);
     cpu::SceneLayer clear{Image<glm::vec4>(W, H, glm::vec4(1.0f, 0.0f, 1.0f, 0.0f)), Image<float>(W, H, kInf)};
     cpu::SceneLayer painted{Image<glm::vec4>(W, H), Image<float>(W, H, kInf)};
+    const glm::vec3 sun = shared::sunDirection(ShadingParams{}.lightDirWorld);
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x)
             painted.color.at(x, y) =
-                glm::vec4(cpu::skyColor(cam.dirToWorld(cam.pixelRay(float(x) + 0.5f, float(y) + 0.5f))), 1.0f);
+                glm::vec4(cpu::skyColor(cam.dirToWorld(cam.pixelRay(float(x) + 0.5f, float(y) + 0.5f)), sun), 1.0f);
     const Image<glm::vec3> n = facingNormals(cam);
     const Image<float> depth(W, H, 2.0f), thick(W, H, 0.0f);
     const Image<glm::vec4> a = cpu::shadeAndComposite(cam, clear, depth, n, thick, ShadingParams{});

@@ -17,6 +17,7 @@
 #include "cpu/scene.h"
 #include "cpu/splat.h"
 #include "cpu/thickness.h"
+#include "shared/thickness.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "test_util.h"
@@ -87,11 +88,11 @@ struct BlockScene {
 
 TEST(Thickness, WeightCalibratesToTheRestSpacing) {
     // w = s^3 / (4/3 pi r^3); s = 2r by default -> 6/pi. Relative 1e-6.
-    EXPECT_NEAR(cpu::thicknessWeight(0.05f, noBlur()), 6.0 / std::numbers::pi, 1e-6 * 6.0 / std::numbers::pi);
+    EXPECT_NEAR(shared::thicknessWeight(0.05f, noBlur()), 6.0 / std::numbers::pi, 1e-6 * 6.0 / std::numbers::pi);
     ThicknessParams p = noBlur();
     p.spacingM = 0.12f;
     const double want = 0.12 * 0.12 * 0.12 / (4.0 / 3.0 * std::numbers::pi * 0.05 * 0.05 * 0.05);
-    EXPECT_NEAR(cpu::thicknessWeight(0.05f, p), want, 1e-6 * want);
+    EXPECT_NEAR(shared::thicknessWeight(0.05f, p), want, 1e-6 * want);
 }
 
 TEST(Thickness, OneSphereFaceOnIsTheAnalyticChord) {
@@ -100,7 +101,7 @@ TEST(Thickness, OneSphereFaceOnIsTheAnalyticChord) {
     const glm::vec3 p{0.0f, 0.0f, 0.0f};
     const Image<float> depth = cpu::splatDepth(cam, std::span(&p, 1), r);
     const Image<float> T = cpu::computeThickness(cam, std::span(&p, 1), r, noBlur(), nullptr, depth);
-    const double w = cpu::thicknessWeight(r, noBlur());
+    const double w = shared::thicknessWeight(r, noBlur());
     // Centre pixel: the full diameter (relative 1e-4).
     EXPECT_NEAR(T.at(50, 50), w * 2.0 * r, 1e-4 * w * 2.0 * r);
     // Every pixel against the double-precision chord (relative 1e-4, plus 1e-3 r
@@ -160,7 +161,7 @@ TEST(Thickness, SceneAndNearPlaneClipTheChord) {
     Camera cam = test::faceOnCamera({0.0f, 0.0f, 0.0f}, 2.0f, 101, 101);
     const float r = 0.2f;
     const glm::vec3 p{0.0f, 0.0f, 0.0f};
-    const double w = cpu::thicknessWeight(r, noBlur());
+    const double w = shared::thicknessWeight(r, noBlur());
     const glm::dvec3 c = glm::dvec3(cam.toView(p));
     // A scene plane at the sphere centre's eye depth: half the centre chord
     // remains (relative 1e-4), and every pixel matches the clipped chord.
@@ -284,7 +285,7 @@ TEST(Thickness, LowResolutionSceneClipsTheChord) {
     const glm::vec3 p{0.0f, 0.0f, 0.0f};
     ThicknessParams params = withDivisor(2);
     params.blurSigmaRadii = 0.0f;
-    const double w = cpu::thicknessWeight(r, params);
+    const double w = shared::thicknessWeight(r, params);
     Image<float> scene(cam.width, cam.height, 2.0f);
     const Image<float> depth = cpu::splatDepth(cam, std::span(&p, 1), r, &scene);
     const Image<float> T = cpu::computeThickness(cam, std::span(&p, 1), r, params, &scene, depth);

@@ -66,8 +66,12 @@ bool isExr(const std::string& path) { return fs::path(path).extension() == ".exr
 bool isPng(const std::string& path) { return fs::path(path).extension() == ".png"; }
 
 void addCameraOptions(CLI::App* cmd, RenderOptions& o) {
-    cmd->add_option("--width", o.width, "Image width in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
-    cmd->add_option("--height", o.height, "Image height in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
+    cmd->add_option("--width", o.width, "Image width in pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(1, defaults::kMaxImageSizePx));
+    cmd->add_option("--height", o.height, "Image height in pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(1, defaults::kMaxImageSizePx));
     cmd->add_option("--eye", o.eye, "Camera position x,y,z in metres (default: automatic three-quarter view)");
     cmd->add_option("--target", o.target, "Point the camera looks at, x,y,z in metres");
     cmd->add_option("--up", o.up, "Camera up direction x,y,z")->capture_default_str();
@@ -145,14 +149,15 @@ Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames,
     }
     std::vector<glm::vec3> samplePoints;
     auto addSample = [&](const std::vector<glm::vec3>& p) {
-        const std::size_t stride = std::max<std::size_t>(1, p.size() / 20000);
+        const std::size_t stride = std::max<std::size_t>(1, p.size() / defaults::kSequenceFramePoints);
         for (std::size_t i = 0; i < p.size(); i += stride) samplePoints.push_back(p[i]);
     };
     const std::size_t count = frames.count();
     if (o.eye.empty()) {
         addSample(first->positions);
-        for (std::size_t k = 1; count > 1 && k <= 4; ++k) {
-            auto s = frames.load(k * (count - 1) / 4);
+        const std::size_t last = defaults::kSequenceFramingFrames - 1;
+        for (std::size_t k = 1; count > 1 && k <= last; ++k) {
+            auto s = frames.load(k * (count - 1) / last);
             if (!s) return s.error();
             addSample(s->positions);
         }

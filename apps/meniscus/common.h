@@ -35,10 +35,10 @@ struct RenderOptions {
     float fov = defaults::kFovYDegrees;
     float radius = 0.0f;  // 0 = estimate
     std::string view = "final";
-    std::string filter = "narrow-range";
+    std::string filter = defaults::kFilterName;
     int iterations = -1;  // -1 = the filter's default
     bool separable = false;
-    std::string material = "water";
+    std::string material = defaults::kMaterialName;
     std::string background = "studio";
     std::string backend = "auto";
 };

@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "meniscus/params.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
 
@@ -19,7 +20,7 @@ struct Camera {
     glm::vec3 eye{0.0f, 0.0f, 5.0f};   // metres, world space
     glm::vec3 target{0.0f};            // the point the camera looks at
     glm::vec3 up{0.0f, 1.0f, 0.0f};    // approximate up; orthogonalised
-    float fovYDegrees = 45.0f;         // full vertical field of view
+    float fovYDegrees = defaults::kFovYDegrees;  // full vertical field of view
     float nearM = 0.01f;               // eye-depth clip range, metres
     float farM = 1000.0f;
     int width = 1280;                  // pixels

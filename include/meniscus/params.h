@@ -18,9 +18,15 @@ namespace defaults {
 
 inline constexpr int kWidth = 1280;           // pixels
 inline constexpr int kHeight = 720;           // pixels
-inline constexpr float kFovYDegrees = 40.0f;  // vertical field of view of the auto camera
+inline constexpr int kMaxImageSizePx = 16384;  // the largest width or height the CLI accepts
+inline constexpr float kFovYDegrees = 40.0f;  // vertical field of view (Camera's default, the auto camera's)
 inline constexpr float kNearM = 0.01f;        // metres
 inline constexpr float kFarM = 1000.0f;       // metres
+
+// The CLI's default smoothing filter and material (names as filterFromName
+// and materialPreset take them).
+inline constexpr const char* kFilterName = "narrow-range";
+inline constexpr const char* kMaterialName = "water";
 
 // Auto-framing: the view direction from the target toward the eye, as azimuth
 // around +y (0 = +z, positive toward +x) and elevation above the horizon.
@@ -30,6 +36,12 @@ inline constexpr float kAutoElevationDegrees = 25.0f;
 inline constexpr float kAutoFill = 0.9f;
 // Fraction of particles (the outermost, e.g. lone spray) the auto camera may leave out.
 inline constexpr float kAutoOutlierFraction = 0.001f;
+// At most about this many points decide the auto camera (an even stride through the set).
+inline constexpr int kAutoFramePoints = 50000;
+// A sequence is framed from this many frames evenly spaced from the first to
+// the last (fewer when it is shorter), about kSequenceFramePoints points each.
+inline constexpr int kSequenceFramingFrames = 5;
+inline constexpr int kSequenceFramePoints = 20000;
 
 // A depth step between neighbouring pixels larger than this many radii is a
 // discontinuity (silhouette / separate body): filters and normals never
@@ -121,7 +133,7 @@ struct SceneParams {
 
 // One material = the parameters of the shading equation.
 struct Material {
-    std::string name = "water";
+    std::string name = defaults::kMaterialName;
     glm::vec3 fluidColor{0.03f, 0.19f, 0.27f};     // linear RGB seen through thick fluid
     glm::vec3 absorptionPerM{6.0f, 2.0f, 1.3f};    // Beer-Lambert k per channel, 1/m
     float ior = 1.33f;                              // Schlick F0 = ((ior-1)/(ior+1))^2

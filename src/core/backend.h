@@ -13,13 +13,13 @@
 
 #include <glm/glm.hpp>
 
-#include "cpu/scene.h"
 #include "meniscus/camera.h"
 #include "meniscus/params.h"
 #include "meniscus/particle_view.h"
 #include "meniscus/renderer.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
+#include "shared/studio.h"
 
 namespace meniscus {
 
@@ -34,7 +34,7 @@ struct FrameSettings {
     FilterParams filter;
     ThicknessParams thickness;
     ShadingParams shading;
-    cpu::Studio studio;
+    shared::Studio studio;
     // The particles' views (attributes for the stages that read them; the
     // positions also come contiguous as beginFrame's argument). Valid for
     // this frame only: they point into the caller's memory.

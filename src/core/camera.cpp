@@ -71,9 +71,9 @@ float quantile(std::vector<float>& v, float q) {
 Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const Camera& base) {
     Camera cam = base;
     cam.up = {0.0f, 1.0f, 0.0f};
-    // At most ~50k points decide the framing (an even stride through the set).
+    // At most ~kAutoFramePoints points decide the framing (an even stride through the set).
     std::vector<glm::vec3> pts;
-    const std::size_t stride = std::max<std::size_t>(1, points.size() / 50000);
+    const std::size_t stride = std::max<std::size_t>(1, points.size() / defaults::kAutoFramePoints);
     for (std::size_t i = 0; i < points.size(); i += stride)
         if (finite3(points[i])) pts.push_back(points[i]);
     if (pts.empty()) pts = {glm::vec3(-1.0f), glm::vec3(1.0f)};

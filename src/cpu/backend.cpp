@@ -106,7 +106,7 @@ private:
     // The last scene cast, kept while camera and studio stay the same.
     bool sceneValid_ = false;
     Camera sceneCamera_;
-    cpu::Studio sceneStudio_;
+    shared::Studio sceneStudio_;
     cpu::SceneLayer scene_;
     int sceneColorSlot_ = -1, sceneDepthSlot_ = -1;
     std::string stage_;

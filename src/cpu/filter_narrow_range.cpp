@@ -32,7 +32,8 @@
 //  - Taps outside the image are ignored with their mirror (a −inf frame, i.e.
 //    "in front"), so the border neither pulls nor rounds the surface.
 //  - Deviations z − z0 are accumulated, not z, to keep float precision.
-//  - Speed: precomputed tap tables (offset, weight) per kernel radius, and eight
+//  - Speed: precomputed tap tables (offset, weight) per kernel radius (the tap
+//    order and weights from src/shared/narrow_range.h, as the GL twin's), and eight
 //    adjacent pixels filtered at once in vector lanes (each lane is the exact
 //    scalar computation of its pixel, so results do not depend on grouping).
 //    The lane function is compiled twice (GCC target_clones: AVX2 and the SSE2
@@ -48,6 +49,7 @@
 
 #include "cpu/filter_util.h"
 #include "cpu/filters.h"
+#include "shared/narrow_range.h"
 
 namespace meniscus::cpu {
 
@@ -64,40 +66,20 @@ struct Tap {
 // Tap lists for kernel radii 0..Rmax: taps[R] holds the pairs for radius R.
 using TapTables = std::vector<std::vector<Tap>>;
 
-float gaussian(int d2, int R) {
-    const double sigma = double(R) / 3.0;
-    return float(std::exp(-double(d2) / (2.0 * sigma * sigma)));
-}
-
+// taps[R]: the prefix of the largest radius's half disc inside radius R.
 TapTables tapTables2D(int Rmax, std::ptrdiff_t stride) {
     TapTables t(Rmax + 1);
-    struct Off {
-        int dx, dy, d2;
-    };
-    std::vector<Off> offs;
-    for (int R = 1; R <= Rmax; ++R) {
-        offs.clear();
-        // Half plane: dy > 0, or dy == 0 and dx > 0; the mirror covers the rest.
-        for (int dy = 0; dy <= R; ++dy)
-            for (int dx = -R; dx <= R; ++dx) {
-                if (dy == 0 && dx <= 0) continue;
-                const int d2 = dx * dx + dy * dy;
-                if (d2 <= R * R) offs.push_back({dx, dy, d2});
-            }
-        std::sort(offs.begin(), offs.end(), [](const Off& a, const Off& b) {
-            if (a.d2 != b.d2) return a.d2 < b.d2;
-            if (a.dy != b.dy) return a.dy < b.dy;
-            return a.dx < b.dx;
-        });
-        for (const Off& o : offs) t[R].push_back({o.dy * stride + o.dx, gaussian(o.d2, R)});
-    }
+    const std::vector<shared::DiscTap> disc = shared::narrowRangeHalfDisc(Rmax);
+    for (int R = 1; R <= Rmax; ++R)
+        for (std::size_t i = 0; i < disc.size() && disc[i].d2 <= R * R; ++i)
+            t[R].push_back({disc[i].dy * stride + disc[i].dx, shared::narrowRangeWeight(disc[i].d2, R)});
     return t;
 }
 
 TapTables tapTables1D(int Rmax, std::ptrdiff_t step) {
     TapTables t(Rmax + 1);
     for (int R = 1; R <= Rmax; ++R)
-        for (int k = 1; k <= R; ++k) t[R].push_back({k * step, gaussian(k * k, R)});
+        for (int k = 1; k <= R; ++k) t[R].push_back({k * step, shared::narrowRangeWeight(k * k, R)});
     return t;
 }
 

@@ -4,7 +4,7 @@
 //  - The kernel radius s = kernelWorldM * f / z0 is the world length projected
 //    at the centre depth z0 (constant width in world space, patent "System and
 //    method for rendering a particle-based fluid surface"), capped at maxKernelPx.
-//  - Weights come from precomputed tables, one normalised row per integer
+//  - Weights come from precomputed tables (shared::KernelTable), one normalised row per integer
 //    radius n; a real radius s = n + t uses (1-t) row(n) + t row(n+1). Rounding
 //    s instead would make the smoothing jump where ceil(s) changes, which shows
 //    up as contour lines in the normals of sloped fluid; blending keeps the
@@ -29,6 +29,7 @@
 
 #include "cpu/filter_util.h"
 #include "meniscus/types.h"
+#include "shared/kernel_table.h"
 
 namespace meniscus::cpu {
 
@@ -38,7 +39,7 @@ namespace detail {
 // ARM): the per-tap work is a handful of flops, so without SIMD the loop is
 // bound by one scalar add chain and mispredicted exclusion branches. Lanes are
 // summed in a fixed order, so the result does not depend on the thread count.
-inline constexpr int kLanes = 4;  // one SSE / NEON register: wider is slower on baseline x86-64
+inline constexpr int kLanes = shared::kTapGroup;  // one SSE / NEON register: wider is slower on baseline x86-64
 using FloatV = float __attribute__((vector_size(4 * kLanes)));
 using IntV = std::int32_t __attribute__((vector_size(4 * kLanes)));
 
@@ -57,34 +58,8 @@ inline FloatV selectV(IntV mask, FloatV v) {  // v where mask is set, else +0
 
 }  // namespace detail
 
-// Normalised symmetric 1-D kernels for every integer radius n in
-// [0, maxRadius + 1] (the extra row is the upper end of the blend at the cap).
-class KernelTable {
-public:
-    // Gaussian with sigma = n / 3 truncated at |k| <= n (kernel radius = 3 sigma).
-    static KernelTable gaussian(int maxRadius);
-    // Binomial C(2n, n + k) / 4^n (Pascal's triangle row 2n), Instant Liquids §2.2.
-    static KernelTable binomial(int maxRadius);
-
-    int maxRadius() const { return maxRadius_; }
-    // Taps stored on each side of tap 0, zero past n (and the no-fluid padding
-    // the filtered lines need): maxRadius + 1 for the blend, + kLanes - 1 to
-    // finish the last group of taps.
-    int padPx() const { return half_; }
-    // Weight of tap k in the kernel of radius n (n <= maxRadius + 1); 0 for |k| > n.
-    float weight(int n, int k) const { return row(n)[k]; }
-    // Row n centred on tap 0: valid for |k| <= padPx().
-    const float* row(int n) const { return rows_.data() + std::size_t(n) * stride_ + half_; }
-    // row(n + 1) - row(n), for n <= maxRadius.
-    const float* diff(int n) const { return diffs_.data() + std::size_t(n) * stride_ + half_; }
-
-private:
-    KernelTable(int maxRadius, std::vector<double> rows);
-    int maxRadius_ = 0;
-    int half_ = 4;    // padPx()
-    int stride_ = 9;  // 2 * half_ + 1
-    std::vector<float> rows_, diffs_;
-};
+// The weight tables, shared with the GL backend.
+using shared::KernelTable;
 
 // No range weight: plain (Gaussian / binomial) spatial kernel.
 struct NoRangeWeight {

@@ -40,14 +40,13 @@
 
 #include "cpu/filter_util.h"
 #include "cpu/sky.h"
+#include "shared/shading.h"
 
 namespace meniscus::cpu {
 
 namespace {
 
-// Share of the diffuse lighting of opaque materials that does not depend on the
-// light direction (sky fill), so faces turned away from the key light are not black.
-constexpr float kAmbient = 0.35f;
+using shared::kOpaqueAmbient;
 
 // Fluid pixels shaded together: small enough for the batch to stay in L1.
 constexpr int kBatch = 64;
@@ -129,6 +128,7 @@ struct Setup {
     float f;          // focal length, pixels
     glm::vec3 axisX, axisY, axisZ;  // camera axes in world space (view -> world)
     glm::vec3 light;                // unit, view space
+    glm::vec3 sun;                  // the sky's sun: unit, world space
     glm::vec3 fluid, negK;
     float f0, opacity, refraction, specular, shininess, nhMin;
 };
@@ -210,14 +210,14 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
     }
     // 3. What the scene leaves transparent shows the sky along the view ray;
     // skipped for batches over an opaque background (where it adds exactly 0).
-    const glm::vec3 X = S.axisX, Y = S.axisY, Z = S.axisZ, L = S.light, fc = S.fluid, k = S.negK;
+    const glm::vec3 X = S.axisX, Y = S.axisY, Z = S.axisZ, L = S.light, sun = S.sun, fc = S.fluid, k = S.negK;
     float minAlpha = 1.0f;  // (reductions as min / sums so the loops vectorise)
     for (int i = 0; i < n; ++i) minAlpha = std::min(minAlpha, B.sa[i]);
     if (minAlpha < 1.0f) {
         for (int i = 0; i < n; ++i) {
             const float rx = B.rx[i];
             skyColorRgb(rx * X.x + ryc * Y.x + -1.0f * Z.x, rx * X.y + ryc * Y.y + -1.0f * Z.y,
-                        rx * X.z + ryc * Y.z + -1.0f * Z.z, &B.kr[i], &B.kg[i], &B.kb[i]);
+                        rx * X.z + ryc * Y.z + -1.0f * Z.z, sun, &B.kr[i], &B.kg[i], &B.kb[i]);
             const float ta = 1.0f - B.sa[i];
             B.sr[i] += ta * B.kr[i];
             B.sg[i] += ta * B.kg[i];
@@ -242,7 +242,7 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
         const float m = 1.0f - nv, m2 = m * m;
         float F = f0 + (1.0f - f0) * (m2 * m2 * m);  // schlickFresnel
         // Opaque materials: toward a Lambert-lit fluid colour (op = 0: a unchanged).
-        const float lit = kAmbient + (1.0f - kAmbient) * std::max(nl, 0.0f);
+        const float lit = kOpaqueAmbient + (1.0f - kOpaqueAmbient) * std::max(nl, 0.0f);
         ar = op > 0.0f ? ar * (1.0f - op) + fc.x * lit * op : ar;
         ag = op > 0.0f ? ag * (1.0f - op) + fc.y * lit * op : ag;
         ab = op > 0.0f ? ab * (1.0f - op) + fc.z * lit * op : ab;
@@ -253,7 +253,7 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
         const float ex = tn * nx - vx, ey = tn * ny - vy, ez = tn * nz - vz;
         float br, bg, bb;
         skyColorRgb(ex * X.x + ey * Y.x + ez * Z.x, ex * X.y + ey * Y.y + ez * Z.y, ex * X.z + ey * Y.z + ez * Z.z,
-                    &br, &bg, &bb);
+                    sun, &br, &bg, &bb);
         B.cr[i] = ar * (1.0f - F) + br * F;
         B.cg[i] = ag * (1.0f - F) + bg * F;
         B.cb[i] = ab * (1.0f - F) + bb * F;
@@ -369,6 +369,7 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
                     glm::dot(params.lightDirWorld, S.axisZ));
     const float lightLen = glm::length(light);
     S.light = lightLen > 0.0f ? light / lightLen : glm::vec3(0.0f, 0.0f, 1.0f);
+    S.sun = shared::sunDirection(params.lightDirWorld);
     S.fluid = m.fluidColor;
     S.negK = -glm::max(m.absorptionPerM, glm::vec3(0.0f));
     S.f0 = fresnelF0(m.ior);
@@ -376,9 +377,8 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
     S.refraction = m.refraction;
     S.specular = m.specular;
     S.shininess = m.shininess;
-    // The highlight k_s (n.h)^s is skipped where it is below 1e-6 (invisible in
-    // any output format): n.h < (1e-6 / k_s)^(1/s).
-    S.nhMin = m.specular > 1e-6f && m.shininess > 0.0f ? std::pow(1e-6f / m.specular, 1.0f / m.shininess) : 2.0f;
+    // The highlight is skipped where it is invisible (shared with the GL twin).
+    S.nhMin = shared::highlightMinNh(m.specular, m.shininess);
 
     forEachRow(h, [&](int y) {
         Batch B;

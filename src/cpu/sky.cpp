@@ -5,9 +5,9 @@
 
 namespace meniscus::cpu {
 
-glm::vec3 skyColor(const glm::vec3& dirWorld) {
+glm::vec3 skyColor(const glm::vec3& dirWorld, const glm::vec3& sunDir) {
     glm::vec3 c;
-    skyColorRgb(dirWorld.x, dirWorld.y, dirWorld.z, &c.r, &c.g, &c.b);
+    skyColorRgb(dirWorld.x, dirWorld.y, dirWorld.z, sunDir, &c.r, &c.g, &c.b);
     return c;
 }
 

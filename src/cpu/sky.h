@@ -8,15 +8,16 @@
 
 namespace meniscus::cpu {
 
-// Linear RGB radiance of the sky along a world-space direction (need not be unit).
-glm::vec3 skyColor(const glm::vec3& dirWorld);
+// Linear RGB radiance of the sky along a world-space direction (need not be
+// unit) with its sun toward `sunDir` (unit: shared::sunDirection of the light).
+glm::vec3 skyColor(const glm::vec3& dirWorld, const glm::vec3& sunDir);
 
 // The same function on scalars, branch-free and inline so that the shading
 // stage's per-row loops can vectorise it; skyColor calls it, so both agree bit
 // for bit. The formula is written once, in src/shared/sky.h, for this backend
 // and the GL shaders alike.
-inline void skyColorRgb(float dx, float dy, float dz, float* r, float* g, float* b) {
-    const glm::vec3 c = shared::skyRadiance(dx, dy, dz);
+inline void skyColorRgb(float dx, float dy, float dz, const glm::vec3& sunDir, float* r, float* g, float* b) {
+    const glm::vec3 c = shared::skyRadiance(dx, dy, dz, sunDir);
     *r = c.x;
     *g = c.y;
     *b = c.z;

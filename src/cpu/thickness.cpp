@@ -18,7 +18,8 @@
 // which thins the silhouettes smoothly as intended. The kernel radius is the
 // whole number of pixels R = ceil(3 sigma_px) (capped), and the weights use
 // sigma = R/3 from a table per R: sigma is rounded up by at most 1/3 px, and no
-// exp is evaluated per pixel. Kernel radii are capped at min(maxKernelPx, 255).
+// exp is evaluated per pixel. Kernel radii are capped at min(maxKernelPx, 255)
+// (shared::thicknessBlurCapPx).
 //
 // Lower resolution (SPEC §3.4 allows it; params.resolutionDivisor): the chords
 // through the centres of d x d pixel blocks, blurred on that grid, upsampled
@@ -31,7 +32,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <numbers>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -40,6 +40,7 @@
 #include "cpu/filter_separable.h"  // KernelTable, the vector helpers, transpose
 #include "cpu/filter_util.h"
 #include "cpu/splat.h"
+#include "shared/thickness.h"
 
 namespace meniscus::cpu {
 
@@ -79,7 +80,7 @@ void blurLine(const float* in, const std::uint8_t* rad, float* out, int begin, i
 
 void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, float f, float radius,
                    const ThicknessParams& params) {
-    const int maxR = std::min(255, std::max(0, params.maxKernelPx));
+    const int maxR = shared::thicknessBlurCapPx(params.maxKernelPx);
     if (!(params.blurSigmaRadii > 0.0f) || maxR == 0) return;
     const int W = thickness.width, H = thickness.height;
     if (rawDepth.width != W || rawDepth.height != H || W <= 0 || H <= 0) return;
@@ -165,10 +166,6 @@ void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, float 
     });
 }
 
-int divisorOf(const ThicknessParams& params) {
-    return params.resolutionDivisor >= 4 ? 4 : params.resolutionDivisor >= 2 ? 2 : 1;
-}
-
 // Thickness on the grid of one pixel per d x d block (d > 1): the chords
 // through the block centres, blurred there (sigma projected with the nearest
 // fluid depth of the block and focal length f / d, so it is the same world
@@ -181,7 +178,7 @@ Image<float> lowResThickness(const Camera& camera, const SplatBins& bins, float 
     const int W = camera.width, H = camera.height;
     const int w = (W + d - 1) / d, h = (H + d - 1) / d;
     Image<float> low(w, h);
-    splatChordsLowRes(camera, bins, radius, sceneDepth, d, low, thicknessWeight(radius, params));
+    splatChordsLowRes(camera, bins, radius, sceneDepth, d, low, shared::thicknessWeight(radius, params));
     Image<float> out(W, H, 0.0f);
     if (rawDepth.width != W || rawDepth.height != H) return out;
     // The nearest fluid depth of each block (+inf when it has none): the min
@@ -241,20 +238,14 @@ Image<float> lowResThickness(const Camera& camera, const SplatBins& bins, float 
 
 }  // namespace
 
-float thicknessWeight(float radius, const ThicknessParams& params) {
-    const float s = params.spacingM > 0.0f ? params.spacingM : 2.0f * radius;
-    const float q = s / radius;  // the ratio, so w is the same at every scale
-    return q * q * q * (3.0f / (4.0f * std::numbers::pi_v<float>));
-}
-
 Image<float> computeThickness(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                               const ThicknessParams& params, const Image<float>* sceneDepth,
                               const Image<float>& rawDepth) {
     const SplatBins bins = binParticles(camera, positionsWorld, radius);
-    if (const int d = divisorOf(params); d > 1)
+    if (const int d = shared::thicknessDivisor(params.resolutionDivisor); d > 1)
         return lowResThickness(camera, bins, radius, params, sceneDepth, rawDepth, d);
     Image<float> thickness(camera.width, camera.height, 0.0f);
-    splatBins(camera, bins, radius, sceneDepth, nullptr, &thickness, thicknessWeight(radius, params));
+    splatBins(camera, bins, radius, sceneDepth, nullptr, &thickness, shared::thicknessWeight(radius, params));
     blurThickness(thickness, rawDepth, camera.focalPx(), radius, params);
     return thickness;
 }
@@ -263,12 +254,12 @@ DepthAndThickness splatDepthAndThickness(const Camera& camera, std::span<const g
                                          const ThicknessParams& params, const Image<float>* sceneDepth) {
     DepthAndThickness out{Image<float>(camera.width, camera.height), Image<float>(camera.width, camera.height)};
     const SplatBins bins = binParticles(camera, positionsWorld, radius);
-    if (const int d = divisorOf(params); d > 1) {
+    if (const int d = shared::thicknessDivisor(params.resolutionDivisor); d > 1) {
         splatBins(camera, bins, radius, sceneDepth, &out.depth, nullptr);
         out.thickness = lowResThickness(camera, bins, radius, params, sceneDepth, out.depth, d);
         return out;
     }
-    splatBins(camera, bins, radius, sceneDepth, &out.depth, &out.thickness, thicknessWeight(radius, params));
+    splatBins(camera, bins, radius, sceneDepth, &out.depth, &out.thickness, shared::thicknessWeight(radius, params));
     blurThickness(out.thickness, out.depth, camera.focalPx(), radius, params);
     return out;
 }

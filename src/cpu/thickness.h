@@ -13,8 +13,8 @@
 
 namespace meniscus::cpu {
 
-// T(x,y) = w * sum_i chord_i(x,y), w = s^3 / (4/3 pi r^3), in metres; 0 where no
-// sphere is hit. Chords are clipped to [near, sceneDepth(x,y)) when sceneDepth
+// T(x,y) = w * sum_i chord_i(x,y), w = s^3 / (4/3 pi r^3) (shared::thicknessWeight),
+// in metres; 0 where no sphere is hit. Chords are clipped to [near, sceneDepth(x,y)) when sceneDepth
 // is given. Blurred when params.blurSigmaRadii > 0 (sigma projected with the
 // raw fluid depth `rawDepth`, which must then be camera-sized; only pixels with
 // fluid there are blurred, the others keep their unblurred value). With
@@ -25,9 +25,6 @@ namespace meniscus::cpu {
 Image<float> computeThickness(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                               const ThicknessParams& params, const Image<float>* sceneDepth,
                               const Image<float>& rawDepth);
-
-// The calibration weight w = s^3 / (4/3 pi r^3) (s = params.spacingM, or 2 r when 0).
-float thicknessWeight(float radius, const ThicknessParams& params);
 
 // splatDepth and computeThickness in one pass over the particles (they share
 // the binning and the ray-sphere intersection); the thickness blur uses the

@@ -28,6 +28,7 @@
 #include "gl/splat.h"
 #include "gl/thickness_lowres.h"
 #include "gl/uniforms.h"
+#include "shared/thickness.h"
 
 namespace meniscus::gl {
 
@@ -120,8 +121,8 @@ public:
     void splat(Slot sceneDepth, Slot depth, Slot thickness) override {
         forget(depth);
         forget(thickness);
-        // The thickness grid: 1, 2 or 4 pixels per block side (cpu divisorOf).
-        const int n = fp_.thicknessResolutionDivisor, d = n >= 4 ? 4 : n >= 2 ? 2 : 1;
+        // The thickness grid: 1, 2 or 4 pixels per block side.
+        const int d = shared::thicknessDivisor(fp_.thicknessResolutionDivisor);
         if (d == 1) {
             st_.splat.run(fp_, &img(sceneDepth), img(depth), &img(thickness));
             st_.separable.blurThickness(fp_, img(depth), img(thickness));
@@ -271,7 +272,7 @@ private:
     GpuImage images_[kSlotCount];
     bool sceneValid_ = false;
     Camera sceneCamera_;
-    cpu::Studio sceneStudio_;
+    shared::Studio sceneStudio_;
     std::pair<int, int> sceneSlots_{-1, -1};
     std::vector<Timer> timers_;
     std::size_t stage_ = 0;

@@ -3,7 +3,7 @@
 // one indirect dispatch per pass over the row segments that hold fluid
 // (gl/fluid_segments.h; shaders/filter_narrow_range_2d.comp or _1d.comp; the
 // last pass writes the output, which starts as a copy of the input).
-// Tap tables, built on the host exactly as the CPU's (weights in double):
+// Tap tables, built on the host from src/shared/narrow_range.h as the CPU's:
 //  - 2-D: ONE list for the largest radius, sorted by (d², dy, dx); since d² is
 //    the first key, the list for any radius R is its prefix (the offsets with
 //    d² <= R²), so every pixel walks the same list, ring by ring (runs of
@@ -16,22 +16,13 @@
 #include "gl/filter_narrow_range.h"
 
 #include <algorithm>
-#include <cmath>
 #include <utility>
 #include <vector>
 
 #include "gl/shaders.h"
+#include "shared/narrow_range.h"
 
 namespace meniscus::gl {
-
-namespace {
-// The CPU's gaussian(d2, R): sigma = R/3, evaluated in double.
-float gaussian(int d2, int R) {
-    const double sigma = double(R) / 3.0;
-    return float(std::exp(-double(d2) / (2.0 * sigma * sigma)));
-}
-
-}  // namespace
 
 Result<NarrowRange> NarrowRange::create() {
     NarrowRange f;
@@ -52,22 +43,7 @@ Result<NarrowRange> NarrowRange::create() {
 
 void NarrowRange::buildTables(int cap, int paddedWidth) {
     if (cap == tablesCap_ && paddedWidth == tablesWidth_) return;
-    struct Off {
-        int dx, dy, d2;
-    };
-    std::vector<Off> offs;
-    // Half plane: dy > 0, or dy == 0 and dx > 0; the mirror covers the rest.
-    for (int dy = 0; dy <= cap; ++dy)
-        for (int dx = -cap; dx <= cap; ++dx) {
-            if (dy == 0 && dx <= 0) continue;
-            const int d2 = dx * dx + dy * dy;
-            if (d2 <= cap * cap) offs.push_back({dx, dy, d2});
-        }
-    std::sort(offs.begin(), offs.end(), [](const Off& a, const Off& b) {
-        if (a.d2 != b.d2) return a.d2 < b.d2;
-        if (a.dy != b.dy) return a.dy < b.dy;
-        return a.dx < b.dx;
-    });
+    const std::vector<shared::DiscTap> offs = shared::narrowRangeHalfDisc(cap);
     // Taps (linear offsets in the padded buffer) and rings: one per distinct
     // d², (index one past its last tap, d²).
     std::vector<GLint> taps, rings;
@@ -87,7 +63,7 @@ void NarrowRange::buildTables(int cap, int paddedWidth) {
         while (2 * std::size_t(n) < rings.size() && rings[2 * std::size_t(n) + 1] <= R * R) ++n;
         meta[R] = n;
         meta[cap + 1 + R] = GLint(weights.size());
-        for (int d2 = 0; d2 <= R * R; ++d2) weights.push_back(gaussian(d2, R));
+        for (int d2 = 0; d2 <= R * R; ++d2) weights.push_back(shared::narrowRangeWeight(d2, R));
     }
     if (taps.empty()) taps.push_back(0);  // buffer textures need storage
     if (rings.empty()) rings.assign(2, 0);

@@ -4,9 +4,9 @@
 // §4.1.2.1; Pham & van Vliet, ICME 2005) and binomial (Cords & Staadt,
 // "Instant Liquids", JGT 2008, §2.2) depth smoothing, and the Gaussian
 // thickness blur (thesis §4.1.3), as compute passes (shaders/filter_separable*).
-// Every weight comes from the CPU's own cpu::KernelTable, uploaded as is, and
-// the kernel sizes are computed here from the frame parameters with the CPU's
-// expressions, so GPU and CPU differ only by the rounding of one division.
+// Every weight comes from the shared::KernelTable the CPU uses, uploaded as
+// is, and the kernel sizes are computed here from the frame parameters with
+// the CPU's expressions, so GPU and CPU differ only by the rounding of one division.
 #include "gl/filter_separable.h"
 
 #include <algorithm>
@@ -16,9 +16,10 @@
 
 #include <glm/glm.hpp>
 
-#include "cpu/filter_separable.h"  // KernelTable: the weights written once
 #include "gl/dispatch.h"
 #include "gl/shaders.h"
+#include "shared/kernel_table.h"  // the weights written once for both backends
+#include "shared/thickness.h"
 
 namespace meniscus::gl {
 
@@ -71,9 +72,9 @@ Result<SeparableFilters> SeparableFilters::create() {
 int SeparableFilters::ensureTable(CachedTable& t, TableKind kind, int maxRadius, bool withDiffs) {
     const int groups = groupsPerRadius(maxRadius);
     if (t.kind == kind && t.maxRadius == maxRadius) return groups;
-    const cpu::KernelTable table =
-        kind == TableKind::Binomial ? cpu::KernelTable::binomial(maxRadius) : cpu::KernelTable::gaussian(maxRadius);
-    // Per radius n the taps in the CPU's groups of kLanes: the depth filters
+    const shared::KernelTable table = kind == TableKind::Binomial ? shared::KernelTable::binomial(maxRadius)
+                                                                  : shared::KernelTable::gaussian(maxRadius);
+    // Per radius n the taps in groups of shared::kTapGroup: the depth filters
     // use taps -m .. m (m = n + 1) with the blend row(n) + t diff(n), the
     // thickness blur taps -n .. n of row(n). Texels (4 floats) of one group:
     // row values, then (withDiffs) the differences. Past the radius the CPU
@@ -188,7 +189,7 @@ void SeparableFilters::blurThickness(const FrameParams& frame, const GpuImage& r
 
 void SeparableFilters::blurThickness(const FrameParams& frame, const GpuImage& rawDepth, GpuImage& thickness,
                                      float focalPx) {
-    const int maxR = std::min(255, std::max(0, frame.thicknessMaxKernelPx));
+    const int maxR = shared::thicknessBlurCapPx(frame.thicknessMaxKernelPx);
     if (!(frame.thicknessBlurSigmaRadii > 0.0f) || maxR == 0) return;
     const int w = thickness.width, h = thickness.height;
     if (rawDepth.width != w || rawDepth.height != h || w <= 0 || h <= 0) return;

@@ -17,7 +17,7 @@ namespace meniscus::gl {
 
 using shared::FrameParams;
 
-// Owns the programs, the weight tables (the CPU's KernelTable values, uploaded
+// Owns the programs, the weight tables (shared::KernelTable's values, uploaded
 // when the kernel cap changes) and a scratch image; reuse one across frames.
 // The three filters this class runs (cpu::filterGaussian, filterBilateral,
 // filterBinomial).

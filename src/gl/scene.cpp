@@ -2,12 +2,10 @@
 // two back walls, after the compositing order of van der Laan et al. 2009,
 // US 8,947,430, and Instant Liquids, Cords & Staadt 2008, §3) ray-cast per
 // pixel by shaders/scene.comp, operation for operation as the CPU's castRow.
-// What the CPU computes once per image (reciprocals, per-plane lighting) is
-// computed here the same way and passed as uniforms, so both see the same bits.
+// What the CPU computes once per image (reciprocals, per-plane lighting, the
+// sun) comes from the same shared::studioShading and is passed as uniforms, so
+// both see the same bits.
 #include "gl/scene.h"
-
-#include <algorithm>
-#include <limits>
 
 #include "gl/shaders.h"
 
@@ -27,7 +25,7 @@ Result<SceneCaster> SceneCaster::create() {
     return s;
 }
 
-void SceneCaster::run(const FrameParams& frame, const cpu::Studio& studio, GpuImage& color, GpuImage& depth) {
+void SceneCaster::run(const FrameParams& frame, const shared::Studio& studio, GpuImage& color, GpuImage& depth) {
     const int W = frame.size.x, H = frame.size.y;
     color.resize(W, H, 4);
     depth.resize(W, H, 1);
@@ -38,24 +36,15 @@ void SceneCaster::run(const FrameParams& frame, const cpu::Studio& studio, GpuIm
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;
     }
-    // As castScene: corner darkening reaches about one square; the floor fades
-    // into the sky between 24 and 80 squares from the corner; flat lighting per
-    // plane from the default key light plus ambient.
-    const float invChecker = 1.0f / studio.checkerM;
-    const float fadeStart = 24.0f * studio.checkerM;
-    const float invFade = 1.0f / (56.0f * studio.checkerM);
-    const glm::vec3 light = ShadingParams{}.lightDirWorld;
-    const float ambient = 0.45f, key = 0.55f;
-    const float litFloor = ambient + key * std::max(0.0f, light.y);
-    const float litWallX = ambient + key * std::max(0.0f, studio.wallXNormal * light.x);
-    const float litWallZ = ambient + key * std::max(0.0f, studio.wallZNormal * light.z);
-
+    // As castScene: the per-image constants from the one shared function.
+    const shared::StudioShading sh = shared::studioShading(studio);
     glUseProgram(program_.id());
     glUniform4f(0, studio.floorY, studio.wallX, studio.wallZ, studio.wallTopY);
     glUniform2f(1, studio.wallXNormal, studio.wallZNormal);
-    glUniform4f(2, invChecker, studio.checkerM, fadeStart, invFade);
-    glUniform3f(3, litFloor, litWallX, litWallZ);
+    glUniform4f(2, sh.invChecker, sh.aoScale, sh.fadeStart, sh.invFade);
+    glUniform3f(3, sh.litFloor, sh.litWallX, sh.litWallZ);
     glUniform1i(4, kRows);
+    glUniform3f(5, sh.sunDir.x, sh.sunDir.y, sh.sunDir.z);
     color.bind(1);
     depth.bind(2);
     glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint((H + kRows - 1) / kRows), 1);

@@ -2,11 +2,11 @@
 // Needs a current GL 4.3 context (gl::Context) on the calling thread.
 #pragma once
 
-#include "cpu/scene.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "gl/uniforms.h"
 #include "meniscus/result.h"
+#include "shared/studio.h"
 
 namespace meniscus::gl {
 
@@ -19,9 +19,10 @@ public:
     // GL twin of cpu::castScene: color (W x H x 4, linear RGBA) and depth
     // (W x H x 1, +inf = sky) for the camera in the bound frame block (binding
     // 0, uploaded by the caller from `frame`); the studio geometry goes in as
-    // plain uniforms. A disabled studio gives (0,0,0,0) and +inf everywhere.
+    // plain uniforms, lit (and its sky's sun placed) from studio.lightDirWorld.
+    // A disabled studio gives (0,0,0,0) and +inf everywhere.
     // Asynchronous: nothing waits for the GPU here.
-    void run(const FrameParams& frame, const cpu::Studio& studio, GpuImage& color, GpuImage& depth);
+    void run(const FrameParams& frame, const shared::Studio& studio, GpuImage& color, GpuImage& depth);
 
 private:
     Program program_;

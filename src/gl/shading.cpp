@@ -5,10 +5,11 @@
 // shaders/shade.comp, operation for operation as src/cpu/shading.cpp.
 #include "gl/shading.h"
 
-#include <cmath>
 #include <utility>
 
 #include "gl/shaders.h"
+#include "shared/shading.h"
+#include "shared/sky.h"
 
 namespace meniscus::gl {
 
@@ -41,11 +42,10 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
     const bool hasScene = sized(sceneColor, W, H, 4) && sized(sceneDepth, W, H, 1);
     const bool hasNormals = sized(normals, W, H, 3);
     const bool hasThickness = sized(thickness, W, H, 1);
-    // As the CPU: the highlight k_s (n.h)^s is skipped where it is below 1e-6
-    // (invisible in any output format), n.h < (1e-6 / k_s)^(1/s); std::pow here
-    // so both backends use the same threshold.
-    const float ks = frame.specular, sh = frame.shininess;
-    const float nhMin = ks > 1e-6f && sh > 0.0f ? std::pow(1e-6f / ks, 1.0f / sh) : 2.0f;
+    // As the CPU, from the same host functions: the n.h below which the
+    // highlight is invisible, and the sky's sun.
+    const float nhMin = shared::highlightMinNh(frame.specular, frame.shininess);
+    const glm::vec3 sun = shared::sunDirection(glm::vec3(frame.lightDirWorld));
 
     // Every pixel starts as the scene colour (transparent black without a
     // scene), by the driver (a memcpy / memset on llvmpipe); the shader then
@@ -62,6 +62,7 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
     glUseProgram(program_.id());
     glUniform3i(1, hasScene ? 1 : 0, hasNormals ? 1 : 0, hasThickness ? 1 : 0);
     glUniform1f(2, nhMin);
+    glUniform3f(3, sun.x, sun.y, sun.z);
     // Texture unit i reads input i; an absent one reads a tiny dummy (never used).
     const std::pair<const GpuImage*, GLenum> inputs[kInputs] = {
         {hasScene ? &sceneColor : nullptr, GL_RGBA32F}, {hasScene ? &sceneDepth : nullptr, GL_R32F},

@@ -5,7 +5,7 @@
 #include <limits>
 #include <type_traits>
 
-#include "cpu/thickness.h"  // thicknessWeight: the calibration written once
+#include "shared/thickness.h"  // thicknessWeight: the calibration written once
 
 namespace meniscus::gl {
 
@@ -61,7 +61,7 @@ FrameParams packFrameParams(const Camera& camera, float radius, const FilterPara
         filter);
     static_assert(std::variant_size_v<FilterParams> == 6, "filterKind numbering follows the variant order");
 
-    p.thicknessWeight = cpu::thicknessWeight(radius, thickness);
+    p.thicknessWeight = shared::thicknessWeight(radius, thickness);
     p.thicknessBlurSigmaRadii = thickness.blurSigmaRadii;
     p.thicknessMaxKernelPx = thickness.maxKernelPx;
     p.thicknessResolutionDivisor = thickness.resolutionDivisor;

@@ -12,9 +12,9 @@
 #include <string>
 
 #include "core/backend.h"
-#include "cpu/scene.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
+#include "shared/studio.h"
 
 namespace meniscus {
 
@@ -207,7 +207,7 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
     f.shading = s.shading;
     f.particles = particles;
     const Bounds box = s.scene.studioBounds.empty() ? computeBounds(positions) : s.scene.studioBounds;
-    f.studio = cpu::makeStudio(box, s.radiusM, s.camera, s.scene);
+    f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
     Backend& b = *backend_;
     if (auto st = b.beginFrame(positions, f); !st) return st.error();
 

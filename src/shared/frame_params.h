@@ -53,7 +53,7 @@ MENISCUS_BLOCK_BEGIN(FrameParams)
     float nrMu;
     int nrSeparable;         // 1: the 1-D x-then-y approximation
     // ---- thickness (SPEC §3.4)
-    float thicknessWeight;   // w = s^3 / (4/3 pi r^3), cpu::thicknessWeight
+    float thicknessWeight;   // w = s^3 / (4/3 pi r^3), shared::thicknessWeight
     float thicknessBlurSigmaRadii;
     int thicknessMaxKernelPx;
     int thicknessResolutionDivisor;

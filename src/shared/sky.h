@@ -2,9 +2,10 @@
 // src/shared/ is compiled by C++ and included by the GL shaders): the
 // background where no studio geometry is hit and the environment map the fluid
 // reflects. cpu::skyColorRgb (src/cpu/sky.h) and the GL scene and shading
-// shaders all call skyRadiance, so the two backends evaluate the same
-// operations in the same order; in GLSL every intermediate is `precise` (no
-// FMA contraction or reassociation), matching the CPU's plain IEEE arithmetic.
+// shaders all call skyRadiance (its sun is the user's light direction), so the
+// two backends evaluate the same operations in the same order; in GLSL every
+// intermediate is `precise` (no FMA contraction or reassociation), matching the
+// CPU's plain IEEE arithmetic.
 // Branch-free (both candidates computed, one selected) so that the CPU's
 // per-row loops vectorise it.
 #ifndef MENISCUS_SHARED_SKY_H
@@ -13,6 +14,7 @@
 #ifdef __cplusplus
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <glm/glm.hpp>
 namespace meniscus::shared {
 using vec3 = glm::vec3;
@@ -28,9 +30,10 @@ using std::sqrt;
 
 // Linear RGB radiance of the sky along a world-space direction (dx, dy, dz),
 // which need not be unit. Ground below the horizon, a bright horizon band
-// fading to a deep zenith blue, and a soft sun glow so reflections carry a
-// highlight.
-MENISCUS_SKY_INLINE vec3 skyRadiance(float dx, float dy, float dz) {
+// fading to a deep zenith blue, and a soft sun glow around `sun` (unit, world
+// space, toward the sun: sunDirection of the key light) so reflections carry
+// a highlight.
+MENISCUS_SKY_INLINE vec3 skyRadiance(float dx, float dy, float dz, vec3 sun) {
     MENISCUS_SKY_EXACT float len = sqrt(dx * dx + dy * dy + dz * dz);
     bool ok = len > 0.0f;
     MENISCUS_SKY_EXACT float inv = 1.0f / len;  // one division, not three (shading calls this twice per pixel)
@@ -45,13 +48,8 @@ MENISCUS_SKY_INLINE vec3 skyRadiance(float dx, float dy, float dz) {
     MENISCUS_SKY_EXACT float cr = 0.78f * u + (up ? 0.16f : 0.30f) * t;
     MENISCUS_SKY_EXACT float cg = 0.85f * u + (up ? 0.34f : 0.28f) * t;
     MENISCUS_SKY_EXACT float cb = 0.93f * u + (up ? 0.70f : 0.26f) * t;
-    // Sun glow toward the default key light (the same direction as ShadingParams),
-    // s^64 by squarings rather than pow.
-    MENISCUS_SKY_EXACT float sx = -0.4f;
-    MENISCUS_SKY_EXACT float sy = 1.0f;
-    MENISCUS_SKY_EXACT float sz = 0.55f;
-    MENISCUS_SKY_EXACT float sInv = 1.0f / sqrt(sx * sx + sy * sy + sz * sz);
-    MENISCUS_SKY_EXACT float s = max(0.0f, x * (sx * sInv) + y * (sy * sInv) + z * (sz * sInv));
+    // Sun glow toward the key light, s^64 by squarings rather than pow.
+    MENISCUS_SKY_EXACT float s = max(0.0f, x * sun.x + y * sun.y + z * sun.z);
     MENISCUS_SKY_EXACT float s2 = s * s;
     MENISCUS_SKY_EXACT float s4 = s2 * s2;
     MENISCUS_SKY_EXACT float s8 = s4 * s4;
@@ -62,6 +60,17 @@ MENISCUS_SKY_INLINE vec3 skyRadiance(float dx, float dy, float dz) {
 }
 
 #ifdef __cplusplus
+// The sky's sun for a light direction (ShadingParams::lightDirWorld, toward
+// the light, need not be unit): that direction normalised, the zenith when it
+// is zero or not finite. Computed once per image on the host (the GL shaders
+// get it as a uniform), so both backends see the same bits.
+inline vec3 sunDirection(const vec3& lightDirWorld) {
+    const float len = sqrt(lightDirWorld.x * lightDirWorld.x + lightDirWorld.y * lightDirWorld.y +
+                           lightDirWorld.z * lightDirWorld.z);
+    if (!(len > 0.0f) || !(len < std::numeric_limits<float>::infinity())) return vec3(0.0f, 1.0f, 0.0f);
+    return lightDirWorld * (1.0f / len);
+}
+
 }  // namespace meniscus::shared
 #endif
 #undef MENISCUS_SKY_INLINE

@@ -10,10 +10,13 @@
 // Every operation follows castRow in the same order, `precise` (no FMA
 // contraction or reassociation), so the two agree to the rounding of division
 // and sqrt. Camera from the frame block P; the studio from plain uniforms
-// (lighting per plane computed on the host, as the CPU does once per image).
+// (lighting per plane and the sun computed on the host by shared::studioShading,
+// as the CPU does once per image); colours and per-pixel formulas from
+// src/shared/studio_shade.h.
 // Work: one invocation per column and uRows rows (llvmpipe pays per work group).
 #include "frame_params.h"
 #include "sky.h"
+#include "studio_shade.h"
 
 layout(local_size_x = 64) in;
 
@@ -25,25 +28,9 @@ layout(location = 1) uniform vec2 uNormals;  // wallXNormal, wallZNormal (+1 / -
 layout(location = 2) uniform vec4 uChecker;  // 1/checkerM, corner darkening scale, fade start, 1/fade length
 layout(location = 3) uniform vec3 uLit;      // flat lighting of floor, wall x, wall z
 layout(location = 4) uniform int uRows;      // rows per invocation
+layout(location = 5) uniform vec3 uSun;      // the sky's sun, unit world (studio.lightDirWorld)
 
 #define kInf uintBitsToFloat(0x7f800000u)
-// Checker colours, linear RGB: grey floor, cooler walls.
-const vec3 kFloorLight = vec3(0.72, 0.72, 0.72), kFloorDark = vec3(0.40, 0.40, 0.40);
-const vec3 kWallLight = vec3(0.62, 0.64, 0.68), kWallDark = vec3(0.44, 0.46, 0.50);
-
-// floor(v) as an int; v is clamped first so far-away hits cannot overflow.
-int floorInt(float v) {
-    v = clamp(v, -1.0e6, 1.0e6);
-    const int i = int(v);
-    return i - (float(i) > v ? 1 : 0);
-}
-
-// Ambient-occlusion-like darkening toward a corner edge at distance d (0 at the edge).
-float cornerFall(float d, float scale) {
-    precise float u = max(0.0, 1.0 - d / scale);
-    precise float uu = u * u;
-    return uu;
-}
 
 void main() {
     const int W = P.size.x, H = P.size.y;
@@ -97,17 +84,18 @@ void main() {
         const float a = plane == 1 ? dz : dx;
         const float b = plane == 0 ? dz : dy;
         precise float ca = a * invChecker, cb = b * invChecker;
-        const bool odd = ((floorInt(ca) + floorInt(cb)) & 1) != 0;
+        const bool odd = ((studioFloorInt(ca) + studioFloorInt(cb)) & 1) != 0;
         const bool onFloor = plane == 0;
-        const vec3 base = odd ? (onFloor ? kFloorDark : kWallDark) : (onFloor ? kFloorLight : kWallLight);
+        const vec3 base = odd ? (onFloor ? kStudioFloorDark : kStudioWallDark)
+                              : (onFloor ? kStudioFloorLight : kStudioWallLight);
         const float lit = onFloor ? uLit.x : plane == 1 ? uLit.y : uLit.z;
-        precise float ao = 1.0 - 0.25 * (cornerFall(a, aoScale) + cornerFall(b, aoScale));
+        precise float ao = 1.0 - 0.25 * (studioCornerFall(a, aoScale) + studioCornerFall(b, aoScale));
         precise float shade = lit * ao;
         precise vec3 c = base * shade;
         // The weight of the sky: -1 where no plane is hit; the far floor fades
         // into the sky (hides the checker's aliasing there).
         precise float fade = plane >= 0 ? clamp((max(a, b) - fadeStart) * invFade, 0.0, 1.0) : -1.0;
-        const vec3 sky = skyRadiance(Dx, Dy, Dz);
+        const vec3 sky = skyRadiance(Dx, Dy, Dz, uSun);
         precise vec3 blend = c * (1.0 - fade) + sky * fade;  // glm::mix's formula
         const vec3 rgb = fade == 0.0 ? c : fade < 0.0 ? sky : blend;
         color[k] = vec4(rgb, 1.0);

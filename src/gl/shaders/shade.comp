@@ -20,6 +20,7 @@
 // listed from the fluid depth); every other pixel already holds the scene
 // colour (copied by the driver before the dispatch).
 #include "frame_params.h"
+#include "shading.h"
 #include "sky.h"
 
 layout(local_size_x = 64) in;
@@ -37,13 +38,10 @@ layout(binding = 5) uniform isamplerBuffer uSegments;  // the fluid segments (fl
 layout(rgba32f, binding = 0) writeonly uniform imageBuffer color;  // W*H linear RGBA
 
 layout(location = 1) uniform ivec3 uHas;         // scene, normals, thickness bound (image-sized)
-layout(location = 2) uniform float uNhMin;       // highlight skipped below this n·h (computed on the host as the CPU)
+layout(location = 2) uniform float uNhMin;       // highlight skipped below this n·h (shared::highlightMinNh)
+layout(location = 3) uniform vec3 uSun;          // the sky's sun, unit world (shared::sunDirection of the light)
 
 #define kInf uintBitsToFloat(0x7f800000u)
-
-// Share of the diffuse lighting of opaque materials that does not depend on the
-// light direction (sky fill), so faces turned away from the key light are not black.
-const float kAmbient = 0.35;
 
 int W, H;
 
@@ -109,7 +107,7 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k) {
     if (s.a < 1.0) {
         precise vec3 dir = vec3(rx * X.x + ryc * Y.x + -1.0 * Z.x, rx * X.y + ryc * Y.y + -1.0 * Z.y,
                                 rx * X.z + ryc * Y.z + -1.0 * Z.z);
-        const vec3 sky = skyRadiance(dir.x, dir.y, dir.z);
+        const vec3 sky = skyRadiance(dir.x, dir.y, dir.z, uSun);
         precise float ta = 1.0 - s.a;
         s.rgb = s.rgb + ta * sky;
     }
@@ -122,7 +120,7 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k) {
     precise float m2 = m * m;
     precise float F = f0 + (1.0 - f0) * (m2 * m2 * m);  // schlickFresnel
     // Opaque materials: toward a Lambert-lit fluid colour (op = 0: a unchanged).
-    precise float lit = kAmbient + (1.0 - kAmbient) * max(nl, 0.0);
+    precise float lit = kOpaqueAmbient + (1.0 - kOpaqueAmbient) * max(nl, 0.0);
     if (op > 0.0) {
         a = a * (1.0 - op) + fc * lit * op;
         F = F * (1.0 - op);
@@ -132,7 +130,7 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k) {
     precise vec3 e = tn * n - v;
     precise vec3 ew = vec3(e.x * X.x + e.y * Y.x + e.z * Z.x, e.x * X.y + e.y * Y.y + e.z * Z.y,
                            e.x * X.z + e.y * Y.z + e.z * Z.z);
-    const vec3 b = skyRadiance(ew.x, ew.y, ew.z);
+    const vec3 b = skyRadiance(ew.x, ew.y, ew.z, uSun);
     precise vec3 c = a * (1.0 - F) + b * F;
     // 5. Blinn-Phong highlight (eq. 20) on the lit side where visible:
     // (n.h)^s = exp(s ln(n.h)) for n.h in (nhMin, 1].

@@ -1,0 +1,51 @@
+// The default studio (SPEC §3.1) both backends ray-cast: its geometry, built
+// once per frame from the particles' box, the camera and the light, and the
+// lighting constants derived from it once per image. C++ only (the GL scene
+// stage uploads what studioShading computes); the per-pixel formulas both
+// backends evaluate are in studio_shade.h.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "meniscus/camera.h"
+#include "meniscus/params.h"
+#include "meniscus/types.h"
+
+namespace meniscus::shared {
+
+// The studio's geometry and key light. All lengths in metres, world space.
+struct Studio {
+    bool enabled = true;       // false: sky only, transparent background
+    float floorY = 0.0f;       // floor plane y = floorY, facing +y
+    float wallX = 0.0f;        // back wall plane x = wallX, facing the camera side
+    float wallXNormal = 1.0f;  // +1 or -1: the side of the wall the camera is on
+    float wallZ = 0.0f;        // back wall plane z = wallZ
+    float wallZNormal = 1.0f;
+    float wallTopY = 1.0f;     // the walls end at this height; the sky shows above them
+    float checkerM = 0.1f;     // checker square size
+    // Unit, toward the key light that lights the planes and the sky's sun
+    // (sunDirection of ShadingParams::lightDirWorld).
+    glm::vec3 lightDirWorld{0.0f, 1.0f, 0.0f};
+
+    bool operator==(const Studio&) const = default;
+};
+
+// The studio around `box` (params.studioBounds instead when not empty): floor
+// just under the lowest sphere, walls ~1 radius outside the spheres on the far
+// side of the box from the eye, checker ~1/8 of the horizontal extent rounded
+// to 1, 2 or 5 x 10^k metres, lit from `lightDirWorld` (toward the light, need
+// not be unit). params.background == false: enabled = false.
+Studio makeStudio(const Bounds& box, float radius, const Camera& camera, const SceneParams& params,
+                  const glm::vec3& lightDirWorld);
+
+// What the studio's shading needs besides the ray, constant per image.
+struct StudioShading {
+    float invChecker;              // 1 / checkerM
+    float aoScale;                 // corner darkening reach (one square), metres
+    float fadeStart, invFade;      // far fade into the sky: start (metres) and 1 / length
+    float litFloor, litWallX, litWallZ;  // flat lighting per plane (kStudioAmbient + kStudioKey * n.l)
+    glm::vec3 sunDir;              // the sky's sun (unit, world)
+};
+StudioShading studioShading(const Studio& studio);
+
+}  // namespace meniscus::shared
