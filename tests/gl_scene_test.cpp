@@ -4,7 +4,6 @@
 // background switched off, the light direction (planes' lighting, the sun). Skips only when no headless GL 4.3 context can be
 // created at all.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <vector>
