@@ -215,3 +215,15 @@ TEST(Camera, OrbitTurnsAroundTheTarget) {
     EXPECT_EQ(out.width, c.width);
     EXPECT_EQ(out.fovYDegrees, c.fovYDegrees);
 }
+
+// The camera's defaults are params.h's, and validateCamera's size cap is the
+// CLI's (defaults::kMaxImageSizePx).
+TEST(Camera, DefaultsAndSizeCapComeFromParams) {
+    const Camera c;
+    EXPECT_EQ(c.fovYDegrees, defaults::kFovYDegrees);
+    Camera big = c;
+    big.width = defaults::kMaxImageSizePx;
+    EXPECT_TRUE(validateCamera(big).ok());
+    big.width = defaults::kMaxImageSizePx + 1;
+    EXPECT_FALSE(validateCamera(big).ok());
+}

@@ -10,6 +10,7 @@
 #include <tbb/info.h>
 
 #include "cpu/filters.h"
+#include "shared/narrow_range.h"
 #include "smoothing_test_util.h"
 
 namespace meniscus {
@@ -183,3 +184,32 @@ INSTANTIATE_TEST_SUITE_P(Filter, NarrowRange, ::testing::Values(false, true),
 
 }  // namespace
 }  // namespace meniscus
+
+// The tap order both backends walk (src/shared/narrow_range.h): every offset
+// of the disc but the centre exactly once, with or as its mirror; sorted by
+// (d2, dy, dx), so a smaller radius's list is a prefix. Weights: the Gaussian
+// of sigma = R / 3 (1e-6 relative).
+TEST(NarrowRangeTaps, HalfDiscIsCompleteAndCentreOutward) {
+    for (int R : {1, 2, 5, 12}) {
+        const std::vector<meniscus::shared::DiscTap> taps = meniscus::shared::narrowRangeHalfDisc(R);
+        int disc = 0;
+        for (int dy = -R; dy <= R; ++dy)
+            for (int dx = -R; dx <= R; ++dx) disc += dx * dx + dy * dy <= R * R;
+        ASSERT_EQ(int(taps.size()), (disc - 1) / 2) << R;
+        for (std::size_t i = 0; i < taps.size(); ++i) {
+            const meniscus::shared::DiscTap& t = taps[i];
+            EXPECT_TRUE(t.dy > 0 || (t.dy == 0 && t.dx > 0)) << R;  // one of each mirror pair
+            EXPECT_EQ(t.d2, t.dx * t.dx + t.dy * t.dy);
+            if (i > 0) {
+                const meniscus::shared::DiscTap& p = taps[i - 1];
+                EXPECT_TRUE(p.d2 < t.d2 || (p.d2 == t.d2 && (p.dy < t.dy || (p.dy == t.dy && p.dx < t.dx)))) << R;
+            }
+        }
+        const std::vector<meniscus::shared::DiscTap> smaller = meniscus::shared::narrowRangeHalfDisc(R - 1);
+        for (std::size_t i = 0; i < smaller.size(); ++i) EXPECT_EQ(smaller[i].d2, taps[i].d2) << R;
+        for (int d2 : {0, 1, R * R}) {
+            const double sigma = R / 3.0, want = std::exp(-d2 / (2.0 * sigma * sigma));
+            EXPECT_NEAR(meniscus::shared::narrowRangeWeight(d2, R), want, 1e-6 * want);
+        }
+    }
+}

@@ -294,3 +294,12 @@ TEST(Thickness, LowResolutionSceneClipsTheChord) {
     const Image<float> none = cpu::computeThickness(cam, std::span(&p, 1), r, params, &wall, depth);
     for (float t : none.pixels) ASSERT_EQ(t, 0.0f);
 }
+
+// The grid divisor and blur cap both backends derive (src/shared/thickness.h).
+TEST(Thickness, DivisorAndBlurCap) {
+    const std::pair<int, int> divisors[] = {{-3, 1}, {0, 1}, {1, 1}, {2, 2}, {3, 2}, {4, 4}, {9, 4}};
+    for (const auto& [asked, got] : divisors) EXPECT_EQ(shared::thicknessDivisor(asked), got) << asked;
+    EXPECT_EQ(shared::thicknessBlurCapPx(-5), 0);
+    EXPECT_EQ(shared::thicknessBlurCapPx(32), 32);
+    EXPECT_EQ(shared::thicknessBlurCapPx(1000), shared::kThicknessBlurMaxPx);
+}

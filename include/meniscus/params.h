@@ -18,7 +18,7 @@ namespace defaults {
 
 inline constexpr int kWidth = 1280;           // pixels
 inline constexpr int kHeight = 720;           // pixels
-inline constexpr int kMaxImageSizePx = 16384;  // the largest width or height the CLI accepts
+inline constexpr int kMaxImageSizePx = 16384;  // the largest width or height (CLI and validateCamera)
 inline constexpr float kFovYDegrees = 40.0f;  // vertical field of view (Camera's default, the auto camera's)
 inline constexpr float kNearM = 0.01f;        // metres
 inline constexpr float kFarM = 1000.0f;       // metres

@@ -2,6 +2,7 @@
 #include "meniscus/camera.h"
 
 #include <algorithm>
+#include <string>
 #include <vector>
 #include <cmath>
 
@@ -52,8 +53,9 @@ Status validateCamera(const Camera& c) {
     if (!(c.fovYDegrees > 0.0f && c.fovYDegrees < 180.0f))
         return makeError("", "camera: field of view must be between 0 and 180 degrees");
     if (!(c.nearM > 0.0f && c.farM > c.nearM)) return makeError("", "camera: need 0 < near < far");
-    if (c.width <= 0 || c.height <= 0 || c.width > 16384 || c.height > 16384)
-        return makeError("", "camera: image size must be between 1 and 16384 pixels");
+    if (c.width <= 0 || c.height <= 0 || c.width > defaults::kMaxImageSizePx || c.height > defaults::kMaxImageSizePx)
+        return makeError("", "camera: image size must be between 1 and " + std::to_string(defaults::kMaxImageSizePx) +
+                                 " pixels");
     return okStatus();
 }
 

@@ -15,18 +15,16 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "shared/kernel_radius.h"
+
 namespace meniscus::cpu {
 
 // "No fluid" is +inf in every depth buffer.
 inline bool isFluid(float z) { return z < INFINITY; }
 
-// Kernel radius in whole pixels for a world-space length projected at eye
-// depth z with focal length f (pixels): ceil(worldM * f / z), in [0, maxPx].
-inline int projectedRadiusPx(float worldM, float focalPx, float z, int maxPx) {
-    const float px = worldM * focalPx / z;
-    if (!(px > 0.0f)) return 0;
-    return std::min(maxPx, int(std::ceil(px)));
-}
+// Kernel radius in whole pixels of a world length at eye depth z, shared with
+// the GL shaders (src/shared/kernel_radius.h).
+using shared::projectedRadiusPx;
 
 // Runs fn(y) for every row y in [0, height) in parallel. Each row is written by
 // exactly one task, so results do not depend on the thread count.

@@ -16,6 +16,7 @@
 // Included by filter_narrow_range_2d.comp and _1d.comp, which set kTwoD: two
 // programs, as llvmpipe would run the unused kernel's code masked as well.
 #include "frame_params.h"
+#include "kernel_radius.h"  // projectedRadiusPx, as the CPU's
 
 layout(local_size_x = 64) in;
 
@@ -35,13 +36,6 @@ layout(location = 2) uniform int uCap;     // min(maxKernelPx, max(W, H)): the t
 layout(location = 3) uniform int uStep;    // 1-D: taps k·uStep (1: x, padded width: y)
 layout(location = 4) uniform int uFinal;   // 1: write the unpadded W x H output
 
-
-// The CPU's projectedRadiusPx: ceil(worldM·f/z) in [0, maxPx].
-int projectedRadiusPx(float worldM, float focalPx, float z, int maxPx) {
-    precise float px = worldM * focalPx / z;
-    if (!(px > 0.0)) return 0;
-    return int(min(ceil(px), float(maxPx)));
-}
 
 // One mirror pair (a, b) of weight w: the body of the CPU's filterN loop.
 void accumulate(float a, float b, float w, float z0, float tau, float behind, inout float lower, inout float upper,
