@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "core/backend.h"
+#include "core/frame_memory.h"
 #include "cpu/scene.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
@@ -157,8 +158,8 @@ std::string Renderer::backendName() const { return backend_->name(); }
 Status Renderer::runStages(std::span<const glm::vec3> positions, const RenderSettings& s,
                            std::vector<StageTime>* timings) {
     if (auto st = validateCamera(s.camera); !st) return st.error();
-    if (!(s.radiusM > 0.0f) || !std::isfinite(s.radiusM))
-        return makeError("", "particle radius must be a positive number of metres");
+    if (auto st = checkRadius(s.radiusM); !st) return st;
+    if (auto st = checkFrameMemory(s.camera.width, s.camera.height); !st) return st;
     FrameSettings f;
     f.camera = s.camera;
     f.radius = s.radiusM;

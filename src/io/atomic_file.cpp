@@ -1,3 +1,4 @@
+// Write-then-rename beside the file replaced (see atomic_file.h).
 #include "atomic_file.h"
 
 #include <atomic>
@@ -13,9 +14,14 @@ Status writeAtomically(const std::filesystem::path& path,
                        const std::function<Status(const std::filesystem::path&)>& write) {
     namespace fs = std::filesystem;
     static std::atomic<unsigned> counter{0};
+    // A symlinked output is written through the link: the file replaced is its
+    // target, so the link stays a link.
+    std::error_code linkEc;
+    const fs::path dest = fs::is_symlink(fs::symlink_status(path, linkEc)) ? fs::weakly_canonical(path, linkEc) : path;
+    if (linkEc) return makeError(path.string(), "cannot follow the symbolic link: " + linkEc.message());
     // Same directory, so the rename is atomic; hidden, so a sequence glob never picks it up.
-    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-    const fs::path tmp = dir / ("." + path.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
+    const fs::path dir = dest.has_parent_path() ? dest.parent_path() : fs::path(".");
+    const fs::path tmp = dir / ("." + dest.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
                                 std::to_string(counter++));
     Status st = okStatus();
     try {
@@ -28,7 +34,7 @@ Status writeAtomically(const std::filesystem::path& path,
         fs::remove(tmp, ec);
         return st;
     }
-    fs::rename(tmp, path, ec);
+    fs::rename(tmp, dest, ec);
     if (ec) {
         const std::string why = ec.message();
         fs::remove(tmp, ec);
