@@ -147,7 +147,15 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
         }
         if (auto st = writeOutput(out, *aovs, !settings.scene.background); !st) return fail(st.error().describe());
         progress.update(i + 1);
-        if (count == 1) std::cerr << "meniscus: wrote " << out << "\n";
+        if (count == 1) {
+            // A symlinked output is written through the link (the link stays).
+            std::error_code ec;
+            const bool link = std::filesystem::is_symlink(std::filesystem::symlink_status(out, ec));
+            std::cerr << "meniscus: wrote " << out
+                      << (link ? " (through the link, to " + std::filesystem::weakly_canonical(out, ec).string() + ")"
+                               : std::string())
+                      << "\n";
+        }
     }
     if (count > 1) std::cerr << "meniscus: wrote " << count << " frames to " << o.output << "\n";
     return 0;

@@ -38,7 +38,6 @@ struct RadiusEstimate {
     float medianNeighbourDistance = 0.0f; // metres; 0 when no pair was found
     double bulkNumberDensity = 0.0;       // particles per m^3 in the bulk; 0 when not measured
     std::size_t isolated = 0;             // particles with no neighbour within the kernel's support, left out
-    bool sampled = false;                 // large set: queries were an even stride, `isolated` is scaled up
     std::string attribute;                // FileAttribute: which attribute
     bool fallback = false;                // method == Fallback
 

@@ -202,7 +202,7 @@ std::string RadiusEstimate::describe() const {
     }
     std::string s = std::string(head) + body;
     if (method == RadiusMethod::BulkDensity || method == RadiusMethod::NearestNeighbour) {
-        if (isolated > 0) s += "; " + std::string(sampled ? "about " : "") + std::to_string(isolated) + " isolated particles ignored";
+        if (isolated > 0) s += "; " + std::to_string(isolated) + " isolated particles ignored";
         s += ")";
     }
     return s;
@@ -252,7 +252,7 @@ RadiusEstimate estimateRadius(std::span<const glm::vec3> positions) {
 
     // Nearest neighbours: median over the queries, isolated ones (nothing
     // within two rings of cells) counting as long without being measured.
-    const float minDist = float(1e-7 * diag);  // closer than this counts as the same point
+    const float minDist = float(1e-7 * longest);  // closer than this counts as the same point
     std::vector<float> nn(queries);
     for (int attempt = 0; attempt < 64 && !(est.medianNeighbourDistance > 0.0f); ++attempt, cell *= 2.0) {
         if (!(cell > 0.0) || !std::isfinite(cell)) break;
@@ -301,15 +301,27 @@ RadiusEstimate estimateRadius(std::span<const glm::vec3> positions) {
     std::vector<double> bulk;
     std::vector<std::uint32_t> bulkNeighbours;
     for (std::size_t q = 0; q < queries; ++q) {
-        if (neighbours[q] == 0) {
-            ++est.isolated;
-            continue;
-        }
+        if (neighbours[q] == 0) continue;
         bulk.push_back(density[q]);
         bulkNeighbours.push_back(neighbours[q]);
     }
-    est.isolated *= stride;  // of the whole set, when it was sampled
-    est.sampled = stride > 1;
+    // Isolated particles (nothing else within H), counted over the whole set:
+    // most find a neighbour in their own cell at once.
+    std::vector<std::uint8_t> alone(n);
+    const auto& all = grid.points();
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        const glm::vec3& p = all[i];  // by reference: itself is told apart by address
+        const HashGrid::Key c = grid.cellOf(p);
+        bool found = false;
+        for (int k = 0; k < 27 && !found; ++k)
+            grid.forCell({c[0] + k % 3 - 1, c[1] + k / 3 % 3 - 1, c[2] + k / 9 - 1}, [&](const glm::vec3& o) {
+                const glm::vec3 d = o - p;
+                const float d2 = glm::dot(d, d);
+                found = found || (d2 < H2 && (d2 > 0.0f || &o != &p));
+            });
+        alone[i] = !found;
+    });
+    for (std::uint8_t a : alone) est.isolated += a;
     if (bulk.empty() || quantileOf(bulkNeighbours, 0.9) < kMinBulkNeighbours) return est;
     est.bulkNumberDensity = quantileOf(bulk, kBulkQuantile);
     est.radius = float(0.5 / std::cbrt(est.bulkNumberDensity));
