@@ -77,7 +77,8 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o) {
     cmd->add_option("--up", o.up, "Camera up direction x,y,z")->capture_default_str();
     cmd->add_option("--fov", o.fov, "Vertical field of view in degrees")->capture_default_str();
     cmd->add_option("--radius", o.radius,
-                    "Particle radius in metres (default: half the median nearest-neighbour distance)");
+                    "Particle radius in metres (default: the file's radius attribute, else estimated from the bulk "
+                    "number density; docs/radius.md)");
     cmd->add_option("--view", o.view,
                     "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
                     "smoothing), normals, thickness")
