@@ -151,6 +151,22 @@ TEST(Camera, AutoFrameScalesWithTheScene) {
     EXPECT_NEAR(c10.nearM, 10.0f * c1.nearM, 1e-4f);
 }
 
+// Regression (issue 13): one particle at x = 1e6 beside the fluid must move
+// neither the target nor the distance, and is reported as left outside.
+TEST(Camera, AutoFrameIgnoresAFarOutlierAndCountsIt) {
+    auto pts = slabSheetAndSpray();
+    std::size_t outside = 99;
+    const Camera c = autoFrameCamera(pts, 0.025f, Camera{}, &outside);
+    pts.push_back({1e6f, 0.0f, 0.0f});
+    std::size_t outsideWith = 0;
+    const Camera o = autoFrameCamera(pts, 0.025f, Camera{}, &outsideWith);
+    ASSERT_TRUE(validateCamera(o).ok());
+    const float dist = glm::length(c.eye - c.target);
+    EXPECT_LT(glm::length(o.eye - c.eye), 0.02f * dist);
+    EXPECT_LT(glm::length(o.target - c.target), 0.02f * dist);
+    EXPECT_EQ(outsideWith, outside + 1);
+}
+
 TEST(Camera, AutoFrameOfASingleParticleSeesIt) {
     const glm::vec3 p{1.0f, 2.0f, 3.0f};
     const Camera c = autoFrameCamera(std::span(&p, 1), 0.1f, Camera{});

@@ -294,3 +294,94 @@ TEST(Cli, ViewWithoutADisplayFailsClearly) {
         EXPECT_NE(out.find(word), std::string::npos) << word;
     EXPECT_EQ(out.find("--backend"), std::string::npos) << "the viewer always renders with GL";
 }
+
+
+// ------------------------------------------------------------ issue 13 findings
+
+// Bad usage exits 2, as the README says (CLI11's own codes were 105/106).
+TEST(Cli, UsageErrorsExitTwo) {
+    std::string out;
+    EXPECT_EQ(runCli("", &out), 2) << out;
+    EXPECT_EQ(runCli("info", &out), 2) << out;
+    EXPECT_EQ(runCli("info --no-such-option x.xyz", &out), 2) << out;
+    EXPECT_EQ(runCli("render x.xyz -o y.png --width 0", &out), 2) << out;
+    EXPECT_EQ(runCli("--help", &out), 0) << out;
+}
+
+TEST(Cli, TinyAndHugeCoordinatesFailWithTheFileNamed) {
+    const fs::path dir = tempDir() / "cli_coords";
+    fs::create_directories(dir);
+    std::string out;
+    // Two points 1e-15 m apart: info ends (it used to hang), render refuses the radius.
+    writeText(dir / "t.xyz", "0 0 0\n1e-15 0 0\n");
+    EXPECT_EQ(runCli("info " + quote(dir / "t.xyz"), &out), 0) << out;
+    EXPECT_NE(out.find("radius      5e-16 m"), std::string::npos) << out;
+    EXPECT_EQ(runCli("render " + quote(dir / "t.xyz") + " -o " + quote(dir / "t.png"), &out), 1) << out;
+    EXPECT_NE(out.find("t.xyz: the estimated particle radius 5e-16 m is out of range"), std::string::npos) << out;
+    // Coordinates up to 1e30: what is wrong with the data, naming the file.
+    std::string big;
+    for (int i = 0; i < 1000; ++i) big += std::to_string(i) + "e27 " + std::to_string(999 - i) + "e27 1e27\n";
+    writeText(dir / "big.xyz", big);
+    for (const std::string cmd : {"info ", "render "}) {
+        const std::string args = cmd + quote(dir / "big.xyz") + (cmd == "render " ? " -o " + quote(dir / "b.png") : "");
+        EXPECT_EQ(runCli(args, &out), 1) << out;
+        EXPECT_NE(out.find("big.xyz: coordinates reach"), std::string::npos) << out;
+        EXPECT_NE(out.find("rescale the data"), std::string::npos) << out;
+    }
+    EXPECT_FALSE(fs::exists(dir / "b.png"));
+}
+
+TEST(Cli, RadiusOutOfRangeIsSaid) {
+    const fs::path dir = tempDir() / "cli_radius_range";
+    fs::create_directories(dir);
+    std::string out;
+    EXPECT_EQ(runCli("render " + quote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
+                         quote(dir / "r.png") + " --radius 1e30",
+                     &out),
+              1);
+    EXPECT_NE(out.find("--radius: particle radius 1e+30 m is out of range"), std::string::npos) << out;
+}
+
+TEST(Cli, RenderSaysWhichRadiusAndHow) {
+    const fs::path dir = tempDir() / "cli_radius_line";
+    fs::create_directories(dir);
+    std::string out;
+    ASSERT_EQ(runCli("render " + quote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
+                         quote(dir / "r.png") + " --width 64 --height 36",
+                     &out),
+              0)
+        << out;
+    EXPECT_NE(out.find("meniscus: radius 0.023"), std::string::npos) << out;
+    EXPECT_NE(out.find("bulk number density"), std::string::npos) << out;
+}
+
+TEST(Cli, HugeFrameIsRefusedWithTheFigure) {
+    const fs::path dir = tempDir() / "cli_huge";
+    fs::create_directories(dir);
+    std::string out;
+    const int rc = runCli("render " + quote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
+                              quote(dir / "h.png") + " --width 16384 --height 16384 --backend cpu",
+                          &out);
+    if (rc == 0) GTEST_SKIP() << "this machine has the memory for it";
+    EXPECT_EQ(rc, 1) << out;
+    EXPECT_NE(out.find("a 16384x16384 frame needs about"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "h.png"));
+}
+
+// Regression (issue 13): a symlinked output was replaced by a regular file.
+TEST(Cli, SymlinkedOutputIsWrittenThrough) {
+    const fs::path dir = tempDir() / "cli_symlink";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    fs::create_symlink("target.png", dir / "link.png");
+    std::string out;
+    ASSERT_EQ(runCli("render " + quote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
+                         quote(dir / "link.png") + " --width 64 --height 36",
+                     &out),
+              0)
+        << out;
+    EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir / "link.png")));
+    EXPECT_TRUE(fs::is_regular_file(dir / "target.png"));
+    EXPECT_GT(fs::file_size(dir / "target.png"), 100u);
+    EXPECT_NE(out.find("through the link"), std::string::npos) << out;
+}

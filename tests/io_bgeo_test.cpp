@@ -429,6 +429,59 @@ TEST_F(BgeoMalformed, RandomByteFlipsNeverCrash) {
     }
 }
 
+// Regression (issue 13): decompression bombs. A header's point count is
+// refused before anything is inflated when deflate (at most 1032:1) cannot
+// produce that many bytes from the file...
+TEST(BgeoBomb, PointCountBeyondWhatTheCompressedBytesCanHold) {
+    BgeoWriter w;
+    w.header(2000000000, 0);  // 2e9 points of 16 bytes = 32 GB from a few bytes
+    const auto r = parseBgeo(test::gzipBytes(w.b), "claims.bgeo");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().file, "claims.bgeo");
+    EXPECT_NE(r.error().message.find("truncated point data: header says 2000000000 points"), std::string::npos)
+        << r.error().message;
+}
+
+// ... and a stream that goes on inflating past what the header needs (points
+// plus 16 MiB + one byte per point for groups and primitives) is refused
+// after inflating no more than that, holding none of it.
+TEST(BgeoBomb, InflatingFarPastTheHeadersNeedIsRefused) {
+    BgeoWriter w;
+    w.header(2, 0);
+    for (int i = 0; i < 8; ++i) w.f32(1.0f);
+    std::vector<std::uint8_t> bomb = w.b;
+    bomb.resize(bomb.size() + (std::size_t(40) << 20), 0);  // 40 MiB of zeros after the points
+    const auto gz = test::gzipBytes(bomb);
+    ASSERT_LT(gz.size(), std::size_t(1) << 20);
+    const auto r = parseBgeo(gz, "bomb.bgeo");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().file, "bomb.bgeo");
+    EXPECT_NE(r.error().message.find("decompression bomb"), std::string::npos) << r.error().message;
+    // The same points with an honest tail (the 00 ff trailer) read fine.
+    w.u8(0x00);
+    w.u8(0xff);
+    const auto ok = parseBgeo(test::gzipBytes(w.b), "ok.bgeo");
+    ASSERT_TRUE(ok.ok()) << ok.error().describe();
+    EXPECT_EQ(ok->size(), 2u);
+}
+
+// A large honest file streams into its arrays: every point decoded, across chunks.
+TEST(BgeoBomb, ManyPointsStreamAcrossChunks) {
+    BgeoWriter w;
+    const int n = 200000;  // 3.2 MB of records: several 1 MiB chunks
+    w.header(n, 0);
+    for (int i = 0; i < n; ++i) {
+        w.f32(float(i));
+        w.f32(0.5f);
+        w.f32(-float(i));
+        w.f32(1.0f);
+    }
+    const auto r = parseBgeo(test::gzipBytes(w.b), "many.bgeo");
+    ASSERT_TRUE(r.ok()) << r.error().describe();
+    ASSERT_EQ(r->size(), std::size_t(n));
+    for (int i : {0, 65535, 65536, n - 1}) EXPECT_EQ(r->positions[std::size_t(i)], glm::vec3(float(i), 0.5f, -float(i)));
+}
+
 TEST(Gzip, RoundTripAndZlibHeader) {
     std::vector<std::uint8_t> data(100000);
     std::iota(data.begin(), data.end(), 0);

@@ -1,13 +1,17 @@
-// Radius estimate (half the median nearest-neighbour distance), bounds,
-// attribute statistics and NaN removal.
+// Radius estimate (volume-equivalent radius of the bulk number density; half
+// the median nearest-neighbour distance where there is no bulk), its range
+// checks, bounds, attribute statistics and NaN removal.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
+#include "meniscus/io.h"
 #include "meniscus/particles.h"
+#include "test_util.h"
 
 using namespace meniscus;
 
@@ -43,7 +47,9 @@ TEST(Particles, RadiusIsHalfTheLatticeSpacing) {
     const auto pts = jitteredLattice(30, 20, 25, 0.02f, 0.0f, 1);
     const RadiusEstimate est = estimateRadius(pts);
     EXPECT_FALSE(est.fallback);
-    EXPECT_NEAR(est.radius, 0.01f, 1e-6f);
+    EXPECT_EQ(est.method, RadiusMethod::BulkDensity);
+    EXPECT_NEAR(est.radius, 0.01f, 0.01f * 0.01f);  // 1%: the kernel sum over a lattice
+    EXPECT_EQ(est.isolated, 0u);
 }
 
 TEST(Particles, RadiusMatchesBruteForceOnRandomSets) {
@@ -54,20 +60,23 @@ TEST(Particles, RadiusMatchesBruteForceOnRandomSets) {
         for (auto& p : pts) p = {u(rng) * 3.0f, u(rng), u(rng) * 0.5f};
         const RadiusEstimate est = estimateRadius(pts);
         EXPECT_FLOAT_EQ(est.medianNeighbourDistance, bruteMedianNN(pts)) << "seed " << seed;
-        EXPECT_FLOAT_EQ(est.radius, 0.5f * est.medianNeighbourDistance);
     }
 }
 
 TEST(Particles, RadiusOfAFlatSheetAndASparseSpray) {
     // A single layer (zero thickness in y): the grid must cope with a flat box.
+    // No bulk to take a density of: half the nearest-neighbour distance.
     const auto sheet = jitteredLattice(60, 1, 60, 0.05f, 0.0f, 0);
-    EXPECT_NEAR(estimateRadius(sheet).radius, 0.025f, 1e-6f);
-    // A dense block plus far-away spray: the median still reflects the block.
+    const RadiusEstimate s = estimateRadius(sheet);
+    EXPECT_EQ(s.method, RadiusMethod::NearestNeighbour);
+    EXPECT_NEAR(s.radius, 0.025f, 1e-6f);
+    // A dense block plus far-away spray: the bulk is the block; the spray is isolated.
     auto pts = jitteredLattice(20, 20, 20, 0.01f, 0.001f, 4);
     for (int i = 0; i < 50; ++i) pts.push_back({5.0f + float(i), 3.0f, -2.0f});
-    const float r = estimateRadius(pts).radius;
-    EXPECT_GT(r, 0.004f);
-    EXPECT_LT(r, 0.0055f);
+    const RadiusEstimate est = estimateRadius(pts);
+    EXPECT_EQ(est.method, RadiusMethod::BulkDensity);
+    EXPECT_NEAR(est.radius, 0.005f, 0.03f * 0.005f);
+    EXPECT_EQ(est.isolated, 50u);
 }
 
 TEST(Particles, RadiusIsScaleInvariant) {
@@ -84,6 +93,112 @@ TEST(Particles, RadiusIgnoresCoincidentPointsAndFallsBackWhenAlone) {
     const RadiusEstimate est = estimateRadius(one);
     EXPECT_TRUE(est.fallback);
     EXPECT_GT(est.radius, 0.0f);
+}
+
+// Regression (issue 13): two points 1e-15 m apart made the grid's cell size
+// underflow to 0 and `cell *= 1.25` never ended.
+TEST(Particles, RadiusOfATinySetEnds) {
+    const std::vector<glm::vec3> pts{{0, 0, 0}, {1e-15f, 0, 0}};
+    const RadiusEstimate est = estimateRadius(pts);
+    EXPECT_EQ(est.method, RadiusMethod::NearestNeighbour);
+    EXPECT_FLOAT_EQ(est.radius, 0.5e-15f);
+    EXPECT_FALSE(checkRadius(est.radius).ok());  // and the pipeline refuses to render it
+}
+
+// Regression (issue 13): one particle at x = 1e6 beside a 49^3 block at 0.01 m
+// sized the grid to the whole bounds and turned the estimate into 0.05 m.
+TEST(Particles, RadiusIgnoresAFarOutlier) {
+    auto pts = jitteredLattice(49, 49, 49, 0.01f, 0.0f, 0);
+    const float alone = estimateRadius(pts).radius;
+    pts.push_back({1e6f, 0.0f, 0.0f});
+    const RadiusEstimate est = estimateRadius(pts);
+    EXPECT_EQ(est.method, RadiusMethod::BulkDensity);
+    EXPECT_FLOAT_EQ(est.radius, alone);
+    EXPECT_NEAR(est.radius, 0.005f, 0.01f * 0.005f);
+    EXPECT_EQ(est.isolated, 1u);
+    EXPECT_NE(est.describe().find("1 isolated particles ignored"), std::string::npos) << est.describe();
+}
+
+TEST(Particles, RadiusIsTheSameForAnyThreadCount) {
+    const auto pts = jitteredLattice(40, 30, 30, 0.02f, 0.006f, 5);
+    RadiusEstimate one, two;
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        one = estimateRadius(pts);
+    }
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+        two = estimateRadius(pts);
+    }
+    EXPECT_EQ(one.radius, two.radius);
+    EXPECT_EQ(one.bulkNumberDensity, two.bulkNumberDensity);
+}
+
+// Item 8 of issue 13: the default radius is within 10% of the radius each real
+// data set was simulated with (SPlisHSPlasH's particleRadius; docs/radius.md).
+TEST(Particles, DefaultRadiusOfEveryRealDataSetIsWithinTenPercent) {
+    const std::pair<std::filesystem::path, float> sets[] = {
+        {test::repoData("demo/ParticleData_Fluid_19.bgeo"), 0.025f},
+        {test::repoData("demo/ParticleData_Fluid_20.bgeo"), 0.025f},
+        {test::repoData("demo/ParticleData_Fluid_21.bgeo"), 0.025f},
+        {test::repoData("demo/ParticleData_Fluid_22.bgeo"), 0.025f},
+        {test::repoData("demo/ParticleData_Fluid_23.bgeo"), 0.025f},
+        {test::repoData("dambreak_r0.01/ParticleData_Fluid_21.bgeo"), 0.01f},
+        {test::testData("splishsplash/partio/ParticleData_Fluid_1.bgeo"), 0.025f},
+        {test::testData("splishsplash/partio/ParticleData_Fluid_9.bgeo"), 0.025f},
+        {test::testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"), 0.025f},
+        {test::testData("splishsplash/partio/ParticleData_Fluid_61.bgeo"), 0.025f},
+        {test::testData("splishsplash/vtk/ParticleData_Fluid_1.vtk"), 0.025f},
+        {test::testData("splishsplash/vtk/ParticleData_Fluid_9.vtk"), 0.025f},
+        {test::testData("splishsplash/vtk/ParticleData_Fluid_21.vtk"), 0.025f},
+        {test::testData("splishsplash/vtk/ParticleData_Fluid_61.vtk"), 0.025f},
+        {test::testData("vtu/fluid21_binary.vtu"), 0.025f},
+        {test::testData("vtu/fluid21_ascii_first500.vtu"), 0.025f},
+    };
+    for (const auto& [path, trueRadius] : sets) {
+        auto set = readParticles(path);
+        ASSERT_TRUE(set.ok()) << set.error().describe();
+        const RadiusEstimate est = defaultRadius(*set);
+        EXPECT_EQ(est.method, RadiusMethod::BulkDensity) << path;
+        EXPECT_NEAR(est.radius, trueRadius, 0.1f * trueRadius) << path << ": " << est.describe();
+    }
+}
+
+TEST(Particles, DefaultRadiusReadsTheFilesOwnRadius) {
+    ParticleSet s;
+    s.positions = jitteredLattice(10, 10, 10, 0.02f, 0.0f, 0);
+    EXPECT_EQ(defaultRadius(s).method, RadiusMethod::BulkDensity);
+    s.attributes.push_back({"pscale", AttributeType::Float, 1, std::vector<float>(1000, 0.013f), {}});
+    const RadiusEstimate est = defaultRadius(s);
+    EXPECT_EQ(est.method, RadiusMethod::FileAttribute);
+    EXPECT_FLOAT_EQ(est.radius, 0.013f);
+    EXPECT_NE(est.describe().find("'pscale'"), std::string::npos) << est.describe();
+    // An unusable value (0) is not taken.
+    s.attributes[0].floats.assign(1000, 0.0f);
+    EXPECT_EQ(defaultRadius(s).method, RadiusMethod::BulkDensity);
+}
+
+// Regression (issue 13): 1,000 points in [0, 1e30]^3 gave "too few particles"
+// and a camera error naming no file; now the data is named as the problem.
+TEST(Particles, CoordinatesBeyondTheRangeAreNamed) {
+    std::vector<glm::vec3> pts{{0, 0, 0}, {1e30f, 5e29f, 0}};
+    const Status st = checkCoordinates(pts, "big.xyz");
+    ASSERT_FALSE(st.ok());
+    EXPECT_EQ(st.error().file, "big.xyz");
+    EXPECT_NE(st.error().message.find("1e+30 m"), std::string::npos) << st.error().message;
+    pts[1] = {1e17f, 0, 0};
+    EXPECT_TRUE(checkCoordinates(pts, "ok.xyz").ok());
+}
+
+// Regression (issue 13): --radius 1e30 failed as "up vector is parallel to the view direction".
+TEST(Particles, RadiusRangeCheck) {
+    for (float bad : {1e30f, 0.0f, -1.0f, 1e-20f, std::numeric_limits<float>::quiet_NaN(),
+                      std::numeric_limits<float>::infinity()}) {
+        const Status st = checkRadius(bad);
+        ASSERT_FALSE(st.ok()) << bad;
+        EXPECT_NE(st.error().message.find("out of range"), std::string::npos) << st.error().message;
+    }
+    EXPECT_TRUE(checkRadius(0.025f).ok());
 }
 
 TEST(Particles, BoundsOfPositions) {

@@ -45,7 +45,11 @@ Result<Camera> chooseCamera(const RenderOptions& o, const std::vector<glm::vec3>
         cam.target = *target;
         cam.up = *up;
     } else {
-        cam = autoFrameCamera(samplePoints, radius, cam);
+        std::size_t outside = 0;
+        cam = autoFrameCamera(samplePoints, radius, cam, &outside);
+        if (outside > 0)
+            std::cerr << "meniscus: auto camera: " << outside << " of " << samplePoints.size()
+                      << " sampled particles (the outermost) left outside the frame\n";
     }
     if (auto st = validateCamera(cam); !st) return st.error();
     return cam;
@@ -77,7 +81,8 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o) {
     cmd->add_option("--up", o.up, "Camera up direction x,y,z")->capture_default_str();
     cmd->add_option("--fov", o.fov, "Vertical field of view in degrees")->capture_default_str();
     cmd->add_option("--radius", o.radius,
-                    "Particle radius in metres (default: half the median nearest-neighbour distance)");
+                    "Particle radius in metres (default: the file's radius attribute, else estimated from the bulk "
+                    "number density; docs/radius.md)");
     cmd->add_option("--view", o.view,
                     "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
                     "smoothing), normals, thickness")
@@ -117,6 +122,8 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
         return makeError("", "--background " + o.background + ": expected studio or none");
     s.scene.background = o.background == "studio";
     if (!(o.radius >= 0.0f)) return makeError("", "--radius must be a positive number of metres");
+    if (o.radius != 0.0f)
+        if (auto st = checkRadius(o.radius); !st) return makeError("", "--radius: " + st.error().message);
     return s;
 }
 
@@ -139,13 +146,15 @@ Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded)
 Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames, RenderSettings& settings) {
     auto first = frames.load(0);
     if (!first) return first.error();
+    const std::string firstName = frames.embedded ? std::string("the demo frame") : frames.files[0].string();
+    if (auto st = checkCoordinates(first->positions, firstName); !st) return st.error();
     float radius = o.radius;
     if (radius == 0.0f) {
-        const RadiusEstimate est = estimateRadius(first->positions);
+        const RadiusEstimate est = defaultRadius(*first);
         radius = est.radius;
-        if (est.fallback)
-            std::cerr << "meniscus: warning: too few particles to estimate the radius; using " << radius
-                      << " m (set --radius)\n";
+        std::cerr << "meniscus: " << (est.fallback ? "warning: " : "") << "radius " << est.describe() << "\n";
+        if (auto st = checkRadius(radius); !st)
+            return makeError(firstName, "the estimated " + st.error().message + "; set --radius");
     }
     std::vector<glm::vec3> samplePoints;
     auto addSample = [&](const std::vector<glm::vec3>& p) {

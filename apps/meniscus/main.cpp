@@ -33,6 +33,16 @@ const char* typeName(const Attribute& a) {
 
 // ------------------------------------------------------------------ info
 
+const char* radiusMethodName(RadiusMethod m) {
+    switch (m) {
+        case RadiusMethod::FileAttribute: return "file-attribute";
+        case RadiusMethod::BulkDensity: return "bulk-density";
+        case RadiusMethod::NearestNeighbour: return "nearest-neighbour";
+        case RadiusMethod::Fallback: return "fallback";
+    }
+    return "?";
+}
+
 struct InfoOptions {
     std::string input;
     bool json = false;
@@ -44,9 +54,10 @@ int runInfo(const InfoOptions& o) {
     auto set = readParticles(frames->front());
     if (!set) return fail(set.error().describe());
     printWarnings(*set);
+    if (auto st = checkCoordinates(set->positions, frames->front().string()); !st) return fail(st.error().describe());
 
     const Bounds b = computeBounds(set->positions);
-    const RadiusEstimate radius = estimateRadius(set->positions);
+    const RadiusEstimate radius = defaultRadius(*set);
     const auto density = attributeStats(*set, kAttrDensity);
 
     if (o.json) {
@@ -60,6 +71,8 @@ int runInfo(const InfoOptions& o) {
         for (const auto& a : set->attributes)
             j["attributes"].push_back({{"name", a.name}, {"type", typeName(a)}, {"components", a.components}});
         j["radius_estimate"] = radius.radius;
+        j["radius_method"] = radiusMethodName(radius.method);
+        j["isolated_particles"] = radius.isolated;
         if (density) j["density"] = {{"min", density->min}, {"median", density->median}, {"max", density->max}};
         j["warnings"] = set->warnings;
         std::cout << j.dump() << "\n";
@@ -74,8 +87,7 @@ int runInfo(const InfoOptions& o) {
     for (const auto& a : set->attributes) std::printf(" %s(%s%s)", a.name.c_str(), typeName(a),
                                                       a.components > 1 && a.components != 3 ? "[]" : "");
     std::printf("%s\n", set->attributes.empty() ? " none" : "");
-    std::printf("radius      %.5g m (half the median nearest-neighbour distance%s)\n", radius.radius,
-                radius.fallback ? "; too few particles, fallback used" : "");
+    std::printf("radius      %s\n", radius.describe().c_str());
     if (density)
         std::printf("density     min %.2f  median %.2f  max %.2f\n", density->min, density->median, density->max);
     return 0;
@@ -120,6 +132,9 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
         auto set = i == 0 ? std::move(first) : frames->load(i);
         if (!set) return fail(set.error().describe());
         printWarnings(*set);
+        if (i > 0)
+            if (auto st = checkCoordinates(set->positions, frames->files[i].string()); !st)
+                return fail(st.error().describe());
         auto aovs = renderer.render(ParticleView::of(*set), settings);
         if (!aovs) return fail(aovs.error().describe());
 
@@ -132,7 +147,15 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
         }
         if (auto st = writeOutput(out, *aovs, !settings.scene.background); !st) return fail(st.error().describe());
         progress.update(i + 1);
-        if (count == 1) std::cerr << "meniscus: wrote " << out << "\n";
+        if (count == 1) {
+            // A symlinked output is written through the link (the link stays).
+            std::error_code ec;
+            const bool link = std::filesystem::is_symlink(std::filesystem::symlink_status(out, ec));
+            std::cerr << "meniscus: wrote " << out
+                      << (link ? " (through the link, to " + std::filesystem::weakly_canonical(out, ec).string() + ")"
+                               : std::string())
+                      << "\n";
+        }
     }
     if (count > 1) std::cerr << "meniscus: wrote " << count << " frames to " << o.output << "\n";
     return 0;
@@ -199,7 +222,12 @@ int main(int argc, char** argv) {
                         "Replay input, one event per frame: drag:DX,DY;scroll:N;key:left|right|q|escape")
         ->group("");
 
-    CLI11_PARSE(app, argc, argv);
+    // Bad usage exits 2, as the README says (CLI11's own codes are 100 and up).
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    }
 
     std::unique_ptr<tbb::global_control> threadLimit;
     if (threads > 0)

@@ -62,7 +62,11 @@ Status validateCamera(const Camera& camera);
 // shifted so that what is framed sits in the middle. Lone spray particles far
 // from the fluid may fall outside. `fovYDegrees`, `width`, `height` come from
 // `base`; eye, target, up, near and far are set (near/far scale with the scene).
-Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const Camera& base);
+// A far outlier moves neither the target nor the distance. `outside`, when
+// given, receives how many points lie outside the image (estimated from a
+// stride when there are more than ~50k).
+Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const Camera& base,
+                       std::size_t* outside = nullptr);
 
 // A valid camera moved on a sphere around its target, as a viewer's mouse
 // moves it: `azimuthDegrees` about the `up` axis (positive = toward the camera's

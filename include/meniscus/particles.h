@@ -6,23 +6,64 @@
 #include <string>
 #include <vector>
 
+#include "meniscus/result.h"
 #include "meniscus/types.h"
 
 namespace meniscus {
 
 Bounds computeBounds(std::span<const glm::vec3> positions);
 
-struct RadiusEstimate {
-    float radius = 0.0f;                 // metres
-    float medianNeighbourDistance = 0.0f; // metres; 0 when no pair was found
-    bool fallback = false;               // true when no neighbour distance could be measured
+// The range of lengths the single-precision pipeline can work with: squared
+// distances (and the camera's products of them) stay finite and normal.
+inline constexpr float kMaxCoordinateM = 1e18f;  // |x|, |y|, |z| of a particle
+inline constexpr float kMinRadiusM = 1e-12f;
+inline constexpr float kMaxRadiusM = 1e15f;
+
+// Error (naming `name`) when a coordinate is beyond +-kMaxCoordinateM, with
+// the largest one found; non-finite positions are the readers' business.
+Status checkCoordinates(std::span<const glm::vec3> positions, const std::string& name);
+// Error when the radius is not a number in [kMinRadiusM, kMaxRadiusM].
+Status checkRadius(float radiusM);
+
+enum class RadiusMethod {
+    FileAttribute,     // the file's own per-particle radius (radius / pscale attribute)
+    BulkDensity,       // volume-equivalent radius of the bulk number density
+    NearestNeighbour,  // too few neighbours for a density: half the median nearest-neighbour distance
+    Fallback,          // fewer than two distinct positions: 1% of the bounds diagonal
 };
 
-// Particle radius as half the median nearest-neighbour distance (SPEC §3.3),
-// found with a uniform grid (expected O(N)). Coincident particles are ignored.
-// With fewer than two distinct positions it falls back to 1% of the bounds
-// diagonal (or 0.01 m for a single point) and sets `fallback`.
+struct RadiusEstimate {
+    float radius = 0.0f;                  // metres
+    RadiusMethod method = RadiusMethod::Fallback;
+    float medianNeighbourDistance = 0.0f; // metres; 0 when no pair was found
+    double bulkNumberDensity = 0.0;       // particles per m^3 in the bulk; 0 when not measured
+    std::size_t isolated = 0;             // particles with no neighbour within the kernel's support, left out
+    std::string attribute;                // FileAttribute: which attribute
+    bool fallback = false;                // method == Fallback
+
+    // One line saying which value was used and how, e.g.
+    // "0.0232 m (volume-equivalent radius of the bulk density 1.0e+04 /m^3; 3 isolated particles ignored)".
+    std::string describe() const;
+};
+
+// The radius the simulation used, estimated from the positions alone:
+//  - nearest neighbours through a hashed grid (cells only where particles are,
+//    so one far outlier costs nothing), median distance d (coincident points ignored);
+//  - the SPH number density n_i = sum_j W(|x_i - x_j|, 2.5 d) (cubic spline,
+//    normalised) around each particle; its 75th percentile is the bulk (free
+//    surfaces, splashes and spray are less dense), and r = 0.5 n^(-1/3), half
+//    the spacing of a cubic lattice of that density;
+//  - with too few neighbours for a density (sheets, sprays, tiny sets) half the
+//    median nearest-neighbour distance; with fewer than two distinct
+//    positions 1% of the bounds diagonal (0.01 m for a single point).
+// Deterministic and independent of the thread count. Large sets are sampled
+// (an even stride, at most 2^16 queries).
 RadiusEstimate estimateRadius(std::span<const glm::vec3> positions);
+
+// The default radius of a set: the median of the file's own per-particle
+// radius attribute ("radius", "pscale": Houdini's, "particle_radius") when it
+// has a usable one, else estimateRadius(positions).
+RadiusEstimate defaultRadius(const ParticleSet& set);
 
 struct MinMedianMax {
     double min = 0, median = 0, max = 0;

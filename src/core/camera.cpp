@@ -70,7 +70,20 @@ float quantile(std::vector<float>& v, float q) {
 
 }  // namespace
 
-Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const Camera& base) {
+// The box holding all but the outermost `fraction` of the points on each
+// axis, so one far outlier cannot stretch it.
+Bounds robustBounds(const std::vector<glm::vec3>& pts, float fraction) {
+    Bounds b;
+    std::vector<float> v(pts.size());
+    for (int a = 0; a < 3; ++a) {
+        for (std::size_t i = 0; i < pts.size(); ++i) v[i] = pts[i][a];
+        b.min[a] = quantile(v, 0.5f * fraction);
+        b.max[a] = quantile(v, 1.0f - 0.5f * fraction);
+    }
+    return b;
+}
+
+Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const Camera& base, std::size_t* outside) {
     Camera cam = base;
     cam.up = {0.0f, 1.0f, 0.0f};
     // At most ~kAutoFramePoints points decide the framing (an even stride through the set).
@@ -91,6 +104,7 @@ Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const C
     const float tanX = tanY * float(cam.width) / float(cam.height);
     const float keep = 1.0f - defaults::kAutoOutlierFraction;
 
+    const Bounds box = robustBounds(pts, defaults::kAutoOutlierFraction);
     std::vector<float> need(pts.size()), sx(pts.size()), sy(pts.size());
     // Distance: each point needs |x| + pad <= tan * (d + z) in x and in y.
     auto fitDistance = [&] {
@@ -99,7 +113,7 @@ Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const C
             const float x = glm::dot(c, right), y = glm::dot(c, up), z = glm::dot(c, fwd);
             need[i] = std::max((std::abs(x) + pad) / tanX - z, (std::abs(y) + pad) / tanY - z);
         }
-        const float size = glm::length(computeBounds(pts).extent()) + pad;
+        const float size = glm::length(box.extent()) + pad;
         const float d = quantile(need, keep);
         return d > 1e-3f * size ? d : std::max(size, 1e-3f);
     };
@@ -116,10 +130,22 @@ Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const C
         const float cy = 0.5f * (quantile(sy, lo) + quantile(sy, 1.0f - lo));
         cam.target += d * (cx * right + cy * up);
     };
-    cam.target = computeBounds(pts).center();
+    cam.target = box.center();
     for (int iter = 0; iter < 6; ++iter) centre(fitDistance());
     const float dist = fitDistance();  // last: the fit holds exactly for the final target
     cam.eye = cam.target + dist * toEye;
+    if (outside) {
+        // Points whose sphere leaves the whole image (not just the filled part).
+        const float fill = defaults::kAutoFill;
+        *outside = 0;
+        for (const glm::vec3& p : pts) {
+            const glm::vec3 c = p - cam.target;
+            const float x = glm::dot(c, right), y = glm::dot(c, up), z = glm::dot(c, fwd);
+            if (std::max((std::abs(x) + pad) * fill / tanX - z, (std::abs(y) + pad) * fill / tanY - z) > dist)
+                ++*outside;
+        }
+        *outside *= stride;  // of all the points, when they were sampled
+    }
 
     // Clip range around the particles, so a scaled scene gets a scaled range.
     // The near plane follows the framed points (left-out spray may even be

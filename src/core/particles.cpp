@@ -1,8 +1,12 @@
-// Particle-set queries: bounds, the default radius (half the median
-// nearest-neighbour distance, SPEC §3.3), attribute statistics, NaN removal.
+// Particle-set queries: bounds, the default radius (the volume-equivalent
+// radius of the bulk number density, see docs/radius.md), attribute
+// statistics, NaN removal.
 #include "meniscus/particles.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 
@@ -18,117 +22,326 @@ Bounds computeBounds(std::span<const glm::vec3> positions) {
 
 namespace {
 
-// Uniform grid over the particles: points sorted by cell (counting sort), so a
-// cell's points are contiguous. Cells are cubes of side `cell` metres.
-struct PointGrid {
-    glm::vec3 origin{0.0f};
-    float cell = 1.0f;
-    glm::ivec3 dims{1};
-    std::vector<std::uint32_t> cellStart;  // size cells+1
-    std::vector<glm::vec3> sorted;
+// Hashed uniform grid: points sorted by cell, and an open-addressing table
+// from cell coordinates to each occupied cell's range. Only occupied cells
+// exist, so a far outlier costs one cell, not a grid spanning the bounds.
+class HashGrid {
+public:
+    using Key = std::array<std::int64_t, 3>;
 
-    glm::ivec3 cellOf(const glm::vec3& p) const {
-        const glm::ivec3 c = glm::ivec3(glm::floor((p - origin) / cell));
-        return glm::clamp(c, glm::ivec3(0), dims - 1);
-    }
-    std::size_t index(const glm::ivec3& c) const {
-        return (std::size_t(c.z) * std::size_t(dims.y) + std::size_t(c.y)) * std::size_t(dims.x) + std::size_t(c.x);
+    HashGrid(std::span<const glm::vec3> pts, double cell, const glm::dvec3& origin) : cell_(cell), origin_(origin) {
+        std::vector<std::pair<Key, std::uint32_t>> keyed(pts.size());
+        for (std::size_t i = 0; i < pts.size(); ++i) keyed[i] = {cellOf(pts[i]), std::uint32_t(i)};
+        std::sort(keyed.begin(), keyed.end());  // by cell, then index: deterministic
+        sorted_.resize(pts.size());
+        for (std::size_t i = 0; i < keyed.size(); ++i) {
+            sorted_[i] = pts[keyed[i].second];
+            if (i == 0 || keyed[i].first != keyed[i - 1].first)
+                cells_.push_back({keyed[i].first, std::uint32_t(i), std::uint32_t(i)});
+            ++cells_.back().end;
+        }
+        std::size_t size = 16;
+        while (size < 2 * cells_.size()) size *= 2;
+        table_.assign(size, -1);
+        for (std::size_t c = 0; c < cells_.size(); ++c) {
+            std::size_t h = hash(cells_[c].key) & (size - 1);
+            while (table_[h] >= 0) h = (h + 1) & (size - 1);
+            table_[h] = std::int32_t(c);
+        }
     }
 
-    PointGrid(std::span<const glm::vec3> pts, const Bounds& b, float cellSize) : origin(b.min), cell(cellSize) {
-        dims = glm::max(glm::ivec3(glm::floor(b.extent() / cell)) + 1, glm::ivec3(1));
-        const std::size_t n = std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z);
-        cellStart.assign(n + 1, 0);
-        for (const auto& p : pts) ++cellStart[index(cellOf(p)) + 1];
-        for (std::size_t i = 0; i < n; ++i) cellStart[i + 1] += cellStart[i];
-        std::vector<std::uint32_t> fill(cellStart.begin(), cellStart.end() - 1);
-        sorted.resize(pts.size());
-        for (const auto& p : pts) sorted[fill[index(cellOf(p))]++] = p;
+    double cell() const { return cell_; }
+    // The points in cell order (queries in this order touch memory locally).
+    const std::vector<glm::vec3>& points() const { return sorted_; }
+
+    // Cell coordinates, clamped far beyond any real grid (2^40 cells a side)
+    // so that a huge coordinate over a tiny cell cannot overflow.
+    Key cellOf(const glm::vec3& p) const {
+        constexpr double kLimit = double(std::int64_t(1) << 40);
+        Key k;
+        for (int a = 0; a < 3; ++a)
+            k[a] = std::int64_t(std::clamp(std::floor((double(p[a]) - origin_[a]) / cell_), -kLimit, kLimit));
+        return k;
+    }
+
+    // Calls f(point) for every point in the cell `key` (none if it is empty).
+    template <class F>
+    void forCell(const Key& key, F&& f) const {
+        const std::size_t mask = table_.size() - 1;
+        for (std::size_t h = hash(key) & mask; table_[h] >= 0; h = (h + 1) & mask) {
+            const CellRange& c = cells_[std::size_t(table_[h])];
+            if (c.key[0] != key[0] || c.key[1] != key[1] || c.key[2] != key[2]) continue;
+            for (std::uint32_t i = c.begin; i < c.end; ++i) f(sorted_[i]);
+            return;
+        }
     }
 
     // Nearest distance to a point other than p itself (distance > minDist),
     // searching shells of cells up to maxRing; +inf when it cannot be certain.
     float nearest(const glm::vec3& p, float minDist, int maxRing) const {
-        const glm::ivec3 c = cellOf(p);
+        const Key c = cellOf(p);
         float best2 = std::numeric_limits<float>::infinity();
         const float min2 = minDist * minDist;
         for (int ring = 0; ring <= maxRing; ++ring) {
             // Shells 0..ring-1 are searched; any point in shell `ring` or beyond
             // is at least (ring-1)*cell away, so a nearer hit is final.
-            const float reach = float(ring - 1) * cell;
+            const float reach = float(double(ring - 1) * cell_);
             if (ring > 0 && best2 <= reach * reach) break;
-            const glm::ivec3 lo = c - ring, hi = c + ring;
-            for (int z = std::max(lo.z, 0); z <= std::min(hi.z, dims.z - 1); ++z)
-                for (int y = std::max(lo.y, 0); y <= std::min(hi.y, dims.y - 1); ++y)
-                    for (int x = std::max(lo.x, 0); x <= std::min(hi.x, dims.x - 1); ++x) {
-                        const bool onShell = x == lo.x || x == hi.x || y == lo.y || y == hi.y || z == lo.z || z == hi.z;
-                        if (!onShell) continue;
-                        const std::size_t k = index({x, y, z});
-                        for (std::uint32_t i = cellStart[k]; i < cellStart[k + 1]; ++i) {
-                            const glm::vec3 d = sorted[i] - p;
+            for (int z = -ring; z <= ring; ++z)
+                for (int y = -ring; y <= ring; ++y)
+                    for (int x = -ring; x <= ring; ++x) {
+                        if (std::max({std::abs(x), std::abs(y), std::abs(z)}) != ring) continue;  // shell only
+                        forCell({c[0] + x, c[1] + y, c[2] + z}, [&](const glm::vec3& q) {
+                            const glm::vec3 d = q - p;
                             const float d2 = glm::dot(d, d);
                             if (d2 > min2 && d2 < best2) best2 = d2;
-                        }
+                        });
                     }
         }
         // Unsearched shells start maxRing*cell away: beyond that, not certain.
-        const float certain = float(maxRing) * cell;
+        const float certain = float(double(maxRing) * cell_);
         return best2 <= certain * certain ? std::sqrt(best2) : std::numeric_limits<float>::infinity();
     }
+
+private:
+    struct CellRange {
+        Key key;
+        std::uint32_t begin, end;
+    };
+    static std::size_t hash(const Key& k) {
+        std::uint64_t h = std::uint64_t(k[0]) * 0x9E3779B97F4A7C15ull ^ std::uint64_t(k[1]) * 0xC2B2AE3D27D4EB4Full ^
+                          std::uint64_t(k[2]) * 0x165667B19E3779F9ull;
+        h ^= h >> 31;
+        h *= 0xBF58476D1CE4E5B9ull;
+        return std::size_t(h ^ (h >> 29));
+    }
+
+    double cell_;
+    glm::dvec3 origin_;
+    std::vector<glm::vec3> sorted_;
+    std::vector<CellRange> cells_;
+    std::vector<std::int32_t> table_;
 };
+
+// The q-quantile (0..1, nearest rank) of v; v is reordered.
+template <class T>
+T quantileOf(std::vector<T>& v, double q) {
+    const std::size_t k = std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5));
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+    return v[k];
+}
+
+// Normalised cubic spline kernel with support radius H (Monaghan 1992, in the
+// form SPlisHSPlasH uses): integrates to 1 over the ball of radius H.
+double cubicKernel(double dist, double H) {
+    const double q = dist / H;
+    const double norm = 8.0 / (3.14159265358979323846 * H * H * H);
+    if (q <= 0.5) return norm * (6.0 * (q * q * q - q * q) + 1.0);
+    if (q <= 1.0) return norm * 2.0 * (1.0 - q) * (1.0 - q) * (1.0 - q);
+    return 0.0;
+}
+
+// Queries per pass: every particle up to this many, else an even stride (a
+// median and a quantile need no more; it keeps 1 M particles under a second).
+constexpr std::size_t kMaxQueries = std::size_t(1) << 16;
+// The kernel's support in median nearest-neighbour distances (about two mean
+// spacings in a liquid, where the nearest neighbour sits at ~0.8 spacings).
+constexpr double kSupportNN = 2.5;
+// The bulk is the densest part: this quantile of the per-particle densities.
+constexpr double kBulkQuantile = 0.75;
+// Below this many neighbours within the support at the 90th percentile there
+// is no bulk to measure (a single sheet, a spray): nearest-neighbour method.
+constexpr std::uint32_t kMinBulkNeighbours = 24;
+
+bool usable(const glm::vec3& p) {
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) &&
+           std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) <= kMaxCoordinateM;
+}
 
 }  // namespace
 
+Status checkCoordinates(std::span<const glm::vec3> positions, const std::string& name) {
+    float largest = 0.0f;
+    for (const glm::vec3& p : positions)
+        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+            largest = std::max({largest, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    if (largest <= kMaxCoordinateM) return okStatus();
+    char msg[200];
+    std::snprintf(msg, sizeof msg,
+                  "coordinates reach %.3g m, beyond the %.0e m single-precision rendering can handle "
+                  "(squared distances overflow); rescale the data",
+                  double(largest), double(kMaxCoordinateM));
+    return makeError(name, msg);
+}
+
+Status checkRadius(float radiusM) {
+    if (radiusM >= kMinRadiusM && radiusM <= kMaxRadiusM) return okStatus();
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "particle radius %.3g m is out of range: it must be between %.0e and %.0e metres",
+                  double(radiusM), double(kMinRadiusM), double(kMaxRadiusM));
+    return makeError("", msg);
+}
+
+std::string RadiusEstimate::describe() const {
+    char head[64];
+    std::snprintf(head, sizeof head, "%.4g m (", double(radius));
+    char body[256];
+    switch (method) {
+        case RadiusMethod::FileAttribute:
+            std::snprintf(body, sizeof body, "the file's '%s' attribute, median)", attribute.c_str());
+            break;
+        case RadiusMethod::BulkDensity:
+            std::snprintf(body, sizeof body, "half the spacing at the bulk number density %.4g /m^3", bulkNumberDensity);
+            break;
+        case RadiusMethod::NearestNeighbour:
+            std::snprintf(body, sizeof body, "half the median nearest-neighbour distance; too few neighbours for a density");
+            break;
+        case RadiusMethod::Fallback:
+            std::snprintf(body, sizeof body, "1%% of the bounds diagonal; too few particles to estimate, set --radius)");
+            break;
+    }
+    std::string s = std::string(head) + body;
+    if (method == RadiusMethod::BulkDensity || method == RadiusMethod::NearestNeighbour) {
+        if (isolated > 0) s += "; " + std::to_string(isolated) + " isolated particles ignored";
+        s += ")";
+    }
+    return s;
+}
+
 RadiusEstimate estimateRadius(std::span<const glm::vec3> positions) {
     RadiusEstimate est;
-    const Bounds b = computeBounds(positions);
-    const float diag = b.empty() ? 0.0f : glm::length(b.extent());
+    std::vector<glm::vec3> pts;
+    pts.reserve(positions.size());
+    for (const glm::vec3& p : positions)
+        if (usable(p)) pts.push_back(p);
+    const Bounds b = computeBounds(pts);
+    const double diag = b.empty() ? 0.0 : glm::length(glm::dvec3(b.extent()));
     const auto fallback = [&] {
+        est.method = RadiusMethod::Fallback;
         est.fallback = true;
-        est.radius = diag > 0.0f ? 0.01f * diag : 0.01f;
+        est.radius = diag > 0.0 ? float(0.01 * diag) : 0.01f;
         return est;
     };
-    if (positions.size() < 2 || !(diag > 0.0f) || !std::isfinite(diag)) return fallback();
-
-    const std::size_t n = positions.size();
-    const float minDist = 1e-7f * diag;  // closer than this counts as the same point
-    // Cell size: the mean spacing if the points filled their box, then grown
-    // until the grid has at most ~2 cells per point (sheets, sparse sprays).
-    const glm::vec3 ext = glm::max(b.extent(), glm::vec3(1e-3f * diag));
-    float cell = std::cbrt(ext.x * ext.y * ext.z / float(n));
-    auto cellCount = [&](float c) {
-        const glm::vec3 d = glm::floor(ext / c) + 1.0f;
-        return double(d.x) * double(d.y) * double(d.z);
-    };
-    while (cellCount(cell) > 2.0 * double(n) + 8.0) cell *= 1.25f;
+    if (pts.size() < 2 || !(diag > 0.0)) return fallback();
 
     // Queries: every particle, or an even stride of them for very large sets.
-    const std::size_t maxQueries = 200000;
-    const std::size_t stride = std::max<std::size_t>(1, (n + maxQueries - 1) / maxQueries);
+    const std::size_t n = pts.size();
+    const std::size_t stride = std::max<std::size_t>(1, (n + kMaxQueries - 1) / kMaxQueries);
     const std::size_t queries = (n + stride - 1) / stride;
+    const auto query = [&](std::size_t q) { return pts[q * stride]; };
+
+    // First cell size: the mean spacing if the points inside the central 98%
+    // of each axis filled their box (outliers cannot inflate it), in double so
+    // a tiny extent cannot underflow. Too small a cell only costs a retry.
+    std::array<std::vector<float>, 3> axis;
+    for (int a = 0; a < 3; ++a) {
+        axis[a].resize(queries);
+        for (std::size_t q = 0; q < queries; ++q) axis[a][q] = query(q)[a];
+    }
+    glm::dvec3 lo, hi;
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = quantileOf(axis[a], 0.01);
+        hi[a] = quantileOf(axis[a], 0.99);
+    }
+    glm::dvec3 ext = hi - lo;
+    if (!(std::max({ext.x, ext.y, ext.z}) > 0.0)) ext = glm::dvec3(b.extent());
+    const double longest = std::max({ext.x, ext.y, ext.z});
+    ext = glm::max(ext, glm::dvec3(1e-3 * longest));
+    double cell = std::cbrt(ext.x * ext.y * ext.z / double(n));
+    const glm::dvec3 origin(b.min);
+
+    // Nearest neighbours: median over the queries, isolated ones (nothing
+    // within two rings of cells) counting as long without being measured.
+    const float minDist = float(1e-7 * longest);  // closer than this counts as the same point
     std::vector<float> nn(queries);
-    for (int attempt = 0; attempt < 8; ++attempt) {
-        const PointGrid grid(positions, b, cell);
-        tbb::parallel_for(std::size_t(0), queries, [&](std::size_t q) {
-            nn[q] = grid.nearest(positions[q * stride], minDist, 2);
-        });
+    for (int attempt = 0; attempt < 64 && !(est.medianNeighbourDistance > 0.0f); ++attempt, cell *= 2.0) {
+        if (!(cell > 0.0) || !std::isfinite(cell)) break;
+        const HashGrid grid(pts, cell, origin);
+        const auto& local = grid.points();
+        tbb::parallel_for(std::size_t(0), queries,
+                          [&](std::size_t q) { nn[q] = grid.nearest(local[q * stride], minDist, 2); });
         std::vector<float> found;
         found.reserve(queries);
         for (float d : nn)
             if (std::isfinite(d)) found.push_back(d);
-        // Isolated particles (nothing within two rings of cells) are farther than
-        // nearly every found distance, so they count toward the median's rank
-        // as long ones without being measured.
         const std::size_t mid = (queries - 1) / 2;
         if (mid < found.size()) {
             std::nth_element(found.begin(), found.begin() + std::ptrdiff_t(mid), found.end());
             est.medianNeighbourDistance = found[mid];
-            est.radius = 0.5f * est.medianNeighbourDistance;
-            return est;
         }
-        cell *= 2.0f;  // too sparse for this grid: coarser cells and try again
     }
-    return fallback();
+    if (!(est.medianNeighbourDistance > 0.0f)) return fallback();
+    est.method = RadiusMethod::NearestNeighbour;
+    est.radius = 0.5f * est.medianNeighbourDistance;
+
+    // SPH number density around each query with the kernel's support H.
+    const double H = kSupportNN * double(est.medianNeighbourDistance);
+    const float H2 = float(H * H);
+    const HashGrid grid(pts, H, origin);
+    std::vector<double> density(queries);
+    std::vector<std::uint32_t> neighbours(queries);
+    tbb::parallel_for(std::size_t(0), queries, [&](std::size_t q) {
+        const glm::vec3 p = grid.points()[q * stride];
+        const HashGrid::Key c = grid.cellOf(p);
+        double sum = 0.0;
+        std::uint32_t count = 0;
+        for (int z = -1; z <= 1; ++z)
+            for (int y = -1; y <= 1; ++y)
+                for (int x = -1; x <= 1; ++x)
+                    grid.forCell({c[0] + x, c[1] + y, c[2] + z}, [&](const glm::vec3& o) {
+                        const glm::vec3 d = o - p;
+                        const float d2 = glm::dot(d, d);
+                        if (d2 >= H2) return;
+                        sum += cubicKernel(std::sqrt(double(d2)), H);
+                        ++count;
+                    });
+        density[q] = sum;
+        neighbours[q] = count - 1;  // not itself
+    });
+    std::vector<double> bulk;
+    std::vector<std::uint32_t> bulkNeighbours;
+    for (std::size_t q = 0; q < queries; ++q) {
+        if (neighbours[q] == 0) continue;
+        bulk.push_back(density[q]);
+        bulkNeighbours.push_back(neighbours[q]);
+    }
+    // Isolated particles (nothing else within H), counted over the whole set:
+    // most find a neighbour in their own cell at once.
+    std::vector<std::uint8_t> alone(n);
+    const auto& all = grid.points();
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        const glm::vec3& p = all[i];  // by reference: itself is told apart by address
+        const HashGrid::Key c = grid.cellOf(p);
+        bool found = false;
+        for (int k = 0; k < 27 && !found; ++k)
+            grid.forCell({c[0] + k % 3 - 1, c[1] + k / 3 % 3 - 1, c[2] + k / 9 - 1}, [&](const glm::vec3& o) {
+                const glm::vec3 d = o - p;
+                const float d2 = glm::dot(d, d);
+                found = found || (d2 < H2 && (d2 > 0.0f || &o != &p));
+            });
+        alone[i] = !found;
+    });
+    for (std::uint8_t a : alone) est.isolated += a;
+    if (bulk.empty() || quantileOf(bulkNeighbours, 0.9) < kMinBulkNeighbours) return est;
+    est.bulkNumberDensity = quantileOf(bulk, kBulkQuantile);
+    est.radius = float(0.5 / std::cbrt(est.bulkNumberDensity));
+    est.method = RadiusMethod::BulkDensity;
+    return est;
+}
+
+RadiusEstimate defaultRadius(const ParticleSet& set) {
+    for (const char* name : {"radius", "pscale", "particle_radius"}) {
+        const Attribute* a = set.find(name);
+        if (!a || a->components != 1) continue;
+        const auto stats = attributeStats(set, name);
+        if (!stats || !checkRadius(float(stats->median)).ok()) continue;
+        RadiusEstimate est;
+        est.radius = float(stats->median);
+        est.method = RadiusMethod::FileAttribute;
+        est.attribute = name;
+        return est;
+    }
+    return estimateRadius(set.positions);
 }
 
 std::optional<MinMedianMax> attributeStats(const ParticleSet& set, std::string_view name, int component) {

@@ -10,6 +10,9 @@ namespace meniscus {
 
 // Calls write(tmpPath) with a temporary path in the same directory as `path`;
 // on success renames it onto `path`, on failure (or exception) removes it.
+// When `path` is a symbolic link the write goes through it: the temporary file
+// is made beside the link's (final) target and renamed onto the target, so the
+// link stays and points at the new content.
 Status writeAtomically(const std::filesystem::path& path,
                        const std::function<Status(const std::filesystem::path& tmpPath)>& write);
 

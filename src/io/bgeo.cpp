@@ -10,11 +10,14 @@
 //     `size` 4-byte words in header order;
 //   primitives, groups, detail attributes and the 00 ff trailer (ignored).
 // Every read is checked against the buffer; counts are validated against the
-// bytes actually present before anything is allocated from them.
+// bytes actually present before anything is allocated from them. gzip data is
+// inflated in streaming passes bounded by what the header needs (a
+// decompression bomb is refused without holding it in memory).
 #include <algorithm>
 #include <cstring>
 #include <new>
 
+#include "io/gzip_stream.h"
 #include "io/io_util.h"
 #include "meniscus/io.h"
 
@@ -29,19 +32,27 @@ enum HoudiniType : std::int32_t { kFloat = 0, kInt = 1, kString = 2, kIndex = 4,
 // Internal failure, turned into an Error at the parse entry; never escapes.
 using io_util::fail;
 
-// Bounds-checked big-endian reader.
+// Bounds-checked big-endian reader over the file's bytes, or over a gzip
+// stream inflated on demand (only as far as the reads go, at most
+// kMaxPrefixBytes: the header and attribute table need no more).
 class Reader {
 public:
     explicit Reader(ByteView data) : data_(data) {}
+    explicit Reader(InflateStream* stream) : stream_(stream) {}
 
     std::size_t pos() const { return pos_; }
     std::size_t remaining() const { return data_.size() - pos_; }
     const std::uint8_t* here() const { return data_.data() + pos_; }
 
-    void need(std::size_t n, const std::string& what) const {
+    void need(std::size_t n, const std::string& what) {
+        prefetch(n);
         if (n > remaining())
             fail("truncated " + what + ": needs " + std::to_string(n) + " bytes at offset " + std::to_string(pos_) +
                  ", file has only " + std::to_string(remaining()) + " left");
+    }
+    // Makes up to n bytes available (fewer only at the end of the data).
+    void prefetch(std::size_t n) {
+        if (n > remaining() && stream_ && !stream_->ended()) pull(n - remaining());
     }
     void skip(std::size_t n, const std::string& what) {
         need(n, what);
@@ -77,8 +88,25 @@ public:
     }
 
 private:
+    static constexpr std::size_t kMaxPrefixBytes = std::size_t(64) << 20;
+
+    // Inflates at least `more` further bytes (in 64 KiB steps) into buf_.
+    void pull(std::size_t more) {
+        const std::size_t want = std::max<std::size_t>(more, 64 * 1024);
+        if (buf_.size() + more > kMaxPrefixBytes)
+            fail("header and attribute table take more than 64 MiB; not a particle file");
+        const std::size_t old = buf_.size();
+        buf_.resize(std::min(old + want, kMaxPrefixBytes));
+        auto got = stream_->read(buf_.data() + old, buf_.size() - old);
+        if (!got) fail(got.error().message);
+        buf_.resize(old + *got);
+        data_ = buf_;
+    }
+
     ByteView data_;
     std::size_t pos_ = 0;
+    InflateStream* stream_ = nullptr;
+    std::vector<std::uint8_t> buf_;  // the inflated prefix, when reading a stream
 };
 
 struct Header {
@@ -175,16 +203,15 @@ std::string canonicalName(const AttrInfo& a, const std::vector<AttrInfo>& all) {
     return a.name;
 }
 
-ParticleSet readPoints(Reader& in, const Header& h, const std::vector<AttrInfo>& attrs) {
+std::size_t recordWords(const std::vector<AttrInfo>& attrs) {
     std::size_t words = 4;  // P = x, y, z, w
     for (const auto& a : attrs) words += std::size_t(a.size);
-    const std::size_t recordBytes = words * 4;
-    const std::size_t room = in.remaining() / recordBytes;
-    if (std::size_t(h.nPoints) > room)
-        fail("truncated point data: header says " + std::to_string(h.nPoints) + " points of " +
-             std::to_string(recordBytes) + " bytes, file has room for only " + std::to_string(room));
+    return words;
+}
 
-    const std::size_t n = std::size_t(h.nPoints);
+// The particle set with every array sized for n points (called only once the
+// bytes for n points are known to exist).
+ParticleSet allocatePoints(std::size_t n, const std::vector<AttrInfo>& attrs) {
     ParticleSet set;
     set.positions.resize(n);
     for (const auto& a : attrs) {
@@ -200,9 +227,12 @@ ParticleSet readPoints(Reader& in, const Header& h, const std::vector<AttrInfo>&
         }
         set.attributes.push_back(std::move(attr));
     }
+    return set;
+}
 
-    const std::uint8_t* p = in.here();
-    for (std::size_t i = 0; i < n; ++i) {
+// Decodes `count` records starting at p into points first .. first+count-1.
+void decodeRecords(const std::uint8_t* p, std::size_t first, std::size_t count, ParticleSet& set) {
+    for (std::size_t i = first; i < first + count; ++i) {
         float xyz[3];
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t bits = Reader::load32(p + 4 * k);
@@ -221,6 +251,20 @@ ParticleSet readPoints(Reader& in, const Header& h, const std::vector<AttrInfo>&
             }
         }
     }
+}
+
+[[noreturn]] void failRoom(const Header& h, std::size_t recordBytes, std::uint64_t room) {
+    fail("truncated point data: header says " + std::to_string(h.nPoints) + " points of " +
+         std::to_string(recordBytes) + " bytes, file has room for only " + std::to_string(room));
+}
+
+ParticleSet readPoints(Reader& in, const Header& h, const std::vector<AttrInfo>& attrs) {
+    const std::size_t recordBytes = recordWords(attrs) * 4;
+    const std::size_t room = in.remaining() / recordBytes;
+    if (std::size_t(h.nPoints) > room) failRoom(h, recordBytes, room);
+    const std::size_t n = std::size_t(h.nPoints);
+    ParticleSet set = allocatePoints(n, attrs);
+    decodeRecords(in.here(), 0, n, set);
     in.skip(n * recordBytes, "point data");
     // Primitives, groups, detail attributes and the 00 ff trailer follow; a
     // particle file needs none of them.
@@ -235,15 +279,74 @@ ParticleSet parseDecompressed(ByteView data) {
     return readPoints(in, h, attrs);
 }
 
+template <class T>
+T orFail(Result<T> r) {
+    if (!r) fail(r.error().message);
+    return std::move(*r);
+}
+
+// Bytes a particle file may legitimately hold after its points (primitives,
+// point groups as bitmasks, detail attributes, the trailer).
+std::uint64_t tailAllowance(const Header& h) {
+    return (std::uint64_t(16) << 20) + std::uint64_t(h.nPoints) * std::uint64_t(std::max(h.nPointGroups, 1));
+}
+
+// gzip-compressed BGEO in two streaming passes, so the inflated file is never
+// held: the first checks the stream holds the points the header claims and
+// ends within tailAllowance after them (a bomb is refused after inflating no
+// more than that, keeping nothing); the second decodes the points straight
+// into arrays of the final size. Peak memory: the output plus 1 MiB.
+ParticleSet parseCompressed(ByteView gz, const std::string& name) {
+    InflateStream first(gz, name);
+    Reader in(&first);
+    in.prefetch(kHeaderBytes);
+    checkMagic({in.here(), in.remaining()});
+    const Header h = readHeader(in);
+    const std::vector<AttrInfo> attrs = readAttributeTable(in, h);
+    const std::size_t tableEnd = in.pos();
+    const std::size_t recordBytes = recordWords(attrs) * 4;
+    const std::uint64_t n = std::uint64_t(h.nPoints);
+
+    // No deflate stream expands more than kMaxDeflateRatio: a count beyond
+    // that is refused before inflating anything more.
+    const std::uint64_t possible = kMaxDeflateRatio * std::uint64_t(gz.size());
+    if (n > possible / recordBytes) failRoom(h, recordBytes, possible / recordBytes);
+    const std::uint64_t pointBytes = n * recordBytes;
+
+    // Pass 1: are the points there, and does the stream end soon after?
+    const std::uint64_t buffered = in.remaining();
+    if (pointBytes > buffered) {
+        const std::uint64_t got = orFail(first.skip(pointBytes - buffered));
+        if (got < pointBytes - buffered) failRoom(h, recordBytes, (buffered + got) / recordBytes);
+    }
+    const std::uint64_t allowance = tailAllowance(h);
+    const std::uint64_t pastPoints = buffered > pointBytes ? buffered - pointBytes : 0;
+    if (pastPoints < allowance) orFail(first.skip(allowance - pastPoints));
+    if (!first.ended())
+        fail("gzip data inflates to more than its header needs (" + std::to_string(tableEnd + pointBytes) +
+             " bytes for " + std::to_string(n) + " points, plus " + std::to_string(allowance) +
+             " allowed after them); refusing it as a decompression bomb or a corrupt file");
+
+    // Pass 2: decode, a chunk of records at a time.
+    InflateStream second(gz, name);
+    orFail(second.skip(tableEnd));
+    ParticleSet set = allocatePoints(std::size_t(n), attrs);
+    const std::size_t perChunk = std::max<std::size_t>(1, (std::size_t(1) << 20) / recordBytes);
+    std::vector<std::uint8_t> chunk(std::min<std::uint64_t>(n, perChunk) * recordBytes);
+    for (std::size_t i = 0; i < n; i += perChunk) {
+        const std::size_t count = std::min<std::size_t>(perChunk, std::size_t(n) - i);
+        if (orFail(second.read(chunk.data(), count * recordBytes)) != count * recordBytes)
+            fail("gzip stream changed between passes");  // cannot happen: the same bytes inflate the same
+        decodeRecords(chunk.data(), i, count, set);
+    }
+    return set;
+}
+
 }  // namespace
 
 Result<ParticleSet> parseBgeo(ByteView data, const std::string& name) {
     return io_util::guardParse(name, "BGEO", [&]() -> Result<ParticleSet> {
-        if (data.size() >= 2 && data[0] == 0x1f && data[1] == 0x8b) {
-            auto raw = inflateGzip(data, name);
-            if (!raw) return raw.error();
-            return parseDecompressed(raw.value());
-        }
+        if (data.size() >= 2 && data[0] == 0x1f && data[1] == 0x8b) return parseCompressed(data, name);
         return parseDecompressed(data);
     });
 }

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/backend.h"
+#include "core/frame_memory.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
 #include "shared/studio.h"
@@ -185,8 +186,8 @@ std::string Renderer::backendName() const { return backend_->name(); }
 Status Renderer::runStages(const ParticleView& particles, const RenderSettings& s,
                            std::vector<StageTime>* timings) {
     if (auto st = validateCamera(s.camera); !st) return st.error();
-    if (!(s.radiusM > 0.0f) || !std::isfinite(s.radiusM))
-        return makeError("", "particle radius must be a positive number of metres");
+    if (auto st = checkRadius(s.radiusM); !st) return st;
+    if (auto st = checkFrameMemory(s.camera.width, s.camera.height); !st) return st;
     if (auto st = particles.validate(); !st) return st;
     // The backends read positions as one contiguous array: the caller's own
     // when the view is one, else gathered here (a strided view).

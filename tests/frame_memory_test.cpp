@@ -1,0 +1,48 @@
+// The frame memory check (src/core/frame_memory.cpp) and its use by the
+// pipeline: a frame needing more than half the machine's memory is refused
+// with the figure before anything is allocated.
+#include <gtest/gtest.h>
+
+#include "core/frame_memory.h"
+#include "meniscus/renderer.h"
+
+namespace meniscus {
+namespace {
+
+TEST(FrameMemory, GrowsWithThePixelCount) {
+    EXPECT_EQ(frameBytes(0, 10), 0u);
+    EXPECT_EQ(frameBytes(200, 100), 2u * frameBytes(100, 100));
+    // At least the kept buffers: scene colour+depth, raw depth, thickness,
+    // depth, normals, colour (64 bytes a pixel).
+    EXPECT_GE(frameBytes(1280, 720), 1280u * 720u * 64u);
+}
+
+// Regression (issue 13): 16384x16384 was accepted, then took minutes and 9.5 GB.
+TEST(FrameMemory, RefusesWithTheFigures) {
+    const std::uint64_t gb = 1000000000;
+    const Status st = checkFrameMemory(16384, 16384, 24 * gb);
+    ASSERT_FALSE(st.ok());
+    EXPECT_NE(st.error().message.find("16384x16384 frame needs about"), std::string::npos) << st.error().message;
+    EXPECT_NE(st.error().message.find("this machine has 24.0 GB"), std::string::npos) << st.error().message;
+    EXPECT_TRUE(checkFrameMemory(16384, 16384, 1000 * gb).ok());
+    EXPECT_TRUE(checkFrameMemory(1280, 720, 24 * gb).ok());
+    EXPECT_TRUE(checkFrameMemory(16384, 16384, 0).ok());  // unknown memory: not refused
+    EXPECT_GT(physicalMemoryBytes(), 0u);
+}
+
+TEST(FrameMemory, ThePipelineRefusesBeforeRendering) {
+    if (2 * frameBytes(16384, 16384) <= physicalMemoryBytes()) GTEST_SKIP() << "this machine could render it";
+    RenderSettings s;
+    s.camera.width = s.camera.height = 16384;
+    s.camera.eye = {0, 0, 3};
+    s.radiusM = 0.1f;
+    const glm::vec3 p{0, 0, 0};
+    auto made = Renderer::create(BackendChoice::Cpu, nullptr);
+    ASSERT_TRUE(made.ok());
+    const auto r = made->render(std::span(&p, 1), s);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("frame needs about"), std::string::npos) << r.error().message;
+}
+
+}  // namespace
+}  // namespace meniscus
