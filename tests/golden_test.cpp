@@ -7,10 +7,9 @@
 // CPU tolerance: at most 0.5% of the pixels may differ by more than 3/255 in
 // any channel, and the mean absolute difference must stay below 0.5/255 (room
 // for another compiler's or libm's last-bit differences, not for a changed look).
-// GL tolerance (the CPU/GL parity of tests/gl_backend_test.cpp, colour within
-// 1-2 8-bit steps where the stages agree): no more than 0.5% of the pixels off
-// by more than 3/255 and a mean below 0.5/255 as for the CPU, which the GL
-// backend meets with a wide margin (see the printed figures).
+// GL tolerance: the CPU/GL colour parity of tests/gl_backend_test.cpp, i.e. no
+// channel more than 2/255 off and at most 0.1% of the pixels more than 1/255
+// off, on top of the CPU bounds (measured on llvmpipe: at most 1/255 anywhere).
 // After an intended change of the look, re-approve with scripts/approve_golden.sh
 // and look at the new images before committing them.
 #include <cstdio>
@@ -69,7 +68,7 @@ TEST_P(Golden, MatchesTheApprovedImage) {
     ASSERT_EQ(got.height, want.height);
     ASSERT_EQ(got.bytes.size(), want.bytes.size());
     const std::size_t channels = got.bytes.size() / (std::size_t(got.width) * got.height);
-    std::size_t off = 0;
+    std::size_t off = 0, over1 = 0;
     int maxDiff = 0;
     double sum = 0.0;
     for (std::size_t p = 0; p < got.bytes.size(); p += channels) {
@@ -81,6 +80,7 @@ TEST_P(Golden, MatchesTheApprovedImage) {
         }
         maxDiff = std::max(maxDiff, worst);
         if (worst > 3) ++off;
+        if (worst > 1) ++over1;
     }
     const std::size_t pixels = std::size_t(got.width) * got.height;
     const double mean = sum / double(got.bytes.size());
@@ -88,6 +88,10 @@ TEST_P(Golden, MatchesTheApprovedImage) {
                 look.file.c_str(), off, pixels, maxDiff, mean);
     EXPECT_LE(off, pixels / 200) << look.file << ": " << off << " pixels differ by more than 3/255";
     EXPECT_LT(mean, 0.5) << look.file;
+    if (backend == "gl") {
+        EXPECT_LE(maxDiff, 2) << look.file;
+        EXPECT_LE(over1, pixels / 1000) << look.file;
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryLook, Golden,

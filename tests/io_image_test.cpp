@@ -318,7 +318,8 @@ TEST(ExrWriter, EmptyAovsAreOmitted) {
     a.rawDepth = {};
     ASSERT_TRUE(writeExrAovs(file, a).ok());
     const ExrData exr = readExr(file);
-    EXPECT_EQ(std::set<std::string>(exr.names.begin(), exr.names.end()), (std::set<std::string>{"T", "Z"}));
+    // coverage comes from Z when Zraw is absent
+    EXPECT_EQ(std::set<std::string>(exr.names.begin(), exr.names.end()), (std::set<std::string>{"T", "Z", "coverage"}));
 }
 
 TEST(ExrWriter, AllAovsEmptyFails) {
