@@ -331,26 +331,24 @@ TEST(Cli, TinyAndHugeCoordinatesFailWithTheFileNamed) {
     EXPECT_FALSE(fs::exists(dir / "b.png"));
 }
 
-TEST(Cli, RadiusOutOfRangeIsSaid) {
-    const fs::path dir = tempDir() / "cli_radius_range";
+// `meniscus render` of the real frame 21 into DIR/r.png with extra arguments.
+int renderFrame21(const std::string& dirName, const std::string& args, std::string* out) {
+    const fs::path dir = tempDir() / dirName;
     fs::create_directories(dir);
+    return runCli("render " + quote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
+                      quote(dir / "r.png") + " " + args,
+                  out);
+}
+
+TEST(Cli, RadiusOutOfRangeIsSaid) {
     std::string out;
-    EXPECT_EQ(runCli("render " + quote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
-                         quote(dir / "r.png") + " --radius 1e30",
-                     &out),
-              1);
+    EXPECT_EQ(renderFrame21("cli_radius_range", "--radius 1e30", &out), 1);
     EXPECT_NE(out.find("--radius: particle radius 1e+30 m is out of range"), std::string::npos) << out;
 }
 
 TEST(Cli, RenderSaysWhichRadiusAndHow) {
-    const fs::path dir = tempDir() / "cli_radius_line";
-    fs::create_directories(dir);
     std::string out;
-    ASSERT_EQ(runCli("render " + quote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
-                         quote(dir / "r.png") + " --width 64 --height 36",
-                     &out),
-              0)
-        << out;
+    ASSERT_EQ(renderFrame21("cli_radius_line", "--width 64 --height 36", &out), 0) << out;
     EXPECT_NE(out.find("meniscus: radius 0.023"), std::string::npos) << out;
     EXPECT_NE(out.find("bulk number density"), std::string::npos) << out;
 }
