@@ -21,10 +21,10 @@ struct Camera {
     glm::vec3 target{0.0f};            // the point the camera looks at
     glm::vec3 up{0.0f, 1.0f, 0.0f};    // approximate up; orthogonalised
     float fovYDegrees = defaults::kFovYDegrees;  // full vertical field of view
-    float nearM = 0.01f;               // eye-depth clip range, metres
-    float farM = 1000.0f;
-    int width = 1280;                  // pixels
-    int height = 720;
+    float nearM = defaults::kNearM;    // eye-depth clip range, metres
+    float farM = defaults::kFarM;
+    int width = defaults::kWidth;      // pixels
+    int height = defaults::kHeight;
 
     bool operator==(const Camera&) const = default;
 
