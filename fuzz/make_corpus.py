@@ -1,0 +1,223 @@
+#!/usr/bin/python3
+"""Write the fuzz seed corpus, fuzz/corpus/<reader>/, from the real test data.
+
+Each seed is a real file cut down to its first N particles (a few KB), so that
+libFuzzer starts from every layout the readers know, with real values:
+  bgeo, bgeo_gz  tests/data/splishsplash/partio/ParticleData_Fluid_21.bgeo (partio,
+                 SPlisHSPlasH): inflated, the header's point count set to N, the
+                 first N point records and the file's own trailer kept; plain and
+                 gzip (and two concatenated gzip members).
+  vtk            tests/data/splishsplash/vtk/ParticleData_Fluid_21.vtk (SPlisHSPlasH,
+                 binary): every section cut to N; plus VTK 9's own legacy writer,
+                 ascii and binary.
+  vtu, vtp       VTK 9 (python3-vtk9) writing the first N particles in each layout
+                 of tests/data/vtu (scripts/make_vtu_fixtures.py does the same for
+                 the full frame).
+  ply            the same N particles: VTK's PLY writer (vertex + face elements),
+                 and x y z vx vy vz density id in ascii and both binary byte orders.
+  csv, xyz       the same N particles as text: plain, ParaView-style, ';' and tab.
+Deterministic: running it again gives the same files.
+
+Run from anywhere:  /usr/bin/python3 fuzz/make_corpus.py
+"""
+import gzip
+import importlib.util
+import os
+import struct
+
+import vtk
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DATA = os.path.join(REPO, "tests", "data", "splishsplash")
+OUT = os.path.join(REPO, "fuzz", "corpus")
+N = 16
+
+
+def put(reader, name, data):
+    os.makedirs(os.path.join(OUT, reader), exist_ok=True)
+    with open(os.path.join(OUT, reader, name), "wb") as f:
+        f.write(data)
+
+
+def gz(data):
+    return gzip.compress(data, compresslevel=9, mtime=0)
+
+
+# ---------------------------------------------------------------- BGEO (partio)
+
+def cut_bgeo():
+    d = gzip.decompress(open(os.path.join(DATA, "partio", "ParticleData_Fluid_21.bgeo"), "rb").read())
+    counts = list(struct.unpack(">9i", d[5:41]))  # version, nPoints, ..., nAttrib
+    n_points, n_attr = counts[1], counts[5]
+    p, words = 41, 4
+    for _ in range(n_attr):
+        (name_len,) = struct.unpack(">H", d[p:p + 2])
+        p += 2 + name_len
+        size, typ = struct.unpack(">Hi", d[p:p + 6])
+        p += 6
+        words += size
+        if typ in (0, 1, 5):
+            p += 4 * size
+        else:
+            raise SystemExit("unexpected attribute type %d" % typ)
+    record = 4 * words
+    tail = d[p + n_points * record:]
+    counts[1] = N
+    cut = d[:5] + struct.pack(">9i", *counts) + d[41:p] + d[p:p + N * record] + tail
+    put("bgeo", "fluid21_first16.bgeo", cut)
+    put("bgeo", "fluid21_first16.bgeo.gz", gz(cut))
+    put("bgeo_gz", "fluid21_first16.bgeo.gz", gz(cut))
+    half = len(cut) // 2
+    put("bgeo_gz", "fluid21_first16_two_members.bgeo.gz", gz(cut[:half]) + gz(cut[half:]))
+
+
+# ---------------------------------------------------------------- legacy VTK
+
+def cut_vtk():
+    d = open(os.path.join(DATA, "vtk", "ParticleData_Fluid_21.vtk"), "rb").read()
+    lines = d.split(b"\n", 4)
+    head = b"\n".join(lines[:4]) + b"\n"          # version, title, BINARY, DATASET
+    n = int(lines[4].split(b"\n", 1)[0].split()[1])  # POINTS n float
+
+    pos = len(head)
+    def section(keyword, item_bytes):
+        """The first N items of the section at pos; pos moves past the whole section."""
+        nonlocal pos
+        if not d.startswith(keyword, pos):
+            raise SystemExit("expected %r at %d" % (keyword, pos))
+        eol = d.index(b"\n", pos) + 1
+        pos = eol + item_bytes * n + 1  # the items and their newline
+        return d[eol:eol + item_bytes * N]
+    out = head
+    out += b"POINTS %d float\n" % N + section(b"POINTS", 12) + b"\n"
+    out += b"CELLS %d %d\n" % (N, 2 * N) + section(b"CELLS", 8) + b"\n"
+    out += b"CELL_TYPES %d\n" % N + section(b"CELL_TYPES", 4) + b"\n"
+    if not d.startswith(b"POINT_DATA", pos):
+        raise SystemExit("expected POINT_DATA at %d" % pos)
+    pos = d.index(b"\n", pos) + 1
+    out += b"POINT_DATA %d\n" % N
+    scalars = d[pos:d.index(b"\n", d.index(b"\n", pos) + 1) + 1]  # SCALARS + LOOKUP_TABLE lines
+    pos += len(scalars)
+    out += scalars + d[pos:pos + 4 * N] + b"\n"
+    pos += 4 * n + 1
+    out += d[pos:d.index(b"\n", pos) + 1]                 # FIELD FieldData 2
+    pos = d.index(b"\n", pos) + 1
+    for _ in range(2):
+        name, comps, _count, typ = d[pos:d.index(b"\n", pos)].split()
+        pos = d.index(b"\n", pos) + 1
+        size = 4 * int(comps)
+        out += b"%s %s %d %s\n" % (name, comps, N, typ) + d[pos:pos + size * N] + b"\n"
+        pos += size * n + 1
+    if pos != len(d):
+        raise SystemExit("unexpected data after the FIELD arrays in the legacy VTK file")
+    put("vtk", "fluid21_first16_splishsplash.vtk", out)
+
+
+# ---------------------------------------------------------------- VTK 9 writers
+
+def load_fixture_script():
+    spec = importlib.util.spec_from_file_location(
+        "make_vtu_fixtures", os.path.join(REPO, "scripts", "make_vtu_fixtures.py"))
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def vtk_writers(fx):
+    grid = fx.first_points(fx.read_legacy(), N)
+    for binary in (False, True):
+        legacy_writer(vtk.vtkUnstructuredGridWriter, grid, "vtk", "vtk9_first16_%s.vtk", binary)
+
+    ug, pd = vtk.vtkXMLUnstructuredGridWriter, vtk.vtkXMLPolyDataWriter
+    fx.OUT = os.path.join(OUT, "vtu")
+    os.makedirs(fx.OUT, exist_ok=True)
+    for name, kw in (("ascii.vtu", dict(mode="ascii")),
+                     ("binary.vtu", dict(mode="binary")),
+                     ("binary_zlib.vtu", dict(mode="binary", compress=True)),
+                     ("appended_raw.vtu", dict(mode="appended")),
+                     ("appended_raw_zlib_blocks.vtu", dict(mode="appended", compress=True, block_size=64)),
+                     ("appended_base64.vtu", dict(mode="appended", encode=True)),
+                     ("appended_base64_zlib.vtu", dict(mode="appended", encode=True, compress=True)),
+                     ("uint64_binary_zlib.vtu", dict(mode="binary", compress=True, header64=True)),
+                     ("uint64_appended_raw_zlib.vtu", dict(mode="appended", compress=True, header64=True,
+                                                           id32=False)),
+                     ("bigendian_binary.vtu", dict(mode="binary", big_endian=True)),
+                     ("bigendian_appended_raw_zlib.vtu", dict(mode="appended", compress=True,
+                                                              big_endian=True))):
+        fx.write(ug, grid, "fluid21_first16_" + name, **kw)
+    poly = fx.as_polydata(grid)
+    fx.OUT = os.path.join(OUT, "vtp")
+    os.makedirs(fx.OUT, exist_ok=True)
+    for name, kw in (("ascii.vtp", dict(mode="ascii")),
+                     ("binary.vtp", dict(mode="binary")),
+                     ("appended_raw_zlib.vtp", dict(mode="appended", compress=True))):
+        fx.write(pd, poly, "fluid21_first16_" + name, **kw)
+
+    for binary in (False, True):
+        legacy_writer(vtk.vtkPLYWriter, poly, "ply", "vtk9_first16_%s.ply", binary)
+    return grid
+
+
+def legacy_writer(writer_cls, data, reader, pattern, binary):
+    """A VTK writer with an ASCII/binary file type (legacy VTK, PLY) into corpus/<reader>/."""
+    w = writer_cls()
+    w.SetInputData(data)
+    w.SetFileName(os.path.join(OUT, reader, pattern % ("binary" if binary else "ascii")))
+    w.SetFileTypeToBinary() if binary else w.SetFileTypeToASCII()
+    os.makedirs(os.path.dirname(w.GetFileName()), exist_ok=True)
+    if not w.Write():
+        raise SystemExit("writing %s failed" % w.GetFileName())
+
+
+# ---------------------------------------------------------------- PLY, CSV, XYZ
+
+def rows(grid):
+    pd = grid.GetPointData()
+    out = []
+    for i in range(N):
+        x, y, z = grid.GetPoint(i)
+        vx, vy, vz = pd.GetArray("velocity").GetTuple3(i)
+        out.append((x, y, z, vx, vy, vz, pd.GetArray("density").GetValue(i), int(pd.GetArray("id").GetValue(i))))
+    return out
+
+
+def text_and_ply(grid):
+    r = rows(grid)
+    props = "".join("property float %s\n" % p for p in ("x", "y", "z", "vx", "vy", "vz", "density"))
+    for fmt, order in (("ascii", None), ("binary_little_endian", "<"), ("binary_big_endian", ">")):
+        head = ("ply\nformat %s 1.0\ncomment first %d particles of SPlisHSPlasH frame 21\n"
+                "element vertex %d\n%sproperty uint id\nend_header\n" % (fmt, N, N, props)).encode()
+        if order is None:
+            body = "".join("%.9g %.9g %.9g %.9g %.9g %.9g %.9g %d\n" % row for row in r).encode()
+        else:
+            body = b"".join(struct.pack(order + "7fI", *row) for row in r)
+        put("ply", "fluid21_first16_%s.ply" % fmt, head + body)
+
+    num = lambda row: ["%.9g" % v for v in row[:7]] + [str(row[7])]
+    for name, header, sep in (("plain.csv", "x,y,z,vx,vy,vz,density,id", ","),
+                              ("paraview.csv", '"Points:0","Points:1","Points:2","Velocity:0","Velocity:1",'
+                                               '"Velocity:2","density","id"', ","),
+                              ("semicolon.csv", "x;y;z;vx;vy;vz;rho;id", ";"),
+                              ("tab.csv", "pos_x\tpos_y\tpos_z\tvel_x\tvel_y\tvel_z\tdensity\tid", "\t")):
+        put("csv", "fluid21_first16_" + name,
+            (header + "\n" + "".join(sep.join(num(row)) + "\n" for row in r)).encode())
+    put("xyz", "fluid21_first16.xyz",
+        ("# first %d particles of SPlisHSPlasH frame 21\n" % N +
+         "".join("%.9g %.9g %.9g\n" % row[:3] for row in r)).encode())
+    put("xyz", "fluid21_first16_commas_extra_columns.xyz",
+        "".join("%.9g,%.9g,%.9g,%.9g\n\n" % (row[0], row[1], row[2], row[6]) for row in r).encode())
+
+
+def main():
+    cut_bgeo()
+    cut_vtk()
+    grid = vtk_writers(load_fixture_script())
+    text_and_ply(grid)
+    for reader in sorted(os.listdir(OUT)):
+        files = sorted(os.listdir(os.path.join(OUT, reader)))
+        size = sum(os.path.getsize(os.path.join(OUT, reader, f)) for f in files)
+        print("%-8s %2d files %7d bytes" % (reader, len(files), size))
+
+
+if __name__ == "__main__":
+    main()

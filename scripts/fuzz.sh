@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Builds the reader fuzz targets (fuzz/) with clang, libFuzzer, ASan and UBSan in
+# build-fuzz, then runs each for a bounded time: first over its seed corpus and
+# regression inputs (fuzz/corpus/<reader>, fuzz/regressions/<reader>), then on
+# inputs libFuzzer derives from them. Fails if any target crashes, trips a
+# sanitizer, breaks a reader's promise (fuzz/fuzz_reader.h), runs out of its
+# memory limit or hangs; the input that did it is left in
+# build-fuzz/artifacts/<reader>/. .ci/run calls this; docs/sanitizers.md says
+# how to fuzz longer.
+#
+#   scripts/fuzz.sh [READER...]     (default: every reader in fuzz/CMakeLists.txt)
+#   FUZZ_SECONDS=600 scripts/fuzz.sh ply    one reader, ten minutes
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs=$(nproc 2>/dev/null || echo 2)
+seconds=${FUZZ_SECONDS:-25}
+clangxx=${FUZZ_CXX:-clang++}
+if ! command -v "$clangxx" >/dev/null; then
+  echo "fuzz: $clangxx not found; the fuzzers need clang and libFuzzer (Debian: apt-get install clang libclang-rt-14-dev)" >&2
+  exit 1
+fi
+readers=("$@")
+if [ ${#readers[@]} -eq 0 ]; then
+  read -r -a readers <<<"$(sed -n 's/^set(MENISCUS_FUZZ_READERS \(.*\))$/\1/p' fuzz/CMakeLists.txt)"
+fi
+
+# Only the reader code is needed: no GL, tests or bench.
+cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER="$clangxx" -DCMAKE_BUILD_TYPE=Debug \
+      -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DMENISCUS_FUZZ=ON -DMENISCUS_GL=OFF \
+      -DMENISCUS_BUILD_TESTS=OFF -DMENISCUS_BUILD_BENCH=OFF >/dev/null
+targets=()
+for r in "${readers[@]}"; do targets+=("fuzz_$r"); done
+cmake --build build-fuzz -j"$jobs" --target "${targets[@]}"
+
+source tests/sanitizers/env.sh
+# One reader: the inputs libFuzzer adds go to build-fuzz/corpus/<reader> (the
+# first folder), never into the repository's seeds. Limits: one input may run
+# 10 s, the process may use 2 GiB, and no single allocation may exceed 256 MiB,
+# a bound no honest reader needs for inputs of a few KB (a count from a header
+# trusted before its bytes exist shows up here).
+fuzz_one() {
+  local r=$1 regress=fuzz/regressions/$1
+  mkdir -p "build-fuzz/corpus/$r" "build-fuzz/artifacts/$r"
+  [ -d "$regress" ] || regress=""
+  if build-fuzz/fuzz/"fuzz_$r" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+       -malloc_limit_mb=256 -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/$r/" \
+       "build-fuzz/corpus/$r" "fuzz/corpus/$r" $regress >"build-fuzz/fuzz_$r.log" 2>&1; then
+    echo "fuzz: $r: $(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' "build-fuzz/fuzz_$r.log" | grep -o '[0-9]*$') runs in ${seconds} s, no failure"
+  else
+    echo "fuzz: $r FAILED; log build-fuzz/fuzz_$r.log, input in build-fuzz/artifacts/$r/:" >&2
+    tail -n 60 "build-fuzz/fuzz_$r.log" >&2
+    return 1
+  fi
+}
+export -f fuzz_one
+export seconds
+printf '%s\n' "${readers[@]}" | xargs -P "$jobs" -I{} bash -c 'fuzz_one {}'

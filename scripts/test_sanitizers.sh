@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Builds everything with AddressSanitizer (+ LeakSanitizer) and
+# UndefinedBehaviorSanitizer in build-asan (-O1 -g, no bench tool) and runs the
+# whole ctest suite there, GL tests included (Mesa llvmpipe). Any sanitizer
+# report fails its test. .ci/run calls this after scripts/test.sh; see
+# docs/sanitizers.md for the options and the suppressions.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs=$(nproc 2>/dev/null || echo 2)
+# The environment the sanitizers read (the tests' own child processes, such as
+# the CLI, inherit it): tests/sanitizers/env.sh.
+source tests/sanitizers/env.sh
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
+      -DMENISCUS_SANITIZE=ON -DMENISCUS_BUILD_BENCH=OFF >/dev/null
+cmake --build build-asan -j"$jobs"
+ctest --test-dir build-asan --output-on-failure -j"$jobs"
