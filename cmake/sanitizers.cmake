@@ -29,10 +29,11 @@ elseif(MENISCUS_SANITIZE)
   add_compile_options(${MENISCUS_SANITIZER_FLAGS})
   add_link_options(-fsanitize=address,undefined)
   # Libraries stay loaded until exit, so LeakSanitizer can name what Mesa, GLFW and
-  # X11 leak (the why is in the file); linked into every target from here on.
+  # X11 leak (the why is in the file); linked into every executable: the
+  # top-level CMakeLists.txt calls link_libraries() with it after the module
+  # libraries are defined, so the installed package never references it.
   add_library(meniscus_keep_libraries_loaded OBJECT
               ${PROJECT_SOURCE_DIR}/tests/sanitizers/keep_libraries_loaded.cpp)
-  link_libraries(meniscus_keep_libraries_loaded)
   add_link_options(-Wl,--export-dynamic-symbol=dlclose)
   message(STATUS "meniscus: sanitizer build (ASan, LSan, UBSan)")
 endif()
