@@ -7,7 +7,7 @@ set -euo pipefail
 RS=$(cd "$1" && pwd); OUT=${2:-/tmp/meniscus_quality}; ROOT=$(cd "$(dirname "$0")/.." && pwd)
 M=$ROOT/build/meniscus; W=640; H=360; FOV=40
 mkdir -p "$OUT"
-g++ -std=c++20 -O2 -I"$ROOT/include" "$ROOT/scripts/quality_to_raw.cpp" "$ROOT/build/libmeniscus.a" \
+g++ -std=c++20 -O2 -I"$ROOT/include" "$ROOT/scripts/quality_to_raw.cpp" "$ROOT/build/libmeniscus_io.a" "$ROOT/build/libmeniscus_core.a" \
     $(pkg-config --libs OpenEXR tinyxml2 libpng zlib tbb) -o "$OUT/to_raw"
 DAM=$ROOT/data/dambreak_r0.01/ParticleData_Fluid_21.bgeo
 SMALL=$ROOT/tests/data/splishsplash/partio/ParticleData_Fluid_21.bgeo
