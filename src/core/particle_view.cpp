@@ -52,11 +52,8 @@ ParticleView ParticleView::of(const ParticleSet& set) {
 
 Status ParticleView::validate() const {
     const std::size_t n = positions.count;
-    if (n > 0 && !positions.data) return makeError("", "particle positions view has no data");
-    if (n > 0 && positions.strideBytes < sizeof(glm::vec3))
-        return makeError("", "particle positions stride " + std::to_string(positions.strideBytes) +
-                                 " bytes is smaller than one position (12 bytes)");
-    for (const Status& st : {checkView(velocity, "velocity", n), checkView(density, "density", n),
+    for (const Status& st : {checkView(positions, "positions", n), checkView(velocity, "velocity", n),
+                             checkView(density, "density", n),
                              checkView(id, "id", n), checkView(fluid, "fluid index", n),
                              checkView(color, "colour", n)})
         if (!st) return st;

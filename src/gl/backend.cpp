@@ -84,7 +84,10 @@ public:
     // `ctx` null: the context current at construction, owned by someone else
     // (a gl::Window), which keeps it current while the backend is used.
     GlBackend(std::unique_ptr<Context> ctx, Stages stages)
-        : ctx_(std::move(ctx)), renderer_(ctx_ ? ctx_->renderer() : glString(GL_RENDERER)), st_(std::move(stages)) {}
+        : ctx_(std::move(ctx)),
+          renderer_(ctx_ ? ctx_->renderer() : glString(GL_RENDERER)),
+          hasResetStatus_(epoxy_gl_version() >= 45 || epoxy_has_gl_extension("GL_KHR_robustness")),
+          st_(std::move(stages)) {}
     ~GlBackend() override {
         // GL objects are released with the context current.
         if (ctx_) (void)ctx_->makeCurrent();
@@ -176,7 +179,7 @@ public:
     // glGetError does not wait for the GPU, so every frame checks.
     Status stageStatus(const char* stage) override {
         if (failStageForTest(stage)) glBindBuffer(GLenum(0xFFFF), 0);
-        if (epoxy_gl_version() >= 45 || epoxy_has_gl_extension("GL_KHR_robustness")) {
+        if (hasResetStatus_) {
             const GLenum reset = glGetGraphicsResetStatus();
             if (reset != GL_NO_ERROR)
                 return makeError("", std::string("GL stage '") + stage + "': the GL context was lost (" +
@@ -264,6 +267,7 @@ private:
 
     std::unique_ptr<Context> ctx_;  // first: destroyed last; null on a window's context
     std::string renderer_;          // GL_RENDERER
+    bool hasResetStatus_;           // glGetGraphicsResetStatus exists (asked once, not per stage)
     Stages st_;
     std::optional<Presenter> presenter_;
     FrameParamsBlock block_;
