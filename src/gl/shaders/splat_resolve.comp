@@ -1,7 +1,7 @@
 #version 430 core
 // After the splat (SPEC §3.4; splat.comp), one invocation per pixel: the
 // fixed-point chord sums become thickness in metres, times the calibration
-// weight w (cpu::thicknessWeight).
+// weight w (shared::thicknessWeight).
 #extension GL_GOOGLE_include_directive : require
 #include "frame_params.h"
 #include "splat_common.glsl"
