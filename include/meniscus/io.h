@@ -10,6 +10,7 @@
 
 #include <glm/ext/vector_uint4_sized.hpp>
 
+#include "meniscus/mesh.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
 
@@ -99,6 +100,16 @@ struct Aovs {
     Image<float> thickness;    // metres                                 -> T
 };
 Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs);
+
+// ---------------------------------------------------------------- meshes
+
+// Binary little-endian PLY (vertex x y z nx ny nz float, face vertex_indices
+// uchar/uint), or Wavefront OBJ (v, vn, f v//vn, 1-based). Both open in
+// Blender, Houdini, ParaView, MeshLab. Written to a temporary name and renamed.
+enum class MeshFormat { Ply, Obj };
+// By extension: .obj is OBJ, anything else PLY.
+MeshFormat meshFormatForPath(const std::filesystem::path& path);
+Status writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh, MeshFormat format);
 
 }  // namespace meniscus
 

@@ -14,6 +14,20 @@
 
 namespace meniscus {
 
+// The isosurface path's field (SPEC §4), declared before its default.
+// The scalar field whose level set is the surface. Both are normalised so that
+// 1 is the value inside fluid at rest (the interior of a simple cubic lattice
+// of spacing 2r, as SPlisHSPlasH and DualSPHysics sample a fluid); the iso
+// level is a fraction of that.
+enum class SurfaceField {
+    // Thesis eq. 4.16: f(d) = (d/(sqrt2 Rc))^4 - (d/(sqrt2 Rc))^2 + 1/4 for
+    // d < Rc (a metaball falloff), summed over the particles.
+    Thesis,
+    // The SPH density with the cubic-spline kernel (Monaghan 1992) of support
+    // h = 4r: exactly the surface ../shared/tools/refsurf ray-traces.
+    Sph,
+};
+
 namespace defaults {
 
 inline constexpr int kWidth = 1280;           // pixels
@@ -51,6 +65,14 @@ inline constexpr float kDepthJumpRadii = 5.0f;
 // Kernel radii in pixels are capped here (cost bound for near fluid).
 inline constexpr int kMaxKernelPx = 32;
 
+
+// The isosurface path (include/meniscus/surface.h).
+inline constexpr SurfaceField kSurfaceField = SurfaceField::Sph;
+inline constexpr float kCubeSizeRadii = 0.5f;     // marching-cubes cube edge, particle radii
+inline constexpr float kSurfaceIso = 0.5f;        // fraction of the rest value (see SurfaceField)
+inline constexpr float kThesisSupportRadii = 2.5f;  // Rc of the thesis field, particle radii
+inline constexpr float kSphSupportRadii = 4.0f;     // h of the cubic spline, particle radii (refsurf's)
+inline constexpr int kBlockCubes = 32;            // a block is n x n x n cubes
 }  // namespace defaults
 
 // ---- Smoothing filters (SPEC §3.5) -------------------------------------------
@@ -151,6 +173,23 @@ std::string materialPresetNames();
 struct ShadingParams {
     Material material;
     glm::vec3 lightDirWorld = glm::normalize(glm::vec3(-0.4f, 1.0f, 0.55f));  // toward the light
+};
+
+// ---- Isosurface extraction (SPEC §4, include/meniscus/surface.h) -----------
+
+struct MeshParams {
+    float radiusM = 0.0f;  // particle radius r, metres (> 0)
+    SurfaceField field = defaults::kSurfaceField;
+    float cubeSizeRadii = defaults::kCubeSizeRadii;  // cube edge in r
+    float iso = defaults::kSurfaceIso;               // fraction of the rest value, in (0, 1.5]
+    // Support (Rc or h) in r; 0 = the field's default above.
+    float supportRadii = 0.0f;
+    int blockCubes = defaults::kBlockCubes;  // n; blocks of n^3 cubes run in parallel
+    int threads = 0;                         // 0 = all cores; the mesh is the same for any count
+    // For validation: evaluate every cube of the grid (plain marching cubes over
+    // the particles' bounding box) instead of following the surface from seeds.
+    // Same mesh when the seeding finds every piece of surface; volume cost.
+    bool exhaustive = false;
 };
 
 }  // namespace meniscus

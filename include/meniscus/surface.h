@@ -1,0 +1,56 @@
+// The isosurface path (SPEC §4; thesis §4.2 after Rosenberg & Birdwell, I3D
+// 2008): a closed, indexed triangle mesh of the liquid, extracted on the CPU
+// from the particles by block-parallel, surface-following marching cubes with a
+// per-block particle lookup cache. No rendering code: the mesh goes to a file
+// (writeMesh, include/meniscus/io.h) or to the renderer's mesh path
+// (RenderSettings::mesh).
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "meniscus/mesh.h"
+#include "meniscus/params.h"
+#include "meniscus/particle_view.h"
+#include "meniscus/result.h"
+
+namespace meniscus {
+
+// CLI names: thesis, sph.
+bool surfaceFieldFromName(const std::string& name, SurfaceField* out);
+const char* surfaceFieldName(SurfaceField field);
+
+// What one extraction did (the bench prints it).
+struct MeshStats {
+    std::size_t particles = 0;
+    std::size_t blocks = 0;            // blocks holding particles
+    std::size_t blocksWithSurface = 0;
+    std::size_t rounds = 0;            // block passes (a surface crossing a block seam hands seeds on)
+    std::size_t seedWalks = 0;         // walks from particles toward the outside
+    std::size_t cubesVisited = 0;      // surface cubes polygonised
+    std::size_t cornersEvaluated = 0;  // field evaluations (corners recomputed after a slice was freed count again)
+    std::size_t peakBlockBytes = 0;    // largest working memory of one block (slices, lookup cache, vertex map)
+    std::size_t peakBytes = 0;         // peak of all blocks' working memory alive at once, plus the results kept
+    int threads = 0;
+    float cubeSizeM = 0.0f;
+    float supportM = 0.0f;
+    double isoAbsolute = 0.0;  // the iso level in the field's own units (thesis: sum of f; sph: density / mass)
+    double msBlocks = 0.0;     // subdivision into blocks
+    double msExtract = 0.0;    // the blocks' marching (all rounds)
+    double msMerge = 0.0;      // one indexed mesh, seams welded
+    double msNormals = 0.0;    // angle-weighted vertex normals
+    double msTotal = 0.0;
+};
+
+// Extracts the surface of the particles' positions. Errors (never throws) for a
+// radius or parameter out of range, non-finite positions, or a grid too large
+// for memory. Deterministic: the same particles and parameters give the same
+// mesh (same vertices, triangles and order) for any thread count.
+Result<TriangleMesh> extractSurface(const ParticleView& particles, const MeshParams& params,
+                                    MeshStats* stats = nullptr);
+
+// The field's value (normalised: 1 = fluid at rest) at a point, summed over all
+// particles directly (no grid): what the tests check vertices against.
+double surfaceFieldValue(const ParticleView& particles, const MeshParams& params, const glm::vec3& point);
+
+}  // namespace meniscus

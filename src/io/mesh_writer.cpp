@@ -1,0 +1,102 @@
+// Mesh files: binary little-endian PLY (the default; compact, what splashsurf
+// writes) and Wavefront OBJ. Written in one buffered pass through
+// writeAtomically, so a failed write leaves no file behind.
+#include <bit>
+#include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "atomic_file.h"
+#include "meniscus/io.h"
+
+namespace meniscus {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the PLY writer writes native floats as little-endian");
+
+Status checkMesh(const TriangleMesh& m, const std::string& name) {
+    if (m.indices.size() % 3 != 0) return makeError(name, "mesh index count is not a multiple of 3");
+    if (!m.normals.empty() && m.normals.size() != m.positions.size())
+        return makeError(name, "mesh has a normal count different from its vertex count");
+    for (std::uint32_t v : m.indices)
+        if (v >= m.positions.size()) return makeError(name, "mesh has a triangle index past its last vertex");
+    return okStatus();
+}
+
+Status writeWith(const std::filesystem::path& path, const std::function<bool(std::FILE*)>& body) {
+    const std::string name = path.string();
+    return writeAtomically(path, [&](const std::filesystem::path& tmp) -> Status {
+        std::FILE* fp = std::fopen(tmp.c_str(), "wb");
+        if (!fp) return makeError(name, std::string("cannot open for writing: ") + std::strerror(errno));
+        std::vector<char> buffer(1 << 20);
+        std::setvbuf(fp, buffer.data(), _IOFBF, buffer.size());
+        const bool ok = body(fp) && std::fflush(fp) == 0 && !std::ferror(fp);
+        const int err = errno;
+        const bool closed = std::fclose(fp) == 0;
+        if (!ok || !closed) return makeError(name, std::string("write failed: ") + std::strerror(ok ? errno : err));
+        return okStatus();
+    });
+}
+
+bool writePly(std::FILE* fp, const TriangleMesh& m) {
+    const bool normals = !m.normals.empty();
+    std::string header = "ply\nformat binary_little_endian 1.0\ncomment written by meniscus (isosurface path)\n";
+    header += "element vertex " + std::to_string(m.positions.size()) + "\n";
+    header += "property float x\nproperty float y\nproperty float z\n";
+    if (normals) header += "property float nx\nproperty float ny\nproperty float nz\n";
+    header += "element face " + std::to_string(m.triangleCount()) + "\n";
+    header += "property list uchar uint vertex_indices\nend_header\n";
+    if (std::fwrite(header.data(), 1, header.size(), fp) != header.size()) return false;
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+        float rec[6] = {m.positions[v].x, m.positions[v].y, m.positions[v].z, 0, 0, 0};
+        if (normals) std::memcpy(rec + 3, &m.normals[v], sizeof(float) * 3);
+        if (std::fwrite(rec, sizeof(float), normals ? 6 : 3, fp) != (normals ? 6u : 3u)) return false;
+    }
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+        unsigned char rec[13];
+        rec[0] = 3;
+        std::memcpy(rec + 1, &m.indices[3 * t], 12);
+        if (std::fwrite(rec, 1, 13, fp) != 13) return false;
+    }
+    return true;
+}
+
+bool writeObj(std::FILE* fp, const TriangleMesh& m) {
+    const bool normals = !m.normals.empty();
+    if (std::fprintf(fp, "# written by meniscus (isosurface path): %zu vertices, %zu triangles\n", m.positions.size(),
+                     m.triangleCount()) < 0)
+        return false;
+    // %.9g: a float survives the round trip through text.
+    for (const glm::vec3& p : m.positions)
+        if (std::fprintf(fp, "v %.9g %.9g %.9g\n", double(p.x), double(p.y), double(p.z)) < 0) return false;
+    if (normals)
+        for (const glm::vec3& n : m.normals)
+            if (std::fprintf(fp, "vn %.6g %.6g %.6g\n", double(n.x), double(n.y), double(n.z)) < 0) return false;
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+        const unsigned a = m.indices[3 * t] + 1, b = m.indices[3 * t + 1] + 1, c = m.indices[3 * t + 2] + 1;
+        const int r = normals ? std::fprintf(fp, "f %u//%u %u//%u %u//%u\n", a, a, b, b, c, c)
+                              : std::fprintf(fp, "f %u %u %u\n", a, b, c);
+        if (r < 0) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+MeshFormat meshFormatForPath(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    return ext == ".obj" ? MeshFormat::Obj : MeshFormat::Ply;
+}
+
+Status writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh, MeshFormat format) {
+    if (auto st = checkMesh(mesh, path.string()); !st) return st;
+    return writeWith(path, [&](std::FILE* fp) { return format == MeshFormat::Obj ? writeObj(fp, mesh) : writePly(fp, mesh); });
+}
+
+}  // namespace meniscus

@@ -1,0 +1,46 @@
+// The two scalar fields of the isosurface path (SPEC §4), as kernels of the
+// squared distance d2 from a particle, in raw units (the rest value F0 turns
+// them into the normalised field of include/meniscus/params.h: 1 = fluid at
+// rest). One function per field, used by the block marcher and by the direct
+// sum the tests check against, so both compute bit-identical values.
+#pragma once
+
+#include <cmath>
+
+#include "meniscus/params.h"
+
+namespace meniscus::surface {
+
+struct Field {
+    SurfaceField kind = SurfaceField::Sph;
+    float support = 0.0f;    // Rc (thesis) or h (sph), metres
+    float support2 = 0.0f;   // support^2
+    float invSupport2 = 0.0f;
+    float invSupport = 0.0f;
+    double rest = 0.0;       // F0: raw field at an interior particle of a 2r lattice
+    float isoRaw = 0.0f;     // iso * F0, what corner values are compared with
+
+    // Raw contribution of one particle at squared distance d2 (0 at and beyond
+    // the support).
+    float kernel(float d2) const {
+        if (!(d2 < support2)) return 0.0f;
+        if (kind == SurfaceField::Thesis) {
+            // Thesis eq. 4.16 with u = (d / (sqrt2 Rc))^2 = d2 / (2 Rc^2):
+            // u^2 - u + 1/4 = (u - 1/2)^2, which is how it is evaluated here.
+            const float u = 0.5f * d2 * invSupport2;
+            const float v = u - 0.5f;
+            return v * v;
+        }
+        // Cubic spline (Monaghan 1992) over sigma = 8/(pi h^3), q = d/h.
+        const float q = std::sqrt(d2) * invSupport;
+        if (q <= 0.5f) return 6.0f * q * q * (q - 1.0f) + 1.0f;
+        const float a = 1.0f - q;
+        return 2.0f * a * a * a;
+    }
+};
+
+// The field for the parameters (support and iso resolved, F0 summed over the
+// lattice as ../shared/tools/refsurf does).
+Field makeField(const MeshParams& params);
+
+}  // namespace meniscus::surface

@@ -1,0 +1,100 @@
+// Seed cubes from the particles (thesis §4.2.3: "for every particle ... goes
+// down from the centre of a particle" until the surface). Walking from every
+// particle would cross the whole interior, so only particles at the edge of the
+// occupied space walk: the block's particles are binned into cells of the rest
+// spacing 2r; for each cell with an empty
+// neighbour cell (the margin's particles included), the particle farthest
+// toward that neighbour walks along the grid line nearest to it (clamped into
+// the block), toward the empty side, until the field crosses the
+// iso level (or, from a particle already outside the surface, back toward the
+// fluid). The four cubes around the crossed edge are seeds. A piece of surface
+// the walks of one block miss but a neighbour reaches is handed on across the
+// seam (extract.cpp), so a block's seeds need only start every piece somewhere.
+#include <algorithm>
+#include <cmath>
+
+#include "surface/marching_slices.h"
+
+namespace meniscus::surface {
+
+void BlockMarcher::seedEdge(glm::ivec3 lower, int axis) {
+    const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+    for (int db = 0; db < 2; ++db)
+        for (int dc = 0; dc < 2; ++dc) {
+            glm::ivec3 cube = lower;
+            cube[b] -= db;
+            cube[c] -= dc;
+            addCube(cube.x, cube.y, cube.z);
+        }
+}
+
+void BlockMarcher::seedFromParticles(const Block& block) {
+    const float c = grid_.cube;
+    const float cell = 2.0f * radius_;
+    // Cells over the block and its margin (the block holds every particle within
+    // the support of it), in world cell coordinates.
+    const glm::vec3 lo = grid_.corner(corner0_.x, corner0_.y, corner0_.z) - (field_.support + 2.0f * c);
+    const glm::vec3 hi = grid_.corner(corner0_.x + n_, corner0_.y + n_, corner0_.z + n_) + (field_.support + 2.0f * c);
+    const glm::ivec3 c0 = glm::ivec3(glm::floor(lo / cell)) - 1;
+    const glm::ivec3 dims = glm::ivec3(glm::floor(hi / cell)) + 2 - c0;
+    const std::size_t cells = std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z);
+    auto cellOf = [&](const glm::vec3& p) {
+        return glm::clamp(glm::ivec3(glm::floor(p / cell)) - c0, glm::ivec3(0), dims - 1);
+    };
+    auto cellIndex = [&](glm::ivec3 q) {
+        return (std::size_t(q.z) * std::size_t(dims.y) + std::size_t(q.y)) * std::size_t(dims.x) + std::size_t(q.x);
+    };
+    std::vector<std::uint8_t> occupied(cells, 0);
+    for (std::uint32_t id : block.particles) occupied[cellIndex(cellOf(positions_[id]))] = 1;
+
+    // The walker per (cell, direction): the own particle farthest that way.
+    constexpr int kNone = -1;
+    std::vector<std::int32_t> walker(cells * 6, kNone);
+    for (std::uint32_t id : block.particles) {
+        const glm::vec3 p = positions_[id];
+        const glm::ivec3 q = cellOf(p);
+        for (int d = 0; d < 6; ++d) {
+            glm::ivec3 nb = q;
+            nb[d / 2] += (d & 1) ? 1 : -1;
+            if (nb[d / 2] < 0 || nb[d / 2] >= dims[d / 2] || occupied[cellIndex(nb)]) continue;
+            std::int32_t& w = walker[cellIndex(q) * 6 + std::size_t(d)];
+            const float sign = (d & 1) ? 1.0f : -1.0f;
+            if (w == kNone || sign * p[d / 2] > sign * positions_[std::uint32_t(w)][d / 2] ||
+                (p[d / 2] == positions_[std::uint32_t(w)][d / 2] && std::int32_t(id) < w))
+                w = std::int32_t(id);
+        }
+    }
+
+    const int steps = int(std::ceil((2.0f * cell + field_.support) / c)) + 1;
+    for (std::size_t at = 0; at < walker.size(); ++at) {
+        if (walker[at] == kNone) continue;
+        ++out_->seedWalks;
+        const int d = int(at % 6), axis = d / 2;
+        const glm::vec3 p = positions_[std::uint32_t(walker[at])];
+        // The nearest grid corner, clamped into the block: a particle of the
+        // margin walks on the block's face, where a surface that reaches into
+        // this block from a neighbour's particles crosses.
+        const glm::ivec3 start = glm::clamp(glm::ivec3(glm::floor(p / c + 0.5f)) - grid_.origin - corner0_,
+                                            glm::ivec3(0), glm::ivec3(n_));
+        const float f0 = evaluate(start.x, start.y, start.z);
+        const bool in0 = f0 >= field_.isoRaw;
+        // From inside: toward the empty side; from outside: back into the fluid.
+        const int step = ((d & 1) ? 1 : -1) * (in0 ? 1 : -1);
+        glm::ivec3 q = start;
+        for (int s = 0; s < steps; ++s) {
+            glm::ivec3 next = q;
+            next[axis] += step;
+            if (next[axis] < 0 || next[axis] > n_) break;
+            const bool in = evaluate(next.x, next.y, next.z) >= field_.isoRaw;
+            if (in != in0) {
+                glm::ivec3 lower = q;
+                lower[axis] = std::min(q[axis], next[axis]);
+                seedEdge(lower, axis);
+                break;
+            }
+            q = next;
+        }
+    }
+}
+
+}  // namespace meniscus::surface

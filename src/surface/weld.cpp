@@ -1,0 +1,44 @@
+#include "surface/weld.h"
+
+#include <unordered_map>
+
+#include <tbb/parallel_for.h>
+
+namespace meniscus::surface {
+
+void weldBlocks(const std::vector<BlockOutput>& blocks, TriangleMesh& mesh) {
+    // Global indices, in block order (one pass; only seam vertices need the map).
+    std::vector<std::vector<std::uint32_t>> remap(blocks.size());
+    std::vector<std::size_t> triangleStart(blocks.size() + 1, 0);
+    std::unordered_map<std::uint64_t, std::uint32_t> seam;
+    std::uint32_t next = 0;
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+        const BlockOutput& o = blocks[b];
+        auto& map = remap[b];
+        map.resize(o.vertices.size());
+        for (std::size_t v = 0; v < o.vertices.size(); ++v) {
+            if (o.onSeam[v]) {
+                auto [it, fresh] = seam.try_emplace(o.edgeKeys[v], next);
+                map[v] = it->second;
+                if (fresh) ++next;
+                else map[v] |= 0x80000000u;  // a copy: its block does not write the position
+            } else {
+                map[v] = next++;
+            }
+        }
+        triangleStart[b + 1] = triangleStart[b] + o.triangles.size();
+    }
+    mesh.positions.assign(next, glm::vec3(0.0f));
+    mesh.indices.resize(triangleStart.back());
+    mesh.normals.clear();
+    tbb::parallel_for(std::size_t(0), blocks.size(), [&](std::size_t b) {
+        const BlockOutput& o = blocks[b];
+        const auto& map = remap[b];
+        for (std::size_t v = 0; v < o.vertices.size(); ++v)
+            if (!(map[v] & 0x80000000u)) mesh.positions[map[v]] = o.vertices[v];
+        std::uint32_t* out = mesh.indices.data() + triangleStart[b];
+        for (std::size_t t = 0; t < o.triangles.size(); ++t) out[t] = map[o.triangles[t]] & 0x7fffffffu;
+    });
+}
+
+}  // namespace meniscus::surface
