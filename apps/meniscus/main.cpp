@@ -18,6 +18,7 @@
 #include "meniscus/params.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
+#include "mesh.h"
 #include "progress.h"
 #include "view.h"
 
@@ -174,10 +175,13 @@ int main(int argc, char** argv) {
         "  meniscus render frame_21.bgeo -o f21.exr --filter curvature-flow   every AOV as float EXR channels\n"
         "  meniscus render frame_21.bgeo -o n.png --view normals              look at one stage of the pipeline\n"
         "  meniscus render 'ParticleData_Fluid_*.bgeo' -o out_%04d.png   a whole sequence\n"
-        "  meniscus view frame_21.bgeo                     a window: drag to orbit, wheel to zoom, Esc to quit"};
+        "  meniscus view frame_21.bgeo                     a window: drag to orbit, wheel to zoom, Esc to quit\n"
+        "  meniscus mesh frame_21.bgeo -o f21.ply          the surface as a closed triangle mesh (PLY or OBJ)"};
     app.require_subcommand(1);
     int threads = 0;
-    app.add_option("--threads", threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+    app.add_option("--threads", threads, "Worker threads (default: all cores); also after a subcommand")
+        ->check(CLI::NonNegativeNumber);
+    app.fallthrough();  // --threads may follow the subcommand: meniscus mesh IN -o OUT --threads 1
 
     InfoOptions info;
     auto* infoCmd = app.add_subcommand("info", "Describe a particle file or sequence");
@@ -222,6 +226,9 @@ int main(int argc, char** argv) {
                         "Replay input, one event per frame: drag:DX,DY;scroll:N;key:left|right|q|escape")
         ->group("");
 
+    MeshOptions mesh;
+    auto* meshCmd = addMeshCommand(app, mesh);
+
     // Bad usage exits 2, as the README says (CLI11's own codes are 100 and up).
     try {
         app.parse(argc, argv);
@@ -234,6 +241,7 @@ int main(int argc, char** argv) {
         threadLimit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
 
     if (*infoCmd) return runInfo(info);
+    if (*meshCmd) return runMesh(mesh, threads);
     if (*renderCmd) return runRender(render, nullptr);
     if (*demoCmd) {
         auto set = parseParticles(demoFrameBytes(), kDemoFrameName);

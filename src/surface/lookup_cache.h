@@ -4,10 +4,13 @@
 // integer slice range [minK, maxK] it can reach and the slab midK of its
 // centre. Finding the particles of a corner is then integer comparisons only:
 // a binary search on midK, a scan, and minK <= k <= maxK; the kernel itself
-// is evaluated on the exact squared distance.
+// is evaluated on the exact squared distance. The columns are filled lazily, a
+// row (fixed j) and a chunk of kChunk slices at a time, when a corner there is
+// first asked for, so a block's cache costs only what its surface touches.
 #pragma once
 
 #include <cstddef>
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -28,10 +31,13 @@ public:
 
     // Raw field at local corner (i, j, k), i, j, k in [0, n]; zk is the
     // corner's world z (Grid::corner).
-    float value(int i, int j, int k, float zk) const {
-        const std::size_t c = std::size_t(j) * std::size_t(side_) + std::size_t(i);
+    float value(int i, int j, int k, float zk) {
+        const int w = std::min(k / kChunk, chunks_ - 1);
+        const std::size_t rc = std::size_t(j) * std::size_t(chunks_) + std::size_t(w);
+        if (!built_[rc]) buildRowChunk(j, w);
+        const std::size_t c = (std::size_t(j) * std::size_t(side_) + std::size_t(i)) * std::size_t(chunks_) + std::size_t(w);
         const Entry* first = entries_.data() + start_[c];
-        const Entry* last = entries_.data() + start_[c + 1];
+        const Entry* last = entries_.data() + ends_[c];
         // First entry whose centre slab can reach slice k (midK is non-decreasing).
         const int lo = k - reach_;
         std::size_t count = std::size_t(last - first);
@@ -54,8 +60,7 @@ public:
         return sum;
     }
 
-    std::size_t bytes() const { return entries_.capacity() * sizeof(Entry) + start_.capacity() * sizeof(std::uint32_t); }
-    std::size_t entryCount() const { return entries_.size(); }
+    std::size_t bytes() const { return entryBytes_; }
 
 private:
     struct Entry {
@@ -63,12 +68,28 @@ private:
         float dxy2;   // squared horizontal distance to the column, m^2
         std::int16_t minK, maxK, midK, pad;
     };
+    // Slabs per chunk. Measured on the dam break (2 cores): 8 duplicated too
+    // many entries (the support spans 8 slices at cube 0.5 r) and was slower
+    // than one chunk per default block.
+    static constexpr int kChunk = 32;
+    void buildRowChunk(int j, int w);
+
     Field field_;
+    const Grid* grid_ = nullptr;
+    glm::ivec3 corner0_{0};
+    std::span<const glm::vec3> positions_;
+    std::span<const std::uint32_t> particles_;
     int side_ = 0;   // n + 1
     int reach_ = 0;  // slabs a particle centre can be from a slice it influences, plus slack
-    std::vector<std::uint32_t> start_;  // CSR: column c's entries are [start_[c], start_[c+1])
+    long kLo_ = 0, kHi_ = 0, zOrigin_ = 0, xOrigin_ = 0;
+    std::vector<float> colX_, colY_;
+    int chunks_ = 1;
+    std::vector<std::uint8_t> built_;  // per (row, chunk)
+    std::vector<float> sortedZ_;       // the particles' z, in their (z) order
+    // Column-chunk (c, w)'s entries are entries_[start_[c * chunks + w], ends_[...]).
+    std::vector<std::uint32_t> start_, ends_;
     std::vector<Entry> entries_;
-    std::vector<std::uint32_t> fill_;
+    std::size_t entryBytes_ = 0;
 };
 
 }  // namespace meniscus::surface

@@ -3,9 +3,9 @@
 // particle would cross the whole interior, so only particles at the edge of the
 // occupied space walk: the block's particles are binned into cells of the rest
 // spacing 2r; for each cell with an empty
-// neighbour cell (the margin's particles included), the particle farthest
-// toward that neighbour walks along the grid line nearest to it (clamped into
-// the block), toward the empty side, until the field crosses the
+// neighbour cell, the particle farthest toward that neighbour walks along the
+// grid line nearest to it (a margin particle: on the block's face, into the
+// block), toward the empty side, until the field crosses the
 // iso level (or, from a particle already outside the surface, back toward the
 // fluid). The four cubes around the crossed edge are seeds. A piece of surface
 // the walks of one block miss but a neighbour reaches is handed on across the
@@ -47,13 +47,26 @@ void BlockMarcher::seedFromParticles(const Block& block) {
     std::vector<std::uint8_t> occupied(cells, 0);
     for (std::uint32_t id : block.particles) occupied[cellIndex(cellOf(positions_[id]))] = 1;
 
-    // The walker per (cell, direction): the own particle farthest that way.
+    // The walker per (cell, direction): the particle farthest that way. A
+    // particle of the margin (its centre outside the block along one axis)
+    // walks only along that axis, into the block: that is how a surface whose
+    // particles all lie in a neighbour reaches into this block.
     constexpr int kNone = -1;
     std::vector<std::int32_t> walker(cells * 6, kNone);
     for (std::uint32_t id : block.particles) {
         const glm::vec3 p = positions_[id];
+        const glm::ivec3 g = glm::ivec3(glm::floor(p / c)) - grid_.origin - corner0_;  // its cube, block-local
+        int outsideAxis = -1, outsideCount = 0, intoBlock = 0;
+        for (int a = 0; a < 3; ++a)
+            if (g[a] < 0 || g[a] >= n_) {
+                outsideAxis = a;
+                ++outsideCount;
+                intoBlock = g[a] < 0 ? 1 : 0;  // direction bit: 1 = toward +
+            }
+        if (outsideCount > 1) continue;
         const glm::ivec3 q = cellOf(p);
         for (int d = 0; d < 6; ++d) {
+            if (outsideCount == 1 && d != 2 * outsideAxis + intoBlock) continue;
             glm::ivec3 nb = q;
             nb[d / 2] += (d & 1) ? 1 : -1;
             if (nb[d / 2] < 0 || nb[d / 2] >= dims[d / 2] || occupied[cellIndex(nb)]) continue;
@@ -76,7 +89,7 @@ void BlockMarcher::seedFromParticles(const Block& block) {
         // this block from a neighbour's particles crosses.
         const glm::ivec3 start = glm::clamp(glm::ivec3(glm::floor(p / c + 0.5f)) - grid_.origin - corner0_,
                                             glm::ivec3(0), glm::ivec3(n_));
-        const float f0 = evaluate(start.x, start.y, start.z);
+        const float f0 = corner(start.x, start.y, start.z);
         const bool in0 = f0 >= field_.isoRaw;
         // From inside: toward the empty side; from outside: back into the fluid.
         const int step = ((d & 1) ? 1 : -1) * (in0 ? 1 : -1);
@@ -85,7 +98,7 @@ void BlockMarcher::seedFromParticles(const Block& block) {
             glm::ivec3 next = q;
             next[axis] += step;
             if (next[axis] < 0 || next[axis] > n_) break;
-            const bool in = evaluate(next.x, next.y, next.z) >= field_.isoRaw;
+            const bool in = corner(next.x, next.y, next.z) >= field_.isoRaw;
             if (in != in0) {
                 glm::ivec3 lower = q;
                 lower[axis] = std::min(q[axis], next[axis]);

@@ -1,0 +1,116 @@
+#include "mesh.h"
+
+#include <cstdio>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include "common.h"
+#include "meniscus/io.h"
+#include "meniscus/particles.h"
+#include "meniscus/surface.h"
+#include "progress.h"
+
+namespace meniscus::app {
+
+CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
+    auto* cmd = app.add_subcommand(
+        "mesh",
+        "Extract the liquid's surface as a closed triangle mesh (binary PLY or OBJ, with vertex normals) for "
+        "Blender, Houdini or ParaView: block-parallel surface-following marching cubes (thesis §4.2, Rosenberg & "
+        "Birdwell 2008). The same mesh for any --threads");
+    cmd->add_option("input", o.input, "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo)")->required();
+    cmd->add_option("-o,--output", o.output,
+                    "Output .ply (binary, default) or .obj; for a sequence a pattern like mesh_%04d.ply")
+        ->required();
+    cmd->add_option("--radius", o.radius, "Particle radius r in metres (default: estimated from the first frame)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--cube-size", o.cubeSize, "Marching-cubes cube edge, in particle radii (0.05 to 8)")
+        ->capture_default_str();
+    cmd->add_option("--iso", o.iso,
+                    "Iso level as a fraction of the field inside fluid at rest (a 2r lattice); 0.5 puts a flat "
+                    "face 1 r beyond the outermost particle centres")
+        ->capture_default_str();
+    cmd->add_option("--field", o.field,
+                    "sph: the SPH density, cubic spline of support 4 r (the surface refsurf ray-traces); thesis: "
+                    "thesis eq. 4.16, f(d) = (d/(sqrt2 Rc))^4 - (d/(sqrt2 Rc))^2 + 1/4, Rc = 2.5 r")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"sph", "thesis"}));
+    cmd->add_option("--support", o.support, "Field support (h or Rc) in particle radii, 1 to 16 (default: the field's)");
+    cmd->add_option("--block", o.block, "Block edge in cubes (4 to 256); blocks run in parallel")->capture_default_str();
+    cmd->add_flag("--stats", o.stats, "Print the extraction's phases, sizes and peak memory for each frame");
+    return cmd;
+}
+
+int runMesh(const MeshOptions& o, int threads) {
+    const MeshFormat format = meshFormatForPath(o.output);
+    {
+        std::string ext = std::filesystem::path(o.output).extension().string();
+        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (ext != ".ply" && ext != ".obj") return fail(o.output + ": output must end in .ply or .obj");
+    }
+    auto frames = openFrames(o.input, nullptr);
+    if (!frames) return fail(frames.error().describe());
+    const std::size_t count = frames->count();
+    const bool pattern = o.output.find('%') != std::string::npos;
+    if (count > 1 && !pattern)
+        return fail(o.output + ": " + std::to_string(count) +
+                    " input frames need an output pattern with a frame number, e.g. mesh_%04d.ply");
+
+    MeshParams params;
+    surfaceFieldFromName(o.field, &params.field);
+    params.cubeSizeRadii = o.cubeSize;
+    params.iso = o.iso;
+    params.supportRadii = o.support;
+    params.blockCubes = o.block;
+    params.threads = threads;
+
+    const bool tty = ::isatty(STDERR_FILENO) == 1;
+    ProgressBar progress(count, "meshing");
+    for (std::size_t i = 0; i < count; ++i) {
+        auto set = frames->load(i);
+        if (!set) return fail(set.error().describe());
+        printWarnings(*set);
+        const std::string name = frames->files[i].string();
+        if (auto st = checkCoordinates(set->positions, name); !st) return fail(st.error().describe());
+        if (i == 0) {
+            // One radius for the whole sequence, so the surface does not breathe.
+            params.radiusM = o.radius;
+            if (params.radiusM == 0.0f) {
+                const RadiusEstimate est = defaultRadius(*set);
+                params.radiusM = est.radius;
+                std::cerr << "meniscus: " << (est.fallback ? "warning: " : "") << "radius " << est.describe() << "\n";
+            }
+        }
+        MeshStats stats;
+        auto mesh = extractSurface(ParticleView::of(*set), params, &stats);
+        if (!mesh) return fail(Error{name, mesh.error().message}.describe());
+        std::string out = o.output;
+        if (pattern) {
+            const long number = frameNumberFromName(frames->files[i].filename().string());
+            auto formatted = formatFramePattern(o.output, number >= 0 ? number : long(i));
+            if (!formatted) return fail(formatted.error().describe());
+            out = *formatted;
+        }
+        if (auto st = writeMesh(out, *mesh, format); !st) return fail(st.error().describe());
+        if (o.stats)
+            std::fprintf(stderr,
+                         "meniscus: %s: %zu particles, %zu blocks (%zu with surface, %zu rounds), %zu cubes, %zu "
+                         "corners, peak %.1f MB (one block %.2f MB), %d threads; blocks %.1f ms, extract %.1f ms, "
+                         "weld %.1f ms, normals %.1f ms, total %.1f ms\n",
+                         name.c_str(), stats.particles, stats.blocks, stats.blocksWithSurface, stats.rounds,
+                         stats.cubesVisited, stats.cornersEvaluated, double(stats.peakBytes) / 1e6,
+                         double(stats.peakBlockBytes) / 1e6, stats.threads, stats.msBlocks, stats.msExtract,
+                         stats.msMerge, stats.msNormals, stats.msTotal);
+        // On a terminal a bar; otherwise (a log) one line per frame.
+        if (tty && count > 1) progress.update(i + 1);
+        else
+            std::cerr << "meniscus: wrote " << out << " (" << mesh->vertexCount() << " vertices, "
+                      << mesh->triangleCount() << " triangles, " << int(stats.msTotal + 0.5) << " ms)\n";
+    }
+    if (count > 1 && tty) std::cerr << "meniscus: wrote " << count << " meshes to " << o.output << "\n";
+    return 0;
+}
+
+}  // namespace meniscus::app
