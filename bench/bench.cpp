@@ -1,6 +1,7 @@
 // bench: one line per stage with time (median of --repeat runs), size and
 // thread count. Speed is measured here, never asserted in tests.
 //   build/bench [INPUT] [--width 1280 --height 720 --repeat 9 --threads N --filter NAME --backend B]
+//               [--mesh-only | --no-mesh] [--openvdb PATH]
 // INPUT defaults to the real 117,649-particle dam-break frame in data/. The
 // whole pipeline runs once per filter (all of them unless --filter is given)
 // and per backend (cpu and gl by default); each stage line is the median over
@@ -9,6 +10,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
@@ -18,12 +21,14 @@
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
+#include <unistd.h>
 
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
 #include "meniscus/params.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
+#include "meniscus/surface.h"
 
 using namespace meniscus;
 
@@ -42,6 +47,104 @@ double medianMs(int repeat, const std::function<void()>& fn) {
         ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     return median(ms);
+}
+
+// The isosurface path's phases (median of `repeat` extractions), then the
+// OpenVDB peer (../shared/peers/openvdb_mesh: ParticlesToLevelSet + volumeToMesh)
+// on the same particles at the same voxel size, in the same run.
+int benchMesh(const ParticleSet& set, float radius, int repeat, int nThreads, const std::string& openvdb) {
+    const std::size_t n = set.size();
+    for (SurfaceField field : {SurfaceField::Sph, SurfaceField::Thesis}) {
+        MeshParams p;
+        p.radiusM = radius;
+        p.field = field;
+        std::vector<MeshStats> runs;
+        TriangleMesh mesh;
+        for (int i = 0; i < repeat; ++i) {
+            MeshStats st;
+            auto m = extractSurface(ParticleView::of(set), p, &st);
+            if (!m) {
+                std::fprintf(stderr, "bench: error: %s\n", m.error().describe().c_str());
+                return 1;
+            }
+            mesh = std::move(*m);
+            runs.push_back(st);
+        }
+        auto med = [&](double MeshStats::*field) {
+            std::vector<double> v;
+            for (const auto& r : runs) v.push_back(r.*field);
+            return median(v);
+        };
+        const MeshStats& s = runs.front();
+        const std::string tag = std::string("mesh ") + surfaceFieldName(field) + " ";
+        char size[64];
+        std::snprintf(size, sizeof size, "cube %.2gr", double(p.cubeSizeRadii));
+        const std::string where = "cpu " + std::to_string(nThreads) + "t";
+        auto line = [&](const std::string& phase, double ms) {
+            std::printf("%-34s %-10s %9zu particles  %-6s %9.2f ms\n", (tag + phase).c_str(), size, n, where.c_str(), ms);
+        };
+        line("blocks", med(&MeshStats::msBlocks));
+        line("extract (marching slices)", med(&MeshStats::msExtract));
+        line("weld", med(&MeshStats::msMerge));
+        line("normals", med(&MeshStats::msNormals));
+        const double total = med(&MeshStats::msTotal);
+        line("total", total);
+        std::printf("%-34s %zu triangles, %zu vertices, %.2f M particles/s, peak %.1f MB (one block %.2f MB), "
+                    "%zu blocks (%zu with surface), %zu rounds (%zu block reruns), %zu cubes, %zu corners, %d threads\n",
+                    (tag + "size").c_str(), mesh.triangleCount(), mesh.vertexCount(), double(n) / total / 1e3,
+                    double(s.peakBytes) / 1e6, double(s.peakBlockBytes) / 1e6, s.blocks, s.blocksWithSurface,
+                    s.rounds, s.blocksRerun, s.cubesVisited, s.cornersEvaluated, s.threads);
+    }
+    if (openvdb.empty()) {
+        std::printf("%-34s (not run: pass --openvdb PATH, built by scripts/build_openvdb_peer.sh)\n", "openvdb peer");
+        return 0;
+    }
+    // The peer reads raw particles: uint64 count, then float32 xyz.
+    const auto raw = std::filesystem::temp_directory_path() / ("meniscus_bench_" + std::to_string(::getpid()) + ".bin");
+    {
+        std::FILE* f = std::fopen(raw.c_str(), "wb");
+        if (!f) return 1;
+        const std::uint64_t count = n;
+        std::fwrite(&count, 8, 1, f);
+        std::fwrite(set.positions.data(), sizeof(glm::vec3), n, f);
+        std::fclose(f);
+    }
+    char cmd[1024];
+    std::snprintf(cmd, sizeof cmd, "'%s' '%s' %.9g %.9g 2>&1", openvdb.c_str(), raw.c_str(),
+                  double(defaults::kCubeSizeRadii * radius), double(2.0f * radius));
+    std::vector<double> totals, levelsets, meshes;
+    std::string last;
+    for (int i = 0; i < repeat; ++i) {
+        std::FILE* pipe = ::popen(cmd, "r");
+        if (!pipe) break;
+        char buf[512];
+        std::string out;
+        while (std::fgets(buf, sizeof buf, pipe)) out += buf;
+        ::pclose(pipe);
+        double ls = 0, sm = 0, me = 0, to = 0;
+        const auto at = out.find("levelset_ms=");
+        if (at == std::string::npos ||
+            std::sscanf(out.c_str() + at, "levelset_ms=%lf smooth_ms=%lf mesh_ms=%lf total_ms=%lf", &ls, &sm, &me, &to) != 4) {
+            std::fprintf(stderr, "bench: the OpenVDB peer said: %s\n", out.c_str());
+            break;
+        }
+        levelsets.push_back(ls);
+        meshes.push_back(me);
+        totals.push_back(to);
+        last = out.substr(0, out.find('\n'));
+    }
+    std::filesystem::remove(raw);
+    if (totals.empty()) return 1;
+    char size[64];
+    std::snprintf(size, sizeof size, "voxel %.2gr", double(defaults::kCubeSizeRadii));
+    auto line = [&](const char* phase, double ms) {
+        std::printf("%-34s %-10s %9zu particles  %-6s %9.2f ms\n", phase, size, n, "peer", ms);
+    };
+    line("openvdb ParticlesToLevelSet", median(levelsets));
+    line("openvdb volumeToMesh", median(meshes));
+    line("openvdb total", median(totals));
+    std::printf("%-34s %s\n", "openvdb size", last.c_str());
+    return 0;
 }
 
 }  // namespace
@@ -68,6 +171,15 @@ int main(int argc, char** argv) {
     std::string backendOpt = "both";
     app.add_option("--backend", backendOpt, "cpu, gl, auto, or both (cpu and gl side by side; gl skipped with a note when no context)")
         ->capture_default_str();
+    bool meshOnly = false, noMesh = false;
+    std::string openvdb;
+    float benchRadius = 0.0f;
+    app.add_option("--radius", benchRadius, "Particle radius in metres (default: estimated)");
+    app.add_flag("--mesh-only", meshOnly, "Time only the isosurface path (and its peer)");
+    app.add_flag("--no-mesh", noMesh, "Skip the isosurface path");
+    app.add_option("--openvdb", openvdb,
+                   "The OpenVDB peer binary (scripts/build_openvdb_peer.sh builds build/openvdb_mesh), run on the same "
+                   "frame at the same voxel size");
     CLI11_PARSE(app, argc, argv);
 
     std::unique_ptr<tbb::global_control> limit;
@@ -95,6 +207,12 @@ int main(int argc, char** argv) {
 
     RadiusEstimate radius;
     print("radius-estimate", "-", n, medianMs(repeat, [&] { radius = estimateRadius(set->positions); }));
+    if (benchRadius > 0.0f) radius.radius = benchRadius;
+
+    if (!noMesh) {
+        if (int rc = benchMesh(*set, radius.radius, std::max(1, repeat / 3), nThreads, openvdb); rc != 0) return rc;
+        if (meshOnly) return 0;
+    }
 
     Camera base;
     base.width = width;

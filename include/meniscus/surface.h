@@ -26,6 +26,7 @@ struct MeshStats {
     std::size_t blocks = 0;            // blocks holding particles
     std::size_t blocksWithSurface = 0;
     std::size_t rounds = 0;            // block passes (a surface crossing a block seam hands seeds on)
+    std::size_t blocksRerun = 0;       // block runs after the first round
     std::size_t seedWalks = 0;         // walks from particles toward the outside
     std::size_t cubesVisited = 0;      // surface cubes polygonised
     std::size_t cornersEvaluated = 0;  // field evaluations (corners recomputed after a slice was freed count again)

@@ -174,6 +174,7 @@ Result<TriangleMesh> extract(const ParticleView& particles, const MeshParams& p,
     for (std::size_t b = 0; b < blocks.size(); ++b) todo[b] = b;
     while (!todo.empty()) {
         ++stats.rounds;
+        if (stats.rounds > 1) stats.blocksRerun += todo.size();
         tbb::parallel_for(std::size_t(0), todo.size(), [&](std::size_t k) {
             const std::size_t b = todo[k];
             marchers.local().run(blocks[b], seeds[b], p.exhaustive, outputs[b]);

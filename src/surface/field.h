@@ -21,21 +21,21 @@ struct Field {
     float isoRaw = 0.0f;     // iso * F0, what corner values are compared with
 
     // Raw contribution of one particle at squared distance d2 (0 at and beyond
-    // the support).
-    float kernel(float d2) const {
-        if (!(d2 < support2)) return 0.0f;
-        if (kind == SurfaceField::Thesis) {
-            // Thesis eq. 4.16 with u = (d / (sqrt2 Rc))^2 = d2 / (2 Rc^2):
-            // u^2 - u + 1/4 = (u - 1/2)^2, which is how it is evaluated here.
-            const float u = 0.5f * d2 * invSupport2;
-            const float v = u - 0.5f;
-            return v * v;
-        }
-        // Cubic spline (Monaghan 1992) over sigma = 8/(pi h^3), q = d/h.
+    // the support). Branch-free forms, selects only.
+    float kernel(float d2) const { return kind == SurfaceField::Thesis ? thesisKernel(d2) : sphKernel(d2); }
+
+    // Thesis eq. 4.16 with u = (d / (sqrt2 Rc))^2 = d2 / (2 Rc^2):
+    // u^2 - u + 1/4 = (u - 1/2)^2, which is how it is evaluated here.
+    float thesisKernel(float d2) const {
+        const float v = 0.5f * d2 * invSupport2 - 0.5f;
+        return d2 < support2 ? v * v : 0.0f;
+    }
+    // Cubic spline (Monaghan 1992) over sigma = 8/(pi h^3), q = d/h.
+    float sphKernel(float d2) const {
         const float q = std::sqrt(d2) * invSupport;
-        if (q <= 0.5f) return 6.0f * q * q * (q - 1.0f) + 1.0f;
         const float a = 1.0f - q;
-        return 2.0f * a * a * a;
+        const float w = q <= 0.5f ? 6.0f * q * q * (q - 1.0f) + 1.0f : 2.0f * a * a * a;
+        return d2 < support2 ? w : 0.0f;
     }
 };
 

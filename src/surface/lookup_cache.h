@@ -38,24 +38,26 @@ public:
         const std::size_t c = (std::size_t(j) * std::size_t(side_) + std::size_t(i)) * std::size_t(chunks_) + std::size_t(w);
         const Entry* first = entries_.data() + start_[c];
         const Entry* last = entries_.data() + ends_[c];
-        // First entry whose centre slab can reach slice k (midK is non-decreasing).
-        const int lo = k - reach_;
-        std::size_t count = std::size_t(last - first);
-        while (count > 0) {
-            const std::size_t half = count / 2;
-            if (first[half].midK < lo) {
-                first += half + 1;
-                count -= half + 1;
-            } else {
-                count = half;
-            }
-        }
-        const int hi = k + reach_;
+        // The entries whose centre slab can reach slice k (midK is
+        // non-decreasing): [lower bound of k - reach, upper bound of k + reach).
+        const Entry* from = boundOf(first, last, k - reach_);
+        const Entry* to = boundOf(from, last, k + reach_ + 1);
+        // In order, branch-free: an entry outside [minK, maxK] adds exactly 0,
+        // so the sum is the same float in every block whose list holds more or
+        // fewer such entries (the kernel is 0 past the support too).
         float sum = 0.0f;
-        for (const Entry* e = first; e != last && e->midK <= hi; ++e) {
-            if (e->minK > k || e->maxK < k) continue;
-            const float dz = e->z - zk;
-            sum += field_.kernel(e->dxy2 + dz * dz);
+        if (field_.kind == SurfaceField::Sph) {
+            for (const Entry* e = from; e != to; ++e) {
+                const float dz = e->z - zk;
+                const float w = field_.sphKernel(e->dxy2 + dz * dz);
+                sum += (e->minK <= k && k <= e->maxK) ? w : 0.0f;
+            }
+        } else {
+            for (const Entry* e = from; e != to; ++e) {
+                const float dz = e->z - zk;
+                const float w = field_.thesisKernel(e->dxy2 + dz * dz);
+                sum += (e->minK <= k && k <= e->maxK) ? w : 0.0f;
+            }
         }
         return sum;
     }
@@ -72,6 +74,20 @@ private:
     // many entries (the support spans 8 slices at cube 0.5 r) and was slower
     // than one chunk per default block.
     static constexpr int kChunk = 32;
+    // First entry in [first, last) with midK >= k (binary search).
+    static const Entry* boundOf(const Entry* first, const Entry* last, int k) {
+        std::size_t count = std::size_t(last - first);
+        while (count > 0) {
+            const std::size_t half = count / 2;
+            if (first[half].midK < k) {
+                first += half + 1;
+                count -= half + 1;
+            } else {
+                count = half;
+            }
+        }
+        return first;
+    }
     void buildRowChunk(int j, int w);
 
     Field field_;

@@ -13,9 +13,11 @@
 namespace meniscus::surface {
 
 namespace {
-// The angle between unit-free vectors a and b (atan2 form: exact near 0 and pi).
+// The angle between vectors a and b. acos of the normalised dot product: a
+// weight needs no more (atan2 of |a x b| and a.b, exact near 0, was 3x slower).
 float angleBetween(const glm::vec3& a, const glm::vec3& b) {
-    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+    const float d = glm::dot(a, b) / std::sqrt(glm::dot(a, a) * glm::dot(b, b));
+    return std::acos(std::clamp(d, -1.0f, 1.0f));
 }
 }  // namespace
 
