@@ -2,7 +2,7 @@
 // path: an icosphere against the analytic sphere (depth, normals, coverage),
 // the fill rule (shared edges cover each pixel centre once), near-plane
 // clipping against the analytic plane, thread-count invariance, occlusion by
-// the scene.
+// the scene, and the Renderer's checks of the mesh.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,7 +16,12 @@
 #include <tbb/global_control.h>
 
 #include "cpu/raster_mesh.h"
+#include "cpu/scene.h"
+#include "cpu/splat.h"
+#include "meniscus/particles.h"
+#include "meniscus/renderer.h"
 #include "mesh_test_util.h"
+#include "shared/studio.h"
 #include "test_util.h"
 
 using namespace meniscus;
@@ -365,4 +370,79 @@ TEST(RasterMesh, SceneDepthOccludes) {
         }
     EXPECT_GT(shown, 200);  // the cap in front of the wall
     EXPECT_GT(cut, 200);    // the rest of the right half
+}
+
+namespace {
+
+// One particle (for the splat, thickness and framing) and a mesh sphere around it.
+struct MeshFrame {
+    std::vector<glm::vec3> particles = {{0.0f, 0.0f, 0.0f}};
+    TriangleMesh mesh = icosphere({0.0f, 0.0f, 0.0f}, 0.3f, 4);
+    RenderSettings settings;
+    MeshFrame() {
+        settings.camera = faceOnCamera({0.0f, 0.0f, 0.0f}, 1.5f, 160, 120);
+        settings.radiusM = 0.25f;
+        settings.mesh = &mesh;
+    }
+};
+
+}  // namespace
+
+// Through the Renderer: depth and normals are the rasteriser's (in front of the
+// scene), the raw depth and thickness the particles', and the stages say so.
+TEST(RasterMeshRenderer, MeshReplacesSmoothingAndNormals) {
+    MeshFrame f;
+    std::vector<StageTime> times;
+    auto aovs = Renderer().render(f.particles, f.settings, &times);
+    ASSERT_TRUE(aovs.ok()) << aovs.error().describe();
+    std::vector<std::string> names;
+    for (const auto& t : times) names.push_back(t.stage);
+    EXPECT_EQ(names, (std::vector<std::string>{"scene", "depth-splat+thickness", "rasterise", "shade"}));
+    const shared::Studio studio =
+        shared::makeStudio(computeBounds(f.particles), f.settings.radiusM, f.settings.camera, f.settings.scene,
+                           f.settings.shading.lightDirWorld);
+    const cpu::SceneLayer scene = cpu::castScene(f.settings.camera, studio);
+    const cpu::MeshRaster ref = cpu::rasteriseMesh(f.settings.camera, f.mesh, &scene.depth);
+    EXPECT_EQ(aovs->depth.pixels, ref.depth.pixels);
+    EXPECT_EQ(aovs->normal.pixels, ref.normal.pixels);
+    const Image<float> splat = cpu::splatDepth(f.settings.camera, f.particles, f.settings.radiusM, &scene.depth);
+    EXPECT_EQ(aovs->rawDepth.pixels, splat.pixels);
+    // The mesh (radius 0.3) is larger than the particle (0.25): its depth is nearer.
+    const int cx = f.settings.camera.width / 2, cy = f.settings.camera.height / 2;
+    EXPECT_LT(aovs->depth.at(cx, cy), aovs->rawDepth.at(cx, cy));
+    EXPECT_GT(aovs->thickness.at(cx, cy), 0.0f);
+    // Shaded where the mesh is: the fluid's pixels are opaque, differ from the scene.
+    EXPECT_EQ(aovs->color.at(cx, cy).a, 1.0f);
+    EXPECT_NE(glm::vec3(aovs->color.at(cx, cy)), glm::vec3(scene.color.at(cx, cy)));
+}
+
+// A bad mesh is an error naming the problem, never a crash.
+TEST(RasterMeshRenderer, InvalidMeshIsAnError) {
+    struct Case {
+        const char* what;
+        void (*spoil)(TriangleMesh&);
+        const char* message;
+    };
+    const Case cases[] = {
+        {"index out of range", [](TriangleMesh& m) { m.indices[7] = std::uint32_t(m.positions.size()); }, "out of range"},
+        {"huge index", [](TriangleMesh& m) { m.indices.back() = 0xffffffffu; }, "out of range"},
+        {"partial triangle", [](TriangleMesh& m) { m.indices.push_back(0); }, "whole number of triangles"},
+        {"NaN position", [](TriangleMesh& m) { m.positions[3].y = std::nanf(""); }, "non-finite position"},
+        {"infinite normal", [](TriangleMesh& m) { m.normals[5].x = kInf; }, "non-finite normal"},
+        {"missing normals", [](TriangleMesh& m) { m.normals.pop_back(); }, "normals for"},
+    };
+    for (const Case& c : cases) {
+        MeshFrame f;
+        c.spoil(f.mesh);
+        auto aovs = Renderer().render(f.particles, f.settings);
+        ASSERT_FALSE(aovs.ok()) << c.what;
+        EXPECT_NE(aovs.error().describe().find(c.message), std::string::npos) << c.what << ": " << aovs.error().describe();
+        EXPECT_NE(aovs.error().describe().find("mesh"), std::string::npos) << aovs.error().describe();
+    }
+    // An empty mesh is valid: no fluid surface.
+    MeshFrame f;
+    f.mesh = TriangleMesh{};
+    auto aovs = Renderer().render(f.particles, f.settings);
+    ASSERT_TRUE(aovs.ok()) << aovs.error().describe();
+    for (float z : aovs->depth.pixels) EXPECT_EQ(z, kInf);
 }
