@@ -102,19 +102,6 @@ void expectWithinTolerance(const Comparison& c, const char* what) {
     EXPECT_LE(c.normals.maxDeg, kNormalMaxDeg) << what;
 }
 
-// A camera at the origin looking down -z (view space = world space).
-Camera axisCamera(int w, int h, float fov, float nearM) {
-    Camera c;
-    c.eye = {0.0f, 0.0f, 0.0f};
-    c.target = {0.0f, 0.0f, -1.0f};
-    c.fovYDegrees = fov;
-    c.nearM = nearM;
-    c.farM = 1000.0f;
-    c.width = w;
-    c.height = h;
-    return c;
-}
-
 }  // namespace
 
 TEST_F(GlRasterMesh, SphereMatchesCpu) {
@@ -141,10 +128,7 @@ TEST_F(GlRasterMesh, SphereMatchesCpu) {
 // fill rules must agree exactly, the shared diagonal and the borders included.
 TEST_F(GlRasterMesh, FillRuleMatchesCpuOnPixelCentres) {
     const Camera cam = axisCamera(64, 48, 60.0f, 0.1f);
-    const double f = cam.focalPx(), z = 2.0;
-    auto at = [&](double px, double py) {
-        return glm::vec3(float(z * (px - 32.0) / f), float(-z * (py - 24.0) / f), float(-z));
-    };
+    auto at = [&](double px, double py) { return atPixel(cam, px, py, 2.0); };
     TriangleMesh m;
     m.positions = {at(10.5, 5.5), at(40.5, 5.5), at(40.5, 35.5), at(10.5, 35.5), at(50.5, 40.5), at(60.5, 45.5)};
     m.normals.assign(m.positions.size(), glm::vec3(0.0f, 0.0f, 1.0f));
@@ -160,12 +144,7 @@ TEST_F(GlRasterMesh, FillRuleMatchesCpuOnPixelCentres) {
 TEST_F(GlRasterMesh, TriangleCrossingTheNearPlaneMatchesCpu) {
     for (float nearM : {0.1f, 1.5f}) {
         const Camera cam = axisCamera(160, 120, 70.0f, nearM);
-        TriangleMesh m;
-        m.positions = {{-6.0f, -0.5f, 4.0f}, {6.0f, -0.5f, 4.0f}, {0.0f, -0.5f, -40.0f}};
-        m.normals = {glm::normalize(glm::vec3(0.3f, 1.0f, 0.0f)), glm::normalize(glm::vec3(-0.3f, 1.0f, 0.2f)),
-                     glm::vec3(0.0f, 1.0f, 0.0f)};
-        m.indices = {0, 1, 2};
-        const Comparison c = compareWithCpu(cam, m, nullptr);
+        const Comparison c = compareWithCpu(cam, floorTriangle(), nullptr);
         EXPECT_GT(c.depth.coveredCpu, 2000);
         expectWithinTolerance(c, nearM < 1.0f ? "near plane 0.1" : "near plane 1.5");
     }

@@ -1,6 +1,7 @@
 // Procedural meshes for the mesh-path tests (raster_mesh_test.cpp,
 // gl_raster_mesh_test.cpp): an icosphere with its analytic normals and its
-// chord error.
+// chord error, a floor triangle reaching behind the eye, and a camera whose
+// view space is world space.
 #pragma once
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include "meniscus/camera.h"
 #include "meniscus/mesh.h"
 
 namespace meniscus::test {
@@ -65,6 +67,39 @@ inline double chordError(const TriangleMesh& m, glm::vec3 centre, float radius) 
         nearest = std::min(nearest, std::abs(glm::dot(a - glm::dvec3(centre), n)));
     }
     return double(radius) - nearest;
+}
+
+// A camera at the origin looking down -z (view space = world space).
+inline Camera axisCamera(int w, int h, float fovYDegrees = 60.0f, float nearM = 0.1f) {
+    Camera c;
+    c.eye = {0.0f, 0.0f, 0.0f};
+    c.target = {0.0f, 0.0f, -1.0f};
+    c.up = {0.0f, 1.0f, 0.0f};
+    c.fovYDegrees = fovYDegrees;
+    c.nearM = nearM;
+    c.farM = 1000.0f;
+    c.width = w;
+    c.height = h;
+    return c;
+}
+
+// The world point axisCamera `cam` sees at continuous pixel (px, py) at eye depth z.
+inline glm::vec3 atPixel(const Camera& cam, double px, double py, double z) {
+    const double f = cam.focalPx();
+    return {float(z * (px - 0.5 * cam.width) / f), float(-z * (py - 0.5 * cam.height) / f), float(-z)};
+}
+
+// One big triangle of the floor y = kFloorY with two vertices 4 m behind an
+// axisCamera's eye and one 40 m in front (it crosses the near plane), its
+// vertex normals tilted apart so the interpolation shows.
+inline constexpr float kFloorY = -0.5f;
+inline TriangleMesh floorTriangle() {
+    TriangleMesh m;
+    m.positions = {{-6.0f, kFloorY, 4.0f}, {6.0f, kFloorY, 4.0f}, {0.0f, kFloorY, -40.0f}};
+    m.normals = {glm::normalize(glm::vec3(0.3f, 1.0f, 0.0f)), glm::normalize(glm::vec3(-0.3f, 1.0f, 0.2f)),
+                 glm::vec3(0.0f, 1.0f, 0.0f)};
+    m.indices = {0, 1, 2};
+    return m;
 }
 
 }  // namespace meniscus::test

@@ -52,26 +52,6 @@ bool raySphere(glm::dvec3 ray, glm::dvec3 c, double r, double* zIn, double* zOut
     return true;
 }
 
-// A camera at the origin looking down -z (view space = world space).
-Camera axisCamera(int w, int h, float fov = 60.0f, float nearM = 0.1f) {
-    Camera c;
-    c.eye = {0.0f, 0.0f, 0.0f};
-    c.target = {0.0f, 0.0f, -1.0f};
-    c.up = {0.0f, 1.0f, 0.0f};
-    c.fovYDegrees = fov;
-    c.nearM = nearM;
-    c.farM = 1000.0f;
-    c.width = w;
-    c.height = h;
-    return c;
-}
-
-// World point seen at continuous pixel (px, py) at eye depth z by axisCamera.
-glm::vec3 atPixel(const Camera& cam, double px, double py, double z) {
-    const double f = cam.focalPx();
-    return {float(z * (px - 0.5 * cam.width) / f), float(-z * (py - 0.5 * cam.height) / f), float(-z)};
-}
-
 }  // namespace
 
 TEST(RasterMesh, IcosphereIsClosedAndCounterClockwise) {
@@ -261,12 +241,8 @@ TEST(RasterMesh, TriangulatedGridIsWatertight) {
 TEST(RasterMesh, TriangleCrossingTheNearPlane) {
     for (float nearM : {0.1f, 1.5f}) {
         const Camera cam = axisCamera(160, 120, 70.0f, nearM);
-        TriangleMesh m;
-        const float h = -0.5f;  // the floor y = -0.5
-        m.positions = {{-6.0f, h, 4.0f}, {6.0f, h, 4.0f}, {0.0f, h, -40.0f}};  // two vertices behind the eye
-        m.normals = {glm::normalize(glm::vec3(0.3f, 1.0f, 0.0f)), glm::normalize(glm::vec3(-0.3f, 1.0f, 0.2f)),
-                     glm::vec3(0.0f, 1.0f, 0.0f)};
-        m.indices = {0, 1, 2};
+        const TriangleMesh m = floorTriangle();  // two vertices behind the eye
+        const float h = kFloorY;
         const cpu::MeshRaster r = cpu::rasteriseMesh(cam, m);
         const glm::dvec3 a = m.positions[0], b = m.positions[1], c = m.positions[2];
         int covered = 0, expected = 0, coverageBad = 0, depthBad = 0, normalBad = 0;
