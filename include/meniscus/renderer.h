@@ -9,6 +9,7 @@
 
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
+#include "meniscus/mesh.h"
 #include "meniscus/params.h"
 #include "meniscus/particle_view.h"
 #include "meniscus/result.h"
@@ -32,6 +33,16 @@ struct RenderSettings {
     ThicknessParams thickness;
     SceneParams scene;
     ShadingParams shading;
+    // The mesh path (issue 14): when set, the surface is this triangle mesh
+    // (world space, metres; e.g. from the isosurface extraction) instead of
+    // the smoothed particle depth: its triangles are rasterised into the depth
+    // and normal AOVs in place of the smoothing and normals stages, and shaded
+    // like the screen-space surface. The particles still give the thickness,
+    // the raw-depth AOV (their splat) and the framing, so pass them too. Not
+    // owned; it must stay valid during render()/draw(). An error when an index
+    // is out of range, a position or normal is not finite, or the normals are
+    // not one per vertex.
+    const TriangleMesh* mesh = nullptr;
     // Only `color` is needed (a PNG, a preview): render() leaves the other AOVs
     // empty, which on GL saves their GPU -> host copies. Every AOV otherwise
     // (an EXR).
@@ -81,7 +92,7 @@ public:
 
     // Renders one frame of `particles` (positions, and the attributes later
     // stages read; a span of positions converts): every AOV is filled (color = the chosen view; depth =
-    // the smoothed eye depth; rawDepth = the splat; normal; thickness), or
+    // the smoothed eye depth, or the mesh's with settings.mesh; rawDepth = the splat; normal; thickness), or
     // only color with settings.colorOnly. When
     // `timings` is given it receives one entry per stage, in pipeline order
     // (CPU: wall clock; GL: GPU time from timer queries), then, on GL, one

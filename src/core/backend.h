@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "meniscus/camera.h"
+#include "meniscus/mesh.h"
 #include "meniscus/params.h"
 #include "meniscus/particle_view.h"
 #include "meniscus/renderer.h"
@@ -39,6 +40,9 @@ struct FrameSettings {
     // positions also come contiguous as beginFrame's argument). Valid for
     // this frame only: they point into the caller's memory.
     ParticleView particles;
+    // The mesh of the mesh path (RenderSettings::mesh, checked by the
+    // Renderer), or null. Valid for this frame only.
+    const TriangleMesh* mesh = nullptr;
 };
 
 class Backend {
@@ -62,6 +66,10 @@ public:
     virtual void smooth(Slot in, Slot out) = 0;
     // View-space normals of the smoothed depth (cpu::computeNormals).
     virtual void normals(Slot depth, Slot normal) = 0;
+    // The mesh path's stand-in for smooth + normals (cpu::rasteriseMesh): eye
+    // depth and view-space normals of the nearest triangle of
+    // FrameSettings::mesh per pixel, in front of the scene depth.
+    virtual void rasterise(Slot sceneDepth, Slot depth, Slot normal) = 0;
     // Shading and compositing over the scene (cpu::shadeAndComposite).
     virtual void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot color) = 0;
 

@@ -5,6 +5,7 @@
 #include "core/backend.h"
 #include "cpu/filters.h"
 #include "cpu/normals.h"
+#include "cpu/raster_mesh.h"
 #include "cpu/scene.h"
 #include "cpu/shading.h"
 #include "cpu/thickness.h"
@@ -48,6 +49,13 @@ public:
 
     void normals(Slot depth, Slot normal) override {
         vec3s_[int(normal)] = cpu::computeNormals(scalar(depth), s_.camera, s_.radius, defaults::kDepthJumpRadii);
+    }
+
+    void rasterise(Slot sceneDepth, Slot depth, Slot normal) override {
+        static const TriangleMesh kNoMesh;  // no mesh: no fluid
+        auto r = cpu::rasteriseMesh(s_.camera, s_.mesh ? *s_.mesh : kNoMesh, &scalar(sceneDepth));
+        scalars_[int(depth)] = std::move(r.depth);
+        vec3s_[int(normal)] = std::move(r.normal);
     }
 
     void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot color) override {

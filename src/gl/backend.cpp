@@ -23,6 +23,7 @@
 #include "gl/gpu_image.h"
 #include "gl/normals.h"
 #include "gl/present.h"
+#include "gl/raster_mesh.h"
 #include "gl/scene.h"
 #include "gl/shading.h"
 #include "gl/splat.h"
@@ -43,6 +44,7 @@ struct Stages {
     Normals normals;
     Shading shading;
     LowResThickness lowResThickness;
+    MeshRasteriser meshRasteriser;
 };
 
 template <class T>
@@ -169,6 +171,13 @@ public:
         st_.normals.run(fp_, img(depth), img(normal));
     }
 
+    void rasterise(Slot sceneDepth, Slot depth, Slot normal) override {
+        forget(depth);
+        forget(normal);
+        static const TriangleMesh kNoMesh;  // no mesh: no fluid
+        st_.meshRasteriser.run(fp_, s_.mesh ? *s_.mesh : kNoMesh, &img(sceneDepth), img(depth), img(normal));
+    }
+
     void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot color) override {
         forget(color);
         st_.shading.run(fp_, img(sceneColor), img(sceneDepth), img(depth), img(normal), img(thickness), img(color));
@@ -289,7 +298,8 @@ Result<std::unique_ptr<Backend>> makeOnCurrent(std::unique_ptr<Context> ctx) {
     for (Status st : {take(Splat::create(), s.splat), take(SeparableFilters::create(), s.separable),
                       take(CurvatureFlow::create(), s.curvatureFlow), take(NarrowRange::create(), s.narrowRange),
                       take(SceneCaster::create(), s.scene), take(Normals::create(), s.normals),
-                      take(Shading::create(), s.shading), take(LowResThickness::create(), s.lowResThickness)})
+                      take(Shading::create(), s.shading), take(LowResThickness::create(), s.lowResThickness),
+                      take(MeshRasteriser::create(), s.meshRasteriser)})
         if (!st) return st.error();
     return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(ctx), std::move(s)));
 }

@@ -1,5 +1,7 @@
 // The stage order of the screen-space pipeline (SPEC §1), in one place:
-//   scene -> depth splat + thickness (one pass) -> smoothing -> normals -> shading.
+//   scene -> depth splat + thickness (one pass) -> smoothing -> normals -> shading,
+// or, on the mesh path (RenderSettings::mesh):
+//   scene -> depth splat + thickness -> rasterise the mesh -> shading.
 // Each stage is one method of the backend (src/core/backend.h): one function
 // in src/cpu/ on the CPU, one shader stage in src/gl/ on the GL backend.
 #include <algorithm>
@@ -13,6 +15,7 @@
 
 #include "core/backend.h"
 #include "core/frame_memory.h"
+#include "cpu/raster_mesh.h"  // kRasterMaxSidePx, the limit of both backends
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
 #include "shared/studio.h"
@@ -157,6 +160,37 @@ auto guarded(const char* where, F&& run) -> decltype(run()) {
     }
 }
 
+// The mesh path's input: one normal per vertex, whole triangles, every index
+// in range, finite positions and normals (the rasterisers' preconditions).
+Status checkMesh(const TriangleMesh& m, int width, int height) {
+    const std::string where = "RenderSettings::mesh: ";
+    if (m.normals.size() != m.positions.size())
+        return makeError("", where + std::to_string(m.normals.size()) + " normals for " +
+                                 std::to_string(m.positions.size()) + " vertices (one normal per vertex is needed)");
+    if (m.indices.size() % 3 != 0)
+        return makeError("", where + std::to_string(m.indices.size()) + " indices is not a whole number of triangles");
+    if (m.triangleCount() > std::numeric_limits<std::uint32_t>::max())
+        return makeError("", where + std::to_string(m.triangleCount()) + " triangles, more than 2^32 - 1");
+    const std::size_t nv = m.positions.size();
+    for (std::size_t k = 0; k < m.indices.size(); ++k)
+        if (m.indices[k] >= nv)
+            return makeError("", where + "triangle " + std::to_string(k / 3) + " has vertex index " +
+                                     std::to_string(m.indices[k]) + ", out of range (" + std::to_string(nv) +
+                                     " vertices)");
+    auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    for (std::size_t i = 0; i < nv; ++i) {
+        if (!finite(m.positions[i]))
+            return makeError("", where + "vertex " + std::to_string(i) + " has a non-finite position");
+        if (!finite(m.normals[i]))
+            return makeError("", where + "vertex " + std::to_string(i) + " has a non-finite normal");
+    }
+    if (width > cpu::kRasterMaxSidePx || height > cpu::kRasterMaxSidePx)
+        return makeError("", where + "a " + std::to_string(width) + "x" + std::to_string(height) +
+                                 " image is too large for the mesh path (at most " +
+                                 std::to_string(cpu::kRasterMaxSidePx) + " pixels a side)");
+    return okStatus();
+}
+
 }  // namespace
 
 Renderer::Renderer() : backend_(makeCpuBackend()) {}
@@ -189,6 +223,8 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
     if (auto st = checkRadius(s.radiusM); !st) return st;
     if (auto st = checkFrameMemory(s.camera.width, s.camera.height); !st) return st;
     if (auto st = particles.validate(); !st) return st;
+    if (s.mesh)
+        if (auto st = checkMesh(*s.mesh, s.camera.width, s.camera.height); !st) return st;
     // The backends read positions as one contiguous array: the caller's own
     // when the view is one, else gathered here (a strided view).
     std::span<const glm::vec3> positions;
@@ -207,6 +243,7 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
     f.thickness = s.thickness;
     f.shading = s.shading;
     f.particles = particles;
+    f.mesh = s.mesh;
     const Bounds box = s.scene.studioBounds.empty() ? computeBounds(positions) : s.scene.studioBounds;
     f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
     Backend& b = *backend_;
@@ -226,8 +263,15 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
     if (auto st = stage("depth-splat+thickness", [&] { b.splat(Slot::SceneDepth, Slot::RawDepth, Slot::Thickness); });
         !st)
         return st;
-    if (auto st = stage("smooth", [&] { b.smooth(Slot::RawDepth, Slot::Depth); }); !st) return st;
-    if (auto st = stage("normals", [&] { b.normals(Slot::Depth, Slot::Normal); }); !st) return st;
+    if (s.mesh) {
+        // The mesh path: the triangles give the surface's depth and normals
+        // (in place of smooth + normals); thickness and raw depth stay the particles'.
+        if (auto st = stage("rasterise", [&] { b.rasterise(Slot::SceneDepth, Slot::Depth, Slot::Normal); }); !st)
+            return st;
+    } else {
+        if (auto st = stage("smooth", [&] { b.smooth(Slot::RawDepth, Slot::Depth); }); !st) return st;
+        if (auto st = stage("normals", [&] { b.normals(Slot::Depth, Slot::Normal); }); !st) return st;
+    }
     return stage("shade", [&] {
         b.shade(Slot::SceneColor, Slot::SceneDepth, Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Color);
     });

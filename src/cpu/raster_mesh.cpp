@@ -1,0 +1,445 @@
+// CPU triangle-mesh rasteriser: the mesh path's stand-in for smoothing +
+// normals (issue 14), the reference the GL backend's triangle draw is tested
+// against.
+//
+// Method: half-space (edge-function) rasterisation, Pineda, "A Parallel
+// Algorithm for Polygon Rasterization", SIGGRAPH 1988: a pixel centre is inside
+// a triangle when the three edge functions E(p) = (b - a) x (p - a) agree in
+// sign. Vertices are snapped to 1/256 px and the edge functions evaluated in
+// 64-bit integers, exactly; ties (a centre on an edge) follow the top-left rule
+// of Direct3D 10+ and GL implementations (an edge owns its centres when it is a
+// top or a left edge), so two triangles sharing an edge cover every centre on it
+// exactly once. Attributes are interpolated perspective-correctly: 1/w and
+// n/w are affine in screen space (Heckbert & Moreton, "Interpolation for
+// Polygon Texture Mapping and Shading", 1991), so the eye depth is 1 / (1/w)
+// and the normal is the interpolated n/w renormalised.
+//
+// Clipping is done in view space, where attributes are linear: against the near
+// plane (eye depth >= near; a triangle crossing it keeps its front part) and
+// against a guard band 2^16 px beyond each image border (so snapped
+// coordinates stay within the exact integer range), Sutherland & Hodgman 1974.
+// An edge crossing a plane is cut at a point computed from its inside and
+// outside vertex in that order, so the two triangles sharing it make the same
+// point and stay watertight.
+//
+// Parallel scheme: triangles are binned to 64 x 64 px tiles in index order and
+// each tile is drawn by one task in that order, with a strict z test (the first
+// of equal depths wins): bit-identical for any thread count. The bins hold
+// indices only and the triangles go in batches of at most kMaxBinEntries bin
+// entries, so memory is bounded whatever the mesh.
+#include "cpu/raster_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+namespace meniscus::cpu {
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr int kTile = kRasterTilePx;
+constexpr std::int64_t kOne = std::int64_t(1) << kRasterSubpixelBits;  // one pixel in fixed point
+constexpr std::int64_t kHalf = kOne / 2;                                // pixel centres at +0.5
+constexpr double kGuardPx = double(kRasterMaxSidePx);  // guard band beyond each border
+// Bin entries (triangle, tile) of one batch: 16 MB of indices.
+constexpr std::size_t kMaxBinEntries = std::size_t(1) << 22;
+// Triangles looked at per batch (their tile rectangles: 4 MB).
+constexpr std::size_t kMaxBatch = std::size_t(1) << 18;
+// Clip planes: near, then the guard band's left, right, top, bottom.
+constexpr int kPlanes = 5;
+// A triangle clipped by five planes has at most 3 + 5 vertices.
+constexpr int kMaxPolygon = 3 + kPlanes;
+
+struct Frame {
+    int width = 0, height = 0;
+    double f = 0.0, halfW = 0.0, halfH = 0.0, nearM = 0.0;
+    glm::vec3 right, up, back, eye;
+};
+
+// A vertex ready to draw: view space, and (in front of the near plane and
+// inside the guard band) its pixel coordinates in fixed point.
+struct Vertex {
+    glm::vec3 view;
+    glm::vec3 normal;      // view space, as given (unit for mesh vertices)
+    std::int32_t fx, fy;   // pixel coordinates (row 0 at the top) * kOne, rounded
+    std::uint32_t outside; // bit k: outside clip plane k
+};
+
+// Continuous pixel coordinates of a view-space point in front of the eye.
+inline glm::dvec2 project(const Frame& fr, const glm::vec3& view) {
+    const double w = -double(view.z);
+    return {fr.halfW + fr.f * double(view.x) / w, fr.halfH - fr.f * double(view.y) / w};
+}
+
+// Signed distance-like values of a view-space point to the clip planes (>= 0
+// inside). Not inlined: the outcodes of the vertices and the clipper's inside
+// tests must be the same floats whatever the compiler contracts at a call site.
+[[gnu::noinline]] void planeValues(const Frame& fr, const glm::vec3& v, double d[kPlanes]) {
+    const double w = -double(v.z), x = fr.f * double(v.x), y = fr.f * double(v.y);
+    const double gx = (fr.halfW + kGuardPx) * w, gy = (fr.halfH + kGuardPx) * w;
+    d[0] = w - fr.nearM;
+    d[1] = gx + x;  // px >= -guard
+    d[2] = gx - x;  // px <= W + guard
+    d[3] = gy - y;  // py >= -guard
+    d[4] = gy + y;  // py <= H + guard
+}
+
+// floor(v + 1/2) for |v| < 2^31 (std::llround is a library call).
+inline std::int32_t roundToInt(double v) {
+    const double r = v + 0.5;
+    const auto i = std::int32_t(r);  // truncates toward zero
+    return i - std::int32_t(double(i) > r);
+}
+
+// The vertex at view-space `view` with `normal`: outcodes and, when inside
+// every plane or made by the clipper on one (`onPlane`: rounding may leave it
+// an ulp outside), its projection. Not inlined, for the same reason as
+// planeValues: a shared vertex is the same bits everywhere.
+[[gnu::noinline]] Vertex makeVertex(const Frame& fr, const glm::vec3& view, const glm::vec3& normal,
+                                    bool onPlane = false) {
+    Vertex v{view, normal, 0, 0, 0};
+    double d[kPlanes];
+    planeValues(fr, view, d);
+    for (int k = 0; k < kPlanes; ++k) v.outside |= std::uint32_t(d[k] < 0.0) << k;
+    if (v.outside == 0 || onPlane) {
+        const glm::dvec2 s = project(fr, view);
+        v.fx = roundToInt(s.x * double(kOne));
+        v.fy = roundToInt(s.y * double(kOne));
+    }
+    return v;
+}
+
+// The part of a triangle to draw, as a convex polygon of drawable vertices.
+struct Polygon {
+    Vertex v[kMaxPolygon];
+    int n = 0;
+};
+
+// Sutherland-Hodgman against plane k. The cut point of an edge is made from
+// (inside vertex, outside vertex) in that order, whichever way the edge runs.
+void clipPolygon(const Frame& fr, int k, Polygon& p) {
+    Polygon out;
+    for (int i = 0; i < p.n; ++i) {
+        const Vertex& a = p.v[i];
+        const Vertex& b = p.v[(i + 1) % p.n];
+        double pa[kPlanes], pb[kPlanes];
+        planeValues(fr, a.view, pa);
+        planeValues(fr, b.view, pb);
+        const double da = pa[k], db = pb[k];
+        const bool ina = da >= 0.0, inb = db >= 0.0;
+        if (ina) out.v[out.n++] = a;
+        if (ina != inb) {
+            const Vertex& in = ina ? a : b;
+            const Vertex& ou = ina ? b : a;
+            const double di = ina ? da : db, dout = ina ? db : da;
+            const float t = float(di / (di - dout));
+            out.v[out.n++] =
+                makeVertex(fr, in.view + t * (ou.view - in.view), in.normal + t * (ou.normal - in.normal), true);
+        }
+    }
+    p = out;
+}
+
+// Triangle (a, b, c) clipped to what can be drawn; n < 3 when nothing is left.
+void drawablePolygon(const Frame& fr, const Vertex& a, const Vertex& b, const Vertex& c, Polygon& p) {
+    p.n = 0;
+    if (a.outside & b.outside & c.outside) return;  // wholly outside one plane
+    p.v[0] = a;
+    p.v[1] = b;
+    p.v[2] = c;
+    p.n = 3;
+    const std::uint32_t any = a.outside | b.outside | c.outside;
+    // A plane no vertex is outside of cuts nothing (the planes bound convex
+    // half-spaces), so only the planes some vertex is outside of are clipped.
+    for (int k = 0; k < kPlanes && p.n >= 3; ++k)
+        if (any & (1u << k)) clipPolygon(fr, k, p);
+}
+
+// Pixel rectangle [x0, x1) x [y0, y1).
+struct Rect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool empty() const { return x0 >= x1 || y0 >= y1; }
+};
+
+// Smallest pixel index whose centre is at or right of fixed coordinate v.
+inline std::int64_t firstCentre(std::int64_t v) {
+    const std::int64_t a = v - kHalf + (kOne - 1);
+    return a >= 0 ? a / kOne : -((-a + kOne - 1) / kOne);
+}
+// Largest pixel index whose centre is at or left of fixed coordinate v.
+inline std::int64_t lastCentre(std::int64_t v) {
+    const std::int64_t a = v - kHalf;
+    return a >= 0 ? a / kOne : -((-a + kOne - 1) / kOne);
+}
+
+// The pixels whose centres lie in the fixed-point box [x0, x1] x [y0, y1], cut to the image.
+Rect centresIn(const Frame& fr, std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1) {
+    Rect r;
+    r.x0 = int(std::max<std::int64_t>(0, firstCentre(x0)));
+    r.x1 = int(std::min<std::int64_t>(fr.width, lastCentre(x1) + 1));
+    r.y0 = int(std::max<std::int64_t>(0, firstCentre(y0)));
+    r.y1 = int(std::min<std::int64_t>(fr.height, lastCentre(y1) + 1));
+    return r;
+}
+
+struct Targets {
+    float* depth;               // W x H, starts at the scene depth (or +inf)
+    glm::vec3* normal;          // W x H
+    std::uint32_t* coverage;    // W x H or null
+    int width;
+};
+
+// An edge a -> b of a counter-clockwise (positive-area) triangle: E(p) =
+// (b - a) x (p - a), >= 0 inside. The top-left rule: a centre on the edge
+// (E = 0) is inside when the edge is a top edge (horizontal, the triangle
+// below it: dy = 0, dx > 0 with rows going down) or a left edge (dy < 0);
+// the bias makes "inside" one sign test.
+struct Edge {
+    std::int64_t row, stepX, stepY;  // E at the first centre of the box (biased), per pixel in x, in y
+    Edge(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by, std::int64_t px, std::int64_t py) {
+        const std::int64_t dx = bx - ax, dy = by - ay;
+        const bool topLeft = dy < 0 || (dy == 0 && dx > 0);
+        row = dx * (py - ay) - dy * (px - ax) - (topLeft ? 0 : 1);
+        stepX = -dy * kOne;
+        stepY = dx * kOne;
+    }
+};
+
+// Perspective-correct attributes of one triangle: planes over the unsnapped
+// screen positions (double), relative to vertex a, A(p) = A(a) + gx (px - a.x)
+// + gy (py - a.y), for A = 1/w and n/w (k = 0 and 1..3).
+struct Planes {
+    double sx0, sy0, qMin, qMax;
+    double base[4], gx[4], gy[4];
+    Planes(const Frame& fr, const Vertex& a, const Vertex& b, const Vertex& c) {
+        const glm::dvec2 sa = project(fr, a.view), sb = project(fr, b.view), sc = project(fr, c.view);
+        sx0 = sa.x;
+        sy0 = sa.y;
+        const double ux = sb.x - sx0, uy = sb.y - sy0, vx = sc.x - sx0, vy = sc.y - sy0;
+        const double det = ux * vy - uy * vx;
+        // Barycentric gradients of b (l1) and c (l2); none when the unsnapped
+        // triangle is degenerate (the vertex values then hold across it).
+        const double inv = det != 0.0 ? 1.0 / det : 0.0;
+        const double l1x = vy * inv, l1y = -vx * inv, l2x = -uy * inv, l2y = ux * inv;
+        const double qa = -1.0 / double(a.view.z), qb = -1.0 / double(b.view.z), qc = -1.0 / double(c.view.z);
+        qMin = std::min({qa, qb, qc});
+        qMax = std::max({qa, qb, qc});
+        const glm::dvec3 na = glm::dvec3(a.normal) * qa, nb = glm::dvec3(b.normal) * qb, nc = glm::dvec3(c.normal) * qc;
+        const double va[4] = {qa, na.x, na.y, na.z}, vb[4] = {qb, nb.x, nb.y, nb.z}, vc[4] = {qc, nc.x, nc.y, nc.z};
+        for (int k = 0; k < 4; ++k) {
+            base[k] = va[k];
+            gx[k] = (vb[k] - va[k]) * l1x + (vc[k] - va[k]) * l2x;
+            gy[k] = (vb[k] - va[k]) * l1y + (vc[k] - va[k]) * l2y;
+        }
+    }
+    double at(int k, double dx, double dy) const { return base[k] + gx[k] * dx + gy[k] * dy; }
+};
+
+// Draws triangle (a, b, c), drawable vertices, into the pixels of `tile`.
+template <bool kCount>
+void drawTriangle(const Frame& fr, const Vertex* a, const Vertex* b, const Vertex* c, const Rect& tile,
+                  const Targets& out) {
+    const std::int64_t area = (std::int64_t(b->fx) - a->fx) * (std::int64_t(c->fy) - a->fy) -
+                              (std::int64_t(b->fy) - a->fy) * (std::int64_t(c->fx) - a->fx);
+    if (area == 0) return;  // degenerate after snapping: covers no centre
+    if (area < 0) std::swap(b, c);
+    const int x0 = int(std::max<std::int64_t>(tile.x0, firstCentre(std::min({a->fx, b->fx, c->fx}))));
+    const int x1 = int(std::min<std::int64_t>(tile.x1, lastCentre(std::max({a->fx, b->fx, c->fx})) + 1));
+    const int y0 = int(std::max<std::int64_t>(tile.y0, firstCentre(std::min({a->fy, b->fy, c->fy}))));
+    const int y1 = int(std::min<std::int64_t>(tile.y1, lastCentre(std::max({a->fy, b->fy, c->fy})) + 1));
+    if (x0 >= x1 || y0 >= y1) return;
+
+    const std::int64_t px = std::int64_t(x0) * kOne + kHalf, py = std::int64_t(y0) * kOne + kHalf;
+    Edge e0(b->fx, b->fy, c->fx, c->fy, px, py);  // opposite a
+    Edge e1(c->fx, c->fy, a->fx, a->fy, px, py);  // opposite b
+    Edge e2(a->fx, a->fy, b->fx, b->fy, px, py);  // opposite c
+    // Most triangles of a fine mesh cover no pixel centre: the planes are
+    // made at the first one covered.
+    std::optional<Planes> planes;
+    for (int y = y0; y < y1; ++y) {
+        std::int64_t w0 = e0.row, w1 = e1.row, w2 = e2.row;
+        const std::size_t rowStart = std::size_t(y) * std::size_t(out.width);
+        for (int x = x0; x < x1; ++x, w0 += e0.stepX, w1 += e1.stepX, w2 += e2.stepX) {
+            if ((w0 | w1 | w2) < 0) continue;  // outside (some biased edge function negative)
+            const std::size_t idx = rowStart + std::size_t(x);
+            if constexpr (kCount) ++out.coverage[idx];
+            if (!planes) planes.emplace(fr, *a, *b, *c);
+            const Planes& P = *planes;
+            const double dx = (double(x) + 0.5) - P.sx0, dy = (double(y) + 0.5) - P.sy0;
+            // Inside the triangle 1/w lies between its vertex values; the clamp
+            // only catches the extrapolation of centres the snapping let in.
+            const double q = std::clamp(P.at(0, dx, dy), P.qMin, P.qMax);
+            const float z = float(1.0 / q);
+            if (!(z < out.depth[idx])) continue;  // strict: the first of equal depths stays
+            out.depth[idx] = z;
+            const double nx = P.at(1, dx, dy), ny = P.at(2, dx, dy), nz = P.at(3, dx, dy);
+            const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
+            out.normal[idx] = len > 0.0 ? glm::vec3(float(nx / len), float(ny / len), float(nz / len)) : glm::vec3(0.0f);
+        }
+        e0.row += e0.stepY;
+        e1.row += e1.stepY;
+        e2.row += e2.stepY;
+    }
+}
+
+// Per-tile index lists of one batch of triangles, in triangle order.
+struct Bins {
+    int tilesX = 0, tilesY = 0;
+    std::vector<Rect> tiles;            // per triangle of the batch: its tile rectangle (empty: not drawn)
+    std::vector<std::uint32_t> start;   // tilesX * tilesY + 1 offsets into items
+    std::vector<std::uint32_t> items;   // triangle indices
+};
+
+std::size_t tileCount(const Rect& r) { return r.empty() ? 0 : std::size_t(r.x1 - r.x0) * std::size_t(r.y1 - r.y0); }
+
+// Bins triangles [first, first + count) whose tile rectangles are tiles[0..count):
+// fixed slices of them count their tiles in parallel, a prefix sum over (tile,
+// slice) gives every slice its range of each bin, and the slices fill them in
+// parallel, so every bin lists its triangles in index order.
+void fillBins(Bins& bins, std::size_t first, std::size_t count) {
+    constexpr std::size_t kSlices = 16;
+    const std::size_t tiles = std::size_t(bins.tilesX) * std::size_t(bins.tilesY);
+    std::vector<std::uint32_t> next(kSlices * tiles, 0);  // [slice][tile]: count, then fill position
+    auto perSlice = [&](auto&& fn) {
+        tbb::parallel_for(std::size_t(0), kSlices, [&](std::size_t s) {
+            std::uint32_t* slice = &next[s * tiles];
+            for (std::size_t k = count * s / kSlices; k < count * (s + 1) / kSlices; ++k) {
+                const Rect& r = bins.tiles[k];
+                if (r.empty()) continue;
+                for (int ty = r.y0; ty < r.y1; ++ty)
+                    for (int tx = r.x0; tx < r.x1; ++tx) fn(slice[std::size_t(ty) * bins.tilesX + tx], k);
+            }
+        });
+    };
+    perSlice([](std::uint32_t& n, std::size_t) { ++n; });
+    bins.start.assign(tiles + 1, 0);
+    std::uint32_t total = 0;
+    for (std::size_t t = 0; t < tiles; ++t) {
+        bins.start[t] = total;
+        for (std::size_t s = 0; s < kSlices; ++s) total += std::exchange(next[s * tiles + t], total);
+    }
+    bins.start[tiles] = total;
+    bins.items.resize(total);
+    perSlice([&](std::uint32_t& pos, std::size_t k) { bins.items[pos++] = std::uint32_t(first + k); });
+}
+
+template <bool kCount>
+void rasterise(const Frame& fr, const TriangleMesh& mesh, const Targets& out) {
+    // Every vertex to view space and the screen once.
+    const std::size_t nv = mesh.positions.size();
+    std::vector<Vertex> verts(nv);
+    tbb::parallel_for(std::size_t(0), nv, [&](std::size_t i) {
+        const glm::vec3 d = mesh.positions[i] - fr.eye, n = mesh.normals[i];
+        verts[i] = makeVertex(fr, {glm::dot(d, fr.right), glm::dot(d, fr.up), glm::dot(d, fr.back)},
+                              {glm::dot(n, fr.right), glm::dot(n, fr.up), glm::dot(n, fr.back)});
+    });
+    const std::uint32_t* idx = mesh.indices.data();
+    // Triangle t: its vertices, or null when an index is out of range; and
+    // whether it needs clipping (some vertex outside a plane).
+    auto corners = [&](std::size_t t, const Vertex* v[3]) {
+        for (int j = 0; j < 3; ++j) {
+            const std::uint32_t i = idx[3 * t + j];
+            if (i >= nv) return false;
+            v[j] = &verts[i];
+        }
+        return true;
+    };
+    // Calls draw(a, b, c) for each triangle of t's drawable part: t itself
+    // when no vertex is outside a plane, else the fan of its clipped polygon.
+    auto forDrawable = [&](std::size_t t, auto&& draw) {
+        const Vertex* v[3];
+        if (!corners(t, v)) return;
+        if ((v[0]->outside | v[1]->outside | v[2]->outside) == 0) return draw(v[0], v[1], v[2]);
+        Polygon p;
+        drawablePolygon(fr, *v[0], *v[1], *v[2], p);
+        for (int i = 1; i + 1 < p.n; ++i) draw(&p.v[0], &p.v[i], &p.v[i + 1]);
+    };
+
+    Bins bins;
+    bins.tilesX = (fr.width + kTile - 1) / kTile;
+    bins.tilesY = (fr.height + kTile - 1) / kTile;
+    const std::size_t triangles = mesh.triangleCount();
+    for (std::size_t first = 0; first < triangles;) {
+        // Tile rectangles of the next triangles, in parallel.
+        const std::size_t look = std::min(kMaxBatch, triangles - first);
+        bins.tiles.resize(look);
+        tbb::parallel_for(std::size_t(0), look, [&](std::size_t k) {
+            std::int64_t x0 = std::numeric_limits<std::int64_t>::max(), y0 = x0, x1 = -x0, y1 = -x0;
+            forDrawable(first + k, [&](const Vertex* a, const Vertex* b, const Vertex* c) {
+                for (const Vertex* v : {a, b, c}) {
+                    x0 = std::min<std::int64_t>(x0, v->fx);
+                    x1 = std::max<std::int64_t>(x1, v->fx);
+                    y0 = std::min<std::int64_t>(y0, v->fy);
+                    y1 = std::max<std::int64_t>(y1, v->fy);
+                }
+            });
+            const Rect r = x0 <= x1 ? centresIn(fr, x0, y0, x1, y1) : Rect{};
+            bins.tiles[k] = r.empty() ? Rect{}
+                                      : Rect{r.x0 / kTile, r.y0 / kTile, (r.x1 - 1) / kTile + 1, (r.y1 - 1) / kTile + 1};
+        });
+        // The batch: as many as fit the bin budget (at least one triangle).
+        std::size_t count = 0, entries = 0;
+        for (; count < look; ++count) {
+            const std::size_t c = tileCount(bins.tiles[count]);
+            if (count > 0 && entries + c > kMaxBinEntries) break;
+            entries += c;
+        }
+        fillBins(bins, first, count);
+        // One task per tile, each writing only its own pixels, in bin order.
+        tbb::parallel_for(0, bins.tilesX * bins.tilesY, [&](int t) {
+            if (bins.start[t] == bins.start[t + 1]) return;
+            const int tx = t % bins.tilesX, ty = t / bins.tilesX;
+            const Rect tile{tx * kTile, ty * kTile, std::min(fr.width, (tx + 1) * kTile),
+                            std::min(fr.height, (ty + 1) * kTile)};
+            for (std::uint32_t k = bins.start[t]; k < bins.start[t + 1]; ++k)
+                forDrawable(bins.items[k], [&](const Vertex* a, const Vertex* b, const Vertex* c) {
+                    drawTriangle<kCount>(fr, a, b, c, tile, out);
+                });
+        });
+        first += count;
+    }
+}
+
+}  // namespace
+
+MeshRaster rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const Image<float>* sceneDepth,
+                         Image<std::uint32_t>* coverage) {
+    const int W = camera.width, H = camera.height;
+    MeshRaster out;
+    const bool hasScene = sceneDepth && sceneDepth->width == W && sceneDepth->height == H;
+    // The z-buffer starts at the scene depth, so the strict test discards
+    // fragments at or behind it; still equal at the end = no fluid.
+    out.depth = hasScene ? *sceneDepth : Image<float>(W, H, kInf);
+    out.normal = Image<glm::vec3>(W, H, glm::vec3(0.0f));
+    Frame fr;
+    fr.width = W;
+    fr.height = H;
+    fr.f = double(camera.focalPx());
+    fr.halfW = 0.5 * double(W);
+    fr.halfH = 0.5 * double(H);
+    fr.nearM = double(camera.nearM);
+    fr.right = camera.right();
+    fr.up = camera.trueUp();
+    fr.back = camera.back();
+    fr.eye = camera.eye;
+    const bool count = coverage && coverage->width == W && coverage->height == H;
+    const Targets t{out.depth.pixels.data(), out.normal.pixels.data(), count ? coverage->pixels.data() : nullptr, W};
+    if (mesh.normals.size() == mesh.positions.size() && W > 0 && H > 0) {
+        if (count) rasterise<true>(fr, mesh, t);
+        else rasterise<false>(fr, mesh, t);
+    }
+    if (hasScene)
+        tbb::parallel_for(0, H, [&](int y) {
+            for (std::size_t i = std::size_t(y) * W; i < std::size_t(y + 1) * W; ++i)
+                if (!(out.depth.pixels[i] < sceneDepth->pixels[i])) out.depth.pixels[i] = kInf;
+        });
+    return out;
+}
+
+}  // namespace meniscus::cpu

@@ -1,0 +1,51 @@
+// CPU triangle-mesh rasteriser (SPEC §1, the mesh path of issue 14): the eye
+// depth and view-space normal of the nearest triangle at every pixel centre, so
+// a mesh can take the place of smoothing + normals in the pipeline.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "meniscus/camera.h"
+#include "meniscus/mesh.h"
+#include "meniscus/types.h"
+
+namespace meniscus::cpu {
+
+// Screen tiles of the rasteriser: one task per tile, triangles binned per tile.
+inline constexpr int kRasterTilePx = 64;
+// Sub-pixel precision of the vertex positions the coverage test uses (as D3D11
+// and llvmpipe: 8 bits, 1/256 px).
+inline constexpr int kRasterSubpixelBits = 8;
+// Largest image side the fixed-point edge functions hold exactly (int64).
+inline constexpr int kRasterMaxSidePx = 1 << 16;
+
+struct MeshRaster {
+    Image<float> depth;       // eye depth of the nearest triangle (m), +inf where none
+    Image<glm::vec3> normal;  // its unit view-space normal (+z toward the camera), (0,0,0) where none
+};
+
+// Rasterises `mesh` (world positions, unit per-vertex normals) seen by
+// `camera`: per pixel centre the nearest triangle's linear eye depth and its
+// normal interpolated perspective-correctly from the vertex normals (rotated to
+// view space), then renormalised. Both faces of a triangle are drawn. Triangles
+// are clipped against the near plane in view space (a triangle crossing it is
+// drawn in part, not dropped); fragments at or behind `sceneDepth` (when given,
+// camera-sized) are not drawn, as in the depth splat. Coverage follows the
+// top-left fill rule, so triangles sharing an edge cover each pixel centre along
+// it exactly once. Bit-identical for any thread count.
+//
+// Preconditions (the Renderer checks them and reports an error instead):
+// camera valid with width, height <= kRasterMaxSidePx; normals.size() ==
+// positions.size(); finite positions and normals. Triangles with an index out
+// of range are skipped. Memory: the images, 36 bytes per vertex and bins of at
+// most a few million triangle indices (the triangles are drawn in batches).
+//
+// `coverage`, when given (camera-sized, zero-filled by the caller), counts the
+// triangles whose coverage test passes at each pixel centre, before any depth
+// or scene test: a test of the fill rule.
+MeshRaster rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const Image<float>* sceneDepth = nullptr,
+                         Image<std::uint32_t>* coverage = nullptr);
+
+}  // namespace meniscus::cpu

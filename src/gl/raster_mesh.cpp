@@ -1,0 +1,132 @@
+// GL mesh path (see raster_mesh.h): the mesh is drawn with glDrawElements into
+// an R32F eye-depth and an RGBA32F normal target with a float depth buffer
+// (shaders/raster_mesh.vert, .frag), then shaders/raster_mesh_resolve.comp
+// copies the targets into the GpuImage layout the later stages read. GL's
+// rasteriser does the coverage (the fill rule is the driver's: the image is
+// drawn upside down so that llvmpipe's, top-left in framebuffer rows, is the
+// CPU's top-left in image rows), the clipping (the near plane as a clip
+// distance) and the perspective-correct interpolation.
+#include "gl/raster_mesh.h"
+
+#include <cstdint>
+#include <limits>
+
+#include "gl/dispatch.h"
+#include "gl/shaders.h"
+
+namespace meniscus::gl {
+
+namespace {
+constexpr int kGroup = 64;  // local_size_x of raster_mesh_resolve.comp
+}  // namespace
+
+Result<MeshRasteriser> MeshRasteriser::create() {
+    MeshRasteriser m;
+    auto draw = loadRenderProgram("raster_mesh.vert", "raster_mesh.frag");
+    if (!draw) return draw.error();
+    m.draw_ = std::move(*draw);
+    auto resolve = loadComputeProgram("raster_mesh_resolve.comp");
+    if (!resolve) return resolve.error();
+    m.resolve_ = std::move(*resolve);
+    m.vertexArray_ = makeVertexArray();
+    m.framebuffer_ = makeFramebuffer();
+    m.empty_.reserve(16);
+    return m;
+}
+
+void MeshRasteriser::run(const FrameParams& frame, const TriangleMesh& mesh, const GpuImage* sceneDepth,
+                         GpuImage& depth, GpuImage& normal) {
+    const int W = frame.size.x, H = frame.size.y;
+    depth.resize(W, H, 1);
+    normal.resize(W, H, 3);
+    if (W <= 0 || H <= 0) return;
+
+    // The targets, made again only when the image size changes.
+    if (W != targetW_ || H != targetH_) {
+        auto target = [&](Texture& tex, GLenum format) {
+            tex = makeTexture();
+            glBindTexture(GL_TEXTURE_2D, tex.id());
+            glTexStorage2D(GL_TEXTURE_2D, 1, format, W, H);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        };
+        target(depthTarget_, GL_R32F);
+        target(normalTarget_, GL_RGBA32F);
+        target(zBuffer_, GL_DEPTH_COMPONENT32F);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, depthTarget_.id(), 0);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, normalTarget_.id(), 0);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, zBuffer_.id(), 0);
+        const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glDrawBuffers(2, buffers);
+        targetW_ = W;
+        targetH_ = H;
+    }
+
+    // The mesh, uploaded as it is (glm::vec3 is three packed floats).
+    static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
+    positions_.upload(mesh.positions.data(), GLsizeiptr(mesh.positions.size() * sizeof(glm::vec3)));
+    normals_.upload(mesh.normals.data(), GLsizeiptr(mesh.normals.size() * sizeof(glm::vec3)));
+    indices_.upload(mesh.indices.data(), GLsizeiptr(mesh.indices.size() * sizeof(std::uint32_t)));
+    glBindVertexArray(vertexArray_.id());
+    glBindBuffer(GL_ARRAY_BUFFER, positions_.id());
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glBindBuffer(GL_ARRAY_BUFFER, normals_.id());
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_.id());
+
+    // The draw: no fluid (+inf, (0,0,0)) where no triangle lands; reversed
+    // depth (near / eye depth, cleared to 0, GL_GREATER keeps the nearest and,
+    // of equal depths, the first drawn, as the CPU's strict test).
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+    glViewport(0, 0, W, H);
+    const float inf = std::numeric_limits<float>::infinity();
+    const GLfloat clearDepth[4] = {inf, 0.0f, 0.0f, 0.0f}, clearNormal[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    glClearBufferfv(GL_COLOR, 0, clearDepth);
+    glClearBufferfv(GL_COLOR, 1, clearNormal);
+    const GLfloat clearZ = 0.0f;
+    glClearBufferfv(GL_DEPTH, 0, &clearZ);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_SCISSOR_TEST);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_TRUE);
+    glEnable(GL_CLIP_DISTANCE0);
+    const bool hasScene = sceneDepth && sceneDepth->width == W && sceneDepth->height == H &&
+                          sceneDepth->channels == 1 && sceneDepth->buffer.id() != 0;
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the scene stage's writes reach the fragment shader
+    glUseProgram(draw_.id());
+    glUniform1i(0, hasScene ? 1 : 0);
+    if (hasScene) sceneDepth->bind(1);
+    else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, empty_.id());
+    if (!mesh.indices.empty())
+        glDrawElements(GL_TRIANGLES, GLsizei(mesh.indices.size()), GL_UNSIGNED_INT, nullptr);
+    glDisable(GL_CLIP_DISTANCE0);
+    glDisable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glBindVertexArray(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+
+    // The targets into the images (rendering to a texture, then fetching it
+    // in a later command, needs no barrier).
+    glUseProgram(resolve_.id());
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, depthTarget_.id());
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, normalTarget_.id());
+    depth.bind(2);
+    normal.bind(3);
+    glDispatchCompute(ceilDiv(GLuint(W), kGroup), GLuint(H), 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glUseProgram(0);
+}
+
+}  // namespace meniscus::gl
