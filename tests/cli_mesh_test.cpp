@@ -1,6 +1,8 @@
 // End-to-end tests of `meniscus mesh`: a real frame to PLY and OBJ, a
 // sequence to numbered files, the same bytes for any --threads, bad input and
 // bad options fail cleanly with nothing written.
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -83,4 +85,68 @@ TEST(CliMesh, BadInputAndOptionsFailCleanly) {
     EXPECT_TRUE(fs::is_empty(dir)) << "nothing written";
     EXPECT_EQ(runCli("mesh --help", &out), 0);
     for (const char* unit : {"particle radii", "metres", "fraction"}) EXPECT_NE(out.find(unit), std::string::npos) << unit;
+}
+
+// The mesh path through the CLI: render --surface mesh on both backends gives
+// the same picture within the GL parity tolerance, and differs from the
+// screen-space one (the mesh really replaced smoothing and normals).
+TEST(CliMesh, RenderSurfaceMesh) {
+    const fs::path dir = tempDir();
+    std::string out;
+    const std::string common = quote(kFrame) + " --width 160 --height 90 --radius 0.025 ";
+    ASSERT_EQ(runCli("render " + common + "-o " + quote(dir / "mesh_cpu.png") + " --surface mesh --backend cpu", &out), 0)
+        << out;
+    ASSERT_EQ(runCli("render " + common + "-o " + quote(dir / "screen.png") + " --backend cpu", &out), 0) << out;
+    const auto mesh = readPng(dir / "mesh_cpu.png").bytes, screen = readPng(dir / "screen.png").bytes;
+    ASSERT_EQ(mesh.size(), screen.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < mesh.size(); ++i) differ += mesh[i] != screen[i];
+    EXPECT_GT(differ, mesh.size() / 50) << "the mesh path should not look like the splat path";
+    if (runCli("render " + common + "-o " + quote(dir / "mesh_gl.png") + " --surface mesh --backend gl", &out) == 0) {
+        const auto gl = readPng(dir / "mesh_gl.png").bytes;
+        ASSERT_EQ(gl.size(), mesh.size());
+        std::size_t off = 0;
+        int worst = 0;
+        for (std::size_t i = 0; i < gl.size(); ++i) {
+            const int d = std::abs(int(gl[i]) - int(mesh[i]));
+            worst = std::max(worst, d);
+            off += d > 2;
+        }
+        EXPECT_LE(off, gl.size() / 200) << "worst " << worst;  // silhouette pixels only (tests/gl_raster_mesh_test.cpp)
+    }
+    EXPECT_EQ(runCli("render " + common + "-o " + quote(dir / "x.png") + " --surface voxels", &out), 2);
+}
+
+TEST(CliMesh, CompareWritesTwoLabelledPanels) {
+    const fs::path dir = tempDir();
+    std::string out;
+    ASSERT_EQ(runCli("compare " + quote(kFrame) + " -o " + quote(dir / "c.png") +
+                         " --width 200 --height 120 --radius 0.025 --backend cpu",
+                     &out),
+              0)
+        << out;
+    // The table on stdout names both paths with their times.
+    EXPECT_NE(out.find("| screen space"), std::string::npos) << out;
+    EXPECT_NE(out.find("| mesh (sph field"), std::string::npos) << out;
+    EXPECT_NE(out.find(" ms |"), std::string::npos) << out;
+    const auto png = readPng(dir / "c.png");
+    const int w = png.width, h = png.height;
+    const auto& rgba = png.bytes;
+    const std::size_t channels = rgba.size() / (std::size_t(w) * std::size_t(h));
+    EXPECT_EQ(w, 400);
+    EXPECT_EQ(h, 120);
+    // White caption pixels in the top strip of each panel.
+    auto whiteIn = [&](int x0, int x1) {
+        int n = 0;
+        for (int y = 0; y < 22; ++y)
+            for (int x = x0; x < x1; ++x) {
+                const std::size_t at = (std::size_t(y) * std::size_t(w) + std::size_t(x)) * channels;
+                n += rgba[at] == 255 && rgba[at + 1] == 255 && rgba[at + 2] == 255;
+            }
+        return n;
+    };
+    EXPECT_GT(whiteIn(0, 200), 50);
+    EXPECT_GT(whiteIn(200, 400), 50);
+    EXPECT_NE(runCli("compare " + quote(kFrame) + " -o " + quote(dir / "c.jpg"), &out), 0);
+    EXPECT_FALSE(fs::exists(dir / "c.jpg"));
 }

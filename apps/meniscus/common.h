@@ -26,6 +26,15 @@ void printWarnings(const ParticleSet& set);
 bool isPng(const std::string& path);
 bool isExr(const std::string& path);
 
+// How the isosurface path meshes (mesh, and render/compare with --surface mesh).
+struct MesherOptions {
+    float cubeSize = defaults::kCubeSizeRadii;
+    float iso = defaults::kSurfaceIso;
+    std::string field = "sph";
+    float support = 0.0f;  // radii; 0 = the field's default
+    int block = defaults::kBlockCubes;
+};
+
 struct RenderOptions {
     std::string input;
     std::string output;
@@ -41,6 +50,8 @@ struct RenderOptions {
     std::string material = defaults::kMaterialName;
     std::string background = "studio";
     std::string backend = "auto";
+    std::string surface = "screen";  // screen (splat + smoothing) or mesh (the isosurface path)
+    MesherOptions mesher;
 };
 
 // Size, camera, radius and look (--width ... --background) on `cmd`.

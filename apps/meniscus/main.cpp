@@ -17,7 +17,9 @@
 #include "meniscus/io.h"
 #include "meniscus/params.h"
 #include "meniscus/particles.h"
+#include "compare.h"
 #include "meniscus/renderer.h"
+#include "meniscus/surface.h"
 #include "mesh.h"
 #include "progress.h"
 #include "view.h"
@@ -136,7 +138,17 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
         if (i > 0)
             if (auto st = checkCoordinates(set->positions, frames->files[i].string()); !st)
                 return fail(st.error().describe());
+        // The mesh path: this frame's isosurface replaces splat smoothing and normals.
+        TriangleMesh mesh;
+        if (o.surface == "mesh") {
+            auto made = extractSurface(ParticleView::of(*set), mesherParams(o.mesher, settings.radiusM, 0));
+            if (!made) return fail(Error{frames->embedded ? std::string("the demo frame") : frames->files[i].string(),
+                                         made.error().message}.describe());
+            mesh = std::move(*made);
+            settings.mesh = &mesh;
+        }
         auto aovs = renderer.render(ParticleView::of(*set), settings);
+        settings.mesh = nullptr;
         if (!aovs) return fail(aovs.error().describe());
 
         std::string out = o.output;
@@ -176,7 +188,9 @@ int main(int argc, char** argv) {
         "  meniscus render frame_21.bgeo -o n.png --view normals              look at one stage of the pipeline\n"
         "  meniscus render 'ParticleData_Fluid_*.bgeo' -o out_%04d.png   a whole sequence\n"
         "  meniscus view frame_21.bgeo                     a window: drag to orbit, wheel to zoom, Esc to quit\n"
-        "  meniscus mesh frame_21.bgeo -o f21.ply          the surface as a closed triangle mesh (PLY or OBJ)"};
+        "  meniscus mesh frame_21.bgeo -o f21.ply          the surface as a closed triangle mesh (PLY or OBJ)\n"
+        "  meniscus render frame_21.bgeo -o m.png --surface mesh   render that mesh instead of smoothing splats\n"
+        "  meniscus compare frame_21.bgeo -o side_by_side.png      screen space and mesh, side by side, timed"};
     app.require_subcommand(1);
     int threads = 0;
     app.add_option("--threads", threads, "Worker threads (default: all cores); also after a subcommand")
@@ -198,6 +212,7 @@ int main(int argc, char** argv) {
         ->required();
     addCameraOptions(renderCmd, render);
     addBackendOption(renderCmd, render);
+    addSurfaceOptions(renderCmd, render);
 
     RenderOptions demo;
     demo.output = "demo.png";
@@ -228,6 +243,8 @@ int main(int argc, char** argv) {
 
     MeshOptions mesh;
     auto* meshCmd = addMeshCommand(app, mesh);
+    RenderOptions compare;
+    auto* compareCmd = addCompareCommand(app, compare);
 
     // Bad usage exits 2, as the README says (CLI11's own codes are 100 and up).
     try {
@@ -242,6 +259,7 @@ int main(int argc, char** argv) {
 
     if (*infoCmd) return runInfo(info);
     if (*meshCmd) return runMesh(mesh, threads);
+    if (*compareCmd) return runCompare(compare);
     if (*renderCmd) return runRender(render, nullptr);
     if (*demoCmd) {
         auto set = parseParticles(demoFrameBytes(), kDemoFrameName);

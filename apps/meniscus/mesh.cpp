@@ -14,18 +14,7 @@
 
 namespace meniscus::app {
 
-CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
-    auto* cmd = app.add_subcommand(
-        "mesh",
-        "Extract the liquid's surface as a closed triangle mesh (binary PLY or OBJ, with vertex normals) for "
-        "Blender, Houdini or ParaView: block-parallel surface-following marching cubes (thesis §4.2, Rosenberg & "
-        "Birdwell 2008). The same mesh for any --threads");
-    cmd->add_option("input", o.input, "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo)")->required();
-    cmd->add_option("-o,--output", o.output,
-                    "Output .ply (binary, default) or .obj; for a sequence a pattern like mesh_%04d.ply")
-        ->required();
-    cmd->add_option("--radius", o.radius, "Particle radius r in metres (default: estimated from the first frame)")
-        ->check(CLI::PositiveNumber);
+void addMesherOptions(CLI::App* cmd, MesherOptions& o) {
     cmd->add_option("--cube-size", o.cubeSize, "Marching-cubes cube edge, in particle radii (0.05 to 8)")
         ->capture_default_str();
     cmd->add_option("--iso", o.iso,
@@ -39,6 +28,43 @@ CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
         ->check(CLI::IsMember({"sph", "thesis"}));
     cmd->add_option("--support", o.support, "Field support (h or Rc) in particle radii, 1 to 16 (default: the field's)");
     cmd->add_option("--block", o.block, "Block edge in cubes (4 to 256); blocks run in parallel")->capture_default_str();
+}
+
+void addSurfaceOptions(CLI::App* cmd, RenderOptions& o) {
+    cmd->add_option("--surface", o.surface,
+                    "screen: splat the particles as spheres and smooth the depth (the screen-space path); mesh: "
+                    "extract the isosurface (as `meniscus mesh` does) and rasterise its triangles instead; the "
+                    "thickness, scene and shading are the same")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"screen", "mesh"}));
+    addMesherOptions(cmd, o.mesher);
+}
+
+MeshParams mesherParams(const MesherOptions& o, float radiusM, int threads) {
+    MeshParams p;
+    p.radiusM = radiusM;
+    surfaceFieldFromName(o.field, &p.field);
+    p.cubeSizeRadii = o.cubeSize;
+    p.iso = o.iso;
+    p.supportRadii = o.support;
+    p.blockCubes = o.block;
+    p.threads = threads;
+    return p;
+}
+
+CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
+    auto* cmd = app.add_subcommand(
+        "mesh",
+        "Extract the liquid's surface as a closed triangle mesh (binary PLY or OBJ, with vertex normals) for "
+        "Blender, Houdini or ParaView: block-parallel surface-following marching cubes (thesis §4.2, Rosenberg & "
+        "Birdwell 2008). The same mesh for any --threads");
+    cmd->add_option("input", o.input, "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo)")->required();
+    cmd->add_option("-o,--output", o.output,
+                    "Output .ply (binary, default) or .obj; for a sequence a pattern like mesh_%04d.ply")
+        ->required();
+    cmd->add_option("--radius", o.radius, "Particle radius r in metres (default: estimated from the first frame)")
+        ->check(CLI::PositiveNumber);
+    addMesherOptions(cmd, o.mesher);
     cmd->add_flag("--stats", o.stats, "Print the extraction's phases, sizes and peak memory for each frame");
     return cmd;
 }
@@ -58,13 +84,7 @@ int runMesh(const MeshOptions& o, int threads) {
         return fail(o.output + ": " + std::to_string(count) +
                     " input frames need an output pattern with a frame number, e.g. mesh_%04d.ply");
 
-    MeshParams params;
-    surfaceFieldFromName(o.field, &params.field);
-    params.cubeSizeRadii = o.cubeSize;
-    params.iso = o.iso;
-    params.supportRadii = o.support;
-    params.blockCubes = o.block;
-    params.threads = threads;
+    MeshParams params = mesherParams(o.mesher, 0.0f, threads);
 
     const bool tty = ::isatty(STDERR_FILENO) == 1;
     ProgressBar progress(count, "meshing");

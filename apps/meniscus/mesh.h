@@ -4,7 +4,9 @@
 
 #include <string>
 
+#include "common.h"
 #include "meniscus/params.h"
+#include "meniscus/result.h"
 
 namespace CLI {
 class App;
@@ -16,13 +18,16 @@ struct MeshOptions {
     std::string input;
     std::string output;
     float radius = 0.0f;  // metres; 0 = estimate from the first frame
-    float cubeSize = defaults::kCubeSizeRadii;
-    float iso = defaults::kSurfaceIso;
-    std::string field = "sph";
-    float support = 0.0f;  // radii; 0 = the field's default
-    int block = defaults::kBlockCubes;
+    MesherOptions mesher;
     bool stats = false;
 };
+
+// --cube-size, --iso, --field, --support, --block on `cmd`.
+void addMesherOptions(CLI::App* cmd, MesherOptions& o);
+// --surface screen|mesh and the mesher's options, for render and compare.
+void addSurfaceOptions(CLI::App* cmd, RenderOptions& o);
+// The mesher's parameters for particles of radius `radiusM`.
+MeshParams mesherParams(const MesherOptions& o, float radiusM, int threads);
 
 // Adds the subcommand and its options to `app`.
 CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o);
