@@ -127,7 +127,9 @@ TEST(McTable, EveryCaseIsConsistent) {
         }
         for (int e = 0; e < 12; ++e) {
             const int a = t.edgeCorner[std::size_t(e)][0], b = t.edgeCorner[std::size_t(e)][1];
-            if (((m >> a) & 1) != ((m >> b) & 1)) EXPECT_GT(uses[std::size_t(e)], 0) << "case " << m << " edge " << e;
+            if (((m >> a) & 1) != ((m >> b) & 1)) {
+                EXPECT_GT(uses[std::size_t(e)], 0) << "case " << m << " edge " << e;
+            }
         }
         // Within a case, an edge of a triangle between two vertices on one cube
         // face is a face segment (used once); any other is a diagonal shared
@@ -335,7 +337,14 @@ INSTANTIATE_TEST_SUITE_P(DamBreak, RealFrames,
                                            Frame{"splishsplash/partio/ParticleData_Fluid_9.bgeo", false},
                                            Frame{"splishsplash/partio/ParticleData_Fluid_21.bgeo", false},
                                            Frame{"splishsplash/partio/ParticleData_Fluid_61.bgeo", false},
-                                           Frame{"dambreak_r0.01/ParticleData_Fluid_21.bgeo", true}));
+                                           Frame{"dambreak_r0.01/ParticleData_Fluid_21.bgeo", true}),
+                         [](const ::testing::TestParamInfo<Frame>& info) {
+                             // small_1, small_9, ..., large_21
+                             std::string name = info.param.inRepoData ? "large_" : "small_";
+                             const std::string file = info.param.file;
+                             const auto digits = file.find_last_of('_') + 1;
+                             return name + file.substr(digits, file.find('.', digits) - digits);
+                         });
 
 // ---- seams, threads, block size
 

@@ -127,9 +127,32 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
     return s;
 }
 
+Result<Renderer> makeRenderer(const RenderOptions& o) {
+    BackendChoice choice = BackendChoice::Auto;
+    if (!backendFromName(o.backend, &choice))
+        return makeError("", "--backend " + o.backend + ": expected one of " + backendNames());
+    std::string note;
+    auto made = Renderer::create(choice, &note);
+    if (made && !note.empty()) std::cerr << "meniscus: " << note << "\n";
+    return made;
+}
+
 Result<ParticleSet> Frames::load(std::size_t i) const {
     if (embedded) return *embedded;
     return readParticles(files[i]);
+}
+
+Status Frames::checkOutput(const std::string& output, const char* example) const {
+    if (count() > 1 && output.find('%') == std::string::npos)
+        return makeError(output, std::to_string(count()) + " input frames need an output pattern with a frame number, e.g. " +
+                                     example);
+    return okStatus();
+}
+
+Result<std::string> Frames::outputName(const std::string& output, std::size_t i) const {
+    if (output.find('%') == std::string::npos) return output;
+    const long number = embedded ? 0 : frameNumberFromName(files[i].filename().string());
+    return formatFramePattern(output, number >= 0 ? number : long(i));
 }
 
 Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded) {

@@ -69,8 +69,17 @@ struct Frames {
 
     std::size_t count() const { return embedded ? 1 : files.size(); }
     Result<ParticleSet> load(std::size_t i) const;
+    // An error unless `output` can name every frame: several frames need a
+    // printf pattern (`example` shows one).
+    Status checkOutput(const std::string& output, const char* example) const;
+    // The output name of frame i: `output`, or the pattern filled with the
+    // frame's own number (its file name's last digits), else its position.
+    Result<std::string> outputName(const std::string& output, std::size_t i) const;
 };
 Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded);
+
+// The renderer on --backend; Auto falling back to the CPU says why on stderr.
+Result<Renderer> makeRenderer(const RenderOptions& o);
 
 // Fixes radius, camera (the options' or auto-framed on a few frames) and the
 // studio in `settings` once for the whole sequence, so an animation does not

@@ -72,12 +72,8 @@ int runCompare(const RenderOptions& o) {
     auto set = fixForSequence(o, *frames, settings);
     if (!set) return fail(set.error().describe());
 
-    BackendChoice choice = BackendChoice::Auto;
-    if (!backendFromName(o.backend, &choice)) return fail("--backend " + o.backend + ": expected one of " + backendNames());
-    std::string note;
-    auto made = Renderer::create(choice, &note);
+    auto made = makeRenderer(o);
     if (!made) return fail(made.error().describe());
-    if (!note.empty()) std::cerr << "meniscus: " << note << "\n";
     Renderer renderer = std::move(*made);
 
     Aovs screen, meshed;

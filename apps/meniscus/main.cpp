@@ -113,22 +113,15 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     auto frames = openFrames(o.input, embedded);
     if (!frames) return fail(frames.error().describe());
     const std::size_t count = frames->count();
-    const bool pattern = o.output.find('%') != std::string::npos;
-    if (count > 1 && !pattern)
-        return fail(o.output + ": " + std::to_string(count) +
-                    " input frames need an output pattern with a frame number, e.g. out_%04d.png");
+    if (auto st = frames->checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error().describe());
 
     // Radius and camera are fixed once per sequence, so the animation does not flicker.
     auto first = fixForSequence(o, *frames, settings);
     if (!first) return fail(first.error().describe());
     settings.colorOnly = !isExr(o.output);  // a PNG needs only the colour AOV
 
-    BackendChoice choice = BackendChoice::Auto;
-    if (!backendFromName(o.backend, &choice)) return fail("--backend " + o.backend + ": expected one of " + backendNames());
-    std::string note;
-    auto made = Renderer::create(choice, &note);
+    auto made = makeRenderer(o);
     if (!made) return fail(made.error().describe());
-    if (!note.empty()) std::cerr << "meniscus: " << note << "\n";
     Renderer renderer = std::move(*made);
     ProgressBar progress(count, "rendering");
     for (std::size_t i = 0; i < count; ++i) {
@@ -151,13 +144,9 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
         settings.mesh = nullptr;
         if (!aovs) return fail(aovs.error().describe());
 
-        std::string out = o.output;
-        if (pattern) {
-            const long number = embedded ? 0 : frameNumberFromName(frames->files[i].filename().string());
-            auto name = formatFramePattern(o.output, number >= 0 ? number : long(i));
-            if (!name) return fail(name.error().describe());
-            out = *name;
-        }
+        auto name = frames->outputName(o.output, i);
+        if (!name) return fail(name.error().describe());
+        const std::string out = *name;
         if (auto st = writeOutput(out, *aovs, !settings.scene.background); !st) return fail(st.error().describe());
         progress.update(i + 1);
         if (count == 1) {

@@ -79,10 +79,7 @@ int runMesh(const MeshOptions& o, int threads) {
     auto frames = openFrames(o.input, nullptr);
     if (!frames) return fail(frames.error().describe());
     const std::size_t count = frames->count();
-    const bool pattern = o.output.find('%') != std::string::npos;
-    if (count > 1 && !pattern)
-        return fail(o.output + ": " + std::to_string(count) +
-                    " input frames need an output pattern with a frame number, e.g. mesh_%04d.ply");
+    if (auto st = frames->checkOutput(o.output, "mesh_%04d.ply"); !st) return fail(st.error().describe());
 
     MeshParams params = mesherParams(o.mesher, 0.0f, threads);
 
@@ -106,13 +103,9 @@ int runMesh(const MeshOptions& o, int threads) {
         MeshStats stats;
         auto mesh = extractSurface(ParticleView::of(*set), params, &stats);
         if (!mesh) return fail(Error{name, mesh.error().message}.describe());
-        std::string out = o.output;
-        if (pattern) {
-            const long number = frameNumberFromName(frames->files[i].filename().string());
-            auto formatted = formatFramePattern(o.output, number >= 0 ? number : long(i));
-            if (!formatted) return fail(formatted.error().describe());
-            out = *formatted;
-        }
+        auto formatted = frames->outputName(o.output, i);
+        if (!formatted) return fail(formatted.error().describe());
+        const std::string out = *formatted;
         if (auto st = writeMesh(out, *mesh, format); !st) return fail(st.error().describe());
         if (o.stats)
             std::fprintf(stderr,
