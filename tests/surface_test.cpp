@@ -337,11 +337,17 @@ INSTANTIATE_TEST_SUITE_P(DamBreak, RealFrames,
                                            Frame{"splishsplash/partio/ParticleData_Fluid_9.bgeo", false},
                                            Frame{"splishsplash/partio/ParticleData_Fluid_21.bgeo", false},
                                            Frame{"splishsplash/partio/ParticleData_Fluid_61.bgeo", false},
+                                           Frame{"demo/ParticleData_Fluid_19.bgeo", true},
+                                           Frame{"demo/ParticleData_Fluid_20.bgeo", true},
+                                           Frame{"demo/ParticleData_Fluid_22.bgeo", true},
+                                           Frame{"demo/ParticleData_Fluid_23.bgeo", true},
                                            Frame{"dambreak_r0.01/ParticleData_Fluid_21.bgeo", true}),
                          [](const ::testing::TestParamInfo<Frame>& info) {
-                             // small_1, small_9, ..., large_21
-                             std::string name = info.param.inRepoData ? "large_" : "small_";
+                             // small_1, small_9, ..., demo_19, ..., large_21
                              const std::string file = info.param.file;
+                             std::string name = file.rfind("demo", 0) == 0 ? "demo_"
+                                                : info.param.inRepoData    ? "large_"
+                                                                           : "small_";
                              const auto digits = file.find_last_of('_') + 1;
                              return name + file.substr(digits, file.find('.', digits) - digits);
                          });

@@ -46,6 +46,7 @@ void LookupCache::build(const Grid& grid, const Field& field, glm::ivec3 corner0
 void LookupCache::buildRowChunk(int j, int w) {
     built_[std::size_t(j) * std::size_t(chunks_) + std::size_t(w)] = 1;
     const float c = grid_->cube;
+    const float invC = 1.0f / c;  // the ranges below are widened by one, so rounding here is harmless
     const int n = side_ - 1;
     const float y = colY_[std::size_t(j)];
     // The particles that can reach a slice of the chunk: z within the
@@ -63,8 +64,8 @@ void LookupCache::buildRowChunk(int j, int w) {
         const float dy = p.y - y;
         const float dy2 = dy * dy;
         if (!(dy2 < field_.support2)) return;
-        const int i0 = std::max(0, int(std::ceil((p.x - field_.support) / c) - xOrigin_) - 1);
-        const int i1 = std::min(n, int(std::floor((p.x + field_.support) / c) - xOrigin_) + 1);
+        const int i0 = std::max(0, int(std::ceil((p.x - field_.support) * invC) - xOrigin_) - 1);
+        const int i1 = std::min(n, int(std::floor((p.x + field_.support) * invC) - xOrigin_) + 1);
         for (int i = i0; i <= i1; ++i) {
             const float dx = p.x - colX_[std::size_t(i)];
             const float dxy2 = dx * dx + dy2;
@@ -84,7 +85,7 @@ void LookupCache::buildRowChunk(int j, int w) {
     std::vector<std::uint32_t> fill(count.begin(), count.end() - 1);
     for (std::uint32_t id : band) {
         const glm::vec3 p = positions_[id];
-        const long mid = long(std::floor(p.z / c)) - zOrigin_;
+        const long mid = long(std::floor(p.z * invC)) - zOrigin_;
         forColumns(p, [&](std::size_t i, float dxy2) {
             // The slices the particle reaches, widened by one on each side so
             // rounding never drops a particle that is in range: the kernel
@@ -93,8 +94,8 @@ void LookupCache::buildRowChunk(int j, int w) {
             Entry e;
             e.z = p.z;
             e.dxy2 = dxy2;
-            e.minK = clamp16(long(std::floor((p.z - half) / c)) - zOrigin_ - 1, kLo_, kHi_);
-            e.maxK = clamp16(long(std::ceil((p.z + half) / c)) - zOrigin_ + 1, kLo_, kHi_);
+            e.minK = clamp16(long(std::floor((p.z - half) * invC)) - zOrigin_ - 1, kLo_, kHi_);
+            e.maxK = clamp16(long(std::ceil((p.z + half) * invC)) - zOrigin_ + 1, kLo_, kHi_);
             e.midK = clamp16(mid, kLo_, kHi_);
             e.pad = 0;
             entries_[base + fill[i]++] = e;
