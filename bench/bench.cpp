@@ -90,10 +90,10 @@ int benchMesh(const ParticleSet& set, float radius, int repeat, int nThreads, co
         const double total = med(&MeshStats::msTotal);
         line("total", total);
         std::printf("%-34s %zu triangles, %zu vertices, %.2f M particles/s, peak %.1f MB (one block %.2f MB), "
-                    "%zu blocks (%zu with surface), %zu rounds (%zu block reruns), %zu cubes, %zu corners, %d threads\n",
+                    "%zu blocks (%zu with surface), %zu rounds (%zu block reruns), %zu cubes, %zu corners, lookup cache %zu rows %zu entries, %d threads\n",
                     (tag + "size").c_str(), mesh.triangleCount(), mesh.vertexCount(), double(n) / total / 1e3,
                     double(s.peakBytes) / 1e6, double(s.peakBlockBytes) / 1e6, s.blocks, s.blocksWithSurface,
-                    s.rounds, s.blocksRerun, s.cubesVisited, s.cornersEvaluated, s.threads);
+                    s.rounds, s.blocksRerun, s.cubesVisited, s.cornersEvaluated, s.cacheRows, s.cacheEntries, s.threads);
     }
     if (openvdb.empty()) {
         std::printf("%-34s (not run: pass --openvdb PATH, built by scripts/build_openvdb_peer.sh)\n", "openvdb peer");

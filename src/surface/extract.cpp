@@ -213,6 +213,8 @@ Result<TriangleMesh> extract(const ParticleView& particles, const MeshParams& p,
         stats.seedWalks += o.seedWalks;
         stats.cubesVisited += o.cubesVisited;
         stats.cornersEvaluated += o.cornersEvaluated;
+        stats.cacheEntries += o.cacheEntries;
+        stats.cacheRows += o.cacheRows;
         stats.peakBlockBytes = std::max(stats.peakBlockBytes, o.peakBytes);
         stats.blocksWithSurface += o.triangles.empty() ? 0 : 1;
         keptBytes += o.vertices.capacity() * (sizeof(glm::vec3) + sizeof(std::uint64_t) + 1) +

@@ -37,6 +37,7 @@ void LookupCache::build(const Grid& grid, const Field& field, glm::ivec3 corner0
     ends_.assign(start_.size(), 0);
     entries_.clear();
     entryBytes_ = 0;
+    rowsBuilt_ = 0;
 }
 
 // The thesis's construction, for the columns of row j and the slices of
@@ -45,6 +46,7 @@ void LookupCache::build(const Grid& grid, const Field& field, glm::ivec3 corner0
 // out sorted by z. Two passes: count, then fill.
 void LookupCache::buildRowChunk(int j, int w) {
     built_[std::size_t(j) * std::size_t(chunks_) + std::size_t(w)] = 1;
+    ++rowsBuilt_;
     const float c = grid_->cube;
     const float invC = 1.0f / c;  // the ranges below are widened by one, so rounding here is harmless
     const int n = side_ - 1;

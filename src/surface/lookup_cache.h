@@ -63,6 +63,8 @@ public:
     }
 
     std::size_t bytes() const { return entryBytes_; }
+    std::size_t entries() const { return entryBytes_ / sizeof(Entry); }
+    std::size_t rowsBuilt() const { return rowsBuilt_; }
 
 private:
     struct Entry {
@@ -106,6 +108,7 @@ private:
     std::vector<std::uint32_t> start_, ends_;
     std::vector<Entry> entries_;
     std::size_t entryBytes_ = 0;
+    std::size_t rowsBuilt_ = 0;
 };
 
 }  // namespace meniscus::surface

@@ -205,6 +205,8 @@ void BlockMarcher::run(const Block& block, std::span<const glm::ivec3> extraSeed
         polygonise(i, j, k);
     }
     trackBytes();
+    out.cacheEntries = cache_.entries();
+    out.cacheRows = cache_.rowsBuilt();
     // Reset the per-block state for the next block.
     freeSlicesBelow(n_ + 1);
     firstHeld_ = n_ + 1;

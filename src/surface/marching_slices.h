@@ -34,6 +34,8 @@ struct BlockOutput {
     std::size_t seedWalks = 0;
     std::size_t cubesVisited = 0;
     std::size_t cornersEvaluated = 0;
+    std::size_t cacheEntries = 0;  // lookup-cache entries filled
+    std::size_t cacheRows = 0;     // lookup-cache rows filled
     std::size_t peakBytes = 0;
 
     bool wasVisited(int i, int j, int k, int n) const {

@@ -1,15 +1,15 @@
 // Seed cubes from the particles (thesis §4.2.3: "for every particle ... goes
 // down from the centre of a particle" until the surface). Walking from every
-// particle would cross the whole interior, so only particles at the edge of the
-// occupied space walk: the block's particles are binned into cells of the rest
-// spacing 2r; for each cell with an empty
-// neighbour cell, the particle farthest toward that neighbour walks along the
-// grid line nearest to it (a margin particle: on the block's face, into the
-// block), toward the empty side, until the field crosses the
-// iso level (or, from a particle already outside the surface, back toward the
-// fluid). The four cubes around the crossed edge are seeds. A piece of surface
-// the walks of one block miss but a neighbour reaches is handed on across the
-// seam (extract.cpp), so a block's seeds need only start every piece somewhere.
+// particle would cross the whole interior, so only particles at the edge of
+// the occupied space walk: the block's particles are binned into cells of the
+// rest spacing 2r; for each cell with an empty neighbour cell, the particle
+// farthest toward that neighbour walks along the grid line nearest to it (a
+// margin particle: on the block's face, into the block), toward the empty
+// side, until the field crosses the iso level (or, from a particle already
+// outside the surface, back toward the fluid). The four cubes around the
+// crossed edge are seeds. A piece of surface the walks of one block miss but a
+// neighbour reaches is handed on across the seam (extract.cpp), so a block's
+// seeds need only start every piece somewhere.
 #include <algorithm>
 #include <cmath>
 
