@@ -33,7 +33,7 @@ struct MeshStats {
     std::size_t cacheRows = 0;         // lookup-cache rows filled
     std::size_t cornersEvaluated = 0;  // field evaluations (corners recomputed after a slice was freed count again)
     std::size_t peakBlockBytes = 0;    // largest working memory of one block (slices, lookup cache, vertex map)
-    std::size_t peakBytes = 0;         // peak of all blocks' working memory alive at once, plus the results kept
+    std::size_t peakBytes = 0;         // bound on the peak: threads x the largest block's working memory + the blocks' results + the mesh
     int threads = 0;
     float cubeSizeM = 0.0f;
     float supportM = 0.0f;
