@@ -32,34 +32,19 @@ public:
     // Raw field at local corner (i, j, k), i, j, k in [0, n]; zk is the
     // corner's world z (Grid::corner).
     float value(int i, int j, int k, float zk) {
-        const int w = std::min(k / kChunk, chunks_ - 1);
-        const std::size_t rc = std::size_t(j) * std::size_t(chunks_) + std::size_t(w);
-        if (!built_[rc]) buildRowChunk(j, w);
-        const std::size_t c = (std::size_t(j) * std::size_t(side_) + std::size_t(i)) * std::size_t(chunks_) + std::size_t(w);
-        const Entry* first = entries_.data() + start_[c];
-        const Entry* last = entries_.data() + ends_[c];
-        // The entries whose centre slab can reach slice k (midK is
-        // non-decreasing): [lower bound of k - reach, upper bound of k + reach).
-        const Entry* from = boundOf(first, last, k - reach_);
-        const Entry* to = boundOf(from, last, k + reach_ + 1);
-        // In order, branch-free: an entry outside [minK, maxK] adds exactly 0,
-        // so the sum is the same float in every block whose list holds more or
-        // fewer such entries (the kernel is 0 past the support too).
-        float sum = 0.0f;
-        if (field_.kind == SurfaceField::Sph) {
-            for (const Entry* e = from; e != to; ++e) {
-                const float dz = e->z - zk;
-                const float w = field_.sphKernel(e->dxy2 + dz * dz);
-                sum += (e->minK <= k && k <= e->maxK) ? w : 0.0f;
-            }
-        } else {
-            for (const Entry* e = from; e != to; ++e) {
-                const float dz = e->z - zk;
-                const float w = field_.thesisKernel(e->dxy2 + dz * dz);
-                sum += (e->minK <= k && k <= e->maxK) ? w : 0.0f;
-            }
-        }
-        return sum;
+        float v;
+        values<1>(i, j, k, &zk, &v);
+        return v;
+    }
+    // Corners (i, j, k) and (i, j, k + 1) in one pass over the column: the
+    // same two floats as two calls of value() (each sum adds the same terms in
+    // the same order; the wider window only adds exact zeros).
+    void value2(int i, int j, int k, float zk, float zk1, float* v0, float* v1) {
+        const float zs[2] = {zk, zk1};
+        float v[2];
+        values<2>(i, j, k, zs, v);
+        *v0 = v[0];
+        *v1 = v[1];
     }
 
     std::size_t bytes() const { return entryBytes_; }
@@ -91,6 +76,41 @@ private:
         return first;
     }
     void buildRowChunk(int j, int w);
+
+    // The sums of corners (i, j, k) .. (i, j, k + N - 1), z of each in zs.
+    template <int N>
+    void values(int i, int j, int k, const float* zs, float* out) {
+        const int w = std::min(k / kChunk, chunks_ - 1);
+        const std::size_t rc = std::size_t(j) * std::size_t(chunks_) + std::size_t(w);
+        if (!built_[rc]) buildRowChunk(j, w);
+        const std::size_t c = (std::size_t(j) * std::size_t(side_) + std::size_t(i)) * std::size_t(chunks_) + std::size_t(w);
+        const Entry* first = entries_.data() + start_[c];
+        const Entry* last = entries_.data() + ends_[c];
+        // The entries whose centre slab can reach one of the slices (midK is
+        // non-decreasing): [lower bound of k - reach, upper bound of k + N - 1 + reach).
+        const Entry* from = boundOf(first, last, k - reach_);
+        const Entry* to = boundOf(from, last, k + N - 1 + reach_ + 1);
+        // In order, branch-free: an entry outside [minK, maxK] adds exactly 0,
+        // so the sum is the same float in every block whose list holds more or
+        // fewer such entries (the kernel is 0 past the support too).
+        float sum[N] = {};
+        if (field_.kind == SurfaceField::Sph) {
+            for (const Entry* e = from; e != to; ++e)
+                for (int q = 0; q < N; ++q) {
+                    const float dz = e->z - zs[q];
+                    const float v = field_.sphKernel(e->dxy2 + dz * dz);
+                    sum[q] += (e->minK <= k + q && k + q <= e->maxK) ? v : 0.0f;
+                }
+        } else {
+            for (const Entry* e = from; e != to; ++e)
+                for (int q = 0; q < N; ++q) {
+                    const float dz = e->z - zs[q];
+                    const float v = field_.thesisKernel(e->dxy2 + dz * dz);
+                    sum[q] += (e->minK <= k + q && k + q <= e->maxK) ? v : 0.0f;
+                }
+        }
+        for (int q = 0; q < N; ++q) out[q] = sum[q];
+    }
 
     Field field_;
     const Grid* grid_ = nullptr;

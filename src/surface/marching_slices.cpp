@@ -128,6 +128,19 @@ void BlockMarcher::addCube(int i, int j, int k) {
 
 void BlockMarcher::polygonise(int i, int j, int k) {
     const McTable& t = mcTable();
+    // A column whose two corners are both new gets them in one pass.
+    {
+        std::vector<float>& lower = slice(k);
+        std::vector<float>& upper = slice(k + 1);
+        for (int c = 0; c < 4; ++c) {
+            const std::size_t at = std::size_t(j + (c >> 1)) * std::size_t(n_ + 1) + std::size_t(i + (c & 1));
+            if (std::isnan(lower[at]) && std::isnan(upper[at])) {
+                out_->cornersEvaluated += 2;
+                cache_.value2(i + (c & 1), j + (c >> 1), k, sliceZ_[std::size_t(k)], sliceZ_[std::size_t(k) + 1],
+                              &lower[at], &upper[at]);
+            }
+        }
+    }
     float v[8];
     int m = 0;
     for (int c = 0; c < 8; ++c) {
