@@ -85,8 +85,7 @@ int benchMesh(const ParticleSet& set, float radius, int repeat, int nThreads, co
         };
         line("blocks", med(&MeshStats::msBlocks));
         line("extract (marching slices)", med(&MeshStats::msExtract));
-        line("weld", med(&MeshStats::msMerge));
-        line("normals", med(&MeshStats::msNormals));
+        line("weld and normals", med(&MeshStats::msMerge));
         const double total = med(&MeshStats::msTotal);
         line("total", total);
         std::printf("%-34s %zu triangles, %zu vertices, %.2f M particles/s, peak %.1f MB (one block %.2f MB), "

@@ -15,6 +15,7 @@
 #include "meniscus/io.h"
 #include "meniscus/surface.h"
 #include "surface/mc_table.h"
+#include "surface/weld.h"
 #include "test_util.h"
 
 namespace meniscus {
@@ -352,6 +353,17 @@ INSTANTIATE_TEST_SUITE_P(DamBreak, RealFrames,
                              return name + file.substr(digits, file.find('.', digits) - digits);
                          });
 
+// The normals' angle weight (a polynomial acos) against std::acos in double
+// over the whole range: within float rounding of the angle.
+TEST(Normals, AngleWeightAcosIsAcos) {
+    double worst = 0.0;
+    for (int s = -100000; s <= 100000; ++s) {
+        const float x = float(s) / 100000.0f;
+        worst = std::max(worst, std::abs(double(surface::fastAcos(x)) - std::acos(double(x))));
+    }
+    EXPECT_LT(worst, 5e-7);  // a float ulp at pi is 2.4e-7
+}
+
 // ---- seams, threads, block size
 
 // Blocks of 8 cubes (4 r) with the ball centred on a block corner: seams run
@@ -370,6 +382,23 @@ TEST(Surface, NoCracksAtBlockSeams) {
     const TriangleMesh whole = mustExtract(pts, one);
     EXPECT_EQ(seamed.vertexCount(), whole.vertexCount());
     EXPECT_TRUE(triangleSet(seamed) == triangleSet(whole));
+    // Normals are summed per block and joined at the seams: they match the
+    // angle-weighted normals of the welded mesh, summed here in double with
+    // std::acos (within 0.1 degree).
+    std::vector<glm::dvec3> ref(seamed.vertexCount(), glm::dvec3(0.0));
+    for (std::size_t t = 0; t < seamed.triangleCount(); ++t) {
+        const std::uint32_t* id = &seamed.indices[3 * t];
+        const glm::dvec3 a(seamed.positions[id[0]]), b(seamed.positions[id[1]]), c(seamed.positions[id[2]]);
+        const glm::dvec3 n = glm::normalize(glm::cross(b - a, c - a));
+        auto angle = [](glm::dvec3 u, glm::dvec3 v) { return std::acos(glm::dot(glm::normalize(u), glm::normalize(v))); };
+        ref[id[0]] += n * angle(b - a, c - a);
+        ref[id[1]] += n * angle(c - b, a - b);
+        ref[id[2]] += n * angle(a - c, b - c);
+    }
+    double worst = 1.0;
+    for (std::size_t v = 0; v < ref.size(); ++v)
+        worst = std::min(worst, glm::dot(glm::normalize(ref[v]), glm::dvec3(seamed.normals[v])));
+    EXPECT_GT(worst, std::cos(glm::radians(0.1)));
 }
 
 TEST(Surface, SameMeshForAnyThreadCount) {

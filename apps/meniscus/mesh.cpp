@@ -111,11 +111,11 @@ int runMesh(const MeshOptions& o, int threads) {
             std::fprintf(stderr,
                          "meniscus: %s: %zu particles, %zu blocks (%zu with surface, %zu rounds), %zu cubes, %zu "
                          "corners, peak %.1f MB (one block %.2f MB), %d threads; blocks %.1f ms, extract %.1f ms, "
-                         "weld %.1f ms, normals %.1f ms, total %.1f ms\n",
+                         "weld and normals %.1f ms, total %.1f ms\n",
                          name.c_str(), stats.particles, stats.blocks, stats.blocksWithSurface, stats.rounds,
                          stats.cubesVisited, stats.cornersEvaluated, double(stats.peakBytes) / 1e6,
                          double(stats.peakBlockBytes) / 1e6, stats.threads, stats.msBlocks, stats.msExtract,
-                         stats.msMerge, stats.msNormals, stats.msTotal);
+                         stats.msMerge, stats.msTotal);
         // On a terminal a bar; otherwise (a log) one line per frame.
         if (tty && count > 1) progress.update(i + 1);
         else

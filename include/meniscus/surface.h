@@ -39,9 +39,8 @@ struct MeshStats {
     float supportM = 0.0f;
     double isoAbsolute = 0.0;  // the iso level in the field's own units (thesis: sum of f; sph: density / mass)
     double msBlocks = 0.0;     // subdivision into blocks
-    double msExtract = 0.0;    // the blocks' marching (all rounds)
-    double msMerge = 0.0;      // one indexed mesh, seams welded
-    double msNormals = 0.0;    // angle-weighted vertex normals
+    double msExtract = 0.0;    // the blocks' marching and their normal sums (all rounds)
+    double msMerge = 0.0;      // one indexed mesh, seams welded, normals summed and normalised
     double msTotal = 0.0;
 };
 

@@ -1,6 +1,7 @@
 // The isosurface path's order (SPEC §4, thesis §4.2): grid and blocks, the
-// blocks in parallel (rounds while a surface crossing a seam hands seeds on),
-// the weld into one indexed mesh, the vertex normals. The one public entry
+// blocks in parallel (rounds while a surface crossing a seam hands seeds on;
+// each block sums its vertex normals), the weld into one indexed mesh with
+// normals. The one public entry
 // point, extractSurface (include/meniscus/surface.h).
 #include "meniscus/surface.h"
 
@@ -217,13 +218,10 @@ Result<TriangleMesh> extract(const ParticleView& particles, const MeshParams& p,
         stats.cacheRows += o.cacheRows;
         stats.peakBlockBytes = std::max(stats.peakBlockBytes, o.peakBytes);
         stats.blocksWithSurface += o.triangles.empty() ? 0 : 1;
-        keptBytes += o.vertices.capacity() * (sizeof(glm::vec3) + sizeof(std::uint64_t) + 1) +
+        keptBytes += o.vertices.capacity() * (2 * sizeof(glm::vec3) + sizeof(std::uint64_t) + 1) +
                      o.triangles.capacity() * sizeof(std::uint32_t) + o.visited.capacity() * sizeof(std::uint64_t);
     }
     outputs = {};
-    const auto t3 = Clock::now();
-    surface::angleWeightedNormals(mesh);
-    stats.msNormals = msSince(t3);
     stats.peakBytes = std::size_t(stats.threads) * stats.peakBlockBytes + keptBytes +
                       mesh.positions.capacity() * sizeof(glm::vec3) * 2 + mesh.indices.capacity() * sizeof(std::uint32_t);
     stats.msTotal = msSince(t0);

@@ -3,14 +3,15 @@
 // the particles that influence any corner on it, sorted by z, each with the
 // integer slice range [minK, maxK] it can reach and the slab midK of its
 // centre. Finding the particles of a corner is then integer comparisons only:
-// a binary search on midK, a scan, and minK <= k <= maxK; the kernel itself
-// is evaluated on the exact squared distance. The columns are filled lazily, a
-// row (fixed j) and a chunk of kChunk slices at a time, when a corner there is
-// first asked for, so a block's cache costs only what its surface touches.
+// a binary search on midK and minK <= k <= maxK; the kernel itself is
+// evaluated on the exact squared distance.
+//
+// The block's particles are copied once (z order) and bucketed by row, and a
+// row's columns are filled lazily when a corner on it is first asked for, so
+// a block's cache costs only what its surface touches.
 #pragma once
 
 #include <cstddef>
-#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -24,28 +25,23 @@ namespace meniscus::surface {
 
 class LookupCache {
 public:
-    // Fills the columns of the block whose corner (0,0,0) is global corner
+    // Corners per column pass: the marcher asks for a corner and gets the
+    // next kLanes up the column with it (the walk goes up, and a surface
+    // column needs two or three consecutive corners).
+    static constexpr int kLanes = 4;
+
+    // Fills the row buckets of the block whose corner (0,0,0) is global corner
     // `corner0`, from `particles` (indices into `positions`, sorted by z then index).
     void build(const Grid& grid, const Field& field, glm::ivec3 corner0, std::span<const glm::vec3> positions,
                std::span<const std::uint32_t> particles);
 
-    // Raw field at local corner (i, j, k), i, j, k in [0, n]; zk is the
-    // corner's world z (Grid::corner).
-    float value(int i, int j, int k, float zk) {
-        float v;
-        values<1>(i, j, k, &zk, &v);
-        return v;
-    }
-    // Corners (i, j, k) and (i, j, k + 1) in one pass over the column: the
-    // same two floats as two calls of value() (each sum adds the same terms in
-    // the same order; the wider window only adds exact zeros).
-    void value2(int i, int j, int k, float zk, float zk1, float* v0, float* v1) {
-        const float zs[2] = {zk, zk1};
-        float v[2];
-        values<2>(i, j, k, zs, v);
-        *v0 = v[0];
-        *v1 = v[1];
-    }
+    // Raw field at local corners (i, j, k + q), q < kLanes, in one pass over
+    // the column; zs[q] is the world z of slice k + q (Grid::corner). Each
+    // sum adds the column's entries in z order, an entry outside [minK, maxK]
+    // or past the support adding exactly 0, so a corner's float depends only
+    // on the particles that reach it -- the same in every block, whatever
+    // window the pass started from.
+    void values(int i, int j, int k, const float* zs, float* out);
 
     std::size_t bytes() const { return entryBytes_; }
     std::size_t entries() const { return entryBytes_ / sizeof(Entry); }
@@ -57,76 +53,26 @@ private:
         float dxy2;   // squared horizontal distance to the column, m^2
         std::int16_t minK, maxK, midK, pad;
     };
-    // Slabs per chunk. Measured on the dam break (2 cores): 8 duplicated too
-    // many entries (the support spans 8 slices at cube 0.5 r) and was slower
-    // than one chunk per default block.
-    static constexpr int kChunk = 32;
-    // First entry in [first, last) with midK >= k (binary search).
-    static const Entry* boundOf(const Entry* first, const Entry* last, int k) {
-        std::size_t count = std::size_t(last - first);
-        while (count > 0) {
-            const std::size_t half = count / 2;
-            if (first[half].midK < k) {
-                first += half + 1;
-                count -= half + 1;
-            } else {
-                count = half;
-            }
-        }
-        return first;
-    }
-    void buildRowChunk(int j, int w);
-
-    // The sums of corners (i, j, k) .. (i, j, k + N - 1), z of each in zs.
-    template <int N>
-    void values(int i, int j, int k, const float* zs, float* out) {
-        const int w = std::min(k / kChunk, chunks_ - 1);
-        const std::size_t rc = std::size_t(j) * std::size_t(chunks_) + std::size_t(w);
-        if (!built_[rc]) buildRowChunk(j, w);
-        const std::size_t c = (std::size_t(j) * std::size_t(side_) + std::size_t(i)) * std::size_t(chunks_) + std::size_t(w);
-        const Entry* first = entries_.data() + start_[c];
-        const Entry* last = entries_.data() + ends_[c];
-        // The entries whose centre slab can reach one of the slices (midK is
-        // non-decreasing): [lower bound of k - reach, upper bound of k + N - 1 + reach).
-        const Entry* from = boundOf(first, last, k - reach_);
-        const Entry* to = boundOf(from, last, k + N - 1 + reach_ + 1);
-        // In order, branch-free: an entry outside [minK, maxK] adds exactly 0,
-        // so the sum is the same float in every block whose list holds more or
-        // fewer such entries (the kernel is 0 past the support too).
-        float sum[N] = {};
-        if (field_.kind == SurfaceField::Sph) {
-            for (const Entry* e = from; e != to; ++e)
-                for (int q = 0; q < N; ++q) {
-                    const float dz = e->z - zs[q];
-                    const float v = field_.sphKernel(e->dxy2 + dz * dz);
-                    sum[q] += (e->minK <= k + q && k + q <= e->maxK) ? v : 0.0f;
-                }
-        } else {
-            for (const Entry* e = from; e != to; ++e)
-                for (int q = 0; q < N; ++q) {
-                    const float dz = e->z - zs[q];
-                    const float v = field_.thesisKernel(e->dxy2 + dz * dz);
-                    sum[q] += (e->minK <= k + q && k + q <= e->maxK) ? v : 0.0f;
-                }
-        }
-        for (int q = 0; q < N; ++q) out[q] = sum[q];
-    }
+    void buildRow(int j);
 
     Field field_;
     const Grid* grid_ = nullptr;
-    glm::ivec3 corner0_{0};
-    std::span<const glm::vec3> positions_;
-    std::span<const std::uint32_t> particles_;
     int side_ = 0;   // n + 1
     int reach_ = 0;  // slabs a particle centre can be from a slice it influences, plus slack
     long kLo_ = 0, kHi_ = 0, zOrigin_ = 0, xOrigin_ = 0;
     std::vector<float> colX_, colY_;
-    int chunks_ = 1;
-    std::vector<std::uint8_t> built_;  // per (row, chunk)
-    std::vector<float> sortedZ_;       // the particles' z, in their (z) order
-    // Column-chunk (c, w)'s entries are entries_[start_[c * chunks + w], ends_[...]).
+    // The block's particles in z order: positions and centre slab.
+    std::vector<float> px_, py_, pz_;
+    std::vector<std::int16_t> mid_;
+    std::vector<std::int16_t> reachOf_;  // slices reached, by squared horizontal distance bucket
+    // Row j's particles (local indices, ascending = z order):
+    // rowList_[rowStart_[j] .. rowStart_[j + 1]).
+    std::vector<std::uint32_t> rowStart_, rowList_;
+    std::vector<std::uint8_t> built_;  // per row
+    // Column c's entries are entries_[start_[c], ends_[c]).
     std::vector<std::uint32_t> start_, ends_;
     std::vector<Entry> entries_;
+    std::vector<std::uint32_t> count_;
     std::size_t entryBytes_ = 0;
     std::size_t rowsBuilt_ = 0;
 };

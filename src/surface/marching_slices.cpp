@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "surface/mc_table.h"
+#include "surface/weld.h"
 
 namespace meniscus::surface {
 
@@ -24,7 +25,7 @@ BlockMarcher::BlockMarcher(const Grid& grid, const Field& field, float radiusM, 
     yEdges_.resize(std::size_t(n_) + 1);
     zEdges_.resize(std::size_t(n_));
     todo_.resize(std::size_t(n_));
-    sliceZ_.resize(std::size_t(n_) + 1);
+    sliceZ_.resize(std::size_t(n_) + 1 + LookupCache::kLanes);
 }
 
 std::vector<float>& BlockMarcher::slice(int k) {
@@ -59,19 +60,26 @@ void BlockMarcher::trackBytes() {
     for (const auto* edges : {&xEdges_, &yEdges_, &zEdges_})
         for (const auto& e : *edges) bytes += e.size() * sizeof(std::int32_t);
     bytes += out_->vertices.size() * (sizeof(glm::vec3) + sizeof(std::uint64_t) + 1) +
+             out_->normalSums.size() * sizeof(glm::vec3) +
              out_->triangles.size() * sizeof(std::uint32_t);
     out_->peakBytes = std::max(out_->peakBytes, bytes);
 }
 
-float BlockMarcher::evaluate(int i, int j, int k) {
-    ++out_->cornersEvaluated;
-    return cache_.value(i, j, k, sliceZ_[std::size_t(k)]);
+void BlockMarcher::evaluate(int i, int j, int k) {
+    // Corner k and the next ones up its column in one pass (the walk goes up);
+    // one already held gets the same float again.
+    float v[LookupCache::kLanes];
+    cache_.values(i, j, k, &sliceZ_[std::size_t(k)], v);
+    const std::size_t at = std::size_t(j) * std::size_t(n_ + 1) + std::size_t(i);
+    const int lanes = std::min(LookupCache::kLanes, n_ + 1 - k);
+    for (int q = 0; q < lanes; ++q) slice(k + q)[at] = v[q];
+    out_->cornersEvaluated += std::size_t(lanes);
 }
 
 float BlockMarcher::corner(int i, int j, int k) {
-    float& v = slice(k)[std::size_t(j) * std::size_t(n_ + 1) + std::size_t(i)];
-    if (std::isnan(v)) v = evaluate(i, j, k);
-    return v;
+    const std::size_t at = std::size_t(j) * std::size_t(n_ + 1) + std::size_t(i);
+    if (std::isnan(slice(k)[at])) evaluate(i, j, k);
+    return slices_[std::size_t(k)][at];
 }
 
 std::uint32_t BlockMarcher::vertex(int i, int j, int k, int axis) {
@@ -128,19 +136,6 @@ void BlockMarcher::addCube(int i, int j, int k) {
 
 void BlockMarcher::polygonise(int i, int j, int k) {
     const McTable& t = mcTable();
-    // A column whose two corners are both new gets them in one pass.
-    {
-        std::vector<float>& lower = slice(k);
-        std::vector<float>& upper = slice(k + 1);
-        for (int c = 0; c < 4; ++c) {
-            const std::size_t at = std::size_t(j + (c >> 1)) * std::size_t(n_ + 1) + std::size_t(i + (c & 1));
-            if (std::isnan(lower[at]) && std::isnan(upper[at])) {
-                out_->cornersEvaluated += 2;
-                cache_.value2(i + (c & 1), j + (c >> 1), k, sliceZ_[std::size_t(k)], sliceZ_[std::size_t(k) + 1],
-                              &lower[at], &upper[at]);
-            }
-        }
-    }
     float v[8];
     int m = 0;
     for (int c = 0; c < 8; ++c) {
@@ -177,7 +172,7 @@ void BlockMarcher::run(const Block& block, std::span<const glm::ivec3> extraSeed
     out.visited.assign((cubes + 63) / 64, 0);
     firstHeld_ = n_ + 1;
     lowest_ = 0;
-    for (int k = 0; k <= n_; ++k) sliceZ_[std::size_t(k)] = grid_.corner(0, 0, corner0_.z + k).z;
+    for (std::size_t k = 0; k < sliceZ_.size(); ++k) sliceZ_[k] = grid_.corner(0, 0, corner0_.z + int(k)).z;
     cache_.build(grid_, field_, corner0_, positions_, block.particles);
     trackBytes();
 
@@ -229,6 +224,8 @@ void BlockMarcher::run(const Block& block, std::span<const glm::ivec3> extraSeed
         return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
     });
     out.handoff.erase(std::unique(out.handoff.begin(), out.handoff.end()), out.handoff.end());
+    blockNormalSums(out);
+    trackBytes();
     out_ = nullptr;
 }
 

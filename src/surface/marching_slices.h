@@ -29,6 +29,7 @@ struct BlockOutput {
     std::vector<std::uint64_t> edgeKeys;
     std::vector<std::uint8_t> onSeam;      // 1: the edge lies on a face of the block
     std::vector<std::uint32_t> triangles;  // local vertex indices, 3 per triangle
+    std::vector<glm::vec3> normalSums;     // per vertex: its triangles' angle-weighted normals (normals.cpp)
     std::vector<std::uint64_t> visited;    // bit per cube (local index), the cubes polygonised
     std::vector<glm::ivec3> handoff;       // global cubes outside the block the surface goes on into
     std::size_t seedWalks = 0;
@@ -62,7 +63,7 @@ private:
 
     void addCube(int i, int j, int k);  // queue a cube (local; outside the block: hand it on)
     float corner(int i, int j, int k);  // cached corner value (local)
-    float evaluate(int i, int j, int k);
+    void evaluate(int i, int j, int k);  // fills corner k and those above it in the column
     std::uint32_t vertex(int i, int j, int k, int axis);  // the vertex on a local grid edge
     void polygonise(int i, int j, int k);
     std::vector<float>& slice(int k);

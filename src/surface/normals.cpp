@@ -1,56 +1,55 @@
 // Angle-weighted vertex normals (thesis §4.2.5: weights are the triangles'
 // angles at the vertex, so long thin triangles do not dominate; Thürmer &
-// Wüthrich 1998). Deterministic in parallel: each vertex sums its incident
-// triangles in ascending triangle order.
+// Wüthrich 1998). Each block sums its own triangles into its own vertices,
+// in triangle order, inside the parallel block phase (weld.cpp adds a seam
+// vertex's sums from its blocks in block order): the same floats for any
+// thread count.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-
-#include <tbb/parallel_for.h>
 
 #include "surface/weld.h"
 
 namespace meniscus::surface {
 
+// acos on [-1, 1] after Abramowitz & Stegun 4.4.46 (|error| <= 2e-8 rad
+// before float rounding): plain arithmetic, several times faster than libm's
+// acosf, and a weight needs no more.
+float fastAcos(float x) {
+    const float a = std::abs(x);
+    float p = -0.0012624911f;
+    p = p * a + 0.0066700901f;
+    p = p * a - 0.0170881256f;
+    p = p * a + 0.0308918810f;
+    p = p * a - 0.0501743046f;
+    p = p * a + 0.0889789874f;
+    p = p * a - 0.2145988016f;
+    p = p * a + 1.5707963050f;
+    const float r = std::sqrt(1.0f - a) * p;
+    return x < 0.0f ? 3.14159265358979f - r : r;
+}
+
 namespace {
-// The angle between vectors a and b. acos of the normalised dot product: a
-// weight needs no more (atan2 of |a x b| and a.b, exact near 0, was 3x slower).
+// The angle between vectors a and b.
 float angleBetween(const glm::vec3& a, const glm::vec3& b) {
     const float d = glm::dot(a, b) / std::sqrt(glm::dot(a, a) * glm::dot(b, b));
-    return std::acos(std::clamp(d, -1.0f, 1.0f));
+    return fastAcos(std::clamp(d, -1.0f, 1.0f));
 }
 }  // namespace
 
-void angleWeightedNormals(TriangleMesh& mesh) {
-    const std::size_t nv = mesh.positions.size(), nt = mesh.triangleCount();
-    // Per triangle: the unit face normal scaled per corner by its angle.
-    std::vector<glm::vec3> weighted(nt * 3);
-    tbb::parallel_for(std::size_t(0), nt, [&](std::size_t t) {
-        const glm::vec3 a = mesh.positions[mesh.indices[3 * t]], b = mesh.positions[mesh.indices[3 * t + 1]],
-                        c = mesh.positions[mesh.indices[3 * t + 2]];
+void blockNormalSums(BlockOutput& block) {
+    block.normalSums.assign(block.vertices.size(), glm::vec3(0.0f));
+    const std::vector<glm::vec3>& p = block.vertices;
+    const std::vector<std::uint32_t>& idx = block.triangles;
+    for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
+        const glm::vec3 a = p[idx[t]], b = p[idx[t + 1]], c = p[idx[t + 2]];
         const glm::vec3 cr = glm::cross(b - a, c - a);
         const float len = glm::length(cr);
-        const glm::vec3 n = len > 0.0f ? cr / len : glm::vec3(0.0f);
-        weighted[3 * t + 0] = n * angleBetween(b - a, c - a);
-        weighted[3 * t + 1] = n * angleBetween(c - b, a - b);
-        weighted[3 * t + 2] = n * angleBetween(a - c, b - c);
-    });
-    // Incidence lists (CSR), each sorted so the sums do not depend on threads.
-    std::vector<std::uint32_t> start(nv + 1, 0);
-    for (std::uint32_t v : mesh.indices) ++start[v + 1];
-    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-    std::vector<std::uint32_t> corners(mesh.indices.size());
-    {
-        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-        for (std::size_t k = 0; k < mesh.indices.size(); ++k) corners[fill[mesh.indices[k]]++] = std::uint32_t(k);
+        if (!(len > 0.0f)) continue;
+        const glm::vec3 n = cr / len;
+        block.normalSums[idx[t]] += n * angleBetween(b - a, c - a);
+        block.normalSums[idx[t + 1]] += n * angleBetween(c - b, a - b);
+        block.normalSums[idx[t + 2]] += n * angleBetween(a - c, b - c);
     }
-    mesh.normals.resize(nv);
-    tbb::parallel_for(std::size_t(0), nv, [&](std::size_t v) {
-        glm::vec3 sum(0.0f);
-        for (std::uint32_t k = start[v]; k < start[v + 1]; ++k) sum += weighted[corners[k]];
-        const float len = glm::length(sum);
-        mesh.normals[v] = len > 0.0f ? sum / len : glm::vec3(0.0f, 1.0f, 0.0f);
-    });
 }
 
 }  // namespace meniscus::surface
