@@ -19,15 +19,6 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "the PLY writer writes native floats as little-endian");
 
-Status checkMesh(const TriangleMesh& m, const std::string& name) {
-    if (m.indices.size() % 3 != 0) return makeError(name, "mesh index count is not a multiple of 3");
-    if (!m.normals.empty() && m.normals.size() != m.positions.size())
-        return makeError(name, "mesh has a normal count different from its vertex count");
-    for (std::uint32_t v : m.indices)
-        if (v >= m.positions.size()) return makeError(name, "mesh has a triangle index past its last vertex");
-    return okStatus();
-}
-
 Status writeWith(const std::filesystem::path& path, const std::function<bool(std::FILE*)>& body) {
     const std::string name = path.string();
     return writeAtomically(path, [&](const std::filesystem::path& tmp) -> Status {
@@ -95,7 +86,7 @@ MeshFormat meshFormatForPath(const std::filesystem::path& path) {
 }
 
 Status writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh, MeshFormat format) {
-    if (auto st = checkMesh(mesh, path.string()); !st) return st;
+    if (auto st = mesh.validate(); !st) return makeError(path.string(), "cannot write the mesh: " + st.error().message);
     return writeWith(path, [&](std::FILE* fp) { return format == MeshFormat::Obj ? writeObj(fp, mesh) : writePly(fp, mesh); });
 }
 
