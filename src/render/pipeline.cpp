@@ -14,9 +14,9 @@
 
 #include "core/backend.h"
 #include "core/frame_memory.h"
-#include "cpu/raster_mesh.h"  // kRasterMaxSidePx, the limit of both backends
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
+#include "shared/raster_mesh.h"
 #include "shared/studio.h"
 
 namespace meniscus {
@@ -160,16 +160,16 @@ auto guarded(const char* where, F&& run) -> decltype(run()) {
 }
 
 // The mesh path's input: what TriangleMesh::validate checks, with a normal for
-// every vertex (the rasterisers' preconditions), and an image the rasterisers hold.
-Status checkMesh(const TriangleMesh& m, int width, int height) {
-    const std::string where = "RenderSettings::mesh: ";
-    if (auto st = m.validate(/*needNormals=*/true); !st) return makeError("", where + st.error().message);
-    if (width > cpu::kRasterMaxSidePx || height > cpu::kRasterMaxSidePx)
-        return makeError("", where + "a " + std::to_string(width) + "x" + std::to_string(height) +
-                                 " image is too large for the mesh path (at most " +
-                                 std::to_string(cpu::kRasterMaxSidePx) + " pixels a side)");
+// every vertex (the rasterisers' preconditions).
+Status checkMesh(const TriangleMesh& m) {
+    if (auto st = m.validate(/*needNormals=*/true); !st)
+        return makeError("", "RenderSettings::mesh: " + st.error().message);
     return okStatus();
 }
+// Their precondition on the image needs no check of its own: validateCamera
+// (run first) refuses any side the CPU rasteriser could not hold.
+static_assert(defaults::kMaxImageSizePx <= shared::kRasterMaxSidePx,
+              "the mesh path needs a check of the image size against shared::kRasterMaxSidePx");
 
 }  // namespace
 
@@ -204,7 +204,7 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
     if (auto st = checkFrameMemory(s.camera.width, s.camera.height); !st) return st;
     if (auto st = particles.validate(); !st) return st;
     if (s.mesh)
-        if (auto st = checkMesh(*s.mesh, s.camera.width, s.camera.height); !st) return st;
+        if (auto st = checkMesh(*s.mesh); !st) return st;
     // The backends read positions as one contiguous array: the caller's own
     // when the view is one, else gathered here (a strided view).
     std::span<const glm::vec3> positions;
