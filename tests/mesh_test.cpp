@@ -1,6 +1,7 @@
 // TriangleMesh::validate (src/core/mesh.cpp), the one check of a mesh's
 // structure, and its users: the mesh writers refuse what it refuses, naming
-// the file, and write nothing.
+// the file, and write nothing. And meshFormatOf, the one rule for a mesh
+// file's extension.
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -105,4 +106,25 @@ TEST(MeshValidate, WritersRefuseBrokenMeshes) {
     bare.normals.clear();
     EXPECT_TRUE(writeMesh(dir / "bare.ply", bare, MeshFormat::Ply).ok());
     EXPECT_TRUE(writeMesh(dir / "bare.obj", bare, MeshFormat::Obj).ok());
+}
+
+TEST(MeshFormat, ByExtensionInAnyCase) {
+    for (const char* name : {"a.ply", "dir.obj/A.PLY", "mesh_%04d.Ply"}) {
+        auto f = meshFormatOf(name);
+        ASSERT_TRUE(f.ok()) << name;
+        EXPECT_EQ(*f, MeshFormat::Ply) << name;
+    }
+    for (const char* name : {"a.obj", "A.OBJ", "dir.ply/mesh_%04d.oBj"}) {
+        auto f = meshFormatOf(name);
+        ASSERT_TRUE(f.ok()) << name;
+        EXPECT_EQ(*f, MeshFormat::Obj) << name;
+    }
+    for (const char* name : {"a.stl", "a", "a.ply.gz", ".obj", "dir.obj/a"}) {
+        auto f = meshFormatOf(name);
+        ASSERT_FALSE(f.ok()) << name;
+        EXPECT_EQ(f.error().describe(), std::string(name) + ": output must end in .ply or .obj");
+        // The lenient form: PLY, the default.
+        EXPECT_EQ(meshFormatForPath(name), MeshFormat::Ply) << name;
+    }
+    EXPECT_EQ(meshFormatForPath("A.OBJ"), MeshFormat::Obj);
 }

@@ -2,7 +2,6 @@
 // writes) and Wavefront OBJ. Written in one buffered pass through
 // writeAtomically, so a failed write leaves no file behind.
 #include <bit>
-#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +10,7 @@
 #include <vector>
 
 #include "atomic_file.h"
+#include "io_util.h"
 #include "meniscus/io.h"
 
 namespace meniscus {
@@ -79,10 +79,16 @@ bool writeObj(std::FILE* fp, const TriangleMesh& m) {
 
 }  // namespace
 
+Result<MeshFormat> meshFormatOf(const std::filesystem::path& path) {
+    const std::string ext = io_util::lower(path.extension().string());
+    if (ext == ".ply") return MeshFormat::Ply;
+    if (ext == ".obj") return MeshFormat::Obj;
+    return makeError(path.string(), "output must end in .ply or .obj");
+}
+
 MeshFormat meshFormatForPath(const std::filesystem::path& path) {
-    std::string ext = path.extension().string();
-    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-    return ext == ".obj" ? MeshFormat::Obj : MeshFormat::Ply;
+    const Result<MeshFormat> format = meshFormatOf(path);
+    return format ? *format : MeshFormat::Ply;
 }
 
 Status writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh, MeshFormat format) {
