@@ -87,6 +87,23 @@ TEST(CliMesh, BadInputAndOptionsFailCleanly) {
     for (const char* unit : {"particle radii", "metres", "fraction"}) EXPECT_NE(out.find(unit), std::string::npos) << unit;
 }
 
+// The output's extension picks the format in any case (meshFormatOf); any
+// other extension, or none, is refused before anything is read or written.
+TEST(CliMesh, OutputExtensionInAnyCase) {
+    const fs::path dir = tempDir();
+    std::string out;
+    ASSERT_EQ(runCli("mesh " + quote(kFrame) + " -o " + quote(dir / "OUT.PLY") + " --cube-size 2", &out), 0) << out;
+    ASSERT_EQ(runCli("mesh " + quote(kFrame) + " -o " + quote(dir / "Out.Obj") + " --cube-size 2", &out), 0) << out;
+    const auto ply = readBytes(dir / "OUT.PLY"), obj = readBytes(dir / "Out.Obj");
+    EXPECT_EQ(std::string(ply.begin(), ply.begin() + 4), "ply\n");
+    EXPECT_EQ(std::string(obj.begin(), obj.begin() + 21), "# written by meniscus");
+    for (const char* name : {"x.stl", "x", "x.ply.gz"}) {
+        EXPECT_EQ(runCli("mesh " + quote(kFrame) + " -o " + quote(dir / name), &out), 1) << name;
+        EXPECT_NE(out.find((dir / name).string() + ": output must end in .ply or .obj"), std::string::npos) << out;
+        EXPECT_FALSE(fs::exists(dir / name)) << name;
+    }
+}
+
 // The mesh path through the CLI: render --surface mesh on both backends gives
 // the same picture within the GL parity tolerance, and differs from the
 // screen-space one (the mesh really replaced smoothing and normals).

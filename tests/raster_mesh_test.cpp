@@ -422,3 +422,15 @@ TEST(RasterMeshRenderer, InvalidMeshIsAnError) {
     ASSERT_TRUE(aovs.ok()) << aovs.error().describe();
     for (float z : aovs->depth.pixels) EXPECT_EQ(z, kInf);
 }
+
+// An image side larger than the rasterisers hold (shared::kRasterMaxSidePx, GL's
+// texture size) never reaches them: the camera check refuses it first, which
+// the static_asserts in pipeline.cpp and gl/raster_mesh.cpp keep true.
+TEST(RasterMeshRenderer, OversizedImageIsRefusedBeforeRasterising) {
+    MeshFrame f;
+    f.settings.camera.width = defaults::kMaxImageSizePx + 1;
+    f.settings.camera.height = 8;
+    auto aovs = Renderer().render(f.particles, f.settings);
+    ASSERT_FALSE(aovs.ok());
+    EXPECT_NE(aovs.error().describe().find("image size"), std::string::npos) << aovs.error().describe();
+}

@@ -70,12 +70,8 @@ CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
 }
 
 int runMesh(const MeshOptions& o, int threads) {
-    const MeshFormat format = meshFormatForPath(o.output);
-    {
-        std::string ext = std::filesystem::path(o.output).extension().string();
-        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-        if (ext != ".ply" && ext != ".obj") return fail(o.output + ": output must end in .ply or .obj");
-    }
+    const Result<MeshFormat> format = meshFormatOf(o.output);
+    if (!format) return fail(format.error().describe());
     auto frames = openFrames(o.input, nullptr);
     if (!frames) return fail(frames.error().describe());
     const std::size_t count = frames->count();
@@ -106,7 +102,7 @@ int runMesh(const MeshOptions& o, int threads) {
         auto formatted = frames->outputName(o.output, i);
         if (!formatted) return fail(formatted.error().describe());
         const std::string out = *formatted;
-        if (auto st = writeMesh(out, *mesh, format); !st) return fail(st.error().describe());
+        if (auto st = writeMesh(out, *mesh, *format); !st) return fail(st.error().describe());
         if (o.stats)
             std::fprintf(stderr,
                          "meniscus: %s: %zu particles, %zu blocks (%zu with surface, %zu rounds), %zu cubes, %zu "

@@ -105,9 +105,14 @@ Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs);
 
 // Binary little-endian PLY (vertex x y z nx ny nz float, face vertex_indices
 // uchar/uint), or Wavefront OBJ (v, vn, f v//vn, 1-based). Both open in
-// Blender, Houdini, ParaView, MeshLab. Written to a temporary name and renamed.
+// Blender, Houdini, ParaView, MeshLab. Written to a temporary name and renamed;
+// a mesh TriangleMesh::validate() refuses (normals are optional) is an error
+// naming the file, and nothing is written.
 enum class MeshFormat { Ply, Obj };
-// By extension: .obj is OBJ, anything else PLY.
+// The format a mesh file's extension names, in any case: .ply or .obj; any
+// other extension, or none, is an error naming the file.
+Result<MeshFormat> meshFormatOf(const std::filesystem::path& path);
+// As meshFormatOf, with PLY (the default) for any other extension.
 MeshFormat meshFormatForPath(const std::filesystem::path& path);
 Status writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh, MeshFormat format);
 

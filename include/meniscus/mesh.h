@@ -9,6 +9,8 @@
 
 #include <glm/glm.hpp>
 
+#include "meniscus/result.h"
+
 namespace meniscus {
 
 struct TriangleMesh {
@@ -19,6 +21,14 @@ struct TriangleMesh {
     std::size_t vertexCount() const { return positions.size(); }
     std::size_t triangleCount() const { return indices.size() / 3; }
     bool empty() const { return indices.empty(); }
+
+    // OK when the mesh holds together, as every consumer (the writers, both
+    // rasterisers) assumes: whole triangles, at most 2^32 - 1 of them, every
+    // index below vertexCount(), one normal per vertex (or, unless
+    // `needNormals`, none at all), finite positions and normals. Otherwise an
+    // error (no file: the caller says whose mesh it is) naming the first
+    // problem, e.g. "triangle 3 has vertex index 9, out of range (8 vertices)".
+    Status validate(bool needNormals = false) const;
 };
 
 }  // namespace meniscus

@@ -38,6 +38,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "shared/raster_mesh.h"
+
 namespace meniscus::cpu {
 
 namespace {
@@ -46,7 +48,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr int kTile = kRasterTilePx;
 constexpr std::int64_t kOne = std::int64_t(1) << kRasterSubpixelBits;  // one pixel in fixed point
 constexpr std::int64_t kHalf = kOne / 2;                                // pixel centres at +0.5
-constexpr double kGuardPx = double(kRasterMaxSidePx);  // guard band beyond each border
+constexpr double kGuardPx = double(shared::kRasterMaxSidePx);  // guard band beyond each border
 // Bin entries (triangle, tile) of one batch: 16 MB of indices.
 constexpr std::size_t kMaxBinEntries = std::size_t(1) << 22;
 // Triangles looked at per batch (their tile rectangles: 4 MB).

@@ -18,8 +18,6 @@ inline constexpr int kRasterTilePx = 64;
 // Sub-pixel precision of the vertex positions the coverage test uses (as D3D11
 // and llvmpipe: 8 bits, 1/256 px).
 inline constexpr int kRasterSubpixelBits = 8;
-// Largest image side the fixed-point edge functions hold exactly (int64).
-inline constexpr int kRasterMaxSidePx = 1 << 16;
 
 struct MeshRaster {
     Image<float> depth;       // eye depth of the nearest triangle (m), +inf where none
@@ -37,10 +35,11 @@ struct MeshRaster {
 // it exactly once. Bit-identical for any thread count.
 //
 // Preconditions (the Renderer checks them and reports an error instead):
-// camera valid with width, height <= kRasterMaxSidePx; normals.size() ==
-// positions.size(); finite positions and normals. Triangles with an index out
-// of range are skipped. Memory: the images, 36 bytes per vertex and bins of at
-// most a few million triangle indices (the triangles are drawn in batches).
+// camera valid with width, height <= shared::kRasterMaxSidePx
+// (src/shared/raster_mesh.h); TriangleMesh::validate(true). Triangles with an
+// index out of range are skipped all the same. Memory: the images, 36 bytes
+// per vertex and bins of at most a few million triangle indices (the
+// triangles are drawn in batches).
 //
 // `coverage`, when given (camera-sized, zero-filled by the caller), counts the
 // triangles whose coverage test passes at each pixel centre, before any depth

@@ -13,11 +13,15 @@
 
 #include "gl/dispatch.h"
 #include "gl/shaders.h"
+#include "meniscus/params.h"
 
 namespace meniscus::gl {
 
 namespace {
 constexpr int kGroup = 64;  // local_size_x of raster_mesh_resolve.comp
+// The targets are image-sized textures: GL 4.3 guarantees GL_MAX_TEXTURE_SIZE
+// >= 16384, and validateCamera refuses any larger side.
+static_assert(defaults::kMaxImageSizePx <= 16384, "the GL mesh path needs a check against GL_MAX_TEXTURE_SIZE");
 }  // namespace
 
 Result<MeshRasteriser> MeshRasteriser::create() {

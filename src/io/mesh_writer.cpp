@@ -2,7 +2,6 @@
 // writes) and Wavefront OBJ. Written in one buffered pass through
 // writeAtomically, so a failed write leaves no file behind.
 #include <bit>
-#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +10,7 @@
 #include <vector>
 
 #include "atomic_file.h"
+#include "io_util.h"
 #include "meniscus/io.h"
 
 namespace meniscus {
@@ -18,15 +18,6 @@ namespace meniscus {
 namespace {
 
 static_assert(std::endian::native == std::endian::little, "the PLY writer writes native floats as little-endian");
-
-Status checkMesh(const TriangleMesh& m, const std::string& name) {
-    if (m.indices.size() % 3 != 0) return makeError(name, "mesh index count is not a multiple of 3");
-    if (!m.normals.empty() && m.normals.size() != m.positions.size())
-        return makeError(name, "mesh has a normal count different from its vertex count");
-    for (std::uint32_t v : m.indices)
-        if (v >= m.positions.size()) return makeError(name, "mesh has a triangle index past its last vertex");
-    return okStatus();
-}
 
 Status writeWith(const std::filesystem::path& path, const std::function<bool(std::FILE*)>& body) {
     const std::string name = path.string();
@@ -88,14 +79,20 @@ bool writeObj(std::FILE* fp, const TriangleMesh& m) {
 
 }  // namespace
 
+Result<MeshFormat> meshFormatOf(const std::filesystem::path& path) {
+    const std::string ext = io_util::lower(path.extension().string());
+    if (ext == ".ply") return MeshFormat::Ply;
+    if (ext == ".obj") return MeshFormat::Obj;
+    return makeError(path.string(), "output must end in .ply or .obj");
+}
+
 MeshFormat meshFormatForPath(const std::filesystem::path& path) {
-    std::string ext = path.extension().string();
-    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-    return ext == ".obj" ? MeshFormat::Obj : MeshFormat::Ply;
+    const Result<MeshFormat> format = meshFormatOf(path);
+    return format ? *format : MeshFormat::Ply;
 }
 
 Status writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh, MeshFormat format) {
-    if (auto st = checkMesh(mesh, path.string()); !st) return st;
+    if (auto st = mesh.validate(); !st) return makeError(path.string(), "cannot write the mesh: " + st.error().message);
     return writeWith(path, [&](std::FILE* fp) { return format == MeshFormat::Obj ? writeObj(fp, mesh) : writePly(fp, mesh); });
 }
 

@@ -6,7 +6,6 @@
 // in src/cpu/ on the CPU, one shader stage in src/gl/ on the GL backend.
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdint>
 #include <exception>
 #include <limits>
@@ -15,9 +14,9 @@
 
 #include "core/backend.h"
 #include "core/frame_memory.h"
-#include "cpu/raster_mesh.h"  // kRasterMaxSidePx, the limit of both backends
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
+#include "shared/raster_mesh.h"
 #include "shared/studio.h"
 
 namespace meniscus {
@@ -160,36 +159,17 @@ auto guarded(const char* where, F&& run) -> decltype(run()) {
     }
 }
 
-// The mesh path's input: one normal per vertex, whole triangles, every index
-// in range, finite positions and normals (the rasterisers' preconditions).
-Status checkMesh(const TriangleMesh& m, int width, int height) {
-    const std::string where = "RenderSettings::mesh: ";
-    if (m.normals.size() != m.positions.size())
-        return makeError("", where + std::to_string(m.normals.size()) + " normals for " +
-                                 std::to_string(m.positions.size()) + " vertices (one normal per vertex is needed)");
-    if (m.indices.size() % 3 != 0)
-        return makeError("", where + std::to_string(m.indices.size()) + " indices is not a whole number of triangles");
-    if (m.triangleCount() > std::numeric_limits<std::uint32_t>::max())
-        return makeError("", where + std::to_string(m.triangleCount()) + " triangles, more than 2^32 - 1");
-    const std::size_t nv = m.positions.size();
-    for (std::size_t k = 0; k < m.indices.size(); ++k)
-        if (m.indices[k] >= nv)
-            return makeError("", where + "triangle " + std::to_string(k / 3) + " has vertex index " +
-                                     std::to_string(m.indices[k]) + ", out of range (" + std::to_string(nv) +
-                                     " vertices)");
-    auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
-    for (std::size_t i = 0; i < nv; ++i) {
-        if (!finite(m.positions[i]))
-            return makeError("", where + "vertex " + std::to_string(i) + " has a non-finite position");
-        if (!finite(m.normals[i]))
-            return makeError("", where + "vertex " + std::to_string(i) + " has a non-finite normal");
-    }
-    if (width > cpu::kRasterMaxSidePx || height > cpu::kRasterMaxSidePx)
-        return makeError("", where + "a " + std::to_string(width) + "x" + std::to_string(height) +
-                                 " image is too large for the mesh path (at most " +
-                                 std::to_string(cpu::kRasterMaxSidePx) + " pixels a side)");
+// The mesh path's input: what TriangleMesh::validate checks, with a normal for
+// every vertex (the rasterisers' preconditions).
+Status checkMesh(const TriangleMesh& m) {
+    if (auto st = m.validate(/*needNormals=*/true); !st)
+        return makeError("", "RenderSettings::mesh: " + st.error().message);
     return okStatus();
 }
+// Their precondition on the image needs no check of its own: validateCamera
+// (run first) refuses any side the CPU rasteriser could not hold.
+static_assert(defaults::kMaxImageSizePx <= shared::kRasterMaxSidePx,
+              "the mesh path needs a check of the image size against shared::kRasterMaxSidePx");
 
 }  // namespace
 
@@ -224,7 +204,7 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
     if (auto st = checkFrameMemory(s.camera.width, s.camera.height); !st) return st;
     if (auto st = particles.validate(); !st) return st;
     if (s.mesh)
-        if (auto st = checkMesh(*s.mesh, s.camera.width, s.camera.height); !st) return st;
+        if (auto st = checkMesh(*s.mesh); !st) return st;
     // The backends read positions as one contiguous array: the caller's own
     // when the view is one, else gathered here (a strided view).
     std::span<const glm::vec3> positions;
