@@ -118,13 +118,10 @@ TEST(MeshFormat, ByExtensionInAnyCase) {
         auto f = meshFormatOf(name);
         ASSERT_TRUE(f.ok()) << name;
         EXPECT_EQ(*f, format) << name;
-        EXPECT_EQ(meshFormatForPath(name), format) << name;
     }
     for (const char* name : {"a.stl", "a", "a.ply.gz", ".obj", "dir.obj/a"}) {
         auto f = meshFormatOf(name);
         ASSERT_FALSE(f.ok()) << name;
         EXPECT_EQ(f.error().describe(), std::string(name) + ": output must end in .ply or .obj");
-        // The lenient form: PLY, the default.
-        EXPECT_EQ(meshFormatForPath(name), MeshFormat::Ply) << name;
     }
 }

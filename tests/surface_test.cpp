@@ -472,8 +472,8 @@ TEST(MeshWriter, PlyAndObjHoldTheMesh) {
     const TriangleMesh m = mustExtract(latticeBall(glm::vec3(0.0f), 3.0f * kR), paramsFor(SurfaceField::Sph));
     ASSERT_FALSE(m.empty());
     const auto dir = test::tempDir();
-    ASSERT_TRUE(writeMesh(dir / "m.ply", m, meshFormatForPath(dir / "m.ply")).ok());
-    ASSERT_TRUE(writeMesh(dir / "m.obj", m, meshFormatForPath(dir / "m.OBJ")).ok());
+    ASSERT_TRUE(writeMesh(dir / "m.ply", m, *meshFormatOf(dir / "m.ply")).ok());
+    ASSERT_TRUE(writeMesh(dir / "m.obj", m, *meshFormatOf(dir / "m.OBJ")).ok());
     // PLY: our own reader reads the vertices back exactly; the size is the
     // header plus 24 bytes a vertex and 13 a triangle.
     auto back = readParticles(dir / "m.ply");

@@ -112,8 +112,6 @@ enum class MeshFormat { Ply, Obj };
 // The format a mesh file's extension names, in any case: .ply or .obj; any
 // other extension, or none, is an error naming the file.
 Result<MeshFormat> meshFormatOf(const std::filesystem::path& path);
-// As meshFormatOf, with PLY (the default) for any other extension.
-MeshFormat meshFormatForPath(const std::filesystem::path& path);
 Status writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh, MeshFormat format);
 
 }  // namespace meniscus

@@ -86,11 +86,6 @@ Result<MeshFormat> meshFormatOf(const std::filesystem::path& path) {
     return makeError(path.string(), "output must end in .ply or .obj");
 }
 
-MeshFormat meshFormatForPath(const std::filesystem::path& path) {
-    const Result<MeshFormat> format = meshFormatOf(path);
-    return format ? *format : MeshFormat::Ply;
-}
-
 Status writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh, MeshFormat format) {
     if (auto st = mesh.validate(); !st) return makeError(path.string(), "cannot write the mesh: " + st.error().message);
     return writeWith(path, [&](std::FILE* fp) { return format == MeshFormat::Obj ? writeObj(fp, mesh) : writePly(fp, mesh); });
