@@ -104,20 +104,36 @@ void LookupCache::buildRow(int j) {
     const float y = colY_[std::size_t(j)];
     const std::span<const std::uint32_t> row(rowList_.data() + rowStart_[std::size_t(j)],
                                              rowStart_[std::size_t(j) + 1] - rowStart_[std::size_t(j)]);
-    auto forColumns = [&](std::uint32_t q, auto&& visit) {
+    // Each particle's columns: those with dx^2 + dy^2 < support^2, a
+    // contiguous run (the test is convex in i). The run from the half chord,
+    // then its ends moved by the exact test, so it is the same set as testing
+    // every column, for a few tests.
+    auto dxy2Of = [&](std::uint32_t q, int i, float dy2) {
+        const float dx = px_[q] - colX_[std::size_t(i)];
+        return dx * dx + dy2;
+    };
+    spans_.resize(row.size());
+    count_.assign(std::size_t(side_) + 2, 0);  // slot i + 1: column i; one spare at the end
+    for (std::size_t r = 0; r < row.size(); ++r) {
+        const std::uint32_t q = row[r];
         const float dy = py_[q] - y;
         const float dy2 = dy * dy;
-        const float x = px_[q];
-        const int i0 = std::max(0, int(ceilToLong((x - field_.support) * invC) - xOrigin_) - 1);
-        const int i1 = std::min(n, int(floorToLong((x + field_.support) * invC) - xOrigin_) + 1);
-        for (int i = i0; i <= i1; ++i) {
-            const float dx = x - colX_[std::size_t(i)];
-            const float dxy2 = dx * dx + dy2;
-            if (dxy2 < field_.support2) visit(std::size_t(i), dxy2);
+        const float w = std::sqrt(std::max(0.0f, field_.support2 - dy2));
+        int i0 = std::clamp(int(ceilToLong((px_[q] - w) * invC) - xOrigin_), 0, n);
+        int i1 = std::clamp(int(floorToLong((px_[q] + w) * invC) - xOrigin_), 0, n);
+        while (i0 > 0 && dxy2Of(q, i0 - 1, dy2) < field_.support2) --i0;
+        while (i0 <= i1 && !(dxy2Of(q, i0, dy2) < field_.support2)) ++i0;
+        while (i1 < n && dxy2Of(q, i1 + 1, dy2) < field_.support2) ++i1;
+        while (i1 >= i0 && !(dxy2Of(q, i1, dy2) < field_.support2)) --i1;
+        spans_[r] = {std::int16_t(i0), std::int16_t(i1)};
+        if (i0 <= i1) {
+            ++count_[std::size_t(i0) + 1];
+            --count_[std::size_t(i1) + 2];
         }
-    };
-    count_.assign(std::size_t(side_) + 1, 0);
-    for (std::uint32_t q : row) forColumns(q, [&](std::size_t i, float) { ++count_[i + 1]; });
+    }
+    // count_[i + 1] holds the change in run count at column i; two prefix
+    // sums give the per-column counts, then their starts.
+    for (int i = 0; i < side_; ++i) count_[std::size_t(i) + 1] += count_[std::size_t(i)];
     for (int i = 0; i < side_; ++i) count_[std::size_t(i) + 1] += count_[std::size_t(i)];
     // Rows are appended in the order they are built; start_/ends_ hold each
     // column's range wherever it landed.
@@ -130,19 +146,23 @@ void LookupCache::buildRow(int j) {
     }
     Entry* fill = entries_.data() + base;
     const float bucketScale = float(kBuckets) / field_.support2;
-    for (std::uint32_t q : row) {
+    for (std::size_t r = 0; r < row.size(); ++r) {
+        const std::uint32_t q = row[r];
         const float z = pz_[q];
         const std::int16_t mid = mid_[q];
-        forColumns(q, [&](std::size_t i, float dxy2) {
+        const float dy = py_[q] - y;
+        const float dy2 = dy * dy;
+        for (int i = spans_[r].first; i <= spans_[r].second; ++i) {
+            const float dxy2 = dxy2Of(q, i, dy2);
             const int h = reachOf_[std::size_t(std::min(int(dxy2 * bucketScale), kBuckets - 1))];
-            Entry& e = fill[count_[i]++];
+            Entry& e = fill[count_[std::size_t(i)]++];
             e.z = z;
             e.dxy2 = dxy2;
             e.minK = std::int16_t(mid - h);
             e.maxK = std::int16_t(mid + h);
             e.midK = mid;
             e.pad = 0;
-        });
+        }
     }
 }
 

@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -73,6 +74,7 @@ private:
     std::vector<std::uint32_t> start_, ends_;
     std::vector<Entry> entries_;
     std::vector<std::uint32_t> count_;
+    std::vector<std::pair<std::int16_t, std::int16_t>> spans_;  // a row's particles' column runs
     std::size_t entryBytes_ = 0;
     std::size_t rowsBuilt_ = 0;
 };

@@ -11,23 +11,6 @@
 
 namespace meniscus::surface {
 
-// acos on [-1, 1] after Abramowitz & Stegun 4.4.46 (|error| <= 2e-8 rad
-// before float rounding): plain arithmetic, several times faster than libm's
-// acosf, and a weight needs no more.
-float fastAcos(float x) {
-    const float a = std::abs(x);
-    float p = -0.0012624911f;
-    p = p * a + 0.0066700901f;
-    p = p * a - 0.0170881256f;
-    p = p * a + 0.0308918810f;
-    p = p * a - 0.0501743046f;
-    p = p * a + 0.0889789874f;
-    p = p * a - 0.2145988016f;
-    p = p * a + 1.5707963050f;
-    const float r = std::sqrt(1.0f - a) * p;
-    return x < 0.0f ? 3.14159265358979f - r : r;
-}
-
 namespace {
 // The angle between vectors a and b.
 float angleBetween(const glm::vec3& a, const glm::vec3& b) {
