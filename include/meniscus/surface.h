@@ -26,10 +26,10 @@ struct MeshStats {
     std::size_t blocks = 0;            // blocks holding particles
     std::size_t blocksWithSurface = 0;
     std::size_t rounds = 0;            // block passes (a surface crossing a block seam hands seeds on)
-    std::size_t blocksRerun = 0;       // block runs after the first round
+    std::size_t blocksRerun = 0;       // block runs after the first round (resumed with handed-on cubes)
     std::size_t seedWalks = 0;         // walks from particles toward the outside
     std::size_t cubesVisited = 0;      // surface cubes polygonised
-    std::size_t cacheEntries = 0;      // lookup-cache entries filled (each block's last run)
+    std::size_t cacheEntries = 0;      // lookup-cache entries filled (all runs)
     std::size_t cacheRows = 0;         // lookup-cache rows filled
     std::size_t cornersEvaluated = 0;  // field evaluations (corners recomputed after a slice was freed count again)
     std::size_t peakBlockBytes = 0;    // largest working memory of one block (slices, lookup cache, vertex map)

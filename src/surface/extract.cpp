@@ -163,7 +163,7 @@ Result<TriangleMesh> extract(const ParticleView& particles, const MeshParams& p,
     stats.msBlocks = msSince(t0);
 
     // Rounds: every block with its own seeds; then the blocks that were handed
-    // a surface cube they did not reach run again with it, until none is.
+    // a surface cube they had not reached resume with it, until none is.
     const auto t1 = Clock::now();
     std::vector<surface::BlockOutput> outputs(blocks.size());
     std::vector<std::vector<glm::ivec3>> seeds(blocks.size());
@@ -178,8 +178,11 @@ Result<TriangleMesh> extract(const ParticleView& particles, const MeshParams& p,
         if (stats.rounds > 1) stats.blocksRerun += todo.size();
         tbb::parallel_for(std::size_t(0), todo.size(), [&](std::size_t k) {
             const std::size_t b = todo[k];
-            marchers.local().run(blocks[b], seeds[b], p.exhaustive, outputs[b]);
+            using Mode = surface::BlockMarcher::RunMode;
+            const Mode mode = stats.rounds > 1 ? Mode::Resume : p.exhaustive ? Mode::Exhaustive : Mode::Particles;
+            marchers.local().run(blocks[b], seeds[b], mode, outputs[b]);
         }, tbb::simple_partitioner());
+        for (std::size_t b : todo) seeds[b].clear();
         std::vector<std::uint8_t> again(blocks.size(), 0);
         for (std::size_t b : todo)
             for (const glm::ivec3& cube : outputs[b].handoff) {

@@ -164,19 +164,24 @@ void BlockMarcher::polygonise(int i, int j, int k) {
     if (faces & 32) addCube(i, j, k + 1);
 }
 
-void BlockMarcher::run(const Block& block, std::span<const glm::ivec3> extraSeeds, bool exhaustive, BlockOutput& out) {
-    out = BlockOutput{};
+void BlockMarcher::run(const Block& block, std::span<const glm::ivec3> extraSeeds, RunMode mode, BlockOutput& out) {
+    if (mode == RunMode::Resume) {
+        out.handoff.clear();  // the caller has taken the last run's
+    } else {
+        out = BlockOutput{};
+        const std::size_t cubes = std::size_t(n_) * std::size_t(n_) * std::size_t(n_);
+        out.visited.assign((cubes + 63) / 64, 0);
+    }
     out_ = &out;
+    const std::size_t firstIndex = out.triangles.size();
     corner0_ = block.coord * n_;
-    const std::size_t cubes = std::size_t(n_) * std::size_t(n_) * std::size_t(n_);
-    out.visited.assign((cubes + 63) / 64, 0);
     firstHeld_ = n_ + 1;
     lowest_ = 0;
     for (std::size_t k = 0; k < sliceZ_.size(); ++k) sliceZ_[k] = grid_.corner(0, 0, corner0_.z + int(k)).z;
     cache_.build(grid_, field_, corner0_, positions_, block.particles);
     trackBytes();
 
-    if (exhaustive) {
+    if (mode == RunMode::Exhaustive) {
         // Validation mode: every cube with corners on both sides is a seed.
         for (int k = 0; k < n_; ++k) {
             for (int j = 0; j < n_; ++j)
@@ -188,7 +193,7 @@ void BlockMarcher::run(const Block& block, std::span<const glm::ivec3> extraSeed
                 }
             freeSlicesBelow(k);
         }
-    } else {
+    } else if (mode == RunMode::Particles) {
         seedFromParticles(block);
     }
     for (const glm::ivec3& g : extraSeeds) addCube(g.x - corner0_.x, g.y - corner0_.y, g.z - corner0_.z);
@@ -213,8 +218,8 @@ void BlockMarcher::run(const Block& block, std::span<const glm::ivec3> extraSeed
         polygonise(i, j, k);
     }
     trackBytes();
-    out.cacheEntries = cache_.entries();
-    out.cacheRows = cache_.rowsBuilt();
+    out.cacheEntries += cache_.entries();
+    out.cacheRows += cache_.rowsBuilt();
     // Reset the per-block state for the next block.
     freeSlicesBelow(n_ + 1);
     firstHeld_ = n_ + 1;
@@ -224,7 +229,7 @@ void BlockMarcher::run(const Block& block, std::span<const glm::ivec3> extraSeed
         return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
     });
     out.handoff.erase(std::unique(out.handoff.begin(), out.handoff.end()), out.handoff.end());
-    blockNormalSums(out);
+    blockNormalSums(out, firstIndex);
     trackBytes();
     out_ = nullptr;
 }

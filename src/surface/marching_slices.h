@@ -50,11 +50,18 @@ class BlockMarcher {
 public:
     BlockMarcher(const Grid& grid, const Field& field, float radiusM, std::span<const glm::vec3> positions);
 
-    // Extracts the surface of `block`: seeds from its particles' walks, plus
+    enum class RunMode {
+        Particles,   // seeds from the block's particles' walks
+        Exhaustive,  // validation: every cube with corners on both sides is a seed
+        Resume,      // only extraSeeds, adding to `out` from an earlier run of this block
+    };
+    // Extracts the surface of `block` from the seeds of `mode` plus
     // `extraSeeds` (global cube coordinates inside the block, handed on by
-    // neighbours; sorted), or, when `exhaustive`, from every cube. The output
-    // depends only on the block and the seeds.
-    void run(const Block& block, std::span<const glm::ivec3> extraSeeds, bool exhaustive, BlockOutput& out);
+    // neighbours; sorted). A resumed run skips the cubes `out` has visited and
+    // appends the pieces it finds (a new piece shares no grid edge with an
+    // old one: the cubes around a crossed edge are all on one piece). The
+    // output depends only on the block and the seeds of each run.
+    void run(const Block& block, std::span<const glm::ivec3> extraSeeds, RunMode mode, BlockOutput& out);
 
 private:
     // seeds.cpp: the walks from the block's own particles toward the outside.

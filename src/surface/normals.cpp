@@ -19,11 +19,11 @@ float angleBetween(const glm::vec3& a, const glm::vec3& b) {
 }
 }  // namespace
 
-void blockNormalSums(BlockOutput& block) {
-    block.normalSums.assign(block.vertices.size(), glm::vec3(0.0f));
+void blockNormalSums(BlockOutput& block, std::size_t firstIndex) {
+    block.normalSums.resize(block.vertices.size(), glm::vec3(0.0f));
     const std::vector<glm::vec3>& p = block.vertices;
     const std::vector<std::uint32_t>& idx = block.triangles;
-    for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
+    for (std::size_t t = firstIndex; t + 2 < idx.size(); t += 3) {
         const glm::vec3 a = p[idx[t]], b = p[idx[t + 1]], c = p[idx[t + 2]];
         const glm::vec3 cr = glm::cross(b - a, c - a);
         const float len = glm::length(cr);

@@ -15,8 +15,10 @@ namespace meniscus::surface {
 
 // Per block, after its walk: every vertex's sum of its incident triangles'
 // unit normals, each weighted by the triangle's angle at the vertex (thesis
-// §4.2.5; Thürmer & Wüthrich 1998), in triangle order, into block.normalSums.
-void blockNormalSums(BlockOutput& block);
+// §4.2.5; Thürmer & Wüthrich 1998), in triangle order, into block.normalSums;
+// from index firstIndex of block.triangles on (a resumed run's new ones: a new
+// piece shares no vertex with an old one, so the sums are as if from 0).
+void blockNormalSums(BlockOutput& block, std::size_t firstIndex);
 
 // acos on [-1, 1] after Abramowitz & Stegun 4.4.46 (|error| <= 2e-8 rad
 // before float rounding): plain arithmetic, several times faster than libm's
