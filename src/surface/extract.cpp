@@ -111,9 +111,9 @@ Result<Prepared> subdivide(std::span<const glm::vec3> pos, const surface::Field&
     for (std::size_t i = 0; i < pos.size(); ++i) {
         const glm::vec3 q = pos[i];
         if (!(std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z))) continue;
-        const glm::ivec3 a = glm::clamp((glm::ivec3(glm::floor((q - margin) / g.cube)) - g.origin) / g.n, glm::ivec3(0),
+        const glm::ivec3 a = glm::clamp((surface::floorToInt((q - margin) / g.cube) - g.origin) / g.n, glm::ivec3(0),
                                         g.blocks - 1);
-        const glm::ivec3 b = glm::clamp((glm::ivec3(glm::floor((q + margin) / g.cube)) - g.origin) / g.n, glm::ivec3(0),
+        const glm::ivec3 b = glm::clamp((surface::floorToInt((q + margin) / g.cube) - g.origin) / g.n, glm::ivec3(0),
                                         g.blocks - 1);
         for (int z = a.z; z <= b.z; ++z)
             for (int y = a.y; y <= b.y; ++y)

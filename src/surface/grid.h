@@ -12,6 +12,21 @@
 
 namespace meniscus::surface {
 
+// floor and ceil to an integer by truncation: the same values as std::floor /
+// std::ceil for |x| < 2^31, without the slow emulation baseline x86-64 (no
+// SSE4.1 roundss) compiles those into.
+inline long floorToLong(float x) {
+    const long i = long(x);
+    return i - (x < float(i));
+}
+inline long ceilToLong(float x) {
+    const long i = long(x);
+    return i + (x > float(i));
+}
+inline glm::ivec3 floorToInt(const glm::vec3& v) {
+    return glm::ivec3(int(floorToLong(v.x)), int(floorToLong(v.y)), int(floorToLong(v.z)));
+}
+
 struct Grid {
     float cube = 0.0f;        // cube edge c, metres
     glm::ivec3 origin{0};     // world index (in cubes) of grid corner (0,0,0)

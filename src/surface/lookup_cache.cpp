@@ -12,17 +12,6 @@ namespace meniscus::surface {
 namespace {
 std::int16_t clamp16(long v, long lo, long hi) { return std::int16_t(std::clamp(v, lo, hi)); }
 constexpr int kBuckets = 256;
-// floor and ceil to an integer by truncation: the same values as std::floor /
-// std::ceil for |x| < 2^31, without the slow emulation baseline x86-64 (no
-// SSE4.1 roundss) compiles those into.
-long floorToLong(float x) {
-    const long i = long(x);
-    return i - (x < float(i));
-}
-long ceilToLong(float x) {
-    const long i = long(x);
-    return i + (x > float(i));
-}
 }  // namespace
 
 void LookupCache::build(const Grid& grid, const Field& field, glm::ivec3 corner0, std::span<const glm::vec3> positions,

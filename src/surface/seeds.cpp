@@ -39,7 +39,7 @@ void BlockMarcher::seedFromParticles(const Block& block) {
     const glm::ivec3 dims = glm::ivec3(glm::floor(hi / cell)) + 2 - c0;
     const std::size_t cells = std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z);
     auto cellOf = [&](const glm::vec3& p) {
-        return glm::clamp(glm::ivec3(glm::floor(p / cell)) - c0, glm::ivec3(0), dims - 1);
+        return glm::clamp(floorToInt(p / cell) - c0, glm::ivec3(0), dims - 1);
     };
     auto cellIndex = [&](glm::ivec3 q) {
         return (std::size_t(q.z) * std::size_t(dims.y) + std::size_t(q.y)) * std::size_t(dims.x) + std::size_t(q.x);
@@ -55,7 +55,7 @@ void BlockMarcher::seedFromParticles(const Block& block) {
     std::vector<std::int32_t> walker(cells * 6, kNone);
     for (std::uint32_t id : block.particles) {
         const glm::vec3 p = positions_[id];
-        const glm::ivec3 g = glm::ivec3(glm::floor(p / c)) - grid_.origin - corner0_;  // its cube, block-local
+        const glm::ivec3 g = floorToInt(p / c) - grid_.origin - corner0_;  // its cube, block-local
         int outsideAxis = -1, outsideCount = 0, intoBlock = 0;
         for (int a = 0; a < 3; ++a)
             if (g[a] < 0 || g[a] >= n_) {
@@ -87,7 +87,7 @@ void BlockMarcher::seedFromParticles(const Block& block) {
         // The nearest grid corner, clamped into the block: a particle of the
         // margin walks on the block's face, where a surface that reaches into
         // this block from a neighbour's particles crosses.
-        const glm::ivec3 start = glm::clamp(glm::ivec3(glm::floor(p / c + 0.5f)) - grid_.origin - corner0_,
+        const glm::ivec3 start = glm::clamp(floorToInt(p / c + 0.5f) - grid_.origin - corner0_,
                                             glm::ivec3(0), glm::ivec3(n_));
         const float f0 = corner(start.x, start.y, start.z);
         const bool in0 = f0 >= field_.isoRaw;
