@@ -15,6 +15,7 @@
 #include <unordered_map>
 
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -238,7 +239,11 @@ Result<TriangleMesh> extractSurface(const ParticleView& particles, const MeshPar
         MeshStats local;
         MeshStats& s = stats ? *stats : local;
         s = MeshStats{};
-        const int threads = params.threads > 0 ? params.threads : tbb::info::default_concurrency();
+        // All cores, or fewer where the caller limits oneTBB (global_control).
+        const int available = int(std::min<std::size_t>(
+            std::size_t(tbb::info::default_concurrency()),
+            tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+        const int threads = params.threads > 0 ? params.threads : available;
         s.threads = threads;
         tbb::task_arena arena(threads);
         Result<TriangleMesh> out = makeError("", "");
