@@ -194,12 +194,38 @@ void BlockMarcher::run(const Block& block, std::span<const glm::ivec3> extraSeed
             freeSlicesBelow(k);
         }
     } else if (mode == RunMode::Particles) {
-        seedFromParticles(block);
+        // Vertical walks first; the sideways walks then only where the march
+        // from those has not been.
+        findWalkers(block);
+        walk(true);
     }
     for (const glm::ivec3& g : extraSeeds) addCube(g.x - corner0_.x, g.y - corner0_.y, g.z - corner0_.z);
+    march();
+    if (mode == RunMode::Particles) {
+        walk(false);
+        march();
+    }
+    trackBytes();
+    out.cacheEntries += cache_.entries();
+    out.cacheRows += cache_.rowsBuilt();
+    // Reset the per-block state for the next block.
+    freeSlicesBelow(n_ + 1);
+    firstHeld_ = n_ + 1;
+    for (auto* edges : {&xEdges_, &yEdges_, &zEdges_})
+        for (auto& e : *edges) e.clear();
+    std::sort(out.handoff.begin(), out.handoff.end(), [](const glm::ivec3& a, const glm::ivec3& b) {
+        return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
+    });
+    out.handoff.erase(std::unique(out.handoff.begin(), out.handoff.end()), out.handoff.end());
+    blockNormalSums(out, firstIndex);
+    trackBytes();
+    out_ = nullptr;
+}
 
-    // Marching slices: always the lowest slab with work left (a neighbour
-    // queued below sends the walk back down).
+// Marching slices: always the lowest slab with work left (a neighbour queued
+// below sends the walk back down).
+void BlockMarcher::march() {
+    BlockOutput& out = *out_;
     lowest_ = 0;
     while (lowest_ < n_) {
         const int k = lowest_;
@@ -217,21 +243,6 @@ void BlockMarcher::run(const Block& block, std::span<const glm::ivec3> extraSeed
         out.visited[b >> 6] |= std::uint64_t(1) << (b & 63);
         polygonise(i, j, k);
     }
-    trackBytes();
-    out.cacheEntries += cache_.entries();
-    out.cacheRows += cache_.rowsBuilt();
-    // Reset the per-block state for the next block.
-    freeSlicesBelow(n_ + 1);
-    firstHeld_ = n_ + 1;
-    for (auto* edges : {&xEdges_, &yEdges_, &zEdges_})
-        for (auto& e : *edges) e.clear();
-    std::sort(out.handoff.begin(), out.handoff.end(), [](const glm::ivec3& a, const glm::ivec3& b) {
-        return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
-    });
-    out.handoff.erase(std::unique(out.handoff.begin(), out.handoff.end()), out.handoff.end());
-    blockNormalSums(out, firstIndex);
-    trackBytes();
-    out_ = nullptr;
 }
 
 }  // namespace meniscus::surface

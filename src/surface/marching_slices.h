@@ -64,8 +64,14 @@ public:
     void run(const Block& block, std::span<const glm::ivec3> extraSeeds, RunMode mode, BlockOutput& out);
 
 private:
-    // seeds.cpp: the walks from the block's own particles toward the outside.
-    void seedFromParticles(const Block& block);
+    // seeds.cpp: the walks from the block's own particles toward the outside:
+    // who walks where, then the vertical walks (one column pass covers four
+    // steps) or the sideways ones, those skipped whose path meets a cube the
+    // march has taken.
+    void findWalkers(const Block& block);
+    void walk(bool vertical);
+    bool visitedAround(glm::ivec3 lower, int axis) const;
+    void march();
     void seedEdge(glm::ivec3 lower, int axis);  // the four cubes around a crossed grid edge
 
     void addCube(int i, int j, int k);  // queue a cube (local; outside the block: hand it on)
@@ -93,6 +99,12 @@ private:
     // Vertex indices on the grid edges: x and y edges per slice, z edges per slab.
     std::vector<std::vector<std::int32_t>> xEdges_, yEdges_, zEdges_;
     std::vector<std::vector<std::uint32_t>> todo_;  // per slab: packed (i, j) still to visit
+    struct Walk {
+        std::uint32_t particle;
+        std::uint8_t direction;  // 2 * axis + (1: toward +)
+    };
+    std::vector<std::int32_t> walker_;  // per (2r cell, direction): the walking particle, or -1
+    std::vector<Walk> walks_;
     BlockOutput* out_ = nullptr;
 };
 
