@@ -12,11 +12,8 @@
 namespace meniscus::surface {
 
 namespace {
-// The angle between vectors a and b.
-float angleBetween(const glm::vec3& a, const glm::vec3& b) {
-    const float d = glm::dot(a, b) / std::sqrt(glm::dot(a, a) * glm::dot(b, b));
-    return fastAcos(std::clamp(d, -1.0f, 1.0f));
-}
+// The angle between vectors u and v from their dot product and squared lengths.
+float angleOf(float dot, float uu, float vv) { return fastAcos(std::clamp(dot / std::sqrt(uu * vv), -1.0f, 1.0f)); }
 }  // namespace
 
 void blockNormalSums(BlockOutput& block, std::size_t firstIndex) {
@@ -25,13 +22,17 @@ void blockNormalSums(BlockOutput& block, std::size_t firstIndex) {
     const std::vector<std::uint32_t>& idx = block.triangles;
     for (std::size_t t = firstIndex; t + 2 < idx.size(); t += 3) {
         const glm::vec3 a = p[idx[t]], b = p[idx[t + 1]], c = p[idx[t + 2]];
-        const glm::vec3 cr = glm::cross(b - a, c - a);
+        // The edges and their squared lengths once (c - a is -e2 exactly, so
+        // the angles are those of the edge vectors at each corner).
+        const glm::vec3 e0 = b - a, e1 = c - b, e2 = a - c;
+        const float l0 = glm::dot(e0, e0), l1 = glm::dot(e1, e1), l2 = glm::dot(e2, e2);
+        const glm::vec3 cr = glm::cross(e0, -e2);
         const float len = glm::length(cr);
         if (!(len > 0.0f)) continue;
         const glm::vec3 n = cr / len;
-        block.normalSums[idx[t]] += n * angleBetween(b - a, c - a);
-        block.normalSums[idx[t + 1]] += n * angleBetween(c - b, a - b);
-        block.normalSums[idx[t + 2]] += n * angleBetween(a - c, b - c);
+        block.normalSums[idx[t]] += n * angleOf(glm::dot(e0, -e2), l0, l2);
+        block.normalSums[idx[t + 1]] += n * angleOf(glm::dot(e1, -e0), l1, l0);
+        block.normalSums[idx[t + 2]] += n * angleOf(glm::dot(e2, -e1), l2, l1);
     }
 }
 
