@@ -15,21 +15,29 @@
 // across the seam (extract.cpp), so a block's seeds need only start every
 // piece somewhere.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "surface/marching_slices.h"
 
 namespace meniscus::surface {
 
-void BlockMarcher::seedEdge(glm::ivec3 lower, int axis) {
+namespace {
+// The four cubes around the grid edge from corner `lower` along `axis`.
+std::array<glm::ivec3, 4> cubesAroundEdge(glm::ivec3 lower, int axis) {
     const int b = (axis + 1) % 3, c = (axis + 2) % 3;
-    for (int db = 0; db < 2; ++db)
-        for (int dc = 0; dc < 2; ++dc) {
-            glm::ivec3 cube = lower;
-            cube[b] -= db;
-            cube[c] -= dc;
-            addCube(cube.x, cube.y, cube.z);
-        }
+    std::array<glm::ivec3, 4> cubes;
+    for (int q = 0; q < 4; ++q) {
+        cubes[std::size_t(q)] = lower;
+        cubes[std::size_t(q)][b] -= q >> 1;
+        cubes[std::size_t(q)][c] -= q & 1;
+    }
+    return cubes;
+}
+}  // namespace
+
+void BlockMarcher::seedEdge(glm::ivec3 lower, int axis) {
+    for (const glm::ivec3& cube : cubesAroundEdge(lower, axis)) addCube(cube.x, cube.y, cube.z);
 }
 
 void BlockMarcher::findWalkers(const Block& block) {
@@ -102,16 +110,10 @@ void BlockMarcher::findWalkers(const Block& block) {
 
 // Any of the four cubes around the grid edge from `lower` along `axis` visited?
 bool BlockMarcher::visitedAround(glm::ivec3 lower, int axis) const {
-    const int b = (axis + 1) % 3, c = (axis + 2) % 3;
-    for (int db = 0; db < 2; ++db)
-        for (int dc = 0; dc < 2; ++dc) {
-            glm::ivec3 cube = lower;
-            cube[b] -= db;
-            cube[c] -= dc;
-            if (cube.x >= 0 && cube.y >= 0 && cube.z >= 0 && cube.x < n_ && cube.y < n_ && cube.z < n_ &&
-                out_->wasVisited(cube.x, cube.y, cube.z, n_))
-                return true;
-        }
+    for (const glm::ivec3& cube : cubesAroundEdge(lower, axis))
+        if (cube.x >= 0 && cube.y >= 0 && cube.z >= 0 && cube.x < n_ && cube.y < n_ && cube.z < n_ &&
+            out_->wasVisited(cube.x, cube.y, cube.z, n_))
+            return true;
     return false;
 }
 
