@@ -7,13 +7,17 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <map>
+#include <random>
 #include <set>
 #include <tuple>
 #include <unordered_map>
 
 #include "meniscus/io.h"
 #include "meniscus/surface.h"
+#include "surface/grid.h"
+#include "surface/lookup_cache.h"
 #include "surface/mc_table.h"
 #include "surface/weld.h"
 #include "test_util.h"
@@ -352,6 +356,64 @@ INSTANTIATE_TEST_SUITE_P(DamBreak, RealFrames,
                              const auto digits = file.find_last_of('_') + 1;
                              return name + file.substr(digits, file.find('.', digits) - digits);
                          });
+
+// ---- the lookup cache
+
+// One block's corner passes, for both fields: the SSE lanes equal the scalar
+// twin bit for bit, and both equal the direct sum of the kernel over every
+// particle (jittered lattice at 2r spacing around and inside the block).
+TEST(LookupCache, CornerPassIsTheFieldSum) {
+    for (SurfaceField kind : {SurfaceField::Sph, SurfaceField::Thesis}) {
+        const MeshParams p = paramsFor(kind);
+        const surface::Field field = surface::makeField(p);
+        surface::Grid grid;
+        grid.cube = p.cubeSizeRadii * p.radiusM;
+        grid.n = 8;
+        grid.origin = glm::ivec3(-21, 13, -7);  // corners away from 0: coordinates of both signs
+        grid.cubes = glm::ivec3(48);
+        grid.blocks = grid.cubes / grid.n;
+        const glm::ivec3 corner0(16, 16, 16);  // block (2, 2, 2)
+        const glm::vec3 lo = grid.corner(corner0.x, corner0.y, corner0.z) - field.support;
+        const glm::vec3 hi = grid.corner(corner0.x + 8, corner0.y + 8, corner0.z + 8) + field.support;
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<float> jitter(-0.4f * kR, 0.4f * kR);
+        std::vector<glm::vec3> pos;
+        for (float z = lo.z; z < hi.z; z += 2 * kR)
+            for (float y = lo.y; y < hi.y; y += 2 * kR)
+                for (float x = lo.x; x < hi.x; x += 2 * kR) pos.push_back(glm::vec3(x, y, z) + jitter(rng));
+        std::vector<std::uint32_t> ids(pos.size());
+        for (std::size_t q = 0; q < ids.size(); ++q) ids[q] = std::uint32_t(q);
+        std::sort(ids.begin(), ids.end(), [&](std::uint32_t a, std::uint32_t b) {
+            return pos[a].z < pos[b].z || (pos[a].z == pos[b].z && a < b);
+        });
+        surface::LookupCache cache;
+        cache.build(grid, field, corner0, pos, ids);
+        double worst = 0.0;
+        int differ = 0;
+        for (int j = 0; j <= 8; ++j)
+            for (int i = 0; i <= 8; ++i)
+                for (int k = 0; k + surface::LookupCache::kLanes - 1 <= 8; ++k) {
+                    float zs[surface::LookupCache::kLanes], simd[surface::LookupCache::kLanes],
+                        scalar[surface::LookupCache::kLanes];
+                    for (int q = 0; q < surface::LookupCache::kLanes; ++q)
+                        zs[q] = grid.corner(0, 0, corner0.z + k + q).z;
+                    cache.values(i, j, k, zs, simd);
+                    cache.valuesScalar(i, j, k, zs, scalar);
+                    differ += std::memcmp(simd, scalar, sizeof simd) != 0;
+                    for (int q = 0; q < surface::LookupCache::kLanes; ++q) {
+                        const glm::vec3 at = grid.corner(corner0.x + i, corner0.y + j, corner0.z + k + q);
+                        double direct = 0.0;
+                        for (const glm::vec3& x : pos) {
+                            const glm::vec3 d = x - at;
+                            direct += double(field.kernel(glm::dot(d, d)));
+                        }
+                        worst = std::max(worst, std::abs(double(simd[q]) - direct) / field.rest);
+                    }
+                }
+        EXPECT_EQ(differ, 0) << surfaceFieldName(kind);
+        EXPECT_LT(worst, 1e-5) << surfaceFieldName(kind);  // float sums of about 40 terms near 1
+    }
+}
 
 // The normals' angle weight (a polynomial acos) against std::acos in double
 // over the whole range: within float rounding of the angle.

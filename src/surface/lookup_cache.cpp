@@ -174,7 +174,7 @@ const E* boundOf(const E* first, const E* last, int k) {
 }
 }  // namespace
 
-void LookupCache::values(int i, int j, int k, const float* zs, float* out) {
+std::span<const LookupCache::Entry> LookupCache::window(int i, int j, int k) {
     if (!built_[std::size_t(j)]) buildRow(j);
     const std::size_t c = std::size_t(j) * std::size_t(side_) + std::size_t(i);
     const Entry* first = entries_.data() + start_[c];
@@ -183,8 +183,28 @@ void LookupCache::values(int i, int j, int k, const float* zs, float* out) {
     // non-decreasing): midK in [k - reach, k + kLanes - 1 + reach].
     const Entry* from = boundOf(first, last, k - reach_);
     const Entry* to = boundOf(from, last, k + kLanes + reach_);
+    return {from, std::size_t(to - from)};
+}
+
+void LookupCache::valuesScalar(int i, int j, int k, const float* zs, float* out) {
     const bool sph = field_.kind == SurfaceField::Sph;
+    float sum[kLanes] = {};
+    for (const Entry& e : window(i, j, k))
+        for (int q = 0; q < kLanes; ++q) {
+            const float dz = e.z - zs[q];
+            const float d2 = e.dxy2 + dz * dz;
+            const float v = sph ? field_.sphKernel(d2) : field_.thesisKernel(d2);
+            sum[q] += (e.minK <= k + q && k + q <= e.maxK) ? v : 0.0f;
+        }
+    for (int q = 0; q < kLanes; ++q) out[q] = sum[q];
+}
+
+void LookupCache::values(int i, int j, int k, const float* zs, float* out) {
 #if defined(__SSE2__)
+    const std::span<const Entry> entries = window(i, j, k);
+    const Entry* from = entries.data();
+    const Entry* to = from + entries.size();
+    const bool sph = field_.kind == SurfaceField::Sph;
     // The kernels of field.h, lane q = corner k + q, the same operations in
     // the same order (SSE arithmetic is IEEE single like the scalar code).
     const __m128 z4 = _mm_loadu_ps(zs);
@@ -216,15 +236,7 @@ void LookupCache::values(int i, int j, int k, const float* zs, float* out) {
     }
     _mm_storeu_ps(out, sum);
 #else
-    float sum[kLanes] = {};
-    for (const Entry* e = from; e != to; ++e)
-        for (int q = 0; q < kLanes; ++q) {
-            const float dz = e->z - zs[q];
-            const float d2 = e->dxy2 + dz * dz;
-            const float v = sph ? field_.sphKernel(d2) : field_.thesisKernel(d2);
-            sum[q] += (e->minK <= k + q && k + q <= e->maxK) ? v : 0.0f;
-        }
-    for (int q = 0; q < kLanes; ++q) out[q] = sum[q];
+    valuesScalar(i, j, k, zs, out);
 #endif
 }
 

@@ -43,6 +43,9 @@ public:
     // on the particles that reach it -- the same in every block, whatever
     // window the pass started from.
     void values(int i, int j, int k, const float* zs, float* out);
+    // The same sums without SIMD: the reference the SSE path is tested
+    // against bit for bit, and the path where SSE2 is missing.
+    void valuesScalar(int i, int j, int k, const float* zs, float* out);
 
     std::size_t bytes() const { return entryBytes_; }
     std::size_t entries() const { return entryBytes_ / sizeof(Entry); }
@@ -55,6 +58,7 @@ private:
         std::int16_t minK, maxK, midK, pad;
     };
     void buildRow(int j);
+    std::span<const Entry> window(int i, int j, int k);  // column (i, j)'s entries for slices k .. k + kLanes - 1
 
     Field field_;
     const Grid* grid_ = nullptr;
