@@ -1,8 +1,8 @@
 // The isosurface path's order (SPEC §4, thesis §4.2): grid and blocks, the
 // blocks in parallel (rounds while a surface crossing a seam hands seeds on;
 // each block sums its vertex normals), the weld into one indexed mesh with
-// normals. The one public entry
-// point, extractSurface (include/meniscus/surface.h).
+// normals. The one public entry point, extractSurface
+// (include/meniscus/surface.h).
 #include "meniscus/surface.h"
 
 #include <algorithm>

@@ -155,34 +155,15 @@ void LookupCache::buildRow(int j) {
     }
 }
 
-namespace {
-// First entry in [first, last) with midK >= k: a binary search without
-// branches on the data (a column's searches are unpredictable).
-template <class E>
-const E* boundOf(const E* first, const E* last, int k) {
-    std::size_t count = std::size_t(last - first);
-    while (count > 0) {
-        const std::size_t half = count / 2;
-        if (first[half].midK < k) {
-            first += half + 1;
-            count -= half + 1;
-        } else {
-            count = half;
-        }
-    }
-    return first;
-}
-}  // namespace
-
 std::span<const LookupCache::Entry> LookupCache::window(int i, int j, int k) {
     if (!built_[std::size_t(j)]) buildRow(j);
     const std::size_t c = std::size_t(j) * std::size_t(side_) + std::size_t(i);
     const Entry* first = entries_.data() + start_[c];
     const Entry* last = entries_.data() + ends_[c];
     // The entries whose centre slab can reach one of the slices (midK is
-    // non-decreasing): midK in [k - reach, k + kLanes - 1 + reach].
-    const Entry* from = boundOf(first, last, k - reach_);
-    const Entry* to = boundOf(from, last, k + kLanes + reach_);
+    // non-decreasing, so binary searches): midK in [k - reach, k + kLanes - 1 + reach].
+    const Entry* from = std::partition_point(first, last, [&](const Entry& e) { return e.midK < k - reach_; });
+    const Entry* to = std::partition_point(from, last, [&](const Entry& e) { return e.midK < k + kLanes + reach_; });
     return {from, std::size_t(to - from)};
 }
 
