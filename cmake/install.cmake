@@ -7,7 +7,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(MENISCUS_INSTALL_TARGETS meniscus meniscus_core meniscus_io meniscus_surface meniscus_cpu)
+set(MENISCUS_INSTALL_TARGETS meniscus meniscus_core meniscus_io meniscus_surface meniscus_sim meniscus_cpu)
 if(MENISCUS_HAVE_GL)
   list(APPEND MENISCUS_INSTALL_TARGETS meniscus_gl)
 endif()

@@ -73,6 +73,22 @@ inline constexpr float kSurfaceIso = 0.5f;        // fraction of the rest value 
 inline constexpr float kThesisSupportRadii = 2.5f;  // Rc of the thesis field, particle radii
 inline constexpr float kSphSupportRadii = 4.0f;     // h of the cubic spline, particle radii (refsurf's)
 inline constexpr int kBlockCubes = 32;            // a block is n x n x n cubes
+
+// The simulator (include/meniscus/sim.h). Tolerances and CFL factor are
+// SPlisHSPlasH 2.16's defaults, so the bench compares like with like.
+inline constexpr float kSimRadiusM = 0.025f;           // particle radius, metres (SPlisHSPlasH's default)
+inline constexpr float kSimRestDensity = 1000.0f;      // kg/m^3, water
+inline constexpr float kSimGravity = 9.81f;            // m/s^2, along -y
+inline constexpr float kSimXsphViscosity = 0.01f;      // XSPH factor (SPlisHSPlasH's default viscosity)
+inline constexpr float kSimSphStiffness = 1000.0f;     // Muller SPH: k, m^2/s^2 (speed of sound^2)
+inline constexpr float kSimCfl = 1.0f;                 // CFL factor
+inline constexpr float kSimMinDtS = 1e-5f;             // s
+inline constexpr float kSimMaxDtS = 0.005f;            // s
+inline constexpr float kSimDensityTolerance = 0.0005f; // 0.05 % of rho0, mean
+inline constexpr float kSimDivergenceTolerance = 0.001f; // 0.1 % of rho0 per second, mean
+inline constexpr int kSimMaxIterations = 100;          // per DFSPH solver per step
+inline constexpr int kSimResortEvery = 50;             // steps between z-order re-sorts
+inline constexpr double kSimFps = 25.0;                // frames per simulated second written
 }  // namespace defaults
 
 // ---- Smoothing filters (SPEC §3.5) -------------------------------------------

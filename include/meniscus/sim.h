@@ -1,0 +1,171 @@
+// The built-in SPH simulator (SPEC §5; thesis ch. 2-3; Instant Liquids §4):
+// liquid from a scene description alone. One file per method under src/sim/,
+// named after its paper; no rendering code. Units: SI throughout (metres,
+// seconds, kilograms, kg/m^3, m/s, m/s^2, Pa).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "meniscus/params.h"
+#include "meniscus/result.h"
+#include "meniscus/types.h"
+
+namespace meniscus::sim {
+
+enum class Solver {
+    Dfsph,      // Bender & Koschier 2015: divergence-free + constant-density solvers (default)
+    Sph,        // Muller, Charypar & Gross 2003: state equation k(rho - rho0), poly6/spiky/viscosity
+    Ballistic,  // Instant Liquids §4: mass points under gravity, colliders only, no pressure solve
+};
+bool solverFromName(const std::string& name, Solver* out);  // "dfsph", "sph", "ballistic"
+const char* solverName(Solver s);
+
+struct Box {
+    glm::vec3 min{0.0f};  // metres
+    glm::vec3 max{0.0f};  // metres
+};
+
+// A static obstacle the fluid cannot enter. Box and sphere are solid volumes;
+// a plane keeps the fluid on the side its normal points to; a mesh (OBJ or
+// PLY, closed) is a solid volume after its scale and translation.
+struct Collider {
+    enum class Kind { Box, Sphere, Plane, Mesh } kind = Kind::Box;
+    Box box;                       // Kind::Box
+    glm::vec3 center{0.0f};        // Kind::Sphere, metres
+    float radius = 0.0f;           // Kind::Sphere, metres
+    glm::vec3 point{0.0f};         // Kind::Plane: a point on it, metres
+    glm::vec3 normal{0, 1, 0};     // Kind::Plane: toward the fluid side (normalised on use)
+    std::filesystem::path mesh;    // Kind::Mesh: the file (relative to the scene file's folder)
+    glm::vec3 scale{1.0f};         // Kind::Mesh
+    glm::vec3 translate{0.0f};     // Kind::Mesh, metres
+};
+
+// A block of fluid filled with particles on a cubic lattice of spacing 2r.
+struct FluidBlock {
+    Box box;
+    glm::vec3 velocity{0.0f};  // initial, m/s
+};
+
+// A nozzle: a disc of radius `radius` at `position` facing `direction`,
+// emitting `rate` particles per second at `speed`, from `start` to `end`.
+struct Emitter {
+    glm::vec3 position{0.0f};      // metres
+    glm::vec3 direction{0, -1, 0}; // normalised on use
+    float radius = 0.0f;           // metres; 0: about 4 particle radii
+    float speed = 1.0f;            // m/s
+    float rate = 0.0f;             // particles per second; 0: fill the disc at `speed`
+    float start = 0.0f;            // s
+    float end = 1e30f;             // s
+};
+
+// Particles entering the box are removed.
+struct Drain {
+    Box box;
+};
+
+struct SimParams {
+    Solver solver = Solver::Dfsph;
+    float radius = defaults::kSimRadiusM;                   // particle radius r, metres; spacing 2r, support 4r
+    float restDensity = defaults::kSimRestDensity;          // rho0, kg/m^3
+    glm::vec3 gravity{0.0f, -defaults::kSimGravity, 0.0f};  // m/s^2
+    float viscosity = defaults::kSimXsphViscosity;          // DFSPH/ballistic: XSPH factor (dimensionless); SPH: mu, Pa s
+    float surfaceTension = 0.0f;                            // SPH: sigma of the colour-field force, N/m; DFSPH: 0 (none)
+    float stiffness = defaults::kSimSphStiffness;           // SPH: k of p = k (rho - rho0), m^2/s^2
+    float cfl = defaults::kSimCfl;                          // CFL factor (1 as SPlisHSPlasH)
+    float minDt = defaults::kSimMinDtS;                     // s
+    float maxDt = defaults::kSimMaxDtS;                     // s
+    float densityTolerance = defaults::kSimDensityTolerance;      // DFSPH: mean density error, fraction of rho0
+    float divergenceTolerance = defaults::kSimDivergenceTolerance; // DFSPH: mean d(rho)/dt, fraction of rho0 per second
+    int maxIterations = defaults::kSimMaxIterations;        // DFSPH: per solver per step
+    float lifetime = 0.0f;                                  // s; 0 = particles live for ever
+    int resortEvery = defaults::kSimResortEvery;            // steps between z-order re-sorts of the particles
+};
+
+struct Scene {
+    std::string name;
+    std::filesystem::path file;  // where it was read from (empty when built in code)
+    SimParams params;
+    Box domain;                  // the tank: particles never leave it
+    std::vector<FluidBlock> fluid;
+    std::vector<Collider> colliders;
+    std::vector<Emitter> emitters;
+    std::vector<Drain> drains;
+    double duration = 1.0;       // s
+    double fps = defaults::kSimFps;  // frames written per simulated second
+};
+
+// JSON scene (docs/scenes.md): a malformed file is an error naming the file,
+// the field and the problem.
+Result<Scene> parseScene(std::string_view json, const std::string& name);
+Result<Scene> readScene(const std::filesystem::path& path);
+
+// Per-step timings and counts (the bench prints them).
+struct StepStats {
+    double dt = 0.0;             // s
+    int densityIterations = 0;   // DFSPH constant-density solver
+    int divergenceIterations = 0;
+    double densityError = 0.0;   // mean, fraction of rho0, after the solve
+    double msNeighbours = 0.0;   // grid, sort, neighbour lists
+    double msDensity = 0.0;      // density and DFSPH factor
+    double msPressure = 0.0;     // both DFSPH solvers / SPH pressure forces
+    double msForces = 0.0;       // non-pressure forces (viscosity, surface tension, gravity)
+    double msAdvect = 0.0;       // integration, colliders, emitters, drains
+};
+
+struct Totals {
+    std::size_t steps = 0;
+    std::size_t particleSteps = 0;
+    std::size_t densityIterations = 0;
+    std::size_t divergenceIterations = 0;
+    std::size_t emitted = 0, drained = 0, expired = 0;
+    double simulatedS = 0.0;
+    double msNeighbours = 0.0, msDensity = 0.0, msPressure = 0.0, msForces = 0.0, msAdvect = 0.0;
+};
+
+class Simulator {
+public:
+    // Samples the fluid blocks and the boundaries; errors for a bad scene (a
+    // radius out of range, an empty domain, a fluid block outside it, a mesh
+    // collider that cannot be read, more particles than memory allows).
+    static Result<std::unique_ptr<Simulator>> create(const Scene& scene);
+    ~Simulator();
+
+    // One time step (CFL-adaptive, never past `until` when until > time()).
+    Status step(double until = 0.0);
+    // Steps until time() reaches t (the last step ends exactly on t).
+    Status advanceTo(double t);
+
+    double time() const;
+    std::size_t size() const;
+    std::size_t boundarySize() const;
+    const Scene& scene() const;
+    // The particles as a set: positions, id (Int), velocity (m/s), density (kg/m^3).
+    ParticleSet particles() const;
+    std::span<const glm::vec3> positions() const;
+    std::span<const glm::vec3> velocities() const;
+    std::span<const float> densities() const;
+    std::span<const std::int64_t> ids() const;
+    float particleMass() const;  // kg
+    // Restores particles (positions, velocities, ids) and the time, e.g. to
+    // resume from a written frame; the boundaries stay.
+    Status restore(const ParticleSet& set, double time);
+
+    const StepStats& lastStep() const;
+    const Totals& totals() const;
+
+    struct Impl;
+
+private:
+    explicit Simulator(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace meniscus::sim
