@@ -83,7 +83,7 @@ struct SimParams {
     float minDt = defaults::kSimMinDtS;                     // s
     float maxDt = defaults::kSimMaxDtS;                     // s
     float densityTolerance = defaults::kSimDensityTolerance;      // DFSPH: mean density error, fraction of rho0
-    float divergenceTolerance = defaults::kSimDivergenceTolerance; // DFSPH: mean d(rho)/dt, fraction of rho0 per second
+    float divergenceTolerance = defaults::kSimDivergenceTolerance; // DFSPH: mean d(rho)/dt times dt, fraction of rho0 (SPlisHSPlasH's maxErrorV)
     int maxIterations = defaults::kSimMaxIterations;        // DFSPH: per solver per step
     float lifetime = 0.0f;                                  // s; 0 = particles live for ever
     int resortEvery = defaults::kSimResortEvery;            // steps between z-order re-sorts of the particles
@@ -126,6 +126,7 @@ struct Totals {
     std::size_t densityIterations = 0;
     std::size_t divergenceIterations = 0;
     std::size_t emitted = 0, drained = 0, expired = 0;
+    std::size_t guardCorrections = 0;  // particles the collider guard had to put back (0 when the boundaries hold)
     double simulatedS = 0.0;
     double msNeighbours = 0.0, msDensity = 0.0, msPressure = 0.0, msForces = 0.0, msAdvect = 0.0;
 };
@@ -145,13 +146,13 @@ public:
 
     double time() const;
     std::size_t size() const;
-    std::size_t boundarySize() const;
     const Scene& scene() const;
-    // The particles as a set: positions, id (Int), velocity (m/s), density (kg/m^3).
+    // The particles as a set: positions, id (Int), velocity (m/s), density (kg/m^3), pressure (Pa).
     ParticleSet particles() const;
     std::span<const glm::vec3> positions() const;
     std::span<const glm::vec3> velocities() const;
-    std::span<const float> densities() const;
+    std::span<const float> densities() const;   // kg/m^3, at the start of the last step
+    std::span<const float> pressures() const;   // Pa, of the last step
     std::span<const std::int64_t> ids() const;
     float particleMass() const;  // kg
     // Restores particles (positions, velocities, ids) and the time, e.g. to

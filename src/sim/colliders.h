@@ -1,0 +1,37 @@
+// The last line of defence behind the boundary particles: a particle whose
+// centre has crossed a wall of the domain or entered a collider is put back
+// just outside it (half a radius), its velocity into the surface removed.
+// With the boundary particles working this never fires in a normal run (the
+// tests check that it does not); it keeps the promise "no particle leaves the
+// domain or passes a collider" when a step is too large, e.g. in ballistic
+// mode, which has no boundary particles at all.
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "meniscus/mesh.h"
+#include "meniscus/sim.h"
+
+namespace meniscus::sim {
+
+// A mesh collider's triangles (scaled and moved into place) and their bounds.
+struct ColliderMesh {
+    TriangleMesh mesh;
+    glm::vec3 lo{0.0f}, hi{0.0f};
+};
+
+// Signed distance from a collider's surface (negative inside the solid) and
+// the outward normal there. Mesh colliders need their triangles.
+struct SurfacePoint {
+    float distance;
+    glm::vec3 normal;
+};
+SurfacePoint colliderDistance(const Collider& c, const TriangleMesh* mesh, const glm::vec3& x);
+
+// Returns true when x was corrected (moved out, v's inward part removed).
+bool keepOutside(const Scene& scene, const std::vector<ColliderMesh>& meshes, float radius, glm::vec3& x,
+                 glm::vec3& v);
+
+}  // namespace meniscus::sim

@@ -1,0 +1,181 @@
+// Divergence-free SPH: Bender & Koschier, "Divergence-Free Smoothed Particle
+// Hydrodynamics", SCA 2015 (and the TVCG 2017 extension, [BK17]). Two
+// pressure solvers per step, both Jacobi iterations on a stiffness kappa_i:
+//  - the divergence-free solver makes d(rho)/dt = 0 (Algorithm 2 of [BK17]),
+//  - the constant-density solver makes the predicted density rho0 (Algorithm 3),
+// with the factor alpha_i (eq. 11 of [BK17]) shared by both, warm-started with
+// half the last step's stiffness, as SPlisHSPlasH does. Densities here are
+// relative (rho / rho0), volumes V = m / rho0; the boundary (density maps,
+// boundary_density_maps.h) enters through its density and gradient per particle. Stopping rules and tolerances as SPlisHSPlasH:
+// mean density error <= densityTolerance (at least 2 iterations), mean
+// d(rho)/dt * dt <= divergenceTolerance (at least 1), both at most
+// maxIterations; a particle with fewer than 20 neighbours (a deficient
+// surface particle) gets no divergence correction.
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include "sim/state.h"
+#include "sim/timer.h"
+
+namespace meniscus::sim {
+
+namespace {
+
+constexpr std::size_t kGrain = 512;
+constexpr float kWarmStart = 0.5f;  // fraction of last step's stiffness reused (SPlisHSPlasH's)
+// SPlisHSPlasH's deficiency rule, 20 neighbours of the ~33 of a full
+// neighbourhood, with a wall counted as the fluid it stands for.
+constexpr float kMinNeighboursForDivergence = 20.0f;
+
+template <class F>
+void forAll(std::size_t n, F&& f) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) f(i);
+    });
+}
+
+// Sum of f(i) over all particles, the same for any thread count (fixed chunks).
+template <class F>
+double sumAll(std::size_t n, F&& f) {
+    return tbb::parallel_deterministic_reduce(
+        tbb::blocked_range<std::size_t>(0, n, kGrain), 0.0,
+        [&](const tbb::blocked_range<std::size_t>& r, double acc) {
+            for (std::size_t i = r.begin(); i < r.end(); ++i) acc += double(f(i));
+            return acc;
+        },
+        [](double a, double b) { return a + b; });
+}
+
+// Rate of change of the relative density, sum_j V_j (v_i - v_j) . grad W_ij.
+float densityRate(const Simulator::Impl& s, std::size_t i) {
+    const glm::vec3 vi = s.v[i];
+    float fluid = 0.0f;
+    for (const Neighbour& nb : s.fluidNb.of(i)) fluid += glm::dot(vi - s.v[nb.j], nb.gradW);
+    return s.volume * fluid + glm::dot(vi, s.wall[i].gradient);
+}
+
+// v_i -= dt * (sum_j V (k_i + k_j) grad W_ij + k_i grad rho_wall).
+void applyStiffness(Simulator::Impl& s, const std::vector<float>& k, float dt) {
+    forAll(s.n(), [&](std::size_t i) {
+        const float ki = k[i];
+        glm::vec3 fluid(0.0f);
+        for (const Neighbour& nb : s.fluidNb.of(i)) fluid += (ki + k[nb.j]) * nb.gradW;
+        s.v[i] -= dt * (s.volume * fluid + ki * s.wall[i].gradient);
+    });
+}
+
+void computeFactors(Simulator::Impl& s) {
+    forAll(s.n(), [&](std::size_t i) {
+        glm::vec3 g(0.0f);
+        float squares = 0.0f;
+        for (const Neighbour& nb : s.fluidNb.of(i)) {
+            const glm::vec3 gj = s.volume * nb.gradW;
+            g += gj;
+            squares += glm::dot(gj, gj);
+        }
+        g += s.wall[i].gradient;
+        const float denom = glm::dot(g, g) + squares;
+        s.alpha[i] = denom > 1e-5f ? 1.0f / denom : 0.0f;
+    });
+}
+
+// The divergence-free solver: returns its iterations.
+int divergenceSolve(Simulator::Impl& s, float dt) {
+    const std::size_t n = s.n();
+    auto rate = [&](std::size_t i) {
+        const float neighbours = float(s.fluidNb.offsets[i + 1] - s.fluidNb.offsets[i]) +
+                                 s.wall[i].density * s.fullNeighbours;
+        return neighbours < kMinNeighboursForDivergence ? 0.0f : std::max(densityRate(s, i), 0.0f);
+    };
+    forAll(n, [&](std::size_t i) { s.rhoAdv[i] = rate(i); });
+    // Warm start: half of last step's stiffness where the fluid still compresses.
+    forAll(n, [&](std::size_t i) { s.kappa[i] = s.rhoAdv[i] > 0.0f ? kWarmStart * s.kappaVWarm[i] / dt : 0.0f; });
+    std::vector<float>& total = s.pressure;  // reused as the stiffness sum
+    total = s.kappa;
+    applyStiffness(s, s.kappa, dt);
+    forAll(n, [&](std::size_t i) { s.rhoAdv[i] = rate(i); });
+    const double eta = double(s.p.divergenceTolerance) / dt;
+    int iterations = 0;
+    double err = sumAll(n, [&](std::size_t i) { return s.rhoAdv[i]; }) / double(std::max<std::size_t>(n, 1));
+    while ((iterations < 1 || err > eta) && iterations < s.p.maxIterations) {
+        forAll(n, [&](std::size_t i) {
+            s.kappa[i] = s.rhoAdv[i] * s.alpha[i] / dt;
+            total[i] += s.kappa[i];
+        });
+        applyStiffness(s, s.kappa, dt);
+        forAll(n, [&](std::size_t i) { s.rhoAdv[i] = rate(i); });
+        err = sumAll(n, [&](std::size_t i) { return s.rhoAdv[i]; }) / double(std::max<std::size_t>(n, 1));
+        ++iterations;
+    }
+    forAll(n, [&](std::size_t i) { s.kappaVWarm[i] = total[i] * dt; });
+    s.kappaDivergence = total;
+    return iterations;
+}
+
+// The constant-density solver: returns its iterations and the final mean error.
+int densitySolve(Simulator::Impl& s, float dt, double* errOut) {
+    const std::size_t n = s.n();
+    // Predicted relative density after the step, compressions only (a free
+    // surface may have rho < rho0 without pulling particles together).
+    auto predicted = [&](std::size_t i) { return std::max(s.density[i] / s.p.restDensity + dt * densityRate(s, i), 1.0f); };
+    forAll(n, [&](std::size_t i) { s.rhoAdv[i] = predicted(i); });
+    const float invDt2 = 1.0f / (dt * dt);
+    forAll(n, [&](std::size_t i) { s.kappa[i] = s.rhoAdv[i] > 1.0f ? kWarmStart * s.kappaWarm[i] * invDt2 : 0.0f; });
+    std::vector<float>& total = s.pressure;
+    total = s.kappa;
+    applyStiffness(s, s.kappa, dt);
+    forAll(n, [&](std::size_t i) { s.rhoAdv[i] = predicted(i); });
+    auto meanError = [&] { return sumAll(n, [&](std::size_t i) { return s.rhoAdv[i] - 1.0f; }) / double(std::max<std::size_t>(n, 1)); };
+    double err = meanError();
+    int iterations = 0;
+    while ((iterations < 2 || err > s.p.densityTolerance) && iterations < s.p.maxIterations) {
+        forAll(n, [&](std::size_t i) {
+            s.kappa[i] = (s.rhoAdv[i] - 1.0f) * s.alpha[i] * invDt2;
+            total[i] += s.kappa[i];
+        });
+        applyStiffness(s, s.kappa, dt);
+        forAll(n, [&](std::size_t i) { s.rhoAdv[i] = predicted(i); });
+        err = meanError();
+        ++iterations;
+    }
+    // kappa is p / rho^2 times rho0 (compare the pressure acceleration
+    // -sum_j m_j (p_i / rho_i^2 + p_j / rho_j^2) grad W_ij with applyStiffness);
+    // both solvers' stiffnesses act over the step, so the pressure is their sum.
+    forAll(n, [&](std::size_t i) {
+        s.kappaWarm[i] = total[i] * dt * dt;
+        const float divergence = i < s.kappaDivergence.size() ? s.kappaDivergence[i] : 0.0f;
+        total[i] = (total[i] + divergence) * s.density[i] * s.density[i] / s.p.restDensity;
+    });
+    *errOut = err;
+    return iterations;
+}
+
+}  // namespace
+
+void stepDfsph(Simulator::Impl& s, double until) {
+    StepStats& st = s.last;
+    Timer timer;
+    s.findNeighbours();
+    st.msNeighbours = timer.lap();
+    s.computeDensities();
+    computeFactors(s);
+    st.msDensity = timer.lap();
+    // Divergence-free solve on the velocities of the last step (its dt).
+    st.divergenceIterations = s.n() ? divergenceSolve(s, float(s.dt)) : 0;
+    st.msPressure = timer.lap();
+    s.nonPressureAccelerations();
+    s.dt = s.cflStep(until, 0.0f);
+    const float dt = float(s.dt);
+    forAll(s.n(), [&](std::size_t i) { s.v[i] += dt * s.a[i]; });
+    st.msForces = timer.lap();
+    double err = 0.0;
+    st.densityIterations = s.n() ? densitySolve(s, dt, &err) : 0;
+    st.densityError = err;
+    st.msPressure += timer.lap();
+}
+
+}  // namespace meniscus::sim

@@ -1,0 +1,91 @@
+// SPH smoothing kernels, all with compact support h (the neighbour radius).
+//  - CubicSpline: Monaghan 1992, in the normalisation of Koschier et al.'s SPH
+//    tutorial (Eurographics 2019) and SPlisHSPlasH; DFSPH uses it.
+//  - Poly6, Spiky (gradient), Viscosity (Laplacian): Muller, Charypar & Gross
+//    2003, §3.5 and §4; the SPH solver uses them.
+// Each kernel integrates to 1 over its support (tests/sim_kernels_test.cpp).
+#pragma once
+
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+namespace meniscus::sim {
+
+inline constexpr float kPi = 3.14159265358979323846f;
+
+class CubicSpline {
+public:
+    explicit CubicSpline(float h) : h_(h), invH_(1.0f / h), k_(8.0f / (kPi * h * h * h)), l_(48.0f / (kPi * h * h * h)) {}
+    float support() const { return h_; }
+    float W(float r) const {
+        const float q = r * invH_;
+        if (q >= 1.0f) return 0.0f;
+        if (q <= 0.5f) return k_ * (6.0f * q * q * q - 6.0f * q * q + 1.0f);
+        const float a = 1.0f - q;
+        return k_ * 2.0f * a * a * a;
+    }
+    // grad W of the offset d = x_i - x_j (|d| = r).
+    glm::vec3 gradW(const glm::vec3& d, float r) const {
+        const float q = r * invH_;
+        if (q >= 1.0f || r < 1e-9f * h_) return glm::vec3(0.0f);
+        const glm::vec3 gradQ = d * (invH_ / r);
+        if (q <= 0.5f) return (l_ * q * (3.0f * q - 2.0f)) * gradQ;
+        const float a = 1.0f - q;
+        return (-l_ * a * a) * gradQ;
+    }
+
+private:
+    float h_, invH_, k_, l_;
+};
+
+class MullerKernels {
+public:
+    explicit MullerKernels(float h)
+        : h_(h), h2_(h * h), poly6_(315.0f / (64.0f * kPi * std::pow(h, 9.0f))),
+          poly6Grad_(-945.0f / (32.0f * kPi * std::pow(h, 9.0f))),
+          spiky_(15.0f / (kPi * std::pow(h, 6.0f))), spikyGrad_(-45.0f / (kPi * std::pow(h, 6.0f))),
+          viscosity_(15.0f / (2.0f * kPi * h * h * h)), viscosityLap_(45.0f / (kPi * std::pow(h, 6.0f))) {}
+    float support() const { return h_; }
+
+    // Density kernel, eq. (20).
+    float poly6(float r2) const {
+        if (r2 >= h2_) return 0.0f;
+        const float a = h2_ - r2;
+        return poly6_ * a * a * a;
+    }
+    // Its gradient and Laplacian (the colour field of §4.4).
+    glm::vec3 poly6Grad(const glm::vec3& d, float r2) const {
+        if (r2 >= h2_) return glm::vec3(0.0f);
+        const float a = h2_ - r2;
+        return (poly6Grad_ * a * a) * d;
+    }
+    float poly6Lap(float r2) const {
+        if (r2 >= h2_) return 0.0f;
+        const float a = h2_ - r2;
+        return poly6Grad_ * a * (3.0f * h2_ - 7.0f * r2);
+    }
+    // Pressure kernel, eq. (21): W itself (for the integral test) and its gradient.
+    float spiky(float r) const {
+        if (r >= h_) return 0.0f;
+        const float a = h_ - r;
+        return spiky_ * a * a * a;
+    }
+    glm::vec3 spikyGrad(const glm::vec3& d, float r) const {
+        if (r >= h_ || r < 1e-9f * h_) return glm::vec3(0.0f);
+        const float a = h_ - r;
+        return (spikyGrad_ * a * a / r) * d;
+    }
+    // Viscosity kernel, eq. (22), and its Laplacian.
+    float viscosity(float r) const {
+        if (r >= h_ || r < 1e-9f * h_) return 0.0f;
+        const float q = r / h_;
+        return viscosity_ * (-0.5f * q * q * q + q * q + 0.5f / q - 1.0f);
+    }
+    float viscosityLap(float r) const { return r >= h_ ? 0.0f : viscosityLap_ * (h_ - r); }
+
+private:
+    float h_, h2_, poly6_, poly6Grad_, spiky_, spikyGrad_, viscosity_, viscosityLap_;
+};
+
+}  // namespace meniscus::sim

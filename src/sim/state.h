@@ -1,0 +1,75 @@
+// The simulator's state, shared by the solver files (one per method) and the
+// driver (simulator.cpp). Per-particle arrays are structure-of-arrays, all of
+// the same length, permuted together (z-order re-sort, removals).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "meniscus/sim.h"
+#include "sim/boundary_density_maps.h"
+#include "sim/colliders.h"
+#include "sim/kernels.h"
+#include "sim/neighbour_search.h"
+
+namespace meniscus::sim {
+
+struct Simulator::Impl {
+    Scene scene;
+    SimParams p;
+    float r = 0, h = 0;         // particle radius, kernel support (4r), metres
+    float mass = 0;             // kg
+    float volume = 0;           // m/V of a particle at rest: 1 / (lattice sum of W), m^3
+    CubicSpline cubic{1.0f};
+    MullerKernels muller{1.0f};
+
+    // Particles.
+    std::vector<glm::vec3> x, v, a;   // m, m/s, m/s^2
+    std::vector<float> density;       // kg/m^3
+    std::vector<std::int64_t> id;
+    std::vector<float> age;           // s since emitted (or since the start)
+    std::vector<float> kappaWarm, kappaVWarm;  // DFSPH warm start: last step's stiffness sums times dt^2 / dt
+
+    std::vector<float> pressure;      // Pa, of the last step (DFSPH: its constant-density solve)
+
+    // Scratch of the solvers (resized each step).
+    std::vector<float> alpha, kappa, rhoAdv;
+    std::vector<float> kappaDivergence;  // DFSPH: the divergence solver's stiffness sum of this step
+    std::vector<WallTerm> wall;       // the boundaries' density and gradients per particle
+
+    CellGrid grid;
+    NeighbourLists fluidNb;
+    WallTable wallDensity;            // Phi and A of the density kernel
+    WallTable wallPressure;           // of the pressure kernel (SPH: spiky)
+    std::vector<ColliderMesh> meshes;
+    float fullNeighbours = 0;         // neighbours of a particle inside the rest lattice
+
+    double t = 0.0;
+    double dt = 0.0;
+    std::int64_t nextId = 0;
+    std::vector<double> emitterNext;  // when each emitter's next layer is due, s
+    StepStats last;
+    Totals totals;
+
+    std::size_t n() const { return x.size(); }
+    void resizeScratch();
+    // Reorders every per-particle array: new[k] = old[order[k]].
+    void permute(const std::vector<std::uint32_t>& order);
+    // Grid and neighbour lists (with the kernel of the solver), and the walls' terms.
+    void findNeighbours();
+    // Sum of the density kernel over the fluid neighbours plus the walls' part, kg/m^3.
+    void computeDensities();
+    // XSPH viscosity (Schechter & Bridson 2012, as SPlisHSPlasH) plus gravity into a.
+    void nonPressureAccelerations();
+    // CFL time step from max |v + a dt| (SPlisHSPlasH's rule), clamped.
+    double cflStep(double until, float soundSpeed) const;
+};
+
+// One time step of each method (their files).
+void stepDfsph(Simulator::Impl& s, double until);     // dfsph_bender2015.cpp
+void stepSph(Simulator::Impl& s, double until);       // sph_muller2003.cpp
+void stepBallistic(Simulator::Impl& s, double until); // mass_points.cpp (Instant Liquids §4)
+
+}  // namespace meniscus::sim
