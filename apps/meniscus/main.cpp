@@ -21,6 +21,7 @@
 #include "meniscus/renderer.h"
 #include "meniscus/surface.h"
 #include "mesh.h"
+#include "simulate.h"
 #include "progress.h"
 #include "view.h"
 
@@ -179,7 +180,8 @@ int main(int argc, char** argv) {
         "  meniscus view frame_21.bgeo                     a window: drag to orbit, wheel to zoom, Esc to quit\n"
         "  meniscus mesh frame_21.bgeo -o f21.ply          the surface as a closed triangle mesh (PLY or OBJ)\n"
         "  meniscus render frame_21.bgeo -o m.png --surface mesh   render that mesh instead of smoothing splats\n"
-        "  meniscus compare frame_21.bgeo -o side_by_side.png      screen space and mesh, side by side, timed"};
+        "  meniscus compare frame_21.bgeo -o side_by_side.png      screen space and mesh, side by side, timed\n"
+        "  meniscus simulate scenes/dam_break.json -o out/frame_%04d.bgeo   liquid from a scene file alone"};
     app.require_subcommand(1);
     int threads = 0;
     app.add_option("--threads", threads, "Worker threads (default: all cores); also after a subcommand")
@@ -234,6 +236,8 @@ int main(int argc, char** argv) {
     auto* meshCmd = addMeshCommand(app, mesh);
     RenderOptions compare;
     auto* compareCmd = addCompareCommand(app, compare);
+    SimulateOptions simulate;
+    auto* simulateCmd = addSimulateCommand(app, simulate);
 
     // Bad usage exits 2, as the README says (CLI11's own codes are 100 and up).
     try {
@@ -248,6 +252,7 @@ int main(int argc, char** argv) {
 
     if (*infoCmd) return runInfo(info);
     if (*meshCmd) return runMesh(mesh, threads);
+    if (*simulateCmd) return runSimulate(simulate);
     if (*compareCmd) return runCompare(compare);
     if (*renderCmd) return runRender(render, nullptr);
     if (*demoCmd) {

@@ -9,13 +9,16 @@
 // the integral is taken over the half-space behind the closest surface
 // point, a function of the distance d alone, tabulated once:
 //     Phi(d) = int_d^h A(z) dz,   A(z) = 2 pi int_|z|^h W(s) s ds,
-// A(z) being the kernel integrated over a plane at distance z. Exact for
-// planes (the domain, plane colliders, box faces); for curved or edged
-// solids it is the tangent-plane approximation, and where two walls meet
-// (a corner) their overlap behind both is counted twice (a few per cent of
-// rho0 within 2r of the corner's edge). Nothing is sampled, so walls cost
-// nothing in the neighbour search and a column of fluid rests on a wall
-// exactly as on more fluid.
+// A(z) being the kernel integrated over a plane at distance z: exact for
+// planes and box faces; for curved or edged colliders the tangent-plane
+// approximation. The domain (the tank) is exact everywhere, edges and
+// corners included: its walls' part is 1 minus the kernel's mass inside the
+// box, from a table of the kernel's mass in an octant (DomainTable).
+// Both are evaluated at the distance plus an offset (wallOffset) chosen so
+// that the rest lattice of spacing 2r, its first layer r from a flat wall
+// (the block filling rule), has exactly rho0 there: the continuous wall and
+// the discrete fluid then agree and a column at rest has no spurious push.
+// Nothing is sampled, so walls cost nothing in the neighbour search.
 #pragma once
 
 #include <functional>
@@ -43,6 +46,29 @@ private:
     std::vector<float> phi_, slab_;
 };
 
+// The kernel's mass in the region {u : u_k >= -d_k} (the fluid side of up to
+// three axis-aligned walls at distances d_k) and its gradient, from a 3-D
+// table of suffix sums over [-h, h]^3 (trilinear).
+class DomainTable {
+public:
+    DomainTable() = default;
+    DomainTable(float h, const std::function<double(double)>& W);
+    // Mass inside for distances d (each clipped to [-h, h]; h = no wall on that axis).
+    float inside(const glm::vec3& d) const;
+    // d inside / d d_k.
+    glm::vec3 gradient(const glm::vec3& d) const;
+
+private:
+    float at(float a, float b, float c) const;
+    float h_ = 1.0f, cell_ = 1.0f;
+    int n_ = 0;
+    std::vector<float> suffix_;
+};
+
+// The offset added to every wall distance (see above): solves
+// lattice(first layer) + Phi(r + offset) = 1 for the half-space lattice.
+float wallOffset(float r, float h, const WallTable& table, const std::function<float(float)>& W);
+
 // The boundary's part of one particle: relative density (sum of Phi) and its
 // gradient with respect to the particle's position (sum of -A n, pointing
 // into the solids), for the density kernel; and the gradient for the
@@ -53,12 +79,15 @@ struct WallTerm {
     glm::vec3 pressureGradient{0.0f};
 };
 
-// Calls f(distance, outward normal) for every boundary within `support` of x:
-// the six walls of the domain and every collider.
-void forEachBoundaryNear(const Scene& scene, const std::vector<ColliderMesh>& meshes, float support,
-                         const glm::vec3& x, const std::function<void(float, const glm::vec3&)>& f);
+// The kernel tables of one solver.
+struct WallTables {
+    WallTable density, pressure;      // half-space Phi/A (pressure: of the pressure kernel, SPH only)
+    DomainTable domainDensity, domainPressure;
+    bool separatePressure = false;
+    float offset = 0.0f;              // metres, added to every distance
+};
 
 WallTerm wallTerm(const Scene& scene, const std::vector<ColliderMesh>& meshes, float support, const glm::vec3& x,
-                  const WallTable& density, const WallTable* pressure);
+                  const WallTables& tables);
 
 }  // namespace meniscus::sim

@@ -81,8 +81,8 @@ Status validate(const Scene& sc) {
     const SimParams& p = sc.params;
     if (!(p.radius >= 1e-6f && p.radius <= 10.0f)) return bad("radius " + std::to_string(p.radius) + " m is not in [1e-6, 10] m");
     if (!boxOk(sc.domain)) return bad("the domain box " + vecStr(sc.domain.min) + " - " + vecStr(sc.domain.max) + " is empty or not finite");
-    if (glm::any(glm::lessThan(sc.domain.max - sc.domain.min, glm::vec3(4.0f * p.radius))))
-        return bad("the domain is narrower than 4 particle radii on some axis");
+    if (glm::any(glm::lessThan(sc.domain.max - sc.domain.min, glm::vec3(8.0f * p.radius))))
+        return bad("the domain is narrower than 8 particle radii (twice the kernel support) on some axis");
     if (!(p.restDensity > 0.0f) || !std::isfinite(p.restDensity)) return bad("rest_density must be positive");
     if (!(p.cfl > 0.0f) || !(p.minDt > 0.0f) || !(p.maxDt >= p.minDt)) return bad("need cfl > 0 and 0 < min_dt <= max_dt");
     if (!(p.densityTolerance > 0.0f) || !(p.divergenceTolerance > 0.0f) || p.maxIterations < 2)
@@ -147,9 +147,8 @@ void Simulator::Impl::findNeighbours() {
         buildNeighbourLists(x, grid, x, h, true, kernel, fluidNb);
     }
     wall.resize(n());
-    const WallTable* pressureTable = p.solver == Solver::Sph ? &wallPressure : nullptr;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n(), 512), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) wall[i] = wallTerm(scene, meshes, h, x[i], wallDensity, pressureTable);
+        for (std::size_t i = r.begin(); i < r.end(); ++i) wall[i] = wallTerm(scene, meshes, h, x[i], walls);
     });
 }
 
@@ -297,13 +296,22 @@ Result<std::unique_ptr<Simulator>> Simulator::create(const Scene& scene) {
         s->muller = MullerKernels(s->h);
         if (s->p.solver == Solver::Sph) {
             const MullerKernels& K = s->muller;
+            auto W = [&](double d) { return double(K.poly6(float(d * d))); };
+            auto spiky = [&](double d) { return double(K.spiky(float(d))); };
             s->volume = restVolume(s->r, s->h, [&](float d) { return K.poly6(d * d); }, &s->fullNeighbours);
-            s->wallDensity = WallTable(s->h, [&](double d) { return double(K.poly6(float(d * d))); });
-            s->wallPressure = WallTable(s->h, [&](double d) { return double(K.spiky(float(d))); });
+            s->walls.density = WallTable(s->h, W);
+            s->walls.pressure = WallTable(s->h, spiky);
+            s->walls.domainDensity = DomainTable(s->h, W);
+            s->walls.domainPressure = DomainTable(s->h, spiky);
+            s->walls.separatePressure = true;
+            s->walls.offset = wallOffset(s->r, s->h, s->walls.density, [&](float d) { return K.poly6(d * d); });
         } else {
             const CubicSpline& K = s->cubic;
+            auto W = [&](double d) { return double(K.W(float(d))); };
             s->volume = restVolume(s->r, s->h, [&](float d) { return K.W(d); }, &s->fullNeighbours);
-            s->wallDensity = WallTable(s->h, [&](double d) { return double(K.W(float(d))); });
+            s->walls.density = WallTable(s->h, W);
+            s->walls.domainDensity = DomainTable(s->h, W);
+            s->walls.offset = wallOffset(s->r, s->h, s->walls.density, [&](float d) { return K.W(d); });
         }
         s->mass = s->p.restDensity * s->volume;
 

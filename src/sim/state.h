@@ -41,8 +41,7 @@ struct Simulator::Impl {
 
     CellGrid grid;
     NeighbourLists fluidNb;
-    WallTable wallDensity;            // Phi and A of the density kernel
-    WallTable wallPressure;           // of the pressure kernel (SPH: spiky)
+    WallTables walls;                 // the boundaries' kernel tables and offset
     std::vector<ColliderMesh> meshes;
     float fullNeighbours = 0;         // neighbours of a particle inside the rest lattice
 

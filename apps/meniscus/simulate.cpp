@@ -1,0 +1,122 @@
+#include "simulate.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include "common.h"
+#include "meniscus/io.h"
+#include "meniscus/sim.h"
+#include "progress.h"
+
+namespace meniscus::app {
+
+CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
+    auto* cmd = app.add_subcommand(
+        "simulate",
+        "Simulate a scene file (scenes/*.json; every field in docs/scenes.md) with the built-in SPH solver "
+        "(DFSPH by default) and write a numbered particle sequence with id, velocity (m/s), density (kg/m^3) and "
+        "pressure (Pa): frame k holds the particles at t = k / fps. The same frames for the same --threads");
+    cmd->add_option("scene", o.scene, "Scene file (.json)")->required();
+    cmd->add_option("-o,--output", o.output,
+                    "Output pattern with a frame number: out/frame_%04d.bgeo (.bgeo, .bgeo.gz, .vtk, .vtu or .ply)")
+        ->required();
+    cmd->add_option("--duration", o.duration, "Simulated time in seconds (default: the scene's)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--fps", o.fps, "Frames written per simulated second (default: the scene's)")->check(CLI::PositiveNumber);
+    cmd->add_option("--radius", o.radius, "Particle radius r in metres; spacing 2r, kernel support 4r (default: the scene's)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--solver", o.solver, "dfsph (Bender & Koschier 2015), sph (Muller et al. 2003) or ballistic "
+                                          "(mass points, no pressure) (default: the scene's)")
+        ->check(CLI::IsMember({"dfsph", "sph", "ballistic"}));
+    cmd->add_flag("--resume", o.resume,
+                  "Continue from the last frame already written under the output pattern (its particles and time)");
+    cmd->add_flag("--stats", o.stats, "Print each frame's steps, solver iterations and time per phase");
+    return cmd;
+}
+
+int runSimulate(const SimulateOptions& o) {
+    auto scene = sim::readScene(o.scene);
+    if (!scene) return fail(scene.error().describe());
+    sim::Scene& sc = *scene;
+    if (o.duration >= 0.0) sc.duration = o.duration;
+    if (o.fps > 0.0) sc.fps = o.fps;
+    if (o.radius > 0.0f) sc.params.radius = o.radius;
+    if (!o.solver.empty()) sim::solverFromName(o.solver, &sc.params.solver);
+    if (o.output.find('%') == std::string::npos)
+        return fail(o.output + ": the output needs a frame number pattern, e.g. out/frame_%04d.bgeo");
+    const ParticleFormat format = formatFromName(o.output);
+    if (format == ParticleFormat::Auto || format == ParticleFormat::Csv || format == ParticleFormat::Xyz)
+        return fail(o.output + ": write .bgeo, .bgeo.gz, .vtk, .vtu or .ply");
+
+    auto made = sim::Simulator::create(sc);
+    if (!made) return fail(made.error().describe());
+    sim::Simulator& simulator = **made;
+    const long frames = long(std::floor(sc.duration * sc.fps + 1e-9));  // after frame 0
+    auto nameOf = [&](long k) { return formatFramePattern(o.output, k); };
+
+    long first = 0;
+    if (o.resume) {
+        // The last frame already there (0, 1, ... without a gap).
+        long last = -1;
+        for (long k = 0; k <= frames; ++k) {
+            auto name = nameOf(k);
+            if (!name) return fail(name.error().describe());
+            if (!std::filesystem::exists(*name)) break;
+            last = k;
+        }
+        if (last >= 0) {
+            auto name = nameOf(last);
+            auto set = readParticles(*name);
+            if (!set) return fail(set.error().describe());
+            if (auto st = simulator.restore(*set, double(last) / sc.fps); !st)
+                return fail(Error{*name, st.error().message}.describe());
+            std::cerr << "meniscus: resuming after " << *name << " (t = " << double(last) / sc.fps << " s)\n";
+            first = last + 1;
+        }
+    }
+    {
+        auto dir = nameOf(0);
+        if (!dir) return fail(dir.error().describe());
+        const std::filesystem::path parent = std::filesystem::path(*dir).parent_path();
+        std::error_code ec;
+        if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+    }
+    std::cerr << "meniscus: " << sc.name << ": " << simulator.size() << " particles, r = " << sc.params.radius
+              << " m, " << sim::solverName(sc.params.solver) << ", " << sc.duration << " s at " << sc.fps << " fps\n";
+    const bool tty = ::isatty(STDERR_FILENO) == 1;
+    ProgressBar progress(std::size_t(frames + 1), "simulating");
+    const auto start = std::chrono::steady_clock::now();
+    for (long k = first; k <= frames; ++k) {
+        const std::size_t stepsBefore = simulator.totals().steps;
+        if (auto st = simulator.advanceTo(double(k) / sc.fps); !st) return fail(st.error().describe());
+        auto name = nameOf(k);
+        if (!name) return fail(name.error().describe());
+        if (auto st = writeParticles(*name, simulator.particles(), format); !st) return fail(st.error().describe());
+        const sim::Totals& T = simulator.totals();
+        if (o.stats) {
+            const double steps = double(std::max<std::size_t>(T.steps, 1));
+            std::fprintf(stderr,
+                         "meniscus: t = %.3f s: %zu steps (%zu this frame), mean iterations %.2f density / %.2f "
+                         "divergence, per step: neighbours %.2f ms, density %.2f ms, pressure %.2f ms, forces %.2f "
+                         "ms, advect %.2f ms\n",
+                         simulator.time(), T.steps, T.steps - stepsBefore, double(T.densityIterations) / steps,
+                         double(T.divergenceIterations) / steps, T.msNeighbours / steps, T.msDensity / steps,
+                         T.msPressure / steps, T.msForces / steps, T.msAdvect / steps);
+        }
+        if (tty) progress.update(std::size_t(k + 1));
+        else
+            std::cerr << "meniscus: wrote " << *name << " (t = " << simulator.time() << " s, " << simulator.size()
+                      << " particles, " << T.steps << " steps)\n";
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::cerr << "meniscus: simulated " << simulator.time() << " s in " << wall << " s wall ("
+              << simulator.totals().steps << " steps)\n";
+    return 0;
+}
+
+}  // namespace meniscus::app
