@@ -188,25 +188,28 @@ INSTANTIATE_TEST_SUITE_P(Writers, EveryFormat, ::testing::ValuesIn(kExtensions),
 });
 
 TEST(BgeoWriter, WritesTheBytesPartioWroteForSplishsplash) {
-    // SPlisHSPlasH's frames were written by partio (gzip-compressed). Read,
-    // written again: the inflated bytes are the same, header, attribute
-    // table (id int, density float, velocity vector), records with w = 1 and
-    // the 00 ff trailer alike.
-    for (const char* frame : {"ParticleData_Fluid_1.bgeo", "ParticleData_Fluid_21.bgeo"}) {
-        const fs::path original = testData(std::string("splishsplash/partio/") + frame);
+    // SPlisHSPlasH's frames were written by partio (gzip-compressed). Read and
+    // written again, plain (.bgeo) and compressed (.bgeo.gz): the same bytes
+    // once inflated, header, attribute table (id int, density float, velocity
+    // vector), records with w = 1 and the 00 ff trailer alike.
+    for (const char* frame : {"ParticleData_Fluid_1", "ParticleData_Fluid_21"}) {
+        const fs::path original = testData(std::string("splishsplash/partio/") + frame + ".bgeo");
         const auto set = readParticles(original);
         ASSERT_TRUE(set.ok()) << set.error().describe();
-        const fs::path ours = tempDir() / frame;
-        ASSERT_TRUE(writeParticles(ours, *set).ok());
-        const auto oursBytes = readBytes(ours);
-        ASSERT_GE(oursBytes.size(), 2u);
-        EXPECT_EQ(oursBytes[0], 0x1f);
-        EXPECT_EQ(oursBytes[1], 0x8b) << "gzip-compressed, as partio's";
-        const auto a = inflateGzip(readBytes(original), original.string());
-        const auto b = inflateGzip(oursBytes, ours.string());
-        ASSERT_TRUE(a.ok() && b.ok());
-        EXPECT_EQ(b->size(), a->size()) << frame;
-        EXPECT_TRUE(*a == *b) << frame << ": inflated bytes differ";
+        const auto want = inflateGzip(readBytes(original), original.string());
+        ASSERT_TRUE(want.ok());
+        const fs::path dir = tempDir();
+        ASSERT_TRUE(writeParticles(dir / (std::string(frame) + ".bgeo"), *set).ok());
+        ASSERT_TRUE(writeParticles(dir / (std::string(frame) + ".bgeo.gz"), *set).ok());
+        const auto plain = readBytes(dir / (std::string(frame) + ".bgeo"));
+        const auto gz = readBytes(dir / (std::string(frame) + ".bgeo.gz"));
+        ASSERT_GE(gz.size(), 2u);
+        EXPECT_TRUE(gz[0] == 0x1f && gz[1] == 0x8b) << ".bgeo.gz is gzip data";
+        const auto inflated = inflateGzip(gz, "ours.bgeo.gz");
+        ASSERT_TRUE(inflated.ok());
+        EXPECT_EQ(plain.size(), want->size()) << frame;
+        EXPECT_TRUE(plain == *want) << frame << ": .bgeo bytes differ from partio's";
+        EXPECT_TRUE(*inflated == *want) << frame << ": inflated .bgeo.gz bytes differ from partio's";
     }
 }
 

@@ -43,8 +43,8 @@ Result<ParticleSet> readParticles(const std::filesystem::path& path,
                                   ParticleFormat format = ParticleFormat::Auto);
 
 // Writes `set` to `path` in `format` (Auto: from the name, as formatFromName;
-// .bgeo and .bgeo.gz are both gzip-compressed classic BGEO v5 as partio and
-// SPlisHSPlasH write it; .vtk binary legacy POLYDATA; .vtu / .vtp VTK XML with
+// .bgeo classic BGEO v5 as partio writes it (SPlisHSPlasH's export), .bgeo.gz
+// the same gzip-compressed; .vtk binary legacy POLYDATA; .vtu / .vtp VTK XML with
 // raw appended data; .ply binary little-endian). Every attribute is written
 // (Float as float32, Int as int32) under names the readers above map back to
 // the same attributes. A set with no particles gives a valid empty file

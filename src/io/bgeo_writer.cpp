@@ -9,9 +9,9 @@
 //     int32 default 0;
 //   per point: P as 4 float32 (x, y, z, w = 1), then each attribute's values;
 //   no primitives, no detail attributes, then the bytes 00 ff.
-// The whole stream is gzip-compressed, as partio does when asked to compress
-// and SPlisHSPlasH always asks: its .bgeo files are gzip data, which partio
-// and our reader detect from the bytes whatever the name (.bgeo or .bgeo.gz).
+// Plain for .bgeo, gzip-compressed for .bgeo.gz, as partio's write() decides
+// from the name (SPlisHSPlasH forces compression, so its .bgeo files are gzip
+// data; partio, Houdini and our reader read either).
 #include <bit>
 #include <limits>
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <exception>
 #include <new>
 #include <string>
@@ -22,6 +23,24 @@ inline std::string lower(std::string_view s) {
 
 inline bool endsWith(std::string_view s, std::string_view suffix) {
     return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
+}
+
+// A number as text: decimal, exponent, "nan", "inf" (any case), optional sign.
+inline bool parseNumber(std::string_view token, double& out) {
+    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+    if (token.empty() || token.front() == '+') return false;
+    const char* end = token.data() + token.size();
+    const auto [ptr, ec] = std::from_chars(token.data(), end, out);
+    return ec == std::errc() && ptr == end;
+}
+
+// A token quoted for a message: at most 60 characters, control bytes as '?'
+// (keeps messages readable when a "line" is really binary junk).
+inline std::string quoteShort(std::string_view s) {
+    std::string out;
+    for (char c : s.substr(0, 60)) out += (static_cast<unsigned char>(c) < 32 || c == 127) ? '?' : c;
+    if (s.size() > 60) out += "...";
+    return "'" + out + "'";
 }
 
 // Thrown by a parser deep inside its reading code for malformed input; caught

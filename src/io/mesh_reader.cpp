@@ -132,7 +132,7 @@ private:
             const char* b = w.data() + (w.front() == '+' ? 1 : 0);
             const auto r = std::from_chars(b, w.data() + w.size(), v[k]);
             if (r.ec != std::errc() || r.ptr != w.data() + w.size())
-                lineFail(ply::quoteShort(w) + " is not a number (" + what + " coordinate " + std::to_string(k + 1) + ")");
+                lineFail(io_util::quoteShort(w) + " is not a number (" + what + " coordinate " + std::to_string(k + 1) + ")");
         }
         return v;
     }
@@ -144,7 +144,7 @@ private:
         std::int64_t v = 0;
         const auto r = std::from_chars(field.data(), field.data() + field.size(), v);
         if (r.ec != std::errc() || r.ptr != field.data() + field.size())
-            lineFail(ply::quoteShort(field) + " is not a " + what + " index");
+            lineFail(io_util::quoteShort(field) + " is not a " + what + " index");
         if (v == 0) lineFail(std::string(what) + " index 0 (OBJ indices count from 1)");
         if (v > 0) return std::uint64_t(v);
         if (std::uint64_t(-(v + 1)) >= count)  // -(v+1) avoids negating INT64_MIN
@@ -163,7 +163,7 @@ private:
                 const std::size_t s2 = w.find('/', s1 + 1);
                 if (s2 != std::string_view::npos) nField = w.substr(s2 + 1);
             }
-            if (vField.empty()) lineFail("face corner " + ply::quoteShort(w) + " has no vertex index");
+            if (vField.empty()) lineFail("face corner " + io_util::quoteShort(w) + " has no vertex index");
             const std::uint64_t v = index(vField, mesh_.positions.size(), "vertex");
             if (v > kMaxVertices) lineFail("vertex index " + std::to_string(v) + " is out of range");
             if (v > maxIndex_) {

@@ -1,6 +1,8 @@
 // The PLY format: header and element rows (see ply_format.h).
 #include "io/ply_format.h"
 
+#include "io/io_util.h"
+
 #include <algorithm>
 #include <bit>
 #include <charconv>
@@ -8,6 +10,9 @@
 #include <cstring>
 
 namespace meniscus::ply {
+
+using io_util::parseNumber;
+using io_util::quoteShort;
 
 namespace {
 
@@ -44,15 +49,6 @@ void splitWords(std::string_view line, std::vector<std::string_view>& out) {
         while (i < line.size() && !isSpace(line[i])) ++i;
         if (i > start) out.push_back(line.substr(start, i - start));
     }
-}
-
-// A number as text: decimal, exponent, "nan", "inf" (any case), optional sign.
-bool parseNumber(std::string_view token, double& out) {
-    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-    if (token.empty() || token.front() == '+') return false;
-    const char* end = token.data() + token.size();
-    const auto [ptr, ec] = std::from_chars(token.data(), end, out);
-    return ec == std::errc() && ptr == end;
 }
 
 bool parseCount(std::string_view token, std::uint64_t& out) {
@@ -115,14 +111,6 @@ std::size_t sizeOf(ScalarType t) {
 }
 
 bool isIntegerType(ScalarType t) { return t != ScalarType::Float32 && t != ScalarType::Float64; }
-
-// Keeps messages readable when a "header line" is really binary junk.
-std::string quoteShort(std::string_view s) {
-    std::string out;
-    for (char c : s.substr(0, 60)) out += (static_cast<unsigned char>(c) < 32 || c == 127) ? '?' : c;
-    if (s.size() > 60) out += "...";
-    return "'" + out + "'";
-}
 
 int findScalar(const Element& e, std::string_view n) {
     for (std::size_t i = 0; i < e.properties.size(); ++i)

@@ -62,9 +62,6 @@ bool isIntegerType(ScalarType t);
 // Index of the scalar property called `n` in `e`, or -1.
 int findScalar(const Element& e, std::string_view n);
 
-// Keeps messages readable when a "header line" is really binary junk.
-std::string quoteShort(std::string_view s);
-
 // The header at the start of `text`; errors name `name`.
 Result<Header> parseHeader(std::string_view text, const std::string& name);
 

@@ -37,6 +37,9 @@ namespace meniscus {
 
 namespace {
 
+using io_util::parseNumber;
+using io_util::quoteShort;
+
 // ---------------------------------------------------------------- small helpers
 
 bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
@@ -51,22 +54,6 @@ std::string lower(std::string_view s) {
     std::string out(s);
     std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return out;
-}
-
-std::string quoteShort(std::string_view s) {
-    std::string out;
-    for (char c : s.substr(0, 60)) out += (static_cast<unsigned char>(c) < 32 || c == 127) ? '?' : c;
-    if (s.size() > 60) out += "...";
-    return "'" + out + "'";
-}
-
-// A number as text: decimal, exponent, "nan", "inf" (any case), optional sign.
-bool parseNumber(std::string_view token, double& out) {
-    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-    if (token.empty() || token.front() == '+') return false;
-    const char* end = token.data() + token.size();
-    const auto [ptr, ec] = std::from_chars(token.data(), end, out);
-    return ec == std::errc() && ptr == end;
 }
 
 // An integer, also written as a float with no fraction ("12.0").

@@ -16,9 +16,10 @@ namespace {
 using io_util::endsWith;
 using io_util::lower;
 
-// gzip level of .bgeo output. Level 1 makes 117,649 SPlisHSPlasH particles
-// (id, density, velocity) ~10 % larger than level 6 in a fraction of the
-// time, which counts when a simulation writes a frame every few steps.
+// gzip level of .bgeo.gz output. On the r = 0.01 dam break (117,649
+// particles: id, density, velocity) level 1 writes in ~190 ms what level 6
+// writes in ~300 ms, 0.4 % larger; float data compresses poorly (3.49 MB
+// against 4.24 MB plain), and plain .bgeo takes ~17 ms.
 constexpr int kBgeoGzipLevel = 1;
 
 std::string what(const Attribute& a) {
@@ -86,7 +87,8 @@ Status writeParticles(const std::filesystem::path& path, const ParticleSet& set,
     if (!fits) return fits;
 
     return writeAtomically(path, [&](const std::filesystem::path& tmp) -> Status {
-        io_write::ByteOut out(tmp, format == ParticleFormat::Bgeo ? kBgeoGzipLevel : 0);
+        // gzip for .bgeo.gz only, as partio decides (SPlisHSPlasH forces it for .bgeo too).
+        io_write::ByteOut out(tmp, endsWith(name, ".gz") ? kBgeoGzipLevel : 0);
         switch (format) {
             case ParticleFormat::Bgeo: io_write::writeBgeo(set, out); break;
             case ParticleFormat::VtkLegacy: io_write::writeVtkLegacy(set, out); break;
