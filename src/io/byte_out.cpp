@@ -43,7 +43,7 @@ ByteOut::~ByteOut() {
 }
 
 void ByteOut::fileWrite(const std::uint8_t* p, std::size_t n) {
-    if (n > 0 && std::fwrite(p, 1, n, fp_) != n) failed(std::string("write failed: ") + std::strerror(errno));
+    if (n > 0 && std::fwrite(p, 1, n, fp_) != n) failed(std::strerror(errno));
 }
 
 void ByteOut::sink(const std::uint8_t* p, std::size_t n) {
@@ -90,7 +90,7 @@ void ByteOut::finish() {
     const bool flushed = std::fflush(fp) == 0 && !std::ferror(fp);
     const int err = errno;
     if (std::fclose(fp) != 0 || !flushed)
-        failed(std::string("write failed: ") + std::strerror(flushed ? errno : err));
+        failed(std::strerror(flushed ? errno : err));
 }
 
 }  // namespace meniscus::io_write

@@ -69,7 +69,7 @@ void fan(const std::vector<std::uint32_t>& corners, TriangleMesh& mesh) {
 
 class ObjParser {
 public:
-    explicit ObjParser(std::string_view text) : text_(text) {}
+    explicit ObjParser(std::string_view text) : lines_(text) {}
 
     TriangleMesh run() {
         std::string_view line;
@@ -84,13 +84,9 @@ public:
     }
 
 private:
+    // The next line without its comment.
     bool nextLine(std::string_view& line) {
-        if (pos_ >= text_.size()) return false;
-        const std::size_t nl = text_.find('\n', pos_);
-        const std::size_t end = nl == std::string_view::npos ? text_.size() : nl;
-        line = text_.substr(pos_, end - pos_);
-        pos_ = nl == std::string_view::npos ? text_.size() : nl + 1;
-        ++lineNo_;
+        if (!lines_.next(line)) return false;
         if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
         return true;
     }
@@ -109,7 +105,7 @@ private:
     }
 
     [[noreturn]] void lineFail(const std::string& what) const {
-        fail("line " + std::to_string(lineNo_) + ": " + what);
+        fail("line " + std::to_string(lines_.number()) + ": " + what);
     }
 
     void statement(std::string_view line) {
@@ -168,7 +164,7 @@ private:
             if (v > kMaxVertices) lineFail("vertex index " + std::to_string(v) + " is out of range");
             if (v > maxIndex_) {
                 maxIndex_ = v;
-                maxIndexLine_ = lineNo_;
+                maxIndexLine_ = lines_.number();
             }
             const std::uint64_t n = index(nField, normals_.size(), "normal");
             if (n != v) normalsMatch_ = false;
@@ -179,9 +175,7 @@ private:
         fan(corners_, mesh_);
     }
 
-    std::string_view text_;
-    std::size_t pos_ = 0;
-    std::size_t lineNo_ = 0;
+    io_util::Lines lines_;
     TriangleMesh mesh_;
     std::vector<glm::vec3> normals_;
     std::vector<std::uint32_t> corners_;
