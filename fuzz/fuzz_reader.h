@@ -47,6 +47,14 @@ inline void checkParticles(const Result<ParticleSet>& r, const std::string& name
     }
 }
 
+// A mesh reader's result is a whole, valid mesh (TriangleMesh::validate) with
+// at least one triangle.
+inline void checkMesh(const Result<TriangleMesh>& r, const std::string& name) {
+    if (!checkError(r, name)) return;
+    if (r->empty()) broken("a mesh with no triangles", name);
+    if (Status st = r->validate(); !st) broken("an invalid mesh", st.error().message);
+}
+
 inline int fuzzParticles(const std::uint8_t* data, std::size_t size, ParticleFormat format,
                          const std::string& name) {
     checkParticles(parseParticles(ByteView(data, size), name, format), name);

@@ -16,6 +16,8 @@ libFuzzer starts from every layout the readers know, with real values:
   ply            the same N particles: VTK's PLY writer (vertex + face elements),
                  and x y z vx vy vz density id in ascii and both binary byte orders.
   csv, xyz       the same N particles as text: plain, ParaView-style, ';' and tab.
+  mesh_obj, mesh_ply  small meshes (mesh_reader.cpp): what writeMesh writes, and
+                 hand-made files in the forms other tools write.
 Deterministic: running it again gives the same files.
 
 Run from anywhere:  /usr/bin/python3 fuzz/make_corpus.py
@@ -208,7 +210,46 @@ def text_and_ply(grid):
         "".join("%.9g,%.9g,%.9g,%.9g\n\n" % (row[0], row[1], row[2], row[6]) for row in r).encode())
 
 
+# ---------------------------------------------------------------- meshes (OBJ, PLY)
+
+def mesh_seeds():
+    # A tetrahedron as writeMesh writes it (v, vn, f v//n; binary PLY with
+    # normals), and by hand: every OBJ corner form, quads and negative
+    # indices; ascii PLY with colours, quads and another element; big-endian
+    # PLY with the faces first.
+    v = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    f = [(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)]
+    n = [(-0.57735, -0.57735, -0.57735), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    put("mesh_obj", "tetra_writemesh.obj", (
+        "# written by meniscus (isosurface path): 4 vertices, 4 triangles\n" +
+        "".join("v %.9g %.9g %.9g\n" % p for p in v) + "".join("vn %.6g %.6g %.6g\n" % q for q in n) +
+        "".join("f %d//%d %d//%d %d//%d\n" % (a + 1, a + 1, b + 1, b + 1, c + 1, c + 1) for a, b, c in f)).encode())
+    put("mesh_obj", "cube_corner_forms.obj", (
+        "o Cube\r\nv 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0 1.0\r\nv 0 0 1\r\nv 1 0 1\r\nv 1 1 1\r\nv 0 1 1\r\n"
+        "vt 0 0\r\nvt 1 0\r\nvt 1 1\r\nvt 0 1\r\nvn 0 0 -1\r\nvn 0 0 1\r\ng sides\r\nusemtl grey\r\n"
+        "f 1 4 3 2\r\nf 5/1 6/2 7/3 8/4\r\nf 1//1 2//1 6//1 5//1\r\nf 2/1/1 3/2/1 7/3/1 6/4/1\r\n"
+        "f 3 4 8 7 # comment\r\nf -8/-4/-2 -4/-3/-1 -1 -5\r\n").encode())
+    head = ("ply\nformat binary_little_endian 1.0\ncomment written by meniscus (isosurface path)\n"
+            "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+            "property float nx\nproperty float ny\nproperty float nz\nelement face 4\n"
+            "property list uchar uint vertex_indices\nend_header\n").encode()
+    body = b"".join(struct.pack("<6f", *(p + q)) for p, q in zip(v, n))
+    body += b"".join(struct.pack("<B3I", 3, *t) for t in f)
+    put("mesh_ply", "tetra_writemesh.ply", head + body)
+    put("mesh_ply", "quad_ascii_colours.ply", (
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+        "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+        "element face 2\nproperty list uchar int vertex_index\nproperty uchar flags\n"
+        "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n"
+        "0 0 0 255 0 0\n1 0 0 0 255 0\n1 1 0 0 0 255\n0 1 0 9 9 9\n4 0 1 2 3 7\n3 0 2 3 1\n0 1\n").encode())
+    head = ("ply\nformat binary_big_endian 1.0\nelement face 4\nproperty list uint uint vertex_indices\n"
+            "element vertex 4\nproperty double x\nproperty double y\nproperty double z\nend_header\n").encode()
+    body = b"".join(struct.pack(">4I", 3, *t) for t in f) + b"".join(struct.pack(">3d", *p) for p in v)
+    put("mesh_ply", "tetra_faces_first_big_endian.ply", head + body)
+
+
 def main():
+    mesh_seeds()
     cut_bgeo()
     cut_vtk()
     grid = vtk_writers(load_fixture_script())

@@ -280,6 +280,33 @@ TEST(PlyReader, EveryTypeNameBothEndians) {
     }
 }
 
+TEST(PlyReader, ComponentRunsBecomeOneAttribute) {
+    // NAME_0 .. NAME_k-1 of one kind, with NAME itself free: one k-component
+    // attribute (what writeParticles writes); anything else stays by name.
+    const std::string text =
+        "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+        "property float uv_0\nproperty float uv_1\nproperty int c_0\nproperty int c_1\nproperty int c_2\n"
+        "property float m_0\nproperty int m_1\nproperty float s_0\nproperty float t\nproperty float t_0\n"
+        "property float t_1\nend_header\n"
+        "0 0 0 0.5 1.5 1 2 3 7 8 9 10 11 12\n1 1 1 2.5 3.5 4 5 6 7 8 9 10 11 12\n";
+    const auto p = parseFile("runs.ply", toBytes(text));
+    ASSERT_TRUE(p.result.ok()) << p.result.error().describe();
+    const ParticleSet& set = *p.result;
+    const Attribute* uv = set.find("uv");
+    ASSERT_NE(uv, nullptr);
+    EXPECT_EQ(uv->components, 2);
+    EXPECT_EQ(uv->floats, (std::vector<float>{0.5f, 1.5f, 2.5f, 3.5f}));
+    const Attribute* c = set.find("c");
+    ASSERT_NE(c, nullptr);
+    EXPECT_EQ(c->type, AttributeType::Int);
+    EXPECT_EQ(c->ints, (std::vector<std::int64_t>{1, 2, 3, 4, 5, 6}));
+    for (const char* kept : {"m_0", "m_1", "s_0", "t", "t_0", "t_1"}) {
+        ASSERT_NE(set.find(kept), nullptr) << kept;
+        EXPECT_EQ(set.find(kept)->components, 1) << kept;
+    }
+    EXPECT_EQ(set.attributes.size(), 8u);
+}
+
 TEST(PlyReader, IntegerPositions) {
     const std::string header =
         "ply\nformat binary_big_endian 1.0\nelement vertex 2\nproperty short x\nproperty short y\n"

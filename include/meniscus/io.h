@@ -42,6 +42,21 @@ Result<ParticleSet> parseParticles(ByteView data, const std::string& name,
 Result<ParticleSet> readParticles(const std::filesystem::path& path,
                                   ParticleFormat format = ParticleFormat::Auto);
 
+// Writes `set` to `path` in `format` (Auto: from the name, as formatFromName;
+// .bgeo classic BGEO v5 as partio writes it (SPlisHSPlasH's export), .bgeo.gz
+// the same gzip-compressed; .vtk binary legacy POLYDATA; .vtu / .vtp VTK XML with
+// raw appended data; .ply binary little-endian). Every attribute is written
+// (Float as float32, Int as int32) under names the readers above map back to
+// the same attributes. A set with no particles gives a valid empty file
+// (which readParticles() refuses, as it does every empty file). Refused,
+// with an Error naming the file and nothing written: an unknown or
+// unwritable format (CSV, XYZ, .geo), an attribute whose value count is not
+// particles x components, two attributes of one name, a canonical attribute
+// (id, velocity, density) of another type, an Int value beyond int32, a
+// non-finite position. Written to a temporary name and renamed.
+Status writeParticles(const std::filesystem::path& path, const ParticleSet& set,
+                      ParticleFormat format = ParticleFormat::Auto);
+
 // Whole file into memory. Error names the file.
 Result<std::vector<std::uint8_t>> readFileBytes(const std::filesystem::path& path);
 
@@ -113,6 +128,19 @@ enum class MeshFormat { Ply, Obj };
 // other extension, or none, is an error naming the file.
 Result<MeshFormat> meshFormatOf(const std::filesystem::path& path);
 Status writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh, MeshFormat format);
+
+// Reads a triangle mesh (src/io/mesh_reader.cpp): Wavefront OBJ (v, vn, f with
+// v, v/t, v//n or v/t/n corners, negative indices, polygons fanned into
+// triangles) or PLY, ascii or binary (vertex x y z [nx ny nz], face
+// vertex_indices or vertex_index lists). Normals are kept when the file gives
+// one per vertex (OBJ: every corner names its vertex's own normal, as
+// writeMesh writes them), else the mesh has none. The format comes from the
+// extension (.obj, .ply, any case). A file with no faces, an index out of
+// range, a truncated file or a non-finite position is an Error naming the file.
+Result<TriangleMesh> readMesh(const std::filesystem::path& path);
+// The same for a file already in memory; `name` is used in error messages only.
+Result<TriangleMesh> parseObjMesh(ByteView data, const std::string& name);
+Result<TriangleMesh> parsePlyMesh(ByteView data, const std::string& name);
 
 }  // namespace meniscus
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <exception>
 #include <new>
 #include <string>
@@ -23,6 +24,47 @@ inline std::string lower(std::string_view s) {
 inline bool endsWith(std::string_view s, std::string_view suffix) {
     return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
 }
+
+// A number as text: decimal, exponent, "nan", "inf" (any case), optional sign.
+inline bool parseNumber(std::string_view token, double& out) {
+    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+    if (token.empty() || token.front() == '+') return false;
+    const char* end = token.data() + token.size();
+    const auto [ptr, ec] = std::from_chars(token.data(), end, out);
+    return ec == std::errc() && ptr == end;
+}
+
+// A token quoted for a message: at most 60 characters, control bytes as '?'
+// (keeps messages readable when a "line" is really binary junk).
+inline std::string quoteShort(std::string_view s) {
+    std::string out;
+    for (char c : s.substr(0, 60)) out += (static_cast<unsigned char>(c) < 32 || c == 127) ? '?' : c;
+    if (s.size() > 60) out += "...";
+    return "'" + out + "'";
+}
+
+// Walks the lines of a text, counting them from 1.
+class Lines {
+public:
+    explicit Lines(std::string_view text) : text_(text) {
+        if (text_.substr(0, 3) == "\xEF\xBB\xBF") text_.remove_prefix(3);  // UTF-8 byte order mark
+    }
+    bool next(std::string_view& line) {
+        if (pos_ >= text_.size()) return false;
+        const std::size_t nl = text_.find('\n', pos_);
+        const std::size_t end = nl == std::string_view::npos ? text_.size() : nl;
+        line = text_.substr(pos_, end - pos_);
+        pos_ = nl == std::string_view::npos ? text_.size() : nl + 1;
+        ++number_;
+        return true;
+    }
+    std::size_t number() const { return number_; }
+
+private:
+    std::string_view text_;
+    std::size_t pos_ = 0;
+    std::size_t number_ = 0;
+};
 
 // Thrown by a parser deep inside its reading code for malformed input; caught
 // by guardParse at the API boundary and returned as an Error.

@@ -37,6 +37,10 @@ namespace meniscus {
 
 namespace {
 
+using io_util::Lines;
+using io_util::parseNumber;
+using io_util::quoteShort;
+
 // ---------------------------------------------------------------- small helpers
 
 bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
@@ -53,22 +57,6 @@ std::string lower(std::string_view s) {
     return out;
 }
 
-std::string quoteShort(std::string_view s) {
-    std::string out;
-    for (char c : s.substr(0, 60)) out += (static_cast<unsigned char>(c) < 32 || c == 127) ? '?' : c;
-    if (s.size() > 60) out += "...";
-    return "'" + out + "'";
-}
-
-// A number as text: decimal, exponent, "nan", "inf" (any case), optional sign.
-bool parseNumber(std::string_view token, double& out) {
-    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-    if (token.empty() || token.front() == '+') return false;
-    const char* end = token.data() + token.size();
-    const auto [ptr, ec] = std::from_chars(token.data(), end, out);
-    return ec == std::errc() && ptr == end;
-}
-
 // An integer, also written as a float with no fraction ("12.0").
 bool parseInteger(std::string_view token, std::int64_t& out) {
     if (!token.empty() && token.front() == '+') token.remove_prefix(1);
@@ -80,29 +68,6 @@ bool parseInteger(std::string_view token, std::int64_t& out) {
     out = std::int64_t(d);
     return true;
 }
-
-// Walks the lines of a text, counting them from 1.
-class Lines {
-public:
-    explicit Lines(std::string_view text) : text_(text) {
-        if (text_.substr(0, 3) == "\xEF\xBB\xBF") text_.remove_prefix(3);  // UTF-8 byte order mark
-    }
-    bool next(std::string_view& line) {
-        if (pos_ >= text_.size()) return false;
-        const std::size_t nl = text_.find('\n', pos_);
-        const std::size_t end = nl == std::string_view::npos ? text_.size() : nl;
-        line = text_.substr(pos_, end - pos_);
-        pos_ = nl == std::string_view::npos ? text_.size() : nl + 1;
-        ++number_;
-        return true;
-    }
-    std::size_t number() const { return number_; }
-
-private:
-    std::string_view text_;
-    std::size_t pos_ = 0;
-    std::size_t number_ = 0;
-};
 
 std::string_view asText(ByteView data) { return {reinterpret_cast<const char*>(data.data()), data.size()}; }
 
