@@ -124,14 +124,13 @@ public:
         if (v) return *v;
         std::string typo;  // "domian" for "domain": say so, not only that "domain" is missing
         for (auto it = object_.begin(); it != object_.end() && typo.empty(); ++it)
-            if (!knows(it.key()) && !guess(it.key(), {key}).empty()) typo = " (is \"" + it.key() + "\" a misspelling of it?)";
+            if (!knows(it.key()) && !guess(it.key(), {key}).empty()) typo = " (is \"" + shown(it.key()) + "\" a misspelling of it?)";
         fail(path(key), "missing" + typo + "; " + what_ + " needs it (" + hint + ")");
     }
     std::string path(std::string_view key) const { return child(path_, key); }
     bool knows(const std::string& key) const {
         return std::find(known_.begin(), known_.end(), key) != known_.end();
     }
-    const std::vector<std::string>& known() const { return known_; }
 
     // `nested`, `nestedName`: a sub-object whose keys are often written one
     // level too high (params' keys at the top of the scene).
