@@ -48,6 +48,35 @@ void expectVec(const glm::vec3& v, float x, float y, float z) {
     EXPECT_FLOAT_EQ(v.z, z);
 }
 
+// Every member of SimParams.
+void expectParams(const SimParams& p, const SimParams& want) {
+    EXPECT_EQ(p.solver, want.solver);
+    EXPECT_FLOAT_EQ(p.radius, want.radius);
+    EXPECT_FLOAT_EQ(p.restDensity, want.restDensity);
+    expectVec(p.gravity, want.gravity.x, want.gravity.y, want.gravity.z);
+    EXPECT_FLOAT_EQ(p.viscosity, want.viscosity);
+    EXPECT_FLOAT_EQ(p.surfaceTension, want.surfaceTension);
+    EXPECT_FLOAT_EQ(p.stiffness, want.stiffness);
+    EXPECT_FLOAT_EQ(p.cfl, want.cfl);
+    EXPECT_FLOAT_EQ(p.minDt, want.minDt);
+    EXPECT_FLOAT_EQ(p.maxDt, want.maxDt);
+    EXPECT_FLOAT_EQ(p.densityTolerance, want.densityTolerance);
+    EXPECT_FLOAT_EQ(p.divergenceTolerance, want.divergenceTolerance);
+    EXPECT_EQ(p.maxIterations, want.maxIterations);
+    EXPECT_FLOAT_EQ(p.lifetime, want.lifetime);
+    EXPECT_EQ(p.resortEvery, want.resortEvery);
+}
+
+void expectEmitter(const Emitter& e, const Emitter& want) {
+    expectVec(e.position, want.position.x, want.position.y, want.position.z);
+    expectVec(e.direction, want.direction.x, want.direction.y, want.direction.z);
+    EXPECT_FLOAT_EQ(e.radius, want.radius);
+    EXPECT_FLOAT_EQ(e.speed, want.speed);
+    EXPECT_FLOAT_EQ(e.rate, want.rate);
+    EXPECT_FLOAT_EQ(e.start, want.start);
+    EXPECT_FLOAT_EQ(e.end, want.end);
+}
+
 bool inside(const Box& inner, const Box& outer) {
     for (int i = 0; i < 3; ++i)
         if (inner.min[i] < outer.min[i] || inner.max[i] > outer.max[i]) return false;
@@ -87,19 +116,14 @@ TEST(SimSceneShipped, DamBreakIsSplishSplashsDamBreakModel) {
     EXPECT_TRUE(s.colliders.empty() && s.emitters.empty() && s.drains.empty());
     EXPECT_DOUBLE_EQ(s.duration, 4.0);
     EXPECT_DOUBLE_EQ(s.fps, 25.0);
-    const SimParams& p = s.params;
-    EXPECT_EQ(p.solver, Solver::Dfsph);
-    EXPECT_FLOAT_EQ(p.radius, 0.025f);
-    EXPECT_FLOAT_EQ(p.restDensity, 1000.0f);
-    expectVec(p.gravity, 0.0f, -9.81f, 0.0f);
-    EXPECT_FLOAT_EQ(p.viscosity, 0.01f);
-    EXPECT_FLOAT_EQ(p.surfaceTension, 0.0f);
-    EXPECT_FLOAT_EQ(p.cfl, 1.0f);
-    EXPECT_FLOAT_EQ(p.minDt, 0.0001f);
-    EXPECT_FLOAT_EQ(p.maxDt, 0.005f);
-    EXPECT_FLOAT_EQ(p.densityTolerance, 0.0005f);     // maxError 0.05 %
-    EXPECT_FLOAT_EQ(p.divergenceTolerance, 0.001f);   // maxErrorV 0.1 %
-    EXPECT_EQ(p.maxIterations, 100);
+    // The defaults but for these (designated in SimParams' order).
+    const SimParams want{.solver = Solver::Dfsph, .radius = 0.025f, .restDensity = 1000.0f,
+                         .gravity = {0.0f, -9.81f, 0.0f}, .viscosity = 0.01f, .surfaceTension = 0.0f,
+                         .cfl = 1.0f, .minDt = 0.0001f, .maxDt = 0.005f,
+                         .densityTolerance = 0.0005f,    // maxError 0.05 %
+                         .divergenceTolerance = 0.001f,  // maxErrorV 0.1 %
+                         .maxIterations = 100};
+    expectParams(s.params, want);
 }
 
 TEST(SimSceneShipped, DropIsABallOverAPool) {
@@ -279,27 +303,13 @@ TEST(SimSceneFields, MissingFieldsTakeTheDefaults) {
     ASSERT_TRUE(r.ok()) << r.error().describe();
     const Scene& s = r.value();
     const Scene d;
-    const SimParams& p = s.params;
-    const SimParams q;
     EXPECT_EQ(s.name, "minimal");
     EXPECT_EQ(s.file, fs::path("some/where/minimal.json"));
     EXPECT_DOUBLE_EQ(s.duration, d.duration);
     EXPECT_DOUBLE_EQ(s.fps, defaults::kSimFps);
-    EXPECT_EQ(p.solver, Solver::Dfsph);
-    EXPECT_EQ(p.radius, defaults::kSimRadiusM);
-    EXPECT_EQ(p.restDensity, defaults::kSimRestDensity);
-    expectVec(p.gravity, 0.0f, -defaults::kSimGravity, 0.0f);
-    EXPECT_EQ(p.viscosity, q.viscosity);
-    EXPECT_EQ(p.surfaceTension, q.surfaceTension);
-    EXPECT_EQ(p.stiffness, q.stiffness);
-    EXPECT_EQ(p.cfl, defaults::kSimCfl);
-    EXPECT_EQ(p.minDt, defaults::kSimMinDtS);
-    EXPECT_EQ(p.maxDt, defaults::kSimMaxDtS);
-    EXPECT_EQ(p.densityTolerance, defaults::kSimDensityTolerance);
-    EXPECT_EQ(p.divergenceTolerance, defaults::kSimDivergenceTolerance);
-    EXPECT_EQ(p.maxIterations, defaults::kSimMaxIterations);
-    EXPECT_EQ(p.lifetime, q.lifetime);
-    EXPECT_EQ(p.resortEvery, defaults::kSimResortEvery);
+    expectParams(s.params, SimParams{});
+    EXPECT_EQ(s.params.radius, defaults::kSimRadiusM);
+    EXPECT_EQ(s.params.densityTolerance, defaults::kSimDensityTolerance);
     ASSERT_EQ(s.fluid.size(), 1u);
     expectVec(s.fluid[0].velocity, 0, 0, 0);
 
@@ -309,14 +319,7 @@ TEST(SimSceneFields, MissingFieldsTakeTheDefaults) {
     j["colliders"] = json::parse(R"([{"kind": "mesh", "mesh": "cup.obj"}, {"kind": "plane", "point": [0, 0, 0], "normal": [0, 1, 0]}])");
     auto r2 = parseScene(j.dump(), "minimal.json");
     ASSERT_TRUE(r2.ok()) << r2.error().describe();
-    const Emitter& e = r2.value().emitters[0];
-    const Emitter de;
-    expectVec(e.direction, de.direction.x, de.direction.y, de.direction.z);
-    EXPECT_EQ(e.radius, de.radius);
-    EXPECT_EQ(e.speed, de.speed);
-    EXPECT_EQ(e.rate, de.rate);
-    EXPECT_EQ(e.start, de.start);
-    EXPECT_EQ(e.end, de.end);
+    expectEmitter(r2.value().emitters[0], Emitter{.position = {0.5f, 0.9f, 0.5f}});
     const Collider& m = r2.value().colliders[0];
     EXPECT_EQ(m.mesh, fs::path("cup.obj"));
     expectVec(m.scale, 1, 1, 1);
@@ -348,22 +351,12 @@ TEST(SimSceneFields, EveryFieldReachesItsMember) {
     EXPECT_EQ(s.name, "all");
     EXPECT_DOUBLE_EQ(s.duration, 2.5);
     EXPECT_DOUBLE_EQ(s.fps, 60.0);
-    const SimParams& p = s.params;
-    EXPECT_EQ(p.solver, Solver::Sph);
-    EXPECT_FLOAT_EQ(p.radius, 0.03f);
-    EXPECT_FLOAT_EQ(p.restDensity, 998.0f);
-    expectVec(p.gravity, 1, -2, 3);
-    EXPECT_FLOAT_EQ(p.viscosity, 0.2f);
-    EXPECT_FLOAT_EQ(p.surfaceTension, 0.07f);
-    EXPECT_FLOAT_EQ(p.stiffness, 3000.0f);
-    EXPECT_FLOAT_EQ(p.cfl, 0.4f);
-    EXPECT_FLOAT_EQ(p.minDt, 0.0002f);
-    EXPECT_FLOAT_EQ(p.maxDt, 0.004f);
-    EXPECT_FLOAT_EQ(p.densityTolerance, 0.001f);
-    EXPECT_FLOAT_EQ(p.divergenceTolerance, 0.002f);
-    EXPECT_EQ(p.maxIterations, 7);
-    EXPECT_FLOAT_EQ(p.lifetime, 9.0f);
-    EXPECT_EQ(p.resortEvery, 11);
+    const SimParams want{.solver = Solver::Sph, .radius = 0.03f, .restDensity = 998.0f,
+                         .gravity = {1.0f, -2.0f, 3.0f}, .viscosity = 0.2f, .surfaceTension = 0.07f,
+                         .stiffness = 3000.0f, .cfl = 0.4f, .minDt = 0.0002f, .maxDt = 0.004f,
+                         .densityTolerance = 0.001f, .divergenceTolerance = 0.002f, .maxIterations = 7,
+                         .lifetime = 9.0f, .resortEvery = 11};
+    expectParams(s.params, want);
     expectVec(s.domain.min, -1, -2, -3);
     expectVec(s.domain.max, 4, 5, 6);
     ASSERT_EQ(s.fluid.size(), 2u);
@@ -387,14 +380,8 @@ TEST(SimSceneFields, EveryFieldReachesItsMember) {
     expectVec(s.colliders[3].scale, 2, 3, 4);
     expectVec(s.colliders[3].translate, 5, 6, 7);
     ASSERT_EQ(s.emitters.size(), 1u);
-    const Emitter& e = s.emitters[0];
-    expectVec(e.position, 1, 1, 1);
-    expectVec(e.direction, 1, 0, 0);
-    EXPECT_FLOAT_EQ(e.radius, 0.1f);
-    EXPECT_FLOAT_EQ(e.speed, 2.0f);
-    EXPECT_FLOAT_EQ(e.rate, 300.0f);
-    EXPECT_FLOAT_EQ(e.start, 0.5f);
-    EXPECT_FLOAT_EQ(e.end, 1.5f);
+    expectEmitter(s.emitters[0], Emitter{.position = {1, 1, 1}, .direction = {1, 0, 0}, .radius = 0.1f,
+                                         .speed = 2.0f, .rate = 300.0f, .start = 0.5f, .end = 1.5f});
     ASSERT_EQ(s.drains.size(), 1u);
     expectVec(s.drains[0].box.min, 3, -2, -3);
 }
