@@ -48,9 +48,15 @@ struct Collider {
     glm::vec3 translate{0.0f};     // Kind::Mesh, metres
 };
 
-// A block of fluid filled with particles on a cubic lattice of spacing 2r.
+// A block of fluid filled with particles on a cubic lattice of spacing 2r:
+// a box, or a ball (`center`, `radius`). For a ball the scene parser sets
+// `box` to its bounding box, so a sampler walks the lattice over `box` and
+// keeps the points within `radius` of `center`.
 struct FluidBlock {
-    Box box;
+    enum class Shape { Box, Sphere } shape = Shape::Box;
+    Box box;                   // Shape::Box; Shape::Sphere: its bounding box
+    glm::vec3 center{0.0f};    // Shape::Sphere, metres
+    float radius = 0.0f;       // Shape::Sphere, metres
     glm::vec3 velocity{0.0f};  // initial, m/s
 };
 

@@ -19,7 +19,6 @@
 namespace meniscus::sim {
 
 namespace {
-Result<TriangleMesh> readMeshTemp(const std::filesystem::path& p) { return makeError(p.string(), "mesh reader not merged"); }  // TODO-MERGE
 
 constexpr std::size_t kMaxParticles = std::size_t(1) << 28;  // memory bound, ~60 GB of state
 constexpr double kInitialDtS = 0.001;                        // s, SPlisHSPlasH's first step
@@ -318,7 +317,7 @@ Result<std::unique_ptr<Simulator>> Simulator::create(const Scene& scene) {
         // Mesh colliders: read, scaled, moved.
         for (const Collider& c : scene.colliders) {
             if (c.kind != Collider::Kind::Mesh) continue;
-            auto mesh = readMeshTemp(c.mesh);  // TODO-MERGE
+            auto mesh = readMesh(c.mesh);
             if (!mesh) return mesh.error();
             ColliderMesh cm;
             cm.mesh = std::move(mesh.value());
@@ -355,6 +354,8 @@ Result<std::unique_ptr<Simulator>> Simulator::create(const Scene& scene) {
                 for (int y = 0; y < c.y; ++y)
                     for (int x = 0; x < c.x; ++x) {
                         const glm::vec3 pos = start + glm::vec3(float(x), float(y), float(z)) * spacing;
+                        // A ball keeps the lattice points within its radius.
+                        if (f.shape == FluidBlock::Shape::Sphere && glm::length(pos - f.center) > f.radius) continue;
                         // Not inside a collider.
                         bool blocked = false;
                         std::size_t mesh = 0;
