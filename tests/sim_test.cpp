@@ -124,15 +124,19 @@ TEST(SimNeighbours, SameAsBruteForceAndInCellOrder) {
     grid.build(pts);
     NeighbourLists lists;
     const CubicSpline K(h);
-    buildNeighbourLists(pts, grid, pts, h, true, [&](const glm::vec3& d, float r, float) { return std::pair{K.W(r), K.gradW(d, r)}; }, lists);
+    std::vector<float> wSum(pts.size());
+    buildNeighbourLists(pts, grid, pts, h, true, [&](const glm::vec3& d, float r, float) { return std::pair{K.W(r), K.gradW(d, r)}; }, lists, wSum);
     for (std::size_t i = 0; i < pts.size(); i += 7) {
         std::vector<std::uint32_t> brute, found;
         for (std::size_t j = 0; j < pts.size(); ++j)
             if (j != i && glm::dot(pts[i] - pts[j], pts[i] - pts[j]) < h * h) brute.push_back(std::uint32_t(j));
+        double sum = 0.0;
         for (const Neighbour& nb : lists.of(i)) {
             found.push_back(nb.j);
-            EXPECT_FLOAT_EQ(nb.w, K.W(glm::length(pts[i] - pts[nb.j])));
+            EXPECT_EQ(nb.gradW, K.gradW(pts[i] - pts[nb.j], glm::length(pts[i] - pts[nb.j])));
+            sum += double(K.W(glm::length(pts[i] - pts[nb.j])));
         }
+        EXPECT_NEAR(wSum[i], sum, 1e-4 * sum + 1e-3);
         std::sort(found.begin(), found.end());
         EXPECT_EQ(found, brute) << "particle " << i;
     }

@@ -60,11 +60,11 @@ private:
 // The permutation that puts points in z-curve order of their cells (stable).
 std::vector<std::uint32_t> zOrder(const CellGrid& grid, std::span<const glm::vec3> points);
 
-// One neighbour of a particle: its index, the kernel value and the kernel
-// gradient at x_i - x_j (both in the solver's own kernel).
+// One neighbour of a particle: its index and the kernel gradient at
+// x_i - x_j (in the solver's own kernel). 16 bytes: the pressure solvers
+// stream these lists several times a step.
 struct Neighbour {
     std::uint32_t j;
-    float w;
     glm::vec3 gradW;
 };
 
@@ -73,6 +73,9 @@ struct Neighbour {
 struct NeighbourLists {
     std::vector<std::uint32_t> offsets;
     std::vector<Neighbour> entries;
+    std::vector<float> w;  // the kernel value of each entry (apart: only XSPH reads it)
+    std::vector<std::vector<Neighbour>> chunkEntries;  // the build's per-chunk lists, kept to reuse their memory
+    std::vector<std::vector<float>> chunkW;
     std::span<const Neighbour> of(std::size_t i) const {
         return {entries.data() + offsets[i], entries.data() + offsets[i + 1]};
     }
@@ -80,10 +83,13 @@ struct NeighbourLists {
 
 // Lists of every point of `grid` (holding `others`) within `support` of each
 // of `points` (the point itself excluded when `self`), with kernel values
-// from `kernel(d, r, r^2) -> std::pair<float, glm::vec3>` (W, grad W). Parallel (oneTBB).
+// from `kernel(d, r, r^2) -> std::pair<float, glm::vec3>` (W, grad W); the
+// sum of W over each list goes to `wSum` (when not empty). One pass, in
+// fixed chunks whose lists are then joined in order: the same lists for any
+// thread count. Parallel (oneTBB).
 template <class Kernel>
 void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid, std::span<const glm::vec3> others,
-                         float support, bool self, const Kernel& kernel, NeighbourLists& out);
+                         float support, bool self, const Kernel& kernel, NeighbourLists& out, std::span<float> wSum);
 
 }  // namespace meniscus::sim
 

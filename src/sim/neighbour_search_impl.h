@@ -8,37 +8,47 @@ namespace meniscus::sim {
 
 template <class Kernel>
 void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid, std::span<const glm::vec3> others,
-                         float support, bool self, const Kernel& kernel, NeighbourLists& out) {
+                         float support, bool self, const Kernel& kernel, NeighbourLists& out, std::span<float> wSum) {
     const std::size_t n = points.size();
     const float h2 = support * support;
+    constexpr std::size_t kChunk = 1024;
+    const std::size_t chunks = (n + kChunk - 1) / kChunk;
     out.offsets.assign(n + 1, 0);
-    // Pass 1: counts.
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            const glm::vec3 xi = points[i];
-            std::uint32_t count = 0;
-            grid.forEachNear(xi, [&](std::uint32_t j) {
-                const glm::vec3 d = xi - others[j];
-                if (glm::dot(d, d) < h2 && !(self && j == i)) ++count;
-            });
-            out.offsets[i + 1] = count;
+    out.chunkEntries.resize(chunks);
+    out.chunkW.resize(chunks);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t c = r.begin(); c < r.end(); ++c) {
+            std::vector<Neighbour>& list = out.chunkEntries[c];
+            std::vector<float>& ws = out.chunkW[c];
+            list.clear(), ws.clear();
+            const std::size_t end = std::min(n, (c + 1) * kChunk);
+            for (std::size_t i = c * kChunk; i < end; ++i) {
+                const glm::vec3 xi = points[i];
+                const std::size_t before = list.size();
+                float sum = 0.0f;
+                grid.forEachNear(xi, [&](std::uint32_t j) {
+                    const glm::vec3 d = xi - others[j];
+                    const float r2 = glm::dot(d, d);
+                    if (r2 < h2 && !(self && j == i)) {
+                        const auto [w, g] = kernel(d, std::sqrt(r2), r2);
+                        sum += w;
+                        list.push_back(Neighbour{j, g});
+                        ws.push_back(w);
+                    }
+                });
+                out.offsets[i + 1] = std::uint32_t(list.size() - before);
+                if (!wSum.empty()) wSum[i] = sum;
+            }
         }
     });
     for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
     out.entries.resize(out.offsets[n]);
-    // Pass 2: the entries, in the order pass 1 counted them.
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            const glm::vec3 xi = points[i];
-            Neighbour* e = out.entries.data() + out.offsets[i];
-            grid.forEachNear(xi, [&](std::uint32_t j) {
-                const glm::vec3 d = xi - others[j];
-                const float r2 = glm::dot(d, d);
-                if (r2 < h2 && !(self && j == i)) {
-                    const auto [w, g] = kernel(d, std::sqrt(r2), r2);
-                    *e++ = Neighbour{j, w, g};
-                }
-            });
+    out.w.resize(out.offsets[n]);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t c = r.begin(); c < r.end(); ++c) {
+            const auto at = std::ptrdiff_t(out.offsets[c * kChunk]);
+            std::copy(out.chunkEntries[c].begin(), out.chunkEntries[c].end(), out.entries.begin() + at);
+            std::copy(out.chunkW[c].begin(), out.chunkW[c].end(), out.w.begin() + at);
         }
     });
 }

@@ -119,7 +119,7 @@ Status validate(const Scene& sc) {
 
 void Simulator::Impl::resizeScratch() {
     const std::size_t count = n();
-    alpha.resize(count), kappa.resize(count), rhoAdv.resize(count);
+    alpha.resize(count), kappa.resize(count), rhoAdv.resize(count), kernelSum.resize(count);
 }
 
 void Simulator::Impl::permute(const std::vector<std::uint32_t>& order) {
@@ -139,11 +139,11 @@ void Simulator::Impl::findNeighbours() {
     if (p.solver == Solver::Sph) {
         const MullerKernels& K = muller;
         auto kernel = [&K](const glm::vec3& d, float r, float r2) { return std::pair{K.poly6(r2), K.spikyGrad(d, r)}; };
-        buildNeighbourLists(x, grid, x, h, true, kernel, fluidNb);
+        buildNeighbourLists(x, grid, x, h, true, kernel, fluidNb, kernelSum);
     } else {
         const CubicSpline& K = cubic;
         auto kernel = [&K](const glm::vec3& d, float r, float) { return std::pair{K.W(r), K.gradW(d, r)}; };
-        buildNeighbourLists(x, grid, x, h, true, kernel, fluidNb);
+        buildNeighbourLists(x, grid, x, h, true, kernel, fluidNb, kernelSum);
     }
     wall.resize(n());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n(), 512), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -155,9 +155,7 @@ void Simulator::Impl::computeDensities() {
     const float self = p.solver == Solver::Sph ? muller.poly6(0.0f) : cubic.W(0.0f);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n(), 512), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            float fluid = self;
-            for (const Neighbour& nb : fluidNb.of(i)) fluid += nb.w;
-            density[i] = p.restDensity * (volume * fluid + wall[i].density);
+            density[i] = p.restDensity * (volume * (self + kernelSum[i]) + wall[i].density);
         }
     });
 }
@@ -175,7 +173,10 @@ void Simulator::Impl::nonPressureAccelerations() {
                 glm::vec3 sum(0.0f);
                 // The mean of the two densities keeps the pair term symmetric,
                 // so XSPH conserves momentum.
-                for (const Neighbour& nb : fluidNb.of(i)) sum += (2.0f * nb.w / (density[i] + density[nb.j])) * (v[nb.j] - v[i]);
+                for (std::uint32_t e = fluidNb.offsets[i]; e < fluidNb.offsets[i + 1]; ++e) {
+                    const std::uint32_t j = fluidNb.entries[e].j;
+                    sum += (2.0f * fluidNb.w[e] / (density[i] + density[j])) * (v[j] - v[i]);
+                }
                 acc += (c * mass) * sum;
             }
             a[i] = acc;

@@ -36,6 +36,7 @@ struct Simulator::Impl {
 
     // Scratch of the solvers (resized each step).
     std::vector<float> alpha, kappa, rhoAdv;
+    std::vector<float> kernelSum;      // sum of the density kernel over each particle's neighbours
     std::vector<float> kappaDivergence;  // DFSPH: the divergence solver's stiffness sum of this step
     std::vector<WallTerm> wall;       // the boundaries' density and gradients per particle
 
