@@ -265,9 +265,12 @@ TEST(SimSceneShipped, MartinMoyceFitsTheExperiment) {
     const Scene s = readShipped("martin_moyce.json");
     ASSERT_EQ(s.fluid.size(), 1u);
     const Box& col = s.fluid[0].box;
-    const double a = col.max.x - col.min.x;
+    // The free faces are r beyond a and 2a (their lattice starts 2r inside), so
+    // the particles' cubes fill a x 2a.
+    const double r = s.params.radius;
+    const double a = col.max.x - col.min.x - r;
     EXPECT_NEAR(a, 0.05715, 1e-6);
-    EXPECT_NEAR(col.max.y - col.min.y, 2.0 * a, 1e-6);
+    EXPECT_NEAR(col.max.y - col.min.y - r, 2.0 * a, 1e-6);
     EXPECT_EQ(col.min.x, s.domain.min.x);
     EXPECT_EQ(col.min.y, s.domain.min.y);
     EXPECT_EQ(col.min.z, s.domain.min.z);

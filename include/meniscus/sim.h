@@ -82,7 +82,7 @@ struct SimParams {
     float radius = defaults::kSimRadiusM;                   // particle radius r, metres; spacing 2r, support 4r
     float restDensity = defaults::kSimRestDensity;          // rho0, kg/m^3
     glm::vec3 gravity{0.0f, -defaults::kSimGravity, 0.0f};  // m/s^2
-    float viscosity = defaults::kSimXsphViscosity;          // DFSPH/ballistic: XSPH factor (dimensionless); SPH: mu, Pa s
+    float viscosity = defaults::kSimViscosity;              // DFSPH: kinematic nu, m^2/s; SPH: dynamic mu, Pa s; ballistic: unused
     float surfaceTension = 0.0f;                            // SPH: sigma of the colour-field force, N/m; DFSPH: 0 (none)
     float stiffness = defaults::kSimSphStiffness;           // SPH: k of p = k (rho - rho0), m^2/s^2
     float cfl = defaults::kSimCfl;                          // CFL factor (1 as SPlisHSPlasH)

@@ -169,6 +169,8 @@ void stepDfsph(Simulator::Impl& s, double until) {
     st.msPressure = timer.lap();
     s.nonPressureAccelerations();
     s.dt = s.cflStep(until, 0.0f);
+    // The explicit viscosity's own limit, 0.125 h^2 / nu (as for SPH below).
+    if (s.p.viscosity > 0.0f) s.dt = std::min(s.dt, double(0.125f * s.h * s.h / s.p.viscosity));
     const float dt = float(s.dt);
     forAll(s.n(), [&](std::size_t i) { s.v[i] += dt * s.a[i]; });
     st.msForces = timer.lap();

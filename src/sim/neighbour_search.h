@@ -73,9 +73,7 @@ struct Neighbour {
 struct NeighbourLists {
     std::vector<std::uint32_t> offsets;
     std::vector<Neighbour> entries;
-    std::vector<float> w;  // the kernel value of each entry (apart: only XSPH reads it)
     std::vector<std::vector<Neighbour>> chunkEntries;  // the build's per-chunk lists, kept to reuse their memory
-    std::vector<std::vector<float>> chunkW;
     std::span<const Neighbour> of(std::size_t i) const {
         return {entries.data() + offsets[i], entries.data() + offsets[i + 1]};
     }

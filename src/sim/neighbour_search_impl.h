@@ -15,12 +15,10 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
     const std::size_t chunks = (n + kChunk - 1) / kChunk;
     out.offsets.assign(n + 1, 0);
     out.chunkEntries.resize(chunks);
-    out.chunkW.resize(chunks);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t c = r.begin(); c < r.end(); ++c) {
             std::vector<Neighbour>& list = out.chunkEntries[c];
-            std::vector<float>& ws = out.chunkW[c];
-            list.clear(), ws.clear();
+            list.clear();
             const std::size_t end = std::min(n, (c + 1) * kChunk);
             for (std::size_t i = c * kChunk; i < end; ++i) {
                 const glm::vec3 xi = points[i];
@@ -33,7 +31,6 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
                         const auto [w, g] = kernel(d, std::sqrt(r2), r2);
                         sum += w;
                         list.push_back(Neighbour{j, g});
-                        ws.push_back(w);
                     }
                 });
                 out.offsets[i + 1] = std::uint32_t(list.size() - before);
@@ -43,12 +40,10 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
     });
     for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
     out.entries.resize(out.offsets[n]);
-    out.w.resize(out.offsets[n]);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t c = r.begin(); c < r.end(); ++c) {
             const auto at = std::ptrdiff_t(out.offsets[c * kChunk]);
             std::copy(out.chunkEntries[c].begin(), out.chunkEntries[c].end(), out.entries.begin() + at);
-            std::copy(out.chunkW[c].begin(), out.chunkW[c].end(), out.w.begin() + at);
         }
     });
 }

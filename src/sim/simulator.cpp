@@ -162,22 +162,23 @@ void Simulator::Impl::computeDensities() {
 
 void Simulator::Impl::nonPressureAccelerations() {
     a.resize(n());
-    const bool xsph = p.solver == Solver::Dfsph && p.viscosity > 0.0f;
-    // XSPH as an acceleration (v_j - v_i) * c / dt, so it is the same per
-    // unit time whatever the step (SPlisHSPlasH's form).
-    const float c = xsph ? p.viscosity / float(dt > 0.0 ? dt : kInitialDtS) : 0.0f;
+    const bool viscous = p.solver == Solver::Dfsph && p.viscosity > 0.0f;
+    // The "standard" SPH viscosity of SPlisHSPlasH and of Koschier et al.'s
+    // SPH tutorial (Eurographics 2019, eq. 103, after Monaghan 2005):
+    //   a_i = 2 (d + 2) nu sum_j (m_j / rho_j) (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) grad W_ij,
+    // d = 3, nu the kinematic viscosity. The mean of the two densities keeps
+    // the pair term antisymmetric, so it conserves momentum.
+    const float c = 10.0f * p.viscosity * mass, eps = 0.01f * h * h;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n(), 512), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i < r.end(); ++i) {
             glm::vec3 acc = p.gravity;
-            if (xsph) {
+            if (viscous) {
                 glm::vec3 sum(0.0f);
-                // The mean of the two densities keeps the pair term symmetric,
-                // so XSPH conserves momentum.
-                for (std::uint32_t e = fluidNb.offsets[i]; e < fluidNb.offsets[i + 1]; ++e) {
-                    const std::uint32_t j = fluidNb.entries[e].j;
-                    sum += (2.0f * fluidNb.w[e] / (density[i] + density[j])) * (v[j] - v[i]);
+                for (const Neighbour& nb : fluidNb.of(i)) {
+                    const glm::vec3 xij = x[i] - x[nb.j], vij = v[i] - v[nb.j];
+                    sum += (2.0f / (density[i] + density[nb.j]) * glm::dot(vij, xij) / (glm::dot(xij, xij) + eps)) * nb.gradW;
                 }
-                acc += (c * mass) * sum;
+                acc += c * sum;
             }
             a[i] = acc;
         }

@@ -37,7 +37,7 @@ void stepSph(Simulator::Impl& s, double until) {
     forAll([&](std::size_t i) { s.pressure[i] = k * std::max(s.density[i] - rho0, 0.0f); });
     st.msDensity = timer.lap();
 
-    s.nonPressureAccelerations();  // gravity (XSPH is off for this solver: viscosity is mu)
+    s.nonPressureAccelerations();  // gravity (this solver's viscosity, mu, is below)
     const MullerKernels& K = s.muller;
     const float mu = s.p.viscosity, sigma = s.p.surfaceTension;
     const float threshold = 0.2f / s.h;
