@@ -14,10 +14,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
-
+#include "sim/parallel.h"
 #include "sim/state.h"
 #include "sim/timer.h"
 
@@ -25,30 +22,10 @@ namespace meniscus::sim {
 
 namespace {
 
-constexpr std::size_t kGrain = 512;
 constexpr float kWarmStart = 0.5f;  // fraction of last step's stiffness reused (SPlisHSPlasH's)
 // SPlisHSPlasH's deficiency rule, 20 neighbours of the ~33 of a full
 // neighbourhood, with a wall counted as the fluid it stands for.
 constexpr float kMinNeighboursForDivergence = 20.0f;
-
-template <class F>
-void forAll(std::size_t n, F&& f) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) f(i);
-    });
-}
-
-// Sum of f(i) over all particles, the same for any thread count (fixed chunks).
-template <class F>
-double sumAll(std::size_t n, F&& f) {
-    return tbb::parallel_deterministic_reduce(
-        tbb::blocked_range<std::size_t>(0, n, kGrain), 0.0,
-        [&](const tbb::blocked_range<std::size_t>& r, double acc) {
-            for (std::size_t i = r.begin(); i < r.end(); ++i) acc += double(f(i));
-            return acc;
-        },
-        [](double a, double b) { return a + b; });
-}
 
 // Rate of change of the relative density, sum_j V_j (v_i - v_j) . grad W_ij.
 float densityRate(const Simulator::Impl& s, std::size_t i) {

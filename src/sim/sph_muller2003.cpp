@@ -13,9 +13,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
+#include "sim/parallel.h"
 #include "sim/state.h"
 #include "sim/timer.h"
 
@@ -29,19 +27,14 @@ void stepSph(Simulator::Impl& s, double until) {
     s.computeDensities();
     const std::size_t n = s.n();
     const float k = s.p.stiffness, rho0 = s.p.restDensity, m = s.mass;
-    auto forAll = [&](auto&& f) {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 512), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i < r.end(); ++i) f(i);
-        });
-    };
-    forAll([&](std::size_t i) { s.pressure[i] = k * std::max(s.density[i] - rho0, 0.0f); });
+    forAll(n, [&](std::size_t i) { s.pressure[i] = k * std::max(s.density[i] - rho0, 0.0f); });
     st.msDensity = timer.lap();
 
     s.nonPressureAccelerations();  // gravity (this solver's viscosity, mu, is below)
     const MullerKernels& K = s.muller;
     const float mu = s.p.viscosity, sigma = s.p.surfaceTension;
     const float threshold = 0.2f / s.h;
-    forAll([&](std::size_t i) {
+    forAll(n, [&](std::size_t i) {
         const glm::vec3 xi = s.x[i], vi = s.v[i];
         const float rhoi = s.density[i], pi = s.pressure[i];
         glm::vec3 fp(0.0f), fv(0.0f), normal(0.0f);
@@ -69,7 +62,7 @@ void stepSph(Simulator::Impl& s, double until) {
     s.dt = s.cflStep(until, soundSpeed);
     if (mu > 0.0f) s.dt = std::min(s.dt, double(0.125f * s.h * s.h * rho0 / mu));
     const float dt = float(s.dt);
-    forAll([&](std::size_t i) { s.v[i] += dt * s.a[i]; });
+    forAll(n, [&](std::size_t i) { s.v[i] += dt * s.a[i]; });
     st.msForces = timer.lap();
     st.densityIterations = st.divergenceIterations = 0;
     st.densityError = 0.0;
