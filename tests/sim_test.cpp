@@ -507,11 +507,20 @@ TEST(SimScene, BadScenesAreErrorsNamingTheProblem) {
     s.fluid.clear();
     s.params.radius = -1.0f;
     EXPECT_FALSE(Simulator::create(s).ok());
-    s.params.radius = 1e-4f;  // 1 m^3 of fluid at r = 0.1 mm: too many particles
-    s.fluid.push_back(block(Box{{0, 0, 0}, {1, 1, 1}}, glm::vec3(0.0f)));
-    auto big = Simulator::create(s);
-    ASSERT_FALSE(big.ok());
-    EXPECT_NE(big.error().describe().find("particles"), std::string::npos);
+    // Too many particles (8 m^3 at r = 1 mm: 10^9), and a domain far too large
+    // for its radius (the grid's memory): refused up front, not a crash.
+    s.params.radius = 1e-3f;
+    s.domain = Box{{0, 0, 0}, {2.0f, 2.0f, 2.0f}};
+    s.fluid.push_back(block(Box{{0, 0, 0}, {2.0f, 2.0f, 2.0f}}, glm::vec3(0.0f)));
+    auto many = Simulator::create(s);
+    ASSERT_FALSE(many.ok());
+    EXPECT_NE(many.error().describe().find("particles"), std::string::npos) << many.error().describe();
+    for (float side : {1e6f}) {
+        s.domain = Box{{0, 0, 0}, {side, side, side}};
+        auto big = Simulator::create(s);
+        ASSERT_FALSE(big.ok());
+        EXPECT_NE(big.error().describe().find("grid cells"), std::string::npos) << big.error().describe();
+    }
 }
 
 TEST(SimApi, RestoreRoundTripsAndParticlesCarryTheAttributes) {

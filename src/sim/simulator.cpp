@@ -21,6 +21,7 @@ namespace meniscus::sim {
 namespace {
 
 constexpr std::size_t kMaxParticles = std::size_t(1) << 28;  // memory bound, ~60 GB of state
+constexpr double kMaxGridCells = double(1 << 27);            // 512 MB of cell starts
 constexpr double kInitialDtS = 0.001;                        // s, SPlisHSPlasH's first step
 
 std::string vecStr(const glm::vec3& v) {
@@ -50,7 +51,9 @@ AxisLattice axisLattice(float lo, float hi, float wallLo, float wallHi, float r)
     const float spacing = 2.0f * r, eps = 1e-5f * std::max(1.0f, std::abs(hi - lo));
     const float inLo = std::abs(lo - wallLo) <= eps ? r : spacing, inHi = std::abs(hi - wallHi) <= eps ? r : spacing;
     const float span = hi - lo - inLo - inHi;
-    const int count = span < 0.0f ? 1 : int(std::floor(span / spacing + 1e-4f)) + 1;
+    // In double and capped: a huge block must reach the particle-count check, not overflow.
+    const double steps = std::floor(double(span) / double(spacing) + 1e-4);
+    const int count = span < 0.0f ? 1 : int(std::min(steps, 1e9)) + 1;
     const float start = span < 0.0f ? 0.5f * (lo + hi) : lo + inLo + 0.5f * (span - float(count - 1) * spacing);
     return {count, start};
 }
@@ -82,6 +85,13 @@ Status validate(const Scene& sc) {
     if (!boxOk(sc.domain)) return bad("the domain box " + vecStr(sc.domain.min) + " - " + vecStr(sc.domain.max) + " is empty or not finite");
     if (glm::any(glm::lessThan(sc.domain.max - sc.domain.min, glm::vec3(8.0f * p.radius))))
         return bad("the domain is narrower than 8 particle radii (twice the kernel support) on some axis");
+    {
+        // The neighbour grid is dense over the domain (cells of 4r): bound its memory.
+        const glm::dvec3 cells = glm::ceil(glm::dvec3(sc.domain.max - sc.domain.min) / (4.0 * double(p.radius))) + 2.0;
+        if (cells.x * cells.y * cells.z > double(kMaxGridCells))
+            return bad("the domain is " + std::to_string(long(cells.x)) + " x " + std::to_string(long(cells.y)) + " x " +
+                       std::to_string(long(cells.z)) + " grid cells of 4 r; at most 2^27: use a larger radius or a smaller domain");
+    }
     if (!(p.restDensity > 0.0f) || !std::isfinite(p.restDensity)) return bad("rest_density must be positive");
     if (!(p.cfl > 0.0f) || !(p.minDt > 0.0f) || !(p.maxDt >= p.minDt)) return bad("need cfl > 0 and 0 < min_dt <= max_dt");
     if (!(p.densityTolerance > 0.0f) || !(p.divergenceTolerance > 0.0f) || p.maxIterations < 2)
