@@ -515,6 +515,17 @@ TEST(SimScene, BadScenesAreErrorsNamingTheProblem) {
     auto many = Simulator::create(s);
     ASSERT_FALSE(many.ok());
     EXPECT_NE(many.error().describe().find("particles"), std::string::npos) << many.error().describe();
+    {
+        Scene flood = tank(0.01f);
+        flood.domain = Box{{0, 0, 0}, {1, 1, 1}};
+        Emitter e;
+        e.position = {0.5f, 0.5f, 0.5f};
+        e.rate = 1e30f;  // particles per second
+        flood.emitters = {e};
+        auto r = Simulator::create(flood);
+        ASSERT_FALSE(r.ok());
+        EXPECT_NE(r.error().describe().find("emitters[0]"), std::string::npos) << r.error().describe();
+    }
     for (float side : {1e6f}) {
         s.domain = Box{{0, 0, 0}, {side, side, side}};
         auto big = Simulator::create(s);

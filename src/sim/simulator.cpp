@@ -110,6 +110,12 @@ Status validate(const Scene& sc) {
         if (!finite(e.direction) || glm::length(e.direction) < 1e-6f) return bad("emitters[" + std::to_string(i) + "]: the direction is zero");
         if (!(e.speed > 0.0f) || !(e.radius >= 0.0f) || !(e.rate >= 0.0f) || !(e.end >= e.start))
             return bad("emitters[" + std::to_string(i) + "]: need speed > 0, radius >= 0, rate >= 0, end >= start");
+        // One layer (every 2r / speed) holds rate * 2r / speed particles, or the disc's pi R^2 / (2r)^2.
+        const double spacing = 2.0 * double(p.radius);
+        const double layer = e.rate > 0.0f ? double(e.rate) * spacing / double(e.speed)
+                                           : 3.14159265 * double(e.radius) * double(e.radius) / (spacing * spacing);
+        if (!(layer <= 1e7))
+            return bad("emitters[" + std::to_string(i) + "]: more than 10^7 particles per layer; lower the rate or radius");
     }
     for (std::size_t i = 0; i < sc.colliders.size(); ++i) {
         const Collider& c = sc.colliders[i];
@@ -433,6 +439,9 @@ Status Simulator::step(double until) {
         s.t += s.dt;
         s.totals.guardCorrections += corrected;
         emit(s);
+        if (s.n() > kMaxParticles)
+            return makeError(s.scene.file.string(), "the emitters made more than 2^28 particles by t = " +
+                                                        std::to_string(s.t) + " s; add a drain or a lifetime");
         removeParticles(s);
         ++s.totals.steps;
         if (s.p.resortEvery > 0 && s.totals.steps % std::size_t(s.p.resortEvery) == 0) s.permute(zOrder(s.grid, s.x));
