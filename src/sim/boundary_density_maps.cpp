@@ -146,19 +146,13 @@ WallTerm wallTerm(const Scene& scene, const std::vector<ColliderMesh>& meshes, f
         w.gradient = -t.domainDensity.gradient(dc) * side;
         w.pressureGradient = t.separatePressure ? -t.domainPressure.gradient(dc) * side : w.gradient;
     }
-    std::size_t mesh = 0;
-    for (const Collider& c : scene.colliders) {
-        const ColliderMesh* cm = c.kind == Collider::Kind::Mesh ? &meshes[mesh++] : nullptr;
-        if (cm && (glm::any(glm::lessThan(x, cm->lo - glm::vec3(support))) ||
-                   glm::any(glm::greaterThan(x, cm->hi + glm::vec3(support)))))
-            continue;
-        const SurfacePoint s = colliderDistance(c, cm ? &cm->mesh : nullptr, x);
+    forEachCollider(scene, meshes, x, support, [&](const Collider&, const SurfacePoint& s) {
         const float dist = s.distance + t.offset;
-        if (dist >= support) continue;
+        if (dist >= support) return;
         w.density += t.density.phi(dist);
         w.gradient -= t.density.slab(dist) * s.normal;
         w.pressureGradient -= (t.separatePressure ? t.pressure.slab(dist) : t.density.slab(dist)) * s.normal;
-    }
+    });
     return w;
 }
 

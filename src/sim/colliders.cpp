@@ -108,20 +108,14 @@ bool keepOutside(const Scene& scene, const std::vector<ColliderMesh>& meshes, fl
             x[a] = scene.domain.max[a] - back, v[a] = std::min(v[a], 0.0f), moved = true;
         }
     }
-    std::size_t mesh = 0;
-    for (const Collider& c : scene.colliders) {
-        const ColliderMesh* cm = c.kind == Collider::Kind::Mesh ? &meshes[mesh++] : nullptr;
-        // Cheap rejection for meshes: outside their bounds.
-        if (cm && (glm::any(glm::lessThan(x, cm->lo)) || glm::any(glm::greaterThan(x, cm->hi)))) continue;
-        const TriangleMesh* m = cm ? &cm->mesh : nullptr;
-        const SurfacePoint s = colliderDistance(c, m, x);
+    forEachCollider(scene, meshes, x, 0.0f, [&](const Collider&, const SurfacePoint& s) {
         if (s.distance < 0.0f) {
             x += s.normal * (back - s.distance);
             const float vn = glm::dot(v, s.normal);
             if (vn < 0.0f) v -= vn * s.normal;
             moved = true;
         }
-    }
+    });
     return moved;
 }
 

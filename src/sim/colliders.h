@@ -30,6 +30,22 @@ struct SurfacePoint {
 };
 SurfacePoint colliderDistance(const Collider& c, const TriangleMesh* mesh, const glm::vec3& x);
 
+// Calls f(collider, surface point) for every collider of the scene, with
+// the signed distance from x; a mesh collider only when x lies within its
+// bounds grown by `reach` (farther, its distance is not needed).
+template <class F>
+void forEachCollider(const Scene& scene, const std::vector<ColliderMesh>& meshes, const glm::vec3& x, float reach,
+                     F&& f) {
+    std::size_t mesh = 0;
+    for (const Collider& c : scene.colliders) {
+        const ColliderMesh* cm = c.kind == Collider::Kind::Mesh ? &meshes[mesh++] : nullptr;
+        if (cm && (glm::any(glm::lessThan(x, cm->lo - glm::vec3(reach))) ||
+                   glm::any(glm::greaterThan(x, cm->hi + glm::vec3(reach)))))
+            continue;
+        f(c, colliderDistance(c, cm ? &cm->mesh : nullptr, x));
+    }
+}
+
 // Returns true when x was corrected (moved out, v's inward part removed).
 bool keepOutside(const Scene& scene, const std::vector<ColliderMesh>& meshes, float radius, glm::vec3& x,
                  glm::vec3& v);

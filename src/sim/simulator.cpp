@@ -376,12 +376,9 @@ Result<std::unique_ptr<Simulator>> Simulator::create(const Scene& scene) {
                         if (f.shape == FluidBlock::Shape::Sphere && glm::length(pos - f.center) > f.radius) continue;
                         // Not inside a collider.
                         bool blocked = false;
-                        std::size_t mesh = 0;
-                        for (const Collider& col : scene.colliders) {
-                            const ColliderMesh* cm = col.kind == Collider::Kind::Mesh ? &s->meshes[mesh++] : nullptr;
-                            if (cm && (glm::any(glm::lessThan(pos, cm->lo)) || glm::any(glm::greaterThan(pos, cm->hi)))) continue;
-                            blocked = blocked || colliderDistance(col, cm ? &cm->mesh : nullptr, pos).distance < s->r;
-                        }
+                        forEachCollider(scene, s->meshes, pos, 0.0f, [&](const Collider&, const SurfacePoint& sp) {
+                            blocked = blocked || sp.distance < s->r;
+                        });
                         if (blocked) continue;
                         s->x.push_back(pos);
                         s->v.push_back(f.velocity);
