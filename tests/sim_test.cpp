@@ -125,7 +125,7 @@ TEST(SimNeighbours, SameAsBruteForceAndInCellOrder) {
     NeighbourLists lists;
     const CubicSpline K(h);
     std::vector<float> wSum(pts.size());
-    buildNeighbourLists(pts, grid, pts, h, true, [&](const glm::vec3& d, float r, float) { return std::pair{K.W(r), K.gradW(d, r)}; }, lists, wSum);
+    buildNeighbourLists(pts, grid, h, true, [&](const glm::vec3& d, float r, float) { return std::pair{K.W(r), K.gradW(d, r)}; }, lists, wSum);
     for (std::size_t i = 0; i < pts.size(); i += 7) {
         std::vector<std::uint32_t> brute, found;
         for (std::size_t j = 0; j < pts.size(); ++j)

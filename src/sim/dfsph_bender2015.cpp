@@ -64,7 +64,7 @@ void computeFactors(Simulator::Impl& s) {
 int divergenceSolve(Simulator::Impl& s, float dt) {
     const std::size_t n = s.n();
     auto rate = [&](std::size_t i) {
-        const float neighbours = float(s.fluidNb.offsets[i + 1] - s.fluidNb.offsets[i]) +
+        const float neighbours = float(s.fluidNb.count(i)) +
                                  s.wall[i].density * s.fullNeighbours;
         return neighbours < kMinNeighboursForDivergence ? 0.0f : std::max(densityRate(s, i), 0.0f);
     };

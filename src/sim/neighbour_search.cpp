@@ -32,8 +32,13 @@ void CellGrid::build(std::span<const glm::vec3> points) {
     }
     for (std::size_t c = 1; c < cellStart_.size(); ++c) cellStart_[c] += cellStart_[c - 1];
     sorted_.resize(n);
+    sortedPos_.resize(n);
     std::vector<std::uint32_t> fill(cellStart_.begin(), cellStart_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) sorted_[fill[cellOfPoint_[i]]++] = std::uint32_t(i);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t k = fill[cellOfPoint_[i]]++;
+        sorted_[k] = std::uint32_t(i);
+        sortedPos_[k] = points[i];
+    }
 }
 
 namespace {

@@ -32,18 +32,22 @@ public:
     glm::ivec3 dims() const { return dims_; }
     std::size_t cellCount() const { return cellStart_.empty() ? 0 : cellStart_.size() - 1; }
 
-    // Calls f(j) for every point j in the 27 cells around p (not distance-tested).
+    // Calls f(b, e) for each of the 9 rows of cells around p: the points
+    // sortedIndex(k), at sortedPosition(k), for k in [b, e) (not
+    // distance-tested). The positions are a copy in cell order, so each row's
+    // three cells stream from one contiguous run of memory.
     template <class F>
-    void forEachNear(const glm::vec3& p, F&& f) const {
+    void forEachRowNear(const glm::vec3& p, F&& f) const {
         const glm::ivec3 c = cellOf(p);
         const glm::ivec3 lo = glm::max(c - 1, glm::ivec3(0)), hi = glm::min(c + 1, dims_ - 1);
         for (int z = lo.z; z <= hi.z; ++z)
             for (int y = lo.y; y <= hi.y; ++y) {
                 const std::size_t row = linear({0, y, z});
-                const std::uint32_t b = cellStart_[row + std::size_t(lo.x)], e = cellStart_[row + std::size_t(hi.x) + 1];
-                for (std::uint32_t k = b; k < e; ++k) f(sorted_[k]);
+                f(cellStart_[row + std::size_t(lo.x)], cellStart_[row + std::size_t(hi.x) + 1]);
             }
     }
+    std::uint32_t sortedIndex(std::uint32_t k) const { return sorted_[k]; }
+    const glm::vec3& sortedPosition(std::uint32_t k) const { return sortedPos_[k]; }
 
     // Morton (z-curve) key of a point's cell: the order zOrder sorts by.
     std::uint64_t mortonKey(const glm::vec3& p) const;
@@ -54,6 +58,7 @@ private:
     glm::ivec3 dims_{1};
     std::vector<std::uint32_t> cellStart_;  // cellCount + 1
     std::vector<std::uint32_t> sorted_;     // point indices by cell
+    std::vector<glm::vec3> sortedPos_;      // their positions, in the same order
     std::vector<std::uint32_t> cellOfPoint_;
 };
 
@@ -68,26 +73,26 @@ struct Neighbour {
     glm::vec3 gradW;
 };
 
-// Neighbour lists in CSR form: the neighbours of particle i are
-// entries[offsets[i] .. offsets[i+1]).
+// Neighbour lists: the neighbours of particle i are of(i), count(i) of them.
+// Each chunk of kChunk particles keeps its own array (filled by one task), so
+// the build never joins them into one.
 struct NeighbourLists {
-    std::vector<std::uint32_t> offsets;
-    std::vector<Neighbour> entries;
-    std::vector<std::vector<Neighbour>> chunkEntries;  // the build's per-chunk lists, kept to reuse their memory
+    static constexpr std::size_t kChunk = 1024;
+    std::vector<std::vector<Neighbour>> chunkEntries;
+    std::vector<std::uint32_t> first;  // per particle: its first entry in its chunk's array
+    std::vector<std::uint32_t> counts;
+    std::uint32_t count(std::size_t i) const { return counts[i]; }
     std::span<const Neighbour> of(std::size_t i) const {
-        return {entries.data() + offsets[i], entries.data() + offsets[i + 1]};
+        return {chunkEntries[i / kChunk].data() + first[i], counts[i]};
     }
 };
 
-// Lists of every point of `grid` (holding `others`) within `support` of each
-// of `points` (the point itself excluded when `self`), with kernel values
+// Lists of every point of `grid` within `support` of each of `points` (the point itself excluded when `self`), with kernel values
 // from `kernel(d, r, r^2) -> std::pair<float, glm::vec3>` (W, grad W); the
 // sum of W over each list goes to `wSum` (when not empty). One pass, in
-// fixed chunks whose lists are then joined in order: the same lists for any
-// thread count. Parallel (oneTBB).
+// fixed chunks: the same lists for any thread count. Parallel (oneTBB).
 template <class Kernel>
-void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid, std::span<const glm::vec3> others,
-                         float support, bool self, const Kernel& kernel, NeighbourLists& out, std::span<float> wSum);
+void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid, float support, bool self, const Kernel& kernel, NeighbourLists& out, std::span<float> wSum);
 
 }  // namespace meniscus::sim
 

@@ -155,11 +155,11 @@ void Simulator::Impl::findNeighbours() {
     if (p.solver == Solver::Sph) {
         const MullerKernels& K = muller;
         auto kernel = [&K](const glm::vec3& d, float r, float r2) { return std::pair{K.poly6(r2), K.spikyGrad(d, r)}; };
-        buildNeighbourLists(x, grid, x, h, true, kernel, fluidNb, kernelSum);
+        buildNeighbourLists(x, grid, h, true, kernel, fluidNb, kernelSum);
     } else {
         const CubicSpline& K = cubic;
         auto kernel = [&K](const glm::vec3& d, float r, float) { return std::pair{K.W(r), K.gradW(d, r)}; };
-        buildNeighbourLists(x, grid, x, h, true, kernel, fluidNb, kernelSum);
+        buildNeighbourLists(x, grid, h, true, kernel, fluidNb, kernelSum);
     }
     wall.resize(n());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n(), 512), [&](const tbb::blocked_range<std::size_t>& r) {
