@@ -64,8 +64,7 @@ void computeFactors(Simulator::Impl& s) {
 int divergenceSolve(Simulator::Impl& s, float dt) {
     const std::size_t n = s.n();
     auto rate = [&](std::size_t i) {
-        const float neighbours = float(s.fluidNb.count(i)) +
-                                 s.wall[i].density * s.fullNeighbours;
+        const float neighbours = float(s.fluidNb.count(i)) + s.wall[i].density * s.fullNeighbours;
         return neighbours < kMinNeighboursForDivergence ? 0.0f : std::max(densityRate(s, i), 0.0f);
     };
     forAll(n, [&](std::size_t i) { s.rhoAdv[i] = rate(i); });

@@ -87,12 +87,15 @@ struct NeighbourLists {
     }
 };
 
-// Lists of every point of `grid` within `support` of each of `points` (the point itself excluded when `self`), with kernel values
-// from `kernel(d, r, r^2) -> std::pair<float, glm::vec3>` (W, grad W); the
+// Lists of every point of `grid` within `support` of each of `points` (with
+// `self`, `points` must be the points the grid was built from, and each one's
+// own entry is left out), with kernel values from
+// `kernel(d, r, r^2) -> std::pair<float, glm::vec3>` (W, grad W); the
 // sum of W over each list goes to `wSum` (when not empty). One pass, in
 // fixed chunks: the same lists for any thread count. Parallel (oneTBB).
 template <class Kernel>
-void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid, float support, bool self, const Kernel& kernel, NeighbourLists& out, std::span<float> wSum);
+void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid, float support, bool self,
+                         const Kernel& kernel, NeighbourLists& out, std::span<float> wSum);
 
 }  // namespace meniscus::sim
 

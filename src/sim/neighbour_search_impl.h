@@ -7,7 +7,8 @@
 namespace meniscus::sim {
 
 template <class Kernel>
-void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid, float support, bool self, const Kernel& kernel, NeighbourLists& out, std::span<float> wSum) {
+void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid, float support, bool self,
+                         const Kernel& kernel, NeighbourLists& out, std::span<float> wSum) {
     const std::size_t n = points.size();
     const float h2 = support * support;
     constexpr std::size_t kChunk = NeighbourLists::kChunk;
