@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -96,4 +97,74 @@ TEST(CliSimulate, BadScenesAndOutputsFailCleanly) {
     std::size_t files = 0;
     for (const auto& e : fs::directory_iterator(dir)) files += e.path().extension() != ".json";
     EXPECT_EQ(files, 0u) << "nothing written";
+}
+
+// --render: one image per frame with the frame's number, all seen by one
+// camera (framed on the tank, logged once): a pixel of empty tank far from
+// the fluid is the same in every image, while the fluid's pixels change as
+// the column falls. --resume renders on from the resumed frame.
+TEST(CliSimulate, RenderWritesAnImagePerFrameFromOneCamera) {
+    const fs::path dir = tempDir();
+    const fs::path scene = writeScene(dir);
+    std::string out;
+    const std::string args = "simulate " + quote(scene) + " -o " + quote(dir / "f/f_%04d.bgeo") + " --render " +
+                             quote(dir / "img/i_%04d.png") + " --width 96 --height 72";
+    ASSERT_EQ(runCli(args, &out), 0) << out;
+    EXPECT_NE(out.find("one camera for all"), std::string::npos) << out;
+    EXPECT_NE(out.find("and " + (dir / "img/i_0005.png").string()), std::string::npos) << out;
+    std::vector<PngData> images;
+    for (int k = 0; k <= 5; ++k) {
+        char name[32];
+        std::snprintf(name, sizeof name, "img/i_%04d.png", k);
+        images.push_back(readPng(dir / name));
+        ASSERT_EQ(images.back().width, 96) << name;
+        ASSERT_EQ(images.back().height, 72) << name;
+    }
+    EXPECT_FALSE(fs::exists(dir / "img/i_0006.png"));
+    // The column (x < 0.2 of the 0.4 m tank) starts on the left: the image's
+    // right eighth is empty tank in every frame: the same pixels.
+    const auto pixel = [](const PngData& png, int x, int y) {
+        const std::size_t channels = PNG_IMAGE_PIXEL_CHANNELS(png.format);
+        const std::size_t at = (std::size_t(y) * std::size_t(png.width) + std::size_t(x)) * channels;
+        return std::vector<std::uint8_t>(png.bytes.begin() + std::ptrdiff_t(at),
+                                         png.bytes.begin() + std::ptrdiff_t(at + channels));
+    };
+    for (std::size_t k = 1; k < images.size(); ++k)
+        for (int y = 0; y < 72; ++y)
+            for (int x = 84; x < 96; ++x)
+                ASSERT_EQ(pixel(images[k], x, y), pixel(images[0], x, y)) << "frame " << k << ": the camera moved";
+    std::size_t changed = 0;
+    ASSERT_EQ(images[0].bytes.size(), images[5].bytes.size());
+    for (std::size_t i = 0; i < images[0].bytes.size(); ++i) changed += images[0].bytes[i] != images[5].bytes[i];
+    EXPECT_GT(changed, 100u) << "the fluid moved between frame 0 and frame 5";
+
+    // Interrupted after frame 2: --resume writes and renders frames 3..5 only.
+    for (int k = 3; k <= 5; ++k) {
+        char name[32];
+        std::snprintf(name, sizeof name, "f/f_%04d.bgeo", k);
+        fs::remove(dir / name);
+        std::snprintf(name, sizeof name, "img/i_%04d.png", k);
+        fs::remove(dir / name);
+    }
+    fs::remove(dir / "img/i_0001.png");
+    ASSERT_EQ(runCli(args + " --resume", &out), 0) << out;
+    EXPECT_TRUE(fs::exists(dir / "img/i_0005.png"));
+    EXPECT_FALSE(fs::exists(dir / "img/i_0001.png")) << "frames before the resume point are not rendered again";
+}
+
+// A bad --render pattern is an error before anything is simulated or written.
+TEST(CliSimulate, BadRenderPatternsFailBeforeSimulating) {
+    const fs::path dir = tempDir();
+    const fs::path scene = writeScene(dir);
+    std::string out;
+    for (const char* bad : {"img/i.png", "img/i_%04d.jpg"}) {
+        EXPECT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "f/f_%04d.bgeo") + " --render " +
+                             quote(dir / bad),
+                         &out),
+                  1)
+            << bad;
+        EXPECT_NE(out.find(bad), std::string::npos) << out;
+    }
+    EXPECT_FALSE(fs::exists(dir / "f")) << "nothing simulated";
+    EXPECT_FALSE(fs::exists(dir / "img"));
 }

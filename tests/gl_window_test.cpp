@@ -7,7 +7,9 @@
 // error paths need no display and always run.
 #include <algorithm>
 #include <cstdio>
+#include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <optional>
 #include <string>
 
@@ -306,4 +308,52 @@ TEST(GlWindowErrors, NoCurrentContextIsAnError) {
     auto r = Renderer::createOnCurrentGlContext();
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().describe().find("4.3"), std::string::npos) << r.error().describe();
+}
+
+// `meniscus view --simulate` runs the scene on a worker thread and shows its
+// frames as they finish: the log names them with increasing simulated time,
+// and what the window shows last is `simulate --render --backend gl` of that
+// same frame (one camera, framed on the tank, for both) within 1 step.
+TEST_F(GlWindow, ViewSimulateShowsTheFramesSimulateRenders) {
+    const auto dir = tempDir();
+    const auto scene = dir / "small.json";
+    std::ofstream(scene) << R"({
+  "version": 1, "name": "small", "duration": 0.1, "fps": 50,
+  "params": { "radius": 0.01 },
+  "domain": { "min": [0, 0, 0], "max": [0.4, 0.4, 0.1] },
+  "fluid": [ { "box": { "min": [0, 0, 0], "max": [0.2, 0.3, 0.1] } } ]
+})";
+    const std::string size = " --width 96 --height 64";
+    const auto shot = dir / "shown.png";
+    std::string out;
+    ASSERT_EQ(runCommand(cliPath() + " view --simulate " + scene.string() + size + " --frames 3 --screenshot " +
+                             shot.string(),
+                         &out),
+              0)
+        << out;
+    std::vector<double> times;
+    for (std::size_t at = out.find("showing t = "); at != std::string::npos; at = out.find("showing t = ", at + 1))
+        times.push_back(std::atof(out.c_str() + at + 12));
+    ASSERT_GE(times.size(), 2u) << out;
+    for (std::size_t i = 1; i < times.size(); ++i) EXPECT_GT(times[i], times[i - 1]) << out;
+    const int k = int(std::lround(times.back() * 50.0));
+    ASSERT_GE(k, 1);
+    ASSERT_EQ(runCommand(cliPath() + " simulate " + scene.string() + " -o " + (dir / "f_%04d.bgeo").string() +
+                             " --render " + (dir / "i_%04d.png").string() + " --backend gl" + size,
+                         &out),
+              0)
+        << out;
+    char name[32];
+    std::snprintf(name, sizeof name, "i_%04d.png", k);
+    const PngData a = readPng(shot), b = readPng(dir / name);
+    ASSERT_EQ(a.width, b.width);
+    ASSERT_EQ(a.height, b.height);
+    ASSERT_EQ(a.bytes.size(), b.bytes.size());
+    ASSERT_FALSE(a.bytes.empty());
+    int worst = 0;
+    for (std::size_t i = 0; i < a.bytes.size(); ++i) worst = std::max(worst, std::abs(int(a.bytes[i]) - int(b.bytes[i])));
+    EXPECT_LE(worst, 1) << "frame " << k;
+    // A scene that cannot be read is an error before any window.
+    EXPECT_EQ(runCommand(cliPath() + " view --simulate " + (dir / "missing.json").string() + " --frames 1", &out), 1);
+    EXPECT_NE(out.find("missing.json"), std::string::npos) << out;
 }

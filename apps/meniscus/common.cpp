@@ -55,6 +55,17 @@ Result<Camera> chooseCamera(const RenderOptions& o, const std::vector<glm::vec3>
     return cam;
 }
 
+// The camera (chooseCamera), radius and studio box for a whole sequence.
+Status fixCamera(const RenderOptions& o, const std::vector<glm::vec3>& samplePoints, float radius,
+                 const Bounds& studio, RenderSettings& settings) {
+    auto camera = chooseCamera(o, samplePoints, radius);
+    if (!camera) return camera.error();
+    settings.camera = *camera;
+    settings.radiusM = radius;
+    settings.scene.studioBounds = studio;
+    return okStatus();
+}
+
 }  // namespace
 
 int fail(const std::string& line) {
@@ -69,7 +80,7 @@ void printWarnings(const ParticleSet& set) {
 bool isExr(const std::string& path) { return fs::path(path).extension() == ".exr"; }
 bool isPng(const std::string& path) { return fs::path(path).extension() == ".png"; }
 
-void addCameraOptions(CLI::App* cmd, RenderOptions& o) {
+void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     cmd->add_option("--width", o.width, "Image width in pixels")
         ->capture_default_str()
         ->check(CLI::Range(1, defaults::kMaxImageSizePx));
@@ -80,9 +91,10 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o) {
     cmd->add_option("--target", o.target, "Point the camera looks at, x,y,z in metres");
     cmd->add_option("--up", o.up, "Camera up direction x,y,z")->capture_default_str();
     cmd->add_option("--fov", o.fov, "Vertical field of view in degrees")->capture_default_str();
-    cmd->add_option("--radius", o.radius,
-                    "Particle radius in metres (default: the file's radius attribute, else estimated from the bulk "
-                    "number density; docs/radius.md)");
+    if (radiusOption)
+        cmd->add_option("--radius", o.radius,
+                        "Particle radius in metres (default: the file's radius attribute, else estimated from the "
+                        "bulk number density; docs/radius.md)");
     cmd->add_option("--view", o.view,
                     "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
                     "smoothing), normals, thickness")
@@ -135,6 +147,11 @@ Result<Renderer> makeRenderer(const RenderOptions& o) {
     auto made = Renderer::create(choice, &note);
     if (made && !note.empty()) std::cerr << "meniscus: " << note << "\n";
     return made;
+}
+
+Status writeImage(const std::string& path, const Aovs& aovs, bool withAlpha) {
+    if (isExr(path)) return writeExrAovs(path, aovs);
+    return writePng(path, aovs.color, withAlpha);
 }
 
 Result<ParticleSet> Frames::load(std::size_t i) const {
@@ -194,14 +211,18 @@ Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames,
             addSample(s->positions);
         }
     }
-    auto camera = chooseCamera(o, samplePoints, radius);
-    if (!camera) return camera.error();
-
-    settings.camera = *camera;
-    settings.radiusM = radius;
     // The studio is built around the first frame and stays put for the sequence.
-    settings.scene.studioBounds = computeBounds(first->positions);
+    if (auto st = fixCamera(o, samplePoints, radius, computeBounds(first->positions), settings); !st)
+        return st.error();
     return first;
+}
+
+Status fixForBox(const RenderOptions& o, const Bounds& box, float radiusM, RenderSettings& settings) {
+    std::vector<glm::vec3> corners;
+    for (int c = 0; c < 8; ++c)
+        corners.push_back({c & 1 ? box.max.x : box.min.x, c & 2 ? box.max.y : box.min.y,
+                           c & 4 ? box.max.z : box.min.z});
+    return fixCamera(o, corners, radiusM, box, settings);
 }
 
 }  // namespace meniscus::app

@@ -54,13 +54,19 @@ struct RenderOptions {
     MesherOptions mesher;
 };
 
-// Size, camera, radius and look (--width ... --background) on `cmd`.
-void addCameraOptions(CLI::App* cmd, RenderOptions& o);
+// Size, camera, radius and look (--width ... --background) on `cmd`; without
+// --radius when `radiusOption` is false (simulate: the images use the
+// simulation's own radius, which its --radius sets).
+void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption = true);
 // --backend on `cmd`.
 void addBackendOption(CLI::App* cmd, RenderOptions& o);
 
 // The pipeline settings named by the options (camera and radius come later).
 Result<RenderSettings> settingsFromOptions(const RenderOptions& o);
+
+// A rendered frame to `path`: .exr with every AOV, else PNG of the colour
+// (with alpha when `withAlpha`); a temporary name renamed, so never partial.
+Status writeImage(const std::string& path, const Aovs& aovs, bool withAlpha);
 
 // The frames to render: the files an input names, or the one embedded frame.
 struct Frames {
@@ -85,5 +91,11 @@ Result<Renderer> makeRenderer(const RenderOptions& o);
 // studio in `settings` once for the whole sequence, so an animation does not
 // flicker; returns the first frame, already read.
 Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames, RenderSettings& settings);
+
+// The same for a simulation whose particles never leave `box` (its domain,
+// the tank): radius `radiusM`, the camera the options' or auto-framed on the
+// box's eight corners, the studio around the box. Every frame, the first
+// (which an emitter may leave empty) included, is seen by the same camera.
+Status fixForBox(const RenderOptions& o, const Bounds& box, float radiusM, RenderSettings& settings);
 
 }  // namespace meniscus::app

@@ -99,11 +99,6 @@ int runInfo(const InfoOptions& o) {
 
 // ------------------------------------------------------------------ render
 
-Status writeOutput(const std::string& path, const Aovs& aovs, bool withAlpha) {
-    if (isExr(path)) return writeExrAovs(path, aovs);
-    return writePng(path, aovs.color, withAlpha);
-}
-
 int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     if (!isPng(o.output) && !isExr(o.output))
         return fail(o.output + ": output must end in .png or .exr");
@@ -148,7 +143,7 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
         auto name = frames->outputName(o.output, i);
         if (!name) return fail(name.error().describe());
         const std::string out = *name;
-        if (auto st = writeOutput(out, *aovs, !settings.scene.background); !st) return fail(st.error().describe());
+        if (auto st = writeImage(out, *aovs, !settings.scene.background); !st) return fail(st.error().describe());
         progress.update(i + 1);
         if (count == 1) {
             // A symlinked output is written through the link (the link stays).
@@ -220,9 +215,19 @@ int main(int argc, char** argv) {
         "Show a particle file or sequence in a window, rendered live by the GL backend (needs a display). Drag "
         "with the left button to orbit, scroll to zoom, left/right arrows to step through a sequence, Esc or Q "
         "to quit; the window can be resized. Without an input it shows the bundled demo frame");
-    viewCmd->add_option("input", view.render.input,
-                        "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo); default: the demo frame");
+    auto* viewInput = viewCmd->add_option(
+        "input", view.render.input,
+        "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo); default: the demo frame");
     addCameraOptions(viewCmd, view.render);
+    viewCmd->add_option("--simulate", view.simulate.scene,
+                        "Instead of an input, simulate this scene file (.json, docs/scenes.md) live on a worker "
+                        "thread and show its newest frame (a frame every 1/fps simulated seconds, played at most at "
+                        "real time, to the scene's duration; simulated time and particle count in the title); the "
+                        "camera is framed on the "
+                        "scene's domain. --radius then sets the simulation's particle radius in metres (default: "
+                        "the scene's)")
+        ->excludes(viewInput);
+    addSolverOption(viewCmd, view.simulate.solver)->needs("--simulate");
     viewCmd->add_option("--screenshot", view.screenshot, "On exit, save what the window shows to this .png");
     // For tests and scripts: no interaction, just N frames rendered and shown.
     viewCmd->add_option("--frames", view.frames, "Render and show N frames, then exit")
@@ -261,7 +266,7 @@ int main(int argc, char** argv) {
         return runRender(demo, &set.value());
     }
     if (*viewCmd) {
-        if (!view.render.input.empty()) return runView(view, nullptr);
+        if (!view.render.input.empty() || !view.simulate.scene.empty()) return runView(view, nullptr);
         auto set = parseParticles(demoFrameBytes(), kDemoFrameName);
         if (!set) return fail(set.error().describe());
         if (view.render.radius == 0.0f) view.render.radius = kDemoRadiusM;

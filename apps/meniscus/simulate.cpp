@@ -5,16 +5,73 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
-#include "common.h"
 #include "meniscus/io.h"
-#include "meniscus/sim.h"
+#include "meniscus/particle_view.h"
+#include "meniscus/renderer.h"
 #include "progress.h"
 
 namespace meniscus::app {
+
+namespace {
+
+// --render: each frame written is also rendered, every one by the same camera
+// (framed once on the domain: see fixForBox) into the same studio.
+struct FrameImages {
+    std::string pattern;
+    RenderSettings settings;
+    Renderer renderer;
+};
+
+// Everything --render needs, checked before anything is simulated: the
+// pattern, the look, the camera and the backend.
+Result<FrameImages> openImages(const SimulateOptions& o, const sim::Scene& sc) {
+    if (o.render.find('%') == std::string::npos)
+        return makeError(o.render, "--render needs a frame number pattern, e.g. out/img_%04d.png");
+    if (!isPng(o.render) && !isExr(o.render)) return makeError(o.render, "--render images must end in .png or .exr");
+    RenderOptions look = o.image;
+    look.radius = sc.params.radius;  // the simulation's particles, exactly
+    auto settings = settingsFromOptions(look);
+    if (!settings) return settings.error();
+    if (auto st = fixForBox(look, domainBounds(sc), sc.params.radius, *settings); !st) return st.error();
+    settings->colorOnly = !isExr(o.render);  // a PNG needs only the colour AOV
+    auto renderer = makeRenderer(look);
+    if (!renderer) return renderer.error();
+    return FrameImages{o.render, std::move(*settings), std::move(*renderer)};
+}
+
+// Frame k's image; returns its name.
+Result<std::string> writeFrameImage(FrameImages& images, const ParticleSet& set, long k) {
+    auto name = formatFramePattern(images.pattern, k);
+    if (!name) return name.error();
+    auto aovs = images.renderer.render(ParticleView::of(set), images.settings);
+    if (!aovs) return Error{*name, aovs.error().message};
+    if (auto st = writeImage(*name, *aovs, !images.settings.scene.background); !st) return st.error();
+    return *name;
+}
+
+// The folder of a pattern's frame 0, made if missing (an error later names the file).
+Status makeParentFolder(const std::string& pattern) {
+    auto name = formatFramePattern(pattern, 0);
+    if (!name) return name.error();
+    const std::filesystem::path parent = std::filesystem::path(*name).parent_path();
+    std::error_code ec;
+    if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+    return okStatus();
+}
+
+}  // namespace
+
+CLI::Option* addSolverOption(CLI::App* cmd, std::string& solver) {
+    return cmd
+        ->add_option("--solver", solver, "dfsph (Bender & Koschier 2015), sph (Muller et al. 2003) or ballistic "
+                                         "(mass points, no pressure) (default: the scene's)")
+        ->check(CLI::IsMember({"dfsph", "sph", "ballistic"}));
+}
 
 CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
     auto* cmd = app.add_subcommand(
@@ -30,28 +87,63 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
     cmd->add_option("--fps", o.fps, "Frames written per simulated second (default: the scene's)")->check(CLI::PositiveNumber);
     cmd->add_option("--radius", o.radius, "Particle radius r in metres; spacing 2r, kernel support 4r (default: the scene's)")
         ->check(CLI::PositiveNumber);
-    cmd->add_option("--solver", o.solver, "dfsph (Bender & Koschier 2015), sph (Muller et al. 2003) or ballistic "
-                                          "(mass points, no pressure) (default: the scene's)")
-        ->check(CLI::IsMember({"dfsph", "sph", "ballistic"}));
+    addSolverOption(cmd, o.solver);
     cmd->add_flag("--resume", o.resume,
                   "Continue from the last frame already written under the output pattern (its particles and time)");
     cmd->add_flag("--stats", o.stats, "Print each frame's steps, solver iterations and time per phase");
+    cmd->add_option("--render", o.render,
+                    "Also render each frame, as it is written, to this pattern with the same frame number: "
+                    "out/img_%04d.png (8-bit sRGB) or .exr (float AOVs). One camera for the whole sequence, framed "
+                    "on the scene's domain (the tank); the particle radius is the simulation's");
+    // The look of those images: the render command's own options and defaults.
+    cmd->option_defaults()->group("Images (with --render)");
+    addCameraOptions(cmd, o.image, false);
+    o.image.backend = "cpu";  // the reference, on any machine; gl on request
+    addBackendOption(cmd, o.image);
+    cmd->option_defaults()->group("Options");
     return cmd;
 }
 
-int runSimulate(const SimulateOptions& o) {
+Result<sim::Scene> sceneFromOptions(const SimulateOptions& o) {
     auto scene = sim::readScene(o.scene);
-    if (!scene) return fail(scene.error().describe());
+    if (!scene) return scene.error();
     sim::Scene& sc = *scene;
     if (o.duration >= 0.0) sc.duration = o.duration;
     if (o.fps > 0.0) sc.fps = o.fps;
     if (o.radius > 0.0f) sc.params.radius = o.radius;
-    if (!o.solver.empty()) sim::solverFromName(o.solver, &sc.params.solver);
+    if (!o.solver.empty() && !sim::solverFromName(o.solver, &sc.params.solver))
+        return makeError("", "--solver " + o.solver + ": expected dfsph, sph or ballistic");
+    return scene;
+}
+
+Bounds domainBounds(const sim::Scene& scene) {
+    Bounds b;
+    b.min = scene.domain.min;
+    b.max = scene.domain.max;
+    return b;
+}
+
+int runSimulate(const SimulateOptions& o) {
+    auto scene = sceneFromOptions(o);
+    if (!scene) return fail(scene.error().describe());
+    sim::Scene& sc = *scene;
     if (o.output.find('%') == std::string::npos)
         return fail(o.output + ": the output needs a frame number pattern, e.g. out/frame_%04d.bgeo");
     const ParticleFormat format = formatFromName(o.output);
     if (format == ParticleFormat::Auto || format == ParticleFormat::Csv || format == ParticleFormat::Xyz)
         return fail(o.output + ": write .bgeo, .bgeo.gz, .vtk, .vtu or .ply");
+    std::optional<FrameImages> images;
+    if (!o.render.empty()) {
+        auto opened = openImages(o, sc);
+        if (!opened) return fail(opened.error().describe());
+        images.emplace(std::move(*opened));
+        const Camera& c = images->settings.camera;
+        std::fprintf(stderr,
+                     "meniscus: rendering each frame to %s on %s, %d x %d, one camera for all: eye (%g, %g, %g) "
+                     "target (%g, %g, %g)\n",
+                     o.render.c_str(), images->renderer.backendName().c_str(), c.width, c.height, c.eye.x, c.eye.y,
+                     c.eye.z, c.target.x, c.target.y, c.target.z);
+    }
 
     auto made = sim::Simulator::create(sc);
     if (!made) return fail(made.error().describe());
@@ -79,13 +171,9 @@ int runSimulate(const SimulateOptions& o) {
             first = last + 1;
         }
     }
-    {
-        auto dir = nameOf(0);
-        if (!dir) return fail(dir.error().describe());
-        const std::filesystem::path parent = std::filesystem::path(*dir).parent_path();
-        std::error_code ec;
-        if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-    }
+    for (const std::string* pattern : {&o.output, &o.render})
+        if (!pattern->empty())
+            if (auto st = makeParentFolder(*pattern); !st) return fail(st.error().describe());
     std::cerr << "meniscus: " << sc.name << ": " << simulator.size() << " particles, r = " << sc.params.radius
               << " m, " << sim::solverName(sc.params.solver) << ", " << sc.duration << " s at " << sc.fps << " fps\n";
     const bool tty = ::isatty(STDERR_FILENO) == 1;
@@ -96,7 +184,14 @@ int runSimulate(const SimulateOptions& o) {
         if (auto st = simulator.advanceTo(double(k) / sc.fps); !st) return fail(st.error().describe());
         auto name = nameOf(k);
         if (!name) return fail(name.error().describe());
-        if (auto st = writeParticles(*name, simulator.particles(), format); !st) return fail(st.error().describe());
+        const ParticleSet set = simulator.particles();
+        if (auto st = writeParticles(*name, set, format); !st) return fail(st.error().describe());
+        std::string imageNote;
+        if (images) {
+            auto image = writeFrameImage(*images, set, k);
+            if (!image) return fail(image.error().describe());
+            imageNote = " and " + *image;
+        }
         const sim::Totals& T = simulator.totals();
         if (o.stats) {
             const double steps = double(std::max<std::size_t>(T.steps, 1));
@@ -110,7 +205,7 @@ int runSimulate(const SimulateOptions& o) {
         }
         if (tty) progress.update(std::size_t(k + 1));
         else
-            std::cerr << "meniscus: wrote " << *name << " (t = " << simulator.time() << " s, " << simulator.size()
+            std::cerr << "meniscus: wrote " << *name << imageNote << " (t = " << simulator.time() << " s, " << simulator.size()
                       << " particles, " << T.steps << " steps)\n";
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

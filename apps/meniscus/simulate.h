@@ -1,11 +1,17 @@
 // `meniscus simulate`: a scene file (scenes/*.json, docs/scenes.md) to a
-// numbered particle sequence with id, velocity, density and pressure.
+// numbered particle sequence with id, velocity, density and pressure, and
+// with --render each frame as an image too.
 #pragma once
 
 #include <string>
 
+#include "common.h"
+#include "meniscus/result.h"
+#include "meniscus/sim.h"
+
 namespace CLI {
 class App;
+class Option;
 }
 
 namespace meniscus::app {
@@ -19,9 +25,19 @@ struct SimulateOptions {
     std::string solver;      // empty: the scene's
     bool resume = false;
     bool stats = false;
+    std::string render;   // image pattern (out/img_%04d.png or .exr); empty: no images
+    RenderOptions image;  // the images' size, camera, look and backend; radius unused (the simulation's)
 };
 
 CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o);
+// --solver (dfsph, sph, ballistic) on `cmd`; view --simulate has it too.
+CLI::Option* addSolverOption(CLI::App* cmd, std::string& solver);
 int runSimulate(const SimulateOptions& o);
+
+// The scene file with the options' overrides (duration, fps, radius, solver;
+// unset ones leave the scene's). `meniscus view --simulate` reads it so too.
+Result<sim::Scene> sceneFromOptions(const SimulateOptions& o);
+// The scene's domain (the tank; particles never leave it) as a Bounds.
+Bounds domainBounds(const sim::Scene& scene);
 
 }  // namespace meniscus::app

@@ -1,5 +1,6 @@
 // `meniscus view` (see view.h). A frame is rendered only when something it
-// depends on changes (camera, window size, the frame of a sequence) and the
+// depends on changes (camera, window size, the frame of a sequence, a new
+// frame of a live simulation, whose worker wakes the loop) and the
 // loop sleeps in waitEvents between, so an idle viewer costs nothing; the last
 // frame is drawn again when the window loses its contents.
 #include "view.h"
@@ -7,9 +8,13 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <sstream>
 #include <utility>
 #include <vector>
+
+#include <unistd.h>
 
 #if MENISCUS_HAVE_GLFW
 #include "meniscus/window.h"
@@ -17,6 +22,8 @@
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
 #include "meniscus/renderer.h"
+#include "meniscus/sim.h"
+#include "live_simulation.h"
 
 namespace meniscus::app {
 
@@ -33,6 +40,7 @@ namespace {
 
 constexpr float kDegreesPerDragUnit = 0.3f;  // orbit per screen unit the cursor moves with the button held
 constexpr float kZoomPerWheelStep = 0.9f;    // camera distance factor per wheel step away from the user
+constexpr double kLiveSpeed = 1.0;  // --simulate: at most real time (simulated s per wall-clock s), so a fast scene plays
 
 // One WindowInput per event of an input script ("drag:DX,DY;scroll:N;key:K").
 Result<std::vector<WindowInput>> parseInputScript(const std::string& script) {
@@ -70,6 +78,12 @@ std::string title(const ViewOptions& o, const Frames& frames, std::size_t index)
     return t;
 }
 
+std::string liveTitle(const ViewOptions& o, const sim::Scene& scene, const LiveSimulation::Frame& f, bool running) {
+    char t[64];
+    std::snprintf(t, sizeof t, "t = %.3f of %g s, %zu particles", f.time, scene.duration, f.particles->size());
+    return "meniscus view: " + o.simulate.scene + " (" + t + (running ? ")" : ", done)");
+}
+
 }  // namespace
 
 int runView(const ViewOptions& o, const ParticleSet* embedded) {
@@ -79,11 +93,30 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     if (!o.screenshot.empty() && !isPng(o.screenshot)) return fail(o.screenshot + ": --screenshot must end in .png");
     auto script = parseInputScript(o.inputScript);
     if (!script) return fail(script.error().describe());
-    auto frames = openFrames(o.render.input, embedded);
-    if (!frames) return fail(frames.error().describe());
+
+    // What the window shows: the frames of an input, or a scene simulated live
+    // (its errors, like a bad input's, come before any window).
+    Frames frames;
+    std::optional<sim::Scene> scene;
+    std::unique_ptr<sim::Simulator> simulator;
+    if (!o.simulate.scene.empty()) {
+        SimulateOptions so = o.simulate;
+        so.radius = o.render.radius;  // one radius: the simulation's and the picture's
+        auto read = sceneFromOptions(so);
+        if (!read) return fail(read.error().describe());
+        auto made = sim::Simulator::create(*read);
+        if (!made) return fail(made.error().describe());
+        scene = std::move(*read);
+        simulator = std::move(*made);
+    } else {
+        auto opened = openFrames(o.render.input, embedded);
+        if (!opened) return fail(opened.error().describe());
+        frames = std::move(*opened);
+    }
 
     // The window first: without a display nothing else is worth doing.
-    auto window = Window::create(o.render.width, o.render.height, title(o, *frames, 0));
+    auto window = Window::create(o.render.width, o.render.height,
+                                 scene ? "meniscus view: " + o.simulate.scene : title(o, frames, 0));
     if (!window)
         return fail(window.error().describe() +
                     "; meniscus view needs a display (`meniscus render` writes images without one)");
@@ -96,20 +129,41 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         sized.width = fb.x;
         sized.height = fb.y;
     }
-    auto first = fixForSequence(sized, *frames, settings);
-    if (!first) return fail(first.error().describe());
-    ParticleSet current = std::move(*first);
-    printWarnings(current);
+    std::shared_ptr<const ParticleSet> current;  // what is on screen
+    if (scene) {
+        // Framed once on the domain, as `simulate --render` frames its images.
+        if (auto st = fixForBox(sized, domainBounds(*scene), scene->params.radius, settings); !st)
+            return fail(st.error().describe());
+    } else {
+        auto first = fixForSequence(sized, frames, settings);
+        if (!first) return fail(first.error().describe());
+        printWarnings(*first);
+        current = std::make_shared<const ParticleSet>(std::move(*first));
+    }
 
     auto made = Renderer::createOnCurrentGlContext();  // after the window, so destroyed before it
     if (!made) return fail(made.error().describe());
     Renderer renderer = std::move(*made);
     std::cerr << "meniscus: viewing on " << renderer.backendName() << ": drag to orbit, scroll to zoom, "
-              << (frames->count() > 1 ? "left/right for frames, " : "") << "Esc or Q to quit\n";
+              << (frames.count() > 1 ? "left/right for frames, " : "") << "Esc or Q to quit\n";
+
+    // After the window, so stopped (joined) before the window goes.
+    std::optional<LiveSimulation> live;
+    if (scene) {
+        std::cerr << "meniscus: simulating " << o.simulate.scene << " live: " << simulator->size()
+                  << " particles, r = " << scene->params.radius << " m, " << sim::solverName(scene->params.solver)
+                  << ", " << scene->duration << " s at " << scene->fps << " fps\n";
+        live.emplace(std::move(simulator), scene->fps, scene->duration, kLiveSpeed);
+        live->start([&win] { win.wake(); });  // each new frame wakes the loop below out of waitEvents
+    }
+    const bool tty = ::isatty(STDERR_FILENO) == 1;
 
     std::size_t index = 0;
     bool stale = true;  // the frame on the backend does not show the current particles, camera and size
     int rendered = 0;
+    long liveNumber = -1;      // the simulated frame on screen
+    bool liveRunning = true;   // as the title last said
+    int liveShown = 0;         // simulated frames shown
     std::size_t scripted = 0;  // events of the script replayed so far
     while (!win.shouldClose()) {
         WindowInput in = win.takeInput();
@@ -122,21 +176,37 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         bool quit = false;
         for (Key key : in.keys) {
             quit |= key == Key::Escape || key == Key::Q;
-            if ((key != Key::Left && key != Key::Right) || frames->count() < 2) continue;
-            const std::size_t n = frames->count();
+            if ((key != Key::Left && key != Key::Right) || frames.count() < 2) continue;
+            const std::size_t n = frames.count();
             const std::size_t next = key == Key::Right ? (index + 1) % n : (index + n - 1) % n;
-            auto set = frames->load(next);
+            auto set = frames.load(next);
             if (!set) {  // keep showing the frame we have
                 std::cerr << "meniscus: error: " << set.error().describe() << "\n";
                 continue;
             }
             printWarnings(*set);
-            current = std::move(*set);
+            current = std::make_shared<const ParticleSet>(std::move(*set));
             index = next;
-            win.setTitle(title(o, *frames, index));
+            win.setTitle(title(o, frames, index));
             stale = true;
         }
         if (quit) break;
+        if (live) {
+            // The newest finished frame, if it is not on screen yet (running
+            // read first: once it is false, latest() is the last frame).
+            const bool running = live->running();
+            const LiveSimulation::Frame f = live->latest();
+            if (auto e = live->error()) return fail(Error{o.simulate.scene, e->describe()}.describe());
+            if (f.number != liveNumber || running != liveRunning) win.setTitle(liveTitle(o, *scene, f, running));
+            liveRunning = running;
+            if (f.number != liveNumber) {
+                current = f.particles;
+                liveNumber = f.number;
+                ++liveShown;
+                stale = true;
+                if (!tty) std::cerr << "meniscus: showing t = " << f.time << " s (" << current->size() << " particles)\n";
+            }
+        }
         if (in.drag != glm::dvec2(0.0) || in.scroll != 0.0) {
             // The scene follows the cursor: dragging right turns the camera left.
             settings.camera = orbitCamera(settings.camera, -kDegreesPerDragUnit * float(in.drag.x),
@@ -151,8 +221,9 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
                 settings.camera.height = size.y;
                 stale = true;
             }
-            if (stale || o.frames > 0) {
-                if (auto st = renderer.draw(ParticleView::of(current), settings); !st) return fail(st.error().describe());
+            if (stale || (o.frames > 0 && !live)) {
+                if (auto st = renderer.draw(ParticleView::of(*current), settings); !st)
+                    return fail(st.error().describe());
                 ++rendered;
                 stale = false;
                 in.damaged = true;
@@ -162,9 +233,16 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
                 win.swapBuffers();
             }
         }
-        if (o.frames > 0 && rendered >= o.frames && scripted >= script->size()) break;
-        if (o.frames > 0) win.pollEvents();
+        // With --frames, a live view counts new simulated frames and ends with the simulation.
+        const bool enough = live ? liveShown >= o.frames || !liveRunning : rendered >= o.frames;
+        if (o.frames > 0 && enough && scripted >= script->size()) break;
+        // A running simulation wakes the loop with each frame; otherwise --frames keeps it going.
+        if (o.frames > 0 && !(live && liveRunning && scripted >= script->size())) win.pollEvents();
         else win.waitEvents();
+    }
+    if (live && live->running()) {
+        live->stop();
+        std::cerr << "meniscus: stopped the simulation at t = " << live->latest().time << " s\n";
     }
 
     if (!o.screenshot.empty()) {

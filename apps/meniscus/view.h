@@ -5,6 +5,7 @@
 
 #include "common.h"
 #include "meniscus/types.h"
+#include "simulate.h"
 
 namespace meniscus::app {
 
@@ -13,6 +14,9 @@ struct ViewOptions {
     std::string screenshot;  // when set: what the window shows on exit, saved as PNG
     int frames = 0;          // > 0: render and show this many frames, then exit (no interaction needed)
     std::string inputScript; // for tests and scripts: input events replayed one per frame (see runView)
+    // --simulate: simulate.scene (with its solver; the radius is render.radius)
+    // runs live on a worker thread instead of showing an input.
+    SimulateOptions simulate;
 };
 
 // Runs the viewer until the window is closed (Esc, Q) or `frames` are shown;

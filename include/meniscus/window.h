@@ -54,6 +54,10 @@ public:
 
     void pollEvents();  // handles pending events and returns at once
     void waitEvents();  // sleeps until at least one event has arrived, then handles them
+    // Wakes a waitEvents() on the main thread (an empty event). Unlike the
+    // rest, may be called from any thread, while the window exists: a worker
+    // that has something new to show calls it.
+    void wake();
     WindowInput takeInput();  // what the events since the last call amounted to
 
     // Framebuffer size in pixels (not screen units: they differ on HiDPI

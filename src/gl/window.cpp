@@ -113,6 +113,7 @@ void Window::requestClose() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
 void Window::setTitle(const std::string& title) { glfwSetWindowTitle(window_, title.c_str()); }
 void Window::pollEvents() { glfwPollEvents(); }
 void Window::waitEvents() { glfwWaitEvents(); }
+void Window::wake() { glfwPostEmptyEvent(); }  // thread-safe (GLFW's docs)
 void Window::swapBuffers() { glfwSwapBuffers(window_); }
 
 WindowInput Window::takeInput() { return std::exchange(input_, WindowInput{}); }
