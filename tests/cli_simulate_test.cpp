@@ -168,3 +168,32 @@ TEST(CliSimulate, BadRenderPatternsFailBeforeSimulating) {
     EXPECT_FALSE(fs::exists(dir / "f")) << "nothing simulated";
     EXPECT_FALSE(fs::exists(dir / "img"));
 }
+
+// An emitter scene's first frame has no particles: --resume from it (a run
+// interrupted at once) reads the empty frame back and goes on emitting, to
+// the same frames as a straight run (nothing to warm-start at t = 0).
+TEST(CliSimulate, ResumeFromAnEmptyFrame) {
+    const fs::path dir = tempDir();
+    const fs::path scene = dir / "nozzle.json";
+    std::ofstream(scene) << R"({
+  "version": 1, "name": "nozzle", "duration": 0.06, "fps": 50,
+  "params": { "radius": 0.01 },
+  "domain": { "min": [0, 0, 0], "max": [0.3, 0.3, 0.3] },
+  "emitters": [ { "position": [0.15, 0.25, 0.15], "direction": [0, -1, 0], "radius": 0.03, "speed": 1.0 } ]
+})";
+    std::string out;
+    ASSERT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "a/f_%04d.bgeo"), &out), 0) << out;
+    ASSERT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "b/f_%04d.bgeo") + " --duration 0", &out), 0)
+        << out;
+    ASSERT_TRUE(fs::exists(dir / "b/f_0000.bgeo"));
+    ASSERT_FALSE(meniscus::readParticles(dir / "b/f_0000.bgeo").ok()) << "the frame is empty";
+    ASSERT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "b/f_%04d.bgeo") + " --resume", &out), 0) << out;
+    EXPECT_NE(out.find("resuming after"), std::string::npos) << out;
+    auto resumed = meniscus::readParticles(dir / "b/f_0003.bgeo");
+    auto straight = meniscus::readParticles(dir / "a/f_0003.bgeo");
+    ASSERT_TRUE(resumed.ok()) << resumed.error().describe();
+    ASSERT_TRUE(straight.ok()) << straight.error().describe();
+    EXPECT_GT(straight->size(), 0u);
+    EXPECT_EQ(resumed->size(), straight->size());
+    EXPECT_TRUE(readBytes(dir / "a/f_0003.bgeo") == readBytes(dir / "b/f_0003.bgeo"));
+}

@@ -163,7 +163,7 @@ int runSimulate(const SimulateOptions& o) {
         }
         if (last >= 0) {
             auto name = nameOf(last);
-            auto set = readParticles(*name);
+            auto set = readParticles(*name, ParticleFormat::Auto, true);  // an emitter's first frames are empty
             if (!set) return fail(set.error().describe());
             if (auto st = simulator.restore(*set, double(last) / sc.fps); !st)
                 return fail(Error{*name, st.error().message}.describe());

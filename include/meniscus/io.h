@@ -36,11 +36,13 @@ ParticleFormat formatFromName(std::string_view name);
 
 // Parse with the given (or detected) format, then: drop particles with
 // non-finite positions (all attributes alike; the count goes into `warnings`),
-// and reject sets with no particles left.
+// and reject sets with no particles left, unless `allowEmpty` (a file with no
+// particles at all is then an empty set: e.g. a simulation's frame before its
+// emitter started, which `simulate --resume` reads back).
 Result<ParticleSet> parseParticles(ByteView data, const std::string& name,
-                                   ParticleFormat format = ParticleFormat::Auto);
+                                   ParticleFormat format = ParticleFormat::Auto, bool allowEmpty = false);
 Result<ParticleSet> readParticles(const std::filesystem::path& path,
-                                  ParticleFormat format = ParticleFormat::Auto);
+                                  ParticleFormat format = ParticleFormat::Auto, bool allowEmpty = false);
 
 // Writes `set` to `path` in `format` (Auto: from the name, as formatFromName;
 // .bgeo classic BGEO v5 as partio writes it (SPlisHSPlasH's export), .bgeo.gz

@@ -61,7 +61,7 @@ Result<std::vector<std::uint8_t>> readFileBytes(const std::filesystem::path& pat
     return bytes;
 }
 
-Result<ParticleSet> parseParticles(ByteView data, const std::string& name, ParticleFormat format) {
+Result<ParticleSet> parseParticles(ByteView data, const std::string& name, ParticleFormat format, bool allowEmpty) {
     if (format == ParticleFormat::Auto) format = formatFromName(name);
     if (format == ParticleFormat::Auto) format = formatFromContent(data);
     if (data.empty()) return makeError(name, "file is empty");
@@ -90,16 +90,16 @@ Result<ParticleSet> parseParticles(ByteView data, const std::string& name, Parti
     if (dropped > 0)
         set.warnings.push_back(name + ": dropped " + std::to_string(dropped) + " of " + std::to_string(total) +
                                " particles with NaN/Inf positions");
-    if (set.size() == 0)
+    if (set.size() == 0 && !(allowEmpty && total == 0))
         return makeError(name, total == 0 ? "file contains no particles"
                                           : "all " + std::to_string(total) + " particles have NaN/Inf positions");
     return parsed;
 }
 
-Result<ParticleSet> readParticles(const std::filesystem::path& path, ParticleFormat format) {
+Result<ParticleSet> readParticles(const std::filesystem::path& path, ParticleFormat format, bool allowEmpty) {
     auto bytes = readFileBytes(path);
     if (!bytes) return bytes.error();
-    return parseParticles(bytes.value(), path.string(), format);
+    return parseParticles(bytes.value(), path.string(), format, allowEmpty);
 }
 
 }  // namespace meniscus
