@@ -260,13 +260,28 @@ TEST(SimColliders, DistancesAndTheGuard) {
     scene.domain = Box{{-2, -2, -2}, {2, 2, 2}};
     scene.colliders = {sphere};
     glm::vec3 x(0, 0.4f, 0), v(0, -1, 0.5f);
-    EXPECT_TRUE(keepOutside(scene, {}, 0.01f, x, v));
+    EXPECT_TRUE(keepOutside(scene, {}, 0.01f, x, v, glm::vec3(0, 0.6f, 0)));
     EXPECT_GE(glm::length(x), 0.5f);
     EXPECT_EQ(v.y, 0.0f);
     EXPECT_EQ(v.z, 0.5f);
     glm::vec3 far(0, 3.0f, 0), vf(0, 1, 0);
-    EXPECT_TRUE(keepOutside(scene, {}, 0.01f, far, vf));
+    EXPECT_TRUE(keepOutside(scene, {}, 0.01f, far, vf, glm::vec3(0, 1.9f, 0)));
     EXPECT_LE(far.y, 2.0f);
+    // A ball sunk into the floor: just inside it, by the floor, its nearest
+    // surface point is below the floor. Pushed there, put back by the tank,
+    // it would be inside again: it goes back to where its step began, at rest.
+    Collider sunk = sphere;
+    sunk.center = {0, -1.8f, 0};  // radius 0.5: 0.3 below the floor at y = -2
+    scene.colliders = {sunk};
+    const glm::vec3 start(0.47f, -1.99f, 0.0f);  // 7 mm outside the ball
+    glm::vec3 pinched(0.36f, -1.995f, 0.0f), vp(-1.0f, -0.5f, 0.0f);
+    ASSERT_LT(colliderDistance(sunk, nullptr, pinched).distance, 0.0f);
+    ASSERT_GT(colliderDistance(sunk, nullptr, start).distance, 0.0f);
+    EXPECT_TRUE(keepOutside(scene, {}, 0.01f, pinched, vp, start));
+    EXPECT_GE(colliderDistance(sunk, nullptr, pinched).distance, 0.0f);
+    EXPECT_GE(pinched.y, -2.0f);
+    EXPECT_EQ(pinched, start);
+    EXPECT_EQ(vp, glm::vec3(0.0f));
 }
 
 // ---------------------------------------------------------------- physics

@@ -87,6 +87,7 @@ inline constexpr float kSimMaxDtS = 0.005f;            // s
 inline constexpr float kSimDensityTolerance = 0.0005f; // 0.05 % of rho0, mean
 inline constexpr float kSimDivergenceTolerance = 0.001f; // 0.1 % of rho0 per time step, mean
 inline constexpr int kSimMaxIterations = 100;          // per DFSPH solver per step
+inline constexpr float kSimWallNearestRadii = 0.5f;   // DFSPH: walls are evaluated no closer than this, particle radii
 inline constexpr int kSimResortEvery = 50;             // steps between z-order re-sorts
 inline constexpr double kSimFps = 25.0;                // frames per simulated second written
 }  // namespace defaults

@@ -135,7 +135,7 @@ WallTerm wallTerm(const Scene& scene, const std::vector<ColliderMesh>& meshes, f
     bool near = false;
     for (int a = 0; a < 3; ++a) {
         const float lo = x[a] - scene.domain.min[a], hi = scene.domain.max[a] - x[a];
-        d[a] = std::min(lo, hi) + t.offset;
+        d[a] = std::max(std::min(lo, hi) + t.offset, t.nearest);
         side[a] = lo <= hi ? 1.0f : -1.0f;  // +1: the wall is below on this axis
         near = near || d[a] < support;
     }
@@ -147,7 +147,7 @@ WallTerm wallTerm(const Scene& scene, const std::vector<ColliderMesh>& meshes, f
         w.pressureGradient = t.separatePressure ? -t.domainPressure.gradient(dc) * side : w.gradient;
     }
     forEachCollider(scene, meshes, x, support, [&](const Collider&, const SurfacePoint& s) {
-        const float dist = s.distance + t.offset;
+        const float dist = std::max(s.distance + t.offset, t.nearest);
         if (dist >= support) return;
         w.density += t.density.phi(dist);
         w.gradient -= t.density.slab(dist) * s.normal;

@@ -95,27 +95,41 @@ SurfacePoint colliderDistance(const Collider& c, const TriangleMesh* mesh, const
 }
 
 bool keepOutside(const Scene& scene, const std::vector<ColliderMesh>& meshes, float radius, glm::vec3& x,
-                 glm::vec3& v) {
+                 glm::vec3& v, const glm::vec3& before) {
     bool moved = false;
     // Onto the surface, not beyond: a jump into the fluid would compress it
     // and push back, putting energy into the flow.
     const float back = 0.0f * radius;
     // Domain walls: the centre stays inside the tank.
-    for (int a = 0; a < 3; ++a) {
-        if (!(x[a] >= scene.domain.min[a])) {  // also catches NaN
-            x[a] = scene.domain.min[a] + back, v[a] = std::max(v[a], 0.0f), moved = true;
-        } else if (x[a] > scene.domain.max[a]) {
-            x[a] = scene.domain.max[a] - back, v[a] = std::min(v[a], 0.0f), moved = true;
+    auto inTank = [&] {
+        for (int a = 0; a < 3; ++a) {
+            if (!(x[a] >= scene.domain.min[a])) {  // also catches NaN
+                x[a] = scene.domain.min[a] + back, v[a] = std::max(v[a], 0.0f), moved = true;
+            } else if (x[a] > scene.domain.max[a]) {
+                x[a] = scene.domain.max[a] - back, v[a] = std::min(v[a], 0.0f), moved = true;
+            }
         }
-    }
+    };
+    inTank();
+    bool pushed = false;
     forEachCollider(scene, meshes, x, 0.0f, [&](const Collider&, const SurfacePoint& s) {
         if (s.distance < 0.0f) {
             x += s.normal * (back - s.distance);
             const float vn = glm::dot(v, s.normal);
             if (vn < 0.0f) v -= vn * s.normal;
-            moved = true;
+            moved = pushed = true;
         }
     });
+    if (!pushed) return moved;
+    // A collider's nearest face may lie on or beyond a tank wall (a box on the
+    // floor, a ball sunk into it): out through it is out of the tank, and the
+    // tank putting it back puts it into the collider again. Then the particle
+    // goes back to where the step began (outside everything), at rest, as
+    // SPlisHSPlasH's fallback for a particle its boundary could not hold.
+    inTank();
+    bool inside = false;
+    forEachCollider(scene, meshes, x, 0.0f, [&](const Collider&, const SurfacePoint& s) { inside |= s.distance < 0.0f; });
+    if (inside) x = before, v = glm::vec3(0.0f);
     return moved;
 }
 

@@ -46,8 +46,10 @@ void forEachCollider(const Scene& scene, const std::vector<ColliderMesh>& meshes
     }
 }
 
-// Returns true when x was corrected (moved out, v's inward part removed).
+// Returns true when x was corrected (moved out, v's inward part removed);
+// `before` is where the step began (inside the tank, outside the colliders),
+// where x goes back to if no surface point outside both can be found.
 bool keepOutside(const Scene& scene, const std::vector<ColliderMesh>& meshes, float radius, glm::vec3& x,
-                 glm::vec3& v);
+                 glm::vec3& v, const glm::vec3& before);
 
 }  // namespace meniscus::sim

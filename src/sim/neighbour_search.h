@@ -48,6 +48,10 @@ public:
     }
     std::uint32_t sortedIndex(std::uint32_t k) const { return sorted_[k]; }
     const glm::vec3& sortedPosition(std::uint32_t k) const { return sortedPos_[k]; }
+    // The same positions by coordinate (x, y, z arrays), each padded with
+    // kPad far-away values so that a 4-wide load from any k < size is safe.
+    static constexpr std::size_t kPad = 4;
+    const float* sortedCoordinates(int axis) const { return sortedAxis_[std::size_t(axis)].data(); }
 
     // Morton (z-curve) key of a point's cell: the order zOrder sorts by.
     std::uint64_t mortonKey(const glm::vec3& p) const;
@@ -59,6 +63,7 @@ private:
     std::vector<std::uint32_t> cellStart_;  // cellCount + 1
     std::vector<std::uint32_t> sorted_;     // point indices by cell
     std::vector<glm::vec3> sortedPos_;      // their positions, in the same order
+    std::vector<float> sortedAxis_[3];      // and by coordinate, padded
     std::vector<std::uint32_t> cellOfPoint_;
 };
 
@@ -69,6 +74,8 @@ std::vector<std::uint32_t> zOrder(const CellGrid& grid, std::span<const glm::vec
 // x_i - x_j (in the solver's own kernel). 16 bytes: the pressure solvers
 // stream these lists several times a step.
 struct Neighbour {
+    // Left uninitialised: the lists are resized, then written in place.
+    Neighbour() {}  // NOLINT: not = default, so resize() does not zero 16 bytes an entry
     std::uint32_t j;
     glm::vec3 gradW;
 };

@@ -1,10 +1,48 @@
 // buildNeighbourLists (declared in neighbour_search.h): count, scan, fill.
 #pragma once
 
+#include <algorithm>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 namespace meniscus::sim {
+
+// Appends to hits[m...] the k in [b, e) with |xi - sortedPosition(k)|^2 < h2,
+// in order; returns the new m. The same float arithmetic as glm::dot(d, d)
+// (((dx dx + dy dy) + dz dz), no fused multiply-add), so the same lists on any
+// path. With SSE2 (every x86-64) four candidates are tested at once and the
+// hits taken from the comparison's bit mask: about one candidate in seven is
+// a neighbour, so a branch per candidate would mispredict often.
+inline std::size_t distanceTest(const CellGrid& grid, const glm::vec3& xi, float h2, std::uint32_t b, std::uint32_t e,
+                                std::uint32_t* hits, std::size_t m) {
+    const float* X = grid.sortedCoordinates(0);
+    const float* Y = grid.sortedCoordinates(1);
+    const float* Z = grid.sortedCoordinates(2);
+#if defined(__SSE2__)
+    const __m128 px = _mm_set1_ps(xi.x), py = _mm_set1_ps(xi.y), pz = _mm_set1_ps(xi.z), r2 = _mm_set1_ps(h2);
+    for (std::uint32_t k = b; k < e; k += 4) {
+        const __m128 dx = _mm_sub_ps(px, _mm_loadu_ps(X + k));
+        const __m128 dy = _mm_sub_ps(py, _mm_loadu_ps(Y + k));
+        const __m128 dz = _mm_sub_ps(pz, _mm_loadu_ps(Z + k));
+        const __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+        unsigned mask = unsigned(_mm_movemask_ps(_mm_cmplt_ps(d2, r2)));
+        if (e - k < 4) mask &= (1u << (e - k)) - 1u;  // past the row: another row's points (or the padding)
+        for (; mask; mask &= mask - 1u) hits[m++] = k + std::uint32_t(__builtin_ctz(mask));
+    }
+#else
+    for (std::uint32_t k = b; k < e; ++k) {
+        const float dx = xi.x - X[k], dy = xi.y - Y[k], dz = xi.z - Z[k];
+        hits[m] = k;
+        m += std::size_t(dx * dx + dy * dy + dz * dz < h2);
+    }
+#endif
+    return m;
+}
 
 template <class Kernel>
 void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid, float support, bool self,
@@ -25,20 +63,23 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
             for (std::size_t i = c * kChunk; i < end; ++i) {
                 const glm::vec3 xi = points[i];
                 const auto self_ = self ? std::uint32_t(i) : ~std::uint32_t(0);
-                // Distance tests without a branch per candidate (about one in
-                // seven is a neighbour, so a branch would mispredict often):
-                // write every candidate, advance past the hits only.
                 std::size_t m = 0;
                 grid.forEachRowNear(xi, [&](std::uint32_t b, std::uint32_t e) {
-                    if (hits.size() < m + (e - b)) hits.resize(2 * (m + (e - b)));
-                    for (std::uint32_t k = b; k < e; ++k) {
-                        const glm::vec3 d = xi - grid.sortedPosition(k);
-                        hits[m] = k;
-                        m += std::size_t((glm::dot(d, d) < h2) & (grid.sortedIndex(k) != self_));
-                    }
+                    if (hits.size() < m + (e - b) + 4) hits.resize(2 * (m + (e - b) + 4));
+                    m = distanceTest(grid, xi, h2, b, e, hits.data(), m);
                 });
-                out.first[i] = std::uint32_t(list.size());
+                // Oneself (when self) is among the hits: out, keeping the order.
+                if (self) m = std::size_t(std::remove_if(hits.begin(), hits.begin() + std::ptrdiff_t(m),
+                                                         [&](std::uint32_t k) { return grid.sortedIndex(k) == self_; }) -
+                                          hits.begin());
+                const std::size_t at = list.size();
+                out.first[i] = std::uint32_t(at);
                 out.counts[i] = std::uint32_t(m);
+                // Written field by field where they belong: a whole entry built
+                // on the stack and copied stalled on its 16-byte reload.
+                if (list.capacity() < at + m) list.reserve(2 * (at + m));
+                list.resize(at + m);
+                Neighbour* dst = list.data() + at;
                 float sum = 0.0f;
                 for (std::size_t q = 0; q < m; ++q) {
                     const std::uint32_t k = hits[q];
@@ -46,7 +87,8 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
                     const float r2 = glm::dot(d, d);
                     const auto [w, g] = kernel(d, std::sqrt(r2), r2);
                     sum += w;
-                    list.push_back(Neighbour{grid.sortedIndex(k), g});
+                    dst[q].j = grid.sortedIndex(k);
+                    dst[q].gradW = g;
                 }
                 if (!wSum.empty()) wSum[i] = sum;
             }

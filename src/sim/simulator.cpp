@@ -329,6 +329,8 @@ Result<std::unique_ptr<Simulator>> Simulator::create(const Scene& scene) {
             s->walls.density = WallTable(s->h, W);
             s->walls.domainDensity = DomainTable(s->h, W);
             s->walls.offset = wallOffset(s->r, s->h, s->walls.density, [&](float d) { return K.W(d); });
+            // Below the rest lattice's first layer (r + offset = 1.19 r), so a fluid at rest is untouched.
+            s->walls.nearest = defaults::kSimWallNearestRadii * s->r;
         }
         s->mass = s->p.restDensity * s->volume;
 
@@ -422,9 +424,10 @@ Status Simulator::step(double until) {
             tbb::blocked_range<std::size_t>(0, s.n(), 1024), std::size_t(0),
             [&](const tbb::blocked_range<std::size_t>& r, std::size_t c) {
                 for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                    const glm::vec3 before = s.x[i];
                     s.x[i] += dt * s.v[i];
                     s.age[i] += dt;
-                    c += keepOutside(s.scene, s.meshes, s.r, s.x[i], s.v[i]);
+                    c += keepOutside(s.scene, s.meshes, s.r, s.x[i], s.v[i], before);
                 }
                 return c;
             },
