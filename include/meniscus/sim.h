@@ -22,7 +22,7 @@ namespace meniscus::sim {
 
 enum class Solver {
     Dfsph,      // Bender & Koschier 2015: divergence-free + constant-density solvers (default)
-    Sph,        // Muller, Charypar & Gross 2003: state equation k(rho - rho0), poly6/spiky/viscosity
+    Sph,        // Muller, Charypar & Gross 2003: state equation k(rho - rho0), spiky/viscosity/poly6 kernels
     Ballistic,  // Instant Liquids §4: mass points under gravity, colliders only, no pressure solve
 };
 bool solverFromName(const std::string& name, Solver* out);  // "dfsph", "sph", "ballistic"

@@ -154,7 +154,7 @@ void Simulator::Impl::findNeighbours() {
     resizeScratch();
     if (p.solver == Solver::Sph) {
         const MullerKernels& K = muller;
-        auto kernel = [&K](const glm::vec3& d, float r, float r2) { return std::pair{K.poly6(r2), K.spikyGrad(d, r)}; };
+        auto kernel = [&K](const glm::vec3& d, float r, float) { return std::pair{K.spiky(r), K.spikyGrad(d, r)}; };
         buildNeighbourLists(x, grid, h, true, kernel, fluidNb, kernelSum);
     } else {
         const CubicSpline& K = cubic;
@@ -168,7 +168,7 @@ void Simulator::Impl::findNeighbours() {
 }
 
 void Simulator::Impl::computeDensities() {
-    const float self = p.solver == Solver::Sph ? muller.poly6(0.0f) : cubic.W(0.0f);
+    const float self = p.solver == Solver::Sph ? muller.spiky(0.0f) : cubic.W(0.0f);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n(), 512), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i < r.end(); ++i) {
             density[i] = p.restDensity * (volume * (self + kernelSum[i]) + wall[i].density);
@@ -312,16 +312,14 @@ Result<std::unique_ptr<Simulator>> Simulator::create(const Scene& scene) {
         s->cubic = CubicSpline(s->h);
         s->muller = MullerKernels(s->h);
         if (s->p.solver == Solver::Sph) {
+            // Density with the kernel of the pressure force, Muller's spiky
+            // (sph_muller2003.cpp says why not the paper's poly6).
             const MullerKernels& K = s->muller;
-            auto W = [&](double d) { return double(K.poly6(float(d * d))); };
-            auto spiky = [&](double d) { return double(K.spiky(float(d))); };
-            s->volume = restVolume(s->r, s->h, [&](float d) { return K.poly6(d * d); }, &s->fullNeighbours);
+            auto W = [&](double d) { return double(K.spiky(float(d))); };
+            s->volume = restVolume(s->r, s->h, [&](float d) { return K.spiky(d); }, &s->fullNeighbours);
             s->walls.density = WallTable(s->h, W);
-            s->walls.pressure = WallTable(s->h, spiky);
             s->walls.domainDensity = DomainTable(s->h, W);
-            s->walls.domainPressure = DomainTable(s->h, spiky);
-            s->walls.separatePressure = true;
-            s->walls.offset = wallOffset(s->r, s->h, s->walls.density, [&](float d) { return K.poly6(d * d); });
+            s->walls.offset = wallOffset(s->r, s->h, s->walls.density, [&](float d) { return K.spiky(d); });
         } else {
             const CubicSpline& K = s->cubic;
             auto W = [&](double d) { return double(K.W(float(d))); };
