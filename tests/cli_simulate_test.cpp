@@ -19,23 +19,12 @@ namespace {
 std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
 int runCli(const std::string& args, std::string* out = nullptr) { return runCommand(cliPath() + " " + args, out); }
 
-// A small dam break: 9 x 14 x 5 particles (free faces 2r inside, walls r), 0.1 s.
-fs::path writeScene(const fs::path& dir) {
-    const fs::path p = dir / "small.json";
-    std::ofstream(p) << R"({
-  "version": 1, "name": "small", "duration": 0.1, "fps": 50,
-  "params": { "radius": 0.01 },
-  "domain": { "min": [0, 0, 0], "max": [0.4, 0.4, 0.1] },
-  "fluid": [ { "box": { "min": [0, 0, 0], "max": [0.2, 0.3, 0.1] } } ]
-})";
-    return p;
-}
 
 }  // namespace
 
 TEST(CliSimulate, SceneToASequenceTheReadersTakeBack) {
     const fs::path dir = tempDir();
-    const fs::path scene = writeScene(dir);
+    const fs::path scene = writeSmallScene(dir);
     std::string out;
     ASSERT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "out/f_%04d.bgeo"), &out), 0) << out;
     for (int k = 0; k <= 5; ++k) {
@@ -61,7 +50,7 @@ TEST(CliSimulate, SceneToASequenceTheReadersTakeBack) {
 
 TEST(CliSimulate, SameFilesForAnyThreadCountAndResumeContinues) {
     const fs::path dir = tempDir();
-    const fs::path scene = writeScene(dir);
+    const fs::path scene = writeSmallScene(dir);
     std::string out;
     ASSERT_EQ(runCli("--threads 1 simulate " + quote(scene) + " -o " + quote(dir / "a/f_%04d.bgeo"), &out), 0) << out;
     ASSERT_EQ(runCli("--threads 2 simulate " + quote(scene) + " -o " + quote(dir / "b/f_%04d.bgeo"), &out), 0) << out;
@@ -89,7 +78,7 @@ TEST(CliSimulate, BadScenesAndOutputsFailCleanly) {
     EXPECT_NE(out.find("typo.json"), std::string::npos) << out;
     EXPECT_NE(out.find("raduis"), std::string::npos) << out;
     EXPECT_EQ(runCli("simulate " + quote(dir / "missing.json") + " -o " + quote(dir / "f_%04d.bgeo"), &out), 1);
-    const fs::path scene = writeScene(dir);
+    const fs::path scene = writeSmallScene(dir);
     EXPECT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "nonumber.bgeo"), &out), 1);
     EXPECT_NE(out.find("frame number"), std::string::npos) << out;
     EXPECT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "f_%04d.png"), &out), 1);
@@ -105,7 +94,7 @@ TEST(CliSimulate, BadScenesAndOutputsFailCleanly) {
 // the column falls. --resume renders on from the resumed frame.
 TEST(CliSimulate, RenderWritesAnImagePerFrameFromOneCamera) {
     const fs::path dir = tempDir();
-    const fs::path scene = writeScene(dir);
+    const fs::path scene = writeSmallScene(dir);
     std::string out;
     const std::string args = "simulate " + quote(scene) + " -o " + quote(dir / "f/f_%04d.bgeo") + " --render " +
                              quote(dir / "img/i_%04d.png") + " --width 96 --height 72";
@@ -155,7 +144,7 @@ TEST(CliSimulate, RenderWritesAnImagePerFrameFromOneCamera) {
 // A bad --render pattern is an error before anything is simulated or written.
 TEST(CliSimulate, BadRenderPatternsFailBeforeSimulating) {
     const fs::path dir = tempDir();
-    const fs::path scene = writeScene(dir);
+    const fs::path scene = writeSmallScene(dir);
     std::string out;
     for (const char* bad : {"img/i.png", "img/i_%04d.jpg"}) {
         EXPECT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "f/f_%04d.bgeo") + " --render " +

@@ -316,13 +316,7 @@ TEST(GlWindowErrors, NoCurrentContextIsAnError) {
 // same frame (one camera, framed on the tank, for both) within 1 step.
 TEST_F(GlWindow, ViewSimulateShowsTheFramesSimulateRenders) {
     const auto dir = tempDir();
-    const auto scene = dir / "small.json";
-    std::ofstream(scene) << R"({
-  "version": 1, "name": "small", "duration": 0.1, "fps": 50,
-  "params": { "radius": 0.01 },
-  "domain": { "min": [0, 0, 0], "max": [0.4, 0.4, 0.1] },
-  "fluid": [ { "box": { "min": [0, 0, 0], "max": [0.2, 0.3, 0.1] } } ]
-})";
+    const auto scene = writeSmallScene(dir);
     const std::string size = " --width 96 --height 64";
     const auto shot = dir / "shown.png";
     std::string out;

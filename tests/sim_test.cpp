@@ -97,6 +97,38 @@ TEST(SimKernels, GradientsAreTheDerivatives) {
     EXPECT_EQ(cubic.gradW(-d, glm::length(d)), -cubic.gradW(d, glm::length(d)));
 }
 
+// The neighbour build evaluates the kernels four distances at once; the
+// lanes must be the scalar kernels bit for bit (the same lists and frames on
+// any path), across both branches, the support's edge and r = 0.
+TEST(SimKernels, FourAtOnceEqualsTheScalarKernels) {
+    const float h = 0.04f;
+    const CubicSpline cubic(h);
+    const MullerKernels mk(h);
+    std::vector<float> rs = {0.0f, 1e-12f, 0.5f * h, std::nextafter(0.5f * h, h), std::nextafter(h, 0.0f), h, 1.5f * h};
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.1f * h);
+    while (rs.size() < 4000) rs.push_back(u(rng));
+    for (std::size_t k = 0; k + 4 <= rs.size(); k += 4) {
+        F4 w, g, sw, sg;
+        cubic.evaluate4(load4(&rs[k]), w, g);
+        mk.spiky4(load4(&rs[k]), sw, sg);
+        alignas(16) float W[4], G[4], SW[4], SG[4];
+        store4(W, w), store4(G, g), store4(SW, sw), store4(SG, sg);
+        for (int l = 0; l < 4; ++l) {
+            const float r = rs[k + std::size_t(l)];
+            EXPECT_EQ(W[l], cubic.W(r)) << "cubic W at r = " << r;
+            EXPECT_EQ(G[l], cubic.gradFactor(r)) << "cubic gradient at r = " << r;
+            EXPECT_EQ(SW[l], mk.spiky(r)) << "spiky W at r = " << r;
+            EXPECT_EQ(SG[l], mk.spikyGradFactor(r)) << "spiky gradient at r = " << r;
+        }
+    }
+    // And the factor is the gradient: grad W(d) = gradFactor(|d|) d, with a
+    // gradient that is not zero inside the support.
+    EXPECT_LT(cubic.gradFactor(0.3f * h), 0.0f);
+    EXPECT_LT(cubic.gradFactor(0.7f * h), 0.0f);
+    EXPECT_LT(mk.spikyGradFactor(0.5f * h), 0.0f);
+}
+
 TEST(SimKernels, LaplaciansMatchFiniteDifferences) {
     const float h = 0.04f;
     const MullerKernels mk(h);
@@ -126,7 +158,7 @@ TEST(SimNeighbours, SameAsBruteForceAndInCellOrder) {
     NeighbourLists lists;
     const CubicSpline K(h);
     std::vector<float> wSum(pts.size());
-    buildNeighbourLists(pts, grid, h, true, [&](const glm::vec3& d, float r, float) { return std::pair{K.W(r), K.gradW(d, r)}; }, lists, wSum);
+    buildNeighbourLists(pts, grid, h, true, [&](F4 r, F4& w, F4& g) { K.evaluate4(r, w, g); }, lists, wSum);
     for (std::size_t i = 0; i < pts.size(); i += 7) {
         std::vector<std::uint32_t> brute, found;
         for (std::size_t j = 0; j < pts.size(); ++j)
@@ -134,7 +166,7 @@ TEST(SimNeighbours, SameAsBruteForceAndInCellOrder) {
         double sum = 0.0;
         for (const Neighbour& nb : lists.of(i)) {
             found.push_back(nb.j);
-            EXPECT_EQ(nb.gradW, K.gradW(pts[i] - pts[nb.j], glm::length(pts[i] - pts[nb.j])));
+            EXPECT_EQ(gradW(nb, pts[i], pts), K.gradW(pts[i] - pts[nb.j], glm::length(pts[i] - pts[nb.j])));
             sum += double(K.W(glm::length(pts[i] - pts[nb.j])));
         }
         EXPECT_NEAR(wSum[i], sum, 1e-4 * sum + 1e-3);

@@ -250,4 +250,15 @@ Camera faceOnCamera(glm::vec3 target, float distance, int width, int height, flo
     return c;
 }
 
+std::filesystem::path writeSmallScene(const std::filesystem::path& dir) {
+    const std::filesystem::path p = dir / "small.json";
+    std::ofstream(p) << R"({
+  "version": 1, "name": "small", "duration": 0.1, "fps": 50,
+  "params": { "radius": 0.01 },
+  "domain": { "min": [0, 0, 0], "max": [0.4, 0.4, 0.1] },
+  "fluid": [ { "box": { "min": [0, 0, 0], "max": [0.2, 0.3, 0.1] } } ]
+})";
+    return p;
+}
+
 }  // namespace meniscus::test

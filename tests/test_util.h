@@ -37,6 +37,11 @@ int runCommand(const std::string& cmd, std::string* output = nullptr);
 // Path of the built CLI.
 std::string cliPath();
 
+// Writes DIR/small.json, a small dam break for the simulator's CLI and
+// viewer tests: 9 x 14 x 5 particles of r = 1 cm (free faces 2r inside,
+// walls r) in a 0.4 x 0.4 x 0.1 m tank, 0.1 s at 50 fps; returns its path.
+std::filesystem::path writeSmallScene(const std::filesystem::path& dir);
+
 // One row of tests/data/splishsplash/frame_stats.csv, by column name; ADD_FAILUREs
 // and returns an empty map when there is no row for (dataset, frame).
 std::map<std::string, std::string> frameStatsRow(const std::string& dataset, int frame);

@@ -144,14 +144,12 @@ WallTerm wallTerm(const Scene& scene, const std::vector<ColliderMesh>& meshes, f
         w.density = 1.0f - t.domainDensity.inside(dc);
         // d rho / dx_a = -d inside / d d_a * d d_a / dx_a, with d d_a / dx_a = side_a.
         w.gradient = -t.domainDensity.gradient(dc) * side;
-        w.pressureGradient = t.separatePressure ? -t.domainPressure.gradient(dc) * side : w.gradient;
     }
     forEachCollider(scene, meshes, x, support, [&](const Collider&, const SurfacePoint& s) {
         const float dist = std::max(s.distance + t.offset, t.nearest);
         if (dist >= support) return;
         w.density += t.density.phi(dist);
         w.gradient -= t.density.slab(dist) * s.normal;
-        w.pressureGradient -= (t.separatePressure ? t.pressure.slab(dist) : t.density.slab(dist)) * s.normal;
     });
     return w;
 }

@@ -71,19 +71,17 @@ float wallOffset(float r, float h, const WallTable& table, const std::function<f
 
 // The boundary's part of one particle: relative density (sum of Phi) and its
 // gradient with respect to the particle's position (sum of -A n, pointing
-// into the solids), for the density kernel; and the gradient for the
-// pressure kernel when it differs (Muller's spiky).
+// into the solids), in the solver's kernel (both solvers' pressure forces use
+// the kernel their density does).
 struct WallTerm {
     float density = 0.0f;
     glm::vec3 gradient{0.0f};
-    glm::vec3 pressureGradient{0.0f};
 };
 
 // The kernel tables of one solver.
 struct WallTables {
-    WallTable density, pressure;      // half-space Phi/A (pressure: of the pressure kernel, SPH only)
-    DomainTable domainDensity, domainPressure;
-    bool separatePressure = false;
+    WallTable density;                // half-space Phi/A
+    DomainTable domainDensity;
     float offset = 0.0f;              // metres, added to every distance
     // metres: the least distance (offset included) a wall is evaluated at.
     // Closer, a wall counts as if this far (Bender et al. 2019 likewise hold

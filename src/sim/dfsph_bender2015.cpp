@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/packed.h"
 #include "sim/parallel.h"
 #include "sim/state.h"
 #include "sim/timer.h"
@@ -27,35 +28,38 @@ constexpr float kWarmStart = 0.5f;  // fraction of last step's stiffness reused 
 // neighbourhood, with a wall counted as the fluid it stands for.
 constexpr float kMinNeighboursForDivergence = 20.0f;
 
-// Rate of change of the relative density, sum_j V_j (v_i - v_j) . grad W_ij.
+// Rate of change of the relative density, sum_j V_j (v_i - v_j) . grad W_ij,
+// on the packed positions x4 and velocities v4 (packed.h).
 float densityRate(const Simulator::Impl& s, std::size_t i) {
-    const glm::vec3 vi = s.v[i];
-    float fluid = 0.0f;
-    for (const Neighbour& nb : s.fluidNb.of(i)) fluid += glm::dot(vi - s.v[nb.j], nb.gradW);
-    return s.volume * fluid + glm::dot(vi, s.wall[i].gradient);
+    const F4 xi = load4(s.x4[i]), vi = load4(s.v4[i]);
+    auto term = [&](const Neighbour& nb) { return splat(nb.g) * ((vi - load4(s.v4[nb.j])) * (xi - load4(s.x4[nb.j]))); };
+    const F4 fluid = sumPairs(s.fluidNb.of(i), term);
+    return s.volume * sum4(fluid) + glm::dot(glm::vec3(s.v4[i]), s.wall[i].gradient);
 }
 
-// v_i -= dt * (sum_j V (k_i + k_j) grad W_ij + k_i grad rho_wall).
+// v_i -= dt * (sum_j V (k_i + k_j) grad W_ij + k_i grad rho_wall), on v4.
 void applyStiffness(Simulator::Impl& s, const std::vector<float>& k, float dt) {
     forAll(s.n(), [&](std::size_t i) {
+        const F4 xi = load4(s.x4[i]);
         const float ki = k[i];
-        glm::vec3 fluid(0.0f);
-        for (const Neighbour& nb : s.fluidNb.of(i)) fluid += (ki + k[nb.j]) * nb.gradW;
-        s.v[i] -= dt * (s.volume * fluid + ki * s.wall[i].gradient);
+        auto term = [&](const Neighbour& nb) { return splat((ki + k[nb.j]) * nb.g) * (xi - load4(s.x4[nb.j])); };
+        const F4 fluid = sumPairs(s.fluidNb.of(i), term);
+        const F4 dv = splat(dt) * (splat(s.volume) * fluid + splat(ki) * load4(s.wall[i].gradient));
+        store4(s.v4[i], load4(s.v4[i]) - dv);
     });
 }
 
 void computeFactors(Simulator::Impl& s) {
     forAll(s.n(), [&](std::size_t i) {
-        glm::vec3 g(0.0f);
-        float squares = 0.0f;
+        const F4 xi = load4(s.x4[i]);
+        F4 g = zero4(), squares = zero4();
         for (const Neighbour& nb : s.fluidNb.of(i)) {
-            const glm::vec3 gj = s.volume * nb.gradW;
-            g += gj;
-            squares += glm::dot(gj, gj);
+            const F4 gj = splat(s.volume * nb.g) * (xi - load4(s.x4[nb.j]));
+            g = g + gj;
+            squares = squares + gj * gj;
         }
-        g += s.wall[i].gradient;
-        const float denom = glm::dot(g, g) + squares;
+        const glm::vec3 gs = toVec3(g) + s.wall[i].gradient;
+        const float denom = glm::dot(gs, gs) + sum4(squares);
         s.alpha[i] = denom > 1e-5f ? 1.0f / denom : 0.0f;
     });
 }
@@ -136,12 +140,15 @@ void stepDfsph(Simulator::Impl& s, double until) {
     StepStats& st = s.last;
     Timer timer;
     s.findNeighbours();
+    pack(s.x, s.x4);  // fixed for the step
     st.msNeighbours = timer.lap();
     s.computeDensities();
     computeFactors(s);
     st.msDensity = timer.lap();
     // Divergence-free solve on the velocities of the last step (its dt).
+    pack(s.v, s.v4);
     st.divergenceIterations = s.n() ? divergenceSolve(s, float(s.dt)) : 0;
+    unpack(s.v4, s.v);
     st.msPressure = timer.lap();
     s.nonPressureAccelerations();
     s.dt = s.cflStep(until, 0.0f);
@@ -151,7 +158,9 @@ void stepDfsph(Simulator::Impl& s, double until) {
     forAll(s.n(), [&](std::size_t i) { s.v[i] += dt * s.a[i]; });
     st.msForces = timer.lap();
     double err = 0.0;
+    pack(s.v, s.v4);
     st.densityIterations = s.n() ? densitySolve(s, dt, &err) : 0;
+    unpack(s.v4, s.v);
     st.densityError = err;
     st.msPressure += timer.lap();
 }

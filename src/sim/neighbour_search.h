@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "meniscus/sim.h"
+#include "sim/packed.h"
 
 namespace meniscus::sim {
 
@@ -33,9 +34,9 @@ public:
     std::size_t cellCount() const { return cellStart_.empty() ? 0 : cellStart_.size() - 1; }
 
     // Calls f(b, e) for each of the 9 rows of cells around p: the points
-    // sortedIndex(k), at sortedPosition(k), for k in [b, e) (not
-    // distance-tested). The positions are a copy in cell order, so each row's
-    // three cells stream from one contiguous run of memory.
+    // sortedIndex(k), at sortedCoordinates(0..2)[k], for k in [b, e) (not
+    // distance-tested). The coordinates are a copy in cell order, so each
+    // row's three cells stream from one contiguous run of memory.
     template <class F>
     void forEachRowNear(const glm::vec3& p, F&& f) const {
         const glm::ivec3 c = cellOf(p);
@@ -47,8 +48,7 @@ public:
             }
     }
     std::uint32_t sortedIndex(std::uint32_t k) const { return sorted_[k]; }
-    const glm::vec3& sortedPosition(std::uint32_t k) const { return sortedPos_[k]; }
-    // The same positions by coordinate (x, y, z arrays), each padded with
+    // The positions in cell order by coordinate (x, y, z arrays), each padded with
     // kPad far-away values so that a 4-wide load from any k < size is safe.
     static constexpr std::size_t kPad = 4;
     const float* sortedCoordinates(int axis) const { return sortedAxis_[std::size_t(axis)].data(); }
@@ -62,23 +62,27 @@ private:
     glm::ivec3 dims_{1};
     std::vector<std::uint32_t> cellStart_;  // cellCount + 1
     std::vector<std::uint32_t> sorted_;     // point indices by cell
-    std::vector<glm::vec3> sortedPos_;      // their positions, in the same order
-    std::vector<float> sortedAxis_[3];      // and by coordinate, padded
+    std::vector<float> sortedAxis_[3];      // their coordinates in the same order, padded
     std::vector<std::uint32_t> cellOfPoint_;
 };
 
 // The permutation that puts points in z-curve order of their cells (stable).
 std::vector<std::uint32_t> zOrder(const CellGrid& grid, std::span<const glm::vec3> points);
 
-// One neighbour of a particle: its index and the kernel gradient at
-// x_i - x_j (in the solver's own kernel). 16 bytes: the pressure solvers
-// stream these lists several times a step.
+// One neighbour of a particle: its index and the kernel gradient's factor g,
+// grad W(x_i - x_j) = g (x_i - x_j) (both kernels' gradients point along the
+// offset). 8 bytes: the pressure solvers stream these lists several times a
+// step, and memory, not arithmetic, bounds them; the offset is recomputed
+// from positions, which stay in cache (z-order).
 struct Neighbour {
     // Left uninitialised: the lists are resized, then written in place.
-    Neighbour() {}  // NOLINT: not = default, so resize() does not zero 16 bytes an entry
+    Neighbour() {}  // NOLINT: not = default, so resize() does not zero each entry
     std::uint32_t j;
-    glm::vec3 gradW;
+    float g;
 };
+
+// grad W_ij of the entry nb of particle i at xi, among positions x.
+inline glm::vec3 gradW(const Neighbour& nb, const glm::vec3& xi, std::span<const glm::vec3> x) { return nb.g * (xi - x[nb.j]); }
 
 // Neighbour lists: the neighbours of particle i are of(i), count(i) of them.
 // Each chunk of kChunk particles keeps its own array (filled by one task), so
@@ -97,7 +101,8 @@ struct NeighbourLists {
 // Lists of every point of `grid` within `support` of each of `points` (with
 // `self`, `points` must be the points the grid was built from, and each one's
 // own entry is left out), with kernel values from
-// `kernel(d, r, r^2) -> std::pair<float, glm::vec3>` (W, grad W); the
+// `kernel(F4 r, F4& W, F4& g)` (packed.h: four distances at once; g the
+// gradient's factor); the
 // sum of W over each list goes to `wSum` (when not empty). One pass, in
 // fixed chunks: the same lists for any thread count. Parallel (oneTBB).
 template <class Kernel>

@@ -12,12 +12,13 @@
 
 namespace meniscus::sim {
 
-// Appends to hits[m...] the k in [b, e) with |xi - sortedPosition(k)|^2 < h2,
+// Appends to hits[m...] the k in [b, e) with |xi - (X, Y, Z)[k]|^2 < h2 (the grid's sorted coordinates),
 // in order; returns the new m. The same float arithmetic as glm::dot(d, d)
 // (((dx dx + dy dy) + dz dz), no fused multiply-add), so the same lists on any
 // path. With SSE2 (every x86-64) four candidates are tested at once and the
-// hits taken from the comparison's bit mask: about one candidate in seven is
-// a neighbour, so a branch per candidate would mispredict often.
+// hits taken from the comparison's bit mask without a branch: about one
+// candidate in seven is a neighbour, so a branch per candidate (or per hit)
+// would mispredict often. hits must have room for m + (e - b) + 4 entries.
 inline std::size_t distanceTest(const CellGrid& grid, const glm::vec3& xi, float h2, std::uint32_t b, std::uint32_t e,
                                 std::uint32_t* hits, std::size_t m) {
     const float* X = grid.sortedCoordinates(0);
@@ -32,7 +33,11 @@ inline std::size_t distanceTest(const CellGrid& grid, const glm::vec3& xi, float
         const __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
         unsigned mask = unsigned(_mm_movemask_ps(_mm_cmplt_ps(d2, r2)));
         if (e - k < 4) mask &= (1u << (e - k)) - 1u;  // past the row: another row's points (or the padding)
-        for (; mask; mask &= mask - 1u) hits[m++] = k + std::uint32_t(__builtin_ctz(mask));
+        // Branch-free: every lane is written, the count advances by the hits.
+        for (std::uint32_t l = 0; l < 4; ++l) {
+            hits[m] = k + l;
+            m += (mask >> l) & 1u;
+        }
     }
 #else
     for (std::uint32_t k = b; k < e; ++k) {
@@ -62,7 +67,6 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
             const std::size_t end = std::min(n, (c + 1) * kChunk);
             for (std::size_t i = c * kChunk; i < end; ++i) {
                 const glm::vec3 xi = points[i];
-                const auto self_ = self ? std::uint32_t(i) : ~std::uint32_t(0);
                 std::size_t m = 0;
                 grid.forEachRowNear(xi, [&](std::uint32_t b, std::uint32_t e) {
                     if (hits.size() < m + (e - b) + 4) hits.resize(2 * (m + (e - b) + 4));
@@ -70,7 +74,7 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
                 });
                 // Oneself (when self) is among the hits: out, keeping the order.
                 if (self) m = std::size_t(std::remove_if(hits.begin(), hits.begin() + std::ptrdiff_t(m),
-                                                         [&](std::uint32_t k) { return grid.sortedIndex(k) == self_; }) -
+                                                         [&](std::uint32_t k) { return grid.sortedIndex(k) == i; }) -
                                           hits.begin());
                 const std::size_t at = list.size();
                 out.first[i] = std::uint32_t(at);
@@ -81,14 +85,30 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
                 list.resize(at + m);
                 Neighbour* dst = list.data() + at;
                 float sum = 0.0f;
-                for (std::size_t q = 0; q < m; ++q) {
-                    const std::uint32_t k = hits[q];
-                    const glm::vec3 d = xi - grid.sortedPosition(k);
-                    const float r2 = glm::dot(d, d);
-                    const auto [w, g] = kernel(d, std::sqrt(r2), r2);
-                    sum += w;
-                    dst[q].j = grid.sortedIndex(k);
-                    dst[q].gradW = g;
+                const float* X = grid.sortedCoordinates(0);
+                const float* Y = grid.sortedCoordinates(1);
+                const float* Z = grid.sortedCoordinates(2);
+                // The kernel four hits at a time (the spare lanes at the support: zero).
+                alignas(16) float r2[4], w[4], g[4];
+                for (std::size_t q = 0; q < m; q += 4) {
+                    const std::size_t lanes = std::min<std::size_t>(4, m - q);
+                    for (std::size_t l = 0; l < 4; ++l) {
+                        if (l < lanes) {
+                            const std::uint32_t k = hits[q + l];
+                            const glm::vec3 d = xi - glm::vec3(X[k], Y[k], Z[k]);
+                            r2[l] = glm::dot(d, d);
+                        } else {
+                            r2[l] = h2;
+                        }
+                    }
+                    F4 w4, g4;
+                    kernel(sqrt4(load4(r2)), w4, g4);
+                    store4(w, w4), store4(g, g4);
+                    for (std::size_t l = 0; l < lanes; ++l) {
+                        sum += w[l];
+                        dst[q + l].j = grid.sortedIndex(hits[q + l]);
+                        dst[q + l].g = g[l];
+                    }
                 }
                 if (!wSum.empty()) wSum[i] = sum;
             }

@@ -154,11 +154,11 @@ void Simulator::Impl::findNeighbours() {
     resizeScratch();
     if (p.solver == Solver::Sph) {
         const MullerKernels& K = muller;
-        auto kernel = [&K](const glm::vec3& d, float r, float) { return std::pair{K.spiky(r), K.spikyGrad(d, r)}; };
+        auto kernel = [&K](F4 r, F4& w, F4& g) { K.spiky4(r, w, g); };
         buildNeighbourLists(x, grid, h, true, kernel, fluidNb, kernelSum);
     } else {
         const CubicSpline& K = cubic;
-        auto kernel = [&K](const glm::vec3& d, float r, float) { return std::pair{K.W(r), K.gradW(d, r)}; };
+        auto kernel = [&K](F4 r, F4& w, F4& g) { K.evaluate4(r, w, g); };
         buildNeighbourLists(x, grid, h, true, kernel, fluidNb, kernelSum);
     }
     wall.resize(n());
@@ -192,7 +192,7 @@ void Simulator::Impl::nonPressureAccelerations() {
                 glm::vec3 sum(0.0f);
                 for (const Neighbour& nb : fluidNb.of(i)) {
                     const glm::vec3 xij = x[i] - x[nb.j], vij = v[i] - v[nb.j];
-                    sum += (2.0f / (density[i] + density[nb.j]) * glm::dot(vij, xij) / (glm::dot(xij, xij) + eps)) * nb.gradW;
+                    sum += (2.0f / (density[i] + density[nb.j]) * glm::dot(vij, xij) / (glm::dot(xij, xij) + eps) * nb.g) * xij;
                 }
                 acc += c * sum;
             }

@@ -66,8 +66,8 @@ void stepSph(Simulator::Impl& s, double until) {
         float lapC = m / rhoi * K.poly6Lap(0.0f);
         for (const Neighbour& nb : s.fluidNb.of(i)) {
             const float rhoj = s.density[nb.j];
-            fp -= (m * (piOverRho2 + s.pressure[nb.j] / (rhoj * rhoj))) * nb.gradW;
             const glm::vec3 d = xi - s.x[nb.j];
+            fp -= (m * (piOverRho2 + s.pressure[nb.j] / (rhoj * rhoj)) * nb.g) * d;
             const float r2 = glm::dot(d, d), r = std::sqrt(r2);
             fv += (m * K.viscosityLap(r) / rhoj) * (s.v[nb.j] - vi);
             if (sigma > 0.0f) {

@@ -39,6 +39,7 @@ struct Simulator::Impl {
     std::vector<float> kernelSum;      // sum of the density kernel over each particle's neighbours
     std::vector<float> kappaDivergence;  // DFSPH: the divergence solver's stiffness sum of this step
     std::vector<WallTerm> wall;       // the boundaries' density and gradients per particle
+    std::vector<glm::vec4> x4, v4;    // DFSPH: packed copies of x and v for its solvers (packed.h)
 
     CellGrid grid;
     NeighbourLists fluidNb;
