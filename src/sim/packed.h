@@ -82,6 +82,22 @@ inline F4 select(F4 mask, F4 a, F4 b) {
 inline float sum4(F4 a) { return ((a.m[0] + a.m[1]) + a.m[2]) + a.m[3]; }
 #endif
 inline F4 load4(const glm::vec3& p) { return load4(glm::vec4(p, 0.0f)); }
+
+// Two dot products at once: a.b and c.d, each summed (a0 b0 + a2 b2) +
+// (a1 b1 + a3 b3).
+inline void dot2(F4 a, F4 b, F4 c, F4 d, float& ab, float& cd) {
+#if defined(__SSE2__)
+    const __m128 p = _mm_mul_ps(a.m, b.m), q = _mm_mul_ps(c.m, d.m);
+    const __m128 t = _mm_add_ps(_mm_unpacklo_ps(p, q), _mm_unpackhi_ps(p, q));  // p0+p2, q0+q2, p1+p3, q1+q3
+    const __m128 u = _mm_add_ps(t, _mm_movehl_ps(t, t));
+    ab = _mm_cvtss_f32(u);
+    cd = _mm_cvtss_f32(_mm_shuffle_ps(u, u, 1));
+#else
+    const glm::vec4 p = a.m * b.m, q = c.m * d.m;
+    ab = (p[0] + p[2]) + (p[1] + p[3]);
+    cd = (q[0] + q[2]) + (q[1] + q[3]);
+#endif
+}
 inline glm::vec3 toVec3(F4 a) {
     glm::vec4 p;
     store4(p, a);

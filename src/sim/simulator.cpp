@@ -189,12 +189,14 @@ void Simulator::Impl::nonPressureAccelerations() {
         for (std::size_t i = r.begin(); i < r.end(); ++i) {
             glm::vec3 acc = p.gravity;
             if (viscous) {
-                glm::vec3 sum(0.0f);
-                for (const Neighbour& nb : fluidNb.of(i)) {
-                    const glm::vec3 xij = x[i] - x[nb.j], vij = v[i] - v[nb.j];
-                    sum += (2.0f / (density[i] + density[nb.j]) * glm::dot(vij, xij) / (glm::dot(xij, xij) + eps) * nb.g) * xij;
-                }
-                acc += c * sum;
+                const F4 xi = load4(x4[i]), vi = load4(v4[i]);
+                auto term = [&](const Neighbour& nb) {
+                    const F4 xij = xi - load4(x4[nb.j]), vij = vi - load4(v4[nb.j]);
+                    float vx, xx;
+                    dot2(vij, xij, xij, xij, vx, xx);
+                    return splat(2.0f / (density[i] + density[nb.j]) * vx / (xx + eps) * nb.g) * xij;
+                };
+                acc += c * toVec3(sumPairs(fluidNb.of(i), term));
             }
             a[i] = acc;
         }

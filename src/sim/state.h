@@ -62,7 +62,8 @@ struct Simulator::Impl {
     void findNeighbours();
     // Sum of the density kernel over the fluid neighbours plus the walls' part, kg/m^3.
     void computeDensities();
-    // Viscosity (DFSPH: the standard SPH form of SPlisHSPlasH) plus gravity into a.
+    // Viscosity (DFSPH: the standard SPH form of SPlisHSPlasH, on x4 and v4,
+    // which DFSPH packs before it calls this) plus gravity into a.
     void nonPressureAccelerations();
     // CFL time step from max |v + a dt| (SPlisHSPlasH's rule), clamped.
     double cflStep(double until, float soundSpeed) const;
