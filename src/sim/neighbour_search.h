@@ -81,9 +81,6 @@ struct Neighbour {
     float g;
 };
 
-// grad W_ij of the entry nb of particle i at xi, among positions x.
-inline glm::vec3 gradW(const Neighbour& nb, const glm::vec3& xi, std::span<const glm::vec3> x) { return nb.g * (xi - x[nb.j]); }
-
 // Neighbour lists: the neighbours of particle i are of(i), count(i) of them.
 // Each chunk of kChunk particles keeps its own array (filled by one task), so
 // the build never joins them into one.
