@@ -445,7 +445,7 @@ const std::vector<BadScene>& badScenes() {
         {"sphere block given a box", [](json& j) { j["fluid"][0]["shape"] = "sphere"; j["fluid"][0]["center"] = {0.5, 0.5, 0.5}; j["fluid"][0]["radius"] = 0.1; }, nullptr, "fluid[0].box", "unknown key"},
         {"gravity of two", [](json& j) { j["params"]["gravity"] = {0, -9.81}; }, nullptr, "params.gravity", "expected an array of 3 numbers [x, y, z], got an array of 2"},
         {"gravity with null", [](json& j) { j["params"]["gravity"] = json::parse("[0, null, 0]"); }, nullptr, "params.gravity[1]", "expected a number, got null"},
-        {"unknown solver", [](json& j) { j["params"]["solver"] = "dsph"; }, nullptr, "params.solver", "unknown solver \"dsph\"; the solvers are dfsph, sph, ballistic"},
+        {"unknown solver", [](json& j) { j["params"]["solver"] = "dsph"; }, nullptr, "params.solver", "unknown solver \"dsph\"; the solvers are dfsph, sph, ballistic, pbf"},
         {"fractional iterations", [](json& j) { j["params"]["max_iterations"] = 2.5; }, nullptr, "params.max_iterations", "whole number"},
         {"zero iterations", [](json& j) { j["params"]["max_iterations"] = 0; }, nullptr, "params.max_iterations", "must be from 1"},
         {"max_dt below min_dt", [](json& j) { j["params"]["min_dt"] = 0.01; j["params"]["max_dt"] = 0.001; }, nullptr, "params.max_dt", "below min_dt = 0.01"},
@@ -595,7 +595,7 @@ TEST(SimSceneDocs, EveryKeyIsDocumented) {
         for (const auto& key : keysOf(add)) all.insert(key);
     EXPECT_GE(all.size(), 40u);
     for (const auto& key : all) EXPECT_NE(doc.find("`" + key + "`"), std::string::npos) << "docs/scenes.md lacks `" << key << "`";
-    for (const char* word : {"dfsph", "sph", "ballistic", "box", "sphere", "plane", "mesh"})
+    for (const char* word : {"dfsph", "sph", "ballistic", "pbf", "box", "sphere", "plane", "mesh"})
         EXPECT_NE(doc.find(std::string("`\"") + word + "\"`"), std::string::npos) << "docs/scenes.md lacks `\"" << word << "\"`";
 }
 

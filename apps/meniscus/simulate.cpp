@@ -68,9 +68,10 @@ Status makeParentFolder(const std::string& pattern) {
 
 CLI::Option* addSolverOption(CLI::App* cmd, std::string& solver) {
     return cmd
-        ->add_option("--solver", solver, "dfsph (Bender & Koschier 2015), sph (Muller et al. 2003) or ballistic "
-                                         "(mass points, no pressure) (default: the scene's)")
-        ->check(CLI::IsMember({"dfsph", "sph", "ballistic"}));
+        ->add_option("--solver", solver, "dfsph (Bender & Koschier 2015), sph (Muller et al. 2003), pbf "
+                                         "(position-based fluids, Macklin & Muller 2013) or ballistic (mass points, "
+                                         "no pressure) (default: the scene's)")
+        ->check(CLI::IsMember({"dfsph", "sph", "pbf", "ballistic"}));
 }
 
 CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
@@ -112,7 +113,7 @@ Result<sim::Scene> sceneFromOptions(const SimulateOptions& o) {
     if (o.fps > 0.0) sc.fps = o.fps;
     if (o.radius > 0.0f) sc.params.radius = o.radius;
     if (!o.solver.empty() && !sim::solverFromName(o.solver, &sc.params.solver))
-        return makeError("", "--solver " + o.solver + ": expected dfsph, sph or ballistic");
+        return makeError("", "--solver " + o.solver + ": expected dfsph, sph, pbf or ballistic");
     return scene;
 }
 

@@ -30,7 +30,7 @@ struct SimulateOptions {
 };
 
 CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o);
-// --solver (dfsph, sph, ballistic) on `cmd`; view --simulate has it too.
+// --solver (dfsph, sph, pbf, ballistic) on `cmd`; view --simulate has it too.
 CLI::Option* addSolverOption(CLI::App* cmd, std::string& solver);
 int runSimulate(const SimulateOptions& o);
 

@@ -24,8 +24,9 @@ enum class Solver {
     Dfsph,      // Bender & Koschier 2015: divergence-free + constant-density solvers (default)
     Sph,        // Muller, Charypar & Gross 2003: state equation k(rho - rho0), spiky/viscosity/poly6 kernels
     Ballistic,  // Instant Liquids §4: mass points under gravity, colliders only, no pressure solve
+    Pbf,        // Macklin & Muller 2013: position-based fluids (density constraints, XSPH)
 };
-bool solverFromName(const std::string& name, Solver* out);  // "dfsph", "sph", "ballistic"
+bool solverFromName(const std::string& name, Solver* out);  // "dfsph", "sph", "ballistic", "pbf"
 const char* solverName(Solver s);
 
 struct Box {

@@ -133,4 +133,20 @@ bool keepOutside(const Scene& scene, const std::vector<ColliderMesh>& meshes, fl
     return moved;
 }
 
+bool projectOutside(const Scene& scene, const std::vector<ColliderMesh>& meshes, float gap, glm::vec3& x) {
+    bool moved = false;
+    forEachCollider(scene, meshes, x, gap, [&](const Collider&, const SurfacePoint& s) {
+        if (s.distance < gap) x += s.normal * (gap - s.distance), moved = true;
+    });
+    // The tank last: a collider may lie against a wall, and its way out must
+    // not be out of the tank. A tank thinner than two gaps keeps the centre.
+    for (int a = 0; a < 3; ++a) {
+        const float lo = scene.domain.min[a] + gap, hi = scene.domain.max[a] - gap;
+        const float c = lo <= hi ? std::clamp(x[a], lo, hi) : 0.5f * (scene.domain.min[a] + scene.domain.max[a]);
+        moved = moved || c != x[a];
+        x[a] = c;
+    }
+    return moved;
+}
+
 }  // namespace meniscus::sim

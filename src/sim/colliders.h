@@ -52,4 +52,9 @@ void forEachCollider(const Scene& scene, const std::vector<ColliderMesh>& meshes
 bool keepOutside(const Scene& scene, const std::vector<ColliderMesh>& meshes, float radius, glm::vec3& x,
                  glm::vec3& v, const glm::vec3& before);
 
+// Position-based collision response (Macklin & Muller 2013, Algorithm 1):
+// moves x to at least `gap` metres inside the tank's walls and outside every
+// collider, along the nearest surface's normal. Returns true when it moved.
+bool projectOutside(const Scene& scene, const std::vector<ColliderMesh>& meshes, float gap, glm::vec3& x);
+
 }  // namespace meniscus::sim

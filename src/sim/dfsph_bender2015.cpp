@@ -139,7 +139,7 @@ int densitySolve(Simulator::Impl& s, float dt, double* errOut) {
 void stepDfsph(Simulator::Impl& s, double until) {
     StepStats& st = s.last;
     Timer timer;
-    s.findNeighbours();
+    s.findNeighbours(s.x);
     pack(s.x, s.x4);  // fixed for the step
     st.msNeighbours = timer.lap();
     s.computeDensities();

@@ -7,6 +7,7 @@ bool solverFromName(const std::string& name, Solver* out) {
     if (name == "dfsph") *out = Solver::Dfsph;
     else if (name == "sph") *out = Solver::Sph;
     else if (name == "ballistic") *out = Solver::Ballistic;
+    else if (name == "pbf") *out = Solver::Pbf;
     else return false;
     return true;
 }
@@ -16,6 +17,7 @@ const char* solverName(Solver s) {
         case Solver::Dfsph: return "dfsph";
         case Solver::Sph: return "sph";
         case Solver::Ballistic: return "ballistic";
+        case Solver::Pbf: return "pbf";
     }
     return "?";
 }

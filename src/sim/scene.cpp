@@ -279,7 +279,7 @@ SimParams readParams(Fields& f) {
     if (const json* v = f.get("solver")) {
         const std::string name = stringValue(*v, f.path("solver"));
         if (!solverFromName(name, &p.solver))
-            fail(f.path("solver"), "unknown solver \"" + shown(name) + "\"; the solvers are dfsph, sph, ballistic");
+            fail(f.path("solver"), "unknown solver \"" + shown(name) + "\"; the solvers are dfsph, sph, ballistic, pbf");
     }
     readFloat(f, "radius", p.radius, Bound::Positive);
     readFloat(f, "rest_density", p.restDensity, Bound::Positive);

@@ -149,21 +149,21 @@ void Simulator::Impl::permute(const std::vector<std::uint32_t>& order) {
     resizeScratch();
 }
 
-void Simulator::Impl::findNeighbours() {
-    grid.build(x);
+void Simulator::Impl::findNeighbours(std::span<const glm::vec3> at) {
+    grid.build(at);
     resizeScratch();
     if (p.solver == Solver::Sph) {
         const MullerKernels& K = muller;
         auto kernel = [&K](F4 r, F4& w, F4& g) { K.spiky4(r, w, g); };
-        buildNeighbourLists(x, grid, h, true, kernel, fluidNb, kernelSum);
+        buildNeighbourLists(at, grid, h, true, kernel, fluidNb, kernelSum);
     } else {
         const CubicSpline& K = cubic;
         auto kernel = [&K](F4 r, F4& w, F4& g) { K.evaluate4(r, w, g); };
-        buildNeighbourLists(x, grid, h, true, kernel, fluidNb, kernelSum);
+        buildNeighbourLists(at, grid, h, true, kernel, fluidNb, kernelSum);
     }
     wall.resize(n());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n(), 512), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) wall[i] = wallTerm(scene, meshes, h, x[i], walls);
+        for (std::size_t i = r.begin(); i < r.end(); ++i) wall[i] = wallTerm(scene, meshes, h, at[i], walls);
     });
 }
 
@@ -417,6 +417,7 @@ Status Simulator::step(double until) {
             case Solver::Dfsph: stepDfsph(s, until); break;
             case Solver::Sph: stepSph(s, until); break;
             case Solver::Ballistic: stepBallistic(s, until); break;
+            case Solver::Pbf: stepPbf(s, until); break;
         }
         Timer timer;
         const float dt = float(s.dt);

@@ -47,7 +47,7 @@ namespace meniscus::sim {
 void stepSph(Simulator::Impl& s, double until) {
     StepStats& st = s.last;
     Timer timer;
-    s.findNeighbours();
+    s.findNeighbours(s.x);
     st.msNeighbours = timer.lap();
     s.computeDensities();
     const std::size_t n = s.n();

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -40,6 +41,7 @@ struct Simulator::Impl {
     std::vector<float> kappaDivergence;  // DFSPH: the divergence solver's stiffness sum of this step
     std::vector<WallTerm> wall;       // the boundaries' density and gradients per particle
     std::vector<glm::vec4> x4, v4;    // DFSPH: packed copies of x and v for its solvers (packed.h)
+    std::vector<glm::vec3> predicted, correction;  // PBF: x* and its correction per iteration, m
 
     CellGrid grid;
     NeighbourLists fluidNb;
@@ -58,8 +60,9 @@ struct Simulator::Impl {
     void resizeScratch();
     // Reorders every per-particle array: new[k] = old[order[k]].
     void permute(const std::vector<std::uint32_t>& order);
-    // Grid and neighbour lists (with the kernel of the solver), and the walls' terms.
-    void findNeighbours();
+    // Grid and neighbour lists (with the kernel of the solver), and the walls'
+    // terms, at positions `at` (x, or PBF's prediction).
+    void findNeighbours(std::span<const glm::vec3> at);
     // Sum of the density kernel over the fluid neighbours plus the walls' part, kg/m^3.
     void computeDensities();
     // Viscosity (DFSPH: the standard SPH form of SPlisHSPlasH, on x4 and v4,
@@ -73,5 +76,6 @@ struct Simulator::Impl {
 void stepDfsph(Simulator::Impl& s, double until);     // dfsph_bender2015.cpp
 void stepSph(Simulator::Impl& s, double until);       // sph_muller2003.cpp
 void stepBallistic(Simulator::Impl& s, double until); // mass_points.cpp (Instant Liquids §4)
+void stepPbf(Simulator::Impl& s, double until);       // pbf_macklin2013.cpp
 
 }  // namespace meniscus::sim
