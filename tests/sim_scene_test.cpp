@@ -53,6 +53,7 @@ void expectParams(const SimParams& p, const SimParams& want) {
     EXPECT_EQ(p.solver, want.solver);
     EXPECT_FLOAT_EQ(p.radius, want.radius);
     EXPECT_FLOAT_EQ(p.restDensity, want.restDensity);
+    EXPECT_FLOAT_EQ(p.particleVolume, want.particleVolume);
     expectVec(p.gravity, want.gravity.x, want.gravity.y, want.gravity.z);
     EXPECT_FLOAT_EQ(p.viscosity, want.viscosity);
     EXPECT_FLOAT_EQ(p.surfaceTension, want.surfaceTension);
@@ -118,6 +119,7 @@ TEST(SimSceneShipped, DamBreakIsSplishSplashsDamBreakModel) {
     EXPECT_DOUBLE_EQ(s.fps, 25.0);
     // The defaults but for these (designated in SimParams' order).
     const SimParams want{.solver = Solver::Dfsph, .radius = 0.025f, .restDensity = 1000.0f,
+                         .particleVolume = 0.8f,  // FluidModel::initMasses' 0.8 (2r)^3
                          .gravity = {0.0f, -9.81f, 0.0f}, .viscosity = 0.01f, .surfaceTension = 0.0f,
                          .cfl = 1.0f, .minDt = 0.0001f, .maxDt = 0.005f,
                          .densityTolerance = 0.0005f,    // maxError 0.05 %
@@ -333,7 +335,8 @@ TEST(SimSceneFields, MissingFieldsTakeTheDefaults) {
 TEST(SimSceneFields, EveryFieldReachesItsMember) {
     const char* text = R"({
       "version": 1, "name": "all", "description": "every field", "duration": 2.5, "fps": 60,
-      "params": {"solver": "sph", "radius": 0.03, "rest_density": 998, "gravity": [1, -2, 3],
+      "params": {"solver": "sph", "radius": 0.03, "rest_density": 998, "particle_volume": 0.9,
+                 "gravity": [1, -2, 3],
                  "viscosity": 0.2, "surface_tension": 0.07, "stiffness": 3000, "cfl": 0.4,
                  "min_dt": 0.0002, "max_dt": 0.004, "density_tolerance": 0.001,
                  "divergence_tolerance": 0.002, "max_iterations": 7, "lifetime": 9, "resort_every": 11},
@@ -354,7 +357,7 @@ TEST(SimSceneFields, EveryFieldReachesItsMember) {
     EXPECT_EQ(s.name, "all");
     EXPECT_DOUBLE_EQ(s.duration, 2.5);
     EXPECT_DOUBLE_EQ(s.fps, 60.0);
-    const SimParams want{.solver = Solver::Sph, .radius = 0.03f, .restDensity = 998.0f,
+    const SimParams want{.solver = Solver::Sph, .radius = 0.03f, .restDensity = 998.0f, .particleVolume = 0.9f,
                          .gravity = {1.0f, -2.0f, 3.0f}, .viscosity = 0.2f, .surfaceTension = 0.07f,
                          .stiffness = 3000.0f, .cfl = 0.4f, .minDt = 0.0002f, .maxDt = 0.004f,
                          .densityTolerance = 0.001f, .divergenceTolerance = 0.002f, .maxIterations = 7,

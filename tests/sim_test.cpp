@@ -499,6 +499,7 @@ void damBreakGainsNoEnergy(Solver solver, const char* name) {
     Scene s = read.value();
     s.params.solver = solver;
     s.params.radius = 0.05f;
+    s.params.particleVolume = 0.0f;  // the rest lattice (the solver's test, not SPlisHSPlasH's mass)
     auto sim = make(s);
     ASSERT_TRUE(sim);
     const double e0 = totalEnergy(*sim);
@@ -571,6 +572,33 @@ TEST(SimPhysics, MomentumIsConservedWithoutBoundaries) {
         EXPECT_LT(glm::length(after - before), 1e-4 * scale) << solverName(solver);
         EXPECT_EQ(sim->totals().guardCorrections, 0u);
     }
+}
+
+TEST(SimPhysics, ParticleVolumeSetsTheMassAndTheStartingDensity) {
+    // particle_volume 0 (the default): the lattice's own volume, so the
+    // block's interior starts at rho0; 0.8 (SPlisHSPlasH's): m = 0.8 (2r)^3
+    // rho0, and the same lattice reads 0.8 rho0 within the kernel's lattice sum.
+    auto interiorDensity = [](float volume, double* mass) {
+        Scene s = column();
+        s.params.particleVolume = volume;
+        auto sim = make(s);
+        EXPECT_TRUE(sim && sim->advanceTo(1e-4).ok());
+        *mass = sim->particleMass();
+        double sum = 0.0;
+        int count = 0;
+        for (std::size_t i = 0; i < sim->size(); ++i) {
+            const glm::vec3 p = sim->positions()[i];
+            if (p.x > 0.06f && p.x < 0.14f && p.z > 0.06f && p.z < 0.14f && p.y > 0.06f && p.y < 0.22f)
+                sum += sim->densities()[i], ++count;
+        }
+        return count ? sum / count : 0.0;
+    };
+    double own = 0, splish = 0;
+    const double rhoOwn = interiorDensity(0.0f, &own), rhoSplish = interiorDensity(0.8f, &splish);
+    const double r = 0.01;
+    EXPECT_NEAR(splish, 1000.0 * 0.8 * std::pow(2 * r, 3), 1e-9) << "kg";
+    EXPECT_NEAR(rhoOwn, 1000.0, 2.0) << "kg/m^3";
+    EXPECT_NEAR(rhoSplish / rhoOwn, splish / own, 1e-3);
 }
 
 TEST(SimPhysics, BallisticMassPointsFallAsTheyShould) {

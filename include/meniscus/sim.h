@@ -82,6 +82,10 @@ struct SimParams {
     Solver solver = Solver::Dfsph;
     float radius = defaults::kSimRadiusM;                   // particle radius r, metres; spacing 2r, support 4r
     float restDensity = defaults::kSimRestDensity;          // rho0, kg/m^3
+    // A particle's volume V = m / rho0 as a fraction of (2r)^3; 0: the rest
+    // lattice's own (the fluid starts at rho0). SPlisHSPlasH uses 0.8: its
+    // lattice starts at 0.8 rho0 and compacts as it falls.
+    float particleVolume = 0.0f;
     glm::vec3 gravity{0.0f, -defaults::kSimGravity, 0.0f};  // m/s^2
     float viscosity = defaults::kSimViscosity;              // DFSPH: kinematic nu, m^2/s; SPH: dynamic mu, Pa s; ballistic: unused
     float surfaceTension = 0.0f;                            // SPH: sigma of the colour-field force, N/m; DFSPH: 0 (none)

@@ -283,6 +283,7 @@ SimParams readParams(Fields& f) {
     }
     readFloat(f, "radius", p.radius, Bound::Positive);
     readFloat(f, "rest_density", p.restDensity, Bound::Positive);
+    readFloat(f, "particle_volume", p.particleVolume, Bound::NonNegative);
     readVec3(f, "gravity", p.gravity);
     readFloat(f, "viscosity", p.viscosity, Bound::NonNegative);
     readFloat(f, "surface_tension", p.surfaceTension, Bound::NonNegative);

@@ -332,6 +332,9 @@ Result<std::unique_ptr<Simulator>> Simulator::create(const Scene& scene) {
             // Below the rest lattice's first layer (r + offset = 1.19 r), so a fluid at rest is untouched.
             s->walls.nearest = defaults::kSimWallNearestRadii * s->r;
         }
+        // The scene's own particle volume (SPlisHSPlasH's convention is 0.8 (2r)^3);
+        // the walls' tables above stay those of the rest lattice.
+        if (s->p.particleVolume > 0.0f) s->volume = s->p.particleVolume * std::pow(2.0f * s->r, 3.0f);
         s->mass = s->p.restDensity * s->volume;
 
         // Mesh colliders: read, scaled, moved.
