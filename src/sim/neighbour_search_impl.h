@@ -12,6 +12,23 @@
 
 namespace meniscus::sim {
 
+#if defined(__SSE2__)
+// For each 4-bit hit mask: the lanes that hit, in order (then padding). One
+// table load, one add and one store append all of a group's hits (SSE2 has
+// no compress instruction, and a store per lane cost more).
+struct HitLanes {
+    alignas(16) std::uint32_t lanes[16][4];
+    constexpr HitLanes() : lanes{} {
+        for (unsigned mask = 0; mask < 16; ++mask) {
+            unsigned c = 0;
+            for (unsigned l = 0; l < 4; ++l)
+                if (mask >> l & 1u) lanes[mask][c++] = l;
+        }
+    }
+};
+inline constexpr HitLanes kHitLanes{};
+#endif
+
 // Appends to hits[m...] the k in [b, e) with |xi - (X, Y, Z)[k]|^2 < h2 (the grid's sorted coordinates),
 // in order; returns the new m. The same float arithmetic as glm::dot(d, d)
 // (((dx dx + dy dy) + dz dz), no fused multiply-add), so the same lists on any
@@ -33,11 +50,12 @@ inline std::size_t distanceTest(const CellGrid& grid, const glm::vec3& xi, float
         const __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
         unsigned mask = unsigned(_mm_movemask_ps(_mm_cmplt_ps(d2, r2)));
         if (e - k < 4) mask &= (1u << (e - k)) - 1u;  // past the row: another row's points (or the padding)
-        // Branch-free: every lane is written, the count advances by the hits.
-        for (std::uint32_t l = 0; l < 4; ++l) {
-            hits[m] = k + l;
-            m += (mask >> l) & 1u;
-        }
+        // Branch-free: four entries are written, the count advances by the hits.
+        const __m128i lanes = _mm_load_si128(reinterpret_cast<const __m128i*>(kHitLanes.lanes[mask]));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(hits + m), _mm_add_epi32(_mm_set1_epi32(int(k)), lanes));
+        // The count from a constant, nibble per mask (a table load would put
+        // its latency on the m chain every group).
+        m += std::size_t(0x4332322132212110ULL >> (4u * mask) & 0xFu);
     }
 #else
     for (std::uint32_t k = b; k < e; ++k) {
@@ -88,21 +106,24 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
                 const float* X = grid.sortedCoordinates(0);
                 const float* Y = grid.sortedCoordinates(1);
                 const float* Z = grid.sortedCoordinates(2);
-                // The kernel four hits at a time (the spare lanes at the support: zero).
-                alignas(16) float r2[4], w[4], g[4];
+                // The kernel four hits at a time (the spare lanes repeat the
+                // last hit and are set at the support: zero). The distances
+                // in the same float arithmetic as the test above.
+                alignas(16) float w[4], g[4];
+                const F4 px = splat(xi.x), py = splat(xi.y), pz = splat(xi.z), support2 = splat(h2);
+                const F4 lane = set4(0.0f, 1.0f, 2.0f, 3.0f);
                 for (std::size_t q = 0; q < m; q += 4) {
                     const std::size_t lanes = std::min<std::size_t>(4, m - q);
-                    for (std::size_t l = 0; l < 4; ++l) {
-                        if (l < lanes) {
-                            const std::uint32_t k = hits[q + l];
-                            const glm::vec3 d = xi - glm::vec3(X[k], Y[k], Z[k]);
-                            r2[l] = glm::dot(d, d);
-                        } else {
-                            r2[l] = h2;
-                        }
-                    }
+                    const std::uint32_t k0 = hits[q], k1 = hits[q + std::min<std::size_t>(1, lanes - 1)],
+                                        k2 = hits[q + std::min<std::size_t>(2, lanes - 1)],
+                                        k3 = hits[q + std::min<std::size_t>(3, lanes - 1)];
+                    const F4 dx = px - set4(X[k0], X[k1], X[k2], X[k3]);
+                    const F4 dy = py - set4(Y[k0], Y[k1], Y[k2], Y[k3]);
+                    const F4 dz = pz - set4(Z[k0], Z[k1], Z[k2], Z[k3]);
+                    const F4 d2 = (dx * dx + dy * dy) + dz * dz;
+                    const F4 r2 = select(less(lane, splat(float(lanes))), d2, support2);
                     F4 w4, g4;
-                    kernel(sqrt4(load4(r2)), w4, g4);
+                    kernel(sqrt4(r2), w4, g4);
                     store4(w, w4), store4(g, g4);
                     for (std::size_t l = 0; l < lanes; ++l) {
                         sum += w[l];
