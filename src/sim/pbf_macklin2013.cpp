@@ -21,9 +21,9 @@
 // wall (C < 0, so lambda = 0: no push back), through the floor: the 1,500-
 // particle column took 9 10^4 guard corrections in 1.5 s, none with it.
 // Iterations until the mean density error is below density_tolerance (at
-// least 2, at most max_iterations) rather than a fixed count. Vorticity confinement (§5) is
-// not applied: it adds energy, and the dam break's tests check that none is
-// gained. The driver's advection then moves x by dt v, which is x* plus
+// least 2, at most max_iterations) rather than a fixed count. Vorticity
+// confinement (§5) is not applied: it adds energy, and the dam break's tests
+// check that none is gained. The driver's advection then moves x by dt v, which is x* plus
 // XSPH's (small) change.
 #include <algorithm>
 #include <cmath>
@@ -84,6 +84,7 @@ void stepPbf(Simulator::Impl& s, double until) {
     std::vector<float>& lambda = s.kappa;
     std::vector<glm::vec3>& dx = s.correction;
     dx.resize(n);
+    bool moved = false;  // x* changed since findNeighbours evaluated the walls
     auto constraint = [&](std::size_t i, glm::vec3* gradOut, float* squaresOut) {
         const glm::vec3 xi = xp[i];
         float w = K.W(0.0f);
@@ -97,8 +98,9 @@ void stepPbf(Simulator::Impl& s, double until) {
             grad += g;
             squares += glm::dot(g, g);
         }
-        const WallTerm wall = wallTerm(s.scene, s.meshes, s.h, xi, s.walls);
-        s.wall[i] = wall;
+        // The first iteration is at the prediction, whose walls findNeighbours has.
+        if (moved) s.wall[i] = wallTerm(s.scene, s.meshes, s.h, xi, s.walls);
+        const WallTerm& wall = s.wall[i];
         grad += wall.gradient;
         *gradOut = grad;
         *squaresOut = squares;
@@ -131,6 +133,7 @@ void stepPbf(Simulator::Impl& s, double until) {
             xp[i] += dx[i];
             projectOutside(s.scene, s.meshes, s.r, xp[i]);
         });
+        moved = true;
         ++iterations;
     }
     st.densityIterations = iterations;
