@@ -87,8 +87,9 @@ int main(int argc, char** argv) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     const sim::Totals& T = s.totals();
     const double steps = double(std::max<std::size_t>(T.steps, 1));
-    std::printf("scene       : %s, %s, r = %g m, %zu particles, %d threads, setup %.0f ms\n", scene->name.c_str(),
-                sim::solverName(scene->params.solver), double(scene->params.radius), s.size(), used, setupMs);
+    std::printf("scene       : %s, %s, r = %g m, %zu particles, %d threads, %s loops, setup %.0f ms\n",
+                scene->name.c_str(), sim::solverName(scene->params.solver), double(scene->params.radius), s.size(), used,
+                sim::vectorPath(), setupMs);
     std::printf("run         : %.3f s simulated in %.1f s wall: %.1f s wall per simulated second, %zu steps, mean dt "
                 "%.3f ms, %.3f M particle-steps/s\n",
                 T.simulatedS, wall, wall / T.simulatedS, T.steps, 1e3 * T.simulatedS / steps, double(T.particleSteps) / wall / 1e6);

@@ -28,6 +28,11 @@ enum class Solver {
 };
 bool solverFromName(const std::string& name, Solver* out);  // "dfsph", "sph", "ballistic", "pbf"
 const char* solverName(Solver s);
+// Which compilation of the solvers' loops runs on this CPU: "avx2+fma" (x86-64
+// CPUs since 2013) or "baseline (sse2)"; MENISCUS_SIM_SIMD=baseline in the
+// environment picks the latter. The two give frames that differ in the last
+// bits (fused multiply-adds); each gives the same frames for any thread count.
+const char* vectorPath();
 
 struct Box {
     glm::vec3 min{0.0f};  // metres

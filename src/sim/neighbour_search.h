@@ -49,8 +49,8 @@ public:
     }
     std::uint32_t sortedIndex(std::uint32_t k) const { return sorted_[k]; }
     // The positions in cell order by coordinate (x, y, z arrays), each padded with
-    // kPad far-away values so that a 4-wide load from any k < size is safe.
-    static constexpr std::size_t kPad = 4;
+    // kPad far-away values so that an 8-wide load from any k < size is safe.
+    static constexpr std::size_t kPad = 8;
     const float* sortedCoordinates(int axis) const { return sortedAxis_[std::size_t(axis)].data(); }
 
     // Morton (z-curve) key of a point's cell: the order zOrder sorts by.

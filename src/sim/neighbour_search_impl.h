@@ -2,13 +2,19 @@
 #pragma once
 
 #include <algorithm>
+#include <type_traits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include "sim/parallel.h"
 
 namespace meniscus::sim {
 
@@ -31,8 +37,8 @@ inline constexpr HitLanes kHitLanes{};
 
 // Appends to hits[m...] the k in [b, e) with |xi - (X, Y, Z)[k]|^2 < h2 (the grid's sorted coordinates),
 // in order; returns the new m. The same float arithmetic as glm::dot(d, d)
-// (((dx dx + dy dy) + dz dz), no fused multiply-add), so the same lists on any
-// path. With SSE2 (every x86-64) four candidates are tested at once and the
+// (((dx dx + dy dy) + dz dz), no fused multiply-add on the baseline path), so
+// the same lists as a scalar test. With SSE2 (every x86-64) four candidates are tested at once and the
 // hits taken from the comparison's bit mask without a branch: about one
 // candidate in seven is a neighbour, so a branch per candidate (or per hit)
 // would mispredict often. hits must have room for m + (e - b) + 4 entries.
@@ -67,6 +73,49 @@ inline std::size_t distanceTest(const CellGrid& grid, const glm::vec3& xi, float
     return m;
 }
 
+#if MENISCUS_SIM_AVX2_CLONES || defined(__AVX2__)
+// For each 8-bit hit mask: the lanes that hit, in order (8 KiB).
+struct HitLanes8 {
+    alignas(32) std::uint32_t lanes[256][8];
+    constexpr HitLanes8() : lanes{} {
+        for (unsigned mask = 0; mask < 256; ++mask) {
+            unsigned c = 0;
+            for (unsigned l = 0; l < 8; ++l)
+                if (mask >> l & 1u) lanes[mask][c++] = l;
+        }
+    }
+};
+inline constexpr HitLanes8 kHitLanes8{};
+
+// distanceTest eight candidates at a time, for the AVX2 path (parallel.h).
+// There the compiler fuses a product and a sum of |d|^2 (as in the kernel's
+// distances below), so a pair within rounding of the support can be in or
+// out on one path and not the other; the lists stay symmetric (d and -d give
+// the same squares). hits must have room for m + (e - b) + 8 entries.
+__attribute__((target("avx2,fma,popcnt"))) inline std::size_t distanceTest8(const CellGrid& grid, const glm::vec3& xi,
+                                                                        float h2, std::uint32_t b, std::uint32_t e,
+                                                                        std::uint32_t* hits, std::size_t m) {
+    const float* X = grid.sortedCoordinates(0);
+    const float* Y = grid.sortedCoordinates(1);
+    const float* Z = grid.sortedCoordinates(2);
+    const __m256 px = _mm256_set1_ps(xi.x), py = _mm256_set1_ps(xi.y), pz = _mm256_set1_ps(xi.z), r2 = _mm256_set1_ps(h2);
+    for (std::uint32_t k = b; k < e; k += 8) {
+        const __m256 dx = _mm256_sub_ps(px, _mm256_loadu_ps(X + k));
+        const __m256 dy = _mm256_sub_ps(py, _mm256_loadu_ps(Y + k));
+        const __m256 dz = _mm256_sub_ps(pz, _mm256_loadu_ps(Z + k));
+        // Separate multiplies and adds (written so, FMA contraction aside:
+        // the intrinsics are not contracted).
+        const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+        unsigned mask = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d2, r2, _CMP_LT_OQ)));
+        if (e - k < 8) mask &= (1u << (e - k)) - 1u;
+        const __m256i lanes = _mm256_load_si256(reinterpret_cast<const __m256i*>(kHitLanes8.lanes[mask]));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(hits + m), _mm256_add_epi32(_mm256_set1_epi32(int(k)), lanes));
+        m += std::size_t(_mm_popcnt_u32(mask));
+    }
+    return m;
+}
+#endif
+
 template <class Kernel>
 void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid, float support, bool self,
                          const Kernel& kernel, NeighbourLists& out, std::span<float> wSum) {
@@ -79,7 +128,8 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
     out.chunkEntries.resize(chunks);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
         std::vector<std::uint32_t> hits;  // candidates within the support, of the current particle
-        for (std::size_t c = r.begin(); c < r.end(); ++c) {
+        // wide: 8 on the AVX2 path (eight candidates a test), else 4.
+        auto chunkOf = [&](std::size_t c, auto wide) {
             std::vector<Neighbour>& list = out.chunkEntries[c];
             list.clear();
             const std::size_t end = std::min(n, (c + 1) * kChunk);
@@ -87,8 +137,12 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
                 const glm::vec3 xi = points[i];
                 std::size_t m = 0;
                 grid.forEachRowNear(xi, [&](std::uint32_t b, std::uint32_t e) {
-                    if (hits.size() < m + (e - b) + 4) hits.resize(2 * (m + (e - b) + 4));
-                    m = distanceTest(grid, xi, h2, b, e, hits.data(), m);
+                    if (hits.size() < m + (e - b) + 8) hits.resize(2 * (m + (e - b) + 8));
+#if MENISCUS_SIM_AVX2_CLONES || defined(__AVX2__)
+                    if constexpr (decltype(wide)::value == 8) m = distanceTest8(grid, xi, h2, b, e, hits.data(), m);
+                    else
+#endif
+                        m = distanceTest(grid, xi, h2, b, e, hits.data(), m);
                 });
                 // Oneself (when self) is among the hits: out, keeping the order.
                 if (self) m = std::size_t(std::remove_if(hits.begin(), hits.begin() + std::ptrdiff_t(m),
@@ -133,7 +187,17 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
                 }
                 if (!wSum.empty()) wSum[i] = sum;
             }
+        };
+        if (simdPath() == SimdPath::Avx2Fma) {
+            auto chunk = [&](std::size_t c) { chunkOf(c, std::integral_constant<int, 8>{}); };
+#if MENISCUS_SIM_AVX2_CLONES
+            return runAvx2(chunk, r.begin(), r.end());  // parallel.h
+#else
+            return runBaseline(chunk, r.begin(), r.end());  // the build is for AVX2
+#endif
         }
+        auto chunk = [&](std::size_t c) { chunkOf(c, std::integral_constant<int, 4>{}); };
+        runBaseline(chunk, r.begin(), r.end());
     });
 }
 

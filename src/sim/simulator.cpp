@@ -185,22 +185,20 @@ void Simulator::Impl::nonPressureAccelerations() {
     // d = 3, nu the kinematic viscosity. The mean of the two densities keeps
     // the pair term antisymmetric, so it conserves momentum.
     const float c = 10.0f * p.viscosity * mass, eps = 0.01f * h * h;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n(), 512), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            glm::vec3 acc = p.gravity;
-            if (viscous) {
-                const F4 xi = load4(x4[i]), vi = load4(v4[i]);
-                auto term = [&](const Neighbour& nb) {
-                    const F4 xij = xi - load4(x4[nb.j]), vij = vi - load4(v4[nb.j]);
-                    float vx, xx;
-                    dot2(vij, xij, xij, xij, vx, xx);
-                    // One division a pair (two cost 10-14 % of the pass).
-                    return splat(2.0f * vx * nb.g / ((density[i] + density[nb.j]) * (xx + eps))) * xij;
-                };
-                acc += c * toVec3(sumPairs(fluidNb.of(i), term));
-            }
-            a[i] = acc;
+    forAll(n(), [&](std::size_t i) {
+        glm::vec3 acc = p.gravity;
+        if (viscous) {
+            const F4 xi = load4(x4[i]), vi = load4(v4[i]);
+            auto term = [&](const Neighbour& nb) {
+                const F4 xij = xi - load4(x4[nb.j]), vij = vi - load4(v4[nb.j]);
+                float vx, xx;
+                dot2(vij, xij, xij, xij, vx, xx);
+                // One division a pair (two cost 10-14 % of the pass).
+                return splat(2.0f * vx * nb.g / ((density[i] + density[nb.j]) * (xx + eps))) * xij;
+            };
+            acc += c * toVec3(sumPairs(fluidNb.of(i), term));
         }
+        a[i] = acc;
     });
 }
 
