@@ -36,11 +36,13 @@ void CellGrid::build(std::span<const glm::vec3> points) {
     for (std::size_t i = 0; i < n; ++i) ++cellStart_[cellOfPoint_[i] + 1];
     for (std::size_t c = 1; c < cellStart_.size(); ++c) cellStart_[c] += cellStart_[c - 1];
     sorted_.resize(n);
+    slot_.resize(n);
     std::vector<std::uint32_t> fill(cellStart_.begin(), cellStart_.end() - 1);
     for (auto& a : sortedAxis_) a.assign(n + kPad, 1e30f);  // the padding is never within reach
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t k = fill[cellOfPoint_[i]]++;
         sorted_[k] = std::uint32_t(i);
+        slot_[i] = k;
         for (int a = 0; a < 3; ++a) sortedAxis_[a][k] = points[i][a];
     }
 }

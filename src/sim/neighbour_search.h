@@ -33,21 +33,40 @@ public:
     glm::ivec3 dims() const { return dims_; }
     std::size_t cellCount() const { return cellStart_.empty() ? 0 : cellStart_.size() - 1; }
 
-    // Calls f(b, e) for each of the 9 rows of cells around p: the points
+    // Calls f(b, e) for each of the 9 rows of cells around p that can hold a
+    // point within `reach` of it (reach <= the cell size): the points
     // sortedIndex(k), at sortedCoordinates(0..2)[k], for k in [b, e) (not
-    // distance-tested). The coordinates are a copy in cell order, so each
-    // row's three cells stream from one contiguous run of memory.
+    // distance-tested). A row's end cells are left out where p's chord
+    // through the row does not reach them, and rows wholly out of reach are
+    // skipped: a quarter fewer candidates, and the same lists (the cells left
+    // out hold no point within reach). The coordinates are a copy in cell
+    // order, so each row's cells stream from one contiguous run of memory.
     template <class F>
-    void forEachRowNear(const glm::vec3& p, F&& f) const {
+    void forEachRowNear(const glm::vec3& p, float reach, F&& f) const {
         const glm::ivec3 c = cellOf(p);
         const glm::ivec3 lo = glm::max(c - 1, glm::ivec3(0)), hi = glm::min(c + 1, dims_ - 1);
-        for (int z = lo.z; z <= hi.z; ++z)
+        // p within its cell, in cells; a point clamped into a border cell
+        // (outside the grid) gets no trimming.
+        const glm::vec3 u = (p - origin_) * invCell_ - glm::vec3(c);
+        const bool inCell = glm::all(glm::greaterThanEqual(u, glm::vec3(0.0f))) && glm::all(glm::lessThanEqual(u, glm::vec3(1.0f)));
+        // In cells, with a margin for the rounding of u against the distance test's.
+        const float reach2 = inCell ? reach * reach * (invCell_ * invCell_) * (1.0f + 1e-4f) + 1e-4f : 1e30f;
+        auto gap = [](int cell, int own, float at) { return cell < own ? at : cell > own ? 1.0f - at : 0.0f; };
+        for (int z = lo.z; z <= hi.z; ++z) {
+            const float gz = gap(z, c.z, u.z);
             for (int y = lo.y; y <= hi.y; ++y) {
+                const float gy = gap(y, c.y, u.y), chord2 = reach2 - (gy * gy + gz * gz);
+                if (chord2 <= 0.0f) continue;
+                const int x0 = lo.x < c.x && u.x * u.x < chord2 ? lo.x : c.x;
+                const int x1 = hi.x > c.x && (1.0f - u.x) * (1.0f - u.x) < chord2 ? hi.x : c.x;
                 const std::size_t row = linear({0, y, z});
-                f(cellStart_[row + std::size_t(lo.x)], cellStart_[row + std::size_t(hi.x) + 1]);
+                f(cellStart_[row + std::size_t(x0)], cellStart_[row + std::size_t(x1) + 1]);
             }
+        }
     }
     std::uint32_t sortedIndex(std::uint32_t k) const { return sorted_[k]; }
+    // Where point i sits in that order: sortedIndex(slotOf(i)) == i.
+    std::uint32_t slotOf(std::uint32_t i) const { return slot_[i]; }
     // The positions in cell order by coordinate (x, y, z arrays), each padded with
     // kPad far-away values so that an 8-wide load from any k < size is safe.
     static constexpr std::size_t kPad = 8;
@@ -62,6 +81,7 @@ private:
     glm::ivec3 dims_{1};
     std::vector<std::uint32_t> cellStart_;  // cellCount + 1
     std::vector<std::uint32_t> sorted_;     // point indices by cell
+    std::vector<std::uint32_t> slot_;       // its inverse
     std::vector<float> sortedAxis_[3];      // their coordinates in the same order, padded
     std::vector<std::uint32_t> cellOfPoint_;
 };

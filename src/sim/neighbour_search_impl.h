@@ -2,7 +2,6 @@
 #pragma once
 
 #include <algorithm>
-#include <type_traits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -73,7 +72,8 @@ inline std::size_t distanceTest(const CellGrid& grid, const glm::vec3& xi, float
     return m;
 }
 
-#if MENISCUS_SIM_AVX2_CLONES || defined(__AVX2__)
+#if MENISCUS_SIM_AVX2_LOOPS
+inline constexpr bool kHasEightWide = true;
 // For each 8-bit hit mask: the lanes that hit, in order (8 KiB).
 struct HitLanes8 {
     alignas(32) std::uint32_t lanes[256][8];
@@ -91,10 +91,14 @@ inline constexpr HitLanes8 kHitLanes8{};
 // There the compiler fuses a product and a sum of |d|^2 (as in the kernel's
 // distances below), so a pair within rounding of the support can be in or
 // out on one path and not the other; the lists stay symmetric (d and -d give
-// the same squares). hits must have room for m + (e - b) + 8 entries.
+// the same squares). Besides the hits' positions k it keeps their squared
+// distances (d2s), for the kernel, and leaves out the candidate at selfK
+// (oneself, by its place in the grid; none when past the end). hits and d2s
+// must have room for m + (e - b) + 8 entries.
 __attribute__((target("avx2,fma,popcnt"))) inline std::size_t distanceTest8(const CellGrid& grid, const glm::vec3& xi,
                                                                         float h2, std::uint32_t b, std::uint32_t e,
-                                                                        std::uint32_t* hits, std::size_t m) {
+                                                                        std::uint32_t selfK, std::uint32_t* hits,
+                                                                        float* d2s, std::size_t m) {
     const float* X = grid.sortedCoordinates(0);
     const float* Y = grid.sortedCoordinates(1);
     const float* Z = grid.sortedCoordinates(2);
@@ -108,12 +112,17 @@ __attribute__((target("avx2,fma,popcnt"))) inline std::size_t distanceTest8(cons
         const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
         unsigned mask = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d2, r2, _CMP_LT_OQ)));
         if (e - k < 8) mask &= (1u << (e - k)) - 1u;
+        const std::uint32_t off = selfK - k;  // wraps past the group when selfK < k
+        mask &= ~(off < 8u ? 1u << off : 0u);
         const __m256i lanes = _mm256_load_si256(reinterpret_cast<const __m256i*>(kHitLanes8.lanes[mask]));
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(hits + m), _mm256_add_epi32(_mm256_set1_epi32(int(k)), lanes));
+        _mm256_storeu_ps(d2s + m, _mm256_permutevar8x32_ps(d2, lanes));
         m += std::size_t(_mm_popcnt_u32(mask));
     }
     return m;
 }
+#else
+inline constexpr bool kHasEightWide = false;
 #endif
 
 template <class Kernel>
@@ -128,24 +137,30 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
     out.chunkEntries.resize(chunks);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
         std::vector<std::uint32_t> hits;  // candidates within the support, of the current particle
-        // wide: 8 on the AVX2 path (eight candidates a test), else 4.
-        auto chunkOf = [&](std::size_t c, auto wide) {
+        std::vector<float> d2s;           // their squared distances (AVX2 path)
+        // On the AVX2 path, eight candidates a test (distanceTest8).
+        auto chunkOf = [&](std::size_t c, auto path) {
             std::vector<Neighbour>& list = out.chunkEntries[c];
             list.clear();
             const std::size_t end = std::min(n, (c + 1) * kChunk);
             for (std::size_t i = c * kChunk; i < end; ++i) {
                 const glm::vec3 xi = points[i];
+                constexpr bool eight = decltype(path)::value == SimdPath::Avx2Fma;
                 std::size_t m = 0;
-                grid.forEachRowNear(xi, [&](std::uint32_t b, std::uint32_t e) {
+                const std::uint32_t selfK = self ? grid.slotOf(std::uint32_t(i)) : ~0u;
+                grid.forEachRowNear(xi, support, [&](std::uint32_t b, std::uint32_t e) {
                     if (hits.size() < m + (e - b) + 8) hits.resize(2 * (m + (e - b) + 8));
-#if MENISCUS_SIM_AVX2_CLONES || defined(__AVX2__)
-                    if constexpr (decltype(wide)::value == 8) m = distanceTest8(grid, xi, h2, b, e, hits.data(), m);
-                    else
+#if MENISCUS_SIM_AVX2_LOOPS
+                    if constexpr (eight) {
+                        if (d2s.size() < hits.size()) d2s.resize(hits.size());
+                        m = distanceTest8(grid, xi, h2, b, e, selfK, hits.data(), d2s.data(), m);
+                    } else
 #endif
                         m = distanceTest(grid, xi, h2, b, e, hits.data(), m);
                 });
-                // Oneself (when self) is among the hits: out, keeping the order.
-                if (self) m = std::size_t(std::remove_if(hits.begin(), hits.begin() + std::ptrdiff_t(m),
+                // Oneself (when self) is among the hits: out, keeping the order
+                // (the eight-wide test left it out already).
+                if (self && !(eight && kHasEightWide)) m = std::size_t(std::remove_if(hits.begin(), hits.begin() + std::ptrdiff_t(m),
                                                          [&](std::uint32_t k) { return grid.sortedIndex(k) == i; }) -
                                           hits.begin());
                 const std::size_t at = list.size();
@@ -168,13 +183,18 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
                 const F4 lane = set4(0.0f, 1.0f, 2.0f, 3.0f);
                 for (std::size_t q = 0; q < m; q += 4) {
                     const std::size_t lanes = std::min<std::size_t>(4, m - q);
-                    const std::uint32_t k0 = hits[q], k1 = hits[q + std::min<std::size_t>(1, lanes - 1)],
-                                        k2 = hits[q + std::min<std::size_t>(2, lanes - 1)],
-                                        k3 = hits[q + std::min<std::size_t>(3, lanes - 1)];
-                    const F4 dx = px - set4(X[k0], X[k1], X[k2], X[k3]);
-                    const F4 dy = py - set4(Y[k0], Y[k1], Y[k2], Y[k3]);
-                    const F4 dz = pz - set4(Z[k0], Z[k1], Z[k2], Z[k3]);
-                    const F4 d2 = (dx * dx + dy * dy) + dz * dz;
+                    F4 d2;
+                    if constexpr (eight && kHasEightWide) {
+                        d2 = load4(d2s.data() + q);  // kept by the test (past m: cut below)
+                    } else {
+                        const std::uint32_t k0 = hits[q], k1 = hits[q + std::min<std::size_t>(1, lanes - 1)],
+                                            k2 = hits[q + std::min<std::size_t>(2, lanes - 1)],
+                                            k3 = hits[q + std::min<std::size_t>(3, lanes - 1)];
+                        const F4 dx = px - set4(X[k0], X[k1], X[k2], X[k3]);
+                        const F4 dy = py - set4(Y[k0], Y[k1], Y[k2], Y[k3]);
+                        const F4 dz = pz - set4(Z[k0], Z[k1], Z[k2], Z[k3]);
+                        d2 = (dx * dx + dy * dy) + dz * dz;
+                    }
                     const F4 r2 = select(less(lane, splat(float(lanes))), d2, support2);
                     F4 w4, g4;
                     kernel(sqrt4(r2), w4, g4);
@@ -188,16 +208,7 @@ void buildNeighbourLists(std::span<const glm::vec3> points, const CellGrid& grid
                 if (!wSum.empty()) wSum[i] = sum;
             }
         };
-        if (simdPath() == SimdPath::Avx2Fma) {
-            auto chunk = [&](std::size_t c) { chunkOf(c, std::integral_constant<int, 8>{}); };
-#if MENISCUS_SIM_AVX2_CLONES
-            return runAvx2(chunk, r.begin(), r.end());  // parallel.h
-#else
-            return runBaseline(chunk, r.begin(), r.end());  // the build is for AVX2
-#endif
-        }
-        auto chunk = [&](std::size_t c) { chunkOf(c, std::integral_constant<int, 4>{}); };
-        runBaseline(chunk, r.begin(), r.end());
+        runRangeOnPath(chunkOf, r.begin(), r.end());  // parallel.h
     });
 }
 

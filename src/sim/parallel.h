@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstddef>
+#include <type_traits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -23,6 +24,11 @@ inline constexpr std::size_t kParticleGrain = 512;
 
 #if (defined(__x86_64__) || defined(__i386__)) && (defined(__GNUC__) || defined(__clang__)) && !defined(__AVX2__)
 #define MENISCUS_SIM_AVX2_CLONES 1
+#endif
+// Whether the hand-written AVX2 loops (eight-wide tests, two neighbours a
+// register) exist in this build: with the clones, or a build for AVX2.
+#if MENISCUS_SIM_AVX2_CLONES || (defined(__AVX2__) && defined(__FMA__))
+#define MENISCUS_SIM_AVX2_LOOPS 1
 #endif
 
 enum class SimdPath { Baseline, Avx2Fma };
@@ -55,6 +61,26 @@ void runRange(F& f, std::size_t b, std::size_t e) {
     if (simdPath() == SimdPath::Avx2Fma) return runAvx2(f, b, e);
 #endif
     runBaseline(f, b, e);
+}
+
+// The path as a type, for loops with a hand-written AVX2 form: f(i, path)
+// picks it with if constexpr (path == SimdPath::Avx2Fma).
+template <SimdPath P>
+using OnPath = std::integral_constant<SimdPath, P>;
+
+// f(i, OnPath<...>{}) for i in [b, e), on the active path.
+template <class F>
+void runRangeOnPath(F& f, std::size_t b, std::size_t e) {
+    if (simdPath() == SimdPath::Avx2Fma) {
+        auto wide = [&](std::size_t i) { f(i, OnPath<SimdPath::Avx2Fma>{}); };
+#if MENISCUS_SIM_AVX2_CLONES
+        return runAvx2(wide, b, e);
+#else
+        return runBaseline(wide, b, e);  // the build is for AVX2, or has no such path
+#endif
+    }
+    auto narrow = [&](std::size_t i) { f(i, OnPath<SimdPath::Baseline>{}); };
+    runBaseline(narrow, b, e);
 }
 
 template <class F>
