@@ -49,29 +49,42 @@ void applyStiffness(Simulator::Impl& s, const std::vector<float>& k, float dt) {
     });
 }
 
-void computeFactors(Simulator::Impl& s) {
+// The factor alpha_i (eq. 11 of [BK17]) and, in the same pass over the lists
+// (which positions both read), the divergence solver's first rate(i): the
+// same sums in the same order as densityRate, so the same bits.
+template <class Rate>
+void computeFactorsAndRates(Simulator::Impl& s, const Rate& rate) {
     forAll(s.n(), [&](std::size_t i) {
-        const F4 xi = load4(s.x4[i]);
-        F4 g = zero4(), squares = zero4();
-        for (const Neighbour& nb : s.fluidNb.of(i)) {
-            const F4 gj = splat(s.volume * nb.g) * (xi - load4(s.x4[nb.j]));
+        const F4 xi = load4(s.x4[i]), vi = load4(s.v4[i]);
+        F4 g = zero4(), squares = zero4(), even = zero4(), odd = zero4();
+        auto visit = [&](const Neighbour& nb, F4& sum) {
+            const F4 xij = xi - load4(s.x4[nb.j]);
+            const F4 gj = splat(s.volume * nb.g) * xij;
             g = g + gj;
             squares = squares + gj * gj;
-        }
+            sum = sum + splat(nb.g) * ((vi - load4(s.v4[nb.j])) * xij);
+        };
+        const std::span<const Neighbour> list = s.fluidNb.of(i);
+        std::size_t q = 0;
+        for (; q + 1 < list.size(); q += 2) visit(list[q], even), visit(list[q + 1], odd);
+        if (q < list.size()) visit(list[q], even);
         const glm::vec3 gs = toVec3(g) + s.wall[i].gradient;
         const float denom = glm::dot(gs, gs) + sum4(squares);
         s.alpha[i] = denom > 1e-5f ? 1.0f / denom : 0.0f;
+        s.rhoAdv[i] = rate(i, s.volume * sum4(even + odd) + glm::dot(glm::vec3(s.v4[i]), s.wall[i].gradient));
     });
 }
 
 // The divergence-free solver: returns its iterations.
 int divergenceSolve(Simulator::Impl& s, float dt) {
     const std::size_t n = s.n();
-    auto rate = [&](std::size_t i) {
+    // The rate of particle i, whose sum over the neighbours is d.
+    auto rule = [&](std::size_t i, float d) {
         const float neighbours = float(s.fluidNb.count(i)) + s.wall[i].density * s.fullNeighbours;
-        return neighbours < kMinNeighboursForDivergence ? 0.0f : std::max(densityRate(s, i), 0.0f);
+        return neighbours < kMinNeighboursForDivergence ? 0.0f : std::max(d, 0.0f);
     };
-    forAll(n, [&](std::size_t i) { s.rhoAdv[i] = rate(i); });
+    auto rate = [&](std::size_t i) { return rule(i, densityRate(s, i)); };
+    computeFactorsAndRates(s, rule);
     // Warm start: half of last step's stiffness where the fluid still compresses.
     forAll(n, [&](std::size_t i) { s.kappa[i] = s.rhoAdv[i] > 0.0f ? kWarmStart * s.kappaVWarm[i] / dt : 0.0f; });
     std::vector<float>& total = s.pressure;  // reused as the stiffness sum
@@ -143,9 +156,9 @@ void stepDfsph(Simulator::Impl& s, double until) {
     pack(s.x, s.x4);  // fixed for the step
     st.msNeighbours = timer.lap();
     s.computeDensities();
-    computeFactors(s);
     st.msDensity = timer.lap();
-    // Divergence-free solve on the velocities of the last step (its dt).
+    // Divergence-free solve on the velocities of the last step (its dt);
+    // it computes the factors alpha too (in its first pass).
     pack(s.v, s.v4);
     st.divergenceIterations = s.n() ? divergenceSolve(s, float(s.dt)) : 0;
     unpack(s.v4, s.v);
