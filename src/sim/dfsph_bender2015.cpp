@@ -75,7 +75,11 @@ void computeFactorsAndRates(Simulator::Impl& s, const Rate& rate) {
     });
 }
 
-// The divergence-free solver: returns its iterations.
+// The divergence-free solver: returns its iterations. Each iteration's last
+// pass also computes the non-pressure accelerations a (viscosity and gravity,
+// nonPressureAccelerations) from the velocities it reads: those of the last
+// iteration are the step's (one traversal of the lists fewer; an iteration
+// that turns out not to be the last computed them for nothing).
 int divergenceSolve(Simulator::Impl& s, float dt) {
     const std::size_t n = s.n();
     // The rate of particle i, whose sum over the neighbours is d.
@@ -84,6 +88,8 @@ int divergenceSolve(Simulator::Impl& s, float dt) {
         return neighbours < kMinNeighboursForDivergence ? 0.0f : std::max(d, 0.0f);
     };
     auto rate = [&](std::size_t i) { return rule(i, densityRate(s, i)); };
+    const bool viscous = s.p.viscosity > 0.0f;
+    s.a.resize(n);
     computeFactorsAndRates(s, rule);
     // Warm start: half of last step's stiffness where the fluid still compresses.
     forAll(n, [&](std::size_t i) { s.kappa[i] = s.rhoAdv[i] > 0.0f ? kWarmStart * s.kappaVWarm[i] / dt : 0.0f; });
@@ -100,7 +106,10 @@ int divergenceSolve(Simulator::Impl& s, float dt) {
             total[i] += s.kappa[i];
         });
         applyStiffness(s, s.kappa, dt);
-        forAll(n, [&](std::size_t i) { s.rhoAdv[i] = rate(i); });
+        forAll(n, [&](std::size_t i) {
+            s.rhoAdv[i] = rate(i);
+            s.a[i] = viscous ? s.p.gravity + s.viscousAcceleration(i) : s.p.gravity;
+        });
         err = sumAll(n, [&](std::size_t i) { return s.rhoAdv[i]; }) / double(std::max<std::size_t>(n, 1));
         ++iterations;
     }
@@ -163,7 +172,7 @@ void stepDfsph(Simulator::Impl& s, double until) {
     st.divergenceIterations = s.n() ? divergenceSolve(s, float(s.dt)) : 0;
     unpack(s.v4, s.v);
     st.msPressure = timer.lap();
-    s.nonPressureAccelerations();
+    if (st.divergenceIterations == 0) s.nonPressureAccelerations();  // else the solver did
     s.dt = s.cflStep(until, 0.0f);
     // The explicit viscosity's own limit, 0.125 h^2 / nu (as for SPH below).
     if (s.p.viscosity > 0.0f) s.dt = std::min(s.dt, double(0.125f * s.h * s.h / s.p.viscosity));

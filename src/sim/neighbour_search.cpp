@@ -17,13 +17,6 @@ void CellGrid::configure(const Box& box, float cellSize) {
     cellStart_.assign(std::size_t(dims_.x) * std::size_t(dims_.y) * std::size_t(dims_.z) + 1, 0);
 }
 
-glm::ivec3 CellGrid::cellOf(const glm::vec3& p) const {
-    const glm::vec3 c = glm::floor((p - origin_) * invCell_);
-    // Clamp in float first: a far point must not overflow the int conversion.
-    const glm::vec3 hi = glm::vec3(dims_ - 1);
-    return glm::ivec3(glm::clamp(c, glm::vec3(0.0f), hi));
-}
-
 void CellGrid::build(std::span<const glm::vec3> points) {
     const std::size_t n = points.size();
     std::fill(cellStart_.begin(), cellStart_.end(), 0u);

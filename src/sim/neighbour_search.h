@@ -26,7 +26,12 @@ public:
     // Rebuilds the cell lists of `points`.
     void build(std::span<const glm::vec3> points);
 
-    glm::ivec3 cellOf(const glm::vec3& p) const;
+    glm::ivec3 cellOf(const glm::vec3& p) const {
+        const glm::vec3 c = glm::floor((p - origin_) * invCell_);
+        // Clamp in float first: a far point must not overflow the int conversion.
+        const glm::vec3 hi = glm::vec3(dims_ - 1);
+        return glm::ivec3(glm::clamp(c, glm::vec3(0.0f), hi));
+    }
     std::size_t linear(const glm::ivec3& c) const {
         return (std::size_t(c.z) * std::size_t(dims_.y) + std::size_t(c.y)) * std::size_t(dims_.x) + std::size_t(c.x);
     }

@@ -179,27 +179,7 @@ void Simulator::Impl::computeDensities() {
 void Simulator::Impl::nonPressureAccelerations() {
     a.resize(n());
     const bool viscous = p.solver == Solver::Dfsph && p.viscosity > 0.0f;
-    // The "standard" SPH viscosity of SPlisHSPlasH and of Koschier et al.'s
-    // SPH tutorial (Eurographics 2019, eq. 103, after Monaghan 2005):
-    //   a_i = 2 (d + 2) nu sum_j (m_j / rho_j) (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) grad W_ij,
-    // d = 3, nu the kinematic viscosity. The mean of the two densities keeps
-    // the pair term antisymmetric, so it conserves momentum.
-    const float c = 10.0f * p.viscosity * mass, eps = 0.01f * h * h;
-    forAll(n(), [&](std::size_t i) {
-        glm::vec3 acc = p.gravity;
-        if (viscous) {
-            const F4 xi = load4(x4[i]), vi = load4(v4[i]);
-            auto term = [&](const Neighbour& nb) {
-                const F4 xij = xi - load4(x4[nb.j]), vij = vi - load4(v4[nb.j]);
-                float vx, xx;
-                dot2(vij, xij, xij, xij, vx, xx);
-                // One division a pair (two cost 10-14 % of the pass).
-                return splat(2.0f * vx * nb.g / ((density[i] + density[nb.j]) * (xx + eps))) * xij;
-            };
-            acc += c * toVec3(sumPairs(fluidNb.of(i), term));
-        }
-        a[i] = acc;
-    });
+    forAll(n(), [&](std::size_t i) { a[i] = viscous ? p.gravity + viscousAcceleration(i) : p.gravity; });
 }
 
 double Simulator::Impl::cflStep(double until, float soundSpeed) const {
