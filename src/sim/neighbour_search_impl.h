@@ -17,21 +17,22 @@
 
 namespace meniscus::sim {
 
-#if defined(__SSE2__)
-// For each 4-bit hit mask: the lanes that hit, in order (then padding). One
-// table load, one add and one store append all of a group's hits (SSE2 has
-// no compress instruction, and a store per lane cost more).
+// For each L-bit hit mask: the lanes that hit, in order (then padding). One
+// table load, one add and one store append all of a group's hits (SSE2 and
+// AVX2 have no compress instruction, and a store per lane cost more).
+template <unsigned L>
 struct HitLanes {
-    alignas(16) std::uint32_t lanes[16][4];
+    alignas(4 * L) std::uint32_t lanes[1u << L][L];
     constexpr HitLanes() : lanes{} {
-        for (unsigned mask = 0; mask < 16; ++mask) {
+        for (unsigned mask = 0; mask < (1u << L); ++mask) {
             unsigned c = 0;
-            for (unsigned l = 0; l < 4; ++l)
+            for (unsigned l = 0; l < L; ++l)
                 if (mask >> l & 1u) lanes[mask][c++] = l;
         }
     }
 };
-inline constexpr HitLanes kHitLanes{};
+#if defined(__SSE2__)
+inline constexpr HitLanes<4> kHitLanes{};
 #endif
 
 // Appends to hits[m...] the k in [b, e) with |xi - (X, Y, Z)[k]|^2 < h2 (the grid's sorted coordinates),
@@ -74,18 +75,7 @@ inline std::size_t distanceTest(const CellGrid& grid, const glm::vec3& xi, float
 
 #if MENISCUS_SIM_AVX2_LOOPS
 inline constexpr bool kHasEightWide = true;
-// For each 8-bit hit mask: the lanes that hit, in order (8 KiB).
-struct HitLanes8 {
-    alignas(32) std::uint32_t lanes[256][8];
-    constexpr HitLanes8() : lanes{} {
-        for (unsigned mask = 0; mask < 256; ++mask) {
-            unsigned c = 0;
-            for (unsigned l = 0; l < 8; ++l)
-                if (mask >> l & 1u) lanes[mask][c++] = l;
-        }
-    }
-};
-inline constexpr HitLanes8 kHitLanes8{};
+inline constexpr HitLanes<8> kHitLanes8{};  // 8 KiB
 
 // distanceTest eight candidates at a time, for the AVX2 path (parallel.h).
 // There the compiler fuses a product and a sum of |d|^2 (as in the kernel's
