@@ -158,6 +158,19 @@ struct ThicknessParams {
     int maxKernelPx = defaults::kMaxKernelPx;
 };
 
+// ---- Turbulence, for the surface noise (SPEC §3.7) ---------------------------
+
+// A particle whose velocity changed by more than tauMps between two
+// consecutive frames of a sequence (|v(t) - v(t-1)| > tau, the particles
+// matched by id) gets its noise amplitude multiplied by `boost`; the boost then
+// fades linearly back to 1 over holdFrames frames unless the particle is
+// turbulent again (turbulent water looks rougher).
+struct TurbulenceParams {
+    float tauMps = 0.5f;   // velocity change between frames, m/s
+    float boost = 3.0f;    // amplitude factor when turbulent (>= 1)
+    int holdFrames = 12;   // frames over which the boost fades (>= 1)
+};
+
 // ---- Scene (SPEC §3.1) ---------------------------------------------------------
 
 struct SceneParams {

@@ -84,7 +84,9 @@ MENISCUS_NOISE_INLINE float noiseLerp(float a, float b, float t) {
 }
 
 // Improved noise at p: 0 at every lattice point, |noise3| <= 1.04 or so,
-// continuous with continuous first and second derivatives.
+// continuous with continuous first and second derivatives. Each coordinate
+// must lie within +-2^30 (its lattice cell is an int; a caller maps particle
+// ids into that range, e.g. modulo 2^20).
 MENISCUS_NOISE_INLINE float noise3(vec3 p) {
     vec3 cellF = floor(p);
     ivec3 cell = ivec3(cellF);

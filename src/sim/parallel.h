@@ -8,7 +8,7 @@
 // rounds a*b+c once, so the two paths' frames differ in the last bits (each
 // path gives the same frames for any thread count). A Debian build is
 // baseline x86-64, so without this the simulator's loops would never use the
-// machine's vector units (measured: a step 10-20 % faster, README).
+// machine's vector units (measured: a step 5-15 % faster, README).
 #pragma once
 
 #include <cstddef>
@@ -25,8 +25,8 @@ inline constexpr std::size_t kParticleGrain = 512;
 #if (defined(__x86_64__) || defined(__i386__)) && (defined(__GNUC__) || defined(__clang__)) && !defined(__AVX2__)
 #define MENISCUS_SIM_AVX2_CLONES 1
 #endif
-// Whether the hand-written AVX2 loops (eight-wide tests, two neighbours a
-// register) exist in this build: with the clones, or a build for AVX2.
+// Whether the hand-written AVX2 loops (the neighbour build's eight-wide
+// tests) exist in this build: with the clones, or a build for AVX2.
 #if MENISCUS_SIM_AVX2_CLONES || (defined(__AVX2__) && defined(__FMA__))
 #define MENISCUS_SIM_AVX2_LOOPS 1
 #endif
@@ -45,9 +45,9 @@ void runBaseline(F& f, std::size_t b, std::size_t e) {
 }
 #if MENISCUS_SIM_AVX2_CLONES
 // flatten: f and all it calls are inlined here, so compiled for AVX2 and FMA
-// (and POPCNT, which every AVX2 CPU has)
-// (three-operand VEX forms, fused multiply-adds); a call that cannot be
-// inlined stays baseline code, which is correct, only slower.
+// (three-operand VEX forms, fused multiply-adds) and POPCNT, which every AVX2
+// CPU has; a call that cannot be inlined stays baseline code, which is
+// correct, only slower.
 template <class F>
 __attribute__((target("avx2,fma,popcnt"), flatten)) void runAvx2(F& f, std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) f(i);
