@@ -170,12 +170,13 @@ int main(int argc, char** argv) {
     std::string backendOpt = "both";
     app.add_option("--backend", backendOpt, "cpu, gl, auto, or both (cpu and gl side by side; gl skipped with a note when no context)")
         ->capture_default_str();
-    bool meshOnly = false, noMesh = false;
+    bool meshOnly = false, noMesh = false, noise = false;
     std::string openvdb;
     float benchRadius = 0.0f;
     app.add_option("--radius", benchRadius, "Particle radius in metres (default: estimated)");
     app.add_flag("--mesh-only", meshOnly, "Time only the isosurface path (and its peer)");
     app.add_flag("--no-mesh", noMesh, "Skip the isosurface path");
+    app.add_flag("--noise", noise, "Also run the surface-noise stage (and foam in the shading), seeded by the file's ids");
     app.add_option("--openvdb", openvdb,
                    "The OpenVDB peer binary (scripts/build_openvdb_peer.sh builds build/openvdb_mesh), run on the same "
                    "frame at the same voxel size");
@@ -280,6 +281,7 @@ int main(int argc, char** argv) {
         settings.filter = filter;
         settings.colorOnly = !allAovs;
         settings.thickness.resolutionDivisor = thicknessDivisor;
+        settings.noise.enabled = noise;
         // Per backend: stage -> run times, and the stage order.
         std::vector<std::map<std::string, std::vector<double>>> perStage(renderers.size());
         std::vector<std::string> order;
@@ -288,7 +290,7 @@ int main(int argc, char** argv) {
             for (int i = 0; i < repeat; ++i) {
                 std::vector<StageTime> times;
                 const auto t0 = std::chrono::steady_clock::now();
-                auto aovs = renderers[b].second.render(set->positions, settings, &times);
+                auto aovs = renderers[b].second.render(ParticleView::of(*set), settings, &times);
                 totals[b].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
                 if (!aovs) {
                     std::fprintf(stderr, "bench: error: %s\n", aovs.error().describe().c_str());

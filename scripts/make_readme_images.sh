@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Re-renders the README's pictures (docs/images/) on the CPU backend, the
 # reference: frame 21 of the 117,649-particle dam break at 640x360 with default
-# settings, each debug view, every filter and every material; and the demo.
+# settings, each debug view, every filter and every material; the surface
+# noise (a close view of frame 21, and frames 17-21 of the small dam break in
+# ../shared/testdata as a sequence, for the turbulence); and the demo.
 # Look at them before committing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,4 +15,20 @@ render dambreak21_final
 for v in raw-depth depth normals thickness; do render "dambreak21_$v" --view "$v"; done
 for f in none gaussian bilateral binomial curvature-flow narrow-range; do render "filter_$f" --filter "$f"; done
 for m in murky milk lava sand; do render "material_$m" --material "$m"; done
+close=(--eye 0.2,1.1,1.5 --target 1.3,0.35,0)
+render noise_close_off "${close[@]}"
+render noise_close_on "${close[@]}" --noise
+small=../shared/testdata/splishsplash/dambreak_r0.025_small/partio
+if [ -d "$small" ]; then
+    seq=$(mktemp -d)
+    for k in 17 18 19 20 21; do ln -s "$(realpath "$small/ParticleData_Fluid_$k.bgeo")" "$seq/"; done
+    for v in final foam noise; do
+        build/meniscus render "$seq/ParticleData_Fluid_*.bgeo" -o "$seq/${v}_%02d.png" --width 640 --height 360 \
+            --backend cpu --noise --view "$v"
+    done
+    cp "$seq/final_21.png" docs/images/noise_sequence21.png
+    cp "$seq/foam_21.png" docs/images/noise_sequence21_foam.png
+    cp "$seq/noise_21.png" docs/images/noise_sequence21_noise.png
+    rm -r "$seq"
+fi
 build/meniscus demo -o docs/images/demo.png --width 640 --height 360 --backend cpu

@@ -162,6 +162,30 @@ TEST(Cli, PipelineOptions) {
     EXPECT_FALSE(fs::exists(dir / "bad.png"));
 }
 
+// The surface noise: its views, its EXR channels, its parameters checked.
+TEST(Cli, NoiseOptions) {
+    const fs::path dir = tempDir();
+    const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
+    const std::string base = "render " + quote(in) + " --width 96 --height 54 -o ";
+    std::string out;
+    for (const char* v : {"final", "noise", "foam"})
+        EXPECT_EQ(runCli(base + quote(dir / "n.png") + " --noise --view " + v, &out), 0) << v << out;
+    ASSERT_EQ(runCli(base + quote(dir / "n.exr") + " --noise --noise-bump 0.4 --foam 3 --noise-octaves 2 "
+                                                   "--noise-frequency 1.5 --turbulence-tau 0.8",
+                     &out),
+              0)
+        << out;
+    const ExrData exr = readExr(dir / "n.exr");
+    for (const char* c : {"Noise", "foam"})
+        EXPECT_NE(std::find(exr.names.begin(), exr.names.end(), c), exr.names.end()) << c;
+    // Without --noise the views say what is missing; bad values name the parameter.
+    EXPECT_EQ(runCli(base + quote(dir / "bad.png") + " --view noise", &out), 1);
+    EXPECT_NE(out.find("--noise"), std::string::npos) << out;
+    EXPECT_EQ(runCli(base + quote(dir / "bad.png") + " --noise --noise-octaves 9", &out), 1);
+    EXPECT_NE(out.find("octaves"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "bad.png"));
+}
+
 TEST(Cli, DemoNeedsNoInput) {
     const fs::path dir = tempDir();
     std::string out;

@@ -1,8 +1,9 @@
 // GL shading and compositing (SPEC §3.8, src/gl/shading.cpp) against the CPU
 // reference cpu::shadeAndComposite, on the real frame's CPU AOVs (scene layer,
 // smoothed depth, normals, thickness) uploaded as the inputs: water, lava and
-// every other preset, the background off, and the edge cases: no fluid, no
-// scene, fluid hidden behind the scene, missing normals / thickness.
+// every other preset, the background off, foam from a surface noise image,
+// and the edge cases: no fluid, no scene, fluid hidden behind the scene,
+// missing normals / thickness.
 // Skips only when no headless GL 4.3 context can be created at all.
 #include <algorithm>
 #include <chrono>
@@ -97,8 +98,10 @@ struct ShadeDiff {
 };
 
 // GL inputs: empty images stay un-uploaded (absent), as the CPU's empty Images.
+// With `noise` (and `noiseParams`): foam from that surface noise on both sides.
 ShadeDiff compareWithCpu(const Camera& cam, float r, const cpu::SceneLayer& scene, const Image<float>& depth,
-                         const Image<glm::vec3>& normals, const Image<float>& thickness, const ShadingParams& shading) {
+                         const Image<glm::vec3>& normals, const Image<float>& thickness, const ShadingParams& shading,
+                         const Image<float>* noise = nullptr, const NoiseParams* noiseParams = nullptr) {
     ShadeDiff d;
     auto shader = gl::Shading::create();
     EXPECT_TRUE(shader.ok()) << shader.error().describe();
@@ -106,15 +109,17 @@ ShadeDiff compareWithCpu(const Camera& cam, float r, const cpu::SceneLayer& scen
     const gl::FrameParams p = gl::packFrameParams(cam, r, FilterParams{}, ThicknessParams{}, shading);
     gl::FrameParamsBlock block;
     block.upload(p);
-    gl::GpuImage sc, sd, z, n, t, out;
+    gl::GpuImage sc, sd, z, n, t, out, nz;
     if (!scene.color.empty()) sc.upload(scene.color);
     if (!scene.depth.empty()) sd.upload(scene.depth);
     z.upload(depth);
     if (!normals.empty()) n.upload(normals);
     if (!thickness.empty()) t.upload(thickness);
-    shader->run(p, sc, sd, z, n, t, out);
+    if (noise) nz.upload(*noise);
+    shader->run(p, sc, sd, z, n, t, out, noise ? &nz : nullptr, noiseParams);
     d.gl = out.download<glm::vec4>();
-    const Image<glm::vec4> ref = cpu::shadeAndComposite(cam, scene, depth, normals, thickness, shading);
+    const Image<glm::vec4> ref =
+        cpu::shadeAndComposite(cam, scene, depth, normals, thickness, shading, noise, noiseParams);
     d.color = compareColor(ref, d.gl);
     const bool hasScene = scene.depth.width == depth.width && scene.depth.height == depth.height;
     for (std::size_t k = 0; k < ref.size() && k < d.gl.size(); ++k) {
@@ -269,3 +274,24 @@ TEST_F(GlShading, NoSceneNoNormalsNoThicknessMatchCpu) {
     expectWithinTolerance(e, a.aovs.depth.size(), "no normals, no thickness");
 }
 
+
+TEST_F(GlShading, FoamMatchesCpu) {
+    // Foam over the shaded fluid (SPEC §3.7) from a synthetic noise image:
+    // stripes of |N| from 0 to 0.5, so the cover runs from none to full.
+    const RealAovs& a = real320();
+    ASSERT_FALSE(a.aovs.depth.empty());
+    Image<float> noise(a.camera.width, a.camera.height, 0.0f);
+    for (int y = 0; y < noise.height; ++y)
+        for (int x = 0; x < noise.width; ++x) noise.at(x, y) = 0.5f * std::sin(0.11f * float(x) + 0.07f * float(y));
+    NoiseParams np;
+    np.foamColor = {0.9f, 0.85f, 0.8f};
+    for (const char* name : {"water", "lava"}) {
+        const ShadeDiff d = compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness,
+                                           preset(name), &noise, &np);
+        expectWithinTolerance(d, a.aovs.depth.size(), std::string("foam, ") + name);
+        // The foam shows: the image differs from the one without it.
+        const ShadeDiff plain =
+            compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, preset(name));
+        EXPECT_GT(compareColor(plain.gl, d.gl).maxSteps, 20) << name;
+    }
+}

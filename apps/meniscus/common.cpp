@@ -97,7 +97,7 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
                         "bulk number density; docs/radius.md)");
     cmd->add_option("--view", o.view,
                     "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
-                    "smoothing), normals, thickness")
+                    "smoothing), normals, thickness, noise (surface noise N), foam (foam cover)")
         ->capture_default_str();
     cmd->add_option("--filter", o.filter, "Depth smoothing: " + filterNames())->capture_default_str();
     cmd->add_option("--iterations", o.iterations,
@@ -107,6 +107,21 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     cmd->add_option("--material", o.material, "Fluid look: " + materialPresetNames())->capture_default_str();
     cmd->add_option("--background", o.background,
                     "studio (checker floor, two walls, sky) or none (transparent PNG background)")
+        ->capture_default_str();
+    NoiseParams& q = o.noiseParams;
+    cmd->add_flag("--noise", o.noise,
+                  "Surface noise and foam: small waves that travel with the particles, foam where they are strong, "
+                  "rougher where velocities jump between frames (uses the files' id and velocity attributes)");
+    cmd->add_option("--noise-bump", q.bump, "Height of the noise's waves, in sprite radii (0 = no bumps, foam only)")
+        ->capture_default_str();
+    cmd->add_option("--noise-frequency", q.frequency, "Noise cycles per sprite radius (a sprite is "
+                    + std::to_string(int(q.spriteRadii)) + " particle radii)")
+        ->capture_default_str();
+    cmd->add_option("--noise-octaves", q.octaves, "Fractal octaves of the noise, 1 to 6")->capture_default_str();
+    cmd->add_option("--foam", q.foamGain, "Foam cover per unit of noise magnitude above the threshold (0 = no foam)")
+        ->capture_default_str();
+    cmd->add_option("--turbulence-tau", q.turbulence.tauMps,
+                    "Velocity change between frames, m/s, above which a particle's noise is rougher for a while")
         ->capture_default_str();
 }
 
@@ -133,6 +148,12 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
     if (o.background != "studio" && o.background != "none")
         return makeError("", "--background " + o.background + ": expected studio or none");
     s.scene.background = o.background == "studio";
+    s.noise = o.noiseParams;
+    s.noise.enabled = o.noise;
+    if (o.noise)
+        if (std::string bad = checkNoiseParams(s.noise); !bad.empty()) return makeError("", "--noise: " + bad);
+    if ((s.view == View::Noise || s.view == View::Foam) && !o.noise)
+        return makeError("", "--view " + o.view + " shows the surface noise: add --noise");
     if (!(o.radius >= 0.0f)) return makeError("", "--radius must be a positive number of metres");
     if (o.radius != 0.0f)
         if (auto st = checkRadius(o.radius); !st) return makeError("", "--radius: " + st.error().message);

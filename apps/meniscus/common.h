@@ -50,6 +50,9 @@ struct RenderOptions {
     std::string material = defaults::kMaterialName;
     std::string background = "studio";
     std::string backend = "auto";
+    // Surface noise and foam (SPEC §3.7): off unless --noise.
+    bool noise = false;
+    NoiseParams noiseParams;
     std::string surface = "screen";  // screen (splat + smoothing) or mesh (the isosurface path)
     MesherOptions mesher;
 };

@@ -136,6 +136,7 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
             mesh = std::move(*made);
             settings.mesh = &mesh;
         }
+        settings.frameIndex = std::int64_t(i);  // the noise's turbulence compares consecutive frames
         auto aovs = renderer.render(ParticleView::of(*set), settings);
         settings.mesh = nullptr;
         if (!aovs) return fail(aovs.error().describe());

@@ -48,6 +48,7 @@ Result<FrameImages> openImages(const SimulateOptions& o, const sim::Scene& sc) {
 Result<std::string> writeFrameImage(FrameImages& images, const ParticleSet& set, long k) {
     auto name = formatFramePattern(images.pattern, k);
     if (!name) return name.error();
+    images.settings.frameIndex = k;  // the noise's turbulence compares consecutive frames
     auto aovs = images.renderer.render(ParticleView::of(set), images.settings);
     if (!aovs) return Error{*name, aovs.error().message};
     if (auto st = writeImage(*name, *aovs, !images.settings.scene.background); !st) return st.error();

@@ -222,6 +222,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
                 stale = true;
             }
             if (stale || (o.frames > 0 && !live)) {
+                settings.frameIndex = live ? std::int64_t(liveNumber) : std::int64_t(index);  // the noise's turbulence
                 if (auto st = renderer.draw(ParticleView::of(*current), settings); !st)
                     return fail(st.error().describe());
                 ++rendered;

@@ -115,6 +115,8 @@ struct Aovs {
     Image<float> rawDepth;     // splatted linear eye depth, +inf = none -> Zraw
     Image<glm::vec3> normal;   // view-space unit normal, 0 = none       -> N.X N.Y N.Z
     Image<float> thickness;    // metres                                 -> T
+    Image<float> noise;        // surface noise N, 0 = none (with noise on) -> Noise
+    Image<float> foam;         // foam cover in [0, 1] (with noise on)    -> foam
 };
 Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs);
 

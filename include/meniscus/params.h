@@ -169,7 +169,35 @@ struct TurbulenceParams {
     float tauMps = 0.5f;   // velocity change between frames, m/s
     float boost = 3.0f;    // amplitude factor when turbulent (>= 1)
     int holdFrames = 12;   // frames over which the boost fades (>= 1)
+    bool operator==(const TurbulenceParams&) const = default;
 };
+
+// ---- Surface noise and foam (SPEC §3.7) -------------------------------------
+
+// The NVIDIA SSFR patent's surface noise (US 8,947,430, eqs. 14-17): every
+// particle near the surface splats a sprite of fractal Perlin noise (the
+// pattern seeded by its id, so it travels with the particle), weighted by how
+// far its front lies below the smoothed surface. The sum N(x, y) bumps the
+// normals by its gradient and tints the surface with foam by its magnitude.
+// Off unless enabled (the CLI's --noise).
+struct NoiseParams {
+    bool enabled = false;
+    float spriteRadii = 2.0f;        // sprite radius, particle radii
+    float sigma = 0.4f;              // the sprite's Gaussian sigma, sprite radii (cut at 1)
+    float frequency = 1.0f;          // noise cycles per sprite radius, first octave
+    int octaves = 3;                 // fractal octaves, 1..6
+    float lacunarity = 2.0f;         // frequency factor per octave, 1..4
+    float gain = 0.5f;               // amplitude factor per octave, 0..1
+    float depthFalloffRadii = 1.0f;  // depth below the surface where the weight is 1/e, radii
+    float bump = 0.25f;              // normal perturbation: N as a height of bump sprite radii
+    float foamThreshold = 0.3f;      // |N| where foam starts
+    float foamGain = 2.5f;           // foam cover per unit of |N| above the threshold (1 = white)
+    glm::vec3 foamColor{0.80f, 0.83f, 0.86f};  // linear RGB of lit foam
+    TurbulenceParams turbulence;     // rougher noise where velocities jump (needs ids and velocities)
+};
+
+// The first parameter out of range, as "field: what is allowed"; empty when all are fine.
+std::string checkNoiseParams(const NoiseParams& p);
 
 // ---- Scene (SPEC §3.1) ---------------------------------------------------------
 

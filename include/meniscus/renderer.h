@@ -2,6 +2,7 @@
 // src/render/pipeline.cpp and nowhere else.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
@@ -19,9 +20,10 @@ namespace meniscus {
 
 // What the colour AOV (and so the PNG) shows: the shaded, composited image or
 // a picture of one intermediate stage for a person to look at.
-enum class View { Final, Depth, RawDepth, Normals, Thickness };
+enum class View { Final, Depth, RawDepth, Normals, Thickness, Noise, Foam };
 
-// CLI names: final, depth, raw-depth, normals, thickness.
+// CLI names: final, depth, raw-depth, normals, thickness, noise, foam (the
+// last two need RenderSettings::noise enabled).
 bool viewFromName(const std::string& name, View* out);
 std::string viewNames();
 
@@ -33,6 +35,16 @@ struct RenderSettings {
     ThicknessParams thickness;
     SceneParams scene;
     ShadingParams shading;
+    // Surface noise and foam (SPEC §3.7); off unless noise.enabled. The
+    // noise's pattern is seeded by the particles' `id` attribute (their index
+    // when absent); with ids and velocities and a frameIndex, particles whose
+    // velocity jumped since the previous frame get rougher noise for a while.
+    NoiseParams noise;
+    // This frame's index in its sequence, for the turbulence of the noise: the
+    // renderer remembers the velocities of the last frame it rendered, and
+    // compares when this index is the next one (a redraw of the same index
+    // keeps its result; any other jump starts afresh). -1: a lone frame.
+    std::int64_t frameIndex = -1;
     // The mesh path (issue 14): when set, the surface is this triangle mesh
     // (world space, metres; e.g. from the isosurface extraction) instead of
     // the smoothed particle depth: its triangles are rasterised into the depth
@@ -64,7 +76,8 @@ enum class BackendChoice { Cpu, Gl, Auto };
 bool backendFromName(const std::string& name, BackendChoice* out);
 std::string backendNames();
 
-class Backend;  // src/core/backend.h
+class Backend;            // src/core/backend.h
+class TurbulenceTracker;  // src/core/turbulence.h
 
 // Renders frames, keeping what does not change between them: the scene layer
 // (studio colour and depth) is cast again only when the camera or the studio
@@ -118,8 +131,13 @@ private:
     // Checks the settings and runs every stage; the images stay on the backend.
     Status runStages(const ParticleView& particles, const RenderSettings& settings,
                      std::vector<StageTime>* timings);
+    // The noise's per-particle inputs of this frame (FrameSettings::noiseIdz, noiseAmplitude).
+    void prepareNoise(const ParticleView& particles, const RenderSettings& settings);
     std::unique_ptr<Backend> backend_;
     std::vector<glm::vec3> gathered_;  // positions of a strided view, made contiguous for the backend
+    std::vector<float> noiseIdz_, noiseAmplitude_;
+    std::unique_ptr<TurbulenceTracker> turbulence_;
+    std::int64_t turbulenceFrame_ = -1;  // the frameIndex noiseAmplitude_ belongs to; -1 = none
 };
 
 // One frame with a fresh Renderer (nothing cached).

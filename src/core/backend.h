@@ -25,8 +25,8 @@
 namespace meniscus {
 
 // Opaque handles of the images one frame passes between stages.
-enum class Slot { SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Color };
-inline constexpr int kSlotCount = 7;
+enum class Slot { SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Noise, Color };
+inline constexpr int kSlotCount = 8;
 
 // Everything the stages read besides images, resolved once per frame.
 struct FrameSettings {
@@ -35,6 +35,13 @@ struct FrameSettings {
     FilterParams filter;
     ThicknessParams thickness;
     ShadingParams shading;
+    // The surface noise (SPEC §3.7): when enabled, the noise stage runs and
+    // the shading tints foam. Per particle (this frame only, pointing into
+    // the Renderer's memory): the noise's third coordinate
+    // (shared::noiseIdCoordinate of the id) and the turbulence factor (empty: 1).
+    NoiseParams noise;
+    std::span<const float> noiseIdz;
+    std::span<const float> noiseAmplitude;
     shared::Studio studio;
     // The particles' views (attributes for the stages that read them; the
     // positions also come contiguous as beginFrame's argument). Valid for
@@ -70,8 +77,13 @@ public:
     // depth and view-space normals of the nearest triangle of
     // FrameSettings::mesh per pixel, in front of the scene depth.
     virtual void rasterise(Slot sceneDepth, Slot depth, Slot normal) = 0;
-    // Shading and compositing over the scene (cpu::shadeAndComposite).
-    virtual void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot color) = 0;
+    // The surface noise N (cpu::splatNoise) of the particles near the surface
+    // `depth`, and the normals bumped by its gradient in place (cpu::bumpNormals).
+    virtual void noise(Slot depth, Slot normal, Slot noise) = 0;
+    // Shading and compositing over the scene (cpu::shadeAndComposite), with
+    // foam from the noise slot when FrameSettings::noise is enabled.
+    virtual void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
+                       Slot color) = 0;
 
     // Whether the stage just run (or the read-back) failed: OK, or an error
     // naming `stage` and what went wrong (GL: a GL error, GPU memory, a lost

@@ -33,6 +33,7 @@ public:
     void reset() { state_.clear(); }
 
     std::size_t tracked() const { return state_.size(); }
+    const TurbulenceParams& params() const { return p_; }
 
 private:
     struct State {

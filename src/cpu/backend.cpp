@@ -8,6 +8,7 @@
 #include "cpu/raster_mesh.h"
 #include "cpu/scene.h"
 #include "cpu/shading.h"
+#include "cpu/surface_noise.h"
 #include "cpu/thickness.h"
 
 namespace meniscus {
@@ -58,7 +59,14 @@ public:
         vec3s_[int(normal)] = std::move(r.normal);
     }
 
-    void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot color) override {
+    void noise(Slot depth, Slot normal, Slot noise) override {
+        scalars_[int(noise)] = cpu::splatNoise(s_.camera, positions_, s_.radius, scalar(depth), s_.noiseIdz,
+                                               s_.noiseAmplitude, s_.noise);
+        cpu::bumpNormals(s_.camera, s_.radius, scalar(depth), scalars_[int(noise)], s_.noise, vec3s_[int(normal)]);
+    }
+
+    void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
+               Slot color) override {
         // shadeAndComposite reads the scene as one layer: the cached cast when
         // the slots name it (always, in the pipeline), else a copy.
         const cpu::SceneLayer* scene = &scene_;
@@ -68,7 +76,8 @@ public:
             scene = &copy;
         }
         colors_[int(color)] = cpu::shadeAndComposite(s_.camera, *scene, scalar(depth), vec3s_[int(normal)],
-                                                     scalar(thickness), s_.shading);
+                                                     scalar(thickness), s_.shading,
+                                                     s_.noise.enabled ? &scalar(noise) : nullptr, &s_.noise);
     }
 
     Status stageStatus(const char*) override { return okStatus(); }

@@ -41,6 +41,7 @@
 #include "cpu/filter_util.h"
 #include "cpu/sky.h"
 #include "shared/shading.h"
+#include "shared/surface_noise.h"
 
 namespace meniscus::cpu {
 
@@ -121,8 +122,11 @@ struct Setup {
     const Image<float>* depth;
     const Image<glm::vec3>* normals;
     const Image<float>* thickness;
+    const Image<float>* noise;  // null: no foam
     Image<glm::vec4>* out;
     bool hasScene, hasNormals, hasThickness;
+    float foamThreshold, foamGain;
+    glm::vec3 foamColor;
     const float* rx;  // view ray x per column (z = -1)
     const float* ry;  // view ray y per row
     float f;          // focal length, pixels
@@ -146,6 +150,7 @@ struct Batch {
     float kr[kBatch], kg[kBatch], kb[kBatch];  // sky along the view ray
     float nl[kBatch], nh[kBatch];
     float cr[kBatch], cg[kBatch], cb[kBatch];
+    float foam[kBatch];  // foam cover (shared::noiseFoamCover), 0 without noise
 };
 
 // Shades a batch of n fluid pixels of row y: branch-free loops over the
@@ -279,6 +284,16 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
             B.cb[i] += spec;
         }
     }
+    // 6. Foam over the liquid where the surface noise is strong (SPEC §3.7).
+    if (S.noise) {
+        for (int i = 0; i < n; ++i) {
+            const glm::vec3 c = shared::noiseWithFoam(glm::vec3(B.cr[i], B.cg[i], B.cb[i]), B.foam[i], B.nl[i],
+                                                      S.foamColor, kOpaqueAmbient);
+            B.cr[i] = c.x;
+            B.cg[i] = c.y;
+            B.cb[i] = c.z;
+        }
+    }
 }
 
 void shadeRow(const Setup& S, int y, Batch& B) {
@@ -323,6 +338,9 @@ void shadeRow(const Setup& S, int y, Batch& B) {
             B.ny[i] = nv.y;
             B.nz[i] = nv.z;
             B.T[i] = S.hasThickness ? S.thickness->pixels[tw + std::size_t(xi)] : 0.0f;
+            B.foam[i] = S.noise ? shared::noiseFoamCover(S.noise->pixels[row + std::size_t(xi)], S.foamThreshold,
+                                                         S.foamGain)
+                                : 0.0f;
         }
         shadeBatch(S, y, n, B);
         for (int i = 0; i < n; ++i) out[B.x[i]] = glm::vec4(B.cr[i], B.cg[i], B.cb[i], 1.0f);
@@ -333,7 +351,8 @@ void shadeRow(const Setup& S, int y, Batch& B) {
 
 Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene, const Image<float>& depth,
                                    const Image<glm::vec3>& normals, const Image<float>& thickness,
-                                   const ShadingParams& params) {
+                                   const ShadingParams& params, const Image<float>* noise,
+                                   const NoiseParams* noiseParams) {
     const int w = depth.width, h = depth.height;
     if (w <= 0 || h <= 0) return Image<glm::vec4>(w, h, glm::vec4(0.0f));
     // (std::vector zero-fills here; each row is then overwritten in parallel:
@@ -354,6 +373,10 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
                  scene.depth.height == h;
     S.hasNormals = normals.width == w && normals.height == h;
     S.hasThickness = thickness.width == w && thickness.height == h;
+    S.noise = noise && noiseParams && noise->width == w && noise->height == h ? noise : nullptr;
+    S.foamThreshold = noiseParams ? noiseParams->foamThreshold : 0.0f;
+    S.foamGain = noiseParams ? noiseParams->foamGain : 0.0f;
+    S.foamColor = noiseParams ? noiseParams->foamColor : glm::vec3(0.0f);
 
     const Material& m = params.material;
     S.f = camera.focalPx();

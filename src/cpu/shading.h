@@ -25,8 +25,11 @@ inline float schlickFresnel(float f0, float cosTheta) {
 // shaded fluid where depth is finite and in front of the scene (alpha 1). Where
 // the scene is transparent (no background), refraction samples the sky.
 // Bit-identical for any thread count.
+// With `noise` (the surface noise N, SPEC §3.7) and its parameters, foam of
+// cover shared::noiseFoamCover(N) is laid over the shaded fluid.
 Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene,
                                    const Image<float>& depth, const Image<glm::vec3>& normals,
-                                   const Image<float>& thickness, const ShadingParams& params);
+                                   const Image<float>& thickness, const ShadingParams& params,
+                                   const Image<float>* noise = nullptr, const NoiseParams* noiseParams = nullptr);
 
 }  // namespace meniscus::cpu

@@ -27,6 +27,7 @@
 #include "gl/scene.h"
 #include "gl/shading.h"
 #include "gl/splat.h"
+#include "gl/surface_noise.h"
 #include "gl/thickness_lowres.h"
 #include "gl/uniforms.h"
 #include "shared/thickness.h"
@@ -45,6 +46,7 @@ struct Stages {
     Shading shading;
     LowResThickness lowResThickness;
     MeshRasteriser meshRasteriser;
+    SurfaceNoise surfaceNoise;
 };
 
 template <class T>
@@ -178,9 +180,19 @@ public:
         st_.meshRasteriser.run(fp_, s_.mesh ? *s_.mesh : kNoMesh, &img(sceneDepth), img(depth), img(normal));
     }
 
-    void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot color) override {
+    void noise(Slot depth, Slot normal, Slot noise) override {
+        forget(normal);
+        forget(noise);
+        st_.surfaceNoise.run(fp_, s_.camera, s_.noise, st_.splat.particleBuffer(), st_.splat.particleCount(),
+                             s_.noiseIdz, s_.noiseAmplitude, img(depth), img(normal), img(noise));
+    }
+
+    void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
+               Slot color) override {
         forget(color);
-        st_.shading.run(fp_, img(sceneColor), img(sceneDepth), img(depth), img(normal), img(thickness), img(color));
+        // Foam only with the noise on (its slot then holds this frame's N).
+        st_.shading.run(fp_, img(sceneColor), img(sceneDepth), img(depth), img(normal), img(thickness), img(color),
+                        s_.noise.enabled ? &img(noise) : nullptr, &s_.noise);
     }
 
     // A GL error since the last check, out of GPU memory among them, or a
@@ -299,7 +311,8 @@ Result<std::unique_ptr<Backend>> makeOnCurrent(std::unique_ptr<Context> ctx) {
                       take(CurvatureFlow::create(), s.curvatureFlow), take(NarrowRange::create(), s.narrowRange),
                       take(SceneCaster::create(), s.scene), take(Normals::create(), s.normals),
                       take(Shading::create(), s.shading), take(LowResThickness::create(), s.lowResThickness),
-                      take(MeshRasteriser::create(), s.meshRasteriser)})
+                      take(MeshRasteriser::create(), s.meshRasteriser),
+                      take(SurfaceNoise::create(), s.surfaceNoise)})
         if (!st) return st.error();
     return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(ctx), std::move(s)));
 }

@@ -27,6 +27,7 @@ Result<Shading> Shading::create() {
     s.program_ = std::move(*p);
     s.dummy_.reserve(16);
     for (Texture& t : s.inTex_) t = makeTexture();
+    s.noiseTex_ = makeTexture();
     s.outTex_ = makeTexture();
     auto segments = FluidSegments::create();
     if (!segments) return segments.error();
@@ -35,13 +36,15 @@ Result<Shading> Shading::create() {
 }
 
 void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const GpuImage& sceneDepth,
-                  const GpuImage& depth, const GpuImage& normals, const GpuImage& thickness, GpuImage& color) {
+                  const GpuImage& depth, const GpuImage& normals, const GpuImage& thickness, GpuImage& color,
+                  const GpuImage* noise, const NoiseParams* noiseParams) {
     const int W = frame.size.x, H = frame.size.y;
     color.resize(W, H, 4);
     if (W <= 0 || H <= 0) return;
     const bool hasScene = sized(sceneColor, W, H, 4) && sized(sceneDepth, W, H, 1);
     const bool hasNormals = sized(normals, W, H, 3);
     const bool hasThickness = sized(thickness, W, H, 1);
+    const bool foam = noise && noiseParams && sized(*noise, W, H, 1);
     // As the CPU, from the same host functions: the n.h below which the
     // highlight is invisible, and the sky's sun.
     const float nhMin = shared::highlightMinNh(frame.specular, frame.shininess);
@@ -63,6 +66,12 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
     glUniform3i(1, hasScene ? 1 : 0, hasNormals ? 1 : 0, hasThickness ? 1 : 0);
     glUniform1f(2, nhMin);
     glUniform3f(3, sun.x, sun.y, sun.z);
+    glUniform1i(4, foam ? 1 : 0);
+    if (foam) {
+        glUniform1f(5, noiseParams->foamThreshold);
+        glUniform1f(6, noiseParams->foamGain);
+        glUniform3f(7, noiseParams->foamColor.x, noiseParams->foamColor.y, noiseParams->foamColor.z);
+    }
     // Texture unit i reads input i; an absent one reads a tiny dummy (never used).
     const std::pair<const GpuImage*, GLenum> inputs[kInputs] = {
         {hasScene ? &sceneColor : nullptr, GL_RGBA32F}, {hasScene ? &sceneDepth : nullptr, GL_R32F},
@@ -74,12 +83,16 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
         glActiveTexture(GL_TEXTURE0 + GLenum(i));
         glBindTexture(GL_TEXTURE_BUFFER, inTex_[i].id());
     }
+    if (foam) attachBufferTexture(noiseTex_, GL_R32F, noise->buffer, noise->bytes());
+    else attachBufferTexture(noiseTex_, GL_R32F, dummy_, 16);
+    glActiveTexture(GL_TEXTURE0 + GLenum(kNoiseUnit));
+    glBindTexture(GL_TEXTURE_BUFFER, noiseTex_.id());
     attachBufferTexture(outTex_, GL_RGBA32F, color.buffer, color.bytes());
     glBindImageTexture(0, outTex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     segments_.bindList(kInputs);
     segments_.dispatch();
     glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    for (int i = kInputs; i >= 0; --i) {
+    for (int i = kNoiseUnit; i >= 0; --i) {
         glActiveTexture(GL_TEXTURE0 + GLenum(i));
         glBindTexture(GL_TEXTURE_BUFFER, 0);
     }

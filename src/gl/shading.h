@@ -7,6 +7,7 @@
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "gl/uniforms.h"
+#include "meniscus/params.h"
 #include "meniscus/result.h"
 
 namespace meniscus::gl {
@@ -26,17 +27,23 @@ public:
     // (colour and depth), normals or thickness image of another size than
     // P.size counts as absent: transparent background, normals facing the eye,
     // zero thickness; a depth of another size means no fluid (the scene
-    // alone). Asynchronous: nothing waits for the GPU here.
+    // alone). With `noise` (the surface noise N, P.size) and its parameters,
+    // foam of cover shared::noiseFoamCover(N) is laid over the shaded fluid,
+    // as cpu::shadeAndComposite's noise arguments; without (or of another
+    // size), no foam. Asynchronous: nothing waits for the GPU here.
     void run(const FrameParams& frame, const GpuImage& sceneColor, const GpuImage& sceneDepth, const GpuImage& depth,
-             const GpuImage& normals, const GpuImage& thickness, GpuImage& color);
+             const GpuImage& normals, const GpuImage& thickness, GpuImage& color, const GpuImage* noise = nullptr,
+             const NoiseParams* noiseParams = nullptr);
 
 private:
     Program program_;
-    static constexpr int kInputs = 5;  // scene colour and depth, depth, normals, thickness
-    Buffer dummy_;                     // read in place of an absent input (never used)
-    Texture inTex_[kInputs];           // buffer textures over the inputs (units 0..4)
-    Texture outTex_;                   // RGBA32F image buffer over the colour
-    FluidSegments segments_;           // of the depth (unit kInputs)
+    static constexpr int kInputs = 5;     // scene colour and depth, depth, normals, thickness
+    static constexpr int kNoiseUnit = 6;  // the noise: after the segment list (unit kInputs)
+    Buffer dummy_;                        // read in place of an absent input (never used)
+    Texture inTex_[kInputs];              // buffer textures over the inputs (units 0..4)
+    Texture noiseTex_;                    // over the noise (unit kNoiseUnit)
+    Texture outTex_;                      // RGBA32F image buffer over the colour
+    FluidSegments segments_;              // of the depth (unit kInputs)
 };
 
 }  // namespace meniscus::gl

@@ -25,6 +25,10 @@ public:
 
     // Uploads the particles (world positions, metres) for the next run().
     void uploadParticles(std::span<const glm::vec3> positionsWorld);
+    // The uploaded positions (packed xyz floats) and their count, for the
+    // stages that read them too (the surface noise): uploaded once per frame.
+    const Buffer& particleBuffer() const { return positions_; }
+    GLuint particleCount() const { return count_; }
 
     // depth (resized to the camera of `frame`): per pixel the nearest-hit eye
     // depth over the uploaded spheres, +inf where none; hits nearer than the

@@ -120,6 +120,8 @@ Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs) {
         add("N.Z", plane(aovs.normal, [](const glm::vec3& n) { return n.z; }));
     }
     if (!aovs.thickness.empty()) channels.push_back({"T", &aovs.thickness});
+    if (!aovs.noise.empty()) channels.push_back({"Noise", &aovs.noise});
+    if (!aovs.foam.empty()) channels.push_back({"foam", &aovs.foam});
 
     if (channels.empty()) return makeError(path.string(), "no image to write: every AOV is empty");
     return writeExr(path, channels);

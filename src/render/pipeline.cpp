@@ -1,11 +1,13 @@
 // The stage order of the screen-space pipeline (SPEC §1), in one place:
-//   scene -> depth splat + thickness (one pass) -> smoothing -> normals -> shading,
+//   scene -> depth splat + thickness (one pass) -> smoothing -> normals
+//         -> [surface noise: N and bumped normals] -> shading (+ foam),
 // or, on the mesh path (RenderSettings::mesh):
-//   scene -> depth splat + thickness -> rasterise the mesh -> shading.
+//   scene -> depth splat + thickness -> rasterise the mesh -> [noise] -> shading.
 // Each stage is one method of the backend (src/core/backend.h): one function
 // in src/cpu/ on the CPU, one shader stage in src/gl/ on the GL backend.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <exception>
 #include <limits>
@@ -14,10 +16,12 @@
 
 #include "core/backend.h"
 #include "core/frame_memory.h"
+#include "core/turbulence.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
 #include "shared/raster_mesh.h"
 #include "shared/studio.h"
+#include "shared/surface_noise.h"
 
 namespace meniscus {
 
@@ -81,16 +85,59 @@ Image<glm::vec4> thicknessView(const Image<float>& thickness) {
     return out;
 }
 
+// Signed noise: orange where N > 0, blue where N < 0, up to the 99th
+// percentile of |N| over the fluid; grey fluid where N = 0, dark elsewhere.
+Image<glm::vec4> noiseView(const Image<float>& noise, const Image<float>& depth) {
+    std::vector<float> values;
+    for (std::size_t i = 0; i < noise.size(); ++i)
+        if (depth.pixels[i] < kInf && noise.pixels[i] != 0.0f) values.push_back(std::fabs(noise.pixels[i]));
+    float top = 1.0f;
+    if (!values.empty()) {
+        auto k = values.begin() + std::ptrdiff_t(0.99 * double(values.size() - 1));
+        std::nth_element(values.begin(), k, values.end());
+        top = std::max(*k, 1e-30f);
+    }
+    Image<glm::vec4> out(noise.width, noise.height, glm::vec4(0.02f, 0.02f, 0.025f, 0.0f));
+    for (std::size_t i = 0; i < noise.size(); ++i) {
+        if (!(depth.pixels[i] < kInf)) continue;
+        const float u = std::clamp(noise.pixels[i] / top, -1.0f, 1.0f);
+        const glm::vec3 grey(0.18f), pos(1.0f, 0.45f, 0.05f), neg(0.05f, 0.35f, 1.0f);
+        out.pixels[i] = glm::vec4(glm::mix(grey, u > 0.0f ? pos : neg, std::fabs(u)), 1.0f);
+    }
+    return out;
+}
+
+// Foam cover as grey levels over the fluid (white = full foam).
+Image<glm::vec4> foamView(const Image<float>& foam, const Image<float>& depth) {
+    Image<glm::vec4> out(foam.width, foam.height, glm::vec4(0.02f, 0.02f, 0.025f, 0.0f));
+    for (std::size_t i = 0; i < foam.size(); ++i)
+        if (depth.pixels[i] < kInf) out.pixels[i] = glm::vec4(glm::vec3(0.03f + 0.97f * foam.pixels[i]), 1.0f);
+    return out;
+}
+
+// The foam AOV: the cover the shading laid over each fluid pixel.
+Image<float> foamCover(const Image<float>& noise, const NoiseParams& p) {
+    Image<float> out(noise.width, noise.height, 0.0f);
+    for (std::size_t i = 0; i < noise.size(); ++i)
+        out.pixels[i] = shared::noiseFoamCover(noise.pixels[i], p.foamThreshold, p.foamGain);
+    return out;
+}
+
 // Reads back what the output needs: every AOV, or (colorOnly) the colour or
 // the stages the debug view pictures.
-Aovs readAovs(Backend& b, View v, bool colorOnly) {
+Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noise) {
     const bool all = !colorOnly;
+    const bool noiseView = v == View::Noise || v == View::Foam;
     Aovs aovs;
     if (all || v == View::RawDepth) aovs.rawDepth = b.readScalar(Slot::RawDepth);
-    if (all || v == View::Depth || v == View::Normals) aovs.depth = b.readScalar(Slot::Depth);
+    if (all || v == View::Depth || v == View::Normals || noiseView) aovs.depth = b.readScalar(Slot::Depth);
     if (all || v == View::Thickness) aovs.thickness = b.readScalar(Slot::Thickness);
     if (all || v == View::Normals) aovs.normal = b.readVec3(Slot::Normal);
     if (all || v == View::Final) aovs.color = b.readColor(Slot::Color);
+    if (noise.enabled && (all || noiseView)) {
+        aovs.noise = b.readScalar(Slot::Noise);
+        aovs.foam = foamCover(aovs.noise, noise);
+    }
     return aovs;
 }
 
@@ -103,9 +150,11 @@ void applyView(View view, bool colorOnly, Aovs& aovs) {
         case View::RawDepth: aovs.color = depthView(aovs.rawDepth); break;
         case View::Normals: aovs.color = normalsView(aovs.normal, aovs.depth); break;
         case View::Thickness: aovs.color = thicknessView(aovs.thickness); break;
+        case View::Noise: aovs.color = noiseView(aovs.noise, aovs.depth); break;
+        case View::Foam: aovs.color = foamView(aovs.foam, aovs.depth); break;
     }
     if (colorOnly) {
-        aovs.depth = aovs.rawDepth = aovs.thickness = {};
+        aovs.depth = aovs.rawDepth = aovs.thickness = aovs.noise = aovs.foam = {};
         aovs.normal = {};
     }
 }
@@ -117,7 +166,9 @@ bool viewFromName(const std::string& name, View* out) {
                                                           {"depth", View::Depth},
                                                           {"raw-depth", View::RawDepth},
                                                           {"normals", View::Normals},
-                                                          {"thickness", View::Thickness}};
+                                                          {"thickness", View::Thickness},
+                                                          {"noise", View::Noise},
+                                                          {"foam", View::Foam}};
     for (const auto& [n, v] : kViews)
         if (name == n) {
             *out = v;
@@ -126,7 +177,7 @@ bool viewFromName(const std::string& name, View* out) {
     return false;
 }
 
-std::string viewNames() { return "final, depth, raw-depth, normals, thickness"; }
+std::string viewNames() { return "final, depth, raw-depth, normals, thickness, noise, foam"; }
 
 bool backendFromName(const std::string& name, BackendChoice* out) {
     static const std::pair<const char*, BackendChoice> kBackends[] = {
@@ -173,6 +224,34 @@ static_assert(defaults::kMaxImageSizePx <= shared::kRasterMaxSidePx,
 
 }  // namespace
 
+void Renderer::prepareNoise(const ParticleView& particles, const RenderSettings& s) {
+    const std::size_t n = particles.size();
+    noiseIdz_.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+        noiseIdz_[i] = shared::noiseIdCoordinate(particles.id.present() ? particles.id[i] : std::int64_t(i));
+    // Turbulence needs the particles matched by id between frames and their velocities.
+    if (!particles.id.present() || !particles.velocity.present() || s.frameIndex < 0) {
+        noiseAmplitude_.clear();
+        turbulenceFrame_ = -1;
+        return;
+    }
+    if (s.frameIndex == turbulenceFrame_ && noiseAmplitude_.size() == n) return;  // a redraw of the same frame
+    const TurbulenceParams& t = s.noise.turbulence;
+    if (!turbulence_ || !(turbulence_->params() == t)) {
+        turbulence_ = std::make_unique<TurbulenceTracker>(t);
+        turbulenceFrame_ = -1;
+    }
+    if (turbulenceFrame_ < 0 || s.frameIndex != turbulenceFrame_ + 1) turbulence_->reset();
+    std::vector<std::int64_t> ids(n);
+    std::vector<glm::vec3> velocities(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        ids[i] = particles.id[i];
+        velocities[i] = particles.velocity[i];
+    }
+    noiseAmplitude_ = turbulence_->update(ids, velocities);
+    turbulenceFrame_ = s.frameIndex;
+}
+
 Renderer::Renderer() : backend_(makeCpuBackend()) {}
 Renderer::Renderer(std::unique_ptr<Backend> backend) : backend_(std::move(backend)) {}
 Renderer::~Renderer() = default;
@@ -205,6 +284,11 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
     if (auto st = particles.validate(); !st) return st;
     if (s.mesh)
         if (auto st = checkMesh(*s.mesh); !st) return st;
+    if ((s.view == View::Noise || s.view == View::Foam) && !s.noise.enabled)
+        return makeError("", "the noise and foam views need the surface noise on (RenderSettings::noise.enabled)");
+    if (s.noise.enabled)
+        if (std::string bad = checkNoiseParams(s.noise); !bad.empty())
+            return makeError("", "RenderSettings::noise." + bad);
     // The backends read positions as one contiguous array: the caller's own
     // when the view is one, else gathered here (a strided view).
     std::span<const glm::vec3> positions;
@@ -224,6 +308,12 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
     f.shading = s.shading;
     f.particles = particles;
     f.mesh = s.mesh;
+    f.noise = s.noise;
+    if (s.noise.enabled) {
+        prepareNoise(particles, s);
+        f.noiseIdz = noiseIdz_;
+        f.noiseAmplitude = noiseAmplitude_;
+    }
     const Bounds box = s.scene.studioBounds.empty() ? computeBounds(positions) : s.scene.studioBounds;
     f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
     Backend& b = *backend_;
@@ -252,8 +342,11 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
         if (auto st = stage("smooth", [&] { b.smooth(Slot::RawDepth, Slot::Depth); }); !st) return st;
         if (auto st = stage("normals", [&] { b.normals(Slot::Depth, Slot::Normal); }); !st) return st;
     }
+    if (s.noise.enabled)
+        if (auto st = stage("noise", [&] { b.noise(Slot::Depth, Slot::Normal, Slot::Noise); }); !st) return st;
     return stage("shade", [&] {
-        b.shade(Slot::SceneColor, Slot::SceneDepth, Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Color);
+        b.shade(Slot::SceneColor, Slot::SceneDepth, Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Noise,
+                Slot::Color);
     });
 }
 
@@ -263,7 +356,7 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
         if (auto st = runStages(particles, s, timings); !st) return st.error();
         Backend& b = *backend_;
         const auto t0 = std::chrono::steady_clock::now();
-        Aovs aovs = readAovs(b, s.view, s.colorOnly);
+        Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise);
         if (auto st = b.stageStatus("readback"); !st) return st.error();
         const double readMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -280,7 +373,7 @@ Status Renderer::draw(const ParticleView& particles, const RenderSettings& s) {
     return guarded("drawing", [&]() -> Status {
         if (auto st = runStages(particles, s, nullptr); !st) return st;
         if (s.view == View::Final) return okStatus();  // the colour is already in its slot
-        Aovs aovs = readAovs(*backend_, s.view, true);
+        Aovs aovs = readAovs(*backend_, s.view, true, s.noise);
         applyView(s.view, true, aovs);
         backend_->writeColor(Slot::Color, std::move(aovs.color));
         return backend_->stageStatus("debug view");

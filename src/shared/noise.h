@@ -18,6 +18,7 @@
 #define MENISCUS_SHARED_NOISE_H
 
 #ifdef __cplusplus
+#include <bit>
 #include <cstdint>
 #include <glm/glm.hpp>
 namespace meniscus::shared {
@@ -25,14 +26,35 @@ using uint = std::uint32_t;
 using vec3 = glm::vec3;
 using ivec3 = glm::ivec3;
 using uvec3 = glm::uvec3;
-using glm::floor;
+// floor for |x| < 2^30 (noise3's range), exact, without the libm call a
+// baseline x86-64 build makes for std::floor (no SSE4.1 round).
+inline float noiseFloorF(float x) {
+    const float t = float(int(x));
+    return t > x ? t - 1.0f : t;
+}
+inline vec3 noiseFloor(vec3 p) { return vec3(noiseFloorF(p.x), noiseFloorF(p.y), noiseFloorF(p.z)); }
+// Bit-exact selects and sign flips without branches (the gradient's choice is
+// random per lattice point, so branches would mispredict half the time).
+inline float noiseSelect(bool c, float a, float b) {
+    const uint m = c ? ~0u : 0u;
+    return std::bit_cast<float>((std::bit_cast<uint>(a) & m) | (std::bit_cast<uint>(b) & ~m));
+}
+inline float noiseFlipSign(float a, uint bit) { return std::bit_cast<float>(std::bit_cast<uint>(a) ^ (bit << 31u)); }
 #define MENISCUS_NOISE_INLINE inline
 #define MENISCUS_NOISE_EXACT const  // C++: plain IEEE float arithmetic already
 #define MENISCUS_NOISE_EXACT_VAR
 #else
+// GLSL has a built-in noise3 (genType -> vec3, deprecated): a float noise3(vec3)
+// is an overload differing in return type only, which glslang rejects (Mesa
+// lets it hide the built-in). GLSL calls it by this name, unchanged in C++.
+#define noise3 meniscusNoise3
 #define MENISCUS_NOISE_INLINE
 #define MENISCUS_NOISE_EXACT precise
 #define MENISCUS_NOISE_EXACT_VAR precise
+#define noiseFloor floor
+#define noiseFloorF floor
+float noiseSelect(bool c, float a, float b) { return uintBitsToFloat((floatBitsToUint(a) & (c ? ~0u : 0u)) | (floatBitsToUint(b) & (c ? 0u : ~0u))); }
+float noiseFlipSign(float a, uint bit) { return uintBitsToFloat(floatBitsToUint(a) ^ (bit << 31u)); }
 #endif
 
 // pcg3d (Jarzynski & Olano 2020): three well-mixed 32-bit words from three.
@@ -52,10 +74,10 @@ MENISCUS_NOISE_INLINE uvec3 noiseHash3(uvec3 v) {
 // directions (1, 1, 0) ... (0, -1, -1), picked by the low four bits of h.
 MENISCUS_NOISE_INLINE float noiseGradient(uint h, float x, float y, float z) {
     uint c = h & 15u;
-    float u = c < 8u ? x : y;
-    float v = c < 4u ? y : (c == 12u || c == 14u ? x : z);
-    MENISCUS_NOISE_EXACT float su = (c & 1u) == 0u ? u : -u;
-    MENISCUS_NOISE_EXACT float sv = (c & 2u) == 0u ? v : -v;
+    float u = noiseSelect(c < 8u, x, y);
+    float v = noiseSelect(c < 4u, y, noiseSelect(c == 12u || c == 14u, x, z));
+    MENISCUS_NOISE_EXACT float su = noiseFlipSign(u, c & 1u);
+    MENISCUS_NOISE_EXACT float sv = noiseFlipSign(v, (c >> 1u) & 1u);
     MENISCUS_NOISE_EXACT float g = su + sv;
     return g;
 }
@@ -88,7 +110,7 @@ MENISCUS_NOISE_INLINE float noiseLerp(float a, float b, float t) {
 // must lie within +-2^30 (its lattice cell is an int; a caller maps particle
 // ids into that range, e.g. modulo 2^20).
 MENISCUS_NOISE_INLINE float noise3(vec3 p) {
-    vec3 cellF = floor(p);
+    vec3 cellF = noiseFloor(p);
     ivec3 cell = ivec3(cellF);
     MENISCUS_NOISE_EXACT vec3 f = p - cellF;
     MENISCUS_NOISE_EXACT float u = noiseFade(f.x);
@@ -107,16 +129,24 @@ MENISCUS_NOISE_INLINE float noise3(vec3 p) {
 // amplitude gain^k, divided by the sum of the amplitudes, so the result stays
 // within noise3's range. Each octave is shifted by a fixed offset so that the
 // lattice points of one (where it is 0) are not those of the next.
+// Octave k's term of fractalNoise3 at frequency and amplitude (lacunarity^k,
+// gain^k as the loop below multiplies them up). Separate so that a caller can
+// run the octaves outside a loop over points (the CPU's vectorised sprites)
+// and still add the same terms in the same order.
+MENISCUS_NOISE_INLINE float fractalNoiseTerm(vec3 p, int k, float frequency, float amplitude) {
+    MENISCUS_NOISE_EXACT float shift = 0.37f * float(k);
+    MENISCUS_NOISE_EXACT vec3 q = vec3(p.x * frequency + shift, p.y * frequency + shift, p.z * frequency + shift);
+    MENISCUS_NOISE_EXACT float t = amplitude * noise3(q);
+    return t;
+}
+
 MENISCUS_NOISE_INLINE float fractalNoise3(vec3 p, int octaves, float lacunarity, float gain) {
     MENISCUS_NOISE_EXACT_VAR float sum = 0.0f;
     MENISCUS_NOISE_EXACT_VAR float norm = 0.0f;
     MENISCUS_NOISE_EXACT_VAR float amplitude = 1.0f;
     MENISCUS_NOISE_EXACT_VAR float frequency = 1.0f;
     for (int k = 0; k < octaves; ++k) {
-        MENISCUS_NOISE_EXACT float shift = 0.37f * float(k);
-        MENISCUS_NOISE_EXACT vec3 q = vec3(p.x * frequency + shift, p.y * frequency + shift, p.z * frequency + shift);
-        MENISCUS_NOISE_EXACT float n = noise3(q);
-        sum = sum + amplitude * n;
+        sum = sum + fractalNoiseTerm(p, k, frequency, amplitude);
         norm = norm + amplitude;
         amplitude = amplitude * gain;
         frequency = frequency * lacunarity;

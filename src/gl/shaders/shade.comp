@@ -10,7 +10,9 @@
 // Schlick's Fresnel term, beta = refraction * T * f / z pixels, the background
 // sampled bilinearly with premultiplied alpha and the sky filling what the
 // scene leaves transparent; opaque materials mix toward a Lambert-lit fluid
-// colour and fade the mirror reflection.
+// colour and fade the mirror reflection. With the surface noise on (SPEC
+// §3.7, the patent's foam tint by |N|), foam of cover noiseFoamCover(N) is laid
+// over the result (src/shared/surface_noise.h), as the CPU's step 6.
 // Every operation follows the CPU's shadeBatch in the same order, `precise`
 // (no FMA contraction or reassociation). The one deliberate difference: exp
 // and log are the driver's built-ins where the CPU uses Cephes polynomials
@@ -22,6 +24,7 @@
 #include "frame_params.h"
 #include "shading.h"
 #include "sky.h"
+#include "surface_noise.h"
 
 layout(local_size_x = 64) in;
 
@@ -34,12 +37,17 @@ layout(binding = 2) uniform samplerBuffer depth;       // W*H fluid eye depth, +
 layout(binding = 3) uniform samplerBuffer normals;     // W*H*3 view space (R32F)
 layout(binding = 4) uniform samplerBuffer thickness;   // W*H metres
 layout(binding = 5) uniform isamplerBuffer uSegments;  // the fluid segments (fluid_segments.glsl)
+layout(binding = 6) uniform samplerBuffer noise;       // W*H surface noise N (when uFoam != 0)
 #include "fluid_segments.glsl"
 layout(rgba32f, binding = 0) writeonly uniform imageBuffer color;  // W*H linear RGBA
 
 layout(location = 1) uniform ivec3 uHas;         // scene, normals, thickness bound (image-sized)
 layout(location = 2) uniform float uNhMin;       // highlight skipped below this n·h (shared::highlightMinNh)
 layout(location = 3) uniform vec3 uSun;          // the sky's sun, unit world (shared::sunDirection of the light)
+layout(location = 4) uniform int uFoam;          // foam from the noise (NoiseParams' foam fields below)
+layout(location = 5) uniform float uFoamThreshold;
+layout(location = 6) uniform float uFoamGain;
+layout(location = 7) uniform vec3 uFoamColor;
 
 #define kInf uintBitsToFloat(0x7f800000u)
 
@@ -140,6 +148,11 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k) {
     if (nl > 0.0 && nh > uNhMin) {
         precise float spec = P.specular * exp(P.shininess * log(max(nh, 1e-30)));
         c = c + vec3(spec);
+    }
+    // 6. Foam over the liquid where the surface noise is strong (SPEC §3.7).
+    if (uFoam != 0) {
+        const float cover = noiseFoamCover(texelFetch(noise, k).x, uFoamThreshold, uFoamGain);
+        c = noiseWithFoam(c, cover, nl, uFoamColor, kOpaqueAmbient);
     }
     return c;
 }

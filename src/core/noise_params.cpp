@@ -1,0 +1,34 @@
+// checkNoiseParams (include/meniscus/params.h): the ranges the surface-noise
+// stage is written for (src/shared/surface_noise.h).
+#include <cmath>
+#include <string>
+
+#include "meniscus/params.h"
+
+namespace meniscus {
+
+namespace {
+bool within(float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+}  // namespace
+
+std::string checkNoiseParams(const NoiseParams& p) {
+    if (!within(p.spriteRadii, 0.25f, 16.0f)) return "spriteRadii: from 0.25 to 16 particle radii";
+    if (!within(p.sigma, 0.05f, 4.0f)) return "sigma: from 0.05 to 4 sprite radii";
+    if (!within(p.frequency, 0.0f, 64.0f)) return "frequency: from 0 to 64 cycles per sprite radius";
+    if (p.octaves < 1 || p.octaves > 6) return "octaves: from 1 to 6";
+    if (!within(p.lacunarity, 1.0f, 4.0f)) return "lacunarity: from 1 to 4";
+    if (!within(p.gain, 0.0f, 1.0f)) return "gain: from 0 to 1";
+    if (!within(p.depthFalloffRadii, 0.01f, 100.0f)) return "depthFalloffRadii: from 0.01 to 100 particle radii";
+    if (!within(p.bump, 0.0f, 100.0f)) return "bump: from 0 to 100 sprite radii";
+    if (!within(p.foamThreshold, 0.0f, 1000.0f)) return "foamThreshold: from 0 to 1000";
+    if (!within(p.foamGain, 0.0f, 1e6f)) return "foamGain: from 0 to 1e6";
+    for (int c = 0; c < 3; ++c)
+        if (!within(p.foamColor[c], 0.0f, 1e3f)) return "foamColor: linear RGB, each from 0 to 1000";
+    if (!within(p.turbulence.tauMps, 0.0f, 1e6f)) return "turbulence.tauMps: from 0 to 1e6 m/s";
+    if (!within(p.turbulence.boost, 1.0f, 100.0f)) return "turbulence.boost: from 1 to 100";
+    if (p.turbulence.holdFrames < 1 || p.turbulence.holdFrames > 100000)
+        return "turbulence.holdFrames: from 1 to 100000";
+    return {};
+}
+
+}  // namespace meniscus

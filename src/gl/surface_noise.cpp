@@ -1,0 +1,157 @@
+// GL surface noise, SPEC §3.7 (van der Laan, Green & Sainz, US 8,947,430,
+// eqs. 14-17): each particle whose front lies near the smoothed surface
+// splats a Gaussian sprite of fractal Perlin noise seeded by its id
+// (shaders/noise_splat.comp: the particles that count listed first, then one
+// invocation per listed sprite over its rectangle, fixed-point atomicAdd),
+// then one pass over the fluid pixels turns the sums into N and bumps the
+// normals by its gradient (shaders/noise_resolve.comp). Both follow
+// src/cpu/surface_noise.cpp through the shared formulas of
+// src/shared/surface_noise.h; the sums are integers, so the image is the
+// CPU's bit for bit whatever order the atomics land in. Sprites over 4096
+// pixels (near the camera) are spread over many invocations in a further,
+// indirect dispatch, as the depth splat does (see noise_splat.comp).
+#include "gl/surface_noise.h"
+
+#include <algorithm>
+
+#include "gl/dispatch.h"
+#include "gl/shaders.h"
+
+namespace meniscus::gl {
+
+namespace {
+constexpr GLuint kGroup = 64;  // local_size_x of noise_splat.comp
+// Work groups per large sprite in noise_splat.comp's pass 2 (as splat.cpp's):
+// 4096 invocations, so even a full-screen 4K sprite is ~2,000 pixels (x 7
+// loop iterations at 6 octaves) per invocation, below llvmpipe's cap of
+// 65,535 loop iterations per invocation.
+constexpr GLuint kBigGroups = 64;
+
+bool sized(const GpuImage& img, int w, int h, int c) {
+    return img.width == w && img.height == h && img.channels == c && img.buffer.id() != 0;
+}
+}  // namespace
+
+Result<SurfaceNoise> SurfaceNoise::create() {
+    SurfaceNoise s;
+    auto splat = loadComputeProgram("noise_splat.comp");
+    if (!splat) return splat.error();
+    auto resolve = loadComputeProgram("noise_resolve.comp");
+    if (!resolve) return resolve.error();
+    s.splat_ = std::move(*splat);
+    s.resolve_ = std::move(*resolve);
+    auto segments = FluidSegments::create();
+    if (!segments) return segments.error();
+    s.segments_ = std::move(*segments);
+    s.depthTex_ = makeTexture();
+    s.sumsTex_ = makeTexture();
+    s.normalsTex_ = makeTexture();
+    s.noiseTex_ = makeTexture();
+    return s;
+}
+
+void SurfaceNoise::run(const FrameParams& frame, const Camera& camera, const NoiseParams& p, const Buffer& positions,
+                       GLuint count, std::span<const float> idz, std::span<const float> amplitude,
+                       const GpuImage& depth, GpuImage& normals, GpuImage& noise) {
+    const int W = frame.size.x, H = frame.size.y;
+    noise.resize(W, H, 1);
+    if (W <= 0 || H <= 0) return;
+    if (!sized(depth, W, H, 1)) {  // as the CPU: N = 0, the normals untouched
+        noise.buffer.fill(noise.bytes(), 0u);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        return;
+    }
+    const GLuint pixels = GLuint(W) * GLuint(H);
+    // The CPU's host-side products, the same floats in the same order.
+    const float radius = frame.radius;
+    const float spriteM = p.spriteRadii * radius, falloffM = p.depthFalloffRadii * radius;
+    const float jump = defaults::kDepthJumpRadii * radius;
+    const float spriteF = p.spriteRadii * radius * camera.focalPx();
+
+    // Per particle (idz, amplitude) in one buffer, with the CPU's defaults.
+    staging_.resize(std::max<std::size_t>(count, 1));
+    const bool hasAmplitude = amplitude.size() == count;
+    for (GLuint i = 0; i < count; ++i)
+        staging_[i] = glm::vec2(i < idz.size() ? idz[i] : 0.0f, hasAmplitude ? amplitude[i] : 1.0f);
+    attributes_.upload(staging_.data(), GLsizeiptr(staging_.size() * sizeof(glm::vec2)));
+
+    // The sums and N start at 0 (the driver's fills, memsets on llvmpipe);
+    // the resolve writes only the fluid pixels' N.
+    const GLsizeiptr sumBytes = GLsizeiptr(pixels) * 4;
+    sums_.reserve(sumBytes);
+    sums_.fill(sumBytes, 0u);
+    noise.buffer.fill(noise.bytes(), 0u);
+    segments_.build(depth);  // the 8-pixel row segments with fluid, for the resolve
+    attachBufferTexture(depthTex_, GL_R32F, depth.buffer, depth.bytes());
+    attachBufferTexture(sumsTex_, GL_R32I, sums_, sumBytes);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_BUFFER, depthTex_.id());
+    if (count > 0) {
+        glUseProgram(splat_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions.id());
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, sums_.id(), 0, sumBytes);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, attributes_.id());
+        glUniform1ui(0, count);
+        glUniform1f(2, camera.nearM);
+        glUniform1f(3, spriteM);
+        glUniform1f(4, falloffM);
+        glUniform1f(5, p.frequency);
+        glUniform1i(6, p.octaves);
+        glUniform1f(7, p.lacunarity);
+        glUniform1f(8, p.gain);
+        glUniform1f(9, p.sigma);
+        // Pass 0: the culling, listing the sprites that count, with the
+        // indirect dispatches of pass 1 (x = listed / 64, 1, 1) and pass 2
+        // (kBigGroups, listed, 1).
+        const GLuint header[8] = {0, 1, 1, 0, kBigGroups, 0, 1, 0};
+        lists_.reserve(GLsizeiptr(sizeof header) + 2 * GLsizeiptr(count) * GLsizeiptr(sizeof(GLuint)));
+        glBindBuffer(GL_COPY_WRITE_BUFFER, lists_.id());
+        glBufferSubData(GL_COPY_WRITE_BUFFER, 0, sizeof header, header);
+        glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, lists_.id());
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glUniform1i(1, 0);
+        glDispatchCompute(gridGroups(count, kGroup), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+        // Pass 1: the listed sprites of up to 4096 pixels, one per invocation;
+        // pass 2: each listed larger one over kBigGroups work groups.
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, lists_.id());
+        glUniform1i(1, 1);
+        glDispatchComputeIndirect(0);
+        glUniform1i(1, 2);
+        glDispatchComputeIndirect(4 * sizeof(GLuint));
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    }
+
+    // Resolve, over the fluid pixels: N, and the normals bumped (even with no
+    // particle: a zero gradient still renormalises them, as on the CPU).
+    const bool bump = sized(normals, W, H, 3);
+    glUseProgram(resolve_.id());
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_BUFFER, sumsTex_.id());
+    if (bump) attachBufferTexture(normalsTex_, GL_R32F, normals.buffer, normals.bytes());
+    else attachBufferTexture(normalsTex_, GL_R32F, sums_, 4);  // never read nor written
+    attachBufferTexture(noiseTex_, GL_R32F, noise.buffer, noise.bytes());
+    glBindImageTexture(0, normalsTex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
+    glBindImageTexture(1, noiseTex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glUniform1i(1, bump ? 1 : 0);
+    glUniform1f(2, jump);
+    glUniform1f(3, spriteF);
+    glUniform1f(4, p.bump);
+    segments_.bindList(2);
+    segments_.dispatch();
+    glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
+    glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
+                    GL_TEXTURE_FETCH_BARRIER_BIT);
+    for (GLenum unit : {GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
+        glActiveTexture(unit);
+        glBindTexture(GL_TEXTURE_BUFFER, 0);
+    }
+    glUseProgram(0);
+}
+
+}  // namespace meniscus::gl
