@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Re-renders the README's pictures (docs/images/) on the CPU backend, the
 # reference: frame 21 of the 117,649-particle dam break at 640x360 with default
-# settings, each debug view, every filter and every material; the surface
+# settings, each debug view, every filter and every material; the velocity
+# whitening; the surface
 # noise (a close view of frame 21, and frames 17-21 of the small dam break in
 # ../shared/testdata as a sequence, for the turbulence); and the demo.
 # Look at them before committing.
@@ -15,6 +16,8 @@ render dambreak21_final
 for v in raw-depth depth normals thickness; do render "dambreak21_$v" --view "$v"; done
 for f in none gaussian bilateral binomial curvature-flow narrow-range; do render "filter_$f" --filter "$f"; done
 for m in murky milk lava sand; do render "material_$m" --material "$m"; done
+render whiten21 --whiten
+render whiten21_map --whiten --view whitening
 close=(--eye 0.2,1.1,1.5 --target 1.3,0.35,0)
 render noise_close_off "${close[@]}"
 render noise_close_on "${close[@]}" --noise

@@ -186,6 +186,37 @@ TEST(Cli, NoiseOptions) {
     EXPECT_FALSE(fs::exists(dir / "bad.png"));
 }
 
+// The velocity whitening: its view, its EXR channel, its parameters checked,
+// and a warning when the file has no velocities.
+TEST(Cli, WhiteningOptions) {
+    const fs::path dir = tempDir();
+    const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
+    const std::string base = "render " + quote(in) + " --width 96 --height 54 -o ";
+    std::string out;
+    for (const char* v : {"final", "whitening"})
+        EXPECT_EQ(runCli(base + quote(dir / "w.png") + " --whiten --view " + v, &out), 0) << v << out;
+    ASSERT_EQ(runCli(base + quote(dir / "w.exr") + " --whiten --whiten-threshold 1 --whiten-ramp 3 "
+                                                   "--whiten-strength 0.8 --noise",
+                     &out),
+              0)
+        << out;
+    const ExrData exr = readExr(dir / "w.exr");
+    EXPECT_NE(std::find(exr.names.begin(), exr.names.end(), "whitening"), exr.names.end());
+    EXPECT_EQ(runCli(base + quote(dir / "bad.png") + " --view whitening", &out), 1);
+    EXPECT_NE(out.find("--whiten"), std::string::npos) << out;
+    EXPECT_EQ(runCli(base + quote(dir / "bad.png") + " --whiten --whiten-ramp 0", &out), 1);
+    EXPECT_NE(out.find("rampMps"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "bad.png"));
+    // Positions only: said, and rendered unwhitened.
+    writeText(dir / "p.xyz", "0 0 0\n0.05 0 0\n0 0.05 0\n");
+    ASSERT_EQ(runCli("render " + quote(dir / "p.xyz") + " --width 32 --height 18 --radius 0.03 --whiten -o " +
+                         quote(dir / "p.png"),
+                     &out),
+              0)
+        << out;
+    EXPECT_NE(out.find("no velocity attribute"), std::string::npos) << out;
+}
+
 TEST(Cli, DemoNeedsNoInput) {
     const fs::path dir = tempDir();
     std::string out;

@@ -2,6 +2,7 @@
 // reference cpu::shadeAndComposite, on the real frame's CPU AOVs (scene layer,
 // smoothed depth, normals, thickness) uploaded as the inputs: water, lava and
 // every other preset, the background off, foam from a surface noise image,
+// white water from a velocity whitening map (with and without foam),
 // and the edge cases: no fluid, no scene, fluid hidden behind the scene,
 // missing normals / thickness.
 // Skips only when no headless GL 4.3 context can be created at all.
@@ -98,10 +99,12 @@ struct ShadeDiff {
 };
 
 // GL inputs: empty images stay un-uploaded (absent), as the CPU's empty Images.
-// With `noise` (and `noiseParams`): foam from that surface noise on both sides.
+// With `noise` (and `noiseParams`): foam from that surface noise on both sides;
+// with `whitening` (and `whiteningParams`): white water from that map.
 ShadeDiff compareWithCpu(const Camera& cam, float r, const cpu::SceneLayer& scene, const Image<float>& depth,
                          const Image<glm::vec3>& normals, const Image<float>& thickness, const ShadingParams& shading,
-                         const Image<float>* noise = nullptr, const NoiseParams* noiseParams = nullptr) {
+                         const Image<float>* noise = nullptr, const NoiseParams* noiseParams = nullptr,
+                         const Image<float>* whitening = nullptr, const WhiteningParams* whiteningParams = nullptr) {
     ShadeDiff d;
     auto shader = gl::Shading::create();
     EXPECT_TRUE(shader.ok()) << shader.error().describe();
@@ -109,17 +112,19 @@ ShadeDiff compareWithCpu(const Camera& cam, float r, const cpu::SceneLayer& scen
     const gl::FrameParams p = gl::packFrameParams(cam, r, FilterParams{}, ThicknessParams{}, shading);
     gl::FrameParamsBlock block;
     block.upload(p);
-    gl::GpuImage sc, sd, z, n, t, out, nz;
+    gl::GpuImage sc, sd, z, n, t, out, nz, wm;
     if (!scene.color.empty()) sc.upload(scene.color);
     if (!scene.depth.empty()) sd.upload(scene.depth);
     z.upload(depth);
     if (!normals.empty()) n.upload(normals);
     if (!thickness.empty()) t.upload(thickness);
     if (noise) nz.upload(*noise);
-    shader->run(p, sc, sd, z, n, t, out, noise ? &nz : nullptr, noiseParams);
+    if (whitening) wm.upload(*whitening);
+    shader->run(p, sc, sd, z, n, t, out, noise ? &nz : nullptr, noiseParams, whitening ? &wm : nullptr,
+                whiteningParams);
     d.gl = out.download<glm::vec4>();
-    const Image<glm::vec4> ref =
-        cpu::shadeAndComposite(cam, scene, depth, normals, thickness, shading, noise, noiseParams);
+    const Image<glm::vec4> ref = cpu::shadeAndComposite(cam, scene, depth, normals, thickness, shading, noise,
+                                                        noiseParams, whitening, whiteningParams);
     d.color = compareColor(ref, d.gl);
     const bool hasScene = scene.depth.width == depth.width && scene.depth.height == depth.height;
     for (std::size_t k = 0; k < ref.size() && k < d.gl.size(); ++k) {
@@ -293,5 +298,42 @@ TEST_F(GlShading, FoamMatchesCpu) {
         const ShadeDiff plain =
             compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, preset(name));
         EXPECT_GT(compareColor(plain.gl, d.gl).maxSteps, 20) << name;
+    }
+}
+
+TEST_F(GlShading, WhiteWaterMatchesCpu) {
+    // White water over the shaded fluid (SPEC §3.7, Instant Liquids §4) from a
+    // synthetic whitening map: stripes from 0 to 1, so the cover runs from none
+    // to the full strength; alone and over the foam of FoamMatchesCpu.
+    const RealAovs& a = real320();
+    ASSERT_FALSE(a.aovs.depth.empty());
+    Image<float> map(a.camera.width, a.camera.height, 0.0f), noise = map;
+    for (int y = 0; y < map.height; ++y)
+        for (int x = 0; x < map.width; ++x) {
+            map.at(x, y) = 0.5f + 0.5f * std::sin(0.05f * float(x) - 0.13f * float(y));
+            noise.at(x, y) = 0.5f * std::sin(0.11f * float(x) + 0.07f * float(y));
+        }
+    WhiteningParams wp;
+    wp.enabled = true;
+    wp.strength = 0.8f;
+    wp.color = {0.95f, 0.9f, 0.85f};
+    NoiseParams np;
+    for (const char* name : {"water", "lava"}) {
+        const ShadeDiff d = compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness,
+                                           preset(name), nullptr, nullptr, &map, &wp);
+        expectWithinTolerance(d, a.aovs.depth.size(), std::string("white water, ") + name);
+        const ShadeDiff both = compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal,
+                                              a.aovs.thickness, preset(name), &noise, &np, &map, &wp);
+        expectWithinTolerance(both, a.aovs.depth.size(), std::string("foam and white water, ") + name);
+        // The white water shows: the image differs from the one without it.
+        const ShadeDiff plain =
+            compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, preset(name));
+        EXPECT_GT(compareColor(plain.gl, d.gl).maxSteps, 20) << name;
+        // A map of another size counts as absent, on both sides.
+        const Image<float> small(8, 8, 1.0f);
+        const ShadeDiff none = compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal,
+                                              a.aovs.thickness, preset(name), nullptr, nullptr, &small, &wp);
+        expectWithinTolerance(none, a.aovs.depth.size(), std::string("white water of another size, ") + name);
+        EXPECT_EQ(compareColor(plain.gl, none.gl).maxSteps, 0) << name;
     }
 }

@@ -29,7 +29,8 @@ namespace fs = std::filesystem;
 
 // Every look that has a golden: the filters (file frame21_<filter>.png) and
 // the materials other than the default water (frame21_material_<name>.png),
-// and the surface noise and foam (frame21_noise.png).
+// the surface noise and foam (frame21_noise.png) and the velocity whitening
+// (frame21_whiten.png).
 struct Look {
     std::string file;  // golden file name without .png
     std::string args;  // CLI arguments that select it
@@ -47,6 +48,7 @@ const Look kLooks[] = {
     {"frame21_material_lava", "--material lava"},
     {"frame21_material_sand", "--material sand"},
     {"frame21_noise", "--noise"},
+    {"frame21_whiten", "--whiten"},
 };
 
 class Golden : public testing::TestWithParam<std::tuple<std::string, int>> {};

@@ -97,7 +97,8 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
                         "bulk number density; docs/radius.md)");
     cmd->add_option("--view", o.view,
                     "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
-                    "smoothing), normals, thickness, noise (surface noise N), foam (foam cover)")
+                    "smoothing), normals, thickness, noise (surface noise N), foam (foam cover), whitening (velocity "
+                    "whitening map)")
         ->capture_default_str();
     cmd->add_option("--filter", o.filter, "Depth smoothing: " + filterNames())->capture_default_str();
     cmd->add_option("--iterations", o.iterations,
@@ -123,6 +124,13 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     cmd->add_option("--turbulence-tau", q.turbulence.tauMps,
                     "Velocity change between frames, m/s, above which a particle's noise is rougher for a while")
         ->capture_default_str();
+    WhiteningParams& w = o.whitening;
+    cmd->add_flag("--whiten", o.whiten,
+                  "Velocity whitening: fast water turns white (uses the files' velocity attribute)");
+    cmd->add_option("--whiten-threshold", w.thresholdMps, "Speed where whitening starts, m/s")->capture_default_str();
+    cmd->add_option("--whiten-ramp", w.rampMps, "Speed range over which whitening rises to full, m/s")
+        ->capture_default_str();
+    cmd->add_option("--whiten-strength", w.strength, "White cover at full whitening, 0 to 1")->capture_default_str();
 }
 
 void addBackendOption(CLI::App* cmd, RenderOptions& o) {
@@ -154,6 +162,12 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
         if (std::string bad = checkNoiseParams(s.noise); !bad.empty()) return makeError("", "--noise: " + bad);
     if ((s.view == View::Noise || s.view == View::Foam) && !o.noise)
         return makeError("", "--view " + o.view + " shows the surface noise: add --noise");
+    s.whitening = o.whitening;
+    s.whitening.enabled = o.whiten;
+    if (o.whiten)
+        if (std::string bad = checkWhiteningParams(s.whitening); !bad.empty()) return makeError("", "--whiten: " + bad);
+    if (s.view == View::Whitening && !o.whiten)
+        return makeError("", "--view whitening shows the velocity whitening: add --whiten");
     if (!(o.radius >= 0.0f)) return makeError("", "--radius must be a positive number of metres");
     if (o.radius != 0.0f)
         if (auto st = checkRadius(o.radius); !st) return makeError("", "--radius: " + st.error().message);

@@ -53,6 +53,9 @@ struct RenderOptions {
     // Surface noise and foam (SPEC §3.7): off unless --noise.
     bool noise = false;
     NoiseParams noiseParams;
+    // Velocity whitening (SPEC §3.7): off unless --whiten.
+    bool whiten = false;
+    WhiteningParams whitening;
     std::string surface = "screen";  // screen (splat + smoothing) or mesh (the isosurface path)
     MesherOptions mesher;
 };

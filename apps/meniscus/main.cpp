@@ -136,6 +136,10 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
             mesh = std::move(*made);
             settings.mesh = &mesh;
         }
+        if (i == 0 && o.whiten && !ParticleView::of(*set).velocity.present())
+            std::cerr << "meniscus: warning: "
+                      << (frames->embedded ? std::string("the demo frame") : frames->files[0].string())
+                      << " has no velocity attribute: --whiten leaves the colour as it is\n";
         settings.frameIndex = std::int64_t(i);  // the noise's turbulence compares consecutive frames
         auto aovs = renderer.render(ParticleView::of(*set), settings);
         settings.mesh = nullptr;

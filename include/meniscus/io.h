@@ -117,6 +117,7 @@ struct Aovs {
     Image<float> thickness;    // metres                                 -> T
     Image<float> noise;        // surface noise N, 0 = none (with noise on) -> Noise
     Image<float> foam;         // foam cover in [0, 1] (with noise on)    -> foam
+    Image<float> whitening;    // velocity whitening map in [0, 1] (with it on) -> whitening
 };
 Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs);
 

@@ -199,6 +199,28 @@ struct NoiseParams {
 // The first parameter out of range, as "field: what is allowed"; empty when all are fine.
 std::string checkNoiseParams(const NoiseParams& p);
 
+// ---- Velocity whitening (SPEC §3.7) -----------------------------------------
+
+// Instant Liquids' velocity map (Cords & Staadt 2008, §4): fast water is
+// aerated and looks whiter. Each particle near the surface splats its
+// whiteness clamp((|v| - threshold) / ramp, 0, 1) with the noise's kind of
+// sprite (Gaussian, weighted by its depth below the surface); the map is the
+// weighted mean, and the shading lays `strength` times that of lit white over
+// the liquid. Needs the particles' velocities. Off unless enabled (--whiten).
+struct WhiteningParams {
+    bool enabled = false;
+    float thresholdMps = 2.5f;       // speed where whitening starts, m/s (a dam break's bulk runs at 2-3)
+    float rampMps = 2.0f;            // speed range over which it rises to full, m/s (> 0)
+    float strength = 0.6f;           // white cover at full whitening, 0..1
+    glm::vec3 color{0.86f, 0.89f, 0.92f};  // linear RGB of lit white water
+    float spriteRadii = 2.0f;        // sprite radius, particle radii
+    float sigma = 0.4f;              // the sprite's Gaussian sigma, sprite radii (cut at 1)
+    float depthFalloffRadii = 1.0f;  // depth below the surface where the weight is 1/e, radii
+};
+
+// The first parameter out of range, as "field: what is allowed"; empty when all are fine.
+std::string checkWhiteningParams(const WhiteningParams& p);
+
 // ---- Scene (SPEC §3.1) ---------------------------------------------------------
 
 struct SceneParams {

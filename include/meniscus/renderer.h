@@ -20,10 +20,10 @@ namespace meniscus {
 
 // What the colour AOV (and so the PNG) shows: the shaded, composited image or
 // a picture of one intermediate stage for a person to look at.
-enum class View { Final, Depth, RawDepth, Normals, Thickness, Noise, Foam };
+enum class View { Final, Depth, RawDepth, Normals, Thickness, Noise, Foam, Whitening };
 
-// CLI names: final, depth, raw-depth, normals, thickness, noise, foam (the
-// last two need RenderSettings::noise enabled).
+// CLI names: final, depth, raw-depth, normals, thickness, noise, foam (these
+// two need RenderSettings::noise enabled), whitening (RenderSettings::whitening).
 bool viewFromName(const std::string& name, View* out);
 std::string viewNames();
 
@@ -40,6 +40,10 @@ struct RenderSettings {
     // when absent); with ids and velocities and a frameIndex, particles whose
     // velocity jumped since the previous frame get rougher noise for a while.
     NoiseParams noise;
+    // Velocity whitening (SPEC §3.7, Instant Liquids §4): off unless
+    // whitening.enabled; reads the particles' `velocity` attribute (without
+    // it nothing is whitened).
+    WhiteningParams whitening;
     // This frame's index in its sequence, for the turbulence of the noise: the
     // renderer remembers the velocities of the last frame it rendered, and
     // compares when this index is the next one (a redraw of the same index
@@ -135,7 +139,7 @@ private:
     void prepareNoise(const ParticleView& particles, const RenderSettings& settings);
     std::unique_ptr<Backend> backend_;
     std::vector<glm::vec3> gathered_;  // positions of a strided view, made contiguous for the backend
-    std::vector<float> noiseIdz_, noiseAmplitude_;
+    std::vector<float> noiseIdz_, noiseAmplitude_, whiteness_;
     std::unique_ptr<TurbulenceTracker> turbulence_;
     std::int64_t turbulenceFrame_ = -1;  // the frameIndex noiseAmplitude_ belongs to; -1 = none
 };

@@ -25,8 +25,8 @@
 namespace meniscus {
 
 // Opaque handles of the images one frame passes between stages.
-enum class Slot { SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Noise, Color };
-inline constexpr int kSlotCount = 8;
+enum class Slot { SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Noise, Whitening, Color };
+inline constexpr int kSlotCount = 9;
 
 // Everything the stages read besides images, resolved once per frame.
 struct FrameSettings {
@@ -42,6 +42,11 @@ struct FrameSettings {
     NoiseParams noise;
     std::span<const float> noiseIdz;
     std::span<const float> noiseAmplitude;
+    // The velocity whitening (SPEC §3.7): when enabled, the whitening stage
+    // runs and the shading lays white by its map. Per particle (this frame
+    // only): its whiteness (shared::whitenessOfSpeed; empty: 0).
+    WhiteningParams whitening;
+    std::span<const float> whiteness;
     shared::Studio studio;
     // The particles' views (attributes for the stages that read them; the
     // positions also come contiguous as beginFrame's argument). Valid for
@@ -80,10 +85,14 @@ public:
     // The surface noise N (cpu::splatNoise) of the particles near the surface
     // `depth`, and the normals bumped by its gradient in place (cpu::bumpNormals).
     virtual void noise(Slot depth, Slot normal, Slot noise) = 0;
+    // The velocity whitening map of the particles near the surface `depth`
+    // (cpu::splatWhitening).
+    virtual void whitening(Slot depth, Slot whitening) = 0;
     // Shading and compositing over the scene (cpu::shadeAndComposite), with
-    // foam from the noise slot when FrameSettings::noise is enabled.
+    // foam from the noise slot when FrameSettings::noise is enabled and white
+    // water from the whitening slot when FrameSettings::whitening is.
     virtual void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
-                       Slot color) = 0;
+                       Slot whitening, Slot color) = 0;
 
     // Whether the stage just run (or the read-back) failed: OK, or an error
     // naming `stage` and what went wrong (GL: a GL error, GPU memory, a lost

@@ -1,5 +1,6 @@
-// checkNoiseParams (include/meniscus/params.h): the ranges the surface-noise
-// stage is written for (src/shared/surface_noise.h).
+// checkNoiseParams and checkWhiteningParams (include/meniscus/params.h): the
+// ranges the surface-noise and whitening stages are written for
+// (src/shared/surface_noise.h, velocity_map.h).
 #include <cmath>
 #include <string>
 
@@ -28,6 +29,18 @@ std::string checkNoiseParams(const NoiseParams& p) {
     if (!within(p.turbulence.boost, 1.0f, 100.0f)) return "turbulence.boost: from 1 to 100";
     if (p.turbulence.holdFrames < 1 || p.turbulence.holdFrames > 100000)
         return "turbulence.holdFrames: from 1 to 100000";
+    return {};
+}
+
+std::string checkWhiteningParams(const WhiteningParams& p) {
+    if (!within(p.thresholdMps, 0.0f, 1e6f)) return "thresholdMps: from 0 to 1e6 m/s";
+    if (!within(p.rampMps, 1e-6f, 1e6f)) return "rampMps: from 1e-6 to 1e6 m/s";
+    if (!within(p.strength, 0.0f, 1.0f)) return "strength: from 0 to 1";
+    for (int c = 0; c < 3; ++c)
+        if (!within(p.color[c], 0.0f, 1e3f)) return "color: linear RGB, each from 0 to 1000";
+    if (!within(p.spriteRadii, 0.25f, 16.0f)) return "spriteRadii: from 0.25 to 16 particle radii";
+    if (!within(p.sigma, 0.05f, 4.0f)) return "sigma: from 0.05 to 4 sprite radii";
+    if (!within(p.depthFalloffRadii, 0.01f, 100.0f)) return "depthFalloffRadii: from 0.01 to 100 particle radii";
     return {};
 }
 

@@ -9,6 +9,7 @@
 #include "cpu/scene.h"
 #include "cpu/shading.h"
 #include "cpu/surface_noise.h"
+#include "cpu/velocity_map.h"
 #include "cpu/thickness.h"
 
 namespace meniscus {
@@ -65,8 +66,13 @@ public:
         cpu::bumpNormals(s_.camera, s_.radius, scalar(depth), scalars_[int(noise)], s_.noise, vec3s_[int(normal)]);
     }
 
+    void whitening(Slot depth, Slot whitening) override {
+        scalars_[int(whitening)] =
+            cpu::splatWhitening(s_.camera, positions_, s_.radius, scalar(depth), s_.whiteness, s_.whitening);
+    }
+
     void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
-               Slot color) override {
+               Slot whitening, Slot color) override {
         // shadeAndComposite reads the scene as one layer: the cached cast when
         // the slots name it (always, in the pipeline), else a copy.
         const cpu::SceneLayer* scene = &scene_;
@@ -77,7 +83,9 @@ public:
         }
         colors_[int(color)] = cpu::shadeAndComposite(s_.camera, *scene, scalar(depth), vec3s_[int(normal)],
                                                      scalar(thickness), s_.shading,
-                                                     s_.noise.enabled ? &scalar(noise) : nullptr, &s_.noise);
+                                                     s_.noise.enabled ? &scalar(noise) : nullptr, &s_.noise,
+                                                     s_.whitening.enabled ? &scalar(whitening) : nullptr,
+                                                     &s_.whitening);
     }
 
     Status stageStatus(const char*) override { return okStatus(); }

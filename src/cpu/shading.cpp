@@ -122,11 +122,14 @@ struct Setup {
     const Image<float>* depth;
     const Image<glm::vec3>* normals;
     const Image<float>* thickness;
-    const Image<float>* noise;  // null: no foam
+    const Image<float>* noise;      // null: no foam
+    const Image<float>* whitening;  // null: no white water
     Image<glm::vec4>* out;
     bool hasScene, hasNormals, hasThickness;
     float foamThreshold, foamGain;
     glm::vec3 foamColor;
+    float whiteStrength;
+    glm::vec3 whiteColor;
     const float* rx;  // view ray x per column (z = -1)
     const float* ry;  // view ray y per row
     float f;          // focal length, pixels
@@ -150,7 +153,8 @@ struct Batch {
     float kr[kBatch], kg[kBatch], kb[kBatch];  // sky along the view ray
     float nl[kBatch], nh[kBatch];
     float cr[kBatch], cg[kBatch], cb[kBatch];
-    float foam[kBatch];  // foam cover (shared::noiseFoamCover), 0 without noise
+    float foam[kBatch];   // foam cover (shared::noiseFoamCover), 0 without noise
+    float white[kBatch];  // white-water cover (strength * the whitening map), 0 without it
 };
 
 // Shades a batch of n fluid pixels of row y: branch-free loops over the
@@ -294,6 +298,17 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
             B.cb[i] = c.z;
         }
     }
+    // 7. White water where the surface is fast (SPEC §3.7, Instant Liquids §4),
+    // lit like the foam.
+    if (S.whitening) {
+        for (int i = 0; i < n; ++i) {
+            const glm::vec3 c = shared::noiseWithFoam(glm::vec3(B.cr[i], B.cg[i], B.cb[i]), B.white[i], B.nl[i],
+                                                      S.whiteColor, kOpaqueAmbient);
+            B.cr[i] = c.x;
+            B.cg[i] = c.y;
+            B.cb[i] = c.z;
+        }
+    }
 }
 
 void shadeRow(const Setup& S, int y, Batch& B) {
@@ -341,6 +356,7 @@ void shadeRow(const Setup& S, int y, Batch& B) {
             B.foam[i] = S.noise ? shared::noiseFoamCover(S.noise->pixels[row + std::size_t(xi)], S.foamThreshold,
                                                          S.foamGain)
                                 : 0.0f;
+            B.white[i] = S.whitening ? S.whiteStrength * S.whitening->pixels[row + std::size_t(xi)] : 0.0f;
         }
         shadeBatch(S, y, n, B);
         for (int i = 0; i < n; ++i) out[B.x[i]] = glm::vec4(B.cr[i], B.cg[i], B.cb[i], 1.0f);
@@ -352,7 +368,8 @@ void shadeRow(const Setup& S, int y, Batch& B) {
 Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene, const Image<float>& depth,
                                    const Image<glm::vec3>& normals, const Image<float>& thickness,
                                    const ShadingParams& params, const Image<float>* noise,
-                                   const NoiseParams* noiseParams) {
+                                   const NoiseParams* noiseParams, const Image<float>* whitening,
+                                   const WhiteningParams* whiteningParams) {
     const int w = depth.width, h = depth.height;
     if (w <= 0 || h <= 0) return Image<glm::vec4>(w, h, glm::vec4(0.0f));
     // (std::vector zero-fills here; each row is then overwritten in parallel:
@@ -377,6 +394,9 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
     S.foamThreshold = noiseParams ? noiseParams->foamThreshold : 0.0f;
     S.foamGain = noiseParams ? noiseParams->foamGain : 0.0f;
     S.foamColor = noiseParams ? noiseParams->foamColor : glm::vec3(0.0f);
+    S.whitening = whitening && whiteningParams && whitening->width == w && whitening->height == h ? whitening : nullptr;
+    S.whiteStrength = whiteningParams ? whiteningParams->strength : 0.0f;
+    S.whiteColor = whiteningParams ? whiteningParams->color : glm::vec3(0.0f);
 
     const Material& m = params.material;
     S.f = camera.focalPx();

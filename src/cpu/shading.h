@@ -26,10 +26,14 @@ inline float schlickFresnel(float f0, float cosTheta) {
 // the scene is transparent (no background), refraction samples the sky.
 // Bit-identical for any thread count.
 // With `noise` (the surface noise N, SPEC §3.7) and its parameters, foam of
-// cover shared::noiseFoamCover(N) is laid over the shaded fluid.
+// cover shared::noiseFoamCover(N) is laid over the shaded fluid; with
+// `whitening` (the velocity whitening map) and its parameters, then white
+// water of cover strength * map.
 Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene,
                                    const Image<float>& depth, const Image<glm::vec3>& normals,
                                    const Image<float>& thickness, const ShadingParams& params,
-                                   const Image<float>* noise = nullptr, const NoiseParams* noiseParams = nullptr);
+                                   const Image<float>* noise = nullptr, const NoiseParams* noiseParams = nullptr,
+                                   const Image<float>* whitening = nullptr,
+                                   const WhiteningParams* whiteningParams = nullptr);
 
 }  // namespace meniscus::cpu

@@ -3,10 +3,9 @@
 // splats a Gaussian sprite of fractal Perlin noise seeded by its id; the sum
 // N(x, y) bumps the normals and, in the shading, tints foam.
 //
-// Parallel scheme: one pass over the particles finds those whose weight
-// counts (their depth below the surface sampled at their projected centre)
-// and their sprites, which are then binned into fixed screen tiles and summed
-// one tile per task. The sums are integers (fixed point), so the image does
+// Parallel scheme: the sprites of the particles whose weight counts (their
+// depth below the surface sampled at their projected centre), binned into
+// fixed screen tiles (surface_sprites.cpp), are summed one tile per task. The sums are integers (fixed point), so the image does
 // not depend on the order or the thread count, and the GL twin, adding with
 // atomics in any order, gets the same bits.
 #include "cpu/surface_noise.h"
@@ -19,12 +18,13 @@
 #include <tbb/parallel_for.h>
 
 #include "cpu/filter_util.h"
+#include "cpu/surface_sprites.h"
 #include "shared/surface_noise.h"
 
 namespace meniscus::cpu {
 
 namespace {
-constexpr int kTile = 32;
+constexpr int kTile = kSpriteTilePx;
 
 struct Sprite {
     shared::NoiseSprite sprite;
@@ -80,58 +80,18 @@ Image<float> splatNoise(const Camera& camera, std::span<const glm::vec3> positio
     const int W = camera.width, H = camera.height;
     Image<float> out(W, H, 0.0f);
     if (depth.width != W || depth.height != H) return out;
-    const std::size_t n = positionsWorld.size();
-    const glm::vec3 right = camera.right(), up = camera.trueUp(), back = camera.back(), eye = camera.eye;
-    const float f = camera.focalPx();
-    const float spriteM = p.spriteRadii * radius, falloffM = p.depthFalloffRadii * radius;
-
-    // 1. Each particle's sprite and weight (independent per particle).
-    std::vector<Sprite> all(n);
-    std::vector<std::uint8_t> on(n, 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            const glm::vec3 d = positionsWorld[i] - eye;
-            const glm::vec3 c{glm::dot(d, right), glm::dot(d, up), glm::dot(d, back)};
-            const float z = -c.z;
-            if (!(z > camera.nearM)) continue;
-            const shared::NoiseSprite s = shared::noiseSprite(c, f, W, H, spriteM);
-            if (s.rect.x >= s.rect.z || s.rect.y >= s.rect.w) continue;
-            const float fx = std::floor(s.centre.x), fy = std::floor(s.centre.y);
-            if (!(fx >= 0.0f && fx < float(W) && fy >= 0.0f && fy < float(H))) continue;  // centre off screen
-            const float a = amplitude.size() == n ? amplitude[i] : 1.0f;
-            const float w = shared::noiseParticleWeight(z, depth.at(int(fx), int(fy)), radius, falloffM, a);
-            if (!(w >= shared::kNoiseMinWeight)) continue;
-            all[i] = {s, w, i < idz.size() ? idz[i] : 0.0f};
-            on[i] = 1;
-        }
-    });
-
-    // 2. The counted sprites binned per tile (any order would do: sums are exact).
-    const int tilesX = (W + kTile - 1) / kTile, tilesY = (H + kTile - 1) / kTile;
-    const std::size_t tiles = std::size_t(tilesX) * std::size_t(tilesY);
-    std::vector<std::uint32_t> start(tiles + 1, 0), items;
-    auto forTiles = [&](const glm::ivec4& r, auto&& fn) {
-        for (int ty = r.y / kTile; ty <= (r.w - 1) / kTile; ++ty)
-            for (int tx = r.x / kTile; tx <= (r.z - 1) / kTile; ++tx) fn(std::size_t(ty) * tilesX + tx);
-    };
-    for (std::size_t i = 0; i < n; ++i)
-        if (on[i]) forTiles(all[i].sprite.rect, [&](std::size_t t) { ++start[t + 1]; });
-    for (std::size_t t = 0; t < tiles; ++t) start[t + 1] += start[t];
-    items.resize(start[tiles]);
-    {
-        std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
-        for (std::size_t i = 0; i < n; ++i)
-            if (on[i]) forTiles(all[i].sprite.rect, [&](std::size_t t) { items[next[t]++] = std::uint32_t(i); });
-    }
-
-    // 3. One tile per task: 32-bit wrap-around sums (the GL atomics' arithmetic).
+    const SurfaceSprites sprites =
+        findSurfaceSprites(camera, positionsWorld, radius, depth, amplitude, p.spriteRadii, p.depthFalloffRadii);
+    // One tile per task: 32-bit wrap-around sums (the GL atomics' arithmetic).
+    const std::size_t tiles = sprites.start.size() - 1;
     tbb::parallel_for(std::size_t(0), tiles, [&](std::size_t t) {
-        if (start[t] == start[t + 1]) return;
-        const int x0 = int(t % std::size_t(tilesX)) * kTile, y0 = int(t / std::size_t(tilesX)) * kTile;
-        const int x1 = std::min(W, x0 + kTile), y1 = std::min(H, y0 + kTile);
+        if (sprites.start[t] == sprites.start[t + 1]) return;
+        const glm::ivec4 tile = spriteTileRect(sprites, t, W, H);
+        const int x0 = tile.x, y0 = tile.y, x1 = tile.z, y1 = tile.w;
         std::uint32_t sum[kTile * kTile] = {};
-        for (std::uint32_t k = start[t]; k < start[t + 1]; ++k) {
-            const Sprite& s = all[items[k]];
+        for (std::uint32_t k = sprites.start[t]; k < sprites.start[t + 1]; ++k) {
+            const std::uint32_t i = sprites.items[k];
+            const Sprite s{sprites.sprite[i], sprites.weight[i], i < idz.size() ? idz[i] : 0.0f};
             const int ax = std::max(x0, s.sprite.rect.x), bx = std::min(x1, s.sprite.rect.z);
             const int ay = std::max(y0, s.sprite.rect.y), by = std::min(y1, s.sprite.rect.w);
             for (int y = ay; y < by; ++y) addSpriteSpan(s, ax, bx - ax, y, p, &sum[(y - y0) * kTile + (ax - x0)]);

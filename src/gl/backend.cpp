@@ -187,12 +187,20 @@ public:
                              s_.noiseIdz, s_.noiseAmplitude, img(depth), img(normal), img(noise));
     }
 
+    void whitening(Slot depth, Slot whitening) override {
+        forget(whitening);
+        st_.surfaceNoise.runWhitening(fp_, s_.camera, s_.whitening, st_.splat.particleBuffer(),
+                                      st_.splat.particleCount(), s_.whiteness, img(depth), img(whitening));
+    }
+
     void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
-               Slot color) override {
+               Slot whitening, Slot color) override {
         forget(color);
-        // Foam only with the noise on (its slot then holds this frame's N).
+        // Foam only with the noise on (its slot then holds this frame's N),
+        // white water only with the whitening on (likewise its map).
         st_.shading.run(fp_, img(sceneColor), img(sceneDepth), img(depth), img(normal), img(thickness), img(color),
-                        s_.noise.enabled ? &img(noise) : nullptr, &s_.noise);
+                        s_.noise.enabled ? &img(noise) : nullptr, &s_.noise,
+                        s_.whitening.enabled ? &img(whitening) : nullptr, &s_.whitening);
     }
 
     // A GL error since the last check, out of GPU memory among them, or a

@@ -28,6 +28,7 @@ Result<Shading> Shading::create() {
     s.dummy_.reserve(16);
     for (Texture& t : s.inTex_) t = makeTexture();
     s.noiseTex_ = makeTexture();
+    s.whiteTex_ = makeTexture();
     s.outTex_ = makeTexture();
     auto segments = FluidSegments::create();
     if (!segments) return segments.error();
@@ -37,7 +38,8 @@ Result<Shading> Shading::create() {
 
 void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const GpuImage& sceneDepth,
                   const GpuImage& depth, const GpuImage& normals, const GpuImage& thickness, GpuImage& color,
-                  const GpuImage* noise, const NoiseParams* noiseParams) {
+                  const GpuImage* noise, const NoiseParams* noiseParams, const GpuImage* whitening,
+                  const WhiteningParams* whiteningParams) {
     const int W = frame.size.x, H = frame.size.y;
     color.resize(W, H, 4);
     if (W <= 0 || H <= 0) return;
@@ -45,6 +47,7 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
     const bool hasNormals = sized(normals, W, H, 3);
     const bool hasThickness = sized(thickness, W, H, 1);
     const bool foam = noise && noiseParams && sized(*noise, W, H, 1);
+    const bool white = whitening && whiteningParams && sized(*whitening, W, H, 1);
     // As the CPU, from the same host functions: the n.h below which the
     // highlight is invisible, and the sky's sun.
     const float nhMin = shared::highlightMinNh(frame.specular, frame.shininess);
@@ -72,6 +75,11 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
         glUniform1f(6, noiseParams->foamGain);
         glUniform3f(7, noiseParams->foamColor.x, noiseParams->foamColor.y, noiseParams->foamColor.z);
     }
+    glUniform1i(8, white ? 1 : 0);
+    if (white) {
+        glUniform1f(9, whiteningParams->strength);
+        glUniform3f(10, whiteningParams->color.x, whiteningParams->color.y, whiteningParams->color.z);
+    }
     // Texture unit i reads input i; an absent one reads a tiny dummy (never used).
     const std::pair<const GpuImage*, GLenum> inputs[kInputs] = {
         {hasScene ? &sceneColor : nullptr, GL_RGBA32F}, {hasScene ? &sceneDepth : nullptr, GL_R32F},
@@ -87,12 +95,16 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
     else attachBufferTexture(noiseTex_, GL_R32F, dummy_, 16);
     glActiveTexture(GL_TEXTURE0 + GLenum(kNoiseUnit));
     glBindTexture(GL_TEXTURE_BUFFER, noiseTex_.id());
+    if (white) attachBufferTexture(whiteTex_, GL_R32F, whitening->buffer, whitening->bytes());
+    else attachBufferTexture(whiteTex_, GL_R32F, dummy_, 16);
+    glActiveTexture(GL_TEXTURE0 + GLenum(kWhiteUnit));
+    glBindTexture(GL_TEXTURE_BUFFER, whiteTex_.id());
     attachBufferTexture(outTex_, GL_RGBA32F, color.buffer, color.bytes());
     glBindImageTexture(0, outTex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     segments_.bindList(kInputs);
     segments_.dispatch();
     glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    for (int i = kNoiseUnit; i >= 0; --i) {
+    for (int i = kWhiteUnit; i >= 0; --i) {
         glActiveTexture(GL_TEXTURE0 + GLenum(i));
         glBindTexture(GL_TEXTURE_BUFFER, 0);
     }

@@ -30,18 +30,24 @@ public:
     // alone). With `noise` (the surface noise N, P.size) and its parameters,
     // foam of cover shared::noiseFoamCover(N) is laid over the shaded fluid,
     // as cpu::shadeAndComposite's noise arguments; without (or of another
-    // size), no foam. Asynchronous: nothing waits for the GPU here.
+    // size), no foam. Likewise `whitening` (the velocity whitening map, SPEC
+    // §3.7; Instant Liquids §4) and its parameters lay white water of cover
+    // strength * map over that, as cpu::shadeAndComposite's whitening
+    // arguments. Asynchronous: nothing waits for the GPU here.
     void run(const FrameParams& frame, const GpuImage& sceneColor, const GpuImage& sceneDepth, const GpuImage& depth,
              const GpuImage& normals, const GpuImage& thickness, GpuImage& color, const GpuImage* noise = nullptr,
-             const NoiseParams* noiseParams = nullptr);
+             const NoiseParams* noiseParams = nullptr, const GpuImage* whitening = nullptr,
+             const WhiteningParams* whiteningParams = nullptr);
 
 private:
     Program program_;
     static constexpr int kInputs = 5;     // scene colour and depth, depth, normals, thickness
     static constexpr int kNoiseUnit = 6;  // the noise: after the segment list (unit kInputs)
+    static constexpr int kWhiteUnit = 7;  // the whitening map
     Buffer dummy_;                        // read in place of an absent input (never used)
     Texture inTex_[kInputs];              // buffer textures over the inputs (units 0..4)
     Texture noiseTex_;                    // over the noise (unit kNoiseUnit)
+    Texture whiteTex_;                    // over the whitening map (unit kWhiteUnit)
     Texture outTex_;                      // RGBA32F image buffer over the colour
     FluidSegments segments_;              // of the depth (unit kInputs)
 };

@@ -10,6 +10,10 @@
 // CPU's bit for bit whatever order the atomics land in. Sprites over 4096
 // pixels (near the camera) are spread over many invocations in a further,
 // indirect dispatch, as the depth splat does (see noise_splat.comp).
+// The velocity whitening map (Cords & Staadt 2008, "Instant Liquids" §4;
+// src/cpu/velocity_map.cpp) splats the same sprites with another payload, so
+// it runs the same shaders in their whitening mode: two sums per pixel,
+// sum(w g whiteness) and sum(w g), and their ratio at the resolve.
 #include "gl/surface_noise.h"
 
 #include <algorithm>
@@ -50,97 +54,78 @@ Result<SurfaceNoise> SurfaceNoise::create() {
     return s;
 }
 
-void SurfaceNoise::run(const FrameParams& frame, const Camera& camera, const NoiseParams& p, const Buffer& positions,
-                       GLuint count, std::span<const float> idz, std::span<const float> amplitude,
-                       const GpuImage& depth, GpuImage& normals, GpuImage& noise) {
-    const int W = frame.size.x, H = frame.size.y;
-    noise.resize(W, H, 1);
-    if (W <= 0 || H <= 0) return;
-    if (!sized(depth, W, H, 1)) {  // as the CPU: N = 0, the normals untouched
-        noise.buffer.fill(noise.bytes(), 0u);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-        return;
-    }
-    const GLuint pixels = GLuint(W) * GLuint(H);
-    // The CPU's host-side products, the same floats in the same order.
-    const float radius = frame.radius;
-    const float spriteM = p.spriteRadii * radius, falloffM = p.depthFalloffRadii * radius;
-    const float jump = defaults::kDepthJumpRadii * radius;
-    const float spriteF = p.spriteRadii * radius * camera.focalPx();
-
-    // Per particle (idz, amplitude) in one buffer, with the CPU's defaults.
-    staging_.resize(std::max<std::size_t>(count, 1));
-    const bool hasAmplitude = amplitude.size() == count;
-    for (GLuint i = 0; i < count; ++i)
-        staging_[i] = glm::vec2(i < idz.size() ? idz[i] : 0.0f, hasAmplitude ? amplitude[i] : 1.0f);
+void SurfaceNoise::scatter(const FrameParams& frame, const Camera& camera, const Buffer& positions, GLuint count,
+                           const GpuImage& depth, GLuint planes, const Scatter& sc) {
+    const GLuint pixels = GLuint(frame.size.x) * GLuint(frame.size.y);
     attributes_.upload(staging_.data(), GLsizeiptr(staging_.size() * sizeof(glm::vec2)));
-
-    // The sums and N start at 0 (the driver's fills, memsets on llvmpipe);
-    // the resolve writes only the fluid pixels' N.
-    const GLsizeiptr sumBytes = GLsizeiptr(pixels) * 4;
+    // The sums start at 0 (the driver's fill, a memset on llvmpipe).
+    const GLsizeiptr sumBytes = GLsizeiptr(pixels) * GLsizeiptr(planes) * 4;
     sums_.reserve(sumBytes);
     sums_.fill(sumBytes, 0u);
-    noise.buffer.fill(noise.bytes(), 0u);
-    segments_.build(depth);  // the 8-pixel row segments with fluid, for the resolve
     attachBufferTexture(depthTex_, GL_R32F, depth.buffer, depth.bytes());
     attachBufferTexture(sumsTex_, GL_R32I, sums_, sumBytes);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    if (count == 0) return;
 
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_BUFFER, depthTex_.id());
-    if (count > 0) {
-        glUseProgram(splat_.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions.id());
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, sums_.id(), 0, sumBytes);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, attributes_.id());
-        glUniform1ui(0, count);
-        glUniform1f(2, camera.nearM);
-        glUniform1f(3, spriteM);
-        glUniform1f(4, falloffM);
-        glUniform1f(5, p.frequency);
-        glUniform1i(6, p.octaves);
-        glUniform1f(7, p.lacunarity);
-        glUniform1f(8, p.gain);
-        glUniform1f(9, p.sigma);
-        // Pass 0: the culling, listing the sprites that count, with the
-        // indirect dispatches of pass 1 (x = listed / 64, 1, 1) and pass 2
-        // (kBigGroups, listed, 1).
-        const GLuint header[8] = {0, 1, 1, 0, kBigGroups, 0, 1, 0};
-        lists_.reserve(GLsizeiptr(sizeof header) + 2 * GLsizeiptr(count) * GLsizeiptr(sizeof(GLuint)));
-        glBindBuffer(GL_COPY_WRITE_BUFFER, lists_.id());
-        glBufferSubData(GL_COPY_WRITE_BUFFER, 0, sizeof header, header);
-        glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, lists_.id());
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glUniform1i(1, 0);
-        glDispatchCompute(gridGroups(count, kGroup), 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-        // Pass 1: the listed sprites of up to 4096 pixels, one per invocation;
-        // pass 2: each listed larger one over kBigGroups work groups.
-        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, lists_.id());
-        glUniform1i(1, 1);
-        glDispatchComputeIndirect(0);
-        glUniform1i(1, 2);
-        glDispatchComputeIndirect(4 * sizeof(GLuint));
-        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glUseProgram(splat_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions.id());
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, sums_.id(), 0, sumBytes);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, attributes_.id());
+    glUniform1ui(0, count);
+    glUniform1f(2, camera.nearM);
+    glUniform1f(3, sc.spriteM);
+    glUniform1f(4, sc.falloffM);
+    if (sc.noise) {
+        glUniform1f(5, sc.noise->frequency);
+        glUniform1i(6, sc.noise->octaves);
+        glUniform1f(7, sc.noise->lacunarity);
+        glUniform1f(8, sc.noise->gain);
     }
+    glUniform1f(9, sc.sigma);
+    glUniform1i(10, sc.whitening ? 1 : 0);
+    // Pass 0: the culling, listing the sprites that count, with the indirect
+    // dispatches of pass 1 (x = listed / 64, 1, 1) and pass 2 (kBigGroups, listed, 1).
+    const GLuint header[8] = {0, 1, 1, 0, kBigGroups, 0, 1, 0};
+    lists_.reserve(GLsizeiptr(sizeof header) + 2 * GLsizeiptr(count) * GLsizeiptr(sizeof(GLuint)));
+    glBindBuffer(GL_COPY_WRITE_BUFFER, lists_.id());
+    glBufferSubData(GL_COPY_WRITE_BUFFER, 0, sizeof header, header);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, lists_.id());
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glUniform1i(1, 0);
+    glDispatchCompute(gridGroups(count, kGroup), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    // Pass 1: the listed sprites of up to 4096 pixels, one per invocation;
+    // pass 2: each listed larger one over kBigGroups work groups.
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, lists_.id());
+    glUniform1i(1, 1);
+    glDispatchComputeIndirect(0);
+    glUniform1i(1, 2);
+    glDispatchComputeIndirect(4 * sizeof(GLuint));
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glBindTexture(GL_TEXTURE_BUFFER, 0);
+    glUseProgram(0);
+}
 
-    // Resolve, over the fluid pixels: N, and the normals bumped (even with no
-    // particle: a zero gradient still renormalises them, as on the CPU).
-    const bool bump = sized(normals, W, H, 3);
+void SurfaceNoise::resolve(GpuImage* normals, GpuImage& out, bool whitening, float jump, float spriteF, float bump) {
     glUseProgram(resolve_.id());
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_BUFFER, depthTex_.id());
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_BUFFER, sumsTex_.id());
-    if (bump) attachBufferTexture(normalsTex_, GL_R32F, normals.buffer, normals.bytes());
+    if (normals) attachBufferTexture(normalsTex_, GL_R32F, normals->buffer, normals->bytes());
     else attachBufferTexture(normalsTex_, GL_R32F, sums_, 4);  // never read nor written
-    attachBufferTexture(noiseTex_, GL_R32F, noise.buffer, noise.bytes());
+    attachBufferTexture(noiseTex_, GL_R32F, out.buffer, out.bytes());
     glBindImageTexture(0, normalsTex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
     glBindImageTexture(1, noiseTex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    glUniform1i(1, bump ? 1 : 0);
+    glUniform1i(1, normals ? 1 : 0);
     glUniform1f(2, jump);
     glUniform1f(3, spriteF);
-    glUniform1f(4, p.bump);
+    glUniform1f(4, bump);
+    glUniform1i(5, whitening ? 1 : 0);
     segments_.bindList(2);
     segments_.dispatch();
     glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
@@ -152,6 +137,66 @@ void SurfaceNoise::run(const FrameParams& frame, const Camera& camera, const Noi
         glBindTexture(GL_TEXTURE_BUFFER, 0);
     }
     glUseProgram(0);
+}
+
+void SurfaceNoise::run(const FrameParams& frame, const Camera& camera, const NoiseParams& p, const Buffer& positions,
+                       GLuint count, std::span<const float> idz, std::span<const float> amplitude,
+                       const GpuImage& depth, GpuImage& normals, GpuImage& noise) {
+    const int W = frame.size.x, H = frame.size.y;
+    noise.resize(W, H, 1);
+    if (W <= 0 || H <= 0) return;
+    // N starts at 0 (a driver fill): the resolve writes only the fluid pixels'.
+    noise.buffer.fill(noise.bytes(), 0u);
+    if (!sized(depth, W, H, 1)) {  // as the CPU: N = 0, the normals untouched
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        return;
+    }
+    // The CPU's host-side products, the same floats in the same order.
+    const float radius = frame.radius;
+    Scatter sc;
+    sc.spriteM = p.spriteRadii * radius;
+    sc.falloffM = p.depthFalloffRadii * radius;
+    sc.sigma = p.sigma;
+    sc.noise = &p;
+    const float jump = defaults::kDepthJumpRadii * radius;
+    const float spriteF = p.spriteRadii * radius * camera.focalPx();
+
+    // Per particle (idz, amplitude), with the CPU's defaults.
+    staging_.resize(std::max<std::size_t>(count, 1));
+    const bool hasAmplitude = amplitude.size() == count;
+    for (GLuint i = 0; i < count; ++i)
+        staging_[i] = glm::vec2(i < idz.size() ? idz[i] : 0.0f, hasAmplitude ? amplitude[i] : 1.0f);
+    segments_.build(depth);  // the 8-pixel row segments with fluid, for the resolve
+    scatter(frame, camera, positions, count, depth, 1, sc);
+
+    // Resolve, over the fluid pixels: N, and the normals bumped (even with no
+    // particle: a zero gradient still renormalises them, as on the CPU).
+    resolve(sized(normals, W, H, 3) ? &normals : nullptr, noise, false, jump, spriteF, p.bump);
+}
+
+void SurfaceNoise::runWhitening(const FrameParams& frame, const Camera& camera, const WhiteningParams& p,
+                                const Buffer& positions, GLuint count, std::span<const float> whiteness,
+                                const GpuImage& depth, GpuImage& map) {
+    const int W = frame.size.x, H = frame.size.y;
+    map.resize(W, H, 1);
+    if (W <= 0 || H <= 0) return;
+    map.buffer.fill(map.bytes(), 0u);  // 0 where there is no fluid
+    if (!sized(depth, W, H, 1)) {
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        return;
+    }
+    // cpu::splatWhitening's sprites: its own radii and sigma, amplitude 1.
+    const float radius = frame.radius;
+    Scatter sc;
+    sc.whitening = true;
+    sc.spriteM = p.spriteRadii * radius;
+    sc.falloffM = p.depthFalloffRadii * radius;
+    sc.sigma = p.sigma;
+    staging_.resize(std::max<std::size_t>(count, 1));
+    for (GLuint i = 0; i < count; ++i) staging_[i] = glm::vec2(i < whiteness.size() ? whiteness[i] : 0.0f, 1.0f);
+    segments_.build(depth);
+    scatter(frame, camera, positions, count, depth, 2, sc);
+    resolve(nullptr, map, true, 0.0f, 0.0f, 0.0f);
 }
 
 }  // namespace meniscus::gl

@@ -122,6 +122,7 @@ Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs) {
     if (!aovs.thickness.empty()) channels.push_back({"T", &aovs.thickness});
     if (!aovs.noise.empty()) channels.push_back({"Noise", &aovs.noise});
     if (!aovs.foam.empty()) channels.push_back({"foam", &aovs.foam});
+    if (!aovs.whitening.empty()) channels.push_back({"whitening", &aovs.whitening});
 
     if (channels.empty()) return makeError(path.string(), "no image to write: every AOV is empty");
     return writeExr(path, channels);

@@ -1,8 +1,9 @@
 // The stage order of the screen-space pipeline (SPEC §1), in one place:
 //   scene -> depth splat + thickness (one pass) -> smoothing -> normals
-//         -> [surface noise: N and bumped normals] -> shading (+ foam),
+//         -> [surface noise: N and bumped normals] -> [velocity whitening map]
+//         -> shading (+ foam, + white water),
 // or, on the mesh path (RenderSettings::mesh):
-//   scene -> depth splat + thickness -> rasterise the mesh -> [noise] -> shading.
+//   scene -> depth splat + thickness -> rasterise the mesh -> [noise] -> [whitening] -> shading.
 // Each stage is one method of the backend (src/core/backend.h): one function
 // in src/cpu/ on the CPU, one shader stage in src/gl/ on the GL backend.
 #include <algorithm>
@@ -22,6 +23,7 @@
 #include "shared/raster_mesh.h"
 #include "shared/studio.h"
 #include "shared/surface_noise.h"
+#include "shared/velocity_map.h"
 
 namespace meniscus {
 
@@ -107,7 +109,7 @@ Image<glm::vec4> noiseView(const Image<float>& noise, const Image<float>& depth)
     return out;
 }
 
-// Foam cover as grey levels over the fluid (white = full foam).
+// Foam cover (or the whitening map) as grey levels over the fluid (white = 1).
 Image<glm::vec4> foamView(const Image<float>& foam, const Image<float>& depth) {
     Image<glm::vec4> out(foam.width, foam.height, glm::vec4(0.02f, 0.02f, 0.025f, 0.0f));
     for (std::size_t i = 0; i < foam.size(); ++i)
@@ -125,9 +127,9 @@ Image<float> foamCover(const Image<float>& noise, const NoiseParams& p) {
 
 // Reads back what the output needs: every AOV, or (colorOnly) the colour or
 // the stages the debug view pictures.
-Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noise) {
+Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noise, const WhiteningParams& whitening) {
     const bool all = !colorOnly;
-    const bool noiseView = v == View::Noise || v == View::Foam;
+    const bool noiseView = v == View::Noise || v == View::Foam || v == View::Whitening;
     Aovs aovs;
     if (all || v == View::RawDepth) aovs.rawDepth = b.readScalar(Slot::RawDepth);
     if (all || v == View::Depth || v == View::Normals || noiseView) aovs.depth = b.readScalar(Slot::Depth);
@@ -138,6 +140,7 @@ Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noise) {
         aovs.noise = b.readScalar(Slot::Noise);
         aovs.foam = foamCover(aovs.noise, noise);
     }
+    if (whitening.enabled && (all || v == View::Whitening)) aovs.whitening = b.readScalar(Slot::Whitening);
     return aovs;
 }
 
@@ -152,9 +155,10 @@ void applyView(View view, bool colorOnly, Aovs& aovs) {
         case View::Thickness: aovs.color = thicknessView(aovs.thickness); break;
         case View::Noise: aovs.color = noiseView(aovs.noise, aovs.depth); break;
         case View::Foam: aovs.color = foamView(aovs.foam, aovs.depth); break;
+        case View::Whitening: aovs.color = foamView(aovs.whitening, aovs.depth); break;
     }
     if (colorOnly) {
-        aovs.depth = aovs.rawDepth = aovs.thickness = aovs.noise = aovs.foam = {};
+        aovs.depth = aovs.rawDepth = aovs.thickness = aovs.noise = aovs.foam = aovs.whitening = {};
         aovs.normal = {};
     }
 }
@@ -168,7 +172,8 @@ bool viewFromName(const std::string& name, View* out) {
                                                           {"normals", View::Normals},
                                                           {"thickness", View::Thickness},
                                                           {"noise", View::Noise},
-                                                          {"foam", View::Foam}};
+                                                          {"foam", View::Foam},
+                                                          {"whitening", View::Whitening}};
     for (const auto& [n, v] : kViews)
         if (name == n) {
             *out = v;
@@ -177,7 +182,7 @@ bool viewFromName(const std::string& name, View* out) {
     return false;
 }
 
-std::string viewNames() { return "final, depth, raw-depth, normals, thickness, noise, foam"; }
+std::string viewNames() { return "final, depth, raw-depth, normals, thickness, noise, foam, whitening"; }
 
 bool backendFromName(const std::string& name, BackendChoice* out) {
     static const std::pair<const char*, BackendChoice> kBackends[] = {
@@ -286,6 +291,11 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
         if (auto st = checkMesh(*s.mesh); !st) return st;
     if ((s.view == View::Noise || s.view == View::Foam) && !s.noise.enabled)
         return makeError("", "the noise and foam views need the surface noise on (RenderSettings::noise.enabled)");
+    if (s.view == View::Whitening && !s.whitening.enabled)
+        return makeError("", "the whitening view needs the velocity whitening on (RenderSettings::whitening.enabled)");
+    if (s.whitening.enabled)
+        if (std::string bad = checkWhiteningParams(s.whitening); !bad.empty())
+            return makeError("", "RenderSettings::whitening." + bad);
     if (s.noise.enabled)
         if (std::string bad = checkNoiseParams(s.noise); !bad.empty())
             return makeError("", "RenderSettings::noise." + bad);
@@ -313,6 +323,15 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
         prepareNoise(particles, s);
         f.noiseIdz = noiseIdz_;
         f.noiseAmplitude = noiseAmplitude_;
+    }
+    f.whitening = s.whitening;
+    if (s.whitening.enabled) {
+        whiteness_.assign(particles.size(), 0.0f);
+        if (particles.velocity.present())
+            for (std::size_t i = 0; i < whiteness_.size(); ++i)
+                whiteness_[i] = shared::whitenessOfSpeed(glm::length(particles.velocity[i]), s.whitening.thresholdMps,
+                                                         s.whitening.rampMps);
+        f.whiteness = whiteness_;
     }
     const Bounds box = s.scene.studioBounds.empty() ? computeBounds(positions) : s.scene.studioBounds;
     f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
@@ -344,9 +363,11 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
     }
     if (s.noise.enabled)
         if (auto st = stage("noise", [&] { b.noise(Slot::Depth, Slot::Normal, Slot::Noise); }); !st) return st;
+    if (s.whitening.enabled)
+        if (auto st = stage("whitening", [&] { b.whitening(Slot::Depth, Slot::Whitening); }); !st) return st;
     return stage("shade", [&] {
         b.shade(Slot::SceneColor, Slot::SceneDepth, Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Noise,
-                Slot::Color);
+                Slot::Whitening, Slot::Color);
     });
 }
 
@@ -356,7 +377,7 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
         if (auto st = runStages(particles, s, timings); !st) return st.error();
         Backend& b = *backend_;
         const auto t0 = std::chrono::steady_clock::now();
-        Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise);
+        Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise, s.whitening);
         if (auto st = b.stageStatus("readback"); !st) return st.error();
         const double readMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -373,7 +394,7 @@ Status Renderer::draw(const ParticleView& particles, const RenderSettings& s) {
     return guarded("drawing", [&]() -> Status {
         if (auto st = runStages(particles, s, nullptr); !st) return st;
         if (s.view == View::Final) return okStatus();  // the colour is already in its slot
-        Aovs aovs = readAovs(*backend_, s.view, true, s.noise);
+        Aovs aovs = readAovs(*backend_, s.view, true, s.noise, s.whitening);
         applyView(s.view, true, aovs);
         backend_->writeColor(Slot::Color, std::move(aovs.color));
         return backend_->stageStatus("debug view");

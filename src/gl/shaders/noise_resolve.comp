@@ -8,19 +8,24 @@
 // (noiseFromFixed of the same int), as only a neighbour of the same surface
 // (fluid, its depth within the jump) counts. Work: only the 8-pixel row
 // segments with fluid (fluid_segments.glsl, listed from the depth).
+// With uWhitening (the velocity whitening map, SPEC §3.7; Cords & Staadt 2008,
+// "Instant Liquids" §4) the sums are the whitening's two (2*W*H) and each
+// fluid pixel gets their ratio, whiteningFromFixed, as cpu::splatWhitening;
+// no normals are touched.
 #extension GL_GOOGLE_include_directive : require
 #include "frame_params.h"
 #include "surface_noise.h"
+#include "velocity_map.h"
 
 layout(local_size_x = 64) in;
 
 // Buffer textures and image buffers: llvmpipe gathers and scatters those in
 // SIMD but runs storage-buffer accesses lane by lane.
 layout(binding = 0) uniform samplerBuffer depth;  // W*H eye depth, +inf = none
-layout(binding = 1) uniform isamplerBuffer sums;  // W*H fixed-point sums (noise_splat.comp)
+layout(binding = 1) uniform isamplerBuffer sums;  // W*H (whitening: 2*W*H) fixed-point sums (noise_splat.comp)
 // W*H*3 view space (R32F), bumped in place: each invocation loads and stores its own pixel only.
 layout(r32f, binding = 0) uniform imageBuffer normals;
-layout(r32f, binding = 1) writeonly uniform imageBuffer noiseOut;  // W*H N (0 beforehand)
+layout(r32f, binding = 1) writeonly uniform imageBuffer noiseOut;  // W*H N or the map (0 beforehand)
 layout(binding = 2) uniform isamplerBuffer uSegments;  // the fluid segments (fluid_segments.glsl)
 #include "fluid_segments.glsl"
 
@@ -28,6 +33,7 @@ layout(location = 1) uniform int uBumpNormals;  // the normals are W x H x 3: bu
 layout(location = 2) uniform float uJump;       // kDepthJumpRadii * radius (host float, as the CPU)
 layout(location = 3) uniform float uSpriteF;    // spriteRadii * radius * focalPx (host, the CPU's order)
 layout(location = 4) uniform float uBump;
+layout(location = 5) uniform int uWhitening;  // the whitening's two sums: write their ratio, nothing else
 
 #define kInf uintBitsToFloat(0x7f800000u)
 
@@ -58,6 +64,10 @@ void main() {
         const int k = y * W + x;
         const float z = texelFetch(depth, k).x;
         if (!(z < kInf)) continue;
+        if (uWhitening != 0) {
+            imageStore(noiseOut, k, vec4(whiteningFromFixed(texelFetch(sums, k).x, texelFetch(sums, W * H + k).x)));
+            continue;
+        }
         const float n0 = noiseFromFixed(texelFetch(sums, k).x);
         imageStore(noiseOut, k, vec4(n0));
         if (uBumpNormals == 0) continue;

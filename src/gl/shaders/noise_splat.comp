@@ -1,12 +1,15 @@
 #version 430 core
 // Surface noise (SPEC §3.7; van der Laan, Green & Sainz, US 8,947,430, eqs.
-// 14-17) on the GPU, the scatter: the GL twin of cpu::splatNoise's sprites.
-// The culling of src/cpu/surface_noise.cpp (in front of the near plane, a
-// non-empty sprite, its centre on the image, a weight of at least
-// kNoiseMinWeight against the smoothed depth at the centre) and each pixel's
-// fixed-point contribution, all by src/shared/surface_noise.h, added with
-// atomicAdd (32-bit wrap-around, the CPU's uint sums): exact, so the order the
-// GPU runs the particles in does not matter. Three passes (uPass):
+// 14-17) and the velocity whitening map (SPEC §3.7; Cords & Staadt 2008,
+// "Instant Liquids" §4) on the GPU, the scatter: the GL twin of the sprites of
+// cpu::splatNoise and cpu::splatWhitening, one shader for both payloads
+// (uWhitening) as both splat the same sprites. The culling of
+// src/cpu/surface_sprites.cpp (in front of the near plane, a non-empty sprite,
+// its centre on the image, a weight of at least kNoiseMinWeight against the
+// smoothed depth at the centre) and each pixel's fixed-point contribution, all
+// by src/shared/surface_noise.h (and velocity_map.h), added with atomicAdd
+// (32-bit wrap-around, the CPU's uint sums): exact, so the order the GPU runs
+// the particles in does not matter. Three passes (uPass):
 //  0. One invocation per particle: the culling alone, listing the particles
 //     that count (typically a third: those near the surface), with the
 //     indirect dispatches of passes 1 and 2. Splatting here would leave the
@@ -16,23 +19,27 @@
 //     rectangle.
 //  2. The larger sprites (near the camera), as splat.comp's pass 1: llvmpipe
 //     silently stops an invocation's loops after 65,535 iterations in all, and
-//     every pixel costs 1 + octaves of them (fractalNoise3's octave loop), so
-//     pass 1 walks at most 7 x 4096 = 28,672 and each larger rectangle is
-//     spread over kBigGroups x 64 invocations (host-set kBigGroups work groups
-//     per listed sprite).
+//     every pixel costs 1 + octaves of them (fractalNoise3's octave loop; 1 for
+//     the whitening), so pass 1 walks at most 7 x 4096 = 28,672 and each larger
+//     rectangle is spread over kBigGroups x 64 invocations (host-set kBigGroups
+//     work groups per listed sprite).
 // Passes 1 and 2 recompute a listed particle's sprite and weight from its
 // index: the same operations on the same inputs, so the same bits.
-// Sums: W*H uints, row-major, row 0 = the TOP row (SPEC §2), zeroed
-// beforehand; noise_resolve.comp turns them into N.
+// Sums, row-major, row 0 = the TOP row (SPEC §2), zeroed beforehand: the
+// noise's W*H; the whitening's 2*W*H, sum(w g whiteness) in [0, W*H) and
+// sum(w g) in [W*H, 2*W*H). noise_resolve.comp turns them into N or the map.
 #extension GL_GOOGLE_include_directive : require
 #include "frame_params.h"
 #include "surface_noise.h"
+#include "velocity_map.h"
 
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Positions { float positions[]; };  // world xyz (Splat's buffer)
 layout(std430, binding = 1) buffer Sums { uint sums[]; };
-layout(std430, binding = 2) readonly buffer Attributes { vec2 idzAmplitude[]; };  // per particle
+// Per particle: (payload, amplitude); the payload is the noise's idz, or the
+// whiteness (amplitude 1) for the whitening.
+layout(std430, binding = 2) readonly buffer Attributes { vec2 payloadAmplitude[]; };
 // The smoothed depth through a buffer texture (SIMD gathers on llvmpipe).
 layout(binding = 0) uniform samplerBuffer depth;  // W*H eye depth, +inf = none
 
@@ -56,6 +63,7 @@ layout(location = 6) uniform int uOctaves;
 layout(location = 7) uniform float uLacunarity;
 layout(location = 8) uniform float uGain;
 layout(location = 9) uniform float uSigma;
+layout(location = 10) uniform int uWhitening;  // 0: the noise; 1: the whitening map (uFrequency.. unused)
 
 const int kMaxPixels = 4096;     // largest rectangle one invocation walks in pass 1
 const uint kMaxGroups = 65535u;  // the minimum GL_MAX_COMPUTE_WORK_GROUP_COUNT
@@ -70,7 +78,7 @@ vec3 viewCentre(uint i) {
     return c;
 }
 
-// cpu::splatNoise step 1: whether particle i splats, and then its sprite and weight.
+// cpu::findSurfaceSprites step 1: whether particle i splats, and then its sprite and weight.
 bool particleSprite(uint i, out NoiseSprite sp, out float weight) {
     const int W = P.size.x, H = P.size.y;
     weight = 0.0;
@@ -82,13 +90,21 @@ bool particleSprite(uint i, out NoiseSprite sp, out float weight) {
     const float fx = floor(sp.centre.x), fy = floor(sp.centre.y);
     if (!(fx >= 0.0 && fx < float(W) && fy >= 0.0 && fy < float(H))) return false;  // centre off screen
     const float d = texelFetch(depth, int(fy) * W + int(fx)).x;
-    weight = noiseParticleWeight(z, d, P.radius, uFalloffM, idzAmplitude[i].y);
+    weight = noiseParticleWeight(z, d, P.radius, uFalloffM, payloadAmplitude[i].y);
     return weight >= kNoiseMinWeight;
 }
 
-void splatPixel(NoiseSprite sp, int x, int y, float weight, float idz) {
-    const int v = noiseContribution(sp, x, y, weight, idz, uFrequency, uOctaves, uLacunarity, uGain, uSigma);
-    if (v != 0) atomicAdd(sums[y * P.size.x + x], uint(v));  // outside the disc: nothing to add
+void splatPixel(NoiseSprite sp, int x, int y, float weight, float payload) {
+    const int k = y * P.size.x + x;
+    if (uWhitening != 0) {
+        int white, norm;
+        whiteningContribution(sp, x, y, weight, payload, uSigma, white, norm);
+        if (white != 0) atomicAdd(sums[k], uint(white));
+        if (norm != 0) atomicAdd(sums[P.size.x * P.size.y + k], uint(norm));
+        return;
+    }
+    const int v = noiseContribution(sp, x, y, weight, payload, uFrequency, uOctaves, uLacunarity, uGain, uSigma);
+    if (v != 0) atomicAdd(sums[k], uint(v));  // outside the disc: nothing to add
 }
 
 void main() {
@@ -117,12 +133,12 @@ void main() {
         for (uint s = gl_GlobalInvocationID.x; s < smallCount; s += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
             const uint i = lists[s];
             if (!particleSprite(i, sp, weight)) continue;  // listed, so never: the same bits as pass 0's
-            const float idz = idzAmplitude[i].x;
+            const float payload = payloadAmplitude[i].x;
             const ivec4 rect = sp.rect;
             const int n = (rect.z - rect.x) * (rect.w - rect.y);
             int x = rect.x, y = rect.y;
             for (int p = 0; p < n; ++p) {
-                splatPixel(sp, x, y, weight, idz);
+                splatPixel(sp, x, y, weight, payload);
                 const bool wrap = x + 1 == rect.z;
                 x = wrap ? rect.x : x + 1;
                 y = wrap ? y + 1 : y;
@@ -136,11 +152,11 @@ void main() {
         for (uint s = gl_WorkGroupID.y; s < bigCount; s += kMaxGroups) {
             const uint i = lists[uCount + s];
             if (!particleSprite(i, sp, weight)) continue;  // listed, so never
-            const float idz = idzAmplitude[i].x;
+            const float payload = payloadAmplitude[i].x;
             const ivec4 rect = sp.rect;
             const uint w = uint(rect.z - rect.x), n = w * uint(rect.w - rect.y);
             for (uint p = first; p < n; p += stride)
-                splatPixel(sp, rect.x + int(p % w), rect.y + int(p / w), weight, idz);
+                splatPixel(sp, rect.x + int(p % w), rect.y + int(p / w), weight, payload);
         }
     }
 }

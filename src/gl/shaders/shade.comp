@@ -12,7 +12,9 @@
 // scene leaves transparent; opaque materials mix toward a Lambert-lit fluid
 // colour and fade the mirror reflection. With the surface noise on (SPEC
 // §3.7, the patent's foam tint by |N|), foam of cover noiseFoamCover(N) is laid
-// over the result (src/shared/surface_noise.h), as the CPU's step 6.
+// over the result (src/shared/surface_noise.h), as the CPU's step 6; with the
+// velocity whitening on (SPEC §3.7, Instant Liquids §4), then white water of
+// cover strength * map, lit the same way, as the CPU's step 7.
 // Every operation follows the CPU's shadeBatch in the same order, `precise`
 // (no FMA contraction or reassociation). The one deliberate difference: exp
 // and log are the driver's built-ins where the CPU uses Cephes polynomials
@@ -38,6 +40,7 @@ layout(binding = 3) uniform samplerBuffer normals;     // W*H*3 view space (R32F
 layout(binding = 4) uniform samplerBuffer thickness;   // W*H metres
 layout(binding = 5) uniform isamplerBuffer uSegments;  // the fluid segments (fluid_segments.glsl)
 layout(binding = 6) uniform samplerBuffer noise;       // W*H surface noise N (when uFoam != 0)
+layout(binding = 7) uniform samplerBuffer whitening;   // W*H velocity whitening map (when uWhite != 0)
 #include "fluid_segments.glsl"
 layout(rgba32f, binding = 0) writeonly uniform imageBuffer color;  // W*H linear RGBA
 
@@ -48,6 +51,9 @@ layout(location = 4) uniform int uFoam;          // foam from the noise (NoisePa
 layout(location = 5) uniform float uFoamThreshold;
 layout(location = 6) uniform float uFoamGain;
 layout(location = 7) uniform vec3 uFoamColor;
+layout(location = 8) uniform int uWhite;         // white water from the whitening map (WhiteningParams below)
+layout(location = 9) uniform float uWhiteStrength;
+layout(location = 10) uniform vec3 uWhiteColor;
 
 #define kInf uintBitsToFloat(0x7f800000u)
 
@@ -153,6 +159,11 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k) {
     if (uFoam != 0) {
         const float cover = noiseFoamCover(texelFetch(noise, k).x, uFoamThreshold, uFoamGain);
         c = noiseWithFoam(c, cover, nl, uFoamColor, kOpaqueAmbient);
+    }
+    // 7. White water where the surface is fast (SPEC §3.7, Instant Liquids §4).
+    if (uWhite != 0) {
+        precise float cover = uWhiteStrength * texelFetch(whitening, k).x;
+        c = noiseWithFoam(c, cover, nl, uWhiteColor, kOpaqueAmbient);
     }
     return c;
 }
