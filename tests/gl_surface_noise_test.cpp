@@ -36,16 +36,6 @@ namespace {
 
 class GlSurfaceNoise : public GlTest {};
 
-template <class T>
-int differingBits(const Image<T>& a, const Image<T>& b) {
-    EXPECT_EQ(a.width, b.width);
-    EXPECT_EQ(a.height, b.height);
-    int n = 0;
-    for (std::size_t k = 0; k < a.size() && k < b.size(); ++k)
-        n += std::memcmp(&a.pixels[k], &b.pixels[k], sizeof(T)) != 0;
-    return n + int(a.size() > b.size() ? a.size() - b.size() : b.size() - a.size());
-}
-
 struct Scene {
     Camera camera;
     float radius = 0.03f;

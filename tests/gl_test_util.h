@@ -4,6 +4,8 @@
 // their tolerances in (relative depth, normal angle, 8-bit sRGB steps).
 #pragma once
 
+#include <cstring>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -181,6 +183,18 @@ inline ColorDiff compareColor(const Image<glm::vec4>& cpu, const Image<glm::vec4
     }
     d.fractionOver1 = cpu.empty() ? 0.0 : double(over) / double(cpu.size());
     return d;
+}
+
+// Pixels whose bits differ between a and b (a size mismatch counts every
+// missing pixel).
+template <class T>
+int differingBits(const Image<T>& a, const Image<T>& b) {
+    EXPECT_EQ(a.width, b.width);
+    EXPECT_EQ(a.height, b.height);
+    int n = 0;
+    for (std::size_t k = 0; k < a.size() && k < b.size(); ++k)
+        n += std::memcmp(&a.pixels[k], &b.pixels[k], sizeof(T)) != 0;
+    return n + int(a.size() > b.size() ? a.size() - b.size() : b.size() - a.size());
 }
 
 }  // namespace meniscus::test

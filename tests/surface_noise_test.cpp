@@ -30,15 +30,7 @@ namespace {
 constexpr float kR = 0.01f;
 
 // Looking down -z from the origin: view space is world space.
-Camera straightCamera(int w = 160, int h = 120) {
-    Camera c;
-    c.eye = {0.0f, 0.0f, 0.0f};
-    c.target = {0.0f, 0.0f, -1.0f};
-    c.up = {0.0f, 1.0f, 0.0f};
-    c.width = w;
-    c.height = h;
-    return c;
-}
+Camera straightCamera(int w = 160, int h = 120) { return test::faceOnCamera({0.0f, 0.0f, -1.0f}, 1.0f, w, h); }
 
 // A flat surface at eye depth z everywhere (the smoothed depth a particle's
 // front touches when z = its centre's depth - r).

@@ -17,6 +17,7 @@
 #include "cpu/velocity_map.h"
 #include "meniscus/renderer.h"
 #include "shared/velocity_map.h"
+#include "test_util.h"
 
 using namespace meniscus;
 
@@ -24,15 +25,8 @@ namespace {
 
 constexpr float kR = 0.01f;
 
-Camera straightCamera(int w = 160, int h = 120) {
-    Camera c;
-    c.eye = {0.0f, 0.0f, 0.0f};
-    c.target = {0.0f, 0.0f, -1.0f};
-    c.up = {0.0f, 1.0f, 0.0f};
-    c.width = w;
-    c.height = h;
-    return c;
-}
+// Looking down -z from the origin: view space is world space.
+Camera straightCamera(int w = 160, int h = 120) { return test::faceOnCamera({0.0f, 0.0f, -1.0f}, 1.0f, w, h); }
 
 WhiteningParams onParams() {
     WhiteningParams p;

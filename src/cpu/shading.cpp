@@ -288,22 +288,15 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
             B.cb[i] += spec;
         }
     }
-    // 6. Foam over the liquid where the surface noise is strong (SPEC §3.7).
-    if (S.noise) {
+    // 6. Foam over the liquid where the surface noise is strong, then white
+    // water where the surface is fast (SPEC §3.7; Instant Liquids §4), both
+    // lit like the opaque materials. A cover of 0 (that effect off) leaves
+    // the colour exactly as it was.
+    if (S.noise || S.whitening) {
         for (int i = 0; i < n; ++i) {
-            const glm::vec3 c = shared::noiseWithFoam(glm::vec3(B.cr[i], B.cg[i], B.cb[i]), B.foam[i], B.nl[i],
-                                                      S.foamColor, kOpaqueAmbient);
-            B.cr[i] = c.x;
-            B.cg[i] = c.y;
-            B.cb[i] = c.z;
-        }
-    }
-    // 7. White water where the surface is fast (SPEC §3.7, Instant Liquids §4),
-    // lit like the foam.
-    if (S.whitening) {
-        for (int i = 0; i < n; ++i) {
-            const glm::vec3 c = shared::noiseWithFoam(glm::vec3(B.cr[i], B.cg[i], B.cb[i]), B.white[i], B.nl[i],
-                                                      S.whiteColor, kOpaqueAmbient);
+            glm::vec3 c(B.cr[i], B.cg[i], B.cb[i]);
+            c = shared::noiseWithFoam(c, B.foam[i], B.nl[i], S.foamColor, kOpaqueAmbient);
+            c = shared::noiseWithFoam(c, B.white[i], B.nl[i], S.whiteColor, kOpaqueAmbient);
             B.cr[i] = c.x;
             B.cg[i] = c.y;
             B.cb[i] = c.z;
