@@ -169,8 +169,8 @@ void SurfaceNoise::run(const FrameParams& frame, const Camera& camera, const Noi
     segments_.build(depth);  // the 8-pixel row segments with fluid, for the resolve
     scatter(frame, camera, positions, count, depth, 1, sc);
 
-    // Resolve, over the fluid pixels: N, and the normals bumped (even with no
-    // particle: a zero gradient still renormalises them, as on the CPU).
+    // Resolve, over the fluid pixels: N, and the normals bumped through
+    // noisePerturbedNormal as on the CPU (a zero gradient leaves them as they are).
     resolve(sized(normals, W, H, 3) ? &normals : nullptr, noise, false, jump, spriteF, p.bump);
 }
 
