@@ -15,6 +15,12 @@ TEST(FrameMemory, GrowsWithThePixelCount) {
     // At least the kept buffers: scene colour+depth, raw depth, thickness,
     // depth, normals, colour (64 bytes a pixel).
     EXPECT_GE(frameBytes(1280, 720), 1280u * 720u * 64u);
+    // The optional stages' images count: N and foam, the whitening map.
+    EXPECT_EQ(frameBytes(100, 100, true, false), frameBytes(100, 100) + 100u * 100u * 8u);
+    EXPECT_EQ(frameBytes(100, 100, true, true), frameBytes(100, 100) + 100u * 100u * 12u);
+    const std::uint64_t need = frameBytes(4000, 4000);
+    EXPECT_TRUE(checkFrameMemory(4000, 4000, 2 * need).ok());
+    EXPECT_FALSE(checkFrameMemory(4000, 4000, 2 * need, true, true).ok());
 }
 
 // Regression (issue 13): 16384x16384 was accepted, then took minutes and 9.5 GB.

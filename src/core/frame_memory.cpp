@@ -19,15 +19,21 @@ namespace {
 //   blur and splat chord sums: float 4 + float 4)                       8
 //   the output's conversion (applyView colour or 8-bit PNG rows)       16
 constexpr std::uint64_t kBytesPerPixel = 20 + 12 + 12 + 16 + 8 + 16;
+// With the surface noise: N float 4 and its foam AOV float 4; with the
+// velocity whitening: its map float 4 (their sums are per-tile scratch).
+constexpr std::uint64_t kNoiseBytesPerPixel = 8;
+constexpr std::uint64_t kWhiteningBytesPerPixel = 4;
 
 // The share of physical memory one frame may take.
 constexpr double kMaxShare = 0.5;
 
 }  // namespace
 
-std::uint64_t frameBytes(int width, int height) {
+std::uint64_t frameBytes(int width, int height, bool noise, bool whitening) {
     if (width <= 0 || height <= 0) return 0;
-    return std::uint64_t(width) * std::uint64_t(height) * kBytesPerPixel;
+    const std::uint64_t perPixel =
+        kBytesPerPixel + (noise ? kNoiseBytesPerPixel : 0) + (whitening ? kWhiteningBytesPerPixel : 0);
+    return std::uint64_t(width) * std::uint64_t(height) * perPixel;
 }
 
 std::uint64_t physicalMemoryBytes() {
@@ -37,8 +43,8 @@ std::uint64_t physicalMemoryBytes() {
     return std::uint64_t(pages) * std::uint64_t(pageSize);
 }
 
-Status checkFrameMemory(int width, int height, std::uint64_t physicalBytes) {
-    const std::uint64_t need = frameBytes(width, height);
+Status checkFrameMemory(int width, int height, std::uint64_t physicalBytes, bool noise, bool whitening) {
+    const std::uint64_t need = frameBytes(width, height, noise, whitening);
     if (physicalBytes == 0 || double(need) <= kMaxShare * double(physicalBytes)) return okStatus();
     char msg[256];
     std::snprintf(msg, sizeof msg,

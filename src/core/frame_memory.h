@@ -11,7 +11,9 @@ namespace meniscus {
 // Bytes of image buffers a W x H frame holds at its peak on the CPU backend
 // (frame_memory.cpp lists them). The GL backend reads the same AOVs back into
 // host images, so the host figure bounds it too.
-std::uint64_t frameBytes(int width, int height);
+// The optional stages add their images: with the surface noise, N and the
+// foam AOV; with the velocity whitening, its map.
+std::uint64_t frameBytes(int width, int height, bool noise = false, bool whitening = false);
 
 // Physical memory of this machine in bytes (0 when unknown).
 std::uint64_t physicalMemoryBytes();
@@ -20,6 +22,7 @@ std::uint64_t physicalMemoryBytes();
 // to the particles, the system and other programs), with both figures:
 // "a 16384x16384 frame needs about 19.3 GB; this machine has 23.4 GB, ...".
 // physicalBytes 0 (unknown) accepts every frame.
-Status checkFrameMemory(int width, int height, std::uint64_t physicalBytes = physicalMemoryBytes());
+Status checkFrameMemory(int width, int height, std::uint64_t physicalBytes = physicalMemoryBytes(),
+                        bool noise = false, bool whitening = false);
 
 }  // namespace meniscus

@@ -285,7 +285,10 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
                            std::vector<StageTime>* timings) {
     if (auto st = validateCamera(s.camera); !st) return st.error();
     if (auto st = checkRadius(s.radiusM); !st) return st;
-    if (auto st = checkFrameMemory(s.camera.width, s.camera.height); !st) return st;
+    if (auto st = checkFrameMemory(s.camera.width, s.camera.height, physicalMemoryBytes(), s.noise.enabled,
+                                   s.whitening.enabled);
+        !st)
+        return st;
     if (auto st = particles.validate(); !st) return st;
     if (s.mesh)
         if (auto st = checkMesh(*s.mesh); !st) return st;
