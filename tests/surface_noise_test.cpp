@@ -103,7 +103,9 @@ TEST(SurfaceNoise, OneSurfaceParticleMakesASpriteOfItsRadius) {
             const float dx = float(x) + 0.5f - 0.5f * float(cam.width), dy = float(y) + 0.5f - 0.5f * float(cam.height);
             const bool in = dx * dx + dy * dy < R * R;
             inside += in;
-            if (!in) EXPECT_EQ(N.at(x, y), 0.0f) << x << " " << y;
+            if (!in) {
+                EXPECT_EQ(N.at(x, y), 0.0f) << x << " " << y;
+            }
         }
     // The noise has zeros only on lines: most of the disc is non-zero, of both signs.
     EXPECT_GT(nonZero(N), inside * 3 / 4);
@@ -206,8 +208,11 @@ TEST(SurfaceNoise, NoneWhereThereIsNoFluid) {
     int left = 0;
     for (int y = 0; y < cam.height; ++y)
         for (int x = 0; x < cam.width; ++x) {
-            if (x >= cam.width / 2 + 2) EXPECT_EQ(N.at(x, y), 0.0f);
-            else left += N.at(x, y) != 0.0f;
+            if (x >= cam.width / 2 + 2) {
+                EXPECT_EQ(N.at(x, y), 0.0f);
+            } else {
+                left += N.at(x, y) != 0.0f;
+            }
         }
     EXPECT_GT(left, 20);
 }
@@ -454,7 +459,9 @@ TEST(SurfaceNoiseRenderer, RealFrameGetsNoiseOnItsSurfaceOnly) {
     for (std::size_t i = 0; i < a->color.size(); ++i) {
         const bool differs = a->color.pixels[i] != b->color.pixels[i];
         changed += differs;
-        if (!(a->depth.pixels[i] < INFINITY)) EXPECT_FALSE(differs);
+        if (!(a->depth.pixels[i] < INFINITY)) {
+            EXPECT_FALSE(differs);
+        }
     }
     EXPECT_GT(changed, fluid / 2);
 }
