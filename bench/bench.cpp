@@ -170,13 +170,16 @@ int main(int argc, char** argv) {
     std::string backendOpt = "both";
     app.add_option("--backend", backendOpt, "cpu, gl, auto, or both (cpu and gl side by side; gl skipped with a note when no context)")
         ->capture_default_str();
-    bool meshOnly = false, noMesh = false, noise = false, whiten = false;
+    bool meshOnly = false, noMesh = false, noise = false, whiten = false, spray = false;
     std::string openvdb;
     float benchRadius = 0.0f;
     app.add_option("--radius", benchRadius, "Particle radius in metres (default: estimated)");
     app.add_flag("--mesh-only", meshOnly, "Time only the isosurface path (and its peer)");
     app.add_flag("--no-mesh", noMesh, "Skip the isosurface path");
     app.add_flag("--noise", noise, "Also run the surface-noise stage (and foam in the shading), seeded by the file's ids");
+    app.add_flag("--spray", spray,
+                 "Also split off the spray (density below half the median, estimated from neighbours) and run the "
+                 "spray-drop stage (the split's time is part of the frame's own)");
     app.add_flag("--whiten", whiten,
                  "Also run the velocity whitening stage (and white water in the shading), from the file's velocities");
     app.add_option("--openvdb", openvdb,
@@ -285,6 +288,7 @@ int main(int argc, char** argv) {
         settings.thickness.resolutionDivisor = thicknessDivisor;
         settings.noise.enabled = noise;
         settings.whitening.enabled = whiten;
+        settings.spray.enabled = spray;
         // Per backend: stage -> run times, and the stage order.
         std::vector<std::map<std::string, std::vector<double>>> perStage(renderers.size());
         std::vector<std::string> order;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Re-approves the golden images of tests/golden_test.cpp: renders the real
 # frame 21 at 320x180 on the CPU backend (the reference) with every filter and
-# every material, with the surface noise and with the velocity whitening, into tests/golden/. Look at the images (and at
+# every material, with the surface noise, the velocity whitening and the spray, into tests/golden/. Look at the images (and at
 # `git diff --stat`) before committing them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,4 +18,5 @@ for m in murky milk lava sand; do
 done
 render frame21_noise --noise
 render frame21_whiten --whiten
+render frame21_spray --spray --spray-streak 0.03
 echo "approved: $(ls tests/golden/*.png | wc -l) images in tests/golden/"

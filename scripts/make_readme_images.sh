@@ -2,7 +2,7 @@
 # Re-renders the README's pictures (docs/images/) on the CPU backend, the
 # reference: frame 21 of the 117,649-particle dam break at 640x360 with default
 # settings, each debug view, every filter and every material; the velocity
-# whitening; the surface
+# whitening; the spray; the surface
 # noise (a close view of frame 21, and frames 17-21 of the small dam break in
 # ../shared/testdata as a sequence, for the turbulence); and the demo.
 # Look at them before committing.
@@ -16,9 +16,11 @@ render dambreak21_final
 for v in raw-depth depth normals thickness; do render "dambreak21_$v" --view "$v"; done
 for f in none gaussian bilateral binomial curvature-flow narrow-range; do render "filter_$f" --filter "$f"; done
 for m in murky milk lava sand; do render "material_$m" --material "$m"; done
+close=(--eye 0.2,1.1,1.5 --target 1.3,0.35,0)
 render whiten21 --whiten
 render whiten21_map --whiten --view whitening
-close=(--eye 0.2,1.1,1.5 --target 1.3,0.35,0)
+render spray21 --spray --spray-streak 0.03 "${close[@]}"
+render spray21_cover --spray --spray-streak 0.03 --view spray "${close[@]}"
 render noise_close_off "${close[@]}"
 render noise_close_on "${close[@]}" --noise
 small=../shared/testdata/splishsplash/dambreak_r0.025_small/partio
@@ -32,6 +34,17 @@ if [ -d "$small" ]; then
     cp "$seq/final_21.png" docs/images/noise_sequence21.png
     cp "$seq/foam_21.png" docs/images/noise_sequence21_foam.png
     cp "$seq/noise_21.png" docs/images/noise_sequence21_noise.png
+    rm -r "$seq"
+    # Whitewater: frames 10-30 of the small dam break through `meniscus
+    # whitewater`, frame 30 drawn with and without its diffuse layer.
+    seq=$(mktemp -d)
+    mkdir "$seq/in"
+    for k in $(seq 10 30); do ln -s "$(realpath "$small/ParticleData_Fluid_$k.bgeo")" "$seq/in/"; done
+    build/meniscus whitewater "$seq/in" -o "$seq/diffuse_%04d.bgeo" 2>/dev/null
+    f30="$seq/in/ParticleData_Fluid_30.bgeo"
+    build/meniscus render "$f30" -o docs/images/whitewater30_off.png --width 640 --height 360 --backend cpu
+    build/meniscus render "$f30" -o docs/images/whitewater30.png --width 640 --height 360 --backend cpu \
+        --diffuse "$seq/diffuse_%04d.bgeo" --spray-streak 0.03
     rm -r "$seq"
 fi
 build/meniscus demo -o docs/images/demo.png --width 640 --height 360 --backend cpu

@@ -98,7 +98,7 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     cmd->add_option("--view", o.view,
                     "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
                     "smoothing), normals, thickness, noise (surface noise N), foam (foam cover), whitening (velocity "
-                    "whitening map)")
+                    "whitening map), spray (the drops' cover)")
         ->capture_default_str();
     cmd->add_option("--filter", o.filter, "Depth smoothing: " + filterNames())->capture_default_str();
     cmd->add_option("--iterations", o.iterations,
@@ -131,6 +131,18 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     cmd->add_option("--whiten-ramp", w.rampMps, "Speed range over which whitening rises to full, m/s")
         ->capture_default_str();
     cmd->add_option("--whiten-strength", w.strength, "White cover at full whitening, 0 to 1")->capture_default_str();
+    SprayParams& sp = o.sprayParams;
+    cmd->add_flag("--spray", o.spray,
+                  "Spray: particles far below the rest density (the files' density attribute, else estimated from "
+                  "their neighbours) are drawn as small drops streaked along their velocity, not as surface");
+    cmd->add_option("--spray-density", sp.sprayDensity, "Fraction of the rest density below which a particle is spray")
+        ->capture_default_str();
+    cmd->add_option("--rest-density", sp.restDensityKgM3,
+                    "Rest density of the density attribute, kg/m^3 (0 = the frame's median density)")
+        ->capture_default_str();
+    cmd->add_option("--spray-size", sp.sizeRadii, "A drop's drawn radius, in particle radii")->capture_default_str();
+    cmd->add_option("--spray-streak", sp.streakSeconds, "Exposure over which a drop is streaked along its path, s")
+        ->capture_default_str();
 }
 
 void addBackendOption(CLI::App* cmd, RenderOptions& o) {
@@ -168,6 +180,11 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
         if (std::string bad = checkWhiteningParams(s.whitening); !bad.empty()) return makeError("", "--whiten: " + bad);
     if (s.view == View::Whitening && !o.whiten)
         return makeError("", "--view whitening shows the velocity whitening: add --whiten");
+    s.spray = o.sprayParams;
+    s.spray.enabled = o.spray;
+    if (o.spray)
+        if (std::string bad = checkSprayParams(s.spray); !bad.empty()) return makeError("", "--spray: " + bad);
+    if (s.view == View::Spray && !o.spray) return makeError("", "--view spray shows the spray drops: add --spray");
     if (!(o.radius >= 0.0f)) return makeError("", "--radius must be a positive number of metres");
     if (o.radius != 0.0f)
         if (auto st = checkRadius(o.radius); !st) return makeError("", "--radius: " + st.error().message);

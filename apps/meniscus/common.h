@@ -56,6 +56,12 @@ struct RenderOptions {
     // Velocity whitening (SPEC §3.7): off unless --whiten.
     bool whiten = false;
     WhiteningParams whitening;
+    // Spray drops (SPEC §3.2): off unless --spray.
+    bool spray = false;
+    SprayParams sprayParams;
+    // Diffuse particles (`meniscus whitewater`'s output) drawn as a layer:
+    // a file, or a pattern filled with each input frame's number. Empty: none.
+    std::string diffuse;
     std::string surface = "screen";  // screen (splat + smoothing) or mesh (the isosurface path)
     MesherOptions mesher;
 };

@@ -22,6 +22,7 @@
 #include "meniscus/surface.h"
 #include "mesh.h"
 #include "simulate.h"
+#include "whitewater.h"
 #include "progress.h"
 #include "view.h"
 
@@ -99,6 +100,21 @@ int runInfo(const InfoOptions& o) {
 
 // ------------------------------------------------------------------ render
 
+// A diffuse particle set as the renderer's layer: its positions, velocities
+// (copied into `velocity`) and kinds (the whitewater `type`), as views.
+DiffuseLayer layerOf(const ParticleSet& set, std::vector<glm::vec3>& velocity) {
+    DiffuseLayer layer;
+    layer.positions = set.positions;
+    const ParticleView view = ParticleView::of(set);
+    velocity.clear();
+    for (std::size_t k = 0; k < view.velocity.count; ++k) velocity.push_back(view.velocity[k]);
+    layer.velocities = velocity;
+    const Attribute* type = set.find("type");
+    if (type && type->type == AttributeType::Int && type->components == 1 && type->count() == set.size())
+        layer.kind = type->ints;
+    return layer;
+}
+
 int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     if (!isPng(o.output) && !isExr(o.output))
         return fail(o.output + ": output must end in .png or .exr");
@@ -140,9 +156,26 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
             std::cerr << "meniscus: warning: "
                       << (frames->embedded ? std::string("the demo frame") : frames->files[0].string())
                       << " has no velocity attribute: --whiten leaves the colour as it is\n";
+        // The diffuse layer of this frame (its own file when a pattern).
+        ParticleSet diffuse;
+        std::vector<glm::vec3> diffuseVelocity;
+        if (!o.diffuse.empty()) {
+            std::string path = o.diffuse;
+            if (o.diffuse.find('%') != std::string::npos) {
+                const long number = frames->embedded ? 0 : frameNumberFromName(frames->files[i].filename().string());
+                auto name = formatFramePattern(o.diffuse, number < 0 ? long(i) : number);
+                if (!name) return fail(name.error().describe());
+                path = *name;
+            }
+            auto read = readParticles(path, ParticleFormat::Auto, true);  // a frame may have none yet
+            if (!read) return fail(read.error().describe());
+            diffuse = std::move(*read);
+            settings.diffuse = layerOf(diffuse, diffuseVelocity);
+        }
         settings.frameIndex = std::int64_t(i);  // the noise's turbulence compares consecutive frames
         auto aovs = renderer.render(ParticleView::of(*set), settings);
         settings.mesh = nullptr;
+        settings.diffuse = {};
         if (!aovs) return fail(aovs.error().describe());
 
         auto name = frames->outputName(o.output, i);
@@ -181,7 +214,8 @@ int main(int argc, char** argv) {
         "  meniscus mesh frame_21.bgeo -o f21.ply          the surface as a closed triangle mesh (PLY or OBJ)\n"
         "  meniscus render frame_21.bgeo -o m.png --surface mesh   render that mesh instead of smoothing splats\n"
         "  meniscus compare frame_21.bgeo -o side_by_side.png      screen space and mesh, side by side, timed\n"
-        "  meniscus simulate scenes/dam_break.json -o out/frame_%04d.bgeo   liquid from a scene file alone"};
+        "  meniscus simulate scenes/dam_break.json -o out/frame_%04d.bgeo   liquid from a scene file alone\n"
+        "  meniscus whitewater out/ -o diffuse/diffuse_%04d.bgeo   spray, foam and bubbles from that sequence"};
     app.require_subcommand(1);
     int threads = 0;
     app.add_option("--threads", threads, "Worker threads (default: all cores); also after a subcommand")
@@ -204,6 +238,10 @@ int main(int argc, char** argv) {
     addCameraOptions(renderCmd, render);
     addBackendOption(renderCmd, render);
     addSurfaceOptions(renderCmd, render);
+    renderCmd->add_option("--diffuse", render.diffuse,
+                          "Draw diffuse particles (spray, foam; `meniscus whitewater` writes them) over the liquid as "
+                          "drops with the --spray-size and --spray-streak look: a file, or a pattern like "
+                          "diffuse_%04d.bgeo filled with each input frame's number");
 
     RenderOptions demo;
     demo.output = "demo.png";
@@ -248,6 +286,8 @@ int main(int argc, char** argv) {
     auto* compareCmd = addCompareCommand(app, compare);
     SimulateOptions simulate;
     auto* simulateCmd = addSimulateCommand(app, simulate);
+    WhitewaterOptions whitewater;
+    auto* whitewaterCmd = addWhitewaterCommand(app, whitewater);
 
     // Bad usage exits 2, as the README says (CLI11's own codes are 100 and up).
     try {
@@ -263,6 +303,7 @@ int main(int argc, char** argv) {
     if (*infoCmd) return runInfo(info);
     if (*meshCmd) return runMesh(mesh, threads);
     if (*simulateCmd) return runSimulate(simulate);
+    if (*whitewaterCmd) return runWhitewater(whitewater);
     if (*compareCmd) return runCompare(compare);
     if (*renderCmd) return runRender(render, nullptr);
     if (*demoCmd) {

@@ -118,6 +118,7 @@ struct Aovs {
     Image<float> noise;        // surface noise N, 0 = none (with noise on) -> Noise
     Image<float> foam;         // foam cover in [0, 1] (with noise on)    -> foam
     Image<float> whitening;    // velocity whitening map in [0, 1] (with it on) -> whitening
+    Image<float> spray;        // spray drops' cover in [0, 1] (with spray on) -> spray
 };
 Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs);
 

@@ -5,6 +5,8 @@
 // changes nothing in the image.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <variant>
 
@@ -220,6 +222,66 @@ struct WhiteningParams {
 
 // The first parameter out of range, as "field: what is allowed"; empty when all are fine.
 std::string checkWhiteningParams(const WhiteningParams& p);
+
+// ---- Spray (SPEC §3.2, §3.7) -------------------------------------------------
+
+// The NVIDIA patent's spray: particles whose density is below sprayDensity
+// times the rest density have left the body of water. They are taken out of
+// the surface (splat, thickness, smoothing, noise) and drawn as small lit,
+// semi-transparent drops, each stretched along its velocity over a short
+// exposure, composited with depth against the surface and the scene. The
+// density is the particles' `density` attribute, or an SPH estimate from
+// their neighbours when the file has none. Off unless enabled (--spray).
+struct SprayParams {
+    bool enabled = false;
+    float sprayDensity = 0.5f;    // fraction of the rest density below which a particle is spray
+    float restDensityKgM3 = 0.0f;  // rest density of the attribute, kg/m^3; 0 = the frame's median density
+    float sizeRadii = 0.6f;       // a drop's drawn radius, particle radii
+    float streakSeconds = 0.01f;  // exposure: a drop is drawn along its path over this time, s
+    float opacity = 0.8f;         // optical depth of a drop at its centre
+    glm::vec3 color{0.80f, 0.84f, 0.88f};  // linear RGB of a lit drop
+};
+
+// The first parameter out of range, as "field: what is allowed"; empty when all are fine.
+std::string checkSprayParams(const SprayParams& p);
+
+// ---- Whitewater (Ihmsen et al. 2012) -----------------------------------------
+
+// Diffuse particles (spray, foam, air bubbles) generated from a fluid
+// sequence: Ihmsen, Akinci, Akinci & Teschner, "Unified spray, foam and air
+// bubbles for particle-based fluids", The Visual Computer 28 (CGI 2012).
+// Defaults are SPlisHSPlasH's FoamGenerator's (Tools/FoamGenerator), the peer.
+struct WhitewaterParams {
+    float supportRadii = 4.0f;  // h of the potentials, classification and advection, particle radii (SPlisHSPlasH's 4 r)
+    // Limits [min, max] of the three potentials (Ihmsen eq. 1's tau); a max of
+    // 0 (the default) asks for the automatic limits: 0.1 and 1 times the mean
+    // over the sequence of each frame's largest value (FoamGenerator's mode).
+    float trappedAirMin = 0.0f, trappedAirMax = 0.0f;  // m/s (eq. 2: relative speed, kernel-weighted)
+    float waveCrestMin = 0.0f, waveCrestMax = 0.0f;    // dimensionless (eq. 4-7: curvature along the motion)
+    float energyMin = 0.0f, energyMax = 0.0f;          // J/kg (kinetic energy per unit mass, |v|^2 / 2)
+    float trappedAirRate = 1.0f;  // k_ta (eq. 8), with `scale`
+    float waveCrestRate = 1.0f;   // k_wc (eq. 8), with `scale`
+    float scale = 1000.0f;        // diffuse particles per second at full potential (FoamGenerator's foamscale)
+    int sprayBelow = 6;           // fewer fluid neighbours than this: spray (Ihmsen §6)
+    int bubbleAbove = 20;         // more fluid neighbours than this: bubble; between: foam
+    float buoyancy = 2.0f;        // k_b, bubbles' buoyancy in multiples of -gravity (eq. 12)
+    float drag = 0.8f;            // k_d in [0, 1], bubbles' drag toward the fluid's velocity (eq. 12)
+    float lifetimeMinS = 2.0f;    // foam lifetime, s: min + I_k X (max - min), X uniform in [0, 1)
+    float lifetimeMaxS = 5.0f;
+    glm::vec3 gravity{0.0f, -9.81f, 0.0f};  // m/s^2
+    // Diffuse particles leaving this box (metres; the container, say) dissolve.
+    // Empty (the default): the fluid's region so far grown by h, open upward.
+    Bounds box;
+    std::size_t maxParticles = 4'000'000;   // cap on the diffuse particles alive (bounded memory)
+    std::uint64_t seed = 1;                 // the random numbers' seed (the same output for any thread count)
+};
+
+// RenderSettings::diffuse: foam drawn this many particle radii toward the eye.
+namespace defaults {
+inline constexpr float kDiffuseFoamLiftRadii = 2.0f;
+}
+
+// Checked by sim::checkWhitewaterParams (include/meniscus/whitewater.h).
 
 // ---- Scene (SPEC §3.1) ---------------------------------------------------------
 

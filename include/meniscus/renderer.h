@@ -20,10 +20,24 @@ namespace meniscus {
 
 // What the colour AOV (and so the PNG) shows: the shaded, composited image or
 // a picture of one intermediate stage for a person to look at.
-enum class View { Final, Depth, RawDepth, Normals, Thickness, Noise, Foam, Whitening };
+enum class View { Final, Depth, RawDepth, Normals, Thickness, Noise, Foam, Whitening, Spray };
+
+// Diffuse particles for RenderSettings::diffuse: world positions, velocities
+// (m/s; empty: round drops) and each one's kind in the whitewater numbering
+// (include/meniscus/whitewater.h: 0 foam, 1 spray, 2 bubble; empty: all
+// spray). Foam is drawn lifted defaults::kDiffuseFoamLiftRadii particle radii toward the
+// eye, so the surface it floats on does not hide it; bubbles are under the
+// surface and are not drawn. The spans must outlive the render call.
+struct DiffuseLayer {
+    std::span<const glm::vec3> positions;
+    std::span<const glm::vec3> velocities;
+    std::span<const std::int64_t> kind;
+    bool empty() const { return positions.empty(); }
+};
 
 // CLI names: final, depth, raw-depth, normals, thickness, noise, foam (these
-// two need RenderSettings::noise enabled), whitening (RenderSettings::whitening).
+// two need RenderSettings::noise enabled), whitening (RenderSettings::whitening),
+// spray (RenderSettings::spray).
 bool viewFromName(const std::string& name, View* out);
 std::string viewNames();
 
@@ -44,6 +58,14 @@ struct RenderSettings {
     // whitening.enabled; reads the particles' `velocity` attribute (without
     // it nothing is whitened).
     WhiteningParams whitening;
+    // Spray (SPEC §3.2): off unless spray.enabled. Particles below its density
+    // fraction (the `density` attribute, else estimated from neighbours) are
+    // drawn as drops instead of surface.
+    SprayParams spray;
+    // Diffuse particles drawn as drops over the surface with the spray's look
+    // (its size, streak, opacity, colour), spray on or off: the whitewater of
+    // `meniscus whitewater` (Ihmsen et al. 2012). Empty: none.
+    DiffuseLayer diffuse;
     // This frame's index in its sequence, for the turbulence of the noise: the
     // renderer remembers the velocities of the last frame it rendered, and
     // compares when this index is the next one (a redraw of the same index
@@ -82,6 +104,7 @@ std::string backendNames();
 
 class Backend;            // src/core/backend.h
 class TurbulenceTracker;  // src/core/turbulence.h
+struct SpraySplit;        // src/render/pipeline.cpp
 
 // Renders frames, keeping what does not change between them: the scene layer
 // (studio colour and depth) is cast again only when the camera or the studio
@@ -142,6 +165,8 @@ private:
     std::vector<float> noiseIdz_, noiseAmplitude_, whiteness_;
     std::unique_ptr<TurbulenceTracker> turbulence_;
     std::int64_t turbulenceFrame_ = -1;  // the frameIndex noiseAmplitude_ belongs to; -1 = none
+    std::unique_ptr<SpraySplit> spray_;  // this frame's body of water and drops, with the spray on
+    double sprayClassifyMs_ = -1.0;      // its host time this frame (the bench's spray-classify line); -1 = none
 };
 
 // One frame with a fresh Renderer (nothing cached).

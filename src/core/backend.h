@@ -25,8 +25,8 @@
 namespace meniscus {
 
 // Opaque handles of the images one frame passes between stages.
-enum class Slot { SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Noise, Whitening, Color };
-inline constexpr int kSlotCount = 9;
+enum class Slot { SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Noise, Whitening, Color, Spray };
+inline constexpr int kSlotCount = 10;
 
 // Everything the stages read besides images, resolved once per frame.
 struct FrameSettings {
@@ -47,6 +47,12 @@ struct FrameSettings {
     // only): its whiteness (shared::whitenessOfSpeed; empty: 0).
     WhiteningParams whitening;
     std::span<const float> whiteness;
+    // The spray (SPEC §3.2): when enabled, the drops below (taken out of the
+    // particles above, which are the body of water) are drawn after the
+    // shading. World positions and velocities (m/s; empty: round drops).
+    SprayParams spray;
+    std::span<const glm::vec3> sprayPositions;
+    std::span<const glm::vec3> sprayVelocities;
     shared::Studio studio;
     // The particles' views (attributes for the stages that read them; the
     // positions also come contiguous as beginFrame's argument). Valid for
@@ -93,6 +99,10 @@ public:
     // water from the whitening slot when FrameSettings::whitening is.
     virtual void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
                        Slot whitening, Slot color) = 0;
+
+    // The spray drops laid over the colour slot in place, hidden behind the
+    // fluid `depth` and the scene, and their cover into `spray` (cpu::drawSpray).
+    virtual void spray(Slot sceneDepth, Slot depth, Slot color, Slot spray) = 0;
 
     // Whether the stage just run (or the read-back) failed: OK, or an error
     // naming `stage` and what went wrong (GL: a GL error, GPU memory, a lost

@@ -44,4 +44,15 @@ std::string checkWhiteningParams(const WhiteningParams& p) {
     return {};
 }
 
+std::string checkSprayParams(const SprayParams& p) {
+    if (!within(p.sprayDensity, 0.0f, 1.0f)) return "sprayDensity: from 0 to 1 (a fraction of the rest density)";
+    if (!within(p.restDensityKgM3, 0.0f, 1e6f)) return "restDensityKgM3: from 0 (the frame's median) to 1e6 kg/m^3";
+    if (!within(p.sizeRadii, 0.05f, 16.0f)) return "sizeRadii: from 0.05 to 16 particle radii";
+    if (!within(p.streakSeconds, 0.0f, 10.0f)) return "streakSeconds: from 0 to 10 s";
+    if (!within(p.opacity, 0.0f, 16.0f)) return "opacity: from 0 to 16";
+    for (int c = 0; c < 3; ++c)
+        if (!within(p.color[c], 0.0f, 1e3f)) return "color: linear RGB, each from 0 to 1000";
+    return {};
+}
+
 }  // namespace meniscus

@@ -8,6 +8,7 @@
 #include "cpu/raster_mesh.h"
 #include "cpu/scene.h"
 #include "cpu/shading.h"
+#include "cpu/spray.h"
 #include "cpu/surface_noise.h"
 #include "cpu/velocity_map.h"
 #include "cpu/thickness.h"
@@ -86,6 +87,16 @@ public:
                                                      s_.noise.enabled ? &scalar(noise) : nullptr, &s_.noise,
                                                      s_.whitening.enabled ? &scalar(whitening) : nullptr,
                                                      &s_.whitening);
+    }
+
+    void spray(Slot sceneDepth, Slot depth, Slot color, Slot spray) override {
+        if (int(color) == sceneColorSlot_) {  // never paint over the cached scene
+            colors_[int(color)] = scene_.color;
+            sceneColorSlot_ = -1;
+        }
+        scalars_[int(spray)] = cpu::drawSpray(s_.camera, s_.sprayPositions, s_.sprayVelocities, s_.radius,
+                                              scalar(depth), &scalar(sceneDepth), s_.spray,
+                                              s_.shading.lightDirWorld, colors_[int(color)]);
     }
 
     Status stageStatus(const char*) override { return okStatus(); }

@@ -51,19 +51,32 @@ SurfaceSprites findSurfaceSprites(const Camera& camera, std::span<const glm::vec
 
     // 2. The counted sprites binned per tile (the sums over them are exact, so
     // any order would do; particle order keeps it simple).
+    std::vector<glm::ivec4> rects(n);
+    std::vector<std::uint8_t> on(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        rects[i] = out.sprite[i].rect;
+        on[i] = out.weight[i] > 0.0f;
+    }
+    binIntoTiles(rects, on, out.tilesX, out.tilesY, out.start, out.items);
+    return out;
+}
+
+void binIntoTiles(std::span<const glm::ivec4> rects, std::span<const std::uint8_t> on, int tilesX, int tilesY,
+                  std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& items) {
+    constexpr int kTile = kSpriteTilePx;
+    const std::size_t tiles = std::size_t(tilesX) * std::size_t(tilesY);
     auto forTiles = [&](const glm::ivec4& r, auto&& fn) {
         for (int ty = r.y / kTile; ty <= (r.w - 1) / kTile; ++ty)
-            for (int tx = r.x / kTile; tx <= (r.z - 1) / kTile; ++tx) fn(std::size_t(ty) * out.tilesX + tx);
+            for (int tx = r.x / kTile; tx <= (r.z - 1) / kTile; ++tx) fn(std::size_t(ty) * std::size_t(tilesX) + tx);
     };
-    for (std::size_t i = 0; i < n; ++i)
-        if (out.weight[i] > 0.0f) forTiles(out.sprite[i].rect, [&](std::size_t t) { ++out.start[t + 1]; });
-    for (std::size_t t = 0; t < tiles; ++t) out.start[t + 1] += out.start[t];
-    out.items.resize(out.start[tiles]);
-    std::vector<std::uint32_t> next(out.start.begin(), out.start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i)
-        if (out.weight[i] > 0.0f)
-            forTiles(out.sprite[i].rect, [&](std::size_t t) { out.items[next[t]++] = std::uint32_t(i); });
-    return out;
+    start.assign(tiles + 1, 0);
+    for (std::size_t i = 0; i < rects.size(); ++i)
+        if (on[i]) forTiles(rects[i], [&](std::size_t t) { ++start[t + 1]; });
+    for (std::size_t t = 0; t < tiles; ++t) start[t + 1] += start[t];
+    items.resize(start[tiles]);
+    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < rects.size(); ++i)
+        if (on[i]) forTiles(rects[i], [&](std::size_t t) { items[next[t]++] = std::uint32_t(i); });
 }
 
 glm::ivec4 spriteTileRect(const SurfaceSprites& s, std::size_t t, int width, int height) {

@@ -36,6 +36,12 @@ SurfaceSprites findSurfaceSprites(const Camera& camera, std::span<const glm::vec
                                   const Image<float>& depth, std::span<const float> amplitude, float spriteRadii,
                                   float falloffRadii);
 
+// Bins rectangles (x0, y0, x1, y1; non-empty where on[i]) into kSpriteTilePx
+// tiles: per tile t the indices i of the rectangles touching it,
+// items[start[t] .. start[t + 1]), in index order.
+void binIntoTiles(std::span<const glm::ivec4> rects, std::span<const std::uint8_t> on, int tilesX, int tilesY,
+                  std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& items);
+
 // Pixel rectangle [x0, x1) x [y0, y1) of tile t.
 glm::ivec4 spriteTileRect(const SurfaceSprites& s, std::size_t t, int width, int height);
 

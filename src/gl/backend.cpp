@@ -27,6 +27,7 @@
 #include "gl/scene.h"
 #include "gl/shading.h"
 #include "gl/splat.h"
+#include "gl/spray.h"
 #include "gl/surface_noise.h"
 #include "gl/thickness_lowres.h"
 #include "gl/uniforms.h"
@@ -47,6 +48,7 @@ struct Stages {
     LowResThickness lowResThickness;
     MeshRasteriser meshRasteriser;
     SurfaceNoise surfaceNoise;
+    SprayDrops sprayDrops;
 };
 
 template <class T>
@@ -203,6 +205,16 @@ public:
                         s_.whitening.enabled ? &img(whitening) : nullptr, &s_.whitening);
     }
 
+    void spray(Slot sceneDepth, Slot depth, Slot color, Slot spray) override {
+        // Drawn over the colour in place: a colour slot that held the cached
+        // scene no longer does (the next cast redraws it), as the CPU copies
+        // its cached scene out before painting, never over it.
+        forget(color);
+        forget(spray);
+        st_.sprayDrops.run(s_.camera, s_.sprayPositions, s_.sprayVelocities, s_.radius, s_.spray,
+                           s_.shading.lightDirWorld, img(depth), &img(sceneDepth), img(color), img(spray));
+    }
+
     // A GL error since the last check, out of GPU memory among them, or a
     // lost context (GL 4.5 / KHR_robustness reset status) fails the stage.
     // glGetError does not wait for the GPU, so every frame checks.
@@ -320,7 +332,7 @@ Result<std::unique_ptr<Backend>> makeOnCurrent(std::unique_ptr<Context> ctx) {
                       take(SceneCaster::create(), s.scene), take(Normals::create(), s.normals),
                       take(Shading::create(), s.shading), take(LowResThickness::create(), s.lowResThickness),
                       take(MeshRasteriser::create(), s.meshRasteriser),
-                      take(SurfaceNoise::create(), s.surfaceNoise)})
+                      take(SurfaceNoise::create(), s.surfaceNoise), take(SprayDrops::create(), s.sprayDrops)})
         if (!st) return st.error();
     return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(ctx), std::move(s)));
 }

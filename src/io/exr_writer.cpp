@@ -123,6 +123,7 @@ Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs) {
     if (!aovs.noise.empty()) channels.push_back({"Noise", &aovs.noise});
     if (!aovs.foam.empty()) channels.push_back({"foam", &aovs.foam});
     if (!aovs.whitening.empty()) channels.push_back({"whitening", &aovs.whitening});
+    if (!aovs.spray.empty()) channels.push_back({"spray", &aovs.spray});
 
     if (channels.empty()) return makeError(path.string(), "no image to write: every AOV is empty");
     return writeExr(path, channels);

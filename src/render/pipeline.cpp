@@ -1,9 +1,12 @@
 // The stage order of the screen-space pipeline (SPEC §1), in one place:
 //   scene -> depth splat + thickness (one pass) -> smoothing -> normals
 //         -> [surface noise: N and bumped normals] -> [velocity whitening map]
-//         -> shading (+ foam, + white water),
+//         -> shading (+ foam, + white water) -> [spray drops],
 // or, on the mesh path (RenderSettings::mesh):
-//   scene -> depth splat + thickness -> rasterise the mesh -> [noise] -> [whitening] -> shading.
+//   scene -> depth splat + thickness -> rasterise the mesh -> [noise] -> [whitening] -> shading -> [spray].
+// With the spray on, the particles classified as spray (core/spray.h) are
+// taken out before the splat and drawn by the last stage, which also draws
+// the diffuse layer (RenderSettings::diffuse, the whitewater) when given.
 // Each stage is one method of the backend (src/core/backend.h): one function
 // in src/cpu/ on the CPU, one shader stage in src/gl/ on the GL backend.
 #include <algorithm>
@@ -17,6 +20,7 @@
 
 #include "core/backend.h"
 #include "core/frame_memory.h"
+#include "core/spray.h"
 #include "core/turbulence.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
@@ -117,6 +121,14 @@ Image<glm::vec4> foamView(const Image<float>& foam, const Image<float>& depth) {
     return out;
 }
 
+// A cover (the spray's) as grey levels over the whole image, dark where none.
+Image<glm::vec4> coverView(const Image<float>& cover) {
+    Image<glm::vec4> out(cover.width, cover.height, glm::vec4(0.02f, 0.02f, 0.025f, 0.0f));
+    for (std::size_t i = 0; i < cover.size(); ++i)
+        if (cover.pixels[i] > 0.0f) out.pixels[i] = glm::vec4(glm::vec3(0.03f + 0.97f * cover.pixels[i]), 1.0f);
+    return out;
+}
+
 // The foam AOV: the cover the shading laid over each fluid pixel.
 Image<float> foamCover(const Image<float>& noise, const NoiseParams& p) {
     Image<float> out(noise.width, noise.height, 0.0f);
@@ -127,9 +139,10 @@ Image<float> foamCover(const Image<float>& noise, const NoiseParams& p) {
 
 // Reads back what the output needs: every AOV, or (colorOnly) the colour or
 // the stages the debug view pictures.
-Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noise, const WhiteningParams& whitening) {
+Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noise, const WhiteningParams& whitening,
+              bool spray) {
     const bool all = !colorOnly;
-    const bool noiseView = v == View::Noise || v == View::Foam || v == View::Whitening;
+    const bool noiseView = v == View::Noise || v == View::Foam || v == View::Whitening || v == View::Spray;
     Aovs aovs;
     if (all || v == View::RawDepth) aovs.rawDepth = b.readScalar(Slot::RawDepth);
     if (all || v == View::Depth || v == View::Normals || noiseView) aovs.depth = b.readScalar(Slot::Depth);
@@ -141,6 +154,7 @@ Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noise, cons
         aovs.foam = foamCover(aovs.noise, noise);
     }
     if (whitening.enabled && (all || v == View::Whitening)) aovs.whitening = b.readScalar(Slot::Whitening);
+    if (spray && (all || v == View::Spray)) aovs.spray = b.readScalar(Slot::Spray);
     return aovs;
 }
 
@@ -156,9 +170,10 @@ void applyView(View view, bool colorOnly, Aovs& aovs) {
         case View::Noise: aovs.color = noiseView(aovs.noise, aovs.depth); break;
         case View::Foam: aovs.color = foamView(aovs.foam, aovs.depth); break;
         case View::Whitening: aovs.color = foamView(aovs.whitening, aovs.depth); break;
+        case View::Spray: aovs.color = coverView(aovs.spray); break;
     }
     if (colorOnly) {
-        aovs.depth = aovs.rawDepth = aovs.thickness = aovs.noise = aovs.foam = aovs.whitening = {};
+        aovs.depth = aovs.rawDepth = aovs.thickness = aovs.noise = aovs.foam = aovs.whitening = aovs.spray = {};
         aovs.normal = {};
     }
 }
@@ -173,7 +188,8 @@ bool viewFromName(const std::string& name, View* out) {
                                                           {"thickness", View::Thickness},
                                                           {"noise", View::Noise},
                                                           {"foam", View::Foam},
-                                                          {"whitening", View::Whitening}};
+                                                          {"whitening", View::Whitening},
+                                                          {"spray", View::Spray}};
     for (const auto& [n, v] : kViews)
         if (name == n) {
             *out = v;
@@ -182,7 +198,7 @@ bool viewFromName(const std::string& name, View* out) {
     return false;
 }
 
-std::string viewNames() { return "final, depth, raw-depth, normals, thickness, noise, foam, whitening"; }
+std::string viewNames() { return "final, depth, raw-depth, normals, thickness, noise, foam, whitening, spray"; }
 
 bool backendFromName(const std::string& name, BackendChoice* out) {
     static const std::pair<const char*, BackendChoice> kBackends[] = {
@@ -228,6 +244,66 @@ static_assert(defaults::kMaxImageSizePx <= shared::kRasterMaxSidePx,
               "the mesh path needs a check of the image size against shared::kRasterMaxSidePx");
 
 }  // namespace
+
+// This frame's particles split into the body of water (a view over copies
+// of its positions and attributes, for every stage up to the shading) and the
+// drops the spray stage draws.
+struct SpraySplit {
+    std::vector<glm::vec3> positions, velocity, color;
+    std::vector<float> density;
+    std::vector<std::int64_t> id, fluid;
+    std::vector<glm::vec3> dropPositions, dropVelocities;
+    ParticleView water;
+
+    void split(const ParticleView& all, const RenderSettings& s) {
+        const std::vector<std::uint8_t> isSpray = classifySpray(all, s.radiusM, s.spray);
+        positions.clear(), velocity.clear(), color.clear(), density.clear(), id.clear(), fluid.clear();
+        dropPositions.clear(), dropVelocities.clear();
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            if (isSpray[i]) {
+                dropPositions.push_back(all.positions[i]);
+                if (all.velocity.present()) dropVelocities.push_back(all.velocity[i]);
+                continue;
+            }
+            positions.push_back(all.positions[i]);
+            if (all.velocity.present()) velocity.push_back(all.velocity[i]);
+            if (all.color.present()) color.push_back(all.color[i]);
+            if (all.density.present()) density.push_back(all.density[i]);
+            if (all.id.present()) id.push_back(all.id[i]);
+            if (all.fluid.present()) fluid.push_back(all.fluid[i]);
+        }
+        water = ParticleView(std::span<const glm::vec3>(positions));
+        if (all.velocity.present()) water.velocity = StridedView<glm::vec3>(std::span<const glm::vec3>(velocity));
+        if (all.color.present()) water.color = StridedView<glm::vec3>(std::span<const glm::vec3>(color));
+        if (all.density.present()) water.density = StridedView<float>(std::span<const float>(density));
+        if (all.id.present()) water.id = StridedView<std::int64_t>(std::span<const std::int64_t>(id));
+        if (all.fluid.present()) water.fluid = StridedView<std::int64_t>(std::span<const std::int64_t>(fluid));
+    }
+
+    // The diffuse layer's spray and foam joined to the drops (bubbles are
+    // under the surface), foam lifted toward the eye along its ray (the
+    // same pixel) so the surface it floats on does not hide it. Velocities
+    // are zero-filled where one source has them and the other not.
+    void addDiffuse(const DiffuseLayer& d, const Camera& camera, float radius) {
+        const std::size_t before = dropPositions.size();
+        const bool anyVelocity = !dropVelocities.empty() || d.velocities.size() == d.positions.size();
+        if (anyVelocity) dropVelocities.resize(before, glm::vec3(0.0f));
+        const float lift = defaults::kDiffuseFoamLiftRadii * radius;
+        for (std::size_t i = 0; i < d.positions.size(); ++i) {
+            const std::int64_t kind = i < d.kind.size() ? d.kind[i] : 1;
+            if (kind == 2) continue;  // a bubble
+            glm::vec3 p = d.positions[i];
+            if (kind == 0) {
+                const glm::vec3 toEye = camera.eye - p;
+                const float len = glm::length(toEye);
+                if (len > lift) p += toEye * (lift / len);
+            }
+            dropPositions.push_back(p);
+            if (anyVelocity)
+                dropVelocities.push_back(d.velocities.size() == d.positions.size() ? d.velocities[i] : glm::vec3(0.0f));
+        }
+    }
+};
 
 void Renderer::prepareNoise(const ParticleView& particles, const RenderSettings& s) {
     const std::size_t n = particles.size();
@@ -281,15 +357,14 @@ Result<Renderer> Renderer::createOnCurrentGlContext() {
 
 std::string Renderer::backendName() const { return backend_->name(); }
 
-Status Renderer::runStages(const ParticleView& particles, const RenderSettings& s,
-                           std::vector<StageTime>* timings) {
+Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std::vector<StageTime>* timings) {
     if (auto st = validateCamera(s.camera); !st) return st.error();
     if (auto st = checkRadius(s.radiusM); !st) return st;
     if (auto st = checkFrameMemory(s.camera.width, s.camera.height, physicalMemoryBytes(), s.noise.enabled,
                                    s.whitening.enabled);
         !st)
         return st;
-    if (auto st = particles.validate(); !st) return st;
+    if (auto st = all.validate(); !st) return st;
     if (s.mesh)
         if (auto st = checkMesh(*s.mesh); !st) return st;
     if ((s.view == View::Noise || s.view == View::Foam) && !s.noise.enabled)
@@ -299,6 +374,32 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
     if (s.whitening.enabled)
         if (std::string bad = checkWhiteningParams(s.whitening); !bad.empty())
             return makeError("", "RenderSettings::whitening." + bad);
+    // The spray stage draws the spray's drops, the diffuse layer's, or both.
+    const bool drops = s.spray.enabled || !s.diffuse.empty();
+    if (s.view == View::Spray && !drops)
+        return makeError("", "the spray view needs the spray on (RenderSettings::spray.enabled) or a diffuse layer");
+    if (!s.diffuse.velocities.empty() && s.diffuse.velocities.size() != s.diffuse.positions.size())
+        return makeError("", "RenderSettings::diffuse: velocities must be empty or one per position");
+    if (!s.diffuse.kind.empty() && s.diffuse.kind.size() != s.diffuse.positions.size())
+        return makeError("", "RenderSettings::diffuse: kind must be empty or one per position");
+    if (drops)
+        if (std::string bad = checkSprayParams(s.spray); !bad.empty()) return makeError("", "RenderSettings::spray." + bad);
+    // The studio is built around every particle, spray included.
+    Bounds box = s.scene.studioBounds;
+    if (box.empty())
+        for (std::size_t i = 0; i < all.size(); ++i) box.extend(all.positions[i]);
+    // With the spray on, the stages below see the body of water only.
+    sprayClassifyMs_ = -1.0;
+    if (drops) {
+        const auto t0 = std::chrono::steady_clock::now();
+        if (!spray_) spray_ = std::make_unique<SpraySplit>();
+        if (s.spray.enabled) spray_->split(all, s);
+        else spray_->dropPositions.clear(), spray_->dropVelocities.clear();
+        spray_->addDiffuse(s.diffuse, s.camera, s.radiusM);
+        // On the host for both backends (the density estimate, the split).
+        sprayClassifyMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
+    const ParticleView& particles = s.spray.enabled ? spray_->water : all;
     if (s.noise.enabled)
         if (std::string bad = checkNoiseParams(s.noise); !bad.empty())
             return makeError("", "RenderSettings::noise." + bad);
@@ -336,7 +437,11 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
                                                          s.whitening.rampMps);
         f.whiteness = whiteness_;
     }
-    const Bounds box = s.scene.studioBounds.empty() ? computeBounds(positions) : s.scene.studioBounds;
+    f.spray = s.spray;
+    if (drops) {
+        f.sprayPositions = spray_->dropPositions;
+        f.sprayVelocities = spray_->dropVelocities;
+    }
     f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
     Backend& b = *backend_;
     if (auto st = b.beginFrame(positions, f); !st) return st.error();
@@ -368,10 +473,14 @@ Status Renderer::runStages(const ParticleView& particles, const RenderSettings& 
         if (auto st = stage("noise", [&] { b.noise(Slot::Depth, Slot::Normal, Slot::Noise); }); !st) return st;
     if (s.whitening.enabled)
         if (auto st = stage("whitening", [&] { b.whitening(Slot::Depth, Slot::Whitening); }); !st) return st;
-    return stage("shade", [&] {
-        b.shade(Slot::SceneColor, Slot::SceneDepth, Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Noise,
-                Slot::Whitening, Slot::Color);
-    });
+    if (auto st = stage("shade", [&] {
+            b.shade(Slot::SceneColor, Slot::SceneDepth, Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Noise,
+                    Slot::Whitening, Slot::Color);
+        });
+        !st)
+        return st;
+    if (!drops) return okStatus();
+    return stage("spray", [&] { b.spray(Slot::SceneDepth, Slot::Depth, Slot::Color, Slot::Spray); });
 }
 
 Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSettings& s,
@@ -380,12 +489,13 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
         if (auto st = runStages(particles, s, timings); !st) return st.error();
         Backend& b = *backend_;
         const auto t0 = std::chrono::steady_clock::now();
-        Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise, s.whitening);
+        Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise, s.whitening, s.spray.enabled || !s.diffuse.empty());
         if (auto st = b.stageStatus("readback"); !st) return st.error();
         const double readMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (timings) {
             *timings = b.stageTimes();
+            if (sprayClassifyMs_ >= 0.0) timings->insert(timings->begin(), {"spray-classify", sprayClassifyMs_});
             if (b.name() != "cpu") timings->push_back({"readback", readMs});  // GPU -> host copies of the AOVs read
         }
         applyView(s.view, s.colorOnly, aovs);
@@ -397,7 +507,7 @@ Status Renderer::draw(const ParticleView& particles, const RenderSettings& s) {
     return guarded("drawing", [&]() -> Status {
         if (auto st = runStages(particles, s, nullptr); !st) return st;
         if (s.view == View::Final) return okStatus();  // the colour is already in its slot
-        Aovs aovs = readAovs(*backend_, s.view, true, s.noise, s.whitening);
+        Aovs aovs = readAovs(*backend_, s.view, true, s.noise, s.whitening, s.spray.enabled || !s.diffuse.empty());
         applyView(s.view, true, aovs);
         backend_->writeColor(Slot::Color, std::move(aovs.color));
         return backend_->stageStatus("debug view");

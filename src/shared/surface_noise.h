@@ -32,6 +32,7 @@ using ivec4 = glm::ivec4;
 using std::abs;
 using std::floor;
 using std::max;
+using std::min;
 using std::sqrt;
 #define MENISCUS_SN_INLINE inline
 #define MENISCUS_SN_CONST inline constexpr

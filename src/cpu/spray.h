@@ -1,0 +1,31 @@
+// CPU spray drops (SPEC §3.2, §3.7): the particles classified as spray drawn
+// as small lit, semi-transparent drops stretched along their velocity,
+// composited with depth over the shaded image. Formulas: src/shared/spray.h.
+#pragma once
+
+#include <span>
+
+#include <glm/glm.hpp>
+
+#include "meniscus/camera.h"
+#include "meniscus/params.h"
+#include "meniscus/types.h"
+
+namespace meniscus::cpu {
+
+// Lays the drops (world positions and velocities, m/s; velocities may be
+// empty: round drops) over `color` in place, each hidden where the fluid's
+// `depth` or the `sceneDepth` (when given, camera-sized) is nearer than the
+// drop's centre, and returns their cover per pixel (0 = none). The drops'
+// colour is lit by lightDirWorld. Exact: the same image for any thread count.
+Image<float> drawSpray(const Camera& camera, std::span<const glm::vec3> positionsWorld,
+                       std::span<const glm::vec3> velocitiesWorld, float radius, const Image<float>& depth,
+                       const Image<float>* sceneDepth, const SprayParams& params, const glm::vec3& lightDirWorld,
+                       Image<glm::vec4>& color);
+
+// The drops' light term: the view-space z of the unit light direction (a
+// drop's mean normal faces the eye), computed once on the host for both
+// backends (shared::sprayLightZ, which the GL twin calls as well).
+float sprayLightZ(const Camera& camera, const glm::vec3& lightDirWorld);
+
+}  // namespace meniscus::cpu
