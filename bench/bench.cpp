@@ -170,13 +170,14 @@ int main(int argc, char** argv) {
     std::string backendOpt = "both";
     app.add_option("--backend", backendOpt, "cpu, gl, auto, or both (cpu and gl side by side; gl skipped with a note when no context)")
         ->capture_default_str();
-    bool meshOnly = false, noMesh = false, noise = false, whiten = false, spray = false;
+    bool meshOnly = false, noMesh = false, noise = false, whiten = false, spray = false, silhouette = false;
     std::string openvdb;
     float benchRadius = 0.0f;
     app.add_option("--radius", benchRadius, "Particle radius in metres (default: estimated)");
     app.add_flag("--mesh-only", meshOnly, "Time only the isosurface path (and its peer)");
     app.add_flag("--no-mesh", noMesh, "Skip the isosurface path");
     app.add_flag("--noise", noise, "Also run the surface-noise stage (and foam in the shading), seeded by the file's ids");
+    app.add_flag("--silhouette", silhouette, "Also run the silhouette reduction stage (Instant Liquids' silhouette map)");
     app.add_flag("--spray", spray,
                  "Also split off the spray (density below half the median, estimated from neighbours) and run the "
                  "spray-drop stage (the split's time is part of the frame's own)");
@@ -289,6 +290,7 @@ int main(int argc, char** argv) {
         settings.noise.enabled = noise;
         settings.whitening.enabled = whiten;
         settings.spray.enabled = spray;
+        settings.silhouette.enabled = silhouette;
         // Per backend: stage -> run times, and the stage order.
         std::vector<std::map<std::string, std::vector<double>>> perStage(renderers.size());
         std::vector<std::string> order;

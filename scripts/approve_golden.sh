@@ -19,4 +19,5 @@ done
 render frame21_noise --noise
 render frame21_whiten --whiten
 render frame21_spray --spray --spray-streak 0.03
+render frame21_silhouette --silhouette --background none
 echo "approved: $(ls tests/golden/*.png | wc -l) images in tests/golden/"

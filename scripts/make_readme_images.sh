@@ -21,6 +21,9 @@ render whiten21 --whiten
 render whiten21_map --whiten --view whitening
 render spray21 --spray --spray-streak 0.03 "${close[@]}"
 render spray21_cover --spray --spray-streak 0.03 --view spray "${close[@]}"
+render silhouette21_off --background none "${close[@]}"
+render silhouette21 --silhouette --background none "${close[@]}"
+render silhouette21_map --silhouette --view silhouette "${close[@]}"
 render noise_close_off "${close[@]}"
 render noise_close_on "${close[@]}" --noise
 small=../shared/testdata/splishsplash/dambreak_r0.025_small/partio

@@ -20,6 +20,7 @@
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
+#include "meniscus/renderer.h"
 #include "meniscus/types.h"
 #include "test_util.h"
 
@@ -195,6 +196,33 @@ int differingBits(const Image<T>& a, const Image<T>& b) {
     for (std::size_t k = 0; k < a.size() && k < b.size(); ++k)
         n += std::memcmp(&a.pixels[k], &b.pixels[k], sizeof(T)) != 0;
     return n + int(a.size() > b.size() ? a.size() - b.size() : b.size() - a.size());
+}
+
+// The whole-pipeline colour tolerance (gl_backend_test's): at most 2 sRGB
+// steps anywhere and 0.1% of the pixels off by more than 1. Returns the diff
+// for the caller's log line.
+inline ColorDiff expectPipelineColor(const Image<glm::vec4>& cpu, const Image<glm::vec4>& gl, const std::string& what) {
+    const ColorDiff c = compareColor(cpu, gl);
+    EXPECT_LE(c.maxSteps, 2) << what;
+    EXPECT_LE(c.fractionOver1, 1e-3) << what;
+    return c;
+}
+
+// The time of stage `name` among a render's stage times; -1 when it did not run.
+inline double stageMs(const std::vector<StageTime>& times, const std::string& name) {
+    for (const StageTime& t : times)
+        if (t.stage == name) return t.ms;
+    return -1.0;
+}
+
+// The real frame with its attributes (velocities, ids; realFrame() keeps the positions only).
+inline const ParticleSet& realSet() {
+    static const ParticleSet set = [] {
+        auto s = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
+        EXPECT_TRUE(s.ok()) << s.error().describe();
+        return s ? std::move(*s) : ParticleSet{};
+    }();
+    return set;
 }
 
 }  // namespace meniscus::test

@@ -30,7 +30,8 @@ namespace fs = std::filesystem;
 // Every look that has a golden: the filters (file frame21_<filter>.png) and
 // the materials other than the default water (frame21_material_<name>.png),
 // the surface noise and foam (frame21_noise.png), the velocity whitening
-// (frame21_whiten.png) and the spray drops (frame21_spray.png).
+// (frame21_whiten.png), the spray drops (frame21_spray.png) and the
+// silhouette reduction over no background, where its alpha shows (frame21_silhouette.png).
 struct Look {
     std::string file;  // golden file name without .png
     std::string args;  // CLI arguments that select it
@@ -50,6 +51,7 @@ const Look kLooks[] = {
     {"frame21_noise", "--noise"},
     {"frame21_whiten", "--whiten"},
     {"frame21_spray", "--spray --spray-streak 0.03"},
+    {"frame21_silhouette", "--silhouette --background none"},
 };
 
 class Golden : public testing::TestWithParam<std::tuple<std::string, int>> {};

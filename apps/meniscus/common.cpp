@@ -98,7 +98,7 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     cmd->add_option("--view", o.view,
                     "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
                     "smoothing), normals, thickness, noise (surface noise N), foam (foam cover), whitening (velocity "
-                    "whitening map), spray (the drops' cover)")
+                    "whitening map), spray (the drops' cover), silhouette (the silhouette map)")
         ->capture_default_str();
     cmd->add_option("--filter", o.filter, "Depth smoothing: " + filterNames())->capture_default_str();
     cmd->add_option("--iterations", o.iterations,
@@ -143,6 +143,17 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     cmd->add_option("--spray-size", sp.sizeRadii, "A drop's drawn radius, in particle radii")->capture_default_str();
     cmd->add_option("--spray-streak", sp.streakSeconds, "Exposure over which a drop is streaked along its path, s")
         ->capture_default_str();
+    SilhouetteParams& sil = o.silhouetteParams;
+    cmd->add_flag("--silhouette", o.silhouette,
+                  "Silhouette reduction (Instant Liquids): near its contours, where less than all of a small window "
+                  "around a pixel is liquid, the liquid fades into the scene behind it (softer, anti-aliased edges, no "
+                  "rim of badly smoothed normals)");
+    cmd->add_option("--silhouette-radius", sil.radiusRadii, "The window's half-width, in particle radii")
+        ->capture_default_str();
+    cmd->add_option("--silhouette-fade", sil.fadeFrom,
+                    "Liquid fraction of the window at which the fade reaches 0 (0.5: a straight edge's own pixels; "
+                    "1: clip, liquid only where the whole window is)")
+        ->capture_default_str();
 }
 
 void addBackendOption(CLI::App* cmd, RenderOptions& o) {
@@ -184,7 +195,14 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
     s.spray.enabled = o.spray;
     if (o.spray)
         if (std::string bad = checkSprayParams(s.spray); !bad.empty()) return makeError("", "--spray: " + bad);
-    if (s.view == View::Spray && !o.spray) return makeError("", "--view spray shows the spray drops: add --spray");
+    if (s.view == View::Spray && !o.spray && o.diffuse.empty())
+        return makeError("", "--view spray shows the spray drops: add --spray (or --diffuse)");
+    s.silhouette = o.silhouetteParams;
+    s.silhouette.enabled = o.silhouette;
+    if (o.silhouette)
+        if (std::string bad = checkSilhouetteParams(s.silhouette); !bad.empty()) return makeError("", "--silhouette: " + bad);
+    if (s.view == View::Silhouette && !o.silhouette)
+        return makeError("", "--view silhouette shows the silhouette map: add --silhouette");
     if (!(o.radius >= 0.0f)) return makeError("", "--radius must be a positive number of metres");
     if (o.radius != 0.0f)
         if (auto st = checkRadius(o.radius); !st) return makeError("", "--radius: " + st.error().message);

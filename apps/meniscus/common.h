@@ -59,6 +59,9 @@ struct RenderOptions {
     // Spray drops (SPEC §3.2): off unless --spray.
     bool spray = false;
     SprayParams sprayParams;
+    // Silhouette reduction (SPEC §3.5): off unless --silhouette.
+    bool silhouette = false;
+    SilhouetteParams silhouetteParams;
     // Diffuse particles (`meniscus whitewater`'s output) drawn as a layer:
     // a file, or a pattern filled with each input frame's number. Empty: none.
     std::string diffuse;

@@ -245,6 +245,27 @@ struct SprayParams {
 // The first parameter out of range, as "field: what is allowed"; empty when all are fine.
 std::string checkSprayParams(const SprayParams& p);
 
+// ---- Silhouette reduction (SPEC §3.5; Instant Liquids §3) ------------------
+
+// Cords & Staadt's silhouette map: the binary fluid mask smoothed over a
+// window around each fluid pixel gives the fraction S of fluid near it, below
+// 1 only near a contour. Where S < 1 the liquid fades into what lies behind
+// it, alpha = clamp((S - fadeFrom) / (1 - fadeFrom), 0, 1) (fadeFrom = 1: the
+// paper's clip, liquid only where S = 1), which removes the ring of poorly
+// smoothed depth and normals at the outer contour and softens the stair-step
+// edge. The window is a square of half-width radiusRadii r projected at the
+// pixel's depth (at most maxPx), with uniform weights: exact integer counts
+// from a summed-area table, O(1) a pixel on both backends. Off unless enabled.
+struct SilhouetteParams {
+    bool enabled = false;
+    float radiusRadii = 1.0f;  // window half-width, particle radii
+    int maxPx = 16;            // cap on the window half-width, pixels
+    float fadeFrom = 0.5f;     // S at which the fade starts (0.5: a straight edge's own pixels); 1 = clip
+};
+
+// The first parameter out of range, as "field: what is allowed"; empty when all are fine.
+std::string checkSilhouetteParams(const SilhouetteParams& p);
+
 // ---- Whitewater (Ihmsen et al. 2012) -----------------------------------------
 
 // Diffuse particles (spray, foam, air bubbles) generated from a fluid

@@ -20,7 +20,7 @@ namespace meniscus {
 
 // What the colour AOV (and so the PNG) shows: the shaded, composited image or
 // a picture of one intermediate stage for a person to look at.
-enum class View { Final, Depth, RawDepth, Normals, Thickness, Noise, Foam, Whitening, Spray };
+enum class View { Final, Depth, RawDepth, Normals, Thickness, Noise, Foam, Whitening, Spray, Silhouette };
 
 // Diffuse particles for RenderSettings::diffuse: world positions, velocities
 // (m/s; empty: round drops) and each one's kind in the whitewater numbering
@@ -37,7 +37,7 @@ struct DiffuseLayer {
 
 // CLI names: final, depth, raw-depth, normals, thickness, noise, foam (these
 // two need RenderSettings::noise enabled), whitening (RenderSettings::whitening),
-// spray (RenderSettings::spray).
+// spray (RenderSettings::spray or a diffuse layer), silhouette (RenderSettings::silhouette).
 bool viewFromName(const std::string& name, View* out);
 std::string viewNames();
 
@@ -66,6 +66,9 @@ struct RenderSettings {
     // (its size, streak, opacity, colour), spray on or off: the whitewater of
     // `meniscus whitewater` (Ihmsen et al. 2012). Empty: none.
     DiffuseLayer diffuse;
+    // Silhouette reduction (SPEC §3.5; Instant Liquids §3): off unless
+    // silhouette.enabled; fades the liquid into the scene near its contours.
+    SilhouetteParams silhouette;
     // This frame's index in its sequence, for the turbulence of the noise: the
     // renderer remembers the velocities of the last frame it rendered, and
     // compares when this index is the next one (a redraw of the same index

@@ -25,8 +25,8 @@
 namespace meniscus {
 
 // Opaque handles of the images one frame passes between stages.
-enum class Slot { SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Noise, Whitening, Color, Spray };
-inline constexpr int kSlotCount = 10;
+enum class Slot { SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Noise, Whitening, Color, Spray, Silhouette };
+inline constexpr int kSlotCount = 11;
 
 // Everything the stages read besides images, resolved once per frame.
 struct FrameSettings {
@@ -51,6 +51,8 @@ struct FrameSettings {
     // particles above, which are the body of water) are drawn after the
     // shading. World positions and velocities (m/s; empty: round drops).
     SprayParams spray;
+    // The silhouette reduction (SPEC §3.5; Instant Liquids §3), when enabled.
+    SilhouetteParams silhouette;
     std::span<const glm::vec3> sprayPositions;
     std::span<const glm::vec3> sprayVelocities;
     shared::Studio studio;
@@ -99,6 +101,10 @@ public:
     // water from the whitening slot when FrameSettings::whitening is.
     virtual void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
                        Slot whitening, Slot color) = 0;
+
+    // The liquid faded into the scene colour where its silhouette map S < 1,
+    // in place on the colour slot, and S into `silhouette` (cpu::reduceSilhouettes).
+    virtual void silhouette(Slot sceneColor, Slot depth, Slot color, Slot silhouette) = 0;
 
     // The spray drops laid over the colour slot in place, hidden behind the
     // fluid `depth` and the scene, and their cover into `spray` (cpu::drawSpray).

@@ -55,4 +55,11 @@ std::string checkSprayParams(const SprayParams& p) {
     return {};
 }
 
+std::string checkSilhouetteParams(const SilhouetteParams& p) {
+    if (!within(p.radiusRadii, 0.01f, 64.0f)) return "radiusRadii: from 0.01 to 64 particle radii";
+    if (p.maxPx < 1 || p.maxPx > 256) return "maxPx: from 1 to 256 pixels";
+    if (!within(p.fadeFrom, 0.0f, 1.0f)) return "fadeFrom: from 0 to 1";
+    return {};
+}
+
 }  // namespace meniscus

@@ -8,6 +8,7 @@
 #include "cpu/raster_mesh.h"
 #include "cpu/scene.h"
 #include "cpu/shading.h"
+#include "cpu/silhouette.h"
 #include "cpu/spray.h"
 #include "cpu/surface_noise.h"
 #include "cpu/velocity_map.h"
@@ -87,6 +88,15 @@ public:
                                                      s_.noise.enabled ? &scalar(noise) : nullptr, &s_.noise,
                                                      s_.whitening.enabled ? &scalar(whitening) : nullptr,
                                                      &s_.whitening);
+    }
+
+    void silhouette(Slot sceneColor, Slot depth, Slot color, Slot silhouette) override {
+        if (int(color) == sceneColorSlot_) {  // never fade the cached scene itself
+            colors_[int(color)] = scene_.color;
+            sceneColorSlot_ = -1;
+        }
+        scalars_[int(silhouette)] = cpu::reduceSilhouettes(s_.camera, scalar(depth), colorImage(sceneColor), s_.radius,
+                                                           s_.silhouette, colors_[int(color)]);
     }
 
     void spray(Slot sceneDepth, Slot depth, Slot color, Slot spray) override {

@@ -26,6 +26,7 @@
 #include "gl/raster_mesh.h"
 #include "gl/scene.h"
 #include "gl/shading.h"
+#include "gl/silhouette.h"
 #include "gl/splat.h"
 #include "gl/spray.h"
 #include "gl/surface_noise.h"
@@ -48,6 +49,7 @@ struct Stages {
     LowResThickness lowResThickness;
     MeshRasteriser meshRasteriser;
     SurfaceNoise surfaceNoise;
+    SilhouetteReduction silhouetteReduction;
     SprayDrops sprayDrops;
 };
 
@@ -205,6 +207,16 @@ public:
                         s_.whitening.enabled ? &img(whitening) : nullptr, &s_.whitening);
     }
 
+    void silhouette(Slot sceneColor, Slot depth, Slot color, Slot silhouette) override {
+        // Faded in place: a colour slot that held the cached scene no longer
+        // does (the next cast redraws it), as the CPU copies its cached scene
+        // out before fading, never the scene itself.
+        forget(color);
+        forget(silhouette);
+        st_.silhouetteReduction.run(s_.camera, img(depth), img(sceneColor), s_.radius, s_.silhouette, img(color),
+                                    img(silhouette));
+    }
+
     void spray(Slot sceneDepth, Slot depth, Slot color, Slot spray) override {
         // Drawn over the colour in place: a colour slot that held the cached
         // scene no longer does (the next cast redraws it), as the CPU copies
@@ -332,7 +344,9 @@ Result<std::unique_ptr<Backend>> makeOnCurrent(std::unique_ptr<Context> ctx) {
                       take(SceneCaster::create(), s.scene), take(Normals::create(), s.normals),
                       take(Shading::create(), s.shading), take(LowResThickness::create(), s.lowResThickness),
                       take(MeshRasteriser::create(), s.meshRasteriser),
-                      take(SurfaceNoise::create(), s.surfaceNoise), take(SprayDrops::create(), s.sprayDrops)})
+                      take(SurfaceNoise::create(), s.surfaceNoise),
+                      take(SilhouetteReduction::create(), s.silhouetteReduction),
+                      take(SprayDrops::create(), s.sprayDrops)})
         if (!st) return st.error();
     return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(ctx), std::move(s)));
 }

@@ -17,6 +17,8 @@ struct GpuImage {
 
     std::size_t floats() const { return std::size_t(width) * std::size_t(height) * std::size_t(channels); }
     GLsizeiptr bytes() const { return GLsizeiptr(floats() * sizeof(float)); }
+    // Whether it holds a w x h x c image (allocated): what a stage checks its inputs with.
+    bool sized(int w, int h, int c) const { return width == w && height == h && channels == c && buffer.id() != 0; }
 
     // Sets the shape and makes sure the storage holds it (contents undefined
     // after growing; the buffer is never shrunk).

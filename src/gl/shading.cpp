@@ -13,13 +13,6 @@
 
 namespace meniscus::gl {
 
-namespace {
-
-bool sized(const GpuImage& img, int w, int h, int c) {
-    return img.width == w && img.height == h && img.channels == c && img.buffer.id() != 0;
-}
-}  // namespace
-
 Result<Shading> Shading::create() {
     Shading s;
     auto p = loadComputeProgram("shade.comp");
@@ -43,11 +36,11 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
     const int W = frame.size.x, H = frame.size.y;
     color.resize(W, H, 4);
     if (W <= 0 || H <= 0) return;
-    const bool hasScene = sized(sceneColor, W, H, 4) && sized(sceneDepth, W, H, 1);
-    const bool hasNormals = sized(normals, W, H, 3);
-    const bool hasThickness = sized(thickness, W, H, 1);
-    const bool foam = noise && noiseParams && sized(*noise, W, H, 1);
-    const bool white = whitening && whiteningParams && sized(*whitening, W, H, 1);
+    const bool hasScene = sceneColor.sized(W, H, 4) && sceneDepth.sized(W, H, 1);
+    const bool hasNormals = normals.sized(W, H, 3);
+    const bool hasThickness = thickness.sized(W, H, 1);
+    const bool foam = noise && noiseParams && noise->sized(W, H, 1);
+    const bool white = whitening && whiteningParams && whitening->sized(W, H, 1);
     // As the CPU, from the same host functions: the n.h below which the
     // highlight is invisible, and the sky's sun.
     const float nhMin = shared::highlightMinNh(frame.specular, frame.shininess);
@@ -58,7 +51,7 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
     // writes only the fluid pixels.
     if (hasScene) color.buffer.copyFrom(sceneColor.buffer, color.bytes());
     else color.buffer.fill(color.bytes(), 0u);
-    if (!sized(depth, W, H, 1)) {  // no usable fluid depth: the scene alone
+    if (!depth.sized(W, H, 1)) {  // no usable fluid depth: the scene alone
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;
     }

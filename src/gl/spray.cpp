@@ -34,9 +34,6 @@ constexpr GLuint kResolvePerInvocation = 4;
 static_assert(sizeof(SprayDrops::Packed) == 48 && offsetof(SprayDrops::Packed, rect) == 32,
               "std430 layout of shared::SprayDrop");
 
-bool sized(const GpuImage& img, int w, int h, int c) {
-    return img.width == w && img.height == h && img.channels == c && img.buffer.id() != 0;
-}
 }  // namespace
 
 Result<SprayDrops> SprayDrops::create() {
@@ -71,8 +68,8 @@ void SprayDrops::run(const Camera& camera, std::span<const glm::vec3> positionsW
         cover.buffer.fill(cover.bytes(), 0u);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     };
-    if (!sized(depth, W, H, 1) || !sized(color, W, H, 4)) return nothing();
-    const bool hasScene = sceneDepth && sized(*sceneDepth, W, H, 1);
+    if (!depth.sized(W, H, 1) || !color.sized(W, H, 4)) return nothing();
+    const bool hasScene = sceneDepth && sceneDepth->sized(W, H, 1);
 
     // The drops on screen: cpu::drawSpray's host code, the same floats in the
     // same order (shared::sprayDropOfWorld).

@@ -31,9 +31,6 @@ constexpr GLuint kGroup = 64;  // local_size_x of noise_splat.comp
 // 65,535 loop iterations per invocation.
 constexpr GLuint kBigGroups = 64;
 
-bool sized(const GpuImage& img, int w, int h, int c) {
-    return img.width == w && img.height == h && img.channels == c && img.buffer.id() != 0;
-}
 }  // namespace
 
 Result<SurfaceNoise> SurfaceNoise::create() {
@@ -147,7 +144,7 @@ void SurfaceNoise::run(const FrameParams& frame, const Camera& camera, const Noi
     if (W <= 0 || H <= 0) return;
     // N starts at 0 (a driver fill): the resolve writes only the fluid pixels'.
     noise.buffer.fill(noise.bytes(), 0u);
-    if (!sized(depth, W, H, 1)) {  // as the CPU: N = 0, the normals untouched
+    if (!depth.sized(W, H, 1)) {  // as the CPU: N = 0, the normals untouched
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;
     }
@@ -171,7 +168,7 @@ void SurfaceNoise::run(const FrameParams& frame, const Camera& camera, const Noi
 
     // Resolve, over the fluid pixels: N, and the normals bumped through
     // noisePerturbedNormal as on the CPU (a zero gradient leaves them as they are).
-    resolve(sized(normals, W, H, 3) ? &normals : nullptr, noise, false, jump, spriteF, p.bump);
+    resolve(normals.sized(W, H, 3) ? &normals : nullptr, noise, false, jump, spriteF, p.bump);
 }
 
 void SurfaceNoise::runWhitening(const FrameParams& frame, const Camera& camera, const WhiteningParams& p,
@@ -181,7 +178,7 @@ void SurfaceNoise::runWhitening(const FrameParams& frame, const Camera& camera, 
     map.resize(W, H, 1);
     if (W <= 0 || H <= 0) return;
     map.buffer.fill(map.bytes(), 0u);  // 0 where there is no fluid
-    if (!sized(depth, W, H, 1)) {
+    if (!depth.sized(W, H, 1)) {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         return;
     }

@@ -1,9 +1,10 @@
 // The stage order of the screen-space pipeline (SPEC §1), in one place:
 //   scene -> depth splat + thickness (one pass) -> smoothing -> normals
 //         -> [surface noise: N and bumped normals] -> [velocity whitening map]
-//         -> shading (+ foam, + white water) -> [spray drops],
+//         -> shading (+ foam, + white water) -> [silhouette reduction] -> [spray drops],
 // or, on the mesh path (RenderSettings::mesh):
-//   scene -> depth splat + thickness -> rasterise the mesh -> [noise] -> [whitening] -> shading -> [spray].
+//   scene -> depth splat + thickness -> rasterise the mesh -> [noise] -> [whitening] -> shading
+//         -> [silhouette] -> [spray].
 // With the spray on, the particles classified as spray (core/spray.h) are
 // taken out before the splat and drawn by the last stage, which also draws
 // the diffuse layer (RenderSettings::diffuse, the whitewater) when given.
@@ -68,17 +69,21 @@ Image<glm::vec4> normalsView(const Image<glm::vec3>& normals, const Image<float>
     return out;
 }
 
+// The 99th percentile of `values` (reordered), the top of a view's colour
+// scale so that a few outliers do not wash it out; 1 when there are none.
+float percentile99(std::vector<float>& values) {
+    if (values.empty()) return 1.0f;
+    auto k = values.begin() + std::ptrdiff_t(0.99 * double(values.size() - 1));
+    std::nth_element(values.begin(), k, values.end());
+    return std::max(*k, 1e-30f);
+}
+
 // Thickness as a heat ramp (black - blue - cyan - white) up to the 99th percentile.
 Image<glm::vec4> thicknessView(const Image<float>& thickness) {
     std::vector<float> values;
     for (float t : thickness.pixels)
         if (t > 0.0f) values.push_back(t);
-    float top = 1.0f;
-    if (!values.empty()) {
-        auto k = values.begin() + std::ptrdiff_t(0.99 * double(values.size() - 1));
-        std::nth_element(values.begin(), k, values.end());
-        top = std::max(*k, 1e-30f);
-    }
+    const float top = percentile99(values);
     Image<glm::vec4> out(thickness.width, thickness.height, glm::vec4(0.0f));
     for (std::size_t i = 0; i < thickness.size(); ++i) {
         const float t = thickness.pixels[i];
@@ -97,12 +102,7 @@ Image<glm::vec4> noiseView(const Image<float>& noise, const Image<float>& depth)
     std::vector<float> values;
     for (std::size_t i = 0; i < noise.size(); ++i)
         if (depth.pixels[i] < kInf && noise.pixels[i] != 0.0f) values.push_back(std::fabs(noise.pixels[i]));
-    float top = 1.0f;
-    if (!values.empty()) {
-        auto k = values.begin() + std::ptrdiff_t(0.99 * double(values.size() - 1));
-        std::nth_element(values.begin(), k, values.end());
-        top = std::max(*k, 1e-30f);
-    }
+    const float top = percentile99(values);
     Image<glm::vec4> out(noise.width, noise.height, glm::vec4(0.02f, 0.02f, 0.025f, 0.0f));
     for (std::size_t i = 0; i < noise.size(); ++i) {
         if (!(depth.pixels[i] < kInf)) continue;
@@ -140,9 +140,10 @@ Image<float> foamCover(const Image<float>& noise, const NoiseParams& p) {
 // Reads back what the output needs: every AOV, or (colorOnly) the colour or
 // the stages the debug view pictures.
 Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noise, const WhiteningParams& whitening,
-              bool spray) {
+              bool spray, bool silhouette) {
     const bool all = !colorOnly;
-    const bool noiseView = v == View::Noise || v == View::Foam || v == View::Whitening || v == View::Spray;
+    const bool noiseView = v == View::Noise || v == View::Foam || v == View::Whitening || v == View::Spray ||
+                           v == View::Silhouette;
     Aovs aovs;
     if (all || v == View::RawDepth) aovs.rawDepth = b.readScalar(Slot::RawDepth);
     if (all || v == View::Depth || v == View::Normals || noiseView) aovs.depth = b.readScalar(Slot::Depth);
@@ -155,6 +156,7 @@ Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noise, cons
     }
     if (whitening.enabled && (all || v == View::Whitening)) aovs.whitening = b.readScalar(Slot::Whitening);
     if (spray && (all || v == View::Spray)) aovs.spray = b.readScalar(Slot::Spray);
+    if (silhouette && (all || v == View::Silhouette)) aovs.silhouette = b.readScalar(Slot::Silhouette);
     return aovs;
 }
 
@@ -171,9 +173,10 @@ void applyView(View view, bool colorOnly, Aovs& aovs) {
         case View::Foam: aovs.color = foamView(aovs.foam, aovs.depth); break;
         case View::Whitening: aovs.color = foamView(aovs.whitening, aovs.depth); break;
         case View::Spray: aovs.color = coverView(aovs.spray); break;
+        case View::Silhouette: aovs.color = foamView(aovs.silhouette, aovs.depth); break;
     }
     if (colorOnly) {
-        aovs.depth = aovs.rawDepth = aovs.thickness = aovs.noise = aovs.foam = aovs.whitening = aovs.spray = {};
+        aovs.depth = aovs.rawDepth = aovs.thickness = aovs.noise = aovs.foam = aovs.whitening = aovs.spray = aovs.silhouette = {};
         aovs.normal = {};
     }
 }
@@ -189,7 +192,8 @@ bool viewFromName(const std::string& name, View* out) {
                                                           {"noise", View::Noise},
                                                           {"foam", View::Foam},
                                                           {"whitening", View::Whitening},
-                                                          {"spray", View::Spray}};
+                                                          {"spray", View::Spray},
+                                                          {"silhouette", View::Silhouette}};
     for (const auto& [n, v] : kViews)
         if (name == n) {
             *out = v;
@@ -198,7 +202,7 @@ bool viewFromName(const std::string& name, View* out) {
     return false;
 }
 
-std::string viewNames() { return "final, depth, raw-depth, normals, thickness, noise, foam, whitening, spray"; }
+std::string viewNames() { return "final, depth, raw-depth, normals, thickness, noise, foam, whitening, spray, silhouette"; }
 
 bool backendFromName(const std::string& name, BackendChoice* out) {
     static const std::pair<const char*, BackendChoice> kBackends[] = {
@@ -374,6 +378,11 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     if (s.whitening.enabled)
         if (std::string bad = checkWhiteningParams(s.whitening); !bad.empty())
             return makeError("", "RenderSettings::whitening." + bad);
+    if (s.view == View::Silhouette && !s.silhouette.enabled)
+        return makeError("", "the silhouette view needs the silhouette reduction on (RenderSettings::silhouette.enabled)");
+    if (s.silhouette.enabled)
+        if (std::string bad = checkSilhouetteParams(s.silhouette); !bad.empty())
+            return makeError("", "RenderSettings::silhouette." + bad);
     // The spray stage draws the spray's drops, the diffuse layer's, or both.
     const bool drops = s.spray.enabled || !s.diffuse.empty();
     if (s.view == View::Spray && !drops)
@@ -438,6 +447,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         f.whiteness = whiteness_;
     }
     f.spray = s.spray;
+    f.silhouette = s.silhouette;
     if (drops) {
         f.sprayPositions = spray_->dropPositions;
         f.sprayVelocities = spray_->dropVelocities;
@@ -479,6 +489,10 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         });
         !st)
         return st;
+    if (s.silhouette.enabled)
+        if (auto st = stage("silhouette", [&] { b.silhouette(Slot::SceneColor, Slot::Depth, Slot::Color, Slot::Silhouette); });
+            !st)
+            return st;
     if (!drops) return okStatus();
     return stage("spray", [&] { b.spray(Slot::SceneDepth, Slot::Depth, Slot::Color, Slot::Spray); });
 }
@@ -489,7 +503,8 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
         if (auto st = runStages(particles, s, timings); !st) return st.error();
         Backend& b = *backend_;
         const auto t0 = std::chrono::steady_clock::now();
-        Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise, s.whitening, s.spray.enabled || !s.diffuse.empty());
+        Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise, s.whitening, s.spray.enabled || !s.diffuse.empty(),
+                             s.silhouette.enabled);
         if (auto st = b.stageStatus("readback"); !st) return st.error();
         const double readMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -507,7 +522,8 @@ Status Renderer::draw(const ParticleView& particles, const RenderSettings& s) {
     return guarded("drawing", [&]() -> Status {
         if (auto st = runStages(particles, s, nullptr); !st) return st;
         if (s.view == View::Final) return okStatus();  // the colour is already in its slot
-        Aovs aovs = readAovs(*backend_, s.view, true, s.noise, s.whitening, s.spray.enabled || !s.diffuse.empty());
+        Aovs aovs = readAovs(*backend_, s.view, true, s.noise, s.whitening, s.spray.enabled || !s.diffuse.empty(),
+                             s.silhouette.enabled);
         applyView(s.view, true, aovs);
         backend_->writeColor(Slot::Color, std::move(aovs.color));
         return backend_->stageStatus("debug view");

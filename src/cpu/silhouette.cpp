@@ -1,0 +1,84 @@
+// CPU silhouette reduction, SPEC §3.5 (Cords & Staadt 2008, "Instant
+// Liquids" §3: the binary depth map smoothed by the filter's kernel, the
+// liquid shown only where it reaches 1). Here the window is a square of
+// uniform weights, so its fluid count comes from a summed-area table in four
+// reads, and S = count / area is the same bits on the GL twin; the liquid
+// fades into the scene colour behind it where S < 1 rather than only
+// clipping (SilhouetteParams::fadeFrom = 1 clips as the paper).
+#include "cpu/silhouette.h"
+
+#include <limits>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "shared/silhouette.h"
+
+namespace meniscus::cpu {
+
+std::vector<std::uint32_t> fluidSummedArea(const Image<float>& depth) {
+    const int W = depth.width, H = depth.height;
+    const std::size_t stride = std::size_t(W) + 1;
+    std::vector<std::uint32_t> sat(stride * (std::size_t(H) + 1), 0u);
+    // Rows in parallel (each its own prefix sum), then the columns.
+    tbb::parallel_for(0, H, [&](int y) {
+        std::uint32_t run = 0;
+        std::uint32_t* row = sat.data() + (std::size_t(y) + 1) * stride;
+        for (int x = 0; x < W; ++x) {
+            run += depth.at(x, y) < std::numeric_limits<float>::infinity() ? 1u : 0u;
+            row[x + 1] = run;
+        }
+    });
+    tbb::parallel_for(tbb::blocked_range<int>(1, W + 1, 64), [&](const tbb::blocked_range<int>& r) {
+        for (int y = 1; y <= H; ++y) {
+            std::uint32_t* row = sat.data() + std::size_t(y) * stride;
+            const std::uint32_t* up = row - stride;
+            for (int x = r.begin(); x < r.end(); ++x) row[x] += up[x];
+        }
+    });
+    return sat;
+}
+
+namespace {
+template <class F>
+void forFluidFractions(const Camera& camera, const Image<float>& depth, float radius, const SilhouetteParams& p, F&& f) {
+    const int W = depth.width, H = depth.height;
+    const std::vector<std::uint32_t> sat = fluidSummedArea(depth);
+    const std::size_t stride = std::size_t(W) + 1;
+    const float radiusM = p.radiusRadii * radius, focal = camera.focalPx();
+    tbb::parallel_for(0, H, [&](int y) {
+        for (int x = 0; x < W; ++x) {
+            const float z = depth.at(x, y);
+            if (!(z < std::numeric_limits<float>::infinity())) continue;
+            const glm::ivec4 w = shared::silhouetteWindow(x, y, z, radiusM, focal, p.maxPx, W, H);
+            auto at = [&](int xx, int yy) { return sat[std::size_t(yy) * stride + std::size_t(xx)]; };
+            const std::uint32_t count = at(w.z, w.w) - at(w.x, w.w) - at(w.z, w.y) + at(w.x, w.y);
+            const int area = (w.z - w.x) * (w.w - w.y);
+            f(x, y, shared::silhouetteFraction(int(count), area));
+        }
+    });
+}
+}  // namespace
+
+Image<float> silhouetteMap(const Camera& camera, const Image<float>& depth, float radius, const SilhouetteParams& p) {
+    Image<float> s(depth.width, depth.height, 0.0f);
+    forFluidFractions(camera, depth, radius, p, [&](int x, int y, float S) { s.at(x, y) = S; });
+    return s;
+}
+
+Image<float> reduceSilhouettes(const Camera& camera, const Image<float>& depth, const Image<glm::vec4>& behind,
+                               float radius, const SilhouetteParams& p, Image<glm::vec4>& color) {
+    const int W = camera.width, H = camera.height;
+    Image<float> s(W, H, 0.0f);
+    if (depth.width != W || depth.height != H || behind.width != W || behind.height != H || color.width != W ||
+        color.height != H)
+        return s;
+    forFluidFractions(camera, depth, radius, p, [&](int x, int y, float S) {
+        s.at(x, y) = S;
+        const float a = shared::silhouetteAlpha(S, p.fadeFrom);
+        if (a < 1.0f) color.at(x, y) = shared::silhouetteBlend(color.at(x, y), behind.at(x, y), a);
+    });
+    return s;
+}
+
+}  // namespace meniscus::cpu
