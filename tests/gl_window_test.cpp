@@ -236,7 +236,10 @@ TEST_F(GlWindow, ScriptedInputOrbitsZoomsAndStepsFrames) {
     auto view = [&](const std::string& input, const std::string& script, const std::string& name) {
         const auto shot = dir / (name + ".png");
         std::string out;
-        const std::string cmd = cliPath() + " view " + input + opts +
+        // The viewer's exit under LeakSanitizer: its stop-the-world tracer
+        // sometimes crashes (signal 11) while Mesa's llvmpipe threads wind
+        // down, after the screenshot is written; leaks stay checked in-process.
+        const std::string cmd = "ASAN_OPTIONS=\"${ASAN_OPTIONS:-}:detect_leaks=0\" " + cliPath() + " view " + input + opts +
                                 (script.empty() ? "" : " --input-script '" + script + "'") + " --screenshot " +
                                 shot.string();
         EXPECT_EQ(runCommand(cmd, &out), 0) << cmd << "\n" << out;
