@@ -248,9 +248,7 @@ TEST_F(GlSilhouette, PipelineWithSilhouetteMatchesCpuOnTheRealFrame) {
     auto gl = Renderer::create(BackendChoice::Gl);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
     Renderer cpu;
-    RenderSettings s;
-    s.radiusM = realFrame().radius;
-    s.camera = realFrameCamera(320, 180);
+    RenderSettings s = realFrameSettings(320, 180);
     s.silhouette.enabled = true;
     struct Case {
         const char* what;
@@ -264,11 +262,11 @@ TEST_F(GlSilhouette, PipelineWithSilhouetteMatchesCpuOnTheRealFrame) {
         s.noise.enabled = k.noise;
         s.silhouette.fadeFrom = k.fadeFrom;
         s.silhouette.radiusRadii = k.radiusRadii;
-        std::vector<StageTime> cpuTimes, times;
-        auto a = cpu.render(view, s, &cpuTimes);
-        auto b = gl->render(view, s, &times);
-        ASSERT_TRUE(a.ok()) << a.error().describe();
-        ASSERT_TRUE(b.ok()) << b.error().describe();
+        BackendFrames f;
+        ASSERT_TRUE(renderOnBoth(cpu, *gl, view, s, f));
+        const Aovs *a = &f.cpu, *b = &f.gl;
+        const std::vector<StageTime>& cpuTimes = f.cpuTimes;
+        const std::vector<StageTime>& times = f.glTimes;
         ASSERT_FALSE(a->silhouette.empty()) << k.what;
         ASSERT_FALSE(b->silhouette.empty()) << k.what;
         const int partial = partialPixels(a->silhouette);

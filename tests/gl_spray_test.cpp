@@ -289,9 +289,7 @@ TEST_F(GlSpray, PipelineWithSprayMatchesCpuOnTheRealFrame) {
     auto gl = Renderer::create(BackendChoice::Gl);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
     Renderer cpu;
-    RenderSettings s;
-    s.radiusM = realFrame().radius;
-    s.camera = realFrameCamera(320, 180);
+    RenderSettings s = realFrameSettings(320, 180);
     s.spray.enabled = true;
     struct Case {
         const char* what;
@@ -305,11 +303,11 @@ TEST_F(GlSpray, PipelineWithSprayMatchesCpuOnTheRealFrame) {
         s.noise.enabled = k.noise;
         s.spray.sprayDensity = k.density;
         s.spray.streakSeconds = k.streak;
-        std::vector<StageTime> cpuTimes, times;
-        auto a = cpu.render(view, s, &cpuTimes);
-        auto b = gl->render(view, s, &times);
-        ASSERT_TRUE(a.ok()) << a.error().describe();
-        ASSERT_TRUE(b.ok()) << b.error().describe();
+        BackendFrames f;
+        ASSERT_TRUE(renderOnBoth(cpu, *gl, view, s, f));
+        const Aovs *a = &f.cpu, *b = &f.gl;
+        const std::vector<StageTime>& cpuTimes = f.cpuTimes;
+        const std::vector<StageTime>& times = f.glTimes;
         ASSERT_FALSE(a->spray.empty()) << k.what;
         const int covered = coveredPixels(a->spray);
         EXPECT_GT(covered, 50) << k.what;

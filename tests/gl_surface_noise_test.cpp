@@ -194,18 +194,15 @@ TEST_F(GlSurfaceNoise, PipelineWithNoiseMatchesCpuOnTheRealFrame) {
     auto gl = Renderer::create(BackendChoice::Gl);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
     Renderer cpu;
-    RenderSettings s;
-    s.radiusM = realFrame().radius;
-    s.camera = realFrameCamera(320, 180);
+    RenderSettings s = realFrameSettings(320, 180);
     s.noise.enabled = true;
     s.noise.foamThreshold = 0.05f;  // foam on a good share of the surface
     for (bool background : {true, false}) {
         s.scene.background = background;
-        std::vector<StageTime> times;
-        auto a = cpu.render(realFrame().positions, s);
-        auto b = gl->render(realFrame().positions, s, &times);
-        ASSERT_TRUE(a.ok()) << a.error().describe();
-        ASSERT_TRUE(b.ok()) << b.error().describe();
+        BackendFrames f;
+        ASSERT_TRUE(renderOnBoth(cpu, *gl, ParticleView(realFrame().positions), s, f));
+        const Aovs *a = &f.cpu, *b = &f.gl;
+        const std::vector<StageTime>& times = f.glTimes;
         ASSERT_FALSE(a->noise.empty());
         int nonZero = 0, foamy = 0;
         for (std::size_t k = 0; k < a->noise.size(); ++k) {
@@ -250,9 +247,7 @@ TEST_F(GlSurfaceNoise, TurbulenceAmplitudesMatchCpuThroughThePipeline) {
     for (std::size_t i = 0; i < n; ++i) ids[i] = std::int64_t((i * 2654435761u) % 1000003u) * 7 + 3;
     std::vector<glm::vec3> still(n, glm::vec3(0.0f)), jumped = still;
     for (std::size_t i = 0; i < n; i += 3) jumped[i] = glm::vec3(1.0f, 0.0f, 0.0f);  // above tauMps = 0.5
-    RenderSettings s;
-    s.radiusM = realFrame().radius;
-    s.camera = realFrameCamera(320, 180);
+    RenderSettings s = realFrameSettings(320, 180);
     s.noise.enabled = true;
     std::vector<Image<float>> noiseGl;
     for (int frame = 0; frame < 2; ++frame) {

@@ -225,4 +225,32 @@ inline const ParticleSet& realSet() {
     return set;
 }
 
+// The real frame's settings at w x h pixels: its estimated radius and its
+// auto-framed camera (what the whole-pipeline parity tests start from).
+inline RenderSettings realFrameSettings(int w, int h) {
+    RenderSettings s;
+    s.radiusM = realFrame().radius;
+    s.camera = realFrameCamera(w, h);
+    return s;
+}
+
+// One frame on the CPU reference and on GL, with their stage times.
+struct BackendFrames {
+    Aovs cpu, gl;
+    std::vector<StageTime> cpuTimes, glTimes;
+};
+// Renders `view` with `s` on both; false (the test failed, with the error)
+// when either render fails.
+inline bool renderOnBoth(Renderer& cpu, Renderer& gl, const ParticleView& view, const RenderSettings& s,
+                         BackendFrames& out) {
+    auto a = cpu.render(view, s, &out.cpuTimes);
+    auto b = gl.render(view, s, &out.glTimes);
+    EXPECT_TRUE(a.ok()) << (a ? std::string() : a.error().describe());
+    EXPECT_TRUE(b.ok()) << (b ? std::string() : b.error().describe());
+    if (!a || !b) return false;
+    out.cpu = std::move(*a);
+    out.gl = std::move(*b);
+    return true;
+}
+
 }  // namespace meniscus::test

@@ -206,9 +206,7 @@ TEST_F(GlVelocityMap, PipelineWithWhiteningMatchesCpuOnTheRealFrame) {
     auto gl = Renderer::create(BackendChoice::Gl);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
     Renderer cpu;
-    RenderSettings s;
-    s.radiusM = realFrame().radius;
-    s.camera = realFrameCamera(320, 180);
+    RenderSettings s = realFrameSettings(320, 180);
     s.whitening.enabled = true;
     struct Case {
         const char* what;
@@ -221,11 +219,10 @@ TEST_F(GlVelocityMap, PipelineWithWhiteningMatchesCpuOnTheRealFrame) {
         s.scene.background = k.background;
         s.noise.enabled = k.noise;
         s.whitening.thresholdMps = k.threshold;
-        std::vector<StageTime> times;
-        auto a = cpu.render(view, s);
-        auto b = gl->render(view, s, &times);
-        ASSERT_TRUE(a.ok()) << a.error().describe();
-        ASSERT_TRUE(b.ok()) << b.error().describe();
+        BackendFrames f;
+        ASSERT_TRUE(renderOnBoth(cpu, *gl, view, s, f));
+        const Aovs *a = &f.cpu, *b = &f.gl;
+        const std::vector<StageTime>& times = f.glTimes;
         ASSERT_FALSE(a->whitening.empty()) << k.what;
         int white = 0, fluid = 0;
         for (std::size_t i = 0; i < a->whitening.size(); ++i) {

@@ -30,13 +30,7 @@ SprayParams onParams() {
 }
 
 // A block of nx x ny x nz particles at spacing 2r from `origin`.
-std::vector<glm::vec3> lattice(glm::ivec3 n, glm::vec3 origin) {
-    std::vector<glm::vec3> p;
-    for (int k = 0; k < n.z; ++k)
-        for (int j = 0; j < n.y; ++j)
-            for (int i = 0; i < n.x; ++i) p.push_back(origin + 2.0f * kR * glm::vec3(i, j, k));
-    return p;
-}
+std::vector<glm::vec3> lattice(glm::ivec3 n, glm::vec3 origin) { return test::jitteredBlock(n, 2.0f * kR, 0.0f, origin); }
 
 }  // namespace
 

@@ -28,11 +28,7 @@ constexpr float kR = 0.025f;  // particle radius; the lattice spacing is 2 r, h 
 
 // A cubic lattice of n^3 particles of spacing 2 r from `origin`.
 std::vector<glm::vec3> lattice(glm::ivec3 n, glm::vec3 origin = glm::vec3(0.0f)) {
-    std::vector<glm::vec3> x;
-    for (int k = 0; k < n.z; ++k)
-        for (int j = 0; j < n.y; ++j)
-            for (int i = 0; i < n.x; ++i) x.push_back(origin + 2.0f * kR * glm::vec3(i, j, k));
-    return x;
+    return test::jitteredBlock(n, 2.0f * kR, 0.0f, origin);
 }
 
 struct Fluid {

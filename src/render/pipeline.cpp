@@ -247,6 +247,10 @@ Status checkMesh(const TriangleMesh& m) {
 static_assert(defaults::kMaxImageSizePx <= shared::kRasterMaxSidePx,
               "the mesh path needs a check of the image size against shared::kRasterMaxSidePx");
 
+// Whether the spray stage runs: it draws the spray's drops, the diffuse
+// layer's, or both.
+bool drawsDrops(const RenderSettings& s) { return s.spray.enabled || !s.diffuse.empty(); }
+
 }  // namespace
 
 // This frame's particles split into the body of water (a view over copies
@@ -383,8 +387,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     if (s.silhouette.enabled)
         if (std::string bad = checkSilhouetteParams(s.silhouette); !bad.empty())
             return makeError("", "RenderSettings::silhouette." + bad);
-    // The spray stage draws the spray's drops, the diffuse layer's, or both.
-    const bool drops = s.spray.enabled || !s.diffuse.empty();
+    const bool drops = drawsDrops(s);
     if (s.view == View::Spray && !drops)
         return makeError("", "the spray view needs the spray on (RenderSettings::spray.enabled) or a diffuse layer");
     if (!s.diffuse.velocities.empty() && s.diffuse.velocities.size() != s.diffuse.positions.size())
@@ -503,7 +506,7 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
         if (auto st = runStages(particles, s, timings); !st) return st.error();
         Backend& b = *backend_;
         const auto t0 = std::chrono::steady_clock::now();
-        Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise, s.whitening, s.spray.enabled || !s.diffuse.empty(),
+        Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise, s.whitening, drawsDrops(s),
                              s.silhouette.enabled);
         if (auto st = b.stageStatus("readback"); !st) return st.error();
         const double readMs =
@@ -522,7 +525,7 @@ Status Renderer::draw(const ParticleView& particles, const RenderSettings& s) {
     return guarded("drawing", [&]() -> Status {
         if (auto st = runStages(particles, s, nullptr); !st) return st;
         if (s.view == View::Final) return okStatus();  // the colour is already in its slot
-        Aovs aovs = readAovs(*backend_, s.view, true, s.noise, s.whitening, s.spray.enabled || !s.diffuse.empty(),
+        Aovs aovs = readAovs(*backend_, s.view, true, s.noise, s.whitening, drawsDrops(s),
                              s.silhouette.enabled);
         applyView(s.view, true, aovs);
         backend_->writeColor(Slot::Color, std::move(aovs.color));
