@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "gl/buffer_fill.h"
 #include "gl/context.h"
 #include "gl/filter_curvature_flow.h"
 #include "gl/filter_narrow_range.h"
@@ -91,11 +92,13 @@ class GlBackend final : public Backend {
 public:
     // `ctx` null: the context current at construction, owned by someone else
     // (a gl::Window), which keeps it current while the backend is used.
-    GlBackend(std::unique_ptr<Context> ctx, Stages stages)
+    // `fill`: the shader fills and copies (gl/buffer_fill.h), or none for the driver's.
+    GlBackend(std::unique_ptr<Context> ctx, Stages stages, std::optional<BufferFill> fill)
         : ctx_(std::move(ctx)),
           renderer_(ctx_ ? ctx_->renderer() : glString(GL_RENDERER)),
           hasResetStatus_(epoxy_gl_version() >= 45 || epoxy_has_gl_extension("GL_KHR_robustness")),
-          st_(std::move(stages)) {}
+          st_(std::move(stages)),
+          fill_(std::move(fill)) {}
     ~GlBackend() override {
         // GL objects are released with the context current.
         if (ctx_) (void)ctx_->makeCurrent();
@@ -119,6 +122,7 @@ public:
     }
 
     void castScene(Slot color, Slot depth) override {
+        const auto fills = bufferFills();
         const bool same = sceneValid_ && sceneCamera_ == s_.camera && sceneStudio_ == s_.studio &&
                           sceneSlots_ == std::pair(int(color), int(depth));
         if (same) return;
@@ -130,6 +134,7 @@ public:
     }
 
     void splat(Slot sceneDepth, Slot depth, Slot thickness) override {
+        const auto fills = bufferFills();
         forget(depth);
         forget(thickness);
         // The thickness grid: 1, 2 or 4 pixels per block side.
@@ -144,6 +149,7 @@ public:
     }
 
     void smooth(Slot in, Slot out) override {
+        const auto fills = bufferFills();
         forget(out);
         GpuImage& src = img(in);
         GpuImage& dst = img(out);
@@ -173,11 +179,13 @@ public:
     }
 
     void normals(Slot depth, Slot normal) override {
+        const auto fills = bufferFills();
         forget(normal);
         st_.normals.run(fp_, img(depth), img(normal));
     }
 
     void rasterise(Slot sceneDepth, Slot depth, Slot normal) override {
+        const auto fills = bufferFills();
         forget(depth);
         forget(normal);
         static const TriangleMesh kNoMesh;  // no mesh: no fluid
@@ -185,6 +193,7 @@ public:
     }
 
     void noise(Slot depth, Slot normal, Slot noise) override {
+        const auto fills = bufferFills();
         forget(normal);
         forget(noise);
         st_.surfaceNoise.run(fp_, s_.camera, s_.noise, st_.splat.particleBuffer(), st_.splat.particleCount(),
@@ -192,6 +201,7 @@ public:
     }
 
     void whitening(Slot depth, Slot whitening) override {
+        const auto fills = bufferFills();
         forget(whitening);
         st_.surfaceNoise.runWhitening(fp_, s_.camera, s_.whitening, st_.splat.particleBuffer(),
                                       st_.splat.particleCount(), s_.whiteness, img(depth), img(whitening));
@@ -199,6 +209,7 @@ public:
 
     void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
                Slot whitening, Slot color) override {
+        const auto fills = bufferFills();
         forget(color);
         // Foam only with the noise on (its slot then holds this frame's N),
         // white water only with the whitening on (likewise its map).
@@ -208,6 +219,7 @@ public:
     }
 
     void silhouette(Slot sceneColor, Slot depth, Slot color, Slot silhouette) override {
+        const auto fills = bufferFills();
         // Faded in place: a colour slot that held the cached scene no longer
         // does (the next cast redraws it), as the CPU copies its cached scene
         // out before fading, never the scene itself.
@@ -218,6 +230,7 @@ public:
     }
 
     void spray(Slot sceneDepth, Slot depth, Slot color, Slot spray) override {
+        const auto fills = bufferFills();
         // Drawn over the colour in place: a colour slot that held the cached
         // scene no longer does (the next cast redraws it), as the CPU copies
         // its cached scene out before painting, never over it.
@@ -290,10 +303,12 @@ public:
     Image<glm::vec4> readColor(Slot slot) override { return img(slot).download<glm::vec4>(); }
 
     void writeColor(Slot slot, Image<glm::vec4> image) override {
+        const auto fills = bufferFills();
         forget(slot);
         img(slot).upload(image);
     }
     Status present(Slot color, int framebufferWidth, int framebufferHeight) override {
+        const auto fills = bufferFills();
         if (ctx_) return makeError("", "a headless GL backend has no window to draw into");
         if (!presenter_) {  // compiled on first use: headless backends never need it
             auto p = Presenter::create();
@@ -306,6 +321,8 @@ public:
 
 private:
     GpuImage& img(Slot s) { return images_[int(s)]; }
+    // Installs this backend's shader fills for the Buffer calls of one method.
+    ScopedBufferFill bufferFills() const { return ScopedBufferFill(fill_ ? &*fill_ : nullptr); }
     // A stage writing a slot that held the cached scene invalidates the cache.
     void forget(Slot s) {
         if (sceneValid_ && (int(s) == sceneSlots_.first || int(s) == sceneSlots_.second)) sceneValid_ = false;
@@ -322,6 +339,7 @@ private:
     std::string renderer_;          // GL_RENDERER
     bool hasResetStatus_;           // glGetGraphicsResetStatus exists (asked once, not per stage)
     Stages st_;
+    std::optional<BufferFill> fill_;  // shader fills and copies; none: the driver's
     std::optional<Presenter> presenter_;
     FrameParamsBlock block_;
     FrameParams fp_{};
@@ -348,7 +366,13 @@ Result<std::unique_ptr<Backend>> makeOnCurrent(std::unique_ptr<Context> ctx) {
                       take(SilhouetteReduction::create(), s.silhouetteReduction),
                       take(SprayDrops::create(), s.sprayDrops)})
         if (!st) return st.error();
-    return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(ctx), std::move(s)));
+    std::optional<BufferFill> fill;
+    if (useShaderFills(ctx ? ctx->renderer() : glString(GL_RENDERER))) {
+        auto f = BufferFill::create();
+        if (!f) return f.error();
+        fill = std::move(*f);
+    }
+    return std::unique_ptr<Backend>(std::make_unique<GlBackend>(std::move(ctx), std::move(s), std::move(fill)));
 }
 
 }  // namespace

@@ -3,7 +3,9 @@
 #include "gl/context.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string_view>
 #include <vector>
 
 #include <epoxy/egl.h>
@@ -27,13 +29,17 @@ std::string eglErrorText(EGLint e) {
     return buf;
 }
 
-#ifndef NDEBUG
-// Debug builds: every GL error and warning goes to stderr as it happens.
-void GLAPIENTRY debugCallback(GLenum, GLenum type, GLuint, GLenum severity, GLsizei, const GLchar* message, const void*) {
-    if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
+// Debug builds, or MENISCUS_GL_DEBUG set in any build: every GL error and
+// warning goes to stderr as it happens; MENISCUS_GL_DEBUG=all adds the
+// driver's notifications (NVIDIA's say where each buffer lives), the first
+// 400 of them.
+void GLAPIENTRY debugCallback(GLenum, GLenum type, GLuint, GLenum severity, GLsizei, const GLchar* message,
+                              const void* userParam) {
+    static int notes = 0;
+    const bool all = userParam != nullptr;
+    if (severity == GL_DEBUG_SEVERITY_NOTIFICATION && (!all || ++notes > 400)) return;
     std::fprintf(stderr, "meniscus gl debug (%s): %s\n", type == GL_DEBUG_TYPE_ERROR ? "error" : "note", message);
 }
-#endif
 
 struct Candidate {
     EGLDisplay display;
@@ -71,11 +77,14 @@ std::vector<Candidate> candidateDisplays() {
 }  // namespace
 
 void enableDebugOutput() {
-#ifndef NDEBUG
+    const char* env = std::getenv("MENISCUS_GL_DEBUG");
+#ifdef NDEBUG
+    if (!env || !*env) return;
+#endif
+    static const int kAll = 1;
     glEnable(GL_DEBUG_OUTPUT);
     glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-    glDebugMessageCallback(debugCallback, nullptr);
-#endif
+    glDebugMessageCallback(debugCallback, env && std::string_view(env) == "all" ? &kAll : nullptr);
 }
 
 Result<std::unique_ptr<Context>> Context::createHeadless() {

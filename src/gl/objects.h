@@ -63,6 +63,13 @@ inline Framebuffer makeFramebuffer() { GLuint id = 0; glGenFramebuffers(1, &id);
 inline Query makeQuery() { GLuint id = 0; glGenQueries(1, &id); return Query(id); }
 inline VertexArray makeVertexArray() { GLuint id = 0; glGenVertexArrays(1, &id); return VertexArray(id); }
 
+namespace detail {
+// The shader path of gl/buffer_fill.h: false (nothing done) when no BufferFill
+// is installed on this thread, and the driver's call is made instead.
+bool shaderFill(GLuint dst, GLintptr dstOffset, GLsizeiptr bytes, GLuint bits);
+bool shaderCopy(GLuint dst, GLintptr dstOffset, GLuint src, GLintptr srcOffset, GLsizeiptr bytes);
+}  // namespace detail
+
 // A buffer object that remembers its size in bytes; resize() only reallocates
 // when it must grow, so per-frame reuse does not churn the driver.
 class Buffer {
@@ -93,20 +100,20 @@ public:
     // Sets the first `bytes` (a multiple of 4) to the 32-bit pattern `bits`:
     // the driver's fill, a memset on llvmpipe (+inf floats = 0x7f800000).
     void fill(GLsizeiptr bytes, GLuint bits) const {
-        if (bytes <= 0) return;
+        if (bytes <= 0 || detail::shaderFill(h_.id(), 0, bytes, bits)) return;
         glBindBuffer(GL_COPY_WRITE_BUFFER, h_.id());
         glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32UI, 0, bytes, GL_RED_INTEGER, GL_UNSIGNED_INT, &bits);
     }
     // Copies the first `bytes` of `src` to the start of this buffer, on the GPU.
     void copyFrom(const Buffer& src, GLsizeiptr bytes) const {
-        if (bytes <= 0) return;
+        if (bytes <= 0 || detail::shaderCopy(h_.id(), 0, src.id(), 0, bytes)) return;
         glBindBuffer(GL_COPY_READ_BUFFER, src.id());
         glBindBuffer(GL_COPY_WRITE_BUFFER, h_.id());
         glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, bytes);
     }
     // Copies `bytes` of `src` from byte `srcOffset` to byte `dstOffset` of this buffer, on the GPU.
     void copyRange(const Buffer& src, GLintptr srcOffset, GLintptr dstOffset, GLsizeiptr bytes) const {
-        if (bytes <= 0) return;
+        if (bytes <= 0 || detail::shaderCopy(h_.id(), dstOffset, src.id(), srcOffset, bytes)) return;
         glBindBuffer(GL_COPY_READ_BUFFER, src.id());
         glBindBuffer(GL_COPY_WRITE_BUFFER, h_.id());
         glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, srcOffset, dstOffset, bytes);
