@@ -1,8 +1,9 @@
 // Shader fills and copies (src/gl/buffer_fill.h), the path a hardware GPU's
 // backend takes instead of the driver's glClearBufferSubData /
-// glCopyBufferSubData (slow on NVIDIA, a copy engine). CI has only llvmpipe,
-// whose backend keeps the driver's calls, so here both are forced and must
-// give the same bits: buffer by buffer (offsets, sizes that are not a whole
+// glCopyBufferSubData (slow on NVIDIA, a copy engine), with the rest of a
+// hardware GPU's settings (one row segment per invocation, staged read-back).
+// CI has only llvmpipe, whose backend keeps its own, so here both are forced
+// and must give the same bits: buffer by buffer (offsets, sizes that are not a whole
 // work group, the caller's bindings and program kept) and for whole frames
 // with every stage that fills or copies (splat, normals, shading, noise,
 // whitening, silhouette, spray).
@@ -82,17 +83,47 @@ TEST_F(GlBufferFill, FillsAndCopiesLikeTheDriver) {
     EXPECT_EQ(download(copied, words), a);
 }
 
+// The filters' padded copy (gl/padded_passes.cpp): an odd-sized image framed
+// by 13 words of -inf, as one shader pass and as the driver's fill + row copies.
+TEST_F(GlBufferFill, PaddedCopiesLikeTheDriver) {
+    std::string why;
+    ASSERT_TRUE(sharedGlContext(&why)->makeCurrent().ok());
+    auto fill = gl::BufferFill::create();
+    ASSERT_TRUE(fill.ok()) << fill.error().describe();
+    const int W = 301, H = 77, pad = 13, PW = W + 2 * pad, PH = H + 2 * pad;
+    std::vector<std::uint32_t> image(std::size_t(W) * H);
+    std::iota(image.begin(), image.end(), 7u);
+    gl::Buffer source, viaShader, viaDriver;
+    source.upload(image.data(), GLsizeiptr(image.size() * 4));
+    for (gl::Buffer* b : {&viaShader, &viaDriver}) b->reserve(GLsizeiptr(PW) * PH * 4);
+    {
+        const gl::ScopedBufferFill use(&*fill);
+        viaShader.padCopyFrom(source, W, H, pad, 0xff800000u);
+    }
+    viaDriver.padCopyFrom(source, W, H, pad, 0xff800000u);
+    const auto a = download(viaShader, std::size_t(PW) * PH), b = download(viaDriver, std::size_t(PW) * PH);
+    EXPECT_EQ(a, b);
+    EXPECT_EQ(a[0], 0xff800000u);
+    EXPECT_EQ(a[std::size_t(pad) * PW + pad], 7u);                                // the image's first pixel
+    EXPECT_EQ(a[std::size_t(pad + H - 1) * PW + pad + W - 1], 7u + W * H - 1u);  // and its last
+    EXPECT_EQ(a[std::size_t(pad + H - 1) * PW + pad + W], 0xff800000u);          // the frame right of it
+}
+
 TEST_F(GlBufferFill, RenderersAreChosenByName) {
     if (std::getenv("MENISCUS_GL_FILL")) GTEST_SKIP() << "MENISCUS_GL_FILL is set";
     EXPECT_FALSE(gl::useShaderFills("llvmpipe (LLVM 15.0.6, 256 bits)"));
     EXPECT_FALSE(gl::useShaderFills("softpipe"));
+    EXPECT_TRUE(gl::isSoftwareRenderer("llvmpipe (LLVM 15.0.6, 256 bits)"));
+    EXPECT_FALSE(gl::isSoftwareRenderer("NVIDIA H200/PCIe/SSE2"));
     EXPECT_TRUE(gl::useShaderFills("NVIDIA H200/PCIe/SSE2"));
     EXPECT_TRUE(gl::useShaderFills("AMD Radeon RX 7900 XTX (radeonsi, navi31, LLVM 15.0.6, DRM 3.54)"));
 }
 
-// Whole frames with shader fills forced against the driver's: the same bits
-// in every AOV, with every optional stage on.
-TEST_F(GlBufferFill, WholeFramesMatchTheDriverPath) {
+// Whole frames with a hardware GPU's settings forced on llvmpipe (shader
+// fills and copies, one row segment per invocation, read-back through the
+// staging buffer) against llvmpipe's own: the same bits in every AOV, with
+// every optional stage on.
+TEST_F(GlBufferFill, WholeFramesMatchWithAHardwareGpusSettings) {
     RenderSettings s = realFrameSettings(256, 144);
     s.noise.enabled = true;
     s.whitening.enabled = true;
@@ -102,8 +133,10 @@ TEST_F(GlBufferFill, WholeFramesMatchTheDriverPath) {
     Aovs frames[2];
     for (int k = 0; k < 2; ++k) {
         ::setenv("MENISCUS_GL_FILL", k == 0 ? "driver" : "shader", 1);
+        ::setenv("MENISCUS_GL_SEGMENT_ROUNDS", k == 0 ? "16" : "1", 1);
         auto r = Renderer::create(BackendChoice::Gl);
         ::unsetenv("MENISCUS_GL_FILL");
+        ::unsetenv("MENISCUS_GL_SEGMENT_ROUNDS");
         ASSERT_TRUE(r.ok()) << r.error().describe();
         auto a = r->render(view, s);
         ASSERT_TRUE(a.ok()) << a.error().describe();

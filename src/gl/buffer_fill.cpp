@@ -31,15 +31,21 @@ Result<BufferFill> BufferFill::create() {
 }
 
 void BufferFill::fill(GLuint dst, GLintptr dstOffset, GLsizeiptr bytes, GLuint bits) const {
-    run(dst, dstOffset, 0, 0, bytes, bits);
+    run(dst, dstOffset, 0, 0, bytes, bits, 0, nullptr);
 }
 
 void BufferFill::copy(GLuint dst, GLintptr dstOffset, GLuint src, GLintptr srcOffset, GLsizeiptr bytes) const {
-    run(dst, dstOffset, src, srcOffset, bytes, 0u);
+    run(dst, dstOffset, src, srcOffset, bytes, 0u, 1, nullptr);
+}
+
+void BufferFill::padCopy(GLuint dst, GLuint src, int W, int H, int pad, GLuint bits) const {
+    const int padded[3] = {W, H, pad};
+    const GLsizeiptr bytes = GLsizeiptr(W + 2 * pad) * GLsizeiptr(H + 2 * pad) * 4;
+    run(dst, 0, src, 0, bytes, bits, 2, padded);
 }
 
 void BufferFill::run(GLuint dst, GLintptr dstOffset, GLuint src, GLintptr srcOffset, GLsizeiptr bytes,
-                     GLuint bits) const {
+                     GLuint bits, int mode, const int* padded) const {
     if (bytes <= 0) return;
     // The callers follow a driver fill with their own barrier; a shader write
     // needs the storage barrier before and after, and the caller's program back.
@@ -57,10 +63,12 @@ void BufferFill::run(GLuint dst, GLintptr dstOffset, GLuint src, GLintptr srcOff
     glUseProgram(program_.id());
     const GLuint words = GLuint(bytes / 4);
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, dst, dstOffset, bytes);
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, src ? src : dst, src ? srcOffset : dstOffset, bytes);
+    if (mode == 2) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, src);  // the whole source image
+    else glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, src ? src : dst, src ? srcOffset : dstOffset, bytes);
     glUniform1ui(0, bits);
     glUniform1ui(1, words);
-    glUniform1i(2, src ? 1 : 0);
+    glUniform1i(2, mode);
+    if (padded) glUniform3i(3, padded[0], padded[1], padded[2]);
     const GLuint groups = (words + kGroup - 1) / kGroup;
     const GLuint gx = std::min(groups, kMaxGroupsX);
     glDispatchCompute(gx, (groups + gx - 1) / gx, 1);
@@ -80,14 +88,18 @@ bool BufferFill::takes(GLintptr dstOffset, GLintptr srcOffset, GLsizeiptr bytes)
            srcOffset % offsetAlignment_ == 0;
 }
 
+bool isSoftwareRenderer(std::string_view renderer) {
+    for (std::string_view soft : {"llvmpipe", "softpipe", "swrast"})
+        if (renderer.find(soft) != std::string_view::npos) return true;
+    return false;
+}
+
 bool useShaderFills(std::string_view renderer) {
     if (const char* v = std::getenv("MENISCUS_GL_FILL")) {
         if (std::string_view(v) == "shader") return true;
         if (std::string_view(v) == "driver") return false;
     }
-    for (std::string_view soft : {"llvmpipe", "softpipe", "swrast"})
-        if (renderer.find(soft) != std::string_view::npos) return false;
-    return true;
+    return !isSoftwareRenderer(renderer);
 }
 
 ScopedBufferFill::ScopedBufferFill(const BufferFill* fill) : previous_(tCurrent) { tCurrent = fill; }
@@ -97,6 +109,11 @@ namespace detail {
 bool shaderFill(GLuint dst, GLintptr dstOffset, GLsizeiptr bytes, GLuint bits) {
     if (!tCurrent || !tCurrent->takes(dstOffset, 0, bytes)) return false;
     tCurrent->fill(dst, dstOffset, bytes, bits);
+    return true;
+}
+bool shaderPadCopy(GLuint dst, GLuint src, int W, int H, int pad, GLuint bits) {
+    if (!tCurrent) return false;
+    tCurrent->padCopy(dst, src, W, H, pad, bits);
     return true;
 }
 bool shaderCopy(GLuint dst, GLintptr dstOffset, GLuint src, GLintptr srcOffset, GLsizeiptr bytes) {

@@ -27,19 +27,28 @@ public:
     // Copies `bytes` (a multiple of 4) of `src` from `srcOffset` to `dst` at `dstOffset`.
     void copy(GLuint dst, GLintptr dstOffset, GLuint src, GLintptr srcOffset, GLsizeiptr bytes) const;
 
+    // Writes into `dst` the W x H image `src` framed by `pad` words of `bits`
+    // on every side: (W + 2 pad) x (H + 2 pad) words, row by row.
+    void padCopy(GLuint dst, GLuint src, int W, int H, int pad, GLuint bits) const;
     // Whether the shader path takes a range: at least 64 KiB, whole words, and
     // offsets the storage-buffer binding accepts (the driver's call otherwise).
     bool takes(GLintptr dstOffset, GLintptr srcOffset, GLsizeiptr bytes) const;
 
 private:
-    void run(GLuint dst, GLintptr dstOffset, GLuint src, GLintptr srcOffset, GLsizeiptr bytes, GLuint bits) const;
+    void run(GLuint dst, GLintptr dstOffset, GLuint src, GLintptr srcOffset, GLsizeiptr bytes, GLuint bits,
+             int mode, const int* padded) const;
     Program program_;
     GLintptr offsetAlignment_ = 256;  // GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT
 };
 
-// Whether a renderer (GL_RENDERER) gets shader fills: every hardware driver;
-// not Mesa's software rasterisers. MENISCUS_GL_FILL=shader or =driver forces
-// either (tests run the shader path on llvmpipe that way).
+// Whether a renderer (GL_RENDERER) is one of Mesa's software rasterisers
+// (llvmpipe, softpipe, swrast), which the GL backend's work distribution was
+// first tuned for; every other is a hardware GPU.
+bool isSoftwareRenderer(std::string_view renderer);
+
+// Whether a renderer gets shader fills: every hardware driver, not the
+// software rasterisers. MENISCUS_GL_FILL=shader or =driver forces either
+// (tests run the shader path on llvmpipe that way).
 bool useShaderFills(std::string_view renderer);
 
 // Installs `fill` (or nothing, when null) for the Buffer calls made on this

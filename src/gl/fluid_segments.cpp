@@ -2,8 +2,11 @@
 #include "gl/fluid_segments.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <string>
 #include <utility>
 
+#include "gl/buffer_fill.h"
 #include "gl/dispatch.h"
 #include "gl/shaders.h"
 
@@ -23,11 +26,14 @@ Result<FluidSegments> FluidSegments::create() {
     s.program_ = std::move(*program);
     s.listTex_ = makeTexture();
     s.depthTex_ = makeTexture();
+    const GLubyte* renderer = glGetString(GL_RENDERER);
+    s.cap_ = isSoftwareRenderer(renderer ? reinterpret_cast<const char*>(renderer) : "") ? kMaxRounds : kHardwareRounds;
+    if (const char* v = std::getenv("MENISCUS_GL_SEGMENT_ROUNDS")) s.cap_ = std::clamp(std::atoi(v), 1, kMaxRounds);
     return s;
 }
 
 void FluidSegments::build(const GpuImage& depth, int rounds) {
-    rounds_ = std::clamp(rounds, 1, kMaxRounds);
+    rounds_ = std::clamp(std::min(rounds, cap_), 1, kMaxRounds);
     const int W = depth.width, H = depth.height;
     const GLuint segments = W > 0 && H > 0 ? ceilDiv(GLuint(W), 8) * GLuint(H) : 0;
     const GLsizeiptr listBytes = GLsizeiptr(1 + segments) * 4;

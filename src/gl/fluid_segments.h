@@ -43,8 +43,17 @@ public:
     // One uint: the float bits of the nearest depth (+inf bits: no fluid).
     const Buffer& nearestDepthBits() const { return zMin_; }
 
+    // The most segments per invocation on the renderer current at create():
+    // kMaxRounds on llvmpipe; on a hardware GPU, which has no per-work-group
+    // cost to save and many more lanes than 8-pixel segments to fill,
+    // kHardwareRounds. MENISCUS_GL_SEGMENT_ROUNDS=1..16 overrides either
+    // (A/B timing; what a pixel gets does not depend on it).
+    static constexpr int kHardwareRounds = 1;
+    int roundsCap() const { return cap_; }
+
 private:
     Program program_;
+    int cap_ = kMaxRounds;
     Buffer list_, args_, zMin_;
     Texture listTex_, depthTex_;
     int rounds_ = kMaxRounds;

@@ -68,6 +68,7 @@ namespace detail {
 // is installed on this thread, and the driver's call is made instead.
 bool shaderFill(GLuint dst, GLintptr dstOffset, GLsizeiptr bytes, GLuint bits);
 bool shaderCopy(GLuint dst, GLintptr dstOffset, GLuint src, GLintptr srcOffset, GLsizeiptr bytes);
+bool shaderPadCopy(GLuint dst, GLuint src, int W, int H, int pad, GLuint bits);
 }  // namespace detail
 
 // A buffer object that remembers its size in bytes; resize() only reallocates
@@ -117,6 +118,16 @@ public:
         glBindBuffer(GL_COPY_READ_BUFFER, src.id());
         glBindBuffer(GL_COPY_WRITE_BUFFER, h_.id());
         glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, srcOffset, dstOffset, bytes);
+    }
+    // Becomes the W x H image of 32-bit words in `src` framed by `pad` words
+    // of `bits` on every side ((W + 2 pad) x (H + 2 pad) words; storage must
+    // be reserved): one shader pass on a hardware GPU, else a driver fill and
+    // H row copies.
+    void padCopyFrom(const Buffer& src, int W, int H, int pad, GLuint bits) const {
+        const GLsizeiptr PW = W + 2 * pad;
+        if (detail::shaderPadCopy(h_.id(), src.id(), W, H, pad, bits)) return;
+        fill(PW * GLsizeiptr(H + 2 * pad) * 4, bits);
+        for (int y = 0; y < H; ++y) copyRange(src, GLintptr(y) * W * 4, (GLintptr(y + pad) * PW + pad) * 4, GLsizeiptr(W) * 4);
     }
     // Reads `bytes` from offset 0 into `out` (waits for the GPU).
     void download(void* out, GLsizeiptr bytes) const {

@@ -18,9 +18,7 @@ void PaddedPasses::load(const GpuImage& in, int pad, GLuint frameBits, const Gpu
     const GLsizeiptr paddedBytes = GLsizeiptr(PW) * GLsizeiptr(H + 2 * pad) * 4;
     for (Buffer* buf : {&a_, &b_}) {
         buf->reserve(paddedBytes);
-        buf->fill(paddedBytes, frameBits);
-        for (int y = 0; y < H; ++y)
-            buf->copyRange(in.buffer, GLintptr(y) * W * 4, (GLintptr(y + pad) * PW + pad) * 4, GLsizeiptr(W) * 4);
+        buf->padCopyFrom(in.buffer, W, H, pad, frameBits);
     }
     attachBufferTexture(texA_, GL_R32F, a_, paddedBytes);
     attachBufferTexture(texB_, GL_R32F, b_, paddedBytes);
