@@ -203,6 +203,12 @@ int main(int argc, char** argv) {
     std::string openvdb;
     float benchRadius = 0.0f;
     int tile = 1;
+    float fluidScale = 1.0f;
+    app.add_option("--fluid-scale", fluidScale,
+                   "Reduced-resolution processing: splat, smoothing, normals and noise at 1, 0.5 or 0.25 of the "
+                   "width and height (adds the reduce-scene-depth, upsample and fluid-edges lines)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({1.0f, 0.5f, 0.25f}));
     app.add_option("--tile", tile,
                    "Repeat the input on an N x N grid in x and z (a bigger scene from a real frame: --tile 3 makes "
                    "frame 21 1,058,841 particles); the radius is estimated on the input itself")
@@ -331,6 +337,7 @@ int main(int argc, char** argv) {
         settings.whitening.enabled = whiten;
         settings.spray.enabled = spray;
         settings.silhouette.enabled = silhouette;
+        settings.fluidScale = fluidScale;
         // Per backend: stage -> run times, and the stage order.
         std::vector<std::map<std::string, std::vector<double>>> perStage(renderers.size());
         std::vector<std::string> order;

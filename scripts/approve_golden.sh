@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Re-approves the golden images of tests/golden_test.cpp: renders the real
 # frame 21 at 320x180 on the CPU backend (the reference) with every filter and
-# every material, with the surface noise, the velocity whitening and the spray, into tests/golden/. Look at the images (and at
+# every material, with the surface noise, the velocity whitening, the spray, the silhouette
+# reduction and at half resolution, into tests/golden/. Look at the images (and at
 # `git diff --stat`) before committing them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,4 +21,5 @@ render frame21_noise --noise
 render frame21_whiten --whiten
 render frame21_spray --spray --spray-streak 0.03
 render frame21_silhouette --silhouette --background none
+render frame21_fluid-scale-0.5 --fluid-scale 0.5
 echo "approved: $(ls tests/golden/*.png | wc -l) images in tests/golden/"

@@ -55,14 +55,6 @@ struct Scene {
     std::size_t sweep = 0;  // index of the streak across the image
 };
 
-// A cheap deterministic scramble in [0, 1).
-float hash01(std::uint32_t i, std::uint32_t salt) {
-    std::uint32_t h = i * 2654435761u ^ (salt * 2246822519u + 0x9e3779b9u);
-    h ^= h >> 15;
-    h *= 2246822519u;
-    h ^= h >> 13;
-    return float(h % 100000u) / 100000.0f;
-}
 
 // The slab of gl_velocity_map_test (6,000 jittered particles, smoothed), a
 // wall 2 m from the eye over the image's right third (nearer than the far

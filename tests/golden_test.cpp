@@ -52,6 +52,7 @@ const Look kLooks[] = {
     {"frame21_whiten", "--whiten"},
     {"frame21_spray", "--spray --spray-streak 0.03"},
     {"frame21_silhouette", "--silhouette --background none"},
+    {"frame21_fluid-scale-0.5", "--fluid-scale 0.5"},
 };
 
 class Golden : public testing::TestWithParam<std::tuple<std::string, int>> {};

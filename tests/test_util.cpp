@@ -261,4 +261,12 @@ std::filesystem::path writeSmallScene(const std::filesystem::path& dir) {
     return p;
 }
 
+float hash01(std::uint32_t i, std::uint32_t salt) {
+    std::uint32_t h = i * 2654435761u ^ (salt * 2246822519u + 0x9e3779b9u);
+    h ^= h >> 15;
+    h *= 2246822519u;
+    h ^= h >> 13;
+    return float(h % 100000u) / 100000.0f;
+}
+
 }  // namespace meniscus::test

@@ -154,6 +154,11 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
                     "Liquid fraction of the window at which the fade reaches 0 (0.5: a straight edge's own pixels; "
                     "1: clip, liquid only where the whole window is)")
         ->capture_default_str();
+    cmd->add_option("--fluid-scale", o.fluidScale,
+                    "Reduced-resolution processing: 1, 0.5 or 0.25 of the width and height for the splat, smoothing, "
+                    "normals and noise (about 4x or 16x fewer pixels); the surface is upsampled depth-aware and shaded "
+                    "at full resolution")
+        ->capture_default_str();
 }
 
 void addBackendOption(CLI::App* cmd, RenderOptions& o) {
@@ -203,6 +208,11 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
         if (std::string bad = checkSilhouetteParams(s.silhouette); !bad.empty()) return makeError("", "--silhouette: " + bad);
     if (s.view == View::Silhouette && !o.silhouette)
         return makeError("", "--view silhouette shows the silhouette map: add --silhouette");
+    if (o.fluidScale != 1.0f && o.fluidScale != 0.5f && o.fluidScale != 0.25f)
+        return makeError("", "--fluid-scale: expected 1, 0.5 or 0.25");
+    if (o.fluidScale != 1.0f && o.surface == "mesh")
+        return makeError("", "--fluid-scale applies to the screen-space surface, not --surface mesh");
+    s.fluidScale = o.fluidScale;
     if (!(o.radius >= 0.0f)) return makeError("", "--radius must be a positive number of metres");
     if (o.radius != 0.0f)
         if (auto st = checkRadius(o.radius); !st) return makeError("", "--radius: " + st.error().message);

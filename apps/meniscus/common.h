@@ -62,6 +62,8 @@ struct RenderOptions {
     // Silhouette reduction (SPEC §3.5): off unless --silhouette.
     bool silhouette = false;
     SilhouetteParams silhouetteParams;
+    // Reduced-resolution processing (SPEC §3.9): 1, 0.5 or 0.25.
+    float fluidScale = defaults::kFluidScale;
     // Diffuse particles (`meniscus whitewater`'s output) drawn as a layer:
     // a file, or a pattern filled with each input frame's number. Empty: none.
     std::string diffuse;

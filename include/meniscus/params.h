@@ -64,6 +64,11 @@ inline constexpr int kSequenceFramePoints = 20000;
 // difference or average across it.
 inline constexpr float kDepthJumpRadii = 5.0f;
 
+// Reduced-resolution processing (SPEC §3.9): the fraction of the image's
+// width and height the splat, smoothing, normals and noise run at: 1 (full
+// resolution, the default), 0.5 or 0.25. Upsampled depth-aware for shading.
+inline constexpr float kFluidScale = 1.0f;
+
 // Kernel radii in pixels are capped here (cost bound for near fluid).
 inline constexpr int kMaxKernelPx = 32;
 

@@ -69,6 +69,15 @@ struct RenderSettings {
     // Silhouette reduction (SPEC §3.5; Instant Liquids §3): off unless
     // silhouette.enabled; fades the liquid into the scene near its contours.
     SilhouetteParams silhouette;
+    // Reduced-resolution processing (SPEC §3.9; the NVIDIA patent; Instant
+    // Liquids §5): 1 (off), 0.5 or 0.25: the splat, smoothing, normals and
+    // noise run at that fraction of the width and height, and the surface is
+    // brought back to full resolution by depth-aware upsampling (never
+    // across a silhouette or a depth jump; edges blended into the scene)
+    // before the shading, which stays at full resolution. The raw-depth AOV
+    // is then the low splat, each full pixel taking its nearest low pixel.
+    // Not with `mesh` (an error). Any other value is an error.
+    float fluidScale = defaults::kFluidScale;
     // This frame's index in its sequence, for the turbulence of the noise: the
     // renderer remembers the velocities of the last frame it rendered, and
     // compares when this index is the next one (a redraw of the same index

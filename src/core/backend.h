@@ -25,8 +25,12 @@
 namespace meniscus {
 
 // Opaque handles of the images one frame passes between stages.
-enum class Slot { SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Noise, Whitening, Color, Spray, Silhouette };
-inline constexpr int kSlotCount = 11;
+// The Low* slots and Coverage hold the reduced-resolution pass (SPEC §3.9).
+enum class Slot {
+    SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Noise, Whitening, Color, Spray, Silhouette,
+    LowSceneDepth, LowThickness, LowDepth, LowNormal, LowNoise, Coverage
+};
+inline constexpr int kSlotCount = 17;
 
 // Everything the stages read besides images, resolved once per frame.
 struct FrameSettings {
@@ -56,6 +60,11 @@ struct FrameSettings {
     std::span<const glm::vec3> sprayPositions;
     std::span<const glm::vec3> sprayVelocities;
     shared::Studio studio;
+    // Reduced-resolution processing (SPEC §3.9): the divisor d of the fluid
+    // scale (1: off), and the depth jump (metres) the upsampling does not
+    // blend across.
+    int fluidDivisor = 1;
+    float upsampleJumpM = 0.0f;
     // The particles' views (attributes for the stages that read them; the
     // positions also come contiguous as beginFrame's argument). Valid for
     // this frame only: they point into the caller's memory.
@@ -109,6 +118,22 @@ public:
     // The spray drops laid over the colour slot in place, hidden behind the
     // fluid `depth` and the scene, and their cover into `spray` (cpu::drawSpray).
     virtual void spray(Slot sceneDepth, Slot depth, Slot color, Slot spray) = 0;
+
+    // ---- Reduced-resolution processing (SPEC §3.9). The camera the stages
+    // after this call run at (the low camera, core/fluid_scale.h, then the
+    // full one again); the particles and the other settings stay.
+    virtual void setCamera(const Camera& camera) = 0;
+    // The scene depth `fullSceneDepth` (full size) reduced to the current
+    // camera's size, per pixel the farthest under it (cpu::reduceSceneDepth).
+    virtual void reduceSceneDepth(Slot fullSceneDepth, Slot lowSceneDepth) = 0;
+    // The low surface at the current (full) camera's size by depth-aware
+    // upsampling (cpu::upsampleSurface), hidden behind `sceneDepth`; the noise
+    // only when FrameSettings::noise is enabled; the coverage for blendFluidEdges.
+    virtual void upsample(Slot lowDepth, Slot lowNormal, Slot lowThickness, Slot lowNoise, Slot sceneDepth, Slot depth,
+                          Slot normal, Slot thickness, Slot noise, Slot coverage) = 0;
+    // The fluid pixels of `depth` with coverage under 1 blended into the scene
+    // colour, in place on `color` (cpu::blendFluidEdges).
+    virtual void blendFluidEdges(Slot sceneColor, Slot depth, Slot coverage, Slot color) = 0;
 
     // Whether the stage just run (or the read-back) failed: OK, or an error
     // naming `stage` and what went wrong (GL: a GL error, GPU memory, a lost

@@ -13,6 +13,7 @@
 #include "cpu/surface_noise.h"
 #include "cpu/velocity_map.h"
 #include "cpu/thickness.h"
+#include "cpu/upsample.h"
 
 namespace meniscus {
 
@@ -107,6 +108,29 @@ public:
         scalars_[int(spray)] = cpu::drawSpray(s_.camera, s_.sprayPositions, s_.sprayVelocities, s_.radius,
                                               scalar(depth), &scalar(sceneDepth), s_.spray,
                                               s_.shading.lightDirWorld, colors_[int(color)]);
+    }
+
+    void setCamera(const Camera& camera) override { s_.camera = camera; }
+
+    void reduceSceneDepth(Slot fullSceneDepth, Slot lowSceneDepth) override {
+        scalars_[int(lowSceneDepth)] =
+            cpu::reduceSceneDepth(scalar(fullSceneDepth), s_.camera.width, s_.camera.height, s_.fluidDivisor);
+    }
+
+    void upsample(Slot lowDepth, Slot lowNormal, Slot lowThickness, Slot lowNoise, Slot sceneDepth, Slot depth,
+                  Slot normal, Slot thickness, Slot noise, Slot coverage) override {
+        cpu::Upsampled up = cpu::upsampleSurface(scalar(lowDepth), vec3s_[int(lowNormal)], scalar(lowThickness),
+                                                 s_.noise.enabled ? &scalar(lowNoise) : nullptr, &scalar(sceneDepth),
+                                                 s_.camera.width, s_.camera.height, s_.fluidDivisor, s_.upsampleJumpM);
+        scalars_[int(depth)] = std::move(up.depth);
+        vec3s_[int(normal)] = std::move(up.normal);
+        scalars_[int(thickness)] = std::move(up.thickness);
+        if (s_.noise.enabled) scalars_[int(noise)] = std::move(up.noise);
+        scalars_[int(coverage)] = std::move(up.coverage);
+    }
+
+    void blendFluidEdges(Slot sceneColor, Slot depth, Slot coverage, Slot color) override {
+        cpu::blendFluidEdges(scalar(depth), scalar(coverage), colorImage(sceneColor), colors_[int(color)]);
     }
 
     Status stageStatus(const char*) override { return okStatus(); }

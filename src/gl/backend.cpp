@@ -33,6 +33,7 @@
 #include "gl/surface_noise.h"
 #include "gl/thickness_lowres.h"
 #include "gl/uniforms.h"
+#include "gl/upsample.h"
 #include "shared/thickness.h"
 
 namespace meniscus::gl {
@@ -52,6 +53,7 @@ struct Stages {
     SurfaceNoise surfaceNoise;
     SilhouetteReduction silhouetteReduction;
     SprayDrops sprayDrops;
+    Upsampling upsampling;
 };
 
 template <class T>
@@ -243,6 +245,34 @@ public:
     // A GL error since the last check, out of GPU memory among them, or a
     // lost context (GL 4.5 / KHR_robustness reset status) fails the stage.
     // glGetError does not wait for the GPU, so every frame checks.
+    void setCamera(const Camera& camera) override {
+        s_.camera = camera;
+        fp_ = packFrameParams(s_.camera, s_.radius, s_.filter, s_.thickness, s_.shading);
+        block_.upload(fp_);
+    }
+
+    void reduceSceneDepth(Slot fullSceneDepth, Slot lowSceneDepth) override {
+        const auto fills = bufferFills();
+        forget(lowSceneDepth);
+        st_.upsampling.reduceSceneDepth(img(fullSceneDepth), s_.camera.width, s_.camera.height, s_.fluidDivisor,
+                                        img(lowSceneDepth));
+    }
+
+    void upsample(Slot lowDepth, Slot lowNormal, Slot lowThickness, Slot lowNoise, Slot sceneDepth, Slot depth,
+                  Slot normal, Slot thickness, Slot noise, Slot coverage) override {
+        const auto fills = bufferFills();
+        for (Slot out : {depth, normal, thickness, noise, coverage}) forget(out);
+        st_.upsampling.upsample(img(lowDepth), img(lowNormal), img(lowThickness),
+                                s_.noise.enabled ? &img(lowNoise) : nullptr, &img(sceneDepth), s_.camera.width,
+                                s_.camera.height, s_.fluidDivisor, s_.upsampleJumpM, img(depth), img(normal),
+                                img(thickness), s_.noise.enabled ? &img(noise) : nullptr, img(coverage));
+    }
+
+    void blendFluidEdges(Slot sceneColor, Slot depth, Slot coverage, Slot color) override {
+        const auto fills = bufferFills();
+        st_.upsampling.blendEdges(img(depth), img(coverage), img(sceneColor), img(color));
+    }
+
     Status stageStatus(const char* stage) override {
         if (failStageForTest(stage)) glBindBuffer(GLenum(0xFFFF), 0);
         if (hasResetStatus_) {
@@ -381,7 +411,7 @@ Result<std::unique_ptr<Backend>> makeOnCurrent(std::unique_ptr<Context> ctx) {
                       take(MeshRasteriser::create(), s.meshRasteriser),
                       take(SurfaceNoise::create(), s.surfaceNoise),
                       take(SilhouetteReduction::create(), s.silhouetteReduction),
-                      take(SprayDrops::create(), s.sprayDrops)})
+                      take(SprayDrops::create(), s.sprayDrops), take(Upsampling::create(), s.upsampling)})
         if (!st) return st.error();
     std::optional<BufferFill> fill;
     if (useShaderFills(ctx ? ctx->renderer() : glString(GL_RENDERER))) {

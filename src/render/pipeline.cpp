@@ -2,6 +2,9 @@
 //   scene -> depth splat + thickness (one pass) -> smoothing -> normals
 //         -> [surface noise: N and bumped normals] -> [velocity whitening map]
 //         -> shading (+ foam, + white water) -> [silhouette reduction] -> [spray drops],
+// with reduced resolution (RenderSettings::fluidScale < 1, SPEC §3.9) the splat,
+// smoothing, normals and noise on the low camera between the scene and an
+// upsample stage, and the fluid's edges blended into the scene after the shading;
 // or, on the mesh path (RenderSettings::mesh):
 //   scene -> depth splat + thickness -> rasterise the mesh -> [noise] -> [whitening] -> shading
 //         -> [silhouette] -> [spray].
@@ -20,6 +23,7 @@
 #include <string>
 
 #include "core/backend.h"
+#include "core/fluid_scale.h"
 #include "core/frame_memory.h"
 #include "core/spray.h"
 #include "core/turbulence.h"
@@ -158,6 +162,14 @@ Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noise, cons
     if (spray && (all || v == View::Spray)) aovs.spray = b.readScalar(Slot::Spray);
     if (silhouette && (all || v == View::Silhouette)) aovs.silhouette = b.readScalar(Slot::Silhouette);
     return aovs;
+}
+
+// With reduced resolution the raw splat is the low camera's: each full pixel
+// takes its nearest low pixel, so every AOV has the image's size.
+void rawDepthAtFullSize(const RenderSettings& s, Aovs& aovs) {
+    const int d = fluidDivisor(s.fluidScale);
+    if (d > 1 && !aovs.rawDepth.empty())
+        aovs.rawDepth = nearestUpsample(aovs.rawDepth, s.camera.width, s.camera.height, d);
 }
 
 // Replaces the colour by the chosen debug view (Final keeps it); colorOnly
@@ -375,6 +387,11 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     if (auto st = all.validate(); !st) return st;
     if (s.mesh)
         if (auto st = checkMesh(*s.mesh); !st) return st;
+    const int divisor = fluidDivisor(s.fluidScale);
+    if (divisor == 0)
+        return makeError("", "RenderSettings::fluidScale: expected 1, 0.5 or 0.25, got " + std::to_string(s.fluidScale));
+    if (divisor > 1 && s.mesh)
+        return makeError("", "RenderSettings::fluidScale: reduced resolution is for the particle surface, not the mesh path");
     if ((s.view == View::Noise || s.view == View::Foam) && !s.noise.enabled)
         return makeError("", "the noise and foam views need the surface noise on (RenderSettings::noise.enabled)");
     if (s.view == View::Whitening && !s.whitening.enabled)
@@ -456,6 +473,8 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         f.sprayVelocities = spray_->dropVelocities;
     }
     f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
+    f.fluidDivisor = divisor;
+    f.upsampleJumpM = defaults::kDepthJumpRadii * s.radiusM;
     Backend& b = *backend_;
     if (auto st = b.beginFrame(positions, f); !st) return st.error();
 
@@ -470,20 +489,46 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         return b.stageStatus(name);
     };
     if (auto st = stage("scene", [&] { b.castScene(Slot::SceneColor, Slot::SceneDepth); }); !st) return st;
-    if (auto st = stage("depth-splat+thickness", [&] { b.splat(Slot::SceneDepth, Slot::RawDepth, Slot::Thickness); });
-        !st)
-        return st;
-    if (s.mesh) {
-        // The mesh path: the triangles give the surface's depth and normals
-        // (in place of smooth + normals); thickness and raw depth stay the particles'.
-        if (auto st = stage("rasterise", [&] { b.rasterise(Slot::SceneDepth, Slot::Depth, Slot::Normal); }); !st)
+    if (divisor > 1) {
+        // Reduced resolution (SPEC §3.9): splat, smoothing, normals and noise
+        // on the low camera, then the surface upsampled to the full one.
+        b.setCamera(reducedCamera(s.camera, divisor));
+        if (auto st = stage("reduce-scene-depth", [&] { b.reduceSceneDepth(Slot::SceneDepth, Slot::LowSceneDepth); });
+            !st)
+            return st;
+        if (auto st = stage("depth-splat+thickness",
+                            [&] { b.splat(Slot::LowSceneDepth, Slot::RawDepth, Slot::LowThickness); });
+            !st)
+            return st;
+        if (auto st = stage("smooth", [&] { b.smooth(Slot::RawDepth, Slot::LowDepth); }); !st) return st;
+        if (auto st = stage("normals", [&] { b.normals(Slot::LowDepth, Slot::LowNormal); }); !st) return st;
+        if (s.noise.enabled)
+            if (auto st = stage("noise", [&] { b.noise(Slot::LowDepth, Slot::LowNormal, Slot::LowNoise); }); !st)
+                return st;
+        b.setCamera(s.camera);
+        if (auto st = stage("upsample", [&] {
+                b.upsample(Slot::LowDepth, Slot::LowNormal, Slot::LowThickness, Slot::LowNoise, Slot::SceneDepth,
+                           Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Noise, Slot::Coverage);
+            });
+            !st)
             return st;
     } else {
-        if (auto st = stage("smooth", [&] { b.smooth(Slot::RawDepth, Slot::Depth); }); !st) return st;
-        if (auto st = stage("normals", [&] { b.normals(Slot::Depth, Slot::Normal); }); !st) return st;
+        if (auto st = stage("depth-splat+thickness",
+                            [&] { b.splat(Slot::SceneDepth, Slot::RawDepth, Slot::Thickness); });
+            !st)
+            return st;
+        if (s.mesh) {
+            // The mesh path: the triangles give the surface's depth and normals
+            // (in place of smooth + normals); thickness and raw depth stay the particles'.
+            if (auto st = stage("rasterise", [&] { b.rasterise(Slot::SceneDepth, Slot::Depth, Slot::Normal); }); !st)
+                return st;
+        } else {
+            if (auto st = stage("smooth", [&] { b.smooth(Slot::RawDepth, Slot::Depth); }); !st) return st;
+            if (auto st = stage("normals", [&] { b.normals(Slot::Depth, Slot::Normal); }); !st) return st;
+        }
+        if (s.noise.enabled)
+            if (auto st = stage("noise", [&] { b.noise(Slot::Depth, Slot::Normal, Slot::Noise); }); !st) return st;
     }
-    if (s.noise.enabled)
-        if (auto st = stage("noise", [&] { b.noise(Slot::Depth, Slot::Normal, Slot::Noise); }); !st) return st;
     if (s.whitening.enabled)
         if (auto st = stage("whitening", [&] { b.whitening(Slot::Depth, Slot::Whitening); }); !st) return st;
     if (auto st = stage("shade", [&] {
@@ -492,6 +537,11 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         });
         !st)
         return st;
+    if (divisor > 1)
+        if (auto st = stage("fluid-edges",
+                            [&] { b.blendFluidEdges(Slot::SceneColor, Slot::Depth, Slot::Coverage, Slot::Color); });
+            !st)
+            return st;
     if (s.silhouette.enabled)
         if (auto st = stage("silhouette", [&] { b.silhouette(Slot::SceneColor, Slot::Depth, Slot::Color, Slot::Silhouette); });
             !st)
@@ -508,6 +558,7 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
         const auto t0 = std::chrono::steady_clock::now();
         Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise, s.whitening, drawsDrops(s),
                              s.silhouette.enabled);
+        rawDepthAtFullSize(s, aovs);
         if (auto st = b.stageStatus("readback"); !st) return st.error();
         const double readMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -527,6 +578,7 @@ Status Renderer::draw(const ParticleView& particles, const RenderSettings& s) {
         if (s.view == View::Final) return okStatus();  // the colour is already in its slot
         Aovs aovs = readAovs(*backend_, s.view, true, s.noise, s.whitening, drawsDrops(s),
                              s.silhouette.enabled);
+        rawDepthAtFullSize(s, aovs);
         applyView(s.view, true, aovs);
         backend_->writeColor(Slot::Color, std::move(aovs.color));
         return backend_->stageStatus("debug view");

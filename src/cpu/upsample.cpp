@@ -1,0 +1,108 @@
+// CPU reduced-resolution processing: see upsample.h and src/shared/upsample.h.
+#include "cpu/upsample.h"
+
+#include <algorithm>
+#include <limits>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "shared/upsample.h"
+
+namespace meniscus::cpu {
+
+namespace {
+constexpr float kInf = std::numeric_limits<float>::infinity();
+}  // namespace
+
+Image<float> reduceSceneDepth(const Image<float>& full, int lowW, int lowH, int d) {
+    Image<float> out(lowW, lowH, kInf);
+    const int W = full.width, H = full.height;
+    if (W <= 0 || H <= 0) return out;
+    tbb::parallel_for(0, lowH, [&](int j) {
+        const glm::ivec2 ys = shared::lowPixelSpan(j, H, lowH, d);
+        for (int i = 0; i < lowW; ++i) {
+            const glm::ivec2 xs = shared::lowPixelSpan(i, W, lowW, d);
+            float z = 0.0f;
+            for (int y = ys.x; y < ys.y; ++y)
+                for (int x = xs.x; x < xs.y; ++x) z = std::max(z, full.at(x, y));
+            out.at(i, j) = z;
+        }
+    });
+    return out;
+}
+
+Upsampled upsampleSurface(const Image<float>& lowDepth, const Image<glm::vec3>& lowNormal,
+                          const Image<float>& lowThickness, const Image<float>* lowNoise,
+                          const Image<float>* sceneDepth, int W, int H, int d, float jumpM) {
+    Upsampled out;
+    out.depth = Image<float>(W, H, kInf);
+    out.normal = Image<glm::vec3>(W, H, glm::vec3(0.0f));
+    out.thickness = Image<float>(W, H, 0.0f);
+    out.coverage = Image<float>(W, H, 0.0f);
+    const bool noise = lowNoise != nullptr;
+    if (noise) out.noise = Image<float>(W, H, 0.0f);
+    const int lw = lowDepth.width, lh = lowDepth.height;
+    if (W <= 0 || H <= 0 || lw <= 0 || lh <= 0) return out;
+    const bool hides = sceneDepth && sceneDepth->width == W && sceneDepth->height == H;
+    const bool hasNormal = lowNormal.width == lw && lowNormal.height == lh;
+    const bool hasThickness = lowThickness.width == lw && lowThickness.height == lh;
+    const bool hasNoise = noise && lowNoise->width == lw && lowNoise->height == lh;
+    // The columns' taps and fractions, the same for every row.
+    std::vector<glm::ivec2> colTaps(static_cast<std::size_t>(W));
+    std::vector<float> colFrac(static_cast<std::size_t>(W));
+    for (int x = 0; x < W; ++x)
+        shared::upsampleTaps(shared::lowCoordinate(x, W, lw, d), lw, colTaps[std::size_t(x)], colFrac[std::size_t(x)]);
+    tbb::parallel_for(0, H, [&](int y) {
+        glm::ivec2 ty;
+        float fy;
+        shared::upsampleTaps(shared::lowCoordinate(y, H, lh, d), lh, ty, fy);
+        const float* row0 = &lowDepth.at(0, ty.x);
+        const float* row1 = &lowDepth.at(0, ty.y);
+        for (int x = 0; x < W; ++x) {
+            const glm::ivec2 tx = colTaps[std::size_t(x)];
+            // Background under all four taps (most of a frame): nothing to do.
+            if (!(row0[tx.x] < kInf) && !(row0[tx.y] < kInf) && !(row1[tx.x] < kInf) && !(row1[tx.y] < kInf)) continue;
+            const glm::vec4 w = shared::upsampleWeights(colFrac[std::size_t(x)], fy);
+            const glm::vec4 z(row0[tx.x], row0[tx.y], row1[tx.x], row1[tx.y]);
+            const float c = shared::upsampleCoverage(z, w);
+            out.coverage.at(x, y) = c;
+            if (!shared::upsampleIsFluid(c)) continue;
+            const glm::vec4 b = shared::upsampleBlendWeights(z, w, jumpM);
+            const float sum = shared::upsampleWeightSum(b);
+            const float depth = shared::upsampleDepth(z, b, sum);
+            if (hides && !(depth < sceneDepth->at(x, y))) continue;
+            out.depth.at(x, y) = depth;
+            if (hasNormal)
+                out.normal.at(x, y) =
+                    shared::upsampleNormal(lowNormal.at(tx.x, ty.x), lowNormal.at(tx.y, ty.x),
+                                           lowNormal.at(tx.x, ty.y), lowNormal.at(tx.y, ty.y), b);
+            if (hasThickness)
+                out.thickness.at(x, y) = shared::upsampleLinear(
+                    glm::vec4(lowThickness.at(tx.x, ty.x), lowThickness.at(tx.y, ty.x), lowThickness.at(tx.x, ty.y),
+                              lowThickness.at(tx.y, ty.y)),
+                    b, sum);
+            if (hasNoise)
+                out.noise.at(x, y) = shared::upsampleLinear(
+                    glm::vec4(lowNoise->at(tx.x, ty.x), lowNoise->at(tx.y, ty.x), lowNoise->at(tx.x, ty.y),
+                              lowNoise->at(tx.y, ty.y)),
+                    b, sum);
+        }
+    });
+    return out;
+}
+
+void blendFluidEdges(const Image<float>& depth, const Image<float>& coverage, const Image<glm::vec4>& behind,
+                     Image<glm::vec4>& color) {
+    const int W = color.width, H = color.height;
+    for (const auto* img : {&depth, &coverage})
+        if (img->width != W || img->height != H) return;
+    if (behind.width != W || behind.height != H) return;
+    tbb::parallel_for(0, H, [&](int y) {
+        for (int x = 0; x < W; ++x)
+            if (depth.at(x, y) < kInf)
+                color.at(x, y) = shared::upsampleEdgeBlend(color.at(x, y), behind.at(x, y), coverage.at(x, y));
+    });
+}
+
+}  // namespace meniscus::cpu
