@@ -2,7 +2,8 @@
 # Re-approves the golden images of tests/golden_test.cpp: renders the real
 # frame 21 at 320x180 on the CPU backend (the reference) with every filter and
 # every material, with the surface noise, the velocity whitening, the spray, the silhouette
-# reduction and at half resolution, into tests/golden/. Look at the images (and at
+# reduction, at half resolution and with two fluids (the frame with its
+# `phase` attribute, tests/data/splishsplash/two_fluids/), into tests/golden/. Look at the images (and at
 # `git diff --stat`) before committing them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,4 +23,7 @@ render frame21_whiten --whiten
 render frame21_spray --spray --spray-streak 0.03
 render frame21_silhouette --silhouette --background none
 render frame21_fluid-scale-0.5 --fluid-scale 0.5
+build/meniscus render tests/data/splishsplash/two_fluids/ParticleData_Fluid_21_phase.bgeo \
+    -o tests/golden/frame21_two_fluids.png --width 320 --height 180 --backend cpu \
+    --fluid-attribute phase --material water,lava
 echo "approved: $(ls tests/golden/*.png | wc -l) images in tests/golden/"

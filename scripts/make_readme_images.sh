@@ -4,7 +4,9 @@
 # settings, each debug view, every filter and every material; the velocity
 # whitening; the spray; the surface
 # noise (a close view of frame 21, and frames 17-21 of the small dam break in
-# ../shared/testdata as a sequence, for the turbulence); and the demo.
+# ../shared/testdata as a sequence, for the turbulence); two fluids (the small
+# frame 21 split by its `phase` attribute, tests/data/splishsplash/two_fluids/);
+# and the demo.
 # Look at them before committing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -50,4 +52,9 @@ if [ -d "$small" ]; then
         --diffuse "$seq/diffuse_%04d.bgeo" --spray-streak 0.03
     rm -r "$seq"
 fi
+two=tests/data/splishsplash/two_fluids/ParticleData_Fluid_21_phase.bgeo
+for v in final fluid-id; do
+    build/meniscus render "$two" -o "docs/images/fluids21_$v.png" --width 640 --height 360 --backend cpu \
+        --fluid-attribute phase --material water,murky --view "$v"
+done
 build/meniscus demo -o docs/images/demo.png --width 640 --height 360 --backend cpu

@@ -217,6 +217,112 @@ TEST(Cli, WhiteningOptions) {
     EXPECT_NE(out.find("no velocity attribute"), std::string::npos) << out;
 }
 
+// Several fluids: a PLY whose `phase` column (integers, or whole floats)
+// names each particle's fluid, one material per fluid; the EXR's fluid
+// channel holds both; the clear errors of a missing attribute, a fraction,
+// too many materials and an index out of range.
+TEST(Cli, SeveralFluidsFromAnAttribute) {
+    const fs::path dir = tempDir();
+    auto writePly = [&](const fs::path& p, const char* type, const std::string& third) {
+        std::ostringstream ply;
+        int n = 0;
+        std::ostringstream rows;
+        for (int i = 0; i < 12; ++i)
+            for (int j = 0; j < 8; ++j)
+                for (int k = 0; k < 4; ++k, ++n)
+                    rows << 0.02 * i << " " << 0.02 * j << " " << 0.02 * k << " " << (i < 6 ? "0" : third) << "\n";
+        ply << "ply\nformat ascii 1.0\nelement vertex " << n << "\nproperty float x\nproperty float y\n"
+            << "property float z\nproperty " << type << " phase\nend_header\n" << rows.str();
+        writeText(p, ply.str());
+    };
+    writePly(dir / "two.ply", "int", "1");
+    writePly(dir / "twof.ply", "float", "1");
+    writePly(dir / "frac.ply", "float", "0.5");
+    writePly(dir / "five.ply", "int", "5");
+    const std::string opts = " --width 64 --height 40 --radius 0.01 --fluid-attribute phase ";
+    std::string out;
+    for (const char* in : {"two.ply", "twof.ply"}) {
+        ASSERT_EQ(runCli("render " + quote(dir / in) + opts + "--material water,lava -o " + quote(dir / "f.exr"), &out),
+                  0)
+            << in << out;
+        const ExrData exr = readExr(dir / "f.exr");
+        const auto at = std::find(exr.names.begin(), exr.names.end(), "fluid");
+        ASSERT_NE(at, exr.names.end()) << in;
+        const std::vector<float>& v = exr.channels[std::size_t(at - exr.names.begin())].values;
+        EXPECT_EQ(std::set<float>(v.begin(), v.end()), (std::set<float>{-1.0f, 0.0f, 1.0f})) << in;
+    }
+    EXPECT_EQ(runCli("render " + quote(dir / "two.ply") + opts + "--view fluid-id -o " + quote(dir / "id.png"), &out), 0)
+        << out;
+    EXPECT_EQ(runCli("render " + quote(dir / "two.ply") + " --width 64 --height 40 --radius 0.01 --fluid-attribute "
+                         "kind -o " + quote(dir / "bad.png"),
+                     &out),
+              1);
+    EXPECT_NE(out.find("--fluid-attribute kind: no such attribute (the file has: phase)"), std::string::npos) << out;
+    EXPECT_NE(out.find("two.ply"), std::string::npos) << out;
+    EXPECT_EQ(runCli("render " + quote(dir / "frac.ply") + opts + "-o " + quote(dir / "bad.png"), &out), 1);
+    EXPECT_NE(out.find("not a whole number"), std::string::npos) << out;
+    EXPECT_EQ(runCli("render " + quote(dir / "five.ply") + opts + "-o " + quote(dir / "bad.png"), &out), 1);
+    EXPECT_NE(out.find("fluid index 5: expected 0 to 3"), std::string::npos) << out;
+    EXPECT_EQ(runCli("render " + quote(dir / "two.ply") + opts + "--material water,lava,milk,sand,water -o " +
+                         quote(dir / "bad.png"),
+                     &out),
+              1);
+    EXPECT_NE(out.find("5 materials for at most 4 fluids"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "bad.png"));
+}
+
+// Several fluids from one sequence per fluid (--fluid, as SPlisHSPlasH writes
+// one file per fluid model): frame for frame, the input fluid 0; attributes
+// not in every file are left out with a warning; clear errors for a frame
+// count that differs and for --fluid with --fluid-attribute.
+TEST(Cli, SeveralFluidsFromOneSequencePerFluid) {
+    const fs::path dir = tempDir();
+    auto writeBlock = [&](const fs::path& p, double x0, bool density) {
+        std::ostringstream rows;
+        int n = 0;
+        for (int i = 0; i < 6; ++i)
+            for (int j = 0; j < 8; ++j)
+                for (int k = 0; k < 4; ++k, ++n)
+                    rows << x0 + 0.02 * i << " " << 0.02 * j << " " << 0.02 * k << " " << n << (density ? " 1000" : "")
+                         << "\n";
+        writeText(p, "ply\nformat ascii 1.0\nelement vertex " + std::to_string(n) +
+                         "\nproperty float x\nproperty float y\nproperty float z\nproperty int id\n" +
+                         (density ? "property float density\n" : "") + "end_header\n" + rows.str());
+    };
+    for (int f : {1, 2}) {
+        writeBlock(dir / ("water_" + std::to_string(f) + ".ply"), 0.0, true);
+        writeBlock(dir / ("oil_" + std::to_string(f) + ".ply"), 0.12, false);
+    }
+    writeBlock(dir / "lone.ply", 0.12, false);
+    const std::string opts = " --width 64 --height 40 --radius 0.01 --material water,lava ";
+    std::string out;
+    ASSERT_EQ(runCli("render " + quote(dir / "water_%d.ply") + " --fluid " + quote(dir / "oil_%d.ply") + opts + "-o " +
+                         quote(dir / "f_%d.exr"),
+                     &out),
+              0)
+        << out;
+    EXPECT_NE(out.find("attribute 'density' is not in every fluid's file alike: left out"), std::string::npos) << out;
+    for (int f : {1, 2}) {
+        const ExrData exr = readExr(dir / ("f_" + std::to_string(f) + ".exr"));
+        const auto at = std::find(exr.names.begin(), exr.names.end(), "fluid");
+        ASSERT_NE(at, exr.names.end());
+        const std::vector<float>& v = exr.channels[std::size_t(at - exr.names.begin())].values;
+        EXPECT_EQ(std::set<float>(v.begin(), v.end()), (std::set<float>{-1.0f, 0.0f, 1.0f})) << f;
+    }
+    EXPECT_EQ(runCli("render " + quote(dir / "water_%d.ply") + " --fluid " + quote(dir / "lone.ply") + opts + "-o " +
+                         quote(dir / "bad_%d.png"),
+                     &out),
+              1);
+    EXPECT_NE(out.find("--fluid: 1 frame(s), the input has 2"), std::string::npos) << out;
+    EXPECT_EQ(runCli("render " + quote(dir / "water_1.ply") + " --fluid " + quote(dir / "lone.ply") +
+                         " --fluid-attribute id" + opts + "-o " + quote(dir / "bad.png"),
+                     &out),
+              1);
+    EXPECT_NE(out.find("give one or the other"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "bad.png"));
+    EXPECT_FALSE(fs::exists(dir / "bad_1.png"));
+}
+
 TEST(Cli, DemoNeedsNoInput) {
     const fs::path dir = tempDir();
     std::string out;

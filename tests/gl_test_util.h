@@ -186,18 +186,6 @@ inline ColorDiff compareColor(const Image<glm::vec4>& cpu, const Image<glm::vec4
     return d;
 }
 
-// Pixels whose bits differ between a and b (a size mismatch counts every
-// missing pixel).
-template <class T>
-int differingBits(const Image<T>& a, const Image<T>& b) {
-    EXPECT_EQ(a.width, b.width);
-    EXPECT_EQ(a.height, b.height);
-    int n = 0;
-    for (std::size_t k = 0; k < a.size() && k < b.size(); ++k)
-        n += std::memcmp(&a.pixels[k], &b.pixels[k], sizeof(T)) != 0;
-    return n + int(a.size() > b.size() ? a.size() - b.size() : b.size() - a.size());
-}
-
 // The whole-pipeline colour tolerance (gl_backend_test's): at most 2 sRGB
 // steps anywhere and 0.1% of the pixels off by more than 1. Returns the diff
 // for the caller's log line.

@@ -31,10 +31,14 @@ namespace fs = std::filesystem;
 // the materials other than the default water (frame21_material_<name>.png),
 // the surface noise and foam (frame21_noise.png), the velocity whitening
 // (frame21_whiten.png), the spray drops (frame21_spray.png) and the
-// silhouette reduction over no background, where its alpha shows (frame21_silhouette.png).
+// silhouette reduction over no background, where its alpha shows (frame21_silhouette.png),
+// reduced resolution (frame21_fluid-scale-0.5.png) and two fluids, the frame
+// split across the tank into water and lava (frame21_two_fluids.png, from
+// tests/data/splishsplash/two_fluids/).
 struct Look {
     std::string file;  // golden file name without .png
     std::string args;  // CLI arguments that select it
+    std::string input = "splishsplash/partio/ParticleData_Fluid_21.bgeo";  // under tests/data
 };
 const Look kLooks[] = {
     {"frame21_none", "--filter none"},
@@ -53,6 +57,8 @@ const Look kLooks[] = {
     {"frame21_spray", "--spray --spray-streak 0.03"},
     {"frame21_silhouette", "--silhouette --background none"},
     {"frame21_fluid-scale-0.5", "--fluid-scale 0.5"},
+    {"frame21_two_fluids", "--fluid-attribute phase --material water,lava",
+     "splishsplash/two_fluids/ParticleData_Fluid_21_phase.bgeo"},
 };
 
 class Golden : public testing::TestWithParam<std::tuple<std::string, int>> {};
@@ -65,7 +71,7 @@ TEST_P(Golden, MatchesTheApprovedImage) {
     const fs::path out = test::tempDir() / (backend + "_" + look.file + ".png");
     std::string log;
     const int rc = test::runCommand(
-        test::cliPath() + " render '" + test::testData("splishsplash/partio/ParticleData_Fluid_21.bgeo").string() +
+        test::cliPath() + " render '" + test::testData(look.input).string() +
             "' -o '" + out.string() + "' --width 320 --height 180 --backend " + backend + " " + look.args,
         &log);
     if (rc != 0 && backend == "gl" && log.find("GL backend unavailable") != std::string::npos)

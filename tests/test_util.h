@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -10,6 +11,7 @@
 #include <OpenEXR/ImfPixelType.h>
 #include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfLineOrder.h>
+#include <gtest/gtest.h>
 #include <png.h>
 
 #include "meniscus/camera.h"
@@ -105,5 +107,17 @@ Camera faceOnCamera(glm::vec3 target, float distance, int width, int height, flo
 
 // A cheap deterministic scramble of (i, salt) into [0, 1), for test images.
 float hash01(std::uint32_t i, std::uint32_t salt);
+
+// Pixels whose bits differ between a and b (a size mismatch counts every
+// missing pixel).
+template <class T>
+int differingBits(const Image<T>& a, const Image<T>& b) {
+    EXPECT_EQ(a.width, b.width);
+    EXPECT_EQ(a.height, b.height);
+    int n = 0;
+    for (std::size_t k = 0; k < a.size() && k < b.size(); ++k)
+        n += std::memcmp(&a.pixels[k], &b.pixels[k], sizeof(T)) != 0;
+    return n + int(a.size() > b.size() ? a.size() - b.size() : b.size() - a.size());
+}
 
 }  // namespace meniscus::test

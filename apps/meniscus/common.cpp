@@ -2,6 +2,7 @@
 #include "common.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -105,7 +106,14 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
                     "Smoothing iterations (default: the filter's own, e.g. 3 for narrow-range, 40 for curvature-flow)")
         ->check(CLI::Range(0, 10000));
     cmd->add_flag("--separable", o.separable, "narrow-range: the faster separable 1-D approximation");
-    cmd->add_option("--material", o.material, "Fluid look: " + materialPresetNames())->capture_default_str();
+    cmd->add_option("--material", o.material,
+                    "Fluid look: " + materialPresetNames() +
+                        "; with several fluids one per fluid, comma-separated (e.g. water,honey: fluid 0, fluid 1)")
+        ->capture_default_str();
+    cmd->add_option("--fluid-attribute", o.fluidAttribute,
+                    "Several fluids: the integer particle attribute giving each particle's fluid, 0 to 3 (default: "
+                    "the files' 'fluid' attribute, if any); each fluid is smoothed and shaded on its own, then "
+                    "composited front to back");
     cmd->add_option("--background", o.background,
                     "studio (checker floor, two walls, sky) or none (transparent PNG background)")
         ->capture_default_str();
@@ -179,8 +187,24 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
         if (!nr) return makeError("", "--separable applies to --filter narrow-range only");
         nr->separable = true;
     }
-    if (!materialPreset(o.material, &s.shading.material))
-        return makeError("", "--material " + o.material + ": expected one of " + materialPresetNames());
+    // One preset, or one per fluid (comma-separated: fluid 0's, fluid 1's, ...).
+    std::vector<std::string> names;
+    for (std::size_t at = 0;;) {
+        const std::size_t comma = o.material.find(',', at);
+        names.push_back(o.material.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
+        if (comma == std::string::npos) break;
+        at = comma + 1;
+    }
+    if (names.size() > std::size_t(kMaxFluids))
+        return makeError("", "--material: " + std::to_string(names.size()) + " materials for at most " +
+                                 std::to_string(kMaxFluids) + " fluids");
+    for (const std::string& n : names) {
+        Material m;
+        if (!materialPreset(n, &m))
+            return makeError("", "--material " + n + ": expected one of " + materialPresetNames());
+        s.fluidMaterials.push_back(m);
+    }
+    s.shading.material = s.fluidMaterials.front();
     if (o.background != "studio" && o.background != "none")
         return makeError("", "--background " + o.background + ": expected studio or none");
     s.scene.background = o.background == "studio";
@@ -213,6 +237,9 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
     if (o.fluidScale != 1.0f && o.surface == "mesh")
         return makeError("", "--fluid-scale applies to the screen-space surface, not --surface mesh");
     s.fluidScale = o.fluidScale;
+    if ((!o.fluidAttribute.empty() || !o.moreFluids.empty()) && o.surface == "mesh")
+        return makeError("", "--fluid-attribute, --fluid: several fluids are drawn by the screen-space surface, not "
+                             "--surface mesh");
     if (!(o.radius >= 0.0f)) return makeError("", "--radius must be a positive number of metres");
     if (o.radius != 0.0f)
         if (auto st = checkRadius(o.radius); !st) return makeError("", "--radius: " + st.error().message);
@@ -234,9 +261,110 @@ Status writeImage(const std::string& path, const Aovs& aovs, bool withAlpha) {
     return writePng(path, aovs.color, withAlpha);
 }
 
+Status useFluidAttribute(ParticleSet& set, const std::string& name) {
+    const Attribute* a = set.find(name);
+    if (!a) {
+        std::string have;
+        for (const Attribute& b : set.attributes) have += (have.empty() ? "" : ", ") + b.name;
+        return makeError("", "--fluid-attribute " + name + ": no such attribute (the file has: " +
+                                 (have.empty() ? std::string("none") : have) + ")");
+    }
+    if (a->components != 1 || a->count() != set.size())
+        return makeError("", "--fluid-attribute " + name + ": expected one value per particle, it has " +
+                                 std::to_string(a->components) + " components");
+    Attribute fluid;
+    fluid.name = std::string(kAttrFluid);
+    fluid.type = AttributeType::Int;
+    if (a->type == AttributeType::Int) {
+        fluid.ints = a->ints;
+    } else {
+        fluid.ints.reserve(a->floats.size());
+        for (std::size_t i = 0; i < a->floats.size(); ++i) {
+            const float v = a->floats[i];
+            if (!(std::fabs(v) < 1e9f) || v != std::floor(v))
+                return makeError("", "--fluid-attribute " + name + ": particle " + std::to_string(i) + " has " +
+                                         std::to_string(v) + ", not a whole number");
+            fluid.ints.push_back(std::int64_t(v));
+        }
+    }
+    if (name == kAttrFluid) return okStatus();
+    if (Attribute* old = set.find(kAttrFluid)) *old = std::move(fluid);
+    else set.attributes.push_back(std::move(fluid));
+    return okStatus();
+}
+
+void addFluidInputOption(CLI::App* cmd, RenderOptions& o) {
+    cmd->add_option("--fluid", o.moreFluids,
+                    "Several fluids, one input per fluid (as SPlisHSPlasH writes one file per fluid model): another "
+                    "file or sequence, frame for frame with the input, drawn as fluid 1 (then 2, 3 when repeated); "
+                    "the input is fluid 0. Give --material one preset per fluid");
+}
+
+void appendFluid(ParticleSet& set, const ParticleSet& more, int fluid) {
+    constexpr std::int64_t kIdOffset = std::int64_t(1) << 40;
+    if (!set.find(kAttrFluid)) {
+        Attribute index;
+        index.name = std::string(kAttrFluid);
+        index.type = AttributeType::Int;
+        index.ints.assign(set.size(), 0);
+        set.attributes.push_back(std::move(index));
+    }
+    set.positions.insert(set.positions.end(), more.positions.begin(), more.positions.end());
+    std::vector<Attribute> kept;
+    for (Attribute& a : set.attributes) {
+        if (a.name == kAttrFluid) {
+            a.ints.resize(set.size(), std::int64_t(fluid));
+            kept.push_back(std::move(a));
+            continue;
+        }
+        const Attribute* b = more.find(a.name);
+        if (!b || b->type != a.type || b->components != a.components || b->count() != more.size()) {
+            set.warnings.push_back("attribute '" + a.name + "' is not in every fluid's file alike: left out");
+            continue;
+        }
+        a.floats.insert(a.floats.end(), b->floats.begin(), b->floats.end());
+        for (std::int64_t v : b->ints) a.ints.push_back(a.name == kAttrId ? v + std::int64_t(fluid) * kIdOffset : v);
+        kept.push_back(std::move(a));
+    }
+    for (const Attribute& b : more.attributes)
+        if (b.name != kAttrFluid &&
+            std::none_of(set.attributes.begin(), set.attributes.end(), [&](const Attribute& a) { return a.name == b.name; }))
+            set.warnings.push_back("attribute '" + b.name + "' is not in every fluid's file alike: left out");
+    set.attributes = std::move(kept);
+}
+
+Status Frames::addFluids(const RenderOptions& o) {
+    fluidAttribute = o.fluidAttribute;
+    if (o.moreFluids.empty()) return okStatus();
+    if (!o.fluidAttribute.empty()) return makeError("", "--fluid and --fluid-attribute: give one or the other");
+    if (embedded) return makeError("", "--fluid needs an input (the demo frame is one fluid)");
+    if (o.moreFluids.size() + 1 > std::size_t(kMaxFluids))
+        return makeError("", std::to_string(o.moreFluids.size() + 1) + " fluids (the input and " +
+                                 std::to_string(o.moreFluids.size()) + " --fluid): at most " +
+                                 std::to_string(kMaxFluids));
+    for (const std::string& spec : o.moreFluids) {
+        auto list = expandSequence(spec);
+        if (!list) return list.error();
+        if (list->size() != files.size())
+            return makeError(spec, "--fluid: " + std::to_string(list->size()) + " frame(s), the input has " +
+                                       std::to_string(files.size()));
+        moreFluids.push_back(std::move(*list));
+    }
+    return okStatus();
+}
+
 Result<ParticleSet> Frames::load(std::size_t i) const {
-    if (embedded) return *embedded;
-    return readParticles(files[i]);
+    auto set = embedded ? Result<ParticleSet>(*embedded) : readParticles(files[i]);
+    if (set && !fluidAttribute.empty())
+        if (auto st = useFluidAttribute(*set, fluidAttribute); !st)
+            return makeError(embedded ? std::string("the demo frame") : files[i].string(), st.error().message);
+    for (std::size_t k = 0; set && k < moreFluids.size(); ++k) {
+        auto more = readParticles(moreFluids[k][i]);
+        if (!more) return more.error();
+        set->warnings.insert(set->warnings.end(), more->warnings.begin(), more->warnings.end());
+        appendFluid(*set, *more, int(k) + 1);
+    }
+    return set;
 }
 
 Status Frames::checkOutput(const std::string& output, const char* example) const {

@@ -68,6 +68,12 @@ struct RenderOptions {
     // a file, or a pattern filled with each input frame's number. Empty: none.
     std::string diffuse;
     std::string surface = "screen";  // screen (splat + smoothing) or mesh (the isosurface path)
+    // Several fluids (SPEC §3.10): the integer attribute holding each
+    // particle's fluid index (0 .. 3); empty: the files' own `fluid`, if any.
+    std::string fluidAttribute;
+    // Several fluids from one input per fluid (--fluid, repeatable): each a
+    // file or sequence matching the input frame for frame, fluid 1, 2, ...
+    std::vector<std::string> moreFluids;
     MesherOptions mesher;
 };
 
@@ -75,6 +81,13 @@ struct RenderOptions {
 // --radius when `radiusOption` is false (simulate: the images use the
 // simulation's own radius, which its --radius sets).
 void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption = true);
+// --fluid-attribute's alternative, --fluid (one more input per fluid), on `cmd`.
+void addFluidInputOption(CLI::App* cmd, RenderOptions& o);
+// Particles of `more` appended to `set` as fluid `fluid` (set's own become
+// fluid 0 when it has no fluid attribute yet): attributes both have with the
+// same type are joined, others left out with a warning in set.warnings; ids
+// are offset by fluid * 2^40 so the fluids' ids stay apart.
+void appendFluid(ParticleSet& set, const ParticleSet& more, int fluid);
 // --backend on `cmd`.
 void addBackendOption(CLI::App* cmd, RenderOptions& o);
 
@@ -89,6 +102,14 @@ Status writeImage(const std::string& path, const Aovs& aovs, bool withAlpha);
 struct Frames {
     std::vector<std::filesystem::path> files;  // empty for the embedded frame
     const ParticleSet* embedded = nullptr;
+    // Copied into each frame's `fluid` attribute on loading (useFluidAttribute); empty: none.
+    std::string fluidAttribute;
+    // One more sequence per further fluid (addFluids): frame i of each joins
+    // frame i of `files` as fluid 1, 2, ... (the input being fluid 0).
+    std::vector<std::vector<std::filesystem::path>> moreFluids;
+    // Opens the sequences of --fluid; an error naming the one whose frame
+    // count differs from the input's, or when --fluid-attribute is given too.
+    Status addFluids(const RenderOptions& o);
 
     std::size_t count() const { return embedded ? 1 : files.size(); }
     Result<ParticleSet> load(std::size_t i) const;
@@ -100,6 +121,12 @@ struct Frames {
     Result<std::string> outputName(const std::string& output, std::size_t i) const;
 };
 Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded);
+
+// Makes attribute `name` of `set` its fluid index (the `fluid` attribute the
+// renderer reads): integers, or floats holding whole numbers (DualSPHysics and
+// ParaView write type ids as floats). An error naming the problem (no such
+// attribute, listing those there are; not one component; a fraction).
+Status useFluidAttribute(ParticleSet& set, const std::string& name);
 
 // The renderer on --backend; Auto falling back to the CPU says why on stderr.
 Result<Renderer> makeRenderer(const RenderOptions& o);

@@ -62,6 +62,8 @@ void caption(Image<glm::vec4>& image, int x0, int width, const std::string& top,
 
 int runCompare(const RenderOptions& o) {
     if (!isPng(o.output)) return fail(o.output + ": output must end in .png");
+    if (!o.fluidAttribute.empty())
+        return fail("--fluid-attribute: compare draws one fluid (the mesh path has no fluids of its own)");
     auto parsed = settingsFromOptions(o);
     if (!parsed) return fail(parsed.error().describe());
     RenderSettings settings = std::move(*parsed);

@@ -124,6 +124,7 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
 
     auto frames = openFrames(o.input, embedded);
     if (!frames) return fail(frames.error().describe());
+    if (auto st = frames->addFluids(o); !st) return fail(st.error().describe());
     const std::size_t count = frames->count();
     if (auto st = frames->checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error().describe());
 
@@ -238,6 +239,7 @@ int main(int argc, char** argv) {
     addCameraOptions(renderCmd, render);
     addBackendOption(renderCmd, render);
     addSurfaceOptions(renderCmd, render);
+    addFluidInputOption(renderCmd, render);
     renderCmd->add_option("--diffuse", render.diffuse,
                           "Draw diffuse particles (spray, foam; `meniscus whitewater` writes them) over the liquid as "
                           "drops with the --spray-size and --spray-streak look: a file, or a pattern like "
@@ -262,6 +264,7 @@ int main(int argc, char** argv) {
         "input", view.render.input,
         "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo); default: the demo frame");
     addCameraOptions(viewCmd, view.render);
+    addFluidInputOption(viewCmd, view.render);
     viewCmd->add_option("--simulate", view.simulate.scene,
                         "Instead of an input, simulate this scene file (.json, docs/scenes.md) live on a worker "
                         "thread and show its newest frame (a frame every 1/fps simulated seconds, played at most at "

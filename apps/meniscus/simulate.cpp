@@ -33,6 +33,8 @@ Result<FrameImages> openImages(const SimulateOptions& o, const sim::Scene& sc) {
     if (o.render.find('%') == std::string::npos)
         return makeError(o.render, "--render needs a frame number pattern, e.g. out/img_%04d.png");
     if (!isPng(o.render) && !isExr(o.render)) return makeError(o.render, "--render images must end in .png or .exr");
+    if (!o.image.fluidAttribute.empty())
+        return makeError("", "--fluid-attribute: the simulator's particles are one fluid");
     RenderOptions look = o.image;
     look.radius = sc.params.radius;  // the simulation's particles, exactly
     auto settings = settingsFromOptions(look);

@@ -111,6 +111,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     } else {
         auto opened = openFrames(o.render.input, embedded);
         if (!opened) return fail(opened.error().describe());
+        if (auto st = opened->addFluids(o.render); !st) return fail(st.error().describe());
         frames = std::move(*opened);
     }
 

@@ -120,6 +120,7 @@ struct Aovs {
     Image<float> whitening;    // velocity whitening map in [0, 1] (with it on) -> whitening
     Image<float> spray;        // spray drops' cover in [0, 1] (with spray on) -> spray
     Image<float> silhouette;   // silhouette map S in [0, 1], 0 = no fluid (with it on) -> silhouette
+    Image<float> fluid;        // the nearest fluid's index, -1 = none (particles with a fluid index) -> fluid
 };
 Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs);
 

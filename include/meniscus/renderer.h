@@ -20,7 +20,7 @@ namespace meniscus {
 
 // What the colour AOV (and so the PNG) shows: the shaded, composited image or
 // a picture of one intermediate stage for a person to look at.
-enum class View { Final, Depth, RawDepth, Normals, Thickness, Noise, Foam, Whitening, Spray, Silhouette };
+enum class View { Final, Depth, RawDepth, Normals, Thickness, Noise, Foam, Whitening, Spray, Silhouette, FluidId };
 
 // Diffuse particles for RenderSettings::diffuse: world positions, velocities
 // (m/s; empty: round drops) and each one's kind in the whitewater numbering
@@ -37,9 +37,13 @@ struct DiffuseLayer {
 
 // CLI names: final, depth, raw-depth, normals, thickness, noise, foam (these
 // two need RenderSettings::noise enabled), whitening (RenderSettings::whitening),
-// spray (RenderSettings::spray or a diffuse layer), silhouette (RenderSettings::silhouette).
+// spray (RenderSettings::spray or a diffuse layer), silhouette (RenderSettings::silhouette),
+// fluid-id (which fluid is nearest: one colour per fluid index).
 bool viewFromName(const std::string& name, View* out);
 std::string viewNames();
+
+// The most fluids a frame may hold: fluid indices 0 .. kMaxFluids - 1.
+inline constexpr int kMaxFluids = 4;
 
 struct RenderSettings {
     Camera camera;           // must be valid (see validateCamera / autoFrameCamera)
@@ -49,6 +53,17 @@ struct RenderSettings {
     ThicknessParams thickness;
     SceneParams scene;
     ShadingParams shading;
+    // Several fluids (SPEC §3.10; Instant Liquids §5): when the particles
+    // carry a fluid index (ParticleView::fluid, 0 .. kMaxFluids - 1;
+    // another value is an error), fluid k is drawn with fluidMaterials[k]
+    // (shading.material when k is past the end), splatted, smoothed and
+    // shaded on its own and composited front to back with the others, so
+    // different bodies are never smoothed together and each absorbs with its
+    // own colour. Not with reduced resolution or the mesh path (an error).
+    // With several fluids the noise, foam and whitening AOVs are left empty
+    // (each fluid has its own; they still shade); the fluid AOV is the
+    // nearest fluid's index.
+    std::vector<Material> fluidMaterials;
     // Surface noise and foam (SPEC §3.7); off unless noise.enabled. The
     // noise's pattern is seeded by the particles' `id` attribute (their index
     // when absent); with ids and velocities and a frameIndex, particles whose
@@ -117,6 +132,8 @@ std::string backendNames();
 class Backend;            // src/core/backend.h
 class TurbulenceTracker;  // src/core/turbulence.h
 struct SpraySplit;        // src/render/pipeline.cpp
+struct FluidSplit;        // src/render/pipeline.cpp
+struct Drawn;             // src/render/pipeline.cpp
 
 // Renders frames, keeping what does not change between them: the scene layer
 // (studio colour and depth) is cast again only when the camera or the studio
@@ -172,6 +189,8 @@ private:
                      std::vector<StageTime>* timings);
     // The noise's per-particle inputs of this frame (FrameSettings::noiseIdz, noiseAmplitude).
     void prepareNoise(const ParticleView& particles, const RenderSettings& settings);
+    // What the last runStages drew, for reading it back.
+    Drawn drawn(const RenderSettings& settings) const;
     std::unique_ptr<Backend> backend_;
     std::vector<glm::vec3> gathered_;  // positions of a strided view, made contiguous for the backend
     std::vector<float> noiseIdz_, noiseAmplitude_, whiteness_;
@@ -179,6 +198,9 @@ private:
     std::int64_t turbulenceFrame_ = -1;  // the frameIndex noiseAmplitude_ belongs to; -1 = none
     std::unique_ptr<SpraySplit> spray_;  // this frame's body of water and drops, with the spray on
     double sprayClassifyMs_ = -1.0;      // its host time this frame (the bench's spray-classify line); -1 = none
+    std::unique_ptr<FluidSplit> fluids_;  // this frame's fluids, when the particles carry a fluid index
+    int fluidLayers_ = 0;                // several fluids: how many were composited this frame; else 0
+    int singleFluid_ = -1;               // one fluid: its index (-1: the particles carry none)
 };
 
 // One frame with a fresh Renderer (nothing cached).

@@ -20,17 +20,40 @@
 #include "meniscus/renderer.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
+#include "shared/fluids.h"
 #include "shared/studio.h"
 
 namespace meniscus {
 
 // Opaque handles of the images one frame passes between stages.
-// The Low* slots and Coverage hold the reduced-resolution pass (SPEC §3.9).
+// The Low* slots and Coverage hold the reduced-resolution pass (SPEC §3.9);
+// FluidId and the layer slots after FirstLayer (layerSlot) the several
+// fluids (SPEC §3.10). None: no image (an output not wanted).
 enum class Slot {
     SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Noise, Whitening, Color, Spray, Silhouette,
-    LowSceneDepth, LowThickness, LowDepth, LowNormal, LowNoise, Coverage
+    LowSceneDepth, LowThickness, LowDepth, LowNormal, LowNoise, Coverage, FluidId, FirstLayer,
+    None = -1
 };
-inline constexpr int kSlotCount = 17;
+
+// The images each fluid of several keeps until they are composited.
+enum class LayerImage { RawDepth, Depth, Normal, Thickness, Color, Emission, Transmit };
+inline constexpr int kLayerImageCount = 7;
+// Layer `layer`'s (0 .. shared::kMaxFluids - 1) image `what`.
+inline Slot layerSlot(int layer, LayerImage what) {
+    return Slot(int(Slot::FirstLayer) + layer * kLayerImageCount + int(what));
+}
+inline constexpr int kSlotCount = int(Slot::FirstLayer) + shared::kMaxFluids * kLayerImageCount;
+
+// What changes from one fluid to the next within a frame (Backend::setFluid):
+// its particles (views valid for this frame only), its material, and its
+// particles' noise and whitening inputs (as FrameSettings' spans).
+struct FluidSettings {
+    ParticleView particles;
+    ShadingParams shading;
+    std::span<const float> noiseIdz;
+    std::span<const float> noiseAmplitude;
+    std::span<const float> whiteness;
+};
 
 // Everything the stages read besides images, resolved once per frame.
 struct FrameSettings {
@@ -108,8 +131,20 @@ public:
     // Shading and compositing over the scene (cpu::shadeAndComposite), with
     // foam from the noise slot when FrameSettings::noise is enabled and white
     // water from the whitening slot when FrameSettings::whitening is.
+    // With `emission` and `transmit` (not Slot::None), also the colour's split
+    // C = E + T S of several fluids (cpu::LayerSplit, shared/fluids.h).
     virtual void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
-                       Slot whitening, Slot color) = 0;
+                       Slot whitening, Slot color, Slot emission = Slot::None, Slot transmit = Slot::None) = 0;
+
+    // ---- Several fluids (SPEC §3.10). The particles and material the stages
+    // after this call draw (one fluid of the frame), until the next call.
+    virtual void setFluid(std::span<const glm::vec3> positions, const FluidSettings& fluid) = 0;
+    // Layers 0 .. fluids.size() - 1 (their layerSlot images; fluids[i] is
+    // layer i's fluid index) composited front to back over the scene
+    // (cpu::compositeFluids): the colour, the nearest fluid's depth and
+    // normal, the summed thickness and the nearest fluid's index.
+    virtual void compositeFluids(std::span<const int> fluids, Slot sceneColor, Slot sceneDepth, Slot color,
+                                 Slot depth, Slot normal, Slot thickness, Slot fluidId) = 0;
 
     // The liquid faded into the scene colour where its silhouette map S < 1,
     // in place on the colour slot, and S into `silhouette` (cpu::reduceSilhouettes).

@@ -23,16 +23,21 @@ constexpr std::uint64_t kBytesPerPixel = 20 + 12 + 12 + 16 + 8 + 16;
 // velocity whitening: its map float 4 (their sums are per-tile scratch).
 constexpr std::uint64_t kNoiseBytesPerPixel = 8;
 constexpr std::uint64_t kWhiteningBytesPerPixel = 4;
+// Several fluids, per fluid (LayerImage): raw depth 4, depth 4, normal 12,
+// thickness 4, colour 16, emission 16, transmittance 16; and the fluid AOV 4.
+constexpr std::uint64_t kLayerBytesPerPixel = 72;
+constexpr std::uint64_t kFluidAovBytesPerPixel = 4;
 
 // The share of physical memory one frame may take.
 constexpr double kMaxShare = 0.5;
 
 }  // namespace
 
-std::uint64_t frameBytes(int width, int height, bool noise, bool whitening) {
+std::uint64_t frameBytes(int width, int height, bool noise, bool whitening, int fluids) {
     if (width <= 0 || height <= 0) return 0;
     const std::uint64_t perPixel =
-        kBytesPerPixel + (noise ? kNoiseBytesPerPixel : 0) + (whitening ? kWhiteningBytesPerPixel : 0);
+        kBytesPerPixel + (noise ? kNoiseBytesPerPixel : 0) + (whitening ? kWhiteningBytesPerPixel : 0) +
+        (fluids > 1 ? std::uint64_t(fluids) * kLayerBytesPerPixel + kFluidAovBytesPerPixel : 0);
     return std::uint64_t(width) * std::uint64_t(height) * perPixel;
 }
 
@@ -43,8 +48,8 @@ std::uint64_t physicalMemoryBytes() {
     return std::uint64_t(pages) * std::uint64_t(pageSize);
 }
 
-Status checkFrameMemory(int width, int height, std::uint64_t physicalBytes, bool noise, bool whitening) {
-    const std::uint64_t need = frameBytes(width, height, noise, whitening);
+Status checkFrameMemory(int width, int height, std::uint64_t physicalBytes, bool noise, bool whitening, int fluids) {
+    const std::uint64_t need = frameBytes(width, height, noise, whitening, fluids);
     if (physicalBytes == 0 || double(need) <= kMaxShare * double(physicalBytes)) return okStatus();
     char msg[256];
     std::snprintf(msg, sizeof msg,

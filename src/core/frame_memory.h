@@ -13,7 +13,9 @@ namespace meniscus {
 // host images, so the host figure bounds it too.
 // The optional stages add their images: with the surface noise, N and the
 // foam AOV; with the velocity whitening, its map.
-std::uint64_t frameBytes(int width, int height, bool noise = false, bool whitening = false);
+// With several fluids (fluids > 1), each keeps its layer's images until they
+// are composited, and the fluid AOV is added.
+std::uint64_t frameBytes(int width, int height, bool noise = false, bool whitening = false, int fluids = 1);
 
 // Physical memory of this machine in bytes (0 when unknown).
 std::uint64_t physicalMemoryBytes();
@@ -23,6 +25,6 @@ std::uint64_t physicalMemoryBytes();
 // "a 16384x16384 frame needs about 19.3 GB; this machine has 23.4 GB, ...".
 // physicalBytes 0 (unknown) accepts every frame.
 Status checkFrameMemory(int width, int height, std::uint64_t physicalBytes = physicalMemoryBytes(),
-                        bool noise = false, bool whitening = false);
+                        bool noise = false, bool whitening = false, int fluids = 1);
 
 }  // namespace meniscus

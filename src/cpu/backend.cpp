@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "core/backend.h"
+#include "cpu/composite_fluids.h"
 #include "cpu/filters.h"
 #include "cpu/normals.h"
 #include "cpu/raster_mesh.h"
@@ -75,7 +76,7 @@ public:
     }
 
     void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
-               Slot whitening, Slot color) override {
+               Slot whitening, Slot color, Slot emission, Slot transmit) override {
         // shadeAndComposite reads the scene as one layer: the cached cast when
         // the slots name it (always, in the pipeline), else a copy.
         const cpu::SceneLayer* scene = &scene_;
@@ -84,11 +85,41 @@ public:
             copy = {colorImage(sceneColor), scalar(sceneDepth)};
             scene = &copy;
         }
+        cpu::LayerSplit split;
+        if (emission != Slot::None) split = {&colors_[int(emission)], &colors_[int(transmit)]};
         colors_[int(color)] = cpu::shadeAndComposite(s_.camera, *scene, scalar(depth), vec3s_[int(normal)],
                                                      scalar(thickness), s_.shading,
                                                      s_.noise.enabled ? &scalar(noise) : nullptr, &s_.noise,
                                                      s_.whitening.enabled ? &scalar(whitening) : nullptr,
-                                                     &s_.whitening);
+                                                     &s_.whitening, emission == Slot::None ? nullptr : &split);
+    }
+
+    void setFluid(std::span<const glm::vec3> positions, const FluidSettings& fluid) override {
+        positions_ = positions;
+        s_.particles = fluid.particles;
+        s_.shading = fluid.shading;
+        s_.noiseIdz = fluid.noiseIdz;
+        s_.noiseAmplitude = fluid.noiseAmplitude;
+        s_.whiteness = fluid.whiteness;
+    }
+
+    void compositeFluids(std::span<const int> fluids, Slot sceneColor, Slot sceneDepth, Slot color, Slot depth,
+                         Slot normal, Slot thickness, Slot fluidId) override {
+        std::vector<cpu::FluidLayerImages> layers;
+        for (std::size_t i = 0; i < fluids.size(); ++i) {
+            const int l = int(i);
+            layers.push_back({fluids[i], &scalar(layerSlot(l, LayerImage::Depth)),
+                              &vec3s_[int(layerSlot(l, LayerImage::Normal))],
+                              &scalar(layerSlot(l, LayerImage::Thickness)), &colorImage(layerSlot(l, LayerImage::Color)),
+                              &colorImage(layerSlot(l, LayerImage::Emission)),
+                              &colorImage(layerSlot(l, LayerImage::Transmit))});
+        }
+        cpu::Composited c = cpu::compositeFluids(layers, colorImage(sceneColor), &scalar(sceneDepth));
+        colors_[int(color)] = std::move(c.color);
+        scalars_[int(depth)] = std::move(c.depth);
+        vec3s_[int(normal)] = std::move(c.normal);
+        scalars_[int(thickness)] = std::move(c.thickness);
+        scalars_[int(fluidId)] = std::move(c.fluid);
     }
 
     void silhouette(Slot sceneColor, Slot depth, Slot color, Slot silhouette) override {

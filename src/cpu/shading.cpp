@@ -40,6 +40,7 @@
 
 #include "cpu/filter_util.h"
 #include "cpu/sky.h"
+#include "shared/fluids.h"
 #include "shared/shading.h"
 #include "shared/surface_noise.h"
 
@@ -125,6 +126,9 @@ struct Setup {
     const Image<float>* noise;      // null: no foam
     const Image<float>* whitening;  // null: no white water
     Image<glm::vec4>* out;
+    // Several fluids (shared/fluids.h): E and T of each fluid pixel, or null.
+    Image<glm::vec4>* emission;
+    Image<glm::vec4>* transmit;
     bool hasScene, hasNormals, hasThickness;
     float foamThreshold, foamGain;
     glm::vec3 foamColor;
@@ -155,6 +159,8 @@ struct Batch {
     float cr[kBatch], cg[kBatch], cb[kBatch];
     float foam[kBatch];   // foam cover (shared::noiseFoamCover), 0 without noise
     float white[kBatch];  // white-water cover (strength * the whitening map), 0 without it
+    float er[kBatch], eg[kBatch], eb[kBatch];  // Beer-Lambert share exp(-k T)
+    float F[kBatch];                           // Fresnel weight after the opaque mix
 };
 
 // Shades a batch of n fluid pixels of row y: branch-free loops over the
@@ -245,9 +251,13 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
 
         // Beer-Lambert absorption through thickness T (eq. 18).
         const float sr = B.sr[i], sg = B.sg[i], sb = B.sb[i];
-        float ar = fc.x + (sr - fc.x) * fastExp(k.x * T);
-        float ag = fc.y + (sg - fc.y) * fastExp(k.y * T);
-        float ab = fc.z + (sb - fc.z) * fastExp(k.z * T);
+        const float er = fastExp(k.x * T), eg = fastExp(k.y * T), eb = fastExp(k.z * T);
+        float ar = fc.x + (sr - fc.x) * er;
+        float ag = fc.y + (sg - fc.y) * eg;
+        float ab = fc.z + (sb - fc.z) * eb;
+        B.er[i] = er;
+        B.eg[i] = eg;
+        B.eb[i] = eb;
         const float m = 1.0f - nv, m2 = m * m;
         float F = f0 + (1.0f - f0) * (m2 * m2 * m);  // schlickFresnel
         // Opaque materials: toward a Lambert-lit fluid colour (op = 0: a unchanged).
@@ -256,6 +266,7 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
         ag = op > 0.0f ? ag * (1.0f - op) + fc.y * lit * op : ag;
         ab = op > 0.0f ? ab * (1.0f - op) + fc.z * lit * op : ab;
         F = op > 0.0f ? F * (1.0f - op) : F;
+        B.F[i] = F;
 
         // Mirror reflection of the environment, reflect(-v, n) in world space.
         const float tn = 2.0f * nv;
@@ -301,6 +312,21 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
             B.cg[i] = c.y;
             B.cb[i] = c.z;
         }
+    }
+}
+
+// Several fluids (shared/fluids.h): the batch's colours split into E and T,
+// the background S being the premultiplied scene plus sky the refraction read.
+void splitLayer(const Setup& S, std::size_t row, int n, const Batch& B) {
+    const float keepOpaque = S.opacity > 0.0f ? 1.0f - S.opacity : 1.0f;
+    for (int i = 0; i < n; ++i) {
+        const glm::vec3 t = shared::fluidTransmittance(glm::vec3(B.er[i], B.eg[i], B.eb[i]), keepOpaque, B.F[i],
+                                                       B.foam[i], B.white[i]);
+        const glm::vec3 e =
+            shared::fluidEmission(glm::vec3(B.cr[i], B.cg[i], B.cb[i]), t, glm::vec3(B.sr[i], B.sg[i], B.sb[i]));
+        const std::size_t k = row + std::size_t(B.x[i]);
+        S.emission->pixels[k] = glm::vec4(e, 1.0f);
+        S.transmit->pixels[k] = glm::vec4(t, 0.0f);
     }
 }
 
@@ -353,6 +379,7 @@ void shadeRow(const Setup& S, int y, Batch& B) {
         }
         shadeBatch(S, y, n, B);
         for (int i = 0; i < n; ++i) out[B.x[i]] = glm::vec4(B.cr[i], B.cg[i], B.cb[i], 1.0f);
+        if (S.emission) splitLayer(S, row, n, B);
     }
 }
 
@@ -362,7 +389,7 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
                                    const Image<glm::vec3>& normals, const Image<float>& thickness,
                                    const ShadingParams& params, const Image<float>* noise,
                                    const NoiseParams* noiseParams, const Image<float>* whitening,
-                                   const WhiteningParams* whiteningParams) {
+                                   const WhiteningParams* whiteningParams, const LayerSplit* split) {
     const int w = depth.width, h = depth.height;
     if (w <= 0 || h <= 0) return Image<glm::vec4>(w, h, glm::vec4(0.0f));
     // (std::vector zero-fills here; each row is then overwritten in parallel:
@@ -378,6 +405,13 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
     S.normals = &normals;
     S.thickness = &thickness;
     S.out = &out;
+    S.emission = S.transmit = nullptr;
+    if (split && split->emission && split->transmit) {
+        *split->emission = Image<glm::vec4>(w, h, glm::vec4(0.0f));
+        *split->transmit = Image<glm::vec4>(w, h, glm::vec4(0.0f));
+        S.emission = split->emission;
+        S.transmit = split->transmit;
+    }
     // A scene layer of another size (or none) counts as a transparent background.
     S.hasScene = scene.color.width == w && scene.color.height == h && scene.depth.width == w &&
                  scene.depth.height == h;

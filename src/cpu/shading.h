@@ -29,11 +29,20 @@ inline float schlickFresnel(float f0, float cosTheta) {
 // cover shared::noiseFoamCover(N) is laid over the shaded fluid; with
 // `whitening` (the velocity whitening map) and its parameters, then white
 // water of cover strength * map.
+// Several fluids (shared/fluids.h): where to put each fluid pixel's split of
+// its colour C = E + T S, E (rgb, a = 1) and T (rgb, a = 0); both W x H,
+// zero where this fluid is not drawn.
+struct LayerSplit {
+    Image<glm::vec4>* emission = nullptr;
+    Image<glm::vec4>* transmit = nullptr;
+};
+
 Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene,
                                    const Image<float>& depth, const Image<glm::vec3>& normals,
                                    const Image<float>& thickness, const ShadingParams& params,
                                    const Image<float>* noise = nullptr, const NoiseParams* noiseParams = nullptr,
                                    const Image<float>* whitening = nullptr,
-                                   const WhiteningParams* whiteningParams = nullptr);
+                                   const WhiteningParams* whiteningParams = nullptr,
+                                   const LayerSplit* split = nullptr);
 
 }  // namespace meniscus::cpu

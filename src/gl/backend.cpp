@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "gl/buffer_fill.h"
+#include "gl/composite_fluids.h"
 #include "gl/context.h"
 #include "gl/filter_curvature_flow.h"
 #include "gl/filter_narrow_range.h"
@@ -54,6 +55,7 @@ struct Stages {
     SilhouetteReduction silhouetteReduction;
     SprayDrops sprayDrops;
     Upsampling upsampling;
+    FluidCompositor fluidCompositor;
 };
 
 template <class T>
@@ -210,14 +212,42 @@ public:
     }
 
     void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
-               Slot whitening, Slot color) override {
+               Slot whitening, Slot color, Slot emission, Slot transmit) override {
         const auto fills = bufferFills();
         forget(color);
+        const bool split = emission != Slot::None;
         // Foam only with the noise on (its slot then holds this frame's N),
         // white water only with the whitening on (likewise its map).
         st_.shading.run(fp_, img(sceneColor), img(sceneDepth), img(depth), img(normal), img(thickness), img(color),
                         s_.noise.enabled ? &img(noise) : nullptr, &s_.noise,
-                        s_.whitening.enabled ? &img(whitening) : nullptr, &s_.whitening);
+                        s_.whitening.enabled ? &img(whitening) : nullptr, &s_.whitening,
+                        split ? &img(emission) : nullptr, split ? &img(transmit) : nullptr);
+    }
+
+    void setFluid(std::span<const glm::vec3> positions, const FluidSettings& fluid) override {
+        s_.particles = fluid.particles;
+        s_.shading = fluid.shading;
+        s_.noiseIdz = fluid.noiseIdz;
+        s_.noiseAmplitude = fluid.noiseAmplitude;
+        s_.whiteness = fluid.whiteness;
+        fp_ = packFrameParams(s_.camera, s_.radius, s_.filter, s_.thickness, s_.shading);
+        block_.upload(fp_);
+        st_.splat.uploadParticles(positions);
+    }
+
+    void compositeFluids(std::span<const int> fluids, Slot sceneColor, Slot sceneDepth, Slot color, Slot depth,
+                         Slot normal, Slot thickness, Slot fluidId) override {
+        const auto fills = bufferFills();
+        for (Slot out : {color, depth, normal, thickness, fluidId}) forget(out);
+        std::vector<FluidLayerGpu> layers;
+        for (std::size_t i = 0; i < fluids.size(); ++i) {
+            const int l = int(i);
+            layers.push_back({fluids[i], &img(layerSlot(l, LayerImage::Depth)), &img(layerSlot(l, LayerImage::Normal)),
+                              &img(layerSlot(l, LayerImage::Thickness)), &img(layerSlot(l, LayerImage::Color)),
+                              &img(layerSlot(l, LayerImage::Emission)), &img(layerSlot(l, LayerImage::Transmit))});
+        }
+        st_.fluidCompositor.run(layers, img(sceneColor), img(sceneDepth), img(color), img(depth), img(normal),
+                                img(thickness), img(fluidId));
     }
 
     void silhouette(Slot sceneColor, Slot depth, Slot color, Slot silhouette) override {
@@ -411,7 +441,8 @@ Result<std::unique_ptr<Backend>> makeOnCurrent(std::unique_ptr<Context> ctx) {
                       take(MeshRasteriser::create(), s.meshRasteriser),
                       take(SurfaceNoise::create(), s.surfaceNoise),
                       take(SilhouetteReduction::create(), s.silhouetteReduction),
-                      take(SprayDrops::create(), s.sprayDrops), take(Upsampling::create(), s.upsampling)})
+                      take(SprayDrops::create(), s.sprayDrops), take(Upsampling::create(), s.upsampling),
+                      take(FluidCompositor::create(), s.fluidCompositor)})
         if (!st) return st.error();
     std::optional<BufferFill> fill;
     if (useShaderFills(ctx ? ctx->renderer() : glString(GL_RENDERER))) {

@@ -23,6 +23,8 @@ Result<Shading> Shading::create() {
     s.noiseTex_ = makeTexture();
     s.whiteTex_ = makeTexture();
     s.outTex_ = makeTexture();
+    s.emissionTex_ = makeTexture();
+    s.transmitTex_ = makeTexture();
     auto segments = FluidSegments::create();
     if (!segments) return segments.error();
     s.segments_ = std::move(*segments);
@@ -32,9 +34,16 @@ Result<Shading> Shading::create() {
 void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const GpuImage& sceneDepth,
                   const GpuImage& depth, const GpuImage& normals, const GpuImage& thickness, GpuImage& color,
                   const GpuImage* noise, const NoiseParams* noiseParams, const GpuImage* whitening,
-                  const WhiteningParams* whiteningParams) {
+                  const WhiteningParams* whiteningParams, GpuImage* emission, GpuImage* transmit) {
     const int W = frame.size.x, H = frame.size.y;
     color.resize(W, H, 4);
+    const bool layer = emission && transmit;
+    if (layer) {
+        emission->resize(W, H, 4);
+        transmit->resize(W, H, 4);
+        emission->buffer.fill(emission->bytes(), 0u);
+        transmit->buffer.fill(transmit->bytes(), 0u);
+    }
     if (W <= 0 || H <= 0) return;
     const bool hasScene = sceneColor.sized(W, H, 4) && sceneDepth.sized(W, H, 1);
     const bool hasNormals = normals.sized(W, H, 3);
@@ -68,6 +77,7 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
         glUniform1f(6, noiseParams->foamGain);
         glUniform3f(7, noiseParams->foamColor.x, noiseParams->foamColor.y, noiseParams->foamColor.z);
     }
+    glUniform1i(11, layer ? 1 : 0);
     glUniform1i(8, white ? 1 : 0);
     if (white) {
         glUniform1f(9, whiteningParams->strength);
@@ -94,9 +104,17 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
     glBindTexture(GL_TEXTURE_BUFFER, whiteTex_.id());
     attachBufferTexture(outTex_, GL_RGBA32F, color.buffer, color.bytes());
     glBindImageTexture(0, outTex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    // Units 1 and 2 always hold a valid image: E and T, else the colour again
+    // (never written: uLayer is 0).
+    attachBufferTexture(emissionTex_, GL_RGBA32F, layer ? emission->buffer : color.buffer,
+                        layer ? emission->bytes() : color.bytes());
+    attachBufferTexture(transmitTex_, GL_RGBA32F, layer ? transmit->buffer : color.buffer,
+                        layer ? transmit->bytes() : color.bytes());
+    glBindImageTexture(1, emissionTex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(2, transmitTex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     segments_.bindList(kInputs);
     segments_.dispatch();
-    glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    for (GLuint unit : {0u, 1u, 2u}) glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     for (int i = kWhiteUnit; i >= 0; --i) {
         glActiveTexture(GL_TEXTURE0 + GLenum(i));
         glBindTexture(GL_TEXTURE_BUFFER, 0);

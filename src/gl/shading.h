@@ -37,7 +37,11 @@ public:
     void run(const FrameParams& frame, const GpuImage& sceneColor, const GpuImage& sceneDepth, const GpuImage& depth,
              const GpuImage& normals, const GpuImage& thickness, GpuImage& color, const GpuImage* noise = nullptr,
              const NoiseParams* noiseParams = nullptr, const GpuImage* whitening = nullptr,
-             const WhiteningParams* whiteningParams = nullptr);
+             const WhiteningParams* whiteningParams = nullptr, GpuImage* emission = nullptr,
+             GpuImage* transmit = nullptr);
+    // With `emission` and `transmit`, also the split C = E + T S of several
+    // fluids (shared/fluids.h), as cpu::LayerSplit: W x H x 4 each, zero where
+    // this fluid is not drawn.
 
 private:
     Program program_;
@@ -49,6 +53,7 @@ private:
     Texture noiseTex_;                    // over the noise (unit kNoiseUnit)
     Texture whiteTex_;                    // over the whitening map (unit kWhiteUnit)
     Texture outTex_;                      // RGBA32F image buffer over the colour
+    Texture emissionTex_, transmitTex_;   // RGBA32F image buffers over E and T (several fluids)
     FluidSegments segments_;              // of the depth (unit kInputs)
 };
 

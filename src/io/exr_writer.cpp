@@ -125,6 +125,7 @@ Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs) {
     if (!aovs.whitening.empty()) channels.push_back({"whitening", &aovs.whitening});
     if (!aovs.spray.empty()) channels.push_back({"spray", &aovs.spray});
     if (!aovs.silhouette.empty()) channels.push_back({"silhouette", &aovs.silhouette});
+    if (!aovs.fluid.empty()) channels.push_back({"fluid", &aovs.fluid});
 
     if (channels.empty()) return makeError(path.string(), "no image to write: every AOV is empty");
     return writeExr(path, channels);

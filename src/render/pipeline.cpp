@@ -5,6 +5,9 @@
 // with reduced resolution (RenderSettings::fluidScale < 1, SPEC §3.9) the splat,
 // smoothing, normals and noise on the low camera between the scene and an
 // upsample stage, and the fluid's edges blended into the scene after the shading;
+// with several fluids (SPEC §3.10), per fluid present the splat, smoothing,
+// normals, [noise], [whitening] and shading into its own layer, then
+//   composite-fluids (front to back per pixel) -> [silhouette] -> [spray];
 // or, on the mesh path (RenderSettings::mesh):
 //   scene -> depth splat + thickness -> rasterise the mesh -> [noise] -> [whitening] -> shading
 //         -> [silhouette] -> [spray].
@@ -35,6 +38,17 @@
 #include "shared/velocity_map.h"
 
 namespace meniscus {
+
+// What a frame drew, for reading it back: the effects that were on, and the
+// fluids (several: the number of layers composited; one: its index, -1
+// when the particles carry none).
+static_assert(kMaxFluids == shared::kMaxFluids, "one limit for the API and the shaders");
+
+struct Drawn {
+    bool noise = false, whitening = false, spray = false, silhouette = false;
+    int layers = 0;
+    int singleFluid = -1;
+};
 
 namespace {
 
@@ -133,6 +147,18 @@ Image<glm::vec4> coverView(const Image<float>& cover) {
     return out;
 }
 
+// Which fluid is nearest: one colour per fluid index, dark where none.
+Image<glm::vec4> fluidIdView(const Image<float>& fluid) {
+    static const glm::vec3 kPalette[shared::kMaxFluids] = {
+        {0.05f, 0.30f, 0.90f}, {0.95f, 0.40f, 0.03f}, {0.15f, 0.75f, 0.20f}, {0.80f, 0.15f, 0.70f}};
+    Image<glm::vec4> out(fluid.width, fluid.height, glm::vec4(0.02f, 0.02f, 0.025f, 0.0f));
+    for (std::size_t i = 0; i < fluid.size(); ++i) {
+        const int k = int(fluid.pixels[i]);
+        if (k >= 0 && k < shared::kMaxFluids) out.pixels[i] = glm::vec4(kPalette[k], 1.0f);
+    }
+    return out;
+}
+
 // The foam AOV: the cover the shading laid over each fluid pixel.
 Image<float> foamCover(const Image<float>& noise, const NoiseParams& p) {
     Image<float> out(noise.width, noise.height, 0.0f);
@@ -141,26 +167,46 @@ Image<float> foamCover(const Image<float>& noise, const NoiseParams& p) {
     return out;
 }
 
+// The raw splat of several fluids: per pixel the nearest layer's.
+Image<float> nearestRawDepth(Backend& b, int layers) {
+    Image<float> out = b.readScalar(layerSlot(0, LayerImage::RawDepth));
+    for (int l = 1; l < layers; ++l) {
+        const Image<float> z = b.readScalar(layerSlot(l, LayerImage::RawDepth));
+        for (std::size_t i = 0; i < out.size(); ++i) out.pixels[i] = std::min(out.pixels[i], z.pixels[i]);
+    }
+    return out;
+}
+
 // Reads back what the output needs: every AOV, or (colorOnly) the colour or
 // the stages the debug view pictures.
-Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noise, const WhiteningParams& whitening,
-              bool spray, bool silhouette) {
+Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noiseParams, const Drawn& d) {
     const bool all = !colorOnly;
     const bool noiseView = v == View::Noise || v == View::Foam || v == View::Whitening || v == View::Spray ||
-                           v == View::Silhouette;
+                           v == View::Silhouette || v == View::FluidId;
+    const bool several = d.layers > 0;
     Aovs aovs;
-    if (all || v == View::RawDepth) aovs.rawDepth = b.readScalar(Slot::RawDepth);
+    if (all || v == View::RawDepth) aovs.rawDepth = several ? nearestRawDepth(b, d.layers) : b.readScalar(Slot::RawDepth);
     if (all || v == View::Depth || v == View::Normals || noiseView) aovs.depth = b.readScalar(Slot::Depth);
     if (all || v == View::Thickness) aovs.thickness = b.readScalar(Slot::Thickness);
     if (all || v == View::Normals) aovs.normal = b.readVec3(Slot::Normal);
     if (all || v == View::Final) aovs.color = b.readColor(Slot::Color);
-    if (noise.enabled && (all || noiseView)) {
+    // (Several fluids: each has its own noise and whitening; none is read.)
+    if (d.noise && !several && (all || noiseView)) {
         aovs.noise = b.readScalar(Slot::Noise);
-        aovs.foam = foamCover(aovs.noise, noise);
+        aovs.foam = foamCover(aovs.noise, noiseParams);
     }
-    if (whitening.enabled && (all || v == View::Whitening)) aovs.whitening = b.readScalar(Slot::Whitening);
-    if (spray && (all || v == View::Spray)) aovs.spray = b.readScalar(Slot::Spray);
-    if (silhouette && (all || v == View::Silhouette)) aovs.silhouette = b.readScalar(Slot::Silhouette);
+    if (d.whitening && !several && (all || v == View::Whitening)) aovs.whitening = b.readScalar(Slot::Whitening);
+    if (d.spray && (all || v == View::Spray)) aovs.spray = b.readScalar(Slot::Spray);
+    if (d.silhouette && (all || v == View::Silhouette)) aovs.silhouette = b.readScalar(Slot::Silhouette);
+    if (all || v == View::FluidId) {
+        if (several) {
+            aovs.fluid = b.readScalar(Slot::FluidId);
+        } else if (d.singleFluid >= 0) {  // one fluid: its index wherever there is fluid
+            aovs.fluid = Image<float>(aovs.depth.width, aovs.depth.height, -1.0f);
+            for (std::size_t i = 0; i < aovs.depth.size(); ++i)
+                if (aovs.depth.pixels[i] < kInf) aovs.fluid.pixels[i] = float(d.singleFluid);
+        }
+    }
     return aovs;
 }
 
@@ -186,9 +232,11 @@ void applyView(View view, bool colorOnly, Aovs& aovs) {
         case View::Whitening: aovs.color = foamView(aovs.whitening, aovs.depth); break;
         case View::Spray: aovs.color = coverView(aovs.spray); break;
         case View::Silhouette: aovs.color = foamView(aovs.silhouette, aovs.depth); break;
+        case View::FluidId: aovs.color = fluidIdView(aovs.fluid); break;
     }
     if (colorOnly) {
-        aovs.depth = aovs.rawDepth = aovs.thickness = aovs.noise = aovs.foam = aovs.whitening = aovs.spray = aovs.silhouette = {};
+        aovs.depth = aovs.rawDepth = aovs.thickness = aovs.noise = aovs.foam = aovs.whitening = aovs.spray =
+            aovs.silhouette = aovs.fluid = {};
         aovs.normal = {};
     }
 }
@@ -205,7 +253,8 @@ bool viewFromName(const std::string& name, View* out) {
                                                           {"foam", View::Foam},
                                                           {"whitening", View::Whitening},
                                                           {"spray", View::Spray},
-                                                          {"silhouette", View::Silhouette}};
+                                                          {"silhouette", View::Silhouette},
+                                                          {"fluid-id", View::FluidId}};
     for (const auto& [n, v] : kViews)
         if (name == n) {
             *out = v;
@@ -214,7 +263,9 @@ bool viewFromName(const std::string& name, View* out) {
     return false;
 }
 
-std::string viewNames() { return "final, depth, raw-depth, normals, thickness, noise, foam, whitening, spray, silhouette"; }
+std::string viewNames() {
+    return "final, depth, raw-depth, normals, thickness, noise, foam, whitening, spray, silhouette, fluid-id";
+}
 
 bool backendFromName(const std::string& name, BackendChoice* out) {
     static const std::pair<const char*, BackendChoice> kBackends[] = {
@@ -265,26 +316,19 @@ bool drawsDrops(const RenderSettings& s) { return s.spray.enabled || !s.diffuse.
 
 }  // namespace
 
-// This frame's particles split into the body of water (a view over copies
-// of its positions and attributes, for every stage up to the shading) and the
-// drops the spray stage draws.
-struct SpraySplit {
+namespace {
+
+// Copies of some of a view's particles (positions and every attribute it
+// has) with a view over them, for the stages that read a subset.
+struct ParticleCopy {
     std::vector<glm::vec3> positions, velocity, color;
     std::vector<float> density;
     std::vector<std::int64_t> id, fluid;
-    std::vector<glm::vec3> dropPositions, dropVelocities;
-    ParticleView water;
+    ParticleView view;
 
-    void split(const ParticleView& all, const RenderSettings& s) {
-        const std::vector<std::uint8_t> isSpray = classifySpray(all, s.radiusM, s.spray);
+    void gather(const ParticleView& all, std::span<const std::uint32_t> indices) {
         positions.clear(), velocity.clear(), color.clear(), density.clear(), id.clear(), fluid.clear();
-        dropPositions.clear(), dropVelocities.clear();
-        for (std::size_t i = 0; i < all.size(); ++i) {
-            if (isSpray[i]) {
-                dropPositions.push_back(all.positions[i]);
-                if (all.velocity.present()) dropVelocities.push_back(all.velocity[i]);
-                continue;
-            }
+        for (std::uint32_t i : indices) {
             positions.push_back(all.positions[i]);
             if (all.velocity.present()) velocity.push_back(all.velocity[i]);
             if (all.color.present()) color.push_back(all.color[i]);
@@ -292,12 +336,44 @@ struct SpraySplit {
             if (all.id.present()) id.push_back(all.id[i]);
             if (all.fluid.present()) fluid.push_back(all.fluid[i]);
         }
-        water = ParticleView(std::span<const glm::vec3>(positions));
-        if (all.velocity.present()) water.velocity = StridedView<glm::vec3>(std::span<const glm::vec3>(velocity));
-        if (all.color.present()) water.color = StridedView<glm::vec3>(std::span<const glm::vec3>(color));
-        if (all.density.present()) water.density = StridedView<float>(std::span<const float>(density));
-        if (all.id.present()) water.id = StridedView<std::int64_t>(std::span<const std::int64_t>(id));
-        if (all.fluid.present()) water.fluid = StridedView<std::int64_t>(std::span<const std::int64_t>(fluid));
+        view = ParticleView(std::span<const glm::vec3>(positions));
+        if (all.velocity.present()) view.velocity = StridedView<glm::vec3>(std::span<const glm::vec3>(velocity));
+        if (all.color.present()) view.color = StridedView<glm::vec3>(std::span<const glm::vec3>(color));
+        if (all.density.present()) view.density = StridedView<float>(std::span<const float>(density));
+        if (all.id.present()) view.id = StridedView<std::int64_t>(std::span<const std::int64_t>(id));
+        if (all.fluid.present()) view.fluid = StridedView<std::int64_t>(std::span<const std::int64_t>(fluid));
+    }
+};
+
+// `values` (one per particle of a view, or empty) at `indices`.
+void gatherValues(std::span<const float> values, std::span<const std::uint32_t> indices, std::vector<float>& out) {
+    out.clear();
+    if (values.empty()) return;
+    for (std::uint32_t i : indices) out.push_back(values[i]);
+}
+
+}  // namespace
+
+// This frame's particles split into the body of water (a view over copies
+// of its positions and attributes, for every stage up to the shading) and the
+// drops the spray stage draws.
+struct SpraySplit {
+    ParticleCopy body;
+    std::vector<std::uint32_t> kept;
+    std::vector<glm::vec3> dropPositions, dropVelocities;
+
+    void split(const ParticleView& all, const RenderSettings& s) {
+        const std::vector<std::uint8_t> isSpray = classifySpray(all, s.radiusM, s.spray);
+        kept.clear(), dropPositions.clear(), dropVelocities.clear();
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            if (!isSpray[i]) {
+                kept.push_back(std::uint32_t(i));
+                continue;
+            }
+            dropPositions.push_back(all.positions[i]);
+            if (all.velocity.present()) dropVelocities.push_back(all.velocity[i]);
+        }
+        body.gather(all, kept);
     }
 
     // The diffuse layer's spray and foam joined to the drops (bubbles are
@@ -322,6 +398,48 @@ struct SpraySplit {
             if (anyVelocity)
                 dropVelocities.push_back(d.velocities.size() == d.positions.size() ? d.velocities[i] : glm::vec3(0.0f));
         }
+    }
+};
+
+// This frame's body of water grouped by fluid index (SPEC §3.10): one group
+// per fluid present, by index ascending, each with copies of its particles
+// and of their noise and whitening inputs.
+struct FluidSplit {
+    struct Group {
+        int fluid = 0;
+        std::vector<std::uint32_t> indices;
+        ParticleCopy particles;
+        std::vector<float> idz, amplitude, whiteness;
+    };
+    std::vector<Group> groups;
+
+    // Groups `all` by its fluid attribute (none: one group of fluid -1 is not
+    // made, groups stays empty); an error for an index out of range.
+    Status split(const ParticleView& all) {
+        groups.clear();
+        if (!all.fluid.present()) return okStatus();
+        std::size_t count[shared::kMaxFluids] = {};
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            const std::int64_t k = all.fluid[i];
+            if (k < 0 || k >= shared::kMaxFluids)
+                return makeError("", "particle " + std::to_string(i) + " has fluid index " + std::to_string(k) +
+                                         ": expected 0 to " + std::to_string(shared::kMaxFluids - 1) + " (at most " +
+                                         std::to_string(shared::kMaxFluids) + " fluids)");
+            ++count[k];
+        }
+        for (int k = 0; k < shared::kMaxFluids; ++k)
+            if (count[k] > 0) {
+                groups.emplace_back();
+                groups.back().fluid = k;
+                groups.back().indices.reserve(count[k]);
+            }
+        int slot[shared::kMaxFluids] = {};
+        for (std::size_t g = 0; g < groups.size(); ++g) slot[groups[g].fluid] = int(g);
+        for (std::size_t i = 0; i < all.size(); ++i) groups[std::size_t(slot[all.fluid[i]])].indices.push_back(std::uint32_t(i));
+        // Only several fluids need their own copies.
+        if (groups.size() > 1)
+            for (Group& g : groups) g.particles.gather(all, g.indices);
+        return okStatus();
     }
 };
 
@@ -428,7 +546,32 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         // On the host for both backends (the density estimate, the split).
         sprayClassifyMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     }
-    const ParticleView& particles = s.spray.enabled ? spray_->water : all;
+    const ParticleView& particles = s.spray.enabled ? spray_->body.view : all;
+    // Several fluids (SPEC §3.10): grouped by their index.
+    if (!fluids_) fluids_ = std::make_unique<FluidSplit>();
+    if (auto st = fluids_->split(particles); !st) return st;
+    const std::vector<FluidSplit::Group>& groups = fluids_->groups;
+    const bool several = groups.size() > 1;
+    fluidLayers_ = several ? int(groups.size()) : 0;
+    singleFluid_ = groups.size() == 1 ? groups[0].fluid : -1;
+    if (several)  // (one fluid was checked above)
+        if (auto st = checkFrameMemory(s.camera.width, s.camera.height, physicalMemoryBytes(), s.noise.enabled,
+                                       s.whitening.enabled, int(groups.size()));
+            !st)
+            return st;
+    if (several && divisor > 1)
+        return makeError("", "RenderSettings::fluidScale: reduced resolution does not draw several fluids yet");
+    if (several && s.mesh) return makeError("", "several fluids are drawn by the screen-space surface, not the mesh path");
+    if (several && (s.view == View::Noise || s.view == View::Foam || s.view == View::Whitening))
+        return makeError("", "the noise, foam and whitening views show one fluid's map: not with several fluids");
+    if (s.view == View::FluidId && groups.empty())
+        return makeError("", "the fluid-id view needs a fluid index per particle (ParticleView::fluid)");
+    // Fluid k's material.
+    auto shadingOf = [&](int k) {
+        ShadingParams sh = s.shading;
+        if (k >= 0 && std::size_t(k) < s.fluidMaterials.size()) sh.material = s.fluidMaterials[std::size_t(k)];
+        return sh;
+    };
     if (s.noise.enabled)
         if (std::string bad = checkNoiseParams(s.noise); !bad.empty())
             return makeError("", "RenderSettings::noise." + bad);
@@ -448,7 +591,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     f.radius = s.radiusM;
     f.filter = s.filter;
     f.thickness = s.thickness;
-    f.shading = s.shading;
+    f.shading = shadingOf(singleFluid_);
     f.particles = particles;
     f.mesh = s.mesh;
     f.noise = s.noise;
@@ -488,23 +631,84 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         if (timings) b.endStage();
         return b.stageStatus(name);
     };
+    // The images one surface is drawn into: the full image's, the low one's
+    // of reduced resolution, or one fluid's layer.
+    struct SurfaceSlots {
+        Slot sceneDepth, raw, thickness, depth, normal, noise;
+    };
+    const SurfaceSlots full{Slot::SceneDepth, Slot::RawDepth, Slot::Thickness, Slot::Depth, Slot::Normal, Slot::Noise};
+    // The depth splat and thickness, the smoothing and normals (on the mesh
+    // path the triangles' depth and normals instead; thickness and raw depth
+    // stay the particles') and the noise; stage names prefixed by `tag`.
+    auto surface = [&](const std::string& tag, const SurfaceSlots& q) -> Status {
+        if (auto st = stage((tag + "depth-splat+thickness").c_str(), [&] { b.splat(q.sceneDepth, q.raw, q.thickness); });
+            !st)
+            return st;
+        if (s.mesh) {
+            if (auto st = stage((tag + "rasterise").c_str(), [&] { b.rasterise(q.sceneDepth, q.depth, q.normal); }); !st)
+                return st;
+        } else {
+            if (auto st = stage((tag + "smooth").c_str(), [&] { b.smooth(q.raw, q.depth); }); !st) return st;
+            if (auto st = stage((tag + "normals").c_str(), [&] { b.normals(q.depth, q.normal); }); !st) return st;
+        }
+        if (s.noise.enabled)
+            if (auto st = stage((tag + "noise").c_str(), [&] { b.noise(q.depth, q.normal, q.noise); }); !st) return st;
+        return okStatus();
+    };
+    // The whitening and the shading of a full-size surface into `color`
+    // (with several fluids also its emission and transmittance).
+    auto shadeSurface = [&](const std::string& tag, const SurfaceSlots& q, Slot color, Slot emission = Slot::None,
+                            Slot transmit = Slot::None) -> Status {
+        if (s.whitening.enabled)
+            if (auto st = stage((tag + "whitening").c_str(), [&] { b.whitening(q.depth, Slot::Whitening); }); !st)
+                return st;
+        return stage((tag + "shade").c_str(), [&] {
+            b.shade(Slot::SceneColor, Slot::SceneDepth, q.depth, q.normal, q.thickness, q.noise, Slot::Whitening, color,
+                    emission, transmit);
+        });
+    };
+
     if (auto st = stage("scene", [&] { b.castScene(Slot::SceneColor, Slot::SceneDepth); }); !st) return st;
-    if (divisor > 1) {
+    if (several) {
+        // Several fluids (SPEC §3.10): each drawn and shaded on its own into
+        // its layer's images, then composited front to back.
+        std::vector<int> fluidOfLayer;
+        for (std::size_t l = 0; l < groups.size(); ++l) {
+            FluidSplit::Group& g = fluids_->groups[l];
+            auto layer = [l](LayerImage what) { return layerSlot(int(l), what); };
+            const std::span<const float> none;
+            gatherValues(s.noise.enabled ? f.noiseIdz : none, g.indices, g.idz);
+            gatherValues(s.noise.enabled ? f.noiseAmplitude : none, g.indices, g.amplitude);
+            gatherValues(s.whitening.enabled ? f.whiteness : none, g.indices, g.whiteness);
+            b.setFluid(g.particles.positions, {g.particles.view, shadingOf(g.fluid), g.idz, g.amplitude, g.whiteness});
+            const std::string tag = "fluid " + std::to_string(g.fluid) + ": ";
+            const SurfaceSlots q{Slot::SceneDepth,           layer(LayerImage::RawDepth), layer(LayerImage::Thickness),
+                                 layer(LayerImage::Depth),   layer(LayerImage::Normal),   Slot::Noise};
+            if (auto st = surface(tag, q); !st) return st;
+            if (auto st = shadeSurface(tag, q, layer(LayerImage::Color), layer(LayerImage::Emission),
+                                       layer(LayerImage::Transmit));
+                !st)
+                return st;
+            fluidOfLayer.push_back(g.fluid);
+        }
+        if (auto st = stage("composite-fluids", [&] {
+                b.compositeFluids(fluidOfLayer, Slot::SceneColor, Slot::SceneDepth, Slot::Color, Slot::Depth,
+                                  Slot::Normal, Slot::Thickness, Slot::FluidId);
+            });
+            !st)
+            return st;
+    } else if (divisor > 1) {
         // Reduced resolution (SPEC §3.9): splat, smoothing, normals and noise
-        // on the low camera, then the surface upsampled to the full one.
+        // on the low camera, then the surface upsampled to the full one, shaded
+        // there, and its edges blended into the scene.
         b.setCamera(reducedCamera(s.camera, divisor));
         if (auto st = stage("reduce-scene-depth", [&] { b.reduceSceneDepth(Slot::SceneDepth, Slot::LowSceneDepth); });
             !st)
             return st;
-        if (auto st = stage("depth-splat+thickness",
-                            [&] { b.splat(Slot::LowSceneDepth, Slot::RawDepth, Slot::LowThickness); });
+        if (auto st = surface("", {Slot::LowSceneDepth, Slot::RawDepth, Slot::LowThickness, Slot::LowDepth,
+                                   Slot::LowNormal, Slot::LowNoise});
             !st)
             return st;
-        if (auto st = stage("smooth", [&] { b.smooth(Slot::RawDepth, Slot::LowDepth); }); !st) return st;
-        if (auto st = stage("normals", [&] { b.normals(Slot::LowDepth, Slot::LowNormal); }); !st) return st;
-        if (s.noise.enabled)
-            if (auto st = stage("noise", [&] { b.noise(Slot::LowDepth, Slot::LowNormal, Slot::LowNoise); }); !st)
-                return st;
         b.setCamera(s.camera);
         if (auto st = stage("upsample", [&] {
                 b.upsample(Slot::LowDepth, Slot::LowNormal, Slot::LowThickness, Slot::LowNoise, Slot::SceneDepth,
@@ -512,36 +716,15 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
             });
             !st)
             return st;
-    } else {
-        if (auto st = stage("depth-splat+thickness",
-                            [&] { b.splat(Slot::SceneDepth, Slot::RawDepth, Slot::Thickness); });
-            !st)
-            return st;
-        if (s.mesh) {
-            // The mesh path: the triangles give the surface's depth and normals
-            // (in place of smooth + normals); thickness and raw depth stay the particles'.
-            if (auto st = stage("rasterise", [&] { b.rasterise(Slot::SceneDepth, Slot::Depth, Slot::Normal); }); !st)
-                return st;
-        } else {
-            if (auto st = stage("smooth", [&] { b.smooth(Slot::RawDepth, Slot::Depth); }); !st) return st;
-            if (auto st = stage("normals", [&] { b.normals(Slot::Depth, Slot::Normal); }); !st) return st;
-        }
-        if (s.noise.enabled)
-            if (auto st = stage("noise", [&] { b.noise(Slot::Depth, Slot::Normal, Slot::Noise); }); !st) return st;
-    }
-    if (s.whitening.enabled)
-        if (auto st = stage("whitening", [&] { b.whitening(Slot::Depth, Slot::Whitening); }); !st) return st;
-    if (auto st = stage("shade", [&] {
-            b.shade(Slot::SceneColor, Slot::SceneDepth, Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Noise,
-                    Slot::Whitening, Slot::Color);
-        });
-        !st)
-        return st;
-    if (divisor > 1)
+        if (auto st = shadeSurface("", full, Slot::Color); !st) return st;
         if (auto st = stage("fluid-edges",
                             [&] { b.blendFluidEdges(Slot::SceneColor, Slot::Depth, Slot::Coverage, Slot::Color); });
             !st)
             return st;
+    } else {
+        if (auto st = surface("", full); !st) return st;
+        if (auto st = shadeSurface("", full, Slot::Color); !st) return st;
+    }
     if (s.silhouette.enabled)
         if (auto st = stage("silhouette", [&] { b.silhouette(Slot::SceneColor, Slot::Depth, Slot::Color, Slot::Silhouette); });
             !st)
@@ -550,14 +733,17 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     return stage("spray", [&] { b.spray(Slot::SceneDepth, Slot::Depth, Slot::Color, Slot::Spray); });
 }
 
+Drawn Renderer::drawn(const RenderSettings& s) const {
+    return {s.noise.enabled, s.whitening.enabled, drawsDrops(s), s.silhouette.enabled, fluidLayers_, singleFluid_};
+}
+
 Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSettings& s,
                               std::vector<StageTime>* timings) {
     return guarded("rendering", [&]() -> Result<Aovs> {
         if (auto st = runStages(particles, s, timings); !st) return st.error();
         Backend& b = *backend_;
         const auto t0 = std::chrono::steady_clock::now();
-        Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise, s.whitening, drawsDrops(s),
-                             s.silhouette.enabled);
+        Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise, drawn(s));
         rawDepthAtFullSize(s, aovs);
         if (auto st = b.stageStatus("readback"); !st) return st.error();
         const double readMs =
@@ -576,8 +762,7 @@ Status Renderer::draw(const ParticleView& particles, const RenderSettings& s) {
     return guarded("drawing", [&]() -> Status {
         if (auto st = runStages(particles, s, nullptr); !st) return st;
         if (s.view == View::Final) return okStatus();  // the colour is already in its slot
-        Aovs aovs = readAovs(*backend_, s.view, true, s.noise, s.whitening, drawsDrops(s),
-                             s.silhouette.enabled);
+        Aovs aovs = readAovs(*backend_, s.view, true, s.noise, drawn(s));
         rawDepthAtFullSize(s, aovs);
         applyView(s.view, true, aovs);
         backend_->writeColor(Slot::Color, std::move(aovs.color));

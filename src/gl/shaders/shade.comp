@@ -23,6 +23,7 @@
 // Work: only the 8-pixel row segments that hold fluid (fluid_segments.glsl,
 // listed from the fluid depth); every other pixel already holds the scene
 // colour (copied by the driver before the dispatch).
+#include "fluids.h"
 #include "frame_params.h"
 #include "shading.h"
 #include "sky.h"
@@ -43,6 +44,9 @@ layout(binding = 6) uniform samplerBuffer noise;       // W*H surface noise N (w
 layout(binding = 7) uniform samplerBuffer whitening;   // W*H velocity whitening map (when uWhite != 0)
 #include "fluid_segments.glsl"
 layout(rgba32f, binding = 0) writeonly uniform imageBuffer color;  // W*H linear RGBA
+// Several fluids (shared/fluids.h), when uLayer != 0: the split C = E + T S.
+layout(rgba32f, binding = 1) writeonly uniform imageBuffer emission;  // W*H: E, a = 1
+layout(rgba32f, binding = 2) writeonly uniform imageBuffer transmit;  // W*H: T, a = 0
 
 layout(location = 1) uniform ivec3 uHas;         // scene, normals, thickness bound (image-sized)
 layout(location = 2) uniform float uNhMin;       // highlight skipped below this n·h (shared::highlightMinNh)
@@ -54,6 +58,7 @@ layout(location = 7) uniform vec3 uFoamColor;
 layout(location = 8) uniform int uWhite;         // white water from the whitening map (WhiteningParams below)
 layout(location = 9) uniform float uWhiteStrength;
 layout(location = 10) uniform vec3 uWhiteColor;
+layout(location = 11) uniform int uLayer;        // write emission and transmit too
 
 #define kInf uintBitsToFloat(0x7f800000u)
 
@@ -66,8 +71,9 @@ vec4 premulTexel(int k) {
     return p;
 }
 
-// The shaded colour of fluid pixel (x, y) with eye depth z; rx, ryc: its view ray.
-vec3 shade(int x, int y, float z, float rx, float ryc, int k) {
+// The shaded colour of fluid pixel (x, y) with eye depth z; rx, ryc: its view
+// ray. `back`: the background S it refracted; `through`: its transmittance T.
+vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out vec3 through) {
     const bool hasScene = uHas.x != 0, hasNormals = uHas.y != 0, hasThickness = uHas.z != 0;
     const vec3 X = P.right.xyz, Y = P.up.xyz, Z = P.back.xyz;
     // Per image on the CPU (Setup); cheap enough per pixel here, same operations.
@@ -129,7 +135,8 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k) {
     precise float nv = clamp(n.x * v.x + n.y * v.y + n.z * v.z, 0.0, 1.0);
     precise float nl = n.x * L.x + n.y * L.y + n.z * L.z;
     // Beer-Lambert absorption through thickness T (eq. 18).
-    precise vec3 a = fc + (s.rgb - fc) * exp(negK * T);
+    precise vec3 absorb = exp(negK * T);
+    precise vec3 a = fc + (s.rgb - fc) * absorb;
     precise float m = 1.0 - nv;
     precise float m2 = m * m;
     precise float F = f0 + (1.0 - f0) * (m2 * m2 * m);  // schlickFresnel
@@ -156,15 +163,19 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k) {
         c = c + vec3(spec);
     }
     // 6. Foam over the liquid where the surface noise is strong (SPEC §3.7).
+    float foam = 0.0;
     if (uFoam != 0) {
-        const float cover = noiseFoamCover(texelFetch(noise, k).x, uFoamThreshold, uFoamGain);
-        c = noiseWithFoam(c, cover, nl, uFoamColor, kOpaqueAmbient);
+        foam = noiseFoamCover(texelFetch(noise, k).x, uFoamThreshold, uFoamGain);
+        c = noiseWithFoam(c, foam, nl, uFoamColor, kOpaqueAmbient);
     }
     // 7. White water where the surface is fast (SPEC §3.7, Instant Liquids §4).
+    precise float white = 0.0;
     if (uWhite != 0) {
-        precise float cover = uWhiteStrength * texelFetch(whitening, k).x;
-        c = noiseWithFoam(c, cover, nl, uWhiteColor, kOpaqueAmbient);
+        white = uWhiteStrength * texelFetch(whitening, k).x;
+        c = noiseWithFoam(c, white, nl, uWhiteColor, kOpaqueAmbient);
     }
+    back = s.rgb;
+    through = fluidTransmittance(absorb, op > 0.0 ? 1.0 - op : 1.0, F, foam, white);
     return c;
 }
 
@@ -183,8 +194,15 @@ void main() {
         // View rays exactly as the CPU's per-column and per-row tables.
         precise float rx = ((float(px) + 0.5) - 0.5 * float(W)) / f;
         precise float ryc = -((float(py) + 0.5) - 0.5 * float(H)) / f;
-        const vec3 c = shade(px, py, z, rx, ryc, i);
+        vec3 back, through;
+        const vec3 c = shade(px, py, z, rx, ryc, i, back, through);
         // Fluid in front of the scene (not +inf, not hidden); the scene elsewhere.
-        if ((hasScene ? z < texelFetch(sceneDepth, i).x : z < kInf) && z > 0.0) imageStore(color, i, vec4(c, 1.0));
+        if (fluidInFront(z, hasScene ? texelFetch(sceneDepth, i).x : kInf)) {
+            imageStore(color, i, vec4(c, 1.0));
+            if (uLayer != 0) {
+                imageStore(emission, i, vec4(fluidEmission(c, through, back), 1.0));
+                imageStore(transmit, i, vec4(through, 0.0));
+            }
+        }
     }
 }
