@@ -278,6 +278,53 @@ TEST(SeveralFluids, SwappingIndicesAndMaterialsTogetherChangesNothing) {
     EXPECT_GT(fluid, 1000);
 }
 
+// With the surface noise on, several fluids' noise AOV is each pixel's
+// nearest fluid's own noise: where one fluid is seen, bit for bit that fluid's
+// noise rendered alone (the same particles, ids and surface); the noise view
+// shows it.
+TEST(SeveralFluids, TheNoiseAovIsTheNearestFluidsOwn) {
+    Bodies b;
+    b.add(block(-0.2f, 0.0f), 0);
+    b.add(block(0.04f, 0.0f), 1);
+    std::vector<std::int64_t> ids(b.positions.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = std::int64_t(7 * i + 3);
+    RenderSettings s = settingsFor(b, {0.0f, 0.08f, 0.0f});
+    s.fluidMaterials = {preset("water"), preset("lava")};
+    s.noise.enabled = true;
+    ParticleView all = b.view();
+    all.id = StridedView<std::int64_t>(std::span<const std::int64_t>(ids));
+    const Aovs both = render(all, s);
+    ASSERT_EQ(both.noise.size(), both.fluid.size());
+    ASSERT_EQ(both.foam.size(), both.fluid.size());
+    for (int k : {0, 1}) {
+        std::vector<glm::vec3> p;
+        std::vector<std::int64_t> id;
+        for (std::size_t i = 0; i < b.positions.size(); ++i)
+            if (b.fluid[i] == k) p.push_back(b.positions[i]), id.push_back(ids[i]);
+        ParticleView v{std::span<const glm::vec3>(p)};
+        v.id = StridedView<std::int64_t>(std::span<const std::int64_t>(id));
+        RenderSettings t = s;
+        t.shading.material = s.fluidMaterials[std::size_t(k)];
+        t.fluidMaterials.clear();
+        const Aovs alone = render(v, t);
+        int seen = 0, differ = 0, nonzero = 0;
+        for (std::size_t i = 0; i < both.noise.size(); ++i) {
+            if (both.fluid.pixels[i] != float(k)) continue;
+            ++seen;
+            nonzero += both.noise.pixels[i] != 0.0f;
+            differ += std::memcmp(&both.noise.pixels[i], &alone.noise.pixels[i], sizeof(float)) != 0;
+        }
+        EXPECT_GT(seen, 500) << k;
+        EXPECT_GT(nonzero, seen / 2) << k;
+        EXPECT_EQ(differ, 0) << k;
+    }
+    for (std::size_t i = 0; i < both.noise.size(); ++i)
+        if (both.fluid.pixels[i] < 0.0f) EXPECT_EQ(both.noise.pixels[i], 0.0f);
+    s.view = View::Noise;
+    s.colorOnly = true;
+    EXPECT_FALSE(render(all, s).color.empty());
+}
+
 // One fluid index in the whole frame: the single-fluid path with that
 // fluid's material, the fluid AOV its index wherever there is fluid; the
 // fluid-id view colours each fluid on its own.
@@ -332,10 +379,6 @@ TEST(SeveralFluids, Errors) {
     RenderSettings half = s;
     half.fluidScale = 0.5f;
     fails(b, half, "reduced resolution does not draw several fluids");
-    RenderSettings noise = s;
-    noise.noise.enabled = true;
-    noise.view = View::Noise;
-    fails(b, noise, "not with several fluids");
     RenderSettings id = s;
     id.view = View::FluidId;
     auto r = renderFrame(std::span<const glm::vec3>(b.positions), id);

@@ -18,9 +18,9 @@ TEST(FrameMemory, GrowsWithThePixelCount) {
     // The optional stages' images count: N and foam, the whitening map.
     EXPECT_EQ(frameBytes(100, 100, true, false), frameBytes(100, 100) + 100u * 100u * 8u);
     EXPECT_EQ(frameBytes(100, 100, true, true), frameBytes(100, 100) + 100u * 100u * 12u);
-    // Several fluids: each one's layer images (72 bytes a pixel) and the fluid AOV.
+    // Several fluids: each one's layer images (80 bytes a pixel) and the fluid AOV.
     EXPECT_EQ(frameBytes(100, 100, false, false, 1), frameBytes(100, 100));
-    EXPECT_EQ(frameBytes(100, 100, false, false, 3), frameBytes(100, 100) + 100u * 100u * (3u * 72u + 4u));
+    EXPECT_EQ(frameBytes(100, 100, false, false, 3), frameBytes(100, 100) + 100u * 100u * (3u * 80u + 4u));
     const std::uint64_t need = frameBytes(4000, 4000);
     EXPECT_TRUE(checkFrameMemory(4000, 4000, 2 * need).ok());
     EXPECT_FALSE(checkFrameMemory(4000, 4000, 2 * need, true, true).ok());

@@ -119,7 +119,8 @@ TEST_F(GlCompositeFluids, TheCompositeIsTheCpuBits) {
 
 // The whole pipeline with several fluids on the real frame (split into two,
 // then three fluids across the tank; noise and whitening on for the three):
-// CPU and GL give the same depth, normals, fluid index and raw splat, and
+// CPU and GL give the same depth, normals, fluid index, raw splat, noise and
+// whitening, and
 // colours within the whole-pipeline tolerance.
 TEST_F(GlCompositeFluids, TheWholePipelineWithSeveralFluids) {
     auto gl = Renderer::create(BackendChoice::Gl);
@@ -149,6 +150,11 @@ TEST_F(GlCompositeFluids, TheWholePipelineWithSeveralFluids) {
         EXPECT_EQ(differingBits(f.cpu.depth, f.gl.depth), 0) << fluids;
         EXPECT_EQ(differingBits(f.cpu.rawDepth, f.gl.rawDepth), 0) << fluids;
         EXPECT_EQ(differingBits(f.cpu.fluid, f.gl.fluid), 0) << fluids;
+        if (fluids == 3) {  // each pixel's nearest fluid's own maps
+            EXPECT_EQ(differingBits(f.cpu.noise, f.gl.noise), 0);
+            EXPECT_EQ(differingBits(f.cpu.whitening, f.gl.whitening), 0);
+            EXPECT_FALSE(f.cpu.noise.empty());
+        }
         const NormalDiff n = compareNormals(f.cpu.normal, f.gl.normal, f.cpu.depth);
         EXPECT_LT(n.maxDeg, 1e-3) << fluids;
         expectPipelineColor(f.cpu.color, f.gl.color, std::to_string(fluids) + " fluids");

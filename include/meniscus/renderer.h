@@ -60,9 +60,8 @@ struct RenderSettings {
     // shaded on its own and composited front to back with the others, so
     // different bodies are never smoothed together and each absorbs with its
     // own colour. Not with reduced resolution or the mesh path (an error).
-    // With several fluids the noise, foam and whitening AOVs are left empty
-    // (each fluid has its own; they still shade); the fluid AOV is the
-    // nearest fluid's index.
+    // The fluid AOV is the nearest fluid's index; with several fluids the
+    // noise, foam and whitening AOVs are the nearest fluid's own.
     std::vector<Material> fluidMaterials;
     // Surface noise and foam (SPEC §3.7); off unless noise.enabled. The
     // noise's pattern is seeded by the particles' `id` attribute (their index
@@ -199,7 +198,7 @@ private:
     std::unique_ptr<SpraySplit> spray_;  // this frame's body of water and drops, with the spray on
     double sprayClassifyMs_ = -1.0;      // its host time this frame (the bench's spray-classify line); -1 = none
     std::unique_ptr<FluidSplit> fluids_;  // this frame's fluids, when the particles carry a fluid index
-    int fluidLayers_ = 0;                // several fluids: how many were composited this frame; else 0
+    std::vector<int> layerFluids_;       // several fluids: each composited layer's fluid index; else empty
     int singleFluid_ = -1;               // one fluid: its index (-1: the particles carry none)
 };
 

@@ -35,9 +35,10 @@ enum class Slot {
     None = -1
 };
 
-// The images each fluid of several keeps until they are composited.
-enum class LayerImage { RawDepth, Depth, Normal, Thickness, Color, Emission, Transmit };
-inline constexpr int kLayerImageCount = 7;
+// The images each fluid of several keeps until they are composited (and its
+// noise and whitening maps, for the AOVs).
+enum class LayerImage { RawDepth, Depth, Normal, Thickness, Color, Emission, Transmit, Noise, Whitening };
+inline constexpr int kLayerImageCount = 9;
 // Layer `layer`'s (0 .. shared::kMaxFluids - 1) image `what`.
 inline Slot layerSlot(int layer, LayerImage what) {
     return Slot(int(Slot::FirstLayer) + layer * kLayerImageCount + int(what));

@@ -24,8 +24,9 @@ constexpr std::uint64_t kBytesPerPixel = 20 + 12 + 12 + 16 + 8 + 16;
 constexpr std::uint64_t kNoiseBytesPerPixel = 8;
 constexpr std::uint64_t kWhiteningBytesPerPixel = 4;
 // Several fluids, per fluid (LayerImage): raw depth 4, depth 4, normal 12,
-// thickness 4, colour 16, emission 16, transmittance 16; and the fluid AOV 4.
-constexpr std::uint64_t kLayerBytesPerPixel = 72;
+// thickness 4, colour 16, emission 16, transmittance 16, noise 4, whitening 4;
+// and the fluid AOV 4.
+constexpr std::uint64_t kLayerBytesPerPixel = 80;
 constexpr std::uint64_t kFluidAovBytesPerPixel = 4;
 
 // The share of physical memory one frame may take.

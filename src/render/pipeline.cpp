@@ -40,13 +40,13 @@
 namespace meniscus {
 
 // What a frame drew, for reading it back: the effects that were on, and the
-// fluids (several: the number of layers composited; one: its index, -1
+// fluids (several: each composited layer's fluid index; one: its index, -1
 // when the particles carry none).
 static_assert(kMaxFluids == shared::kMaxFluids, "one limit for the API and the shaders");
 
 struct Drawn {
     bool noise = false, whitening = false, spray = false, silhouette = false;
-    int layers = 0;
+    std::vector<int> layerFluids;
     int singleFluid = -1;
 };
 
@@ -177,30 +177,49 @@ Image<float> nearestRawDepth(Backend& b, int layers) {
     return out;
 }
 
+// A per-layer map of several fluids (noise, whitening) as the AOV: per pixel
+// the nearest fluid's (`fluid`, the fluid AOV), 0 where there is none.
+Image<float> nearestFluidsMap(Backend& b, const std::vector<int>& layerFluids, const Image<float>& fluid,
+                              LayerImage what) {
+    Image<float> out(fluid.width, fluid.height, 0.0f);
+    for (std::size_t l = 0; l < layerFluids.size(); ++l) {
+        const Image<float> m = b.readScalar(layerSlot(int(l), what));
+        for (std::size_t i = 0; i < out.size() && i < m.size(); ++i)
+            if (fluid.pixels[i] == float(layerFluids[l])) out.pixels[i] = m.pixels[i];
+    }
+    return out;
+}
+
 // Reads back what the output needs: every AOV, or (colorOnly) the colour or
 // the stages the debug view pictures.
 Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noiseParams, const Drawn& d) {
     const bool all = !colorOnly;
     const bool noiseView = v == View::Noise || v == View::Foam || v == View::Whitening || v == View::Spray ||
                            v == View::Silhouette || v == View::FluidId;
-    const bool several = d.layers > 0;
+    const bool several = !d.layerFluids.empty();
     Aovs aovs;
-    if (all || v == View::RawDepth) aovs.rawDepth = several ? nearestRawDepth(b, d.layers) : b.readScalar(Slot::RawDepth);
+    if (all || v == View::RawDepth)
+        aovs.rawDepth = several ? nearestRawDepth(b, int(d.layerFluids.size())) : b.readScalar(Slot::RawDepth);
     if (all || v == View::Depth || v == View::Normals || noiseView) aovs.depth = b.readScalar(Slot::Depth);
     if (all || v == View::Thickness) aovs.thickness = b.readScalar(Slot::Thickness);
     if (all || v == View::Normals) aovs.normal = b.readVec3(Slot::Normal);
     if (all || v == View::Final) aovs.color = b.readColor(Slot::Color);
-    // (Several fluids: each has its own noise and whitening; none is read.)
-    if (d.noise && !several && (all || noiseView)) {
-        aovs.noise = b.readScalar(Slot::Noise);
-        aovs.foam = foamCover(aovs.noise, noiseParams);
-    }
-    if (d.whitening && !several && (all || v == View::Whitening)) aovs.whitening = b.readScalar(Slot::Whitening);
     if (d.spray && (all || v == View::Spray)) aovs.spray = b.readScalar(Slot::Spray);
     if (d.silhouette && (all || v == View::Silhouette)) aovs.silhouette = b.readScalar(Slot::Silhouette);
+    const bool noise = d.noise && (all || noiseView), whitening = d.whitening && (all || v == View::Whitening);
+    if (several && (all || v == View::FluidId || noise || whitening)) aovs.fluid = b.readScalar(Slot::FluidId);
+    // Several fluids: each drew its own noise and whitening; the nearest one's.
+    if (noise) {
+        aovs.noise = several ? nearestFluidsMap(b, d.layerFluids, aovs.fluid, LayerImage::Noise)
+                             : b.readScalar(Slot::Noise);
+        aovs.foam = foamCover(aovs.noise, noiseParams);
+    }
+    if (whitening)
+        aovs.whitening = several ? nearestFluidsMap(b, d.layerFluids, aovs.fluid, LayerImage::Whitening)
+                                 : b.readScalar(Slot::Whitening);
     if (all || v == View::FluidId) {
         if (several) {
-            aovs.fluid = b.readScalar(Slot::FluidId);
+            // (read above)
         } else if (d.singleFluid >= 0) {  // one fluid: its index wherever there is fluid
             aovs.fluid = Image<float>(aovs.depth.width, aovs.depth.height, -1.0f);
             for (std::size_t i = 0; i < aovs.depth.size(); ++i)
@@ -552,7 +571,9 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     if (auto st = fluids_->split(particles); !st) return st;
     const std::vector<FluidSplit::Group>& groups = fluids_->groups;
     const bool several = groups.size() > 1;
-    fluidLayers_ = several ? int(groups.size()) : 0;
+    layerFluids_.clear();
+    if (several)
+        for (const FluidSplit::Group& g : groups) layerFluids_.push_back(g.fluid);
     singleFluid_ = groups.size() == 1 ? groups[0].fluid : -1;
     if (several)  // (one fluid was checked above)
         if (auto st = checkFrameMemory(s.camera.width, s.camera.height, physicalMemoryBytes(), s.noise.enabled,
@@ -562,8 +583,6 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     if (several && divisor > 1)
         return makeError("", "RenderSettings::fluidScale: reduced resolution does not draw several fluids yet");
     if (several && s.mesh) return makeError("", "several fluids are drawn by the screen-space surface, not the mesh path");
-    if (several && (s.view == View::Noise || s.view == View::Foam || s.view == View::Whitening))
-        return makeError("", "the noise, foam and whitening views show one fluid's map: not with several fluids");
     if (s.view == View::FluidId && groups.empty())
         return makeError("", "the fluid-id view needs a fluid index per particle (ParticleView::fluid)");
     // Fluid k's material.
@@ -634,7 +653,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     // The images one surface is drawn into: the full image's, the low one's
     // of reduced resolution, or one fluid's layer.
     struct SurfaceSlots {
-        Slot sceneDepth, raw, thickness, depth, normal, noise;
+        Slot sceneDepth, raw, thickness, depth, normal, noise, whitening = Slot::Whitening;
     };
     const SurfaceSlots full{Slot::SceneDepth, Slot::RawDepth, Slot::Thickness, Slot::Depth, Slot::Normal, Slot::Noise};
     // The depth splat and thickness, the smoothing and normals (on the mesh
@@ -660,10 +679,10 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     auto shadeSurface = [&](const std::string& tag, const SurfaceSlots& q, Slot color, Slot emission = Slot::None,
                             Slot transmit = Slot::None) -> Status {
         if (s.whitening.enabled)
-            if (auto st = stage((tag + "whitening").c_str(), [&] { b.whitening(q.depth, Slot::Whitening); }); !st)
+            if (auto st = stage((tag + "whitening").c_str(), [&] { b.whitening(q.depth, q.whitening); }); !st)
                 return st;
         return stage((tag + "shade").c_str(), [&] {
-            b.shade(Slot::SceneColor, Slot::SceneDepth, q.depth, q.normal, q.thickness, q.noise, Slot::Whitening, color,
+            b.shade(Slot::SceneColor, Slot::SceneDepth, q.depth, q.normal, q.thickness, q.noise, q.whitening, color,
                     emission, transmit);
         });
     };
@@ -682,8 +701,9 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
             gatherValues(s.whitening.enabled ? f.whiteness : none, g.indices, g.whiteness);
             b.setFluid(g.particles.positions, {g.particles.view, shadingOf(g.fluid), g.idz, g.amplitude, g.whiteness});
             const std::string tag = "fluid " + std::to_string(g.fluid) + ": ";
-            const SurfaceSlots q{Slot::SceneDepth,           layer(LayerImage::RawDepth), layer(LayerImage::Thickness),
-                                 layer(LayerImage::Depth),   layer(LayerImage::Normal),   Slot::Noise};
+            const SurfaceSlots q{Slot::SceneDepth,         layer(LayerImage::RawDepth), layer(LayerImage::Thickness),
+                                 layer(LayerImage::Depth), layer(LayerImage::Normal),   layer(LayerImage::Noise),
+                                 layer(LayerImage::Whitening)};
             if (auto st = surface(tag, q); !st) return st;
             if (auto st = shadeSurface(tag, q, layer(LayerImage::Color), layer(LayerImage::Emission),
                                        layer(LayerImage::Transmit));
@@ -734,7 +754,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
 }
 
 Drawn Renderer::drawn(const RenderSettings& s) const {
-    return {s.noise.enabled, s.whitening.enabled, drawsDrops(s), s.silhouette.enabled, fluidLayers_, singleFluid_};
+    return {s.noise.enabled, s.whitening.enabled, drawsDrops(s), s.silhouette.enabled, layerFluids_, singleFluid_};
 }
 
 Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSettings& s,
