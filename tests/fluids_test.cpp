@@ -16,6 +16,7 @@
 
 #include "cpu/composite_fluids.h"
 #include "cpu/shading.h"
+#include "shared/fluids.h"
 #include "meniscus/io.h"
 #include "meniscus/particle_view.h"
 #include "meniscus/renderer.h"
@@ -152,12 +153,17 @@ TEST(SeveralFluids, TheSplitIntoEmissionAndTransmittanceIsExact) {
 
 // Each fluid keeps its own layer: where only one fluid is seen, the picture
 // (colour and depth, bit for bit) is that fluid rendered alone with its
-// material; elsewhere the scene.
-TEST(SeveralFluids, APixelWithOneFluidIsThatFluidAlone) {
+// material; elsewhere the scene. At full and at half resolution (each fluid
+// upsampled and its edges blended on its own).
+class SeveralFluidsAtScale : public testing::TestWithParam<float> {};
+INSTANTIATE_TEST_SUITE_P(FullAndHalf, SeveralFluidsAtScale, testing::Values(1.0f, 0.5f));
+
+TEST_P(SeveralFluidsAtScale, APixelWithOneFluidIsThatFluidAlone) {
     Bodies b;
     b.add(block(-0.2f, 0.0f), 0);
     b.add(block(0.04f, 0.0f), 1);
     RenderSettings s = settingsFor(b, {0.0f, 0.08f, 0.0f});
+    s.fluidScale = GetParam();
     s.fluidMaterials = {preset("water"), preset("lava")};
     const Aovs both = render(b.view(), s);
     const Aovs a0 = solo(b, 0, s), a1 = solo(b, 1, s);
@@ -214,6 +220,23 @@ TEST(SeveralFluids, TwoTouchingFluidsKeepASharpBorder) {
     for (int d = 3; d <= 8; ++d) {
         EXPECT_TRUE(sameBits(both.color.at(border - d, y), a0.color.at(border - d, y))) << d;
         EXPECT_TRUE(sameBits(both.color.at(border + d, y), a1.color.at(border + d, y))) << d;
+    }
+}
+
+// At a reduced-resolution edge of coverage c the layer's colour is blended
+// into what is behind it: the split follows, E' + T' B = B + c (E + T B - B).
+TEST(SeveralFluids, TheSplitFollowsTheEdgeBlend) {
+    for (std::uint32_t i = 0; i < 200; ++i) {
+        const glm::vec3 e(hash01(i, 1), hash01(i, 2), hash01(i, 3)), t(hash01(i, 4), hash01(i, 5), hash01(i, 6));
+        const glm::vec3 behind(hash01(i, 7), hash01(i, 8), hash01(i, 9));
+        const float c = i % 10 == 0 ? 1.0f : hash01(i, 10);
+        const glm::vec3 want = behind + c * (shared::fluidOver(e, t, behind) - behind);
+        const glm::vec3 got =
+            shared::fluidOver(shared::fluidEdgeEmission(e, c), shared::fluidEdgeTransmittance(t, c), behind);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], want[k], 1e-6f) << i;
+        if (c >= 1.0f) {
+            EXPECT_EQ(shared::fluidEdgeTransmittance(t, c), t);
+        }
     }
 }
 
@@ -319,7 +342,9 @@ TEST(SeveralFluids, TheNoiseAovIsTheNearestFluidsOwn) {
         EXPECT_EQ(differ, 0) << k;
     }
     for (std::size_t i = 0; i < both.noise.size(); ++i)
-        if (both.fluid.pixels[i] < 0.0f) EXPECT_EQ(both.noise.pixels[i], 0.0f);
+        if (both.fluid.pixels[i] < 0.0f) {
+            EXPECT_EQ(both.noise.pixels[i], 0.0f);
+        }
     s.view = View::Noise;
     s.colorOnly = true;
     EXPECT_FALSE(render(all, s).color.empty());
@@ -376,9 +401,6 @@ TEST(SeveralFluids, Errors) {
     fails(bad, s, "particle 5 has fluid index 4: expected 0 to 3");
     bad.fluid[5] = -1;
     fails(bad, s, "particle 5 has fluid index -1");
-    RenderSettings half = s;
-    half.fluidScale = 0.5f;
-    fails(b, half, "reduced resolution does not draw several fluids");
     RenderSettings id = s;
     id.view = View::FluidId;
     auto r = renderFrame(std::span<const glm::vec3>(b.positions), id);

@@ -108,7 +108,9 @@ TEST_F(GlCompositeFluids, TheCompositeIsTheCpuBits) {
             for (int l = 0; l < n; ++l) m += layers[std::size_t(l)].depth.pixels[i] < sceneDepth.pixels[i];
             overlap += m > 1;
         }
-        if (n > 1) EXPECT_GT(overlap, W * H / 20) << n;
+        if (n > 1) {
+            EXPECT_GT(overlap, W * H / 20) << n;
+        }
         EXPECT_EQ(differingBits(ref.color, color.download<glm::vec4>()), 0) << n;
         EXPECT_EQ(differingBits(ref.depth, depth.download<float>()), 0) << n;
         EXPECT_EQ(differingBits(ref.normal, normal.download<glm::vec3>()), 0) << n;
@@ -118,7 +120,8 @@ TEST_F(GlCompositeFluids, TheCompositeIsTheCpuBits) {
 }
 
 // The whole pipeline with several fluids on the real frame (split into two,
-// then three fluids across the tank; noise and whitening on for the three):
+// then three fluids across the tank; noise and whitening on for the three;
+// then two at half resolution):
 // CPU and GL give the same depth, normals, fluid index, raw splat, noise and
 // whitening, and
 // colours within the whole-pipeline tolerance.
@@ -130,7 +133,7 @@ TEST_F(GlCompositeFluids, TheWholePipelineWithSeveralFluids) {
     Bounds box;
     for (const glm::vec3& p : set.positions) box.extend(p);
     const std::vector<glm::vec3> velocity(set.size(), glm::vec3(0.0f, 0.0f, 1.5f));
-    for (int fluids : {2, 3}) {
+    for (int fluids : {2, 3, 4}) {  // 4: two fluids at half resolution
         std::vector<std::int64_t> index(set.size());
         for (std::size_t i = 0; i < set.size(); ++i) {
             const float u = (set.positions[i].x - box.min.x) / (box.max.x - box.min.x);
@@ -145,6 +148,10 @@ TEST_F(GlCompositeFluids, TheWholePipelineWithSeveralFluids) {
         s.fluidMaterials = {a, b, c};
         s.noise.enabled = fluids == 3;
         s.whitening.enabled = fluids == 3;
+        if (fluids == 4) {
+            for (std::int64_t& k : index) k = std::min<std::int64_t>(k, 1);
+            s.fluidScale = 0.5f;
+        }
         BackendFrames f;
         ASSERT_TRUE(renderOnBoth(cpu, *gl, view, s, f));
         EXPECT_EQ(differingBits(f.cpu.depth, f.gl.depth), 0) << fluids;
@@ -158,11 +165,14 @@ TEST_F(GlCompositeFluids, TheWholePipelineWithSeveralFluids) {
         const NormalDiff n = compareNormals(f.cpu.normal, f.gl.normal, f.cpu.depth);
         EXPECT_LT(n.maxDeg, 1e-3) << fluids;
         expectPipelineColor(f.cpu.color, f.gl.color, std::to_string(fluids) + " fluids");
-        int seen[3] = {0, 0, 0};
+        int seen[4] = {0, 0, 0, 0};
         for (float k : f.cpu.fluid.pixels)
             if (k >= 0.0f) ++seen[int(k)];
-        for (int k = 0; k < fluids; ++k) EXPECT_GT(seen[k], 1000) << fluids << " fluids, fluid " << k;
+        for (int k = 0; k < (fluids == 4 ? 2 : fluids); ++k) EXPECT_GT(seen[k], 1000) << fluids << ", fluid " << k;
         EXPECT_GT(stageMs(f.glTimes, "composite-fluids"), -1.0);
         EXPECT_GT(stageMs(f.glTimes, "fluid 1: shade"), -1.0);
+        if (fluids == 4) {
+            EXPECT_GT(stageMs(f.glTimes, "fluid 1: fluid-edges"), -1.0);
+        }
     }
 }

@@ -59,7 +59,7 @@ struct RenderSettings {
     // (shading.material when k is past the end), splatted, smoothed and
     // shaded on its own and composited front to back with the others, so
     // different bodies are never smoothed together and each absorbs with its
-    // own colour. Not with reduced resolution or the mesh path (an error).
+    // own colour. Not on the mesh path (an error).
     // The fluid AOV is the nearest fluid's index; with several fluids the
     // noise, foam and whitening AOVs are the nearest fluid's own.
     std::vector<Material> fluidMaterials;

@@ -169,7 +169,9 @@ public:
                           Slot normal, Slot thickness, Slot noise, Slot coverage) = 0;
     // The fluid pixels of `depth` with coverage under 1 blended into the scene
     // colour, in place on `color` (cpu::blendFluidEdges).
-    virtual void blendFluidEdges(Slot sceneColor, Slot depth, Slot coverage, Slot color) = 0;
+    // With `emission` and `transmit` (several fluids), their split of it too.
+    virtual void blendFluidEdges(Slot sceneColor, Slot depth, Slot coverage, Slot color, Slot emission = Slot::None,
+                                 Slot transmit = Slot::None) = 0;
 
     // Whether the stage just run (or the read-back) failed: OK, or an error
     // naming `stage` and what went wrong (GL: a GL error, GPU memory, a lost

@@ -160,8 +160,11 @@ public:
         scalars_[int(coverage)] = std::move(up.coverage);
     }
 
-    void blendFluidEdges(Slot sceneColor, Slot depth, Slot coverage, Slot color) override {
-        cpu::blendFluidEdges(scalar(depth), scalar(coverage), colorImage(sceneColor), colors_[int(color)]);
+    void blendFluidEdges(Slot sceneColor, Slot depth, Slot coverage, Slot color, Slot emission,
+                         Slot transmit) override {
+        const bool split = emission != Slot::None;
+        cpu::blendFluidEdges(scalar(depth), scalar(coverage), colorImage(sceneColor), colors_[int(color)],
+                             split ? &colors_[int(emission)] : nullptr, split ? &colors_[int(transmit)] : nullptr);
     }
 
     Status stageStatus(const char*) override { return okStatus(); }

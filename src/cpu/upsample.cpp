@@ -7,6 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "shared/fluids.h"
 #include "shared/upsample.h"
 
 namespace meniscus::cpu {
@@ -93,15 +94,22 @@ Upsampled upsampleSurface(const Image<float>& lowDepth, const Image<glm::vec3>& 
 }
 
 void blendFluidEdges(const Image<float>& depth, const Image<float>& coverage, const Image<glm::vec4>& behind,
-                     Image<glm::vec4>& color) {
+                     Image<glm::vec4>& color, Image<glm::vec4>* emission, Image<glm::vec4>* transmit) {
     const int W = color.width, H = color.height;
     for (const auto* img : {&depth, &coverage})
         if (img->width != W || img->height != H) return;
     if (behind.width != W || behind.height != H) return;
+    const bool split = emission && transmit && emission->width == W && emission->height == H &&
+                       transmit->width == W && transmit->height == H;
     tbb::parallel_for(0, H, [&](int y) {
-        for (int x = 0; x < W; ++x)
-            if (depth.at(x, y) < kInf)
-                color.at(x, y) = shared::upsampleEdgeBlend(color.at(x, y), behind.at(x, y), coverage.at(x, y));
+        for (int x = 0; x < W; ++x) {
+            if (!(depth.at(x, y) < kInf)) continue;
+            const float c = coverage.at(x, y);
+            color.at(x, y) = shared::upsampleEdgeBlend(color.at(x, y), behind.at(x, y), c);
+            if (!split) continue;
+            emission->at(x, y) = glm::vec4(shared::fluidEdgeEmission(glm::vec3(emission->at(x, y)), c), 1.0f);
+            transmit->at(x, y) = glm::vec4(shared::fluidEdgeTransmittance(glm::vec3(transmit->at(x, y)), c), 0.0f);
+        }
     });
 }
 

@@ -35,7 +35,10 @@ Upsampled upsampleSurface(const Image<float>& lowDepth, const Image<glm::vec3>& 
 
 // Blends each fluid pixel (depth < +inf) with coverage c < 1 into `behind`
 // (the scene colour) by c, in place. Images of other sizes leave it as it is.
+// With `emission` and `transmit` (several fluids, cpu::LayerSplit), the
+// split of the blended colour too (shared::fluidEdgeEmission, ...Transmittance).
 void blendFluidEdges(const Image<float>& depth, const Image<float>& coverage, const Image<glm::vec4>& behind,
-                     Image<glm::vec4>& color);
+                     Image<glm::vec4>& color, Image<glm::vec4>* emission = nullptr,
+                     Image<glm::vec4>* transmit = nullptr);
 
 }  // namespace meniscus::cpu

@@ -298,9 +298,12 @@ public:
                                 img(thickness), s_.noise.enabled ? &img(noise) : nullptr, img(coverage));
     }
 
-    void blendFluidEdges(Slot sceneColor, Slot depth, Slot coverage, Slot color) override {
+    void blendFluidEdges(Slot sceneColor, Slot depth, Slot coverage, Slot color, Slot emission,
+                         Slot transmit) override {
         const auto fills = bufferFills();
-        st_.upsampling.blendEdges(img(depth), img(coverage), img(sceneColor), img(color));
+        const bool split = emission != Slot::None;
+        st_.upsampling.blendEdges(img(depth), img(coverage), img(sceneColor), img(color),
+                                  split ? &img(emission) : nullptr, split ? &img(transmit) : nullptr);
     }
 
     Status stageStatus(const char* stage) override {

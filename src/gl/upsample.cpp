@@ -114,13 +114,22 @@ void Upsampling::upsample(const GpuImage& lowDepth, const GpuImage& lowNormal, c
 }
 
 void Upsampling::blendEdges(const GpuImage& depth, const GpuImage& coverage, const GpuImage& behind,
-                            GpuImage& color) {
+                            GpuImage& color, GpuImage* emission, GpuImage* transmit) {
     const int W = color.width, H = color.height;
     if (W <= 0 || H <= 0 || color.channels != 4 || !depth.sized(W, H, 1) || !coverage.sized(W, H, 1) ||
         !behind.sized(W, H, 4))
         return;
+    const bool split = emission && transmit && emission->sized(W, H, 4) && transmit->sized(W, H, 4);
     glUseProgram(edges_.id());
     glUniform2i(0, W, H);
+    glUniform1i(1, split ? 1 : 0);
+    if (split) {
+        emission->bind(1);
+        transmit->bind(2);
+    } else {  // never written (uSplit is 0)
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, dummy_.id(), 0, 16);
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 2, dummy_.id(), 0, 16);
+    }
     bindTexture(0, tex_[0], GL_R32F, depth.buffer, depth.bytes());
     bindTexture(1, tex_[1], GL_R32F, coverage.buffer, coverage.bytes());
     bindTexture(2, tex_[2], GL_RGBA32F, behind.buffer, behind.bytes());

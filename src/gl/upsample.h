@@ -30,7 +30,10 @@ public:
 
     // Each fluid pixel of `depth` with coverage c < 1 blended into `behind` by
     // c, in `color` (all W x H; other sizes: unchanged).
-    void blendEdges(const GpuImage& depth, const GpuImage& coverage, const GpuImage& behind, GpuImage& color);
+    // With `emission` and `transmit` (several fluids), their split too, as
+    // cpu::blendFluidEdges.
+    void blendEdges(const GpuImage& depth, const GpuImage& coverage, const GpuImage& behind, GpuImage& color,
+                    GpuImage* emission = nullptr, GpuImage* transmit = nullptr);
 
 private:
     Program reduce_, upsample_, edges_;

@@ -6,7 +6,8 @@
 // smoothing, normals and noise on the low camera between the scene and an
 // upsample stage, and the fluid's edges blended into the scene after the shading;
 // with several fluids (SPEC §3.10), per fluid present the splat, smoothing,
-// normals, [noise], [whitening] and shading into its own layer, then
+// normals, [noise], [whitening] and shading into its own layer (at reduced
+// resolution with its own upsample and fluid-edges), then
 //   composite-fluids (front to back per pixel) -> [silhouette] -> [spray];
 // or, on the mesh path (RenderSettings::mesh):
 //   scene -> depth splat + thickness -> rasterise the mesh -> [noise] -> [whitening] -> shading
@@ -580,8 +581,6 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
                                        s.whitening.enabled, int(groups.size()));
             !st)
             return st;
-    if (several && divisor > 1)
-        return makeError("", "RenderSettings::fluidScale: reduced resolution does not draw several fluids yet");
     if (several && s.mesh) return makeError("", "several fluids are drawn by the screen-space surface, not the mesh path");
     if (s.view == View::FluidId && groups.empty())
         return makeError("", "the fluid-id view needs a fluid index per particle (ParticleView::fluid)");
@@ -687,10 +686,33 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         });
     };
 
+    // Reduced resolution (SPEC §3.9): the low surface in the Low* slots
+    // (raw depth in `q.raw`), upsampled into the full-size `q`.
+    auto reducedSurface = [&](const std::string& tag, const SurfaceSlots& q) -> Status {
+        b.setCamera(reducedCamera(s.camera, divisor));
+        if (auto st = surface(tag, {Slot::LowSceneDepth, q.raw, Slot::LowThickness, Slot::LowDepth, Slot::LowNormal,
+                                    Slot::LowNoise});
+            !st)
+            return st;
+        b.setCamera(s.camera);
+        return stage((tag + "upsample").c_str(), [&] {
+            b.upsample(Slot::LowDepth, Slot::LowNormal, Slot::LowThickness, Slot::LowNoise, Slot::SceneDepth, q.depth,
+                       q.normal, q.thickness, q.noise, Slot::Coverage);
+        });
+    };
+
     if (auto st = stage("scene", [&] { b.castScene(Slot::SceneColor, Slot::SceneDepth); }); !st) return st;
+    if (divisor > 1) {  // (the scene depth at the low camera's size: reduced on the low camera)
+        b.setCamera(reducedCamera(s.camera, divisor));
+        if (auto st = stage("reduce-scene-depth", [&] { b.reduceSceneDepth(Slot::SceneDepth, Slot::LowSceneDepth); });
+            !st)
+            return st;
+        b.setCamera(s.camera);
+    }
     if (several) {
         // Several fluids (SPEC §3.10): each drawn and shaded on its own into
-        // its layer's images, then composited front to back.
+        // its layer's images (at reduced resolution: upsampled, shaded, its
+        // edges blended, E and T with them), then composited front to back.
         std::vector<int> fluidOfLayer;
         for (std::size_t l = 0; l < groups.size(); ++l) {
             FluidSplit::Group& g = fluids_->groups[l];
@@ -704,11 +726,18 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
             const SurfaceSlots q{Slot::SceneDepth,         layer(LayerImage::RawDepth), layer(LayerImage::Thickness),
                                  layer(LayerImage::Depth), layer(LayerImage::Normal),   layer(LayerImage::Noise),
                                  layer(LayerImage::Whitening)};
-            if (auto st = surface(tag, q); !st) return st;
+            if (auto st = divisor > 1 ? reducedSurface(tag, q) : surface(tag, q); !st) return st;
             if (auto st = shadeSurface(tag, q, layer(LayerImage::Color), layer(LayerImage::Emission),
                                        layer(LayerImage::Transmit));
                 !st)
                 return st;
+            if (divisor > 1)
+                if (auto st = stage((tag + "fluid-edges").c_str(), [&] {
+                        b.blendFluidEdges(Slot::SceneColor, q.depth, Slot::Coverage, layer(LayerImage::Color),
+                                          layer(LayerImage::Emission), layer(LayerImage::Transmit));
+                    });
+                    !st)
+                    return st;
             fluidOfLayer.push_back(g.fluid);
         }
         if (auto st = stage("composite-fluids", [&] {
@@ -718,24 +747,9 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
             !st)
             return st;
     } else if (divisor > 1) {
-        // Reduced resolution (SPEC §3.9): splat, smoothing, normals and noise
-        // on the low camera, then the surface upsampled to the full one, shaded
-        // there, and its edges blended into the scene.
-        b.setCamera(reducedCamera(s.camera, divisor));
-        if (auto st = stage("reduce-scene-depth", [&] { b.reduceSceneDepth(Slot::SceneDepth, Slot::LowSceneDepth); });
-            !st)
-            return st;
-        if (auto st = surface("", {Slot::LowSceneDepth, Slot::RawDepth, Slot::LowThickness, Slot::LowDepth,
-                                   Slot::LowNormal, Slot::LowNoise});
-            !st)
-            return st;
-        b.setCamera(s.camera);
-        if (auto st = stage("upsample", [&] {
-                b.upsample(Slot::LowDepth, Slot::LowNormal, Slot::LowThickness, Slot::LowNoise, Slot::SceneDepth,
-                           Slot::Depth, Slot::Normal, Slot::Thickness, Slot::Noise, Slot::Coverage);
-            });
-            !st)
-            return st;
+        // Reduced resolution: the surface on the low camera, upsampled to the
+        // full one, shaded there, and its edges blended into the scene.
+        if (auto st = reducedSurface("", full); !st) return st;
         if (auto st = shadeSurface("", full, Slot::Color); !st) return st;
         if (auto st = stage("fluid-edges",
                             [&] { b.blendFluidEdges(Slot::SceneColor, Slot::Depth, Slot::Coverage, Slot::Color); });

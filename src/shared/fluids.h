@@ -66,6 +66,20 @@ MENISCUS_FL_INLINE vec3 fluidOver(vec3 e, vec3 t, vec3 behind) {
     return c;
 }
 
+// A layer's split at a fluid-edge pixel of coverage c (reduced resolution:
+// its colour is blended into the scene behind it by c, upsampleEdgeBlend):
+// behind + c (E + T behind - behind) = c E + (c T + 1 - c) behind, so E' = c E
+// and T' = c T + (1 - c); c >= 1 leaves both as they are.
+MENISCUS_FL_INLINE vec3 fluidEdgeEmission(vec3 e, float c) {
+    MENISCUS_FL_EXACT vec3 r = vec3(c * e.x, c * e.y, c * e.z);
+    return c >= 1.0f ? e : r;
+}
+MENISCUS_FL_INLINE vec3 fluidEdgeTransmittance(vec3 t, float c) {
+    MENISCUS_FL_EXACT float k = 1.0f - c;
+    MENISCUS_FL_EXACT vec3 r = vec3(c * t.x + k, c * t.y + k, c * t.z + k);
+    return c >= 1.0f ? t : r;
+}
+
 #ifdef __cplusplus
 }  // namespace meniscus::shared
 #endif
