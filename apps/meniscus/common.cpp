@@ -108,7 +108,7 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     cmd->add_flag("--separable", o.separable, "narrow-range: the faster separable 1-D approximation");
     cmd->add_option("--material", o.material,
                     "Fluid look: " + materialPresetNames() +
-                        "; with several fluids one per fluid, comma-separated (e.g. water,honey: fluid 0, fluid 1)")
+                        "; with several fluids one per fluid, comma-separated (e.g. water,lava: fluid 0 water, fluid 1 lava)")
         ->capture_default_str();
     cmd->add_option("--fluid-attribute", o.fluidAttribute,
                     "Several fluids: the integer particle attribute giving each particle's fluid, 0 to 3 (default: "
