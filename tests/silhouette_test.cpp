@@ -1,9 +1,11 @@
 // Silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3; SPEC §3.5;
 // src/cpu/silhouette.cpp): the silhouette map of a disc against a brute-force
 // count, a plane filling the image stays untouched, the fade and the clip,
-// nothing outside the fluid changes, the same bits for any thread count, and
+// nothing outside a convex contour changes at the default fade, the fade
+// continued past the contour (and a notch filled), the same bits for any thread count, and
 // through the Renderer the edges get fractional alpha (today's 0 or 1 is the
 // stair-step the issue names).
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -100,7 +102,7 @@ TEST(Silhouette, FadesAndClipsOnlyTheFluidNearItsContour) {
         const Image<float> s = cpu::reduceSilhouettes(camera(), d, behind, radius, p, color);
         int faded = 0, gone = 0;
         for (std::size_t i = 0; i < d.size(); ++i) {
-            if (!(d.pixels[i] < kInf)) {
+            if (!(d.pixels[i] < kInf)) {  // (a convex contour: its outside keeps S under 0.5)
                 ASSERT_EQ(std::memcmp(&color.pixels[i], &before.pixels[i], sizeof(glm::vec4)), 0);  // not fluid: untouched
                 continue;
             }
@@ -122,6 +124,65 @@ TEST(Silhouette, FadesAndClipsOnlyTheFluidNearItsContour) {
         } else {
             EXPECT_GT(faded, 50);
             EXPECT_GT(gone, 0);
+        }
+    }
+}
+
+// Past the contour: with a fade starting below 0.5 the background pixels next
+// to a disc take the mean of their fluid neighbours' colours faded by their
+// own window's S (sized at the nearest neighbour's depth), so the contour
+// ends in a ramp of alpha instead of at the pixel grid; farther pixels stay
+// the scene. With the default 0.5 a convex contour's outside stays as it was,
+// and a one-pixel notch in the liquid (S above 0.5 there) is filled.
+TEST(Silhouette, PastTheContourTheFadeContinues) {
+    const float z = 1.0f;
+    Image<float> d = disc(40.0f, 40.0f, 16.0f, z);
+    d.at(40, 40) = kInf;  // a one-pixel hole in the middle
+    const glm::vec4 scene(0.8f, 0.8f, 0.8f, 0.0f), outside(0.3f, 0.2f, 0.1f, 1.0f);
+    for (float fadeFrom : {0.2f, 0.5f}) {
+        SilhouetteParams p;
+        p.enabled = true;
+        p.fadeFrom = fadeFrom;
+        const float radius = radiusFor(3, z, p);
+        Image<glm::vec4> color(kW, kH, outside);
+        for (std::size_t i = 0; i < d.size(); ++i)
+            if (d.pixels[i] < kInf) color.pixels[i] = {0.1f + 0.001f * float(i % 97), 0.4f, 0.8f, 1.0f};
+        const Image<glm::vec4> before = color, behind(kW, kH, scene);
+        const Image<float> s = cpu::reduceSilhouettes(camera(), d, behind, radius, p, color);
+        int ramp = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                if (d.at(x, y) < kInf) continue;
+                EXPECT_EQ(s.at(x, y), 0.0f);  // the map stays the liquid's
+                glm::vec4 sum(0.0f);
+                int n = 0, count = 0, area = 0;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int u = x + dx, v = y + dy;
+                        if ((dx || dy) && u >= 0 && v >= 0 && u < kW && v < kH && d.at(u, v) < kInf)
+                            sum += before.at(u, v), ++n;
+                    }
+                for (int v = std::max(0, y - 3); v < std::min(kH, y + 4); ++v)
+                    for (int u = std::max(0, x - 3); u < std::min(kW, x + 4); ++u) ++area, count += d.at(u, v) < kInf;
+                const float S = float(count) / float(area);
+                const float a = n == 0 ? 0.0f : std::clamp((S - fadeFrom) / (1.0f - fadeFrom), 0.0f, 1.0f);
+                if (a <= 0.0f) {
+                    ASSERT_EQ(color.at(x, y), outside) << x << "," << y;
+                    continue;
+                }
+                const glm::vec4 want = scene + a * (sum / float(n) - scene);
+                for (int c = 0; c < 4; ++c) ASSERT_NEAR(color.at(x, y)[c], want[c], 1e-6f) << x << "," << y;
+                if (x == 40 && y == 40) {
+                    EXPECT_GT(a, 0.9f);  // the hole: nearly all liquid
+                } else {
+                    ++ramp;
+                    EXPECT_LT(a, 0.5f);
+                }
+            }
+        if (fadeFrom < 0.5f) {
+            EXPECT_GT(ramp, 50);  // the ring just outside the disc
+        } else {
+            EXPECT_EQ(ramp, 0);
         }
     }
 }

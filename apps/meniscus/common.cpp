@@ -160,7 +160,8 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
         ->capture_default_str();
     cmd->add_option("--silhouette-fade", sil.fadeFrom,
                     "Liquid fraction of the window at which the fade reaches 0 (0.5: a straight edge's own pixels; "
-                    "1: clip, liquid only where the whole window is)")
+                    "below 0.5 the fade continues onto the background pixels just outside the liquid, in its "
+                    "colour; 1: clip, liquid only where the whole window is)")
         ->capture_default_str();
     cmd->add_option("--fluid-scale", o.fluidScale,
                     "Reduced-resolution processing: 1, 0.5 or 0.25 of the width and height for the splat, smoothing, "

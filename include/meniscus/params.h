@@ -258,7 +258,12 @@ std::string checkSprayParams(const SprayParams& p);
 // it, alpha = clamp((S - fadeFrom) / (1 - fadeFrom), 0, 1) (fadeFrom = 1: the
 // paper's clip, liquid only where S = 1), which removes the ring of poorly
 // smoothed depth and normals at the outer contour and softens the stair-step
-// edge. The window is a square of half-width radiusRadii r projected at the
+// edge. Past the contour a background pixel next to the liquid takes the mean
+// of its fluid neighbours' colours at the alpha of its own window's S (the
+// window sized at their depth): with fadeFrom below 0.5 the fade continues
+// past a straight contour, so edges end in a ramp rather than at the pixel
+// grid; at 0.5 only notches in the liquid (S > 0.5 outside it) are filled.
+// The window is a square of half-width radiusRadii r projected at the
 // pixel's depth (at most maxPx), with uniform weights: exact integer counts
 // from a summed-area table, O(1) a pixel on both backends. Off unless enabled.
 struct SilhouetteParams {

@@ -7,6 +7,7 @@
 // clipping (SilhouetteParams::fadeFrom = 1 clips as the paper).
 #include "cpu/silhouette.h"
 
+#include <algorithm>
 #include <limits>
 
 #include <tbb/blocked_range.h>
@@ -40,21 +41,27 @@ std::vector<std::uint32_t> fluidSummedArea(const Image<float>& depth) {
 }
 
 namespace {
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// S of the window of pixel (x, y) sized at depth z, from the W x H mask's table.
+float windowFraction(const std::vector<std::uint32_t>& sat, int W, int H, int x, int y, float z, float radiusM,
+                     float focal, int maxPx) {
+    const std::size_t stride = std::size_t(W) + 1;
+    const glm::ivec4 w = shared::silhouetteWindow(x, y, z, radiusM, focal, maxPx, W, H);
+    auto at = [&](int xx, int yy) { return sat[std::size_t(yy) * stride + std::size_t(xx)]; };
+    const std::uint32_t count = at(w.z, w.w) - at(w.x, w.w) - at(w.z, w.y) + at(w.x, w.y);
+    return shared::silhouetteFraction(int(count), (w.z - w.x) * (w.w - w.y));
+}
+
 template <class F>
 void forFluidFractions(const Camera& camera, const Image<float>& depth, float radius, const SilhouetteParams& p, F&& f) {
     const int W = depth.width, H = depth.height;
     const std::vector<std::uint32_t> sat = fluidSummedArea(depth);
-    const std::size_t stride = std::size_t(W) + 1;
     const float radiusM = p.radiusRadii * radius, focal = camera.focalPx();
     tbb::parallel_for(0, H, [&](int y) {
         for (int x = 0; x < W; ++x) {
             const float z = depth.at(x, y);
-            if (!(z < std::numeric_limits<float>::infinity())) continue;
-            const glm::ivec4 w = shared::silhouetteWindow(x, y, z, radiusM, focal, p.maxPx, W, H);
-            auto at = [&](int xx, int yy) { return sat[std::size_t(yy) * stride + std::size_t(xx)]; };
-            const std::uint32_t count = at(w.z, w.w) - at(w.x, w.w) - at(w.z, w.y) + at(w.x, w.y);
-            const int area = (w.z - w.x) * (w.w - w.y);
-            f(x, y, shared::silhouetteFraction(int(count), area));
+            if (z < kInf) f(x, y, windowFraction(sat, W, H, x, y, z, radiusM, focal, p.maxPx));
         }
     });
 }
@@ -73,10 +80,38 @@ Image<float> reduceSilhouettes(const Camera& camera, const Image<float>& depth, 
     if (depth.width != W || depth.height != H || behind.width != W || behind.height != H || color.width != W ||
         color.height != H)
         return s;
-    forFluidFractions(camera, depth, radius, p, [&](int x, int y, float S) {
-        s.at(x, y) = S;
-        const float a = shared::silhouetteAlpha(S, p.fadeFrom);
-        if (a < 1.0f) color.at(x, y) = shared::silhouetteBlend(color.at(x, y), behind.at(x, y), a);
+    // The liquid's colours before any fade, for the background pixels next to it.
+    const Image<glm::vec4> liquid = color;
+    const std::vector<std::uint32_t> sat = fluidSummedArea(depth);
+    const float radiusM = p.radiusRadii * radius, focal = camera.focalPx();
+    tbb::parallel_for(0, H, [&](int y) {
+        for (int x = 0; x < W; ++x) {
+            float z = depth.at(x, y);
+            const bool fluid = z < kInf;
+            glm::vec4 sum(0.0f);
+            int n = 0;
+            if (!fluid) {  // past the contour: the fluid 8-neighbours, in row order
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int xx = x + dx, yy = y + dy;
+                        if ((dx == 0 && dy == 0) || xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
+                        const float zn = depth.at(xx, yy);
+                        if (!(zn < kInf)) continue;
+                        z = std::min(z, zn);
+                        sum += liquid.at(xx, yy);
+                        ++n;
+                    }
+                if (n == 0) continue;
+            }
+            const float S = windowFraction(sat, W, H, x, y, z, radiusM, focal, p.maxPx);
+            const float a = shared::silhouetteAlpha(S, p.fadeFrom);
+            if (fluid) {
+                s.at(x, y) = S;
+                if (a < 1.0f) color.at(x, y) = shared::silhouetteBlend(color.at(x, y), behind.at(x, y), a);
+            } else if (a > 0.0f) {
+                color.at(x, y) = shared::silhouetteBlend(shared::silhouetteOuterColor(sum, n), behind.at(x, y), a);
+            }
+        }
     });
     return s;
 }

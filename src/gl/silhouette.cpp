@@ -42,6 +42,7 @@ Result<SilhouetteReduction> SilhouetteReduction::create() {
     s.behindTex_ = makeTexture();
     s.colorTex_ = makeTexture();
     s.silTex_ = makeTexture();
+    s.liquidTex_ = makeTexture();
     return s;
 }
 
@@ -83,6 +84,10 @@ void SilhouetteReduction::run(const Camera& camera, const GpuImage& depth, const
     // Per pixel: S, and the colour faded in place. The host floats are the
     // CPU's (cpu::reduceSilhouettes: p.radiusRadii * radius, camera.focalPx()).
     const float radiusM = p.radiusRadii * radius, focal = camera.focalPx();
+    // The colour before the fade, read by the background pixels next to the liquid.
+    liquid_.copyFrom(color);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    attachBufferTexture(liquidTex_, GL_RGBA32F, liquid_.buffer, liquid_.bytes());
     attachBufferTexture(behindTex_, GL_RGBA32F, behind.buffer, behind.bytes());
     attachBufferTexture(colorTex_, GL_RGBA32F, color.buffer, color.bytes());
     attachBufferTexture(silTex_, GL_R32F, silhouette.buffer, silhouette.bytes());
@@ -93,6 +98,8 @@ void SilhouetteReduction::run(const Camera& camera, const GpuImage& depth, const
     glBindTexture(GL_TEXTURE_BUFFER, satTex_.id());
     glActiveTexture(GL_TEXTURE2);
     glBindTexture(GL_TEXTURE_BUFFER, behindTex_.id());
+    glActiveTexture(GL_TEXTURE3);
+    glBindTexture(GL_TEXTURE_BUFFER, liquidTex_.id());
     glBindImageTexture(0, colorTex_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(1, silTex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     glUniform2i(0, W, H);
@@ -105,7 +112,7 @@ void SilhouetteReduction::run(const Camera& camera, const GpuImage& depth, const
     glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                     GL_TEXTURE_FETCH_BARRIER_BIT);
-    for (GLenum unit : {GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
+    for (GLenum unit : {GL_TEXTURE3, GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
         glActiveTexture(unit);
         glBindTexture(GL_TEXTURE_BUFFER, 0);
     }

@@ -37,6 +37,8 @@ private:
     Texture behindTex_;   // RGBA32F buffer texture over the scene colour
     Texture colorTex_;    // RGBA32F image buffer over the colour (faded in place)
     Texture silTex_;      // R32F image buffer over S
+    GpuImage liquid_;     // the colour before the fade (the background pixels next to the liquid read it)
+    Texture liquidTex_;   // RGBA32F buffer texture over it
 };
 
 }  // namespace meniscus::gl

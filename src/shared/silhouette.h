@@ -57,6 +57,18 @@ MENISCUS_SIL_INLINE vec4 silhouetteBlend(vec4 liquid, vec4 behind, float alpha) 
     return r;
 }
 
+// Past the contour (anti-aliasing on the background side): a background
+// pixel next to the liquid takes the mean colour of its fluid 8-neighbours
+// (`sum` of `n` of them, in row order), faded into the scene behind it by the
+// alpha of its own window's S, the window sized at the nearest of those
+// neighbours' depths. With fadeFrom = 0.5 only pixels in a notch of the
+// liquid (S > 0.5) get any; with a lower fadeFrom the fade continues past a
+// straight contour, so it ends smoothly instead of at the pixel grid.
+MENISCUS_SIL_INLINE vec4 silhouetteOuterColor(vec4 sum, int n) {
+    MENISCUS_SIL_EXACT vec4 m = sum / float(n);
+    return m;
+}
+
 #ifdef __cplusplus
 }  // namespace meniscus::shared
 #endif

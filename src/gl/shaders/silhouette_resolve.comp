@@ -7,7 +7,10 @@
 // (silhouetteWindow), its fluid count from the table's four corners, S =
 // count / area (silhouetteFraction) and, where its alpha (silhouetteAlpha)
 // is under 1, the colour faded in place into the scene colour behind it
-// (silhouetteBlend); S is written everywhere, 0 where there is no fluid.
+// (silhouetteBlend); S is written everywhere, 0 where there is no fluid. A
+// background pixel next to the liquid takes its fluid neighbours' mean colour
+// (read from `liquid`, the colour before any fade) faded by its own window's
+// alpha (silhouetteOuterColor).
 // Formulas: src/shared/silhouette.h, `precise` there.
 #extension GL_GOOGLE_include_directive : require
 #include "silhouette.h"
@@ -19,6 +22,7 @@ layout(local_size_x = 64) in;
 layout(binding = 0) uniform samplerBuffer depth;    // W*H eye depth, +inf = none
 layout(binding = 1) uniform usamplerBuffer sat;     // (W+1)*(H+1) counts
 layout(binding = 2) uniform samplerBuffer behind;   // W*H linear RGBA, the scene colour
+layout(binding = 3) uniform samplerBuffer liquid;   // W*H linear RGBA, the colour before the fade
 layout(rgba32f, binding = 0) uniform imageBuffer color;              // W*H linear RGBA, faded in place
 layout(r32f, binding = 1) writeonly uniform imageBuffer silhouette;  // W*H S, 0 = no fluid
 
@@ -40,19 +44,36 @@ void main() {
     const uint pixels = uint(W) * uint(H);
     for (uint k = gl_GlobalInvocationID.x; k < pixels; k += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         const int i = int(k);
-        const float z = texelFetch(depth, i).x;
-        if (!(z < kInf)) {
-            imageStore(silhouette, i, vec4(0.0));
-            continue;
-        }
+        float z = texelFetch(depth, i).x;
+        const bool fluid = z < kInf;
         const int x = int(k % uint(W)), y = int(k / uint(W));
+        precise vec4 sum = vec4(0.0);
+        int n = 0;
+        if (!fluid) {  // past the contour: the fluid 8-neighbours, in row order (as the CPU)
+            imageStore(silhouette, i, vec4(0.0));
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if ((dx == 0 && dy == 0) || xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
+                    const float zn = texelFetch(depth, yy * W + xx).x;
+                    if (!(zn < kInf)) continue;
+                    z = min(z, zn);
+                    sum = sum + texelFetch(liquid, yy * W + xx);
+                    ++n;
+                }
+            if (n == 0) continue;
+        }
         const ivec4 w = silhouetteWindow(x, y, z, uRadiusM, uFocalPx, uMaxPx, W, H);
         // Unsigned as on the CPU: the partial sums may wrap, the count does not.
         const uint count = at(w.z, w.w) - at(w.x, w.w) - at(w.z, w.y) + at(w.x, w.y);
         const int area = (w.z - w.x) * (w.w - w.y);
         const float s = silhouetteFraction(int(count), area);
-        imageStore(silhouette, i, vec4(s));
         const float a = silhouetteAlpha(s, uFadeFrom);
-        if (a < 1.0) imageStore(color, i, silhouetteBlend(imageLoad(color, i), texelFetch(behind, i), a));
+        if (fluid) {
+            imageStore(silhouette, i, vec4(s));
+            if (a < 1.0) imageStore(color, i, silhouetteBlend(imageLoad(color, i), texelFetch(behind, i), a));
+        } else if (a > 0.0) {
+            imageStore(color, i, silhouetteBlend(silhouetteOuterColor(sum, n), texelFetch(behind, i), a));
+        }
     }
 }
