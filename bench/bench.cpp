@@ -190,6 +190,8 @@ int main(int argc, char** argv) {
     bool separable = false;
     app.add_option("--filter", filters, "Smoothing filter(s) to time: " + filterNames() + " (default: all)");
     app.add_flag("--separable", separable, "narrow-range: time the separable 1-D approximation as well");
+    int iterations = -1;
+    app.add_option("--iterations", iterations, "Filter iterations (default: each filter's own)");
     bool allAovs = false;
     app.add_flag("--all-aovs", allAovs, "Read back every AOV (as for an EXR); default: the colour only (as for a PNG)");
     int thicknessDivisor = 1;
@@ -226,6 +228,12 @@ int main(int argc, char** argv) {
     app.add_flag("--no-mesh", noMesh, "Skip the isosurface path");
     app.add_flag("--noise", noise, "Also run the surface-noise stage (and foam in the shading), seeded by the file's ids");
     app.add_flag("--silhouette", silhouette, "Also run the silhouette reduction stage (Instant Liquids' silhouette map)");
+    std::string anisotropy = AnisotropyParams{}.enabled ? "on" : "off";
+    app.add_option("--anisotropy", anisotropy,
+                   "Anisotropic kernels (Yu & Turk 2013), on or off: the anisotropy line (host, both backends) and "
+                   "the ellipsoid splat")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"on", "off"}));
     app.add_flag("--spray", spray,
                  "Also split off the spray (density below half the median, estimated from neighbours) and run the "
                  "spray-drop stage (the split's time is part of the frame's own)");
@@ -303,6 +311,7 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "bench: error: --filter %s: expected one of %s\n", name.c_str(), filterNames().c_str());
             return 2;
         }
+        if (iterations >= 0) setFilterIterations(f, iterations);
         configs.emplace_back(name + "(" + std::to_string(filterIterations(f)) + ")", f);
         if (name == "narrow-range" && (separable || filters.size() > 1)) {
             std::get<NarrowRangeParams>(f).separable = true;
@@ -358,6 +367,7 @@ int main(int argc, char** argv) {
         settings.whitening.enabled = whiten;
         settings.spray.enabled = spray;
         settings.silhouette.enabled = silhouette;
+        settings.anisotropy.enabled = anisotropy == "on";
         settings.fluidScale = fluidScale;
         settings.fluidMaterials.clear();
         for (const char* m : {"water", "lava", "milk", "murky"}) {

@@ -19,8 +19,10 @@ DAM_R=${DAM_R:-0.0093}; SMALL_R=${SMALL_R:-0.025}
 CAMS="dam_auto $DAM $DAM_R $DAM_E $DAM_T
 dam_close $DAM $DAM_R 0.9,0.8,1.4 1.5,0.3,0.0
 small_auto $SMALL $SMALL_R $SM_E $SM_T"
-# FILTER[:ITERATIONS|:sep][@FLUID_SCALE]; FILTERS="..." in the environment picks others.
-FILTERS=${FILTERS:-"none gaussian bilateral binomial curvature-flow curvature-flow:40 curvature-flow:80 narrow-range narrow-range:sep narrow-range@0.5 narrow-range@0.25"}
+# FILTER[:ITERATIONS|:sep][@FLUID_SCALE][+an]; +an: with --anisotropy on (Yu & Turk's kernels).
+# FILTERS="..." in the environment picks others.
+FILTERS=${FILTERS:-"none gaussian bilateral binomial curvature-flow curvature-flow:40 curvature-flow:80 narrow-range narrow-range:sep narrow-range@0.5 narrow-range@0.25
+none+an gaussian+an bilateral+an binomial+an curvature-flow+an narrow-range+an narrow-range:1+an narrow-range:sep+an narrow-range@0.5+an"}
 while read -r NAME IN R E T; do
   RAW=$OUT/$( [[ $IN == "$DAM" ]] && echo dam || echo small ).raw
   echo "## $NAME: radius $R, eye $E, target $T, fov $FOV, ${W}x${H}"
@@ -29,12 +31,13 @@ while read -r NAME IN R E T; do
   echo "| filter | IoU | ref px | cand px | normal mean° | median° | p90° | depth abs rel | depth signed rel | abs / r | signed / r |"
   echo "|---|---|---|---|---|---|---|---|---|---|---|"
   for F in $FILTERS; do
-    ARGS=(--filter "${F%%[:@]*}"); [[ $F == *:sep* ]] && ARGS+=(--separable)
-    [[ $F == *@* ]] && ARGS+=(--fluid-scale "${F##*@}")
-    [[ $F == *:[0-9]* ]] && { I=${F##*:}; ARGS+=(--iterations "${I%%@*}"); }
-    "$M" --threads 2 render "$IN" -o "$OUT/${NAME}_${F//[:@]/_}.exr" "${ARGS[@]}" --background none \
+    B=${F%+an}; ARGS=(--filter "${B%%[:@]*}"); [[ $B == *:sep* ]] && ARGS+=(--separable)
+    [[ $F == *+an ]] && ARGS+=(--anisotropy on)
+    [[ $B == *@* ]] && ARGS+=(--fluid-scale "${B##*@}")
+    [[ $B == *:[0-9]* ]] && { I=${B##*:}; ARGS+=(--iterations "${I%%@*}"); }
+    "$M" --threads 2 render "$IN" -o "$OUT/${NAME}_${F//[:@+]/_}.exr" "${ARGS[@]}" --background none \
         --radius "$R" --eye "$E" --target "$T" --fov $FOV --width $W --height $H 2>/dev/null
-    /usr/bin/python3 "$RS/compare.py" "$OUT/${NAME}_ref" "$OUT/${NAME}_${F//[:@]/_}.exr" | /usr/bin/python3 -c "
+    /usr/bin/python3 "$RS/compare.py" "$OUT/${NAME}_ref" "$OUT/${NAME}_${F//[:@+]/_}.exr" | /usr/bin/python3 -c "
 import json,sys; j=json.load(sys.stdin)
 a,s,z=j['depth_mean_abs_rel'],j['depth_mean_signed_rel'],j['depth_median_ref']/$R
 print('| $F | %.4f | %d | %d | %.2f | %.2f | %.2f | %.5f | %+.5f | %.2f | %+.2f |' % (j['iou'],j['ref_covered'],

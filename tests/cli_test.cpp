@@ -514,6 +514,17 @@ TEST(Cli, RenderSaysWhichRadiusAndHow) {
     EXPECT_NE(out.find("bulk number density"), std::string::npos) << out;
 }
 
+TEST(Cli, AnisotropyOnOffAndItsErrors) {
+    std::string out;
+    ASSERT_EQ(renderFrame21("cli_aniso_on", "--width 64 --height 36 --anisotropy on --anisotropy-radius 5", &out), 0)
+        << out;
+    EXPECT_EQ(renderFrame21("cli_aniso_word", "--width 64 --height 36 --anisotropy yes", &out), 1);
+    EXPECT_NE(out.find("--anisotropy yes: expected on or off"), std::string::npos) << out;
+    EXPECT_EQ(renderFrame21("cli_aniso_ratio", "--width 64 --height 36 --anisotropy on --anisotropy-ratio 0.5", &out), 1);
+    EXPECT_NE(out.find("--anisotropy: kr: 1 to 16"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(tempDir() / "cli_aniso_ratio" / "r.png"));
+}
+
 TEST(Cli, HugeFrameIsRefusedWithTheFigure) {
     const fs::path dir = tempDir() / "cli_huge";
     fs::create_directories(dir);

@@ -142,6 +142,30 @@ TEST_F(GlBackend, LowResolutionThicknessMatchesCpu) {
     }
 }
 
+// Anisotropic kernels through the whole pipeline: full resolution, the
+// fluid at half resolution, and two fluids (each its own ellipsoids).
+TEST_F(GlBackend, AnisotropicKernelsMatchCpu) {
+    Frame f = realFrameSettings();
+    ASSERT_FALSE(f.positions.empty());
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    Renderer cpu;
+    f.settings.anisotropy.enabled = true;
+    std::vector<std::int64_t> fluid(f.positions.size());
+    for (std::size_t i = 0; i < fluid.size(); ++i) fluid[i] = f.positions[i].x < 0.5f ? 0 : 1;
+    for (int variant = 0; variant < 3; ++variant) {
+        SCOPED_TRACE(variant);
+        ParticleView view(f.positions);
+        f.settings.fluidScale = variant == 1 ? 0.5f : 1.0f;
+        if (variant == 2) view.fluid = StridedView<std::int64_t>(std::span<const std::int64_t>(fluid));
+        auto a = cpu.render(view, f.settings);
+        auto b = gl->render(view, f.settings);
+        ASSERT_TRUE(a.ok()) << a.error().describe();
+        ASSERT_TRUE(b.ok()) << b.error().describe();
+        expectSame(*a, *b, f.settings.radiusM);
+    }
+}
+
 TEST_F(GlBackend, SequenceReusesTheSceneAndCameraChangesRecastIt) {
     Frame f = realFrameSettings();
     ASSERT_FALSE(f.positions.empty());

@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/anisotropy.h"
 #include "cpu/splat.h"
 #include "cpu/thickness.h"
 #include "shared/thickness.h"
@@ -27,8 +30,9 @@ namespace {
 // Every test needs the context; without one it skips with the reason.
 class GlSplat : public GlTest {};
 
-Result<Image<float>> glSplat(const Camera& cam, std::span<const glm::vec3> pos, float r, const Image<float>* scene = nullptr) {
-    return gl::splatDepth(cam, pos, r, scene);
+Result<Image<float>> glSplat(const Camera& cam, std::span<const glm::vec3> pos, float r, const Image<float>* scene = nullptr,
+                             std::span<const EllipsoidShape> shapes = {}) {
+    return gl::splatDepth(cam, pos, r, scene, shapes);
 }
 
 // Tolerances, shared by every case below:
@@ -128,14 +132,15 @@ struct GlDepthAndThickness {
     Image<float> depth, thickness;
 };
 GlDepthAndThickness glSplatWithThickness(const Camera& cam, std::span<const glm::vec3> pos, float r,
-                                         const ThicknessParams& tp, const Image<float>* scene) {
+                                         const ThicknessParams& tp, const Image<float>* scene,
+                                         std::span<const EllipsoidShape> shapes = {}) {
     auto s = gl::Splat::create();
     EXPECT_TRUE(s.ok()) << s.error().describe();
     if (!s) return {};
     gl::FrameParamsBlock block;
     const gl::FrameParams frame = gl::packFrameParams(cam, r, NoFilter{}, tp, ShadingParams{});
     block.upload(frame);
-    s->uploadParticles(pos);
+    s->uploadParticles(pos, shapes);
     gl::GpuImage sceneImg, depth, thickness;
     if (scene) sceneImg.upload(*scene);
     s->run(frame, scene ? &sceneImg : nullptr, depth, &thickness);
@@ -148,11 +153,12 @@ GlDepthAndThickness glSplatWithThickness(const Camera& cam, std::span<const glm:
 constexpr double kThicknessRel = 1e-4;
 
 // Compares depth and thickness with the CPU; returns the CPU's largest thickness.
-double expectThicknessMatches(const Camera& cam, std::span<const glm::vec3> pos, float r, const Image<float>* scene) {
+double expectThicknessMatches(const Camera& cam, std::span<const glm::vec3> pos, float r, const Image<float>* scene,
+                              std::span<const EllipsoidShape> shapes = {}) {
     ThicknessParams tp;
     tp.blurSigmaRadii = 0.0f;  // the blur is its own stage (gl_filter_separable_test)
-    const auto cpu = cpu::splatDepthAndThickness(cam, pos, r, tp, scene);
-    const auto gl = glSplatWithThickness(cam, pos, r, tp, scene);
+    const auto cpu = cpu::splatDepthAndThickness(cam, pos, r, tp, scene, shapes);
+    const auto gl = glSplatWithThickness(cam, pos, r, tp, scene, shapes);
     const DepthDiff d = compareDepth(cpu.depth, gl.depth);
     EXPECT_LE(d.coverageDiffer, int(kCoverageFraction * d.coveredCpu) + 2);
     EXPECT_LE(d.maxRel, kDepthRel);
@@ -257,16 +263,24 @@ TEST_F(GlSplat, LowResolutionThicknessMatchesCpu) {
     auto blur = gl::SeparableFilters::create();
     auto lowRes = gl::LowResThickness::create();
     ASSERT_TRUE(splat.ok() && blur.ok() && lowRes.ok());
-    splat->uploadParticles(frame.positions);
+    Ellipsoids ell;
+    computeAnisotropy(frame.positions, r, AnisotropyParams{}, ell);
+    for (const bool ellipsoids : {false, true})
     for (const int divisor : {2, 4})
         for (const bool withScene : {false, true})
             for (const float sigma : {0.0f, 1.0f}) {
-                SCOPED_TRACE(testing::Message() << "divisor " << divisor << ", scene " << withScene << ", sigma " << sigma);
+                SCOPED_TRACE(testing::Message() << "ellipsoids " << ellipsoids << ", divisor " << divisor << ", scene "
+                                                << withScene << ", sigma " << sigma);
+                const std::span<const glm::vec3> pos = ellipsoids ? std::span<const glm::vec3>(ell.centres)
+                                                                  : std::span<const glm::vec3>(frame.positions);
+                const std::span<const EllipsoidShape> shapes =
+                    ellipsoids ? std::span<const EllipsoidShape>(ell.shapes) : std::span<const EllipsoidShape>();
+                splat->uploadParticles(pos, shapes);
                 ThicknessParams tp;
                 tp.resolutionDivisor = divisor;
                 tp.blurSigmaRadii = sigma;
                 const Image<float>* sc = withScene ? &scene : nullptr;
-                const auto cpu = cpu::splatDepthAndThickness(cam, frame.positions, r, tp, sc);
+                const auto cpu = cpu::splatDepthAndThickness(cam, pos, r, tp, sc, shapes);
                 gl::FrameParamsBlock block;
                 const gl::FrameParams fp = gl::packFrameParams(cam, r, NoFilter{}, tp, ShadingParams{});
                 block.upload(fp);
@@ -285,4 +299,63 @@ TEST_F(GlSplat, LowResolutionThicknessMatchesCpu) {
                 EXPECT_EQ(t.nonFinite, 0);
                 EXPECT_LE(t.maxRel, kThicknessRel);
             }
+}
+
+// ---- Ellipsoids (anisotropic kernels, core/anisotropy.h; shared/ellipsoid.h)
+
+// The real frame's anisotropic kernels: depth and chords as on the CPU,
+// within the spheres' tolerances (the same shared functions on both sides).
+TEST_F(GlSplat, EllipsoidsOfRealFrameMatchCpu) {
+    const RealFrame& frame = realFrame();
+    ASSERT_FALSE(frame.positions.empty());
+    const float r = frame.radius;
+    Ellipsoids ell;
+    computeAnisotropy(frame.positions, r, AnisotropyParams{}, ell);
+    ASSERT_GT(ell.isolated, 0u);
+    const Camera cam = realFrameCamera(320, 180);
+    const auto gl = glSplat(cam, ell.centres, r, nullptr, ell.shapes);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    const Image<float> cpuDepth = cpu::splatDepth(cam, ell.centres, r, nullptr, ell.shapes);
+    const DepthDiff d = compareDepth(cpuDepth, *gl);
+    std::printf("ellipsoids: %d covered, %d coverage differences, max rel %.3g\n", d.coveredCpu, d.coverageDiffer,
+                d.maxRel);
+    EXPECT_GT(d.coveredCpu, 320 * 180 / 10);
+    EXPECT_LE(d.coverageDiffer, int(kCoverageFraction * d.coveredCpu));
+    EXPECT_LE(d.maxRel, kDepthRel);
+    // Not the spheres' depth: the shapes reached the shader.
+    const DepthDiff spheres = compareDepth(cpu::splatDepth(cam, ell.centres, r), *gl);
+    EXPECT_GT(spheres.coverageDiffer, 100);
+    EXPECT_GT(expectThicknessMatches(cam, ell.centres, r, nullptr, ell.shapes), 4.0);
+}
+
+// Ellipsoids in the rectangle's special cases (as the spheres above):
+// holding the eye, crossing the eye plane, behind it, off screen, across the
+// borders, and large enough (over 4096 pixels) for the splat's second pass;
+// turned and stretched up to 4:1.
+TEST_F(GlSplat, EllipsoidsAtTheEyeOffScreenAndLargeMatchCpu) {
+    const float r = 0.1f;
+    Camera cam = faceOnCamera({0.0f, 0.0f, 0.0f}, 1.0f, 320, 240);
+    cam.nearM = 0.05f;
+    const glm::vec3 eye = cam.eye;
+    const std::vector<glm::vec3> pos = {
+        eye + glm::vec3(0.05f, 0.0f, 0.0f),  eye + glm::vec3(0.15f, 0.02f, -0.05f), eye + glm::vec3(0.0f, 0.0f, 0.5f),
+        {5.0f, 0.0f, 0.0f},                  {-0.5f, 0.1f, 0.0f},                  {0.2f, 0.37f, 0.1f},
+        {0.1f, -0.1f, 0.6f},                 {0.0f, 0.0f, 0.0f},                   {0.05f, 0.02f, -0.05f},
+    };
+    std::vector<EllipsoidShape> shapes;
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+        const float t = 0.7f * float(i);
+        const glm::mat3 rot = glm::mat3(glm::rotate(glm::mat4(1.0f), t, glm::normalize(glm::vec3(1.0f, t, 2.0f))));
+        shapes.push_back(ellipsoidShape(rot, r * glm::vec3(1.6f, 1.0f, 0.4f)));
+    }
+    Image<float> scene(cam.width, cam.height, std::numeric_limits<float>::infinity());
+    for (int y = 0; y < cam.height; ++y)
+        for (int x = cam.width / 2; x < cam.width; ++x) scene.at(x, y) = 0.95f + 0.001f * float(y);
+    const auto gl = glSplat(cam, pos, r, &scene, shapes);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    const DepthDiff d = compareDepth(cpu::splatDepth(cam, pos, r, &scene, shapes), *gl);
+    EXPECT_GT(d.coveredCpu, cam.width * cam.height / 8);
+    EXPECT_LE(d.coverageDiffer, int(kCoverageFraction * d.coveredCpu) + 2);
+    EXPECT_LE(d.maxRel, kDepthRel);
+    EXPECT_GT(expectThicknessMatches(cam, pos, r, &scene, shapes), 1.0);
 }

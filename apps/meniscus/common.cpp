@@ -163,6 +163,25 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
                     "below 0.5 the fade continues onto the background pixels just outside the liquid, in its "
                     "colour; 1: clip, liquid only where the whole window is)")
         ->capture_default_str();
+    AnisotropyParams& an = o.anisotropyParams;
+    cmd->add_option("--anisotropy", o.anisotropy,
+                    "Anisotropic kernels (Yu & Turk 2013), on or off: each particle is splatted as the ellipsoid of "
+                    "its neighbours' spread (flat along a free surface, a sphere in the bulk, small when alone), "
+                    "centred on its smoothed position; thin sheets close up and spray reads as droplets")
+        ->capture_default_str();
+    cmd->add_option("--anisotropy-radius", an.neighbourRadii, "The neighbourhood's radius, in particle radii")
+        ->capture_default_str();
+    cmd->add_option("--anisotropy-ratio", an.kr, "Largest ratio of an ellipsoid's longest axis to its shortest")
+        ->capture_default_str();
+    cmd->add_option("--anisotropy-isolated", an.kn,
+                    "A particle with too few neighbours is a sphere of this many particle radii")
+        ->capture_default_str();
+    cmd->add_option("--anisotropy-neighbours", an.minNeighbours,
+                    "Fewer neighbours than this within the radius: the particle counts as isolated")
+        ->capture_default_str();
+    cmd->add_option("--anisotropy-smoothing", an.smoothing,
+                    "How far each ellipsoid's centre moves toward its neighbours' weighted mean, 0 to 1")
+        ->capture_default_str();
     cmd->add_option("--fluid-scale", o.fluidScale,
                     "Reduced-resolution processing: 1, 0.5 or 0.25 of the width and height for the splat, smoothing, "
                     "normals and noise (about 4x or 16x fewer pixels); the surface is upsampled depth-aware and shaded "
@@ -233,6 +252,13 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
         if (std::string bad = checkSilhouetteParams(s.silhouette); !bad.empty()) return makeError("", "--silhouette: " + bad);
     if (s.view == View::Silhouette && !o.silhouette)
         return makeError("", "--view silhouette shows the silhouette map: add --silhouette");
+    if (o.anisotropy != "on" && o.anisotropy != "off")
+        return makeError("", "--anisotropy " + o.anisotropy + ": expected on or off");
+    s.anisotropy = o.anisotropyParams;
+    s.anisotropy.enabled = o.anisotropy == "on";
+    if (s.anisotropy.enabled)
+        if (std::string bad = checkAnisotropyParams(s.anisotropy); !bad.empty())
+            return makeError("", "--anisotropy: " + bad);
     if (o.fluidScale != 1.0f && o.fluidScale != 0.5f && o.fluidScale != 0.25f)
         return makeError("", "--fluid-scale: expected 1, 0.5 or 0.25");
     if (o.fluidScale != 1.0f && o.surface == "mesh")

@@ -62,6 +62,9 @@ struct RenderOptions {
     // Silhouette reduction (SPEC §3.5): off unless --silhouette.
     bool silhouette = false;
     SilhouetteParams silhouetteParams;
+    // Anisotropic kernels (Yu & Turk 2013): --anisotropy on|off.
+    std::string anisotropy = AnisotropyParams{}.enabled ? "on" : "off";
+    AnisotropyParams anisotropyParams;
     // Reduced-resolution processing (SPEC §3.9): 1, 0.5 or 0.25.
     float fluidScale = defaults::kFluidScale;
     // Diffuse particles (`meniscus whitewater`'s output) drawn as a layer:

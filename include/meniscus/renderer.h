@@ -83,6 +83,11 @@ struct RenderSettings {
     // Silhouette reduction (SPEC §3.5; Instant Liquids §3): off unless
     // silhouette.enabled; fades the liquid into the scene near its contours.
     SilhouetteParams silhouette;
+    // Anisotropic kernels (Yu & Turk 2013): off unless anisotropy.enabled.
+    // The depth splat and the thickness draw each particle as the ellipsoid
+    // of its neighbourhood, centred on its smoothed position (each fluid's
+    // own, with several); the other stages use the smoothed positions too.
+    AnisotropyParams anisotropy;
     // Reduced-resolution processing (SPEC §3.9; the NVIDIA patent; Instant
     // Liquids §5): 1 (off), 0.5 or 0.25: the splat, smoothing, normals and
     // noise run at that fraction of the width and height, and the surface is
@@ -133,6 +138,7 @@ class TurbulenceTracker;  // src/core/turbulence.h
 struct SpraySplit;        // src/render/pipeline.cpp
 struct FluidSplit;        // src/render/pipeline.cpp
 struct Drawn;             // src/render/pipeline.cpp
+struct Ellipsoids;        // src/core/anisotropy.h
 
 // Renders frames, keeping what does not change between them: the scene layer
 // (studio colour and depth) is cast again only when the camera or the studio
@@ -197,6 +203,8 @@ private:
     std::int64_t turbulenceFrame_ = -1;  // the frameIndex noiseAmplitude_ belongs to; -1 = none
     std::unique_ptr<SpraySplit> spray_;  // this frame's body of water and drops, with the spray on
     double sprayClassifyMs_ = -1.0;      // its host time this frame (the bench's spray-classify line); -1 = none
+    std::vector<Ellipsoids> ellipsoids_;  // with anisotropy: one set per fluid drawn (or one)
+    double anisotropyMs_ = -1.0;         // their host time this frame (the bench's anisotropy line); -1 = none
     std::unique_ptr<FluidSplit> fluids_;  // this frame's fluids, when the particles carry a fluid index
     std::vector<int> layerFluids_;       // several fluids: each composited layer's fluid index; else empty
     int singleFluid_ = -1;               // one fluid: its index (-1: the particles carry none)

@@ -13,6 +13,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/anisotropy.h"
 #include "meniscus/camera.h"
 #include "meniscus/mesh.h"
 #include "meniscus/params.h"
@@ -50,6 +51,7 @@ inline constexpr int kSlotCount = int(Slot::FirstLayer) + shared::kMaxFluids * k
 // particles' noise and whitening inputs (as FrameSettings' spans).
 struct FluidSettings {
     ParticleView particles;
+    std::span<const EllipsoidShape> shapes;  // as FrameSettings::shapes
     ShadingParams shading;
     std::span<const float> noiseIdz;
     std::span<const float> noiseAmplitude;
@@ -60,6 +62,10 @@ struct FluidSettings {
 struct FrameSettings {
     Camera camera;
     float radius = 0.0f;
+    // Anisotropic kernels (core/anisotropy.h): one ellipsoid per position of
+    // beginFrame (this frame only), splatted for depth and thickness instead
+    // of the spheres of `radius`; empty: spheres. The other stages keep the radius.
+    std::span<const EllipsoidShape> shapes;
     FilterParams filter;
     ThicknessParams thickness;
     ShadingParams shading;

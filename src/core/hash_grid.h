@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <tbb/parallel_sort.h>
 
 namespace meniscus::detail {
 
@@ -25,10 +26,14 @@ public:
     HashGrid(std::span<const glm::vec3> pts, double cell, const glm::dvec3& origin) : cell_(cell), origin_(origin) {
         std::vector<std::pair<Key, std::uint32_t>> keyed(pts.size());
         for (std::size_t i = 0; i < pts.size(); ++i) keyed[i] = {cellOf(pts[i]), std::uint32_t(i)};
-        std::sort(keyed.begin(), keyed.end());  // by cell, then index: deterministic
+        // By cell, then index: unique keys, so the order is the same however
+        // the parallel sort splits the work.
+        tbb::parallel_sort(keyed.begin(), keyed.end());
         sorted_.resize(pts.size());
+        order_.resize(pts.size());
         for (std::size_t i = 0; i < keyed.size(); ++i) {
             sorted_[i] = pts[keyed[i].second];
+            order_[i] = keyed[i].second;
             if (i == 0 || keyed[i].first != keyed[i - 1].first)
                 cells_.push_back({keyed[i].first, std::uint32_t(i), std::uint32_t(i)});
             ++cells_.back().end;
@@ -46,6 +51,26 @@ public:
     double cell() const { return cell_; }
     // The points in cell order (queries in this order touch memory locally).
     const std::vector<glm::vec3>& points() const { return sorted_; }
+    // The input index of each point of points().
+    const std::vector<std::uint32_t>& order() const { return order_; }
+
+    // The occupied cells, in key order: cell c holds points()[begin .. end).
+    std::size_t cellCount() const { return cells_.size(); }
+    const Key& cellKey(std::size_t c) const { return cells_[c].key; }
+    std::uint32_t cellBegin(std::size_t c) const { return cells_[c].begin; }
+    std::uint32_t cellEnd(std::size_t c) const { return cells_[c].end; }
+
+    // Calls f(begin, end) with the range in points() of the cell `key`, if it is occupied.
+    template <class F>
+    void forCellRange(const Key& key, F&& f) const {
+        const std::size_t mask = table_.size() - 1;
+        for (std::size_t h = hash(key) & mask; table_[h] >= 0; h = (h + 1) & mask) {
+            const CellRange& c = cells_[std::size_t(table_[h])];
+            if (c.key[0] != key[0] || c.key[1] != key[1] || c.key[2] != key[2]) continue;
+            f(c.begin, c.end);
+            return;
+        }
+    }
 
     // Cell coordinates, clamped far beyond any real grid (2^40 cells a side)
     // so that a huge coordinate over a tiny cell cannot overflow.
@@ -60,13 +85,9 @@ public:
     // Calls f(point) for every point in the cell `key` (none if it is empty).
     template <class F>
     void forCell(const Key& key, F&& f) const {
-        const std::size_t mask = table_.size() - 1;
-        for (std::size_t h = hash(key) & mask; table_[h] >= 0; h = (h + 1) & mask) {
-            const CellRange& c = cells_[std::size_t(table_[h])];
-            if (c.key[0] != key[0] || c.key[1] != key[1] || c.key[2] != key[2]) continue;
-            for (std::uint32_t i = c.begin; i < c.end; ++i) f(sorted_[i]);
-            return;
-        }
+        forCellRange(key, [&](std::uint32_t b, std::uint32_t e) {
+            for (std::uint32_t i = b; i < e; ++i) f(sorted_[i]);
+        });
     }
 
     // Calls f(d2) with the squared distance of every point (p itself too)
@@ -128,6 +149,7 @@ private:
     double cell_;
     glm::dvec3 origin_;
     std::vector<glm::vec3> sorted_;
+    std::vector<std::uint32_t> order_;
     std::vector<CellRange> cells_;
     std::vector<std::int32_t> table_;
 };

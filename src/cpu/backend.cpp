@@ -44,7 +44,8 @@ public:
     }
 
     void splat(Slot sceneDepth, Slot depth, Slot thickness) override {
-        auto dt = cpu::splatDepthAndThickness(s_.camera, positions_, s_.radius, s_.thickness, &scalar(sceneDepth));
+        auto dt = cpu::splatDepthAndThickness(s_.camera, positions_, s_.radius, s_.thickness, &scalar(sceneDepth),
+                                              s_.shapes);
         scalars_[int(depth)] = std::move(dt.depth);
         scalars_[int(thickness)] = std::move(dt.thickness);
     }
@@ -97,6 +98,7 @@ public:
     void setFluid(std::span<const glm::vec3> positions, const FluidSettings& fluid) override {
         positions_ = positions;
         s_.particles = fluid.particles;
+        s_.shapes = fluid.shapes;
         s_.shading = fluid.shading;
         s_.noiseIdz = fluid.noiseIdz;
         s_.noiseAmplitude = fluid.noiseAmplitude;

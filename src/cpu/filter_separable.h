@@ -27,6 +27,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/lanes.h"
 #include "cpu/filter_util.h"
 #include "meniscus/types.h"
 #include "shared/kernel_table.h"
@@ -39,22 +40,12 @@ namespace detail {
 // ARM): the per-tap work is a handful of flops, so without SIMD the loop is
 // bound by one scalar add chain and mispredicted exclusion branches. Lanes are
 // summed in a fixed order, so the result does not depend on the thread count.
-inline constexpr int kLanes = shared::kTapGroup;  // one SSE / NEON register: wider is slower on baseline x86-64
-using FloatV = float __attribute__((vector_size(4 * kLanes)));
-using IntV = std::int32_t __attribute__((vector_size(4 * kLanes)));
-
-inline FloatV loadV(const float* p) {
-    FloatV v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
-inline FloatV selectV(IntV mask, FloatV v) {  // v where mask is set, else +0
-    IntV bits;
-    std::memcpy(&bits, &v, sizeof v);
-    bits &= mask;
-    std::memcpy(&v, &bits, sizeof v);
-    return v;
-}
+using lanes::FloatV;  // core/lanes.h: one SSE / NEON register, wider is slower on baseline x86-64
+using lanes::IntV;
+using lanes::kLanes;
+using lanes::loadV;
+using lanes::selectV;
+static_assert(kLanes == shared::kTapGroup, "the kernel tables pad rows for groups of kLanes taps");
 
 }  // namespace detail
 

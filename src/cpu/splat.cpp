@@ -19,13 +19,8 @@
 
 #include <tbb/parallel_for.h>
 
-#if defined(__SSE__)
-#include <xmmintrin.h>
-#elif defined(__ARM_NEON) && defined(__aarch64__)
-#include <arm_neon.h>
-#endif
-
 #include "cpu/filter_separable.h"  // detail::FloatV and its helpers
+#include "shared/ellipsoid.h"
 
 namespace meniscus::cpu {
 
@@ -35,6 +30,25 @@ constexpr int kTile = kSplatTilePx;
 }  // namespace
 
 namespace {
+
+// The pixels whose centres lie within the image-plane slopes [sx.x, sx.y] x
+// [sy.x, sy.y] (x / depth, y / depth, +y up), clipped to the image.
+PixelRect rectFromSlopes(const Camera& camera, float f, glm::vec2 sx, glm::vec2 sy) {
+    const float cx = 0.5f * float(camera.width), cy = 0.5f * float(camera.height);
+    // Pixel centres are at +0.5: pixel i is inside when i + 0.5 is in [lo, hi].
+    const float xlo = cx + f * sx.x, xhi = cx + f * sx.y;
+    const float ylo = cy - f * sy.y, yhi = cy - f * sy.x;  // +y view is up, rows go down
+    auto clampI = [](float v, int hi) { return int(std::clamp(v, -1.0f, float(hi) + 1.0f)); };
+    // A hundredth of a pixel of slack against rounding in the slopes (float
+    // error here is ~1e-3 px at 16k pixels); the exact ray test decides coverage.
+    constexpr float eps = 0.01f;
+    PixelRect rect;
+    rect.x0 = std::max(0, clampI(std::ceil(xlo - 0.5f - eps), camera.width));
+    rect.x1 = std::min(camera.width, clampI(std::floor(xhi - 0.5f + eps), camera.width) + 1);
+    rect.y0 = std::max(0, clampI(std::ceil(ylo - 0.5f - eps), camera.height));
+    rect.y1 = std::min(camera.height, clampI(std::floor(yhi - 0.5f + eps), camera.height) + 1);
+    return rect;
+}
 
 // projectedSphereBounds with the focal length given (it costs a tan).
 PixelRect sphereBounds(const Camera& camera, float f, const glm::vec3& c, float r) {
@@ -50,21 +64,16 @@ PixelRect sphereBounds(const Camera& camera, float f, const glm::vec3& c, float 
         const float root = r * std::sqrt(std::max(a * a + den, 0.0f));
         return glm::vec2((a * depth - root) / den, (a * depth + root) / den);
     };
-    const glm::vec2 sx = slopes(c.x), sy = slopes(c.y);
-    const float cx = 0.5f * float(camera.width), cy = 0.5f * float(camera.height);
-    // Pixel centres are at +0.5: pixel i is inside when i + 0.5 is in [lo, hi].
-    const float xlo = cx + f * sx.x, xhi = cx + f * sx.y;
-    const float ylo = cy - f * sy.y, yhi = cy - f * sy.x;  // +y view is up, rows go down
-    auto clampI = [](float v, int hi) { return int(std::clamp(v, -1.0f, float(hi) + 1.0f)); };
-    // A hundredth of a pixel of slack against rounding in the slopes (float
-    // error here is ~1e-3 px at 16k pixels); the exact ray test decides coverage.
-    constexpr float eps = 0.01f;
-    PixelRect rect;
-    rect.x0 = std::max(0, clampI(std::ceil(xlo - 0.5f - eps), camera.width));
-    rect.x1 = std::min(camera.width, clampI(std::floor(xhi - 0.5f + eps), camera.width) + 1);
-    rect.y0 = std::max(0, clampI(std::ceil(ylo - 0.5f - eps), camera.height));
-    rect.y1 = std::min(camera.height, clampI(std::floor(yhi - 0.5f + eps), camera.height) + 1);
-    return rect;
+    return rectFromSlopes(camera, f, slopes(c.x), slopes(c.y));
+}
+
+// The same for the ellipsoid of view-space centre c and outer form q (shared/ellipsoid.h).
+PixelRect ellipsoidBounds(const Camera& camera, float f, const glm::vec3& c, const glm::mat3& q) {
+    glm::vec4 s;
+    const int kind = shared::ellipsoidSlopes(c, q, s);
+    if (kind == 0) return {};
+    if (kind == 1) return {0, 0, camera.width, camera.height};
+    return rectFromSlopes(camera, f, {s.x, s.y}, {s.z, s.w});
 }
 
 }  // namespace
@@ -89,7 +98,12 @@ float raySphereEyeDepth(const glm::vec3& ray, const glm::vec3& c, float r) {
     return t / len;
 }
 
-SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius) {
+PixelRect projectedEllipsoidBounds(const Camera& camera, const glm::vec3& c, const glm::mat3& q) {
+    return ellipsoidBounds(camera, camera.focalPx(), c, q);
+}
+
+SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
+                       std::span<const EllipsoidShape> shapes) {
     SplatBins bins;
     const int W = camera.width, H = camera.height;
     bins.tilesX = (W + kTile - 1) / kTile;
@@ -102,10 +116,21 @@ SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> position
     // (Camera::toView, with the view axes computed once instead of per particle.)
     const glm::vec3 right = camera.right(), up = camera.trueUp(), back = camera.back(), eye = camera.eye;
     const float f = camera.focalPx();
+    const bool ellipsoids = !shapes.empty();
+    if (ellipsoids) bins.ellipsoids.resize(n);
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
         const glm::vec3 d = positionsWorld[i] - eye;
-        bins.centres[i] = {glm::dot(d, right), glm::dot(d, up), glm::dot(d, back)};
-        bins.rects[i] = sphereBounds(camera, f, bins.centres[i], radius);
+        const glm::vec3 c = {glm::dot(d, right), glm::dot(d, up), glm::dot(d, back)};
+        bins.centres[i] = c;
+        if (!ellipsoids) {
+            bins.rects[i] = sphereBounds(camera, f, c, radius);
+            return;
+        }
+        // The shapes in view space (shared/ellipsoid.h, as gl/splat.comp).
+        const glm::mat3 m = shared::ellipsoidToView(shapes[i].m, right, up, back);
+        const glm::mat3 q = shared::ellipsoidToView(shapes[i].q, right, up, back);
+        bins.ellipsoids[i] = {m, shared::ellipsoidMul(m, c)};
+        bins.rects[i] = ellipsoidBounds(camera, f, c, q);
     });
 
     // Bin particle indices per tile, in particle order: kSlices fixed slices of
@@ -152,7 +177,7 @@ namespace {
 using detail::FloatV;
 using detail::IntV;
 using detail::kLanes;
-static_assert(kLanes == 4, "sqrtV below is written for 4 lanes");
+static_assert(kLanes == 4, "the tile loops below are written for 4 lanes");
 
 inline FloatV blendV(IntV mask, FloatV a, FloatV b) {  // a where mask is set, else b
     IntV ia, ib;
@@ -162,24 +187,7 @@ inline FloatV blendV(IntV mask, FloatV a, FloatV b) {  // a where mask is set, e
     std::memcpy(&a, &ia, sizeof a);
     return a;
 }
-// Lane-wise IEEE square root (correctly rounded, so equal to std::sqrt). A
-// plain std::sqrt loop does not vectorise: it keeps the errno branch.
-inline FloatV sqrtV(FloatV v) {
-#if defined(__SSE__)
-    __m128 m;
-    std::memcpy(&m, &v, sizeof m);
-    m = _mm_sqrt_ps(m);
-    std::memcpy(&v, &m, sizeof v);
-#elif defined(__ARM_NEON) && defined(__aarch64__)
-    float32x4_t m;
-    std::memcpy(&m, &v, sizeof m);
-    m = vsqrtq_f32(m);
-    std::memcpy(&v, &m, sizeof v);
-#else
-    for (int l = 0; l < kLanes; ++l) v[l] = std::sqrt(v[l]);
-#endif
-    return v;
-}
+using lanes::sqrtV;
 inline void storeV(float* p, FloatV v) { std::memcpy(p, &v, sizeof v); }
 
 // Tile-local arrays: rows of kStride floats, the last kLanes - 1 (+1 for
@@ -213,7 +221,7 @@ int lowEnd(int x1) {
 // under the full-resolution tile t, and the spheres of bin t are tested
 // against the low-resolution pixels of their rectangle grown by one full
 // pixel: that holds every low-resolution centre inside the projection.
-template <bool kDepth, bool kChord, int kDiv = 1>
+template <bool kDepth, bool kChord, int kDiv = 1, bool kEllipsoid = false>
 void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
                Image<float>* depth, Image<float>* chordSum, float chordScale) {
     static_assert(kDiv == 1 || (!kDepth && kTile % kDiv == 0));
@@ -289,6 +297,7 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
         const PixelRect& rect = bins.rects[i];
         const glm::vec3 c = bins.centres[i];
         const FloatV cx = FloatV{} + c.x, cy = FloatV{} + c.y, cz = FloatV{} + c.z, r2V = FloatV{} + r2;
+        const ViewEllipsoid* ell = kEllipsoid ? &bins.ellipsoids[i] : nullptr;
         // The rectangle [x0, x1) holds the full pixels whose centres lie in the
         // projection (or is cut by the image border), so the projection lies in
         // (x0 - 1/2, x1 + 1/2): the low-resolution centres kDiv (i + 1/2) inside
@@ -302,11 +311,18 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
                 const int j = y * kStride + x;
                 const IntV in = lane < IntV{} + (x1 - x);  // lanes inside the rectangle
                 const FloatV vx = detail::loadV(ux + j), vy = detail::loadV(uy + j), vz = detail::loadV(uz + j);
-                // As raySphereEyeDepth: closest approach b along u, squared miss
-                // distance from the offset vector (precision for small, far spheres).
-                const FloatV b = vx * cx + vy * cy + vz * cz;
-                const FloatV ox = cx - b * vx, oy = cy - b * vy, oz = cz - b * vz;
-                const FloatV h2 = r2V - (ox * ox + oy * oy + oz * oz);
+                // b: the ray parameter nearest the centre; the hit spans
+                // b -+ sqrt(h2) when h2 >= 0.
+                FloatV b, h2;
+                if constexpr (kEllipsoid) {
+                    shared::rayEllipsoid(vx, vy, vz, ell->m, ell->e, b, h2);
+                } else {
+                    // As raySphereEyeDepth: closest approach b along u, squared miss
+                    // distance from the offset vector (precision for small, far spheres).
+                    b = vx * cx + vy * cy + vz * cz;
+                    const FloatV ox = cx - b * vx, oy = cy - b * vy, oz = cz - b * vz;
+                    h2 = r2V - (ox * ox + oy * oy + oz * oz);
+                }
                 const IntV hit = in & (h2 >= zero);
                 const FloatV h = sqrtV(blendV(hit, h2, zero));
                 const FloatV t0 = b - h;
@@ -342,37 +358,63 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
     }
 }
 
-}  // namespace
-
-void splatBins(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
-               Image<float>* depth, Image<float>* chordSum, float chordScale) {
+template <bool kEllipsoid>
+void splatBinsAs(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
+                 Image<float>* depth, Image<float>* chordSum, float chordScale) {
     const int tiles = bins.tilesX * bins.tilesY;
     // One task per tile, each writing only its own pixels: thread-count independent.
     auto run = [&](auto kernel) { tbb::parallel_for(0, tiles, [&](int t) { kernel(t); }); };
     if (depth && chordSum)
-        run([&](int t) { splatTile<true, true>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale); });
+        run([&](int t) {
+            splatTile<true, true, 1, kEllipsoid>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale);
+        });
     else if (depth)
-        run([&](int t) { splatTile<true, false>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale); });
+        run([&](int t) {
+            splatTile<true, false, 1, kEllipsoid>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale);
+        });
     else if (chordSum)
-        run([&](int t) { splatTile<false, true>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale); });
+        run([&](int t) {
+            splatTile<false, true, 1, kEllipsoid>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale);
+        });
+}
+
+template <bool kEllipsoid>
+void splatChordsLowResAs(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
+                         int divisor, Image<float>& chordSum, float chordScale) {
+    const int tiles = bins.tilesX * bins.tilesY;
+    auto run = [&](auto kernel) { tbb::parallel_for(0, tiles, [&](int t) { kernel(t); }); };
+    if (divisor == 2)
+        run([&](int t) {
+            splatTile<false, true, 2, kEllipsoid>(t, camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale);
+        });
+    else if (divisor == 4)
+        run([&](int t) {
+            splatTile<false, true, 4, kEllipsoid>(t, camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale);
+        });
+    else
+        splatBinsAs<kEllipsoid>(camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale);
+}
+
+}  // namespace
+
+void splatBins(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
+               Image<float>* depth, Image<float>* chordSum, float chordScale) {
+    if (bins.ellipsoids.empty()) splatBinsAs<false>(camera, bins, radius, sceneDepth, depth, chordSum, chordScale);
+    else splatBinsAs<true>(camera, bins, radius, sceneDepth, depth, chordSum, chordScale);
 }
 
 void splatChordsLowRes(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
                        int divisor, Image<float>& chordSum, float chordScale) {
-    const int tiles = bins.tilesX * bins.tilesY;
-    auto run = [&](auto kernel) { tbb::parallel_for(0, tiles, [&](int t) { kernel(t); }); };
-    if (divisor == 2)
-        run([&](int t) { splatTile<false, true, 2>(t, camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale); });
-    else if (divisor == 4)
-        run([&](int t) { splatTile<false, true, 4>(t, camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale); });
+    if (bins.ellipsoids.empty())
+        splatChordsLowResAs<false>(camera, bins, radius, sceneDepth, divisor, chordSum, chordScale);
     else
-        splatBins(camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale);
+        splatChordsLowResAs<true>(camera, bins, radius, sceneDepth, divisor, chordSum, chordScale);
 }
 
 Image<float> splatDepth(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
-                        const Image<float>* sceneDepth) {
+                        const Image<float>* sceneDepth, std::span<const EllipsoidShape> shapes) {
     Image<float> depth(camera.width, camera.height, kInf);
-    const SplatBins bins = binParticles(camera, positionsWorld, radius);
+    const SplatBins bins = binParticles(camera, positionsWorld, radius, shapes);
     splatBins(camera, bins, radius, sceneDepth, &depth, nullptr);
     return depth;
 }

@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/anisotropy.h"
 #include "meniscus/camera.h"
 #include "meniscus/types.h"
 
@@ -23,15 +24,21 @@ struct PixelRect {
 // reaches the eye plane. Empty when the sphere lies behind the camera.
 PixelRect projectedSphereBounds(const Camera& camera, const glm::vec3& centreView, float radius);
 
+// The same for the ellipsoid of view-space centre c and view-space outer form
+// q (shared/ellipsoid.h): exact up to a hundredth of a pixel of slack.
+PixelRect projectedEllipsoidBounds(const Camera& camera, const glm::vec3& centreView, const glm::mat3& q);
+
 // Eye depth of the nearest intersection of the pixel ray through (px, py) with
 // the sphere, or +inf when the ray misses it (or the hit is behind the eye).
 float raySphereEyeDepth(const glm::vec3& ray, const glm::vec3& centreView, float radius);
 
 // depth(x, y) = min over particles of the nearest-hit eye depth, +inf where no
 // sphere is hit. Hits nearer than camera.nearM or at/behind sceneDepth(x, y)
-// (when given) are discarded. Output does not depend on the thread count.
+// (when given) are discarded. With `shapes` (one per position), each particle
+// is its ellipsoid (anisotropic kernels, core/anisotropy.h) instead of the
+// sphere of `radius`. Output does not depend on the thread count.
 Image<float> splatDepth(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
-                        const Image<float>* sceneDepth = nullptr);
+                        const Image<float>* sceneDepth = nullptr, std::span<const EllipsoidShape> shapes = {});
 
 // ---- Shared by the depth and thickness splats (SPEC §3.3, §3.4) -------------
 
@@ -40,14 +47,23 @@ Image<float> splatDepth(const Camera& camera, std::span<const glm::vec3> positio
 // touching it (items[start[t] .. start[t+1]), in particle order, so the per-pixel
 // processing order is fixed whatever the thread count).
 inline constexpr int kSplatTilePx = 32;
+// An ellipsoid in view space: shape m (shared/ellipsoid.h) and e = m c.
+struct ViewEllipsoid {
+    glm::mat3 m;
+    glm::vec3 e;
+};
 struct SplatBins {
     int tilesX = 0, tilesY = 0;
     std::vector<glm::vec3> centres;  // view space
+    std::vector<ViewEllipsoid> ellipsoids;  // one per centre, or empty: spheres of the radius
     std::vector<PixelRect> rects;
     std::vector<std::uint32_t> start;  // tilesX*tilesY + 1 offsets into items
     std::vector<std::uint32_t> items;
 };
-SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius);
+// With `shapes` (one per position): ellipsoids, splatted by the passes below
+// with shared::rayEllipsoid instead of the sphere test.
+SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
+                       std::span<const EllipsoidShape> shapes = {});
 
 // One pass over the bins, one task per tile. With `depth`: the nearest-hit eye
 // depth as splatDepth. With `chordSum`: the summed length (metres, along the

@@ -240,8 +240,8 @@ Image<float> lowResThickness(const Camera& camera, const SplatBins& bins, float 
 
 Image<float> computeThickness(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                               const ThicknessParams& params, const Image<float>* sceneDepth,
-                              const Image<float>& rawDepth) {
-    const SplatBins bins = binParticles(camera, positionsWorld, radius);
+                              const Image<float>& rawDepth, std::span<const EllipsoidShape> shapes) {
+    const SplatBins bins = binParticles(camera, positionsWorld, radius, shapes);
     if (const int d = shared::thicknessDivisor(params.resolutionDivisor); d > 1)
         return lowResThickness(camera, bins, radius, params, sceneDepth, rawDepth, d);
     Image<float> thickness(camera.width, camera.height, 0.0f);
@@ -251,9 +251,10 @@ Image<float> computeThickness(const Camera& camera, std::span<const glm::vec3> p
 }
 
 DepthAndThickness splatDepthAndThickness(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
-                                         const ThicknessParams& params, const Image<float>* sceneDepth) {
+                                         const ThicknessParams& params, const Image<float>* sceneDepth,
+                                         std::span<const EllipsoidShape> shapes) {
     DepthAndThickness out{Image<float>(camera.width, camera.height), Image<float>(camera.width, camera.height)};
-    const SplatBins bins = binParticles(camera, positionsWorld, radius);
+    const SplatBins bins = binParticles(camera, positionsWorld, radius, shapes);
     if (const int d = shared::thicknessDivisor(params.resolutionDivisor); d > 1) {
         splatBins(camera, bins, radius, sceneDepth, &out.depth, nullptr);
         out.thickness = lowResThickness(camera, bins, radius, params, sceneDepth, out.depth, d);

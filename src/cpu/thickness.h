@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/anisotropy.h"
 #include "meniscus/camera.h"
 #include "meniscus/params.h"
 #include "meniscus/types.h"
@@ -21,10 +22,13 @@ namespace meniscus::cpu {
 // params.resolutionDivisor d > 1 the chords are taken through the centres of
 // d x d pixel blocks, blurred on that grid and bilinearly upsampled onto the
 // fluid pixels of `rawDepth` (0 elsewhere; rawDepth must then be camera-sized).
+// With `shapes` (one per position), the particles are those ellipsoids
+// (anisotropic kernels) instead of spheres; the weight w stays the sphere's,
+// since each ellipsoid keeps the sphere's volume.
 // Bit-identical for any thread count.
 Image<float> computeThickness(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                               const ThicknessParams& params, const Image<float>* sceneDepth,
-                              const Image<float>& rawDepth);
+                              const Image<float>& rawDepth, std::span<const EllipsoidShape> shapes = {});
 
 // splatDepth and computeThickness in one pass over the particles (they share
 // the binning and the ray-sphere intersection); the thickness blur uses the
@@ -34,6 +38,7 @@ struct DepthAndThickness {
     Image<float> thickness;  // as computeThickness(..., depth)
 };
 DepthAndThickness splatDepthAndThickness(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
-                                         const ThicknessParams& params, const Image<float>* sceneDepth = nullptr);
+                                         const ThicknessParams& params, const Image<float>* sceneDepth = nullptr,
+                                         std::span<const EllipsoidShape> shapes = {});
 
 }  // namespace meniscus::cpu

@@ -120,7 +120,7 @@ public:
         s_ = settings;
         fp_ = packFrameParams(settings.camera, settings.radius, settings.filter, settings.thickness, settings.shading);
         block_.upload(fp_);
-        st_.splat.uploadParticles(positions);
+        st_.splat.uploadParticles(positions, settings.shapes);
         stage_ = 0;
         return okStatus();
     }
@@ -232,7 +232,7 @@ public:
         s_.whiteness = fluid.whiteness;
         fp_ = packFrameParams(s_.camera, s_.radius, s_.filter, s_.thickness, s_.shading);
         block_.upload(fp_);
-        st_.splat.uploadParticles(positions);
+        st_.splat.uploadParticles(positions, fluid.shapes);
     }
 
     void compositeFluids(std::span<const int> fluids, Slot sceneColor, Slot sceneDepth, Slot color, Slot depth,

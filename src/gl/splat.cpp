@@ -17,6 +17,9 @@
 // instance.
 #include "gl/splat.h"
 
+#include <algorithm>
+#include <vector>
+
 #include "gl/dispatch.h"
 #include "gl/shaders.h"
 
@@ -46,12 +49,25 @@ Result<Splat> Splat::create() {
     return s;
 }
 
-void Splat::uploadParticles(std::span<const glm::vec3> positionsWorld) {
+void Splat::uploadParticles(std::span<const glm::vec3> positionsWorld, std::span<const EllipsoidShape> shapes) {
     static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "positions are uploaded as packed xyz floats");
     count_ = GLuint(positionsWorld.size());
     // At least one element: binding an empty buffer is an error.
     positions_.reserve(GLsizeiptr(std::max<std::size_t>(1, positionsWorld.size()) * sizeof(glm::vec3)));
     if (!positionsWorld.empty()) positions_.upload(positionsWorld.data(), GLsizeiptr(positionsWorld.size_bytes()));
+    ellipsoids_ = !shapes.empty() && shapes.size() == positionsWorld.size();
+    if (!ellipsoids_) return;
+    // The symmetric m and q packed as splat.comp's Shapes block reads them.
+    std::vector<float> packed(shapes.size() * 12);
+    for (std::size_t i = 0; i < shapes.size(); ++i) {
+        const glm::mat3 &m = shapes[i].m, &q = shapes[i].q;
+        float* o = &packed[12 * i];
+        const float v[12] = {m[0][0], m[0][1], m[0][2], m[1][1], m[1][2], m[2][2],
+                             q[0][0], q[0][1], q[0][2], q[1][1], q[1][2], q[2][2]};
+        std::copy(v, v + 12, o);
+    }
+    shapes_.reserve(GLsizeiptr(packed.size() * sizeof(float)));
+    shapes_.upload(packed.data(), GLsizeiptr(packed.size() * sizeof(float)));
 }
 
 void Splat::run(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& depth, GpuImage* thickness) {
@@ -100,6 +116,9 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
         glUniform1i(1, hasScene ? 1 : 0);
         glUniform1i(2, thickness ? 1 : 0);
         glUniform1i(4, d);
+        glUniform1i(5, ellipsoids_ ? 1 : 0);
+        if (ellipsoids_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, shapes_.id());
+        else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, noScene_.id());
         // Pass 0: spheres of up to kMaxPixels pixels, the larger ones listed
         // with pass 1's indirect dispatch (x = kBigGroups, y = listed, z = 1).
         const GLuint header[4] = {kBigGroups, 0, 1, 0};
@@ -135,13 +154,13 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
 }
 
 Result<Image<float>> splatDepth(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
-                                const Image<float>* sceneDepth) {
+                                const Image<float>* sceneDepth, std::span<const EllipsoidShape> shapes) {
     auto s = Splat::create();
     if (!s) return s.error();
     FrameParamsBlock block;
     const FrameParams frame = packFrameParams(camera, radius, NoFilter{}, ThicknessParams{}, ShadingParams{});
     block.upload(frame);
-    s->uploadParticles(positionsWorld);
+    s->uploadParticles(positionsWorld, shapes);
     GpuImage scene, depth;
     if (sceneDepth) scene.upload(*sceneDepth);
     s->run(frame, sceneDepth ? &scene : nullptr, depth, nullptr);

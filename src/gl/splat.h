@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/anisotropy.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "gl/uniforms.h"
@@ -23,8 +24,10 @@ public:
     // Compiles the shaders; an error carries the driver's log.
     static Result<Splat> create();
 
-    // Uploads the particles (world positions, metres) for the next run().
-    void uploadParticles(std::span<const glm::vec3> positionsWorld);
+    // Uploads the particles (world positions, metres) for the next run(),
+    // and with `shapes` (one per position) their ellipsoids (anisotropic
+    // kernels): run() then splats those instead of spheres of frame.radius.
+    void uploadParticles(std::span<const glm::vec3> positionsWorld, std::span<const EllipsoidShape> shapes = {});
     // The uploaded positions (packed xyz floats) and their count, for the
     // stages that read them too (the surface noise): uploaded once per frame.
     const Buffer& particleBuffer() const { return positions_; }
@@ -51,6 +54,8 @@ private:
 
     Program splat_, resolve_;
     Buffer positions_, noScene_;
+    Buffer shapes_;  // splat.comp's Shapes block: 12 floats per particle
+    bool ellipsoids_ = false;
     Texture sceneTex_;  // R32F buffer texture over the scene depth (or noScene_)
     Texture depthTex_;  // R32F buffer texture over the depth being splatted
     Buffer big_;  // splat.comp's Big block: pass 1's indirect dispatch and the large spheres
@@ -59,6 +64,6 @@ private:
 
 // One-shot convenience (tests): create, upload, run, read back the depth.
 Result<Image<float>> splatDepth(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
-                                const Image<float>* sceneDepth = nullptr);
+                                const Image<float>* sceneDepth = nullptr, std::span<const EllipsoidShape> shapes = {});
 
 }  // namespace meniscus::gl

@@ -26,6 +26,7 @@
 #include <new>
 #include <string>
 
+#include "core/anisotropy.h"
 #include "core/backend.h"
 #include "core/fluid_scale.h"
 #include "core/frame_memory.h"
@@ -604,9 +605,25 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         for (std::size_t i = 0; i < gathered_.size(); ++i) gathered_[i] = particles.positions[i];
         positions = gathered_;
     }
+    // Anisotropic kernels (Yu & Turk 2013): each fluid's own ellipsoids and
+    // smoothed centres, on the host for both backends.
+    anisotropyMs_ = -1.0;
+    const bool anisotropic = s.anisotropy.enabled;
+    if (anisotropic) {
+        if (std::string bad = checkAnisotropyParams(s.anisotropy); !bad.empty())
+            return makeError("", "RenderSettings::anisotropy." + bad);
+        const auto t0 = std::chrono::steady_clock::now();
+        ellipsoids_.resize(several ? groups.size() : 1);
+        for (std::size_t l = 0; l < ellipsoids_.size(); ++l)
+            computeAnisotropy(several ? std::span<const glm::vec3>(groups[l].particles.positions) : positions, s.radiusM,
+                              s.anisotropy, ellipsoids_[l]);
+        anisotropyMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (!several) positions = ellipsoids_[0].centres;
+    }
     FrameSettings f;
     f.camera = s.camera;
     f.radius = s.radiusM;
+    if (anisotropic && !several) f.shapes = ellipsoids_[0].shapes;
     f.filter = s.filter;
     f.thickness = s.thickness;
     f.shading = shadingOf(singleFluid_);
@@ -721,7 +738,12 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
             gatherValues(s.noise.enabled ? f.noiseIdz : none, g.indices, g.idz);
             gatherValues(s.noise.enabled ? f.noiseAmplitude : none, g.indices, g.amplitude);
             gatherValues(s.whitening.enabled ? f.whiteness : none, g.indices, g.whiteness);
-            b.setFluid(g.particles.positions, {g.particles.view, shadingOf(g.fluid), g.idz, g.amplitude, g.whiteness});
+            if (anisotropic)
+                b.setFluid(ellipsoids_[l].centres, {g.particles.view, ellipsoids_[l].shapes, shadingOf(g.fluid), g.idz,
+                                                    g.amplitude, g.whiteness});
+            else
+                b.setFluid(g.particles.positions, {g.particles.view, {}, shadingOf(g.fluid), g.idz, g.amplitude,
+                                                   g.whiteness});
             const std::string tag = "fluid " + std::to_string(g.fluid) + ": ";
             const SurfaceSlots q{Slot::SceneDepth,         layer(LayerImage::RawDepth), layer(LayerImage::Thickness),
                                  layer(LayerImage::Depth), layer(LayerImage::Normal),   layer(LayerImage::Noise),
@@ -784,6 +806,7 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (timings) {
             *timings = b.stageTimes();
+            if (anisotropyMs_ >= 0.0) timings->insert(timings->begin(), {"anisotropy", anisotropyMs_});
             if (sprayClassifyMs_ >= 0.0) timings->insert(timings->begin(), {"spray-classify", sprayClassifyMs_});
             if (b.name() != "cpu") timings->push_back({"readback", readMs});  // GPU -> host copies of the AOVs read
         }

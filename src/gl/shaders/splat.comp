@@ -17,6 +17,10 @@
 //    its scene depth the nearest of the block's (sceneDepth is then that
 //    low-resolution image, thickness_lowres.comp mode 0); a sphere covers the blocks
 //    whose centres d (i + 1/2) lie in its rectangle grown by half a pixel.
+//  - Ellipsoids (uEllipsoids != 0; anisotropic kernels, core/anisotropy.h):
+//    each particle is the ellipsoid of its shapes[] entry instead of the
+//    sphere of P.radius: view-space shape, bounds and ray hit from
+//    shared/ellipsoid.h, the same functions the CPU calls.
 //  - Large spheres (uPass): llvmpipe silently stops an invocation's loops
 //    after 65,535 iterations in all (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS),
 //    which one invocation walking a near sphere's rectangle of over 65,535
@@ -31,6 +35,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "frame_params.h"
 #include "splat_common.glsl"
+#include "ellipsoid.h"
 
 layout(local_size_x = 64) in;
 
@@ -48,6 +53,11 @@ layout(location = 1) uniform int uHasScene;   // sceneDepth is bound and camera-
 layout(location = 2) uniform int uThickness;  // also sum the chords
 layout(location = 3) uniform int uPass;       // 0: small spheres, listing the large; 1: the listed ones
 layout(location = 4) uniform int uDiv;        // 1: full resolution; 2 or 4: chords only, one pixel per uDiv x uDiv block
+layout(location = 5) uniform int uEllipsoids; // shapes[] holds one ellipsoid per particle
+
+// Per particle three vec4s: m00 m01 m02 m11 | m12 m22 q00 q01 | q02 q11 q12 q22,
+// the world-space symmetric m and q of shared/ellipsoid.h.
+layout(std430, binding = 5) readonly buffer Shapes { vec4 shapes[]; };
 
 // The indirect dispatch of pass 1 and its list (the host sets x = kBigGroups,
 // y = 0, z = 1, count = 0 before pass 0).
@@ -60,19 +70,11 @@ layout(std430, binding = 4) buffer Big {
 const int kMaxPixels = 4096;      // largest rectangle one invocation walks in pass 0
 const uint kMaxGroups = 65535u;   // the minimum GL_MAX_COMPUTE_WORK_GROUP_COUNT
 
-// The CPU's sphereBounds: exact projected rectangle [x0, x1) x [y0, y1) of the
-// sphere (view centre c, radius r), clipped to the image; empty: x0 >= x1.
-ivec4 sphereBounds(vec3 c, float r) {
+// The CPU's rectFromSlopes: the pixels whose centres lie within the
+// image-plane slopes (sx, sy), clipped to the image, as [x0, x1) x [y0, y1).
+ivec4 rectFromSlopes(vec2 sx, vec2 sy) {
     const int W = P.size.x, H = P.size.y;
     const float f = P.right.w;
-    precise float depth = -c.z;
-    if (depth + r <= 0.0) return ivec4(0);
-    if (depth - r <= 0.0) return ivec4(0, 0, W, H);
-    precise float den = depth * depth - r * r;
-    precise float rootX = r * sqrt(max(c.x * c.x + den, 0.0));
-    precise float rootY = r * sqrt(max(c.y * c.y + den, 0.0));
-    precise vec2 sx = vec2((c.x * depth - rootX) / den, (c.x * depth + rootX) / den);
-    precise vec2 sy = vec2((c.y * depth - rootY) / den, (c.y * depth + rootY) / den);
     precise float cx = 0.5 * float(W), cy = 0.5 * float(H);
     precise float xlo = cx + f * sx.x, xhi = cx + f * sx.y;
     precise float ylo = cy - f * sy.y, yhi = cy - f * sy.x;  // +y view is up, rows go down
@@ -85,6 +87,50 @@ ivec4 sphereBounds(vec3 c, float r) {
     return rect;
 }
 
+// The CPU's sphereBounds: exact projected rectangle [x0, x1) x [y0, y1) of the
+// sphere (view centre c, radius r), clipped to the image; empty: x0 >= x1.
+ivec4 sphereBounds(vec3 c, float r) {
+    precise float depth = -c.z;
+    if (depth + r <= 0.0) return ivec4(0);
+    if (depth - r <= 0.0) return ivec4(0, 0, P.size.x, P.size.y);
+    precise float den = depth * depth - r * r;
+    precise float rootX = r * sqrt(max(c.x * c.x + den, 0.0));
+    precise float rootY = r * sqrt(max(c.y * c.y + den, 0.0));
+    precise vec2 sx = vec2((c.x * depth - rootX) / den, (c.x * depth + rootX) / den);
+    precise vec2 sy = vec2((c.y * depth - rootY) / den, (c.y * depth + rootY) / den);
+    return rectFromSlopes(sx, sy);
+}
+
+// The CPU's ellipsoidBounds (view centre c, view-space outer form q).
+ivec4 ellipsoidBounds(vec3 c, mat3 q) {
+    vec4 s;
+    const int kind = ellipsoidSlopes(c, q, s);
+    if (kind == 0) return ivec4(0);
+    if (kind == 1) return ivec4(0, 0, P.size.x, P.size.y);
+    return rectFromSlopes(s.xy, s.zw);
+}
+
+// Particle i's shape in view space as binParticles takes it: m, e = m c and
+// the outer form q (identity matrices when the particles are spheres).
+struct Shape {
+    mat3 m, q;
+    vec3 e;
+};
+Shape viewShape(uint i, vec3 c) {
+    Shape s;
+    s.m = mat3(1.0);
+    s.q = mat3(1.0);
+    s.e = c;
+    if (uEllipsoids == 0) return s;
+    const vec4 a = shapes[3u * i], b = shapes[3u * i + 1u], d = shapes[3u * i + 2u];
+    const mat3 mw = mat3(a.x, a.y, a.z, a.y, a.w, b.x, a.z, b.x, b.y);
+    const mat3 qw = mat3(b.z, b.w, d.x, b.w, d.y, d.z, d.x, d.z, d.w);
+    s.m = ellipsoidToView(mw, P.right.xyz, P.up.xyz, P.back.xyz);
+    s.q = ellipsoidToView(qw, P.right.xyz, P.up.xyz, P.back.xyz);
+    s.e = ellipsoidMul(s.m, c);
+    return s;
+}
+
 // The view-space centre of particle i (Camera::toView with glm::dot's order: (x + y) + z).
 vec3 viewCentre(uint i) {
     precise vec3 d = vec3(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]) - P.eye.xyz;
@@ -94,9 +140,9 @@ vec3 viewCentre(uint i) {
     return c;
 }
 
-// Pixel (x, y) against the sphere of view centre c: the nearest hit into the
-// depth bits, the clipped chord into the sums.
-void splatPixel(vec3 c, int x, int y) {
+// Pixel (x, y) against the sphere of view centre c (or the ellipsoid sh):
+// the nearest hit into the depth bits, the clipped chord into the sums.
+void splatPixel(vec3 c, Shape sh, int x, int y) {
     const int W = P.size.x, d = uDiv;
     const int outW = (W + d - 1) / d;
     const float invF = P.up.w, zNear = P.eye.w, r = P.radius;
@@ -109,10 +155,15 @@ void splatPixel(vec3 c, int x, int y) {
     precise float rx = ((float(d * x) + 0.5 * float(d)) - halfW) * invF;
     precise float len = sqrt((rx * rx + ry * ry) + 1.0);
     precise vec3 u = vec3(rx / len, ry / len, -1.0 / len);
-    precise float b = u.x * c.x + u.y * c.y + u.z * c.z;
-    precise vec3 o = c - b * u;
-    precise float h2 = r2 - (o.x * o.x + o.y * o.y + o.z * o.z);
-    if (h2 < 0.0) return;
+    precise float b, h2;
+    if (uEllipsoids != 0) {
+        rayEllipsoid(u.x, u.y, u.z, sh.m, sh.e, b, h2);
+    } else {
+        b = u.x * c.x + u.y * c.y + u.z * c.z;
+        precise vec3 o = c - b * u;
+        h2 = r2 - (o.x * o.x + o.y * o.y + o.z * o.z);
+    }
+    if (!(h2 >= 0.0)) return;
     precise float h = sqrt(h2);
     precise float t0 = b - h;
     const uint k = uint(y * outW + x);
@@ -143,8 +194,8 @@ void splatPixel(vec3 c, int x, int y) {
 // The output pixels the sphere of view centre c covers: its rectangle, or at
 // reduced resolution the blocks i with d (i + 1/2) in (x0 - 1/2, x1 + 1/2)
 // (cpu lowBegin / lowEnd; numerators shifted to stay positive).
-ivec4 outputRect(vec3 c) {
-    const ivec4 rect = sphereBounds(c, P.radius);
+ivec4 outputRect(vec3 c, Shape sh) {
+    const ivec4 rect = uEllipsoids != 0 ? ellipsoidBounds(c, sh.q) : sphereBounds(c, P.radius);
     const int d = uDiv;
     if (d == 1) return rect;
     const ivec2 lo = (2 * rect.xy - 1 - d + 8 * d) / (2 * d) - 3;
@@ -157,7 +208,8 @@ void main() {
         // Grid-stride loop: any particle count with a bounded dispatch size.
         for (uint i = gl_GlobalInvocationID.x; i < uCount; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
             const vec3 c = viewCentre(i);
-            const ivec4 rect = outputRect(c);
+            const Shape sh = viewShape(i, c);
+            const ivec4 rect = outputRect(c, sh);
             if (rect.x >= rect.z || rect.y >= rect.w) continue;
             if ((rect.z - rect.x) * (rect.w - rect.y) > kMaxPixels) {
                 const uint slot = atomicAdd(bigCount, 1u);
@@ -171,7 +223,7 @@ void main() {
             const int n = (rect.z - rect.x) * (rect.w - rect.y);
             int x = rect.x, y = rect.y;
             for (int p = 0; p < n; ++p) {
-                splatPixel(c, x, y);
+                splatPixel(c, sh, x, y);
                 const bool wrap = x + 1 == rect.z;
                 x = wrap ? rect.x : x + 1;
                 y = wrap ? y + 1 : y;
@@ -184,9 +236,10 @@ void main() {
         const uint first = gl_WorkGroupID.x * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
         for (uint s = gl_WorkGroupID.y; s < bigCount; s += kMaxGroups) {
             const vec3 c = viewCentre(bigList[s]);
-            const ivec4 rect = outputRect(c);
+            const Shape sh = viewShape(bigList[s], c);
+            const ivec4 rect = outputRect(c, sh);
             const uint w = uint(rect.z - rect.x), n = w * uint(rect.w - rect.y);
-            for (uint p = first; p < n; p += stride) splatPixel(c, rect.x + int(p % w), rect.y + int(p / w));
+            for (uint p = first; p < n; p += stride) splatPixel(c, sh, rect.x + int(p % w), rect.y + int(p / w));
         }
     }
 }

@@ -1,0 +1,353 @@
+// Anisotropic kernels (Yu & Turk 2013; core/anisotropy.h) and the ellipsoid
+// splat (shared/ellipsoid.h, cpu/splat.cpp): the eigen-solver, the shapes of
+// known neighbourhoods (bulk: the sphere; free surface and sheet: flat;
+// alone: small), invariances, the exact ray-ellipsoid depth and bounds, and
+// the splat's coverage of a one-particle sheet.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include "core/anisotropy.h"
+#include "cpu/splat.h"
+#include "cpu/thickness.h"
+#include "meniscus/io.h"
+#include "meniscus/particles.h"
+#include "meniscus/renderer.h"
+#include "test_util.h"
+
+using namespace meniscus;
+
+namespace {
+
+// A simple cubic lattice of n x n x n particles of spacing s, corner at the origin.
+std::vector<glm::vec3> block(int nx, int ny, int nz, float s) {
+    std::vector<glm::vec3> p;
+    for (int k = 0; k < nz; ++k)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) p.push_back(glm::vec3(float(i), float(j), float(k)) * s);
+    return p;
+}
+
+// The half-axes of a shape: sqrt of q's eigenvalues, descending, and its axes.
+glm::dvec3 halfAxes(const EllipsoidShape& e, glm::dmat3* axes = nullptr) {
+    glm::dvec3 v;
+    glm::dmat3 r;
+    symmetricEigen(glm::dmat3(e.q), v, r);
+    if (axes) *axes = r;
+    return glm::sqrt(glm::max(v, glm::dvec3(0.0)));
+}
+
+std::size_t indexOf(const std::vector<glm::vec3>& p, glm::vec3 x) {
+    for (std::size_t i = 0; i < p.size(); ++i)
+        if (glm::length(p[i] - x) < 1e-6f) return i;
+    return p.size();
+}
+
+Camera lookAt(glm::vec3 eye, glm::vec3 target, int w = 160, int h = 120) {
+    Camera c;
+    c.eye = eye;
+    c.target = target;
+    c.width = w;
+    c.height = h;
+    c.fovYDegrees = 40.0f;
+    return c;
+}
+
+}  // namespace
+
+TEST(Anisotropy, EigenDecompositionReconstructsTheMatrix) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int t = 0; t < 2000; ++t) {
+        // Random rotation and eigenvalues, some repeated (the degenerate cases the bulk gives).
+        const glm::dvec3 axis = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)) + glm::dvec3(1e-3));
+        const glm::dmat3 rot = glm::dmat3(glm::rotate(glm::dmat4(1.0), 3.0 * u(rng), axis));
+        glm::dvec3 lam(u(rng), u(rng), u(rng));
+        if (t % 4 == 1) lam.y = lam.x;
+        if (t % 4 == 2) lam.z = lam.y;
+        if (t % 8 == 3) lam = glm::dvec3(lam.x);
+        glm::dmat3 a(0.0);
+        for (int k = 0; k < 3; ++k) a += lam[k] * glm::outerProduct(rot[k], rot[k]);
+        glm::dvec3 v;
+        glm::dmat3 r;
+        symmetricEigen(a, v, r);
+        EXPECT_GE(v[0], v[1]);
+        EXPECT_GE(v[1], v[2]);
+        glm::dmat3 back(0.0);
+        for (int k = 0; k < 3; ++k) back += v[k] * glm::outerProduct(r[k], r[k]);
+        for (int c = 0; c < 3; ++c)
+            for (int k = 0; k < 3; ++k) ASSERT_NEAR(back[c][k], a[c][k], 1e-9) << t;
+        EXPECT_NEAR(glm::determinant(r), 1.0, 1e-9);  // orthonormal, right-handed
+    }
+}
+
+TEST(Anisotropy, BulkIsTheSphereFreeSurfaceFlattensAloneShrinks) {
+    const float r = 0.01f, s = 2.0f * r;
+    std::vector<glm::vec3> p = block(12, 12, 12, s);
+    const glm::vec3 lone(-1.0f, -1.0f, -1.0f);
+    p.push_back(lone);
+    AnisotropyParams params;
+    params.smoothing = 0.0f;
+    Ellipsoids e;
+    computeAnisotropy(p, r, params, e);
+    // Isolated: the lone particle, and the block's 8 corners (7 neighbours
+    // closer than 2 spacings, under N_eps = 8); edges and faces are not.
+    EXPECT_EQ(e.isolated, 9u);
+    // Bulk: a sphere of radius r (the lattice's covariance is isotropic).
+    const glm::dvec3 bulk = halfAxes(e.shapes[indexOf(p, glm::vec3(6, 6, 6) * s)]);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(bulk[k], r, 1e-4 * r);
+    // Middle of the top face (y = 11 s): flat along y, wide along x and z,
+    // the volume of the sphere, the ratio at most kr.
+    glm::dmat3 axes;
+    const glm::dvec3 top = halfAxes(e.shapes[indexOf(p, glm::vec3(6, 11, 6) * s)], &axes);
+    EXPECT_NEAR(std::abs(axes[2].y), 1.0, 1e-6);  // the shortest axis is the normal
+    EXPECT_LT(top[2], 0.7 * r);
+    EXPECT_GT(top[0], 1.2 * r);
+    EXPECT_NEAR(top[0] * top[1] * top[2], double(r) * r * r, 1e-6 * r * r * r);
+    EXPECT_LE(top[0] / top[2], params.kr * (1.0 + 1e-6));
+    // The lone particle: a sphere of kn r.
+    const glm::dvec3 alone = halfAxes(e.shapes.back());
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(alone[k], params.kn * r, 1e-6 * r);
+    // Without smoothing the centres stay put.
+    for (std::size_t i = 0; i < p.size(); ++i) ASSERT_EQ(e.centres[i], p[i]);
+}
+
+TEST(Anisotropy, SmoothingMovesSurfaceCentresInwardAndLeavesTheBulk) {
+    const float r = 0.01f, s = 2.0f * r;
+    const std::vector<glm::vec3> p = block(12, 12, 12, s);
+    AnisotropyParams params;
+    params.smoothing = 1.0f;
+    Ellipsoids e;
+    computeAnisotropy(p, r, params, e);
+    const std::size_t bulk = indexOf(p, glm::vec3(6, 6, 6) * s), top = indexOf(p, glm::vec3(6, 11, 6) * s);
+    EXPECT_LT(glm::length(e.centres[bulk] - p[bulk]), 1e-6f);
+    // The top face's weighted mean lies below it: smoothing moves it down, not sideways.
+    EXPECT_LT(e.centres[top].y, p[top].y - 0.1f * r);
+    EXPECT_NEAR(e.centres[top].x, p[top].x, 1e-6f);
+    EXPECT_NEAR(e.centres[top].z, p[top].z, 1e-6f);
+}
+
+TEST(Anisotropy, ASheetIsFlatAlongItsNormalWhateverItsOrientation) {
+    const float r = 0.01f, s = 2.0f * r;
+    const std::vector<glm::vec3> flat = block(15, 1, 15, s);  // in the xz plane
+    const glm::mat3 rot = glm::mat3(glm::rotate(glm::mat4(1.0f), 0.7f, glm::normalize(glm::vec3(1, 2, 3))));
+    std::vector<glm::vec3> turned;
+    for (const glm::vec3& x : flat) turned.push_back(rot * x);
+    AnisotropyParams params;
+    Ellipsoids a, b;
+    computeAnisotropy(flat, r, params, a);
+    computeAnisotropy(turned, r, params, b);
+    const std::size_t mid = indexOf(flat, glm::vec3(7, 0, 7) * s);
+    glm::dmat3 axesA, axesB;
+    const glm::dvec3 ha = halfAxes(a.shapes[mid], &axesA), hb = halfAxes(b.shapes[mid], &axesB);
+    EXPECT_NEAR(ha[0] / ha[2], params.kr, 1e-3);  // clamped at kr
+    EXPECT_NEAR(std::abs(axesA[2].y), 1.0, 1e-6);
+    // Rotation equivariance: the same axes, turned.
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(hb[k], ha[k], 1e-4 * r);
+    EXPECT_NEAR(std::abs(glm::dot(glm::dvec3(rot * glm::vec3(axesA[2])), axesB[2])), 1.0, 1e-4);
+}
+
+TEST(Anisotropy, ScaleInvariantAndTheSameForAnyThreadCount) {
+    auto set = readParticles(test::testData("splishsplash/partio/ParticleData_Fluid_21.bgeo").string());
+    ASSERT_TRUE(set) << set.error().describe();
+    const std::vector<glm::vec3>& p = set->positions;
+    const float r = 0.025f;
+    AnisotropyParams params;
+    Ellipsoids one, two, scaled;
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        computeAnisotropy(p, r, params, one);
+    }
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+        computeAnisotropy(p, r, params, two);
+    }
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        ASSERT_EQ(one.centres[i], two.centres[i]);
+        ASSERT_EQ(std::memcmp(&one.shapes[i], &two.shapes[i], sizeof(EllipsoidShape)), 0) << i;
+    }
+    // Scaling positions and radius by 4 (a power of two: exact) scales m by 1/4 and q by 16.
+    std::vector<glm::vec3> big;
+    for (const glm::vec3& x : p) big.push_back(4.0f * x);
+    computeAnisotropy(big, 4.0f * r, params, scaled);
+    EXPECT_EQ(scaled.isolated, one.isolated);
+    for (std::size_t i = 0; i < p.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            for (int k = 0; k < 3; ++k) {
+                ASSERT_NEAR(scaled.shapes[i].m[c][k], one.shapes[i].m[c][k] / 4.0f, 1e-3f / r) << i;
+                ASSERT_NEAR(scaled.shapes[i].q[c][k], one.shapes[i].q[c][k] * 16.0f, 1e-5f * 16.0f * r * r) << i;
+            }
+}
+
+// ---- The ellipsoid splat ------------------------------------------------------
+
+namespace {
+
+// The nearest hit of the pixel ray through (i, j) with the world ellipsoid
+// (centre c, half-axes a along the columns of rot), in double, as eye depth;
+// NaN for a miss; *grazing when the ray nearly touches it.
+double analyticEllipsoidDepth(const Camera& cam, int i, int j, const glm::dvec3& c, const glm::dmat3& rot,
+                              const glm::dvec3& a, bool* grazing) {
+    const double f = 0.5 * cam.height / std::tan(0.5 * glm::radians(double(cam.fovYDegrees)));
+    const glm::dvec3 dv{(i + 0.5 - 0.5 * cam.width) / f, -(j + 0.5 - 0.5 * cam.height) / f, -1.0};
+    const glm::dvec3 right(cam.right()), up(cam.trueUp()), back(cam.back());
+    const glm::dvec3 dir = dv.x * right + dv.y * up + dv.z * back;  // world, eye depth 1 per unit parameter
+    const glm::dvec3 o = glm::dvec3(cam.eye) - c;
+    // In the ellipsoid's frame scaled to the unit sphere.
+    glm::dvec3 od, dd;
+    for (int k = 0; k < 3; ++k) od[k] = glm::dot(rot[k], o) / a[k], dd[k] = glm::dot(rot[k], dir) / a[k];
+    const double A = glm::dot(dd, dd), B = glm::dot(dd, od), C = glm::dot(od, od) - 1.0;
+    const double disc = B * B - A * C;
+    *grazing = std::abs(disc) < 2e-3 * A;  // disc = A (1 - squared miss distance in the unit sphere's space)
+    if (disc < 0) return std::nan("");
+    return (-B - std::sqrt(disc)) / A;
+}
+
+}  // namespace
+
+TEST(EllipsoidSplat, MatchesTheAnalyticEllipsoidAndItsBounds) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int t = 0; t < 12; ++t) {
+        const Camera cam = lookAt({0.3f * u(rng), 0.4f + 0.2f * u(rng), 2.0f}, {0.0f, 0.0f, 0.0f});
+        const glm::vec3 c(0.3f * u(rng), 0.3f * u(rng), 0.3f * u(rng));
+        const glm::vec3 axis = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(1e-3f));
+        const glm::mat3 rot = glm::mat3(glm::rotate(glm::mat4(1.0f), 3.0f * u(rng), axis));
+        const glm::vec3 a(0.2f + 0.1f * u(rng), 0.1f + 0.05f * u(rng), 0.04f + 0.02f * u(rng));
+        const EllipsoidShape shape = ellipsoidShape(rot, a);
+        const Image<float> depth = cpu::splatDepth(cam, std::span(&c, 1), 1.0f, nullptr, std::span(&shape, 1));
+        const cpu::SplatBins bins = cpu::binParticles(cam, std::span(&c, 1), 1.0f, std::span(&shape, 1));
+        const cpu::PixelRect rect = bins.rects[0];
+        int covered = 0, rectMinX = cam.width, rectMaxX = -1, rectMinY = cam.height, rectMaxY = -1;
+        for (int j = 0; j < cam.height; ++j)
+            for (int i = 0; i < cam.width; ++i) {
+                bool grazing = false;
+                const double z = analyticEllipsoidDepth(cam, i, j, glm::dvec3(c), glm::dmat3(rot), glm::dvec3(a), &grazing);
+                if (!std::isnan(z)) {  // the rectangle is the hit pixels' bounding box, give or take grazing rays
+                    rectMinX = std::min(rectMinX, i), rectMaxX = std::max(rectMaxX, i);
+                    rectMinY = std::min(rectMinY, j), rectMaxY = std::max(rectMaxY, j);
+                    EXPECT_TRUE(i >= rect.x0 && i < rect.x1 && j >= rect.y0 && j < rect.y1) << t << ": " << i << "," << j;
+                }
+                if (grazing) continue;
+                const float got = depth.at(i, j);
+                if (std::isnan(z)) {
+                    EXPECT_TRUE(std::isinf(got)) << t << ": " << i << "," << j;
+                } else {
+                    ++covered;
+                    EXPECT_LE(std::abs(got - z) / z, 2e-5) << t << ": " << i << "," << j;
+                }
+            }
+        EXPECT_GT(covered, 50) << t;
+        // Tight: no more than a pixel of slack on any side.
+        EXPECT_GE(rectMinX, rect.x0 - 1);
+        EXPECT_LE(rect.x0, rectMinX);
+        EXPECT_LE(rect.x1 - 1 - rectMaxX, 1);
+        EXPECT_LE(rect.y0, rectMinY);
+        EXPECT_LE(rect.y1 - 1 - rectMaxY, 1);
+        EXPECT_GE(rectMinY - rect.y0, 0);
+        EXPECT_LE(rectMinX - rect.x0, 1);
+        EXPECT_LE(rectMinY - rect.y0, 1);
+    }
+}
+
+TEST(EllipsoidSplat, TheSphereShapeGivesTheSphereSplat) {
+    auto set = readParticles(test::testData("splishsplash/partio/ParticleData_Fluid_21.bgeo").string());
+    ASSERT_TRUE(set) << set.error().describe();
+    const float r = 0.025f;
+    const Camera cam = lookAt({2.5f, 2.1f, 2.9f}, {0.43f, 0.45f, 0.0f}, 320, 180);
+    const std::vector<EllipsoidShape> spheres(set->positions.size(), sphereShape(r));
+    ThicknessParams tp;
+    const auto a = cpu::splatDepthAndThickness(cam, set->positions, r, tp);
+    const auto b = cpu::splatDepthAndThickness(cam, set->positions, r, tp, nullptr, spheres);
+    int fluid = 0;
+    for (std::size_t k = 0; k < a.depth.pixels.size(); ++k) {
+        ASSERT_EQ(std::isinf(a.depth.pixels[k]), std::isinf(b.depth.pixels[k])) << k;
+        if (std::isinf(a.depth.pixels[k])) continue;
+        ++fluid;
+        EXPECT_NEAR(b.depth.pixels[k], a.depth.pixels[k], 2e-5f * a.depth.pixels[k]) << k;
+        EXPECT_NEAR(b.thickness.pixels[k], a.thickness.pixels[k], 1e-4f * r + 1e-4f * a.thickness.pixels[k]) << k;
+    }
+    EXPECT_GT(fluid, 1000);
+}
+
+TEST(EllipsoidSplat, OneParticleSheetAtRestSpacingIsClosed) {
+    // A sheet one particle thick at the rest spacing 2r, seen face on: the
+    // spheres leave a hole at every corner of four; the flattened ellipsoids
+    // (wider than r along the sheet) cover it all, at a depth within r/2 of
+    // the sheet's plane.
+    const float r = 0.01f, s = 2.0f * r;
+    std::vector<glm::vec3> p = block(30, 30, 1, s);
+    const glm::vec3 mid = glm::vec3(14.5f, 14.5f, 0.0f) * s;
+    const Camera cam = lookAt(mid + glm::vec3(0.0f, 0.0f, 0.5f), mid, 200, 200);
+    AnisotropyParams params;
+    params.smoothing = 0.0f;
+    Ellipsoids e;
+    computeAnisotropy(p, r, params, e);
+    const Image<float> spheres = cpu::splatDepth(cam, p, r);
+    const Image<float> ellipsoids = cpu::splatDepth(cam, e.centres, r, nullptr, e.shapes);
+    // The inner part of the sheet (the outermost two rows of particles see half a neighbourhood).
+    const float f = cam.focalPx(), halfPx = 12.0f * s * f / 0.5f;
+    int holesSpheres = 0, holesEllipsoids = 0, inner = 0;
+    for (int j = 0; j < cam.height; ++j)
+        for (int i = 0; i < cam.width; ++i) {
+            if (std::abs(i + 0.5f - 100.0f) > halfPx || std::abs(j + 0.5f - 100.0f) > halfPx) continue;
+            ++inner;
+            holesSpheres += std::isinf(spheres.at(i, j));
+            const float z = ellipsoids.at(i, j);
+            holesEllipsoids += std::isinf(z);
+            if (!std::isinf(z)) {
+                EXPECT_NEAR(z, 0.5f, 0.5f * r) << i << "," << j;
+            }
+        }
+    EXPECT_GT(inner, 10000);
+    EXPECT_GT(holesSpheres, inner / 20);  // the spheres' gaps: 1 - pi/4 of the area between centres
+    EXPECT_EQ(holesEllipsoids, 0);
+}
+
+// ---- Through the Renderer -----------------------------------------------------
+
+TEST(AnisotropyPipeline, RendersWithItsTimingLineTheSameForAnyThreadCount) {
+    auto set = readParticles(test::testData("splishsplash/partio/ParticleData_Fluid_21.bgeo").string());
+    ASSERT_TRUE(set) << set.error().describe();
+    RenderSettings s;
+    s.radiusM = 0.025f;
+    s.camera = lookAt({2.5f, 2.1f, 2.9f}, {0.43f, 0.45f, 0.0f}, 192, 108);
+    s.anisotropy.enabled = true;
+    std::vector<StageTime> times;
+    Aovs one, two;
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        auto a = Renderer().render(set->positions, s, &times);
+        ASSERT_TRUE(a) << a.error().describe();
+        one = std::move(*a);
+    }
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+        auto b = Renderer().render(set->positions, s);
+        ASSERT_TRUE(b) << b.error().describe();
+        two = std::move(*b);
+    }
+    EXPECT_TRUE(std::any_of(times.begin(), times.end(), [](const StageTime& t) { return t.stage == "anisotropy"; }));
+    EXPECT_EQ(std::memcmp(one.color.pixels.data(), two.color.pixels.data(), one.color.pixels.size() * sizeof(glm::vec4)), 0);
+    EXPECT_EQ(std::memcmp(one.depth.pixels.data(), two.depth.pixels.data(), one.depth.pixels.size() * sizeof(float)), 0);
+    // The raw depth is the ellipsoids' splat, not the spheres'.
+    s.anisotropy.enabled = false;
+    auto spheres = Renderer().render(set->positions, s);
+    ASSERT_TRUE(spheres);
+    EXPECT_NE(std::memcmp(one.rawDepth.pixels.data(), spheres->rawDepth.pixels.data(),
+                          one.rawDepth.pixels.size() * sizeof(float)),
+              0);
+    // Parameters out of range are an error naming the field.
+    s.anisotropy.enabled = true;
+    s.anisotropy.kr = 0.5f;
+    auto bad = Renderer().render(set->positions, s);
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().describe().find("anisotropy.kr"), std::string::npos) << bad.error().describe();
+}
