@@ -95,6 +95,7 @@ TEST(Anisotropy, BulkIsTheSphereFreeSurfaceFlattensAloneShrinks) {
     p.push_back(lone);
     AnisotropyParams params;
     params.smoothing = 0.0f;
+    params.keepSurface = false;
     Ellipsoids e;
     computeAnisotropy(p, r, params, e);
     // Isolated: the lone particle, and the block's 8 corners (7 neighbours
@@ -115,8 +116,33 @@ TEST(Anisotropy, BulkIsTheSphereFreeSurfaceFlattensAloneShrinks) {
     // The lone particle: a sphere of kn r.
     const glm::dvec3 alone = halfAxes(e.shapes.back());
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(alone[k], params.kn * r, 1e-6 * r);
-    // Without smoothing the centres stay put.
+    // Without smoothing (and keepSurface) the centres stay put.
     for (std::size_t i = 0; i < p.size(); ++i) ASSERT_EQ(e.centres[i], p[i]);
+}
+
+TEST(Anisotropy, KeepSurfaceMovesAFaceOutwardAndNotTheBulkOrASheet) {
+    const float r = 0.01f, s = 2.0f * r;
+    const std::vector<glm::vec3> p = block(12, 12, 12, s);
+    AnisotropyParams params;  // keepSurface on by default
+    Ellipsoids e;
+    computeAnisotropy(p, r, params, e);
+    const std::size_t bulk = indexOf(p, glm::vec3(6, 6, 6) * s), top = indexOf(p, glm::vec3(6, 11, 6) * s);
+    EXPECT_LT(glm::length(e.centres[bulk] - p[bulk]), 1e-6f);
+    // The top face: moved straight up, its outer side (centre + the short
+    // half-axis) back near where the sphere's was (p + r), never beyond.
+    const double a3 = halfAxes(e.shapes[top])[2];
+    EXPECT_GT(e.centres[top].y, p[top].y + 0.1f * r);
+    EXPECT_NEAR(e.centres[top].x, p[top].x, 1e-6f);
+    EXPECT_NEAR(e.centres[top].z, p[top].z, 1e-6f);
+    const double outer = double(e.centres[top].y) + a3 - double(p[top].y);
+    EXPECT_GT(outer, 0.8 * r);
+    EXPECT_LE(outer, 1.0001 * r);
+    // A sheet's neighbourhood is symmetric: its middle stays put.
+    const std::vector<glm::vec3> sheet = block(15, 1, 15, s);
+    Ellipsoids f;
+    computeAnisotropy(sheet, r, params, f);
+    const std::size_t mid = indexOf(sheet, glm::vec3(7, 0, 7) * s);
+    EXPECT_LT(glm::length(f.centres[mid] - sheet[mid]), 1e-3f * r);
 }
 
 TEST(Anisotropy, SmoothingMovesSurfaceCentresInwardAndLeavesTheBulk) {
@@ -124,6 +150,7 @@ TEST(Anisotropy, SmoothingMovesSurfaceCentresInwardAndLeavesTheBulk) {
     const std::vector<glm::vec3> p = block(12, 12, 12, s);
     AnisotropyParams params;
     params.smoothing = 1.0f;
+    params.keepSurface = false;
     Ellipsoids e;
     computeAnisotropy(p, r, params, e);
     const std::size_t bulk = indexOf(p, glm::vec3(6, 6, 6) * s), top = indexOf(p, glm::vec3(6, 11, 6) * s);
@@ -350,4 +377,100 @@ TEST(AnisotropyPipeline, RendersWithItsTimingLineTheSameForAnyThreadCount) {
     auto bad = Renderer().render(set->positions, s);
     ASSERT_FALSE(bad);
     EXPECT_NE(bad.error().describe().find("anisotropy.kr"), std::string::npos) << bad.error().describe();
+}
+
+// ---- The particles' own radii (issue 17, item 2) ------------------------------
+
+TEST(ParticleRadii, TheViewTakesRadiusOrPscale) {
+    ParticleSet set;
+    set.positions = {{0, 0, 0}, {1, 0, 0}};
+    set.attributes.push_back({"pscale", AttributeType::Float, 1, {0.5f, 0.25f}, {}});
+    ParticleView v = ParticleView::of(set);
+    ASSERT_TRUE(v.radius.present());
+    EXPECT_EQ(v.radius[1], 0.25f);
+    set.attributes.push_back({"radius", AttributeType::Float, 1, {0.1f, 0.2f}, {}});
+    v = ParticleView::of(set);
+    EXPECT_EQ(v.radius[0], 0.1f);  // "radius" first
+    set.attributes.clear();
+    EXPECT_FALSE(ParticleView::of(set).radius.present());
+}
+
+TEST(ParticleRadii, EachParticleIsDrawnAtItsOwnRadius) {
+    // Two particles side by side, the right one twice the radius in its
+    // attribute: the raw depth at each centre pixel is its own sphere's front.
+    const float r = 0.05f;
+    std::vector<glm::vec3> p = {{-0.3f, 0.0f, 0.0f}, {0.3f, 0.0f, 0.0f}};
+    const std::vector<float> radii = {r, 2.0f * r};
+    RenderSettings s;
+    s.radiusM = r;
+    s.camera = lookAt({0.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 480, 240);
+    s.scene.background = false;
+    ParticleView view(p);
+    view.radius = StridedView<float>(std::span<const float>(radii));
+    auto own = Renderer().render(view, s);
+    ASSERT_TRUE(own) << own.error().describe();
+    auto pixelOf = [&](glm::vec3 x) {
+        const glm::vec3 v = s.camera.toView(x);
+        const float f = s.camera.focalPx();
+        return glm::ivec2(int(240.0f + f * v.x / -v.z), int(120.0f - f * v.y / -v.z));
+    };
+    const glm::ivec2 a = pixelOf(p[0]), b = pixelOf(p[1]);
+    // The nearest eye depth of a sphere is its centre's, 2, less its radius:
+    // the least raw depth around its centre pixel (flat there to second order).
+    auto front = [](const Image<float>& z, glm::ivec2 c) {
+        float m = std::numeric_limits<float>::infinity();
+        for (int y = c.y - 3; y <= c.y + 3; ++y)
+            for (int x = c.x - 3; x <= c.x + 3; ++x) m = std::min(m, z.at(x, y));
+        return m;
+    };
+    EXPECT_NEAR(front(own->rawDepth, a), 2.0f - r, 0.01f * r);
+    EXPECT_NEAR(front(own->rawDepth, b), 2.0f - 2.0f * r, 0.01f * r);
+    // Without them (an explicit --radius): both at the radius.
+    s.particleRadii = false;
+    auto uniform = Renderer().render(view, s);
+    ASSERT_TRUE(uniform);
+    EXPECT_NEAR(front(uniform->rawDepth, b), 2.0f - r, 0.01f * r);
+    // The anisotropy keeps each lone particle's own size: kn times its radius.
+    s.particleRadii = true;
+    s.anisotropy.enabled = true;
+    auto lone = Renderer().render(view, s);
+    ASSERT_TRUE(lone);
+    EXPECT_NEAR(front(lone->rawDepth, b), 2.0f - s.anisotropy.kn * 2.0f * r, 0.01f * r);
+    // A radius that is not a positive number of metres is an error naming the particle.
+    const std::vector<float> bad = {r, -1.0f};
+    view.radius = StridedView<float>(std::span<const float>(bad));
+    auto err = Renderer().render(view, s);
+    ASSERT_FALSE(err);
+    EXPECT_NE(err.error().describe().find("particle 1 has radius"), std::string::npos) << err.error().describe();
+}
+
+TEST(ParticleRadii, AUniformRadiusAttributeRendersLikeTheRadius) {
+    auto set = readParticles(test::testData("splishsplash/partio/ParticleData_Fluid_21.bgeo").string());
+    ASSERT_TRUE(set) << set.error().describe();
+    RenderSettings s;
+    s.radiusM = 0.025f;
+    s.camera = lookAt({2.5f, 2.1f, 2.9f}, {0.43f, 0.45f, 0.0f}, 192, 108);
+    auto plain = Renderer().render(set->positions, s);
+    set->attributes.push_back({"radius", AttributeType::Float, 1, std::vector<float>(set->size(), 0.025f), {}});
+    auto own = Renderer().render(ParticleView::of(*set), s);
+    ASSERT_TRUE(plain && own);
+    for (std::size_t k = 0; k < plain->rawDepth.pixels.size(); ++k) {
+        const float a = plain->rawDepth.pixels[k], b = own->rawDepth.pixels[k];
+        ASSERT_EQ(std::isinf(a), std::isinf(b)) << k;
+        if (!std::isinf(a)) {
+            ASSERT_NEAR(b, a, 2e-5f * a) << k;
+        }
+    }
+}
+
+TEST(ParticleRadii, AnisotropyKeepsEachParticlesOwnVolume) {
+    const float r = 0.01f, s = 2.0f * r;
+    const std::vector<glm::vec3> p = block(12, 12, 12, s);
+    const std::vector<float> radii(p.size(), 1.5f * r);
+    Ellipsoids e;
+    computeAnisotropy(p, r, AnisotropyParams{}, e, radii);
+    const glm::dvec3 bulk = halfAxes(e.shapes[indexOf(p, glm::vec3(6, 6, 6) * s)]);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(bulk[k], 1.5 * r, 1e-4 * r);
+    const glm::dvec3 top = halfAxes(e.shapes[indexOf(p, glm::vec3(6, 11, 6) * s)]);
+    EXPECT_NEAR(top[0] * top[1] * top[2], std::pow(1.5 * r, 3.0), 1e-6 * std::pow(1.5 * r, 3.0));
 }

@@ -143,7 +143,8 @@ TEST_F(GlBackend, LowResolutionThicknessMatchesCpu) {
 }
 
 // Anisotropic kernels through the whole pipeline: full resolution, the
-// fluid at half resolution, and two fluids (each its own ellipsoids).
+// fluid at half resolution, and two fluids (each its own ellipsoids); the
+// particles' own radii, as spheres and as ellipsoids.
 TEST_F(GlBackend, AnisotropicKernelsMatchCpu) {
     Frame f = realFrameSettings();
     ASSERT_FALSE(f.positions.empty());
@@ -152,12 +153,19 @@ TEST_F(GlBackend, AnisotropicKernelsMatchCpu) {
     Renderer cpu;
     f.settings.anisotropy.enabled = true;
     std::vector<std::int64_t> fluid(f.positions.size());
-    for (std::size_t i = 0; i < fluid.size(); ++i) fluid[i] = f.positions[i].x < 0.5f ? 0 : 1;
-    for (int variant = 0; variant < 3; ++variant) {
+    std::vector<float> radii(f.positions.size());
+    for (std::size_t i = 0; i < fluid.size(); ++i) {
+        fluid[i] = f.positions[i].x < 0.5f ? 0 : 1;
+        radii[i] = f.settings.radiusM * (0.8f + 0.4f * float(i % 7) / 6.0f);
+    }
+    // 0: ellipsoids; 1: at half resolution; 2: two fluids; 3: own radii, spheres; 4: own radii, ellipsoids.
+    for (int variant = 0; variant < 5; ++variant) {
         SCOPED_TRACE(variant);
         ParticleView view(f.positions);
         f.settings.fluidScale = variant == 1 ? 0.5f : 1.0f;
+        f.settings.anisotropy.enabled = variant != 3;
         if (variant == 2) view.fluid = StridedView<std::int64_t>(std::span<const std::int64_t>(fluid));
+        if (variant >= 3) view.radius = StridedView<float>(std::span<const float>(radii));
         auto a = cpu.render(view, f.settings);
         auto b = gl->render(view, f.settings);
         ASSERT_TRUE(a.ok()) << a.error().describe();

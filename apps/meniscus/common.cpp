@@ -95,7 +95,8 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     if (radiusOption)
         cmd->add_option("--radius", o.radius,
                         "Particle radius in metres (default: the file's radius attribute, else estimated from the "
-                        "bulk number density; docs/radius.md)");
+                        "bulk number density; docs/radius.md). Given, it also replaces a file's per-particle radii "
+                        "(radius, pscale or particle_radius), which are otherwise drawn particle by particle");
     cmd->add_option("--view", o.view,
                     "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
                     "smoothing), normals, thickness, noise (surface noise N), foam (foam cover), whitening (velocity "
@@ -179,6 +180,10 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     cmd->add_option("--anisotropy-neighbours", an.minNeighbours,
                     "Fewer neighbours than this within the radius: the particle counts as isolated")
         ->capture_default_str();
+    cmd->add_option("--anisotropy-keep-surface", an.keepSurface,
+                    "Move each flattened free-surface ellipsoid outward so the surface stays where the spheres put "
+                    "it (true or false)")
+        ->capture_default_str();
     cmd->add_option("--anisotropy-smoothing", an.smoothing,
                     "How far each ellipsoid's centre moves toward its neighbours' weighted mean, 0 to 1")
         ->capture_default_str();
@@ -254,6 +259,7 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
         return makeError("", "--view silhouette shows the silhouette map: add --silhouette");
     if (o.anisotropy != "on" && o.anisotropy != "off")
         return makeError("", "--anisotropy " + o.anisotropy + ": expected on or off");
+    s.particleRadii = o.radius == 0.0f;  // an explicit --radius replaces the file's own radii
     s.anisotropy = o.anisotropyParams;
     s.anisotropy.enabled = o.anisotropy == "on";
     if (s.anisotropy.enabled)

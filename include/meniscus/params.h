@@ -276,6 +276,11 @@ struct AnisotropyParams {
     float kn = 0.5f;              // a particle with too few neighbours is a sphere of kn r (Yu & Turk's kn)
     int minNeighbours = 8;        // N_eps: fewer neighbours within R (itself not counted) = isolated
     float smoothing = 0.0f;       // lambda of the centres' Laplacian smoothing, 0 (none) .. 1
+    // Keep a free surface where the spheres put it: a flattened ellipsoid at
+    // the surface moves outward along its shortest axis by r minus that
+    // half-axis, scaled by how one-sided its neighbourhood is (0 in the bulk
+    // and in a sheet, 1 at a flat face).
+    bool keepSurface = true;
 };
 // Why these values (docs/quality.md has the measurements against refsurf):
 // kr = 4 and kn = 0.5 are Yu & Turk's. Within R = 2 rest spacings a particle

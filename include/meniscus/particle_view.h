@@ -52,6 +52,9 @@ struct StridedView {
 // id, velocity and density; the readers map their columns to these names).
 inline constexpr std::string_view kAttrFluid = "fluid";  // Int, 1 component: which fluid (0, 1, ...)
 inline constexpr std::string_view kAttrColor = "color";  // Float, 3 components: linear RGB in [0, 1]
+// Float, 1 component, metres: each particle's own radius. ParticleView::of
+// takes the first of these names a set has (Houdini writes pscale).
+inline constexpr std::string_view kAttrRadiusNames[] = {"radius", "pscale", "particle_radius"};
 
 struct ParticleView {
     StridedView<glm::vec3> positions;   // metres, world space (required)
@@ -60,6 +63,7 @@ struct ParticleView {
     StridedView<std::int64_t> id;       // the simulation's particle id
     StridedView<std::int64_t> fluid;    // fluid index, 0-based
     StridedView<glm::vec3> color;       // linear RGB
+    StridedView<float> radius;          // metres, each particle's own (variable resolution)
 
     ParticleView() = default;
     // Positions alone (every existing caller of render(span) keeps working).

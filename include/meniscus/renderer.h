@@ -88,6 +88,13 @@ struct RenderSettings {
     // of its neighbourhood, centred on its smoothed position (each fluid's
     // own, with several); the other stages use the smoothed positions too.
     AnisotropyParams anisotropy;
+    // The particles' own radii (ParticleView::radius, e.g. a file's radius or
+    // pscale attribute; variable resolution): when present and this is set,
+    // the splat and the thickness draw each particle at its own radius (and
+    // the anisotropy keeps each one's own volume); radiusM still sizes the
+    // filters, normals and the other stages' kernels. An error when a radius
+    // is not a positive number of metres in range (checkRadius).
+    bool particleRadii = true;
     // Reduced-resolution processing (SPEC §3.9; the NVIDIA patent; Instant
     // Liquids §5): 1 (off), 0.5 or 0.25: the splat, smoothing, normals and
     // noise run at that fraction of the width and height, and the surface is
@@ -203,7 +210,8 @@ private:
     std::int64_t turbulenceFrame_ = -1;  // the frameIndex noiseAmplitude_ belongs to; -1 = none
     std::unique_ptr<SpraySplit> spray_;  // this frame's body of water and drops, with the spray on
     double sprayClassifyMs_ = -1.0;      // its host time this frame (the bench's spray-classify line); -1 = none
-    std::vector<Ellipsoids> ellipsoids_;  // with anisotropy: one set per fluid drawn (or one)
+    std::vector<Ellipsoids> ellipsoids_;  // with anisotropy or own radii: one set per fluid drawn (or one)
+    std::vector<float> radii_;            // one fluid's own radii, contiguous
     double anisotropyMs_ = -1.0;         // their host time this frame (the bench's anisotropy line); -1 = none
     std::unique_ptr<FluidSplit> fluids_;  // this frame's fluids, when the particles carry a fluid index
     std::vector<int> layerFluids_;       // several fluids: each composited layer's fluid index; else empty

@@ -141,16 +141,20 @@ namespace {
 
 // One particle's ellipsoid from its candidate neighbours (plain arrays,
 // padded to whole vectors with far points): returns whether it is isolated.
+// The weighted mean offset of a flat half-space's neighbourhood, in units of
+// R: with w = 1 - (d/R)^3, E_w[d cos theta] over the half ball =
+// (1/2) (R^4/4 - R^4/7) / (R^3/3 - R^3/6) / R = 9/28.
+constexpr double kHalfSpaceOffset = 9.0 / 28.0;
+
 struct Pca {
     float R2, invR3;
     const AnisotropyParams& params;
-    float radius;
-    EllipsoidShape lone;
 
     // The candidates: points [b, e) of each range of the SoA arrays xs, ys,
     // zs (padded past the last point, so a whole vector may be loaded at the
     // end of a range; the lanes past it are masked).
-    bool operator()(const glm::vec3& p, const float* xs, const float* ys, const float* zs,
+    // `radius`: the particle's own radius (its volume, and its size alone).
+    bool operator()(const glm::vec3& p, float radius, const float* xs, const float* ys, const float* zs,
                     std::span<const std::pair<std::uint32_t, std::uint32_t>> ranges, glm::vec3& centre,
                     EllipsoidShape& shape) const {
         // Weighted sums of the offsets d = x_j - x_i: W, sum w d, sum w d d^T,
@@ -179,7 +183,7 @@ struct Pca {
         const glm::dvec3 mu = glm::dvec3(hsum(sx), hsum(sy), hsum(sz)) / Wd;
         centre = glm::vec3(glm::dvec3(p) + double(params.smoothing) * mu);  // Yu & Turk eq. 6
         if (count - 1 < params.minNeighbours) {
-            shape = lone;
+            shape = sphereShape(params.kn * radius);
             return true;
         }
         const double cxx = hsum(sxx), cxy = hsum(sxy), cxz = hsum(sxz);
@@ -192,7 +196,7 @@ struct Pca {
         glm::dmat3 axes;
         symmetricEigen(cov, sigma, axes);
         if (!(sigma[0] > 0.0)) {  // all neighbours on the particle itself
-            shape = lone;
+            shape = sphereShape(params.kn * radius);
             return true;
         }
         // Yu & Turk eq. 13: the smaller axes at least 1/kr of the largest;
@@ -201,6 +205,16 @@ struct Pca {
         const glm::dvec3 s3(sigma[0], std::max(sigma[1], floor), std::max(sigma[2], floor));
         const glm::dvec3 a = s3 * (double(radius) / std::cbrt(s3.x * s3.y * s3.z));
         shape = {fromAxes(axes, 1.0 / a), fromAxes(axes, a * a)};
+        if (params.keepSurface && a.z < radius) {
+            // At a free surface the neighbours' mean lies inward along the
+            // shortest axis; the flattened ellipsoid would end a - a.z short
+            // of the sphere's outer side. Move it out by that much, scaled by
+            // how one-sided the neighbourhood is (a flat half-space's mean
+            // offset is kHalfSpaceOffset R; a sheet's or the bulk's is ~0).
+            const double m = glm::dot(mu, axes[2]);
+            const double t = std::min(std::abs(m) / (kHalfSpaceOffset * std::sqrt(double(R2))), 1.0);
+            centre += glm::vec3((m > 0.0 ? -1.0 : 1.0) * t * (double(radius) - a.z) * axes[2]);
+        }
         return false;
     }
 };
@@ -208,14 +222,15 @@ struct Pca {
 }  // namespace
 
 void computeAnisotropy(std::span<const glm::vec3> positions, float radius, const AnisotropyParams& params,
-                       Ellipsoids& out) {
+                       Ellipsoids& out, std::span<const float> radii) {
     const std::size_t n = positions.size();
     out.centres.resize(n);
     out.shapes.resize(n);
     out.isolated = 0;
     if (n == 0) return;
     const float R = params.neighbourRadii * radius;
-    const Pca pca{R * R, 1.0f / (R * R * R), params, radius, sphereShape(params.kn * radius)};
+    const Pca pca{R * R, 1.0f / (R * R * R), params};
+    const bool own = radii.size() == n;
     std::vector<std::uint8_t> isolated(n, 0);
     // Cells of R: the 3^3 cells around a particle's hold its neighbourhood.
     // The points in cell order as plain arrays (padded for whole-vector
@@ -237,7 +252,8 @@ void computeAnisotropy(std::span<const glm::vec3> positions, float radius, const
                 ranges(c, near);
                 for (std::uint32_t s = b; s < e; ++s) {
                     const std::uint32_t i = order[s];
-                    isolated[i] = pca(pts[s], xs.data(), ys.data(), zs.data(), near, out.centres[i], out.shapes[i]);
+                    isolated[i] = pca(pts[s], own ? radii[i] : radius, xs.data(), ys.data(), zs.data(), near,
+                                      out.centres[i], out.shapes[i]);
                 }
             }
         });

@@ -39,8 +39,11 @@ struct Ellipsoids {
 // frames. Threaded; the result does not depend on the thread count. The
 // neighbourhood of particle i is every particle j (i included) with
 // |x_j - x_i| < R = neighbourRadii r, weighted w = 1 - (|x_j - x_i| / R)^3.
+// With `radii` (one per position, metres: the particles' own radii), each
+// ellipsoid keeps the volume of its own particle's sphere and a lone
+// particle is a sphere of kn times its own radius; R stays neighbourRadii r.
 void computeAnisotropy(std::span<const glm::vec3> positions, float radius, const AnisotropyParams& params,
-                       Ellipsoids& out);
+                       Ellipsoids& out, std::span<const float> radii = {});
 
 // The eigen-decomposition of a symmetric 3x3 matrix: eigenvalues in closed
 // form (Smith 1961), eigenvectors after Kopp 2008; eigenvalues in descending

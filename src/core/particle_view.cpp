@@ -47,6 +47,8 @@ ParticleView ParticleView::of(const ParticleSet& set) {
     v.id = intView(set, kAttrId);
     v.fluid = intView(set, kAttrFluid);
     v.color = floatView<glm::vec3>(set, kAttrColor, 3);
+    for (std::string_view name : kAttrRadiusNames)
+        if (!v.radius.present()) v.radius = floatView<float>(set, name, 1);
     return v;
 }
 
@@ -55,7 +57,7 @@ Status ParticleView::validate() const {
     for (const Status& st : {checkView(positions, "positions", n), checkView(velocity, "velocity", n),
                              checkView(density, "density", n),
                              checkView(id, "id", n), checkView(fluid, "fluid index", n),
-                             checkView(color, "colour", n)})
+                             checkView(color, "colour", n), checkView(radius, "radius", n)})
         if (!st) return st;
     return okStatus();
 }

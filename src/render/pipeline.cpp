@@ -343,17 +343,18 @@ namespace {
 // has) with a view over them, for the stages that read a subset.
 struct ParticleCopy {
     std::vector<glm::vec3> positions, velocity, color;
-    std::vector<float> density;
+    std::vector<float> density, radius;
     std::vector<std::int64_t> id, fluid;
     ParticleView view;
 
     void gather(const ParticleView& all, std::span<const std::uint32_t> indices) {
-        positions.clear(), velocity.clear(), color.clear(), density.clear(), id.clear(), fluid.clear();
+        positions.clear(), velocity.clear(), color.clear(), density.clear(), radius.clear(), id.clear(), fluid.clear();
         for (std::uint32_t i : indices) {
             positions.push_back(all.positions[i]);
             if (all.velocity.present()) velocity.push_back(all.velocity[i]);
             if (all.color.present()) color.push_back(all.color[i]);
             if (all.density.present()) density.push_back(all.density[i]);
+            if (all.radius.present()) radius.push_back(all.radius[i]);
             if (all.id.present()) id.push_back(all.id[i]);
             if (all.fluid.present()) fluid.push_back(all.fluid[i]);
         }
@@ -361,6 +362,7 @@ struct ParticleCopy {
         if (all.velocity.present()) view.velocity = StridedView<glm::vec3>(std::span<const glm::vec3>(velocity));
         if (all.color.present()) view.color = StridedView<glm::vec3>(std::span<const glm::vec3>(color));
         if (all.density.present()) view.density = StridedView<float>(std::span<const float>(density));
+        if (all.radius.present()) view.radius = StridedView<float>(std::span<const float>(radius));
         if (all.id.present()) view.id = StridedView<std::int64_t>(std::span<const std::int64_t>(id));
         if (all.fluid.present()) view.fluid = StridedView<std::int64_t>(std::span<const std::int64_t>(fluid));
     }
@@ -605,25 +607,46 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         for (std::size_t i = 0; i < gathered_.size(); ++i) gathered_[i] = particles.positions[i];
         positions = gathered_;
     }
-    // Anisotropic kernels (Yu & Turk 2013): each fluid's own ellipsoids and
-    // smoothed centres, on the host for both backends.
+    // Anisotropic kernels (Yu & Turk 2013) and the particles' own radii: each
+    // fluid's own ellipsoids (and smoothed centres), on the host for both backends.
     anisotropyMs_ = -1.0;
     const bool anisotropic = s.anisotropy.enabled;
-    if (anisotropic) {
+    const bool ownRadii = s.particleRadii && particles.radius.present();
+    if (anisotropic)
         if (std::string bad = checkAnisotropyParams(s.anisotropy); !bad.empty())
             return makeError("", "RenderSettings::anisotropy." + bad);
+    if (ownRadii)
+        for (std::size_t i = 0; i < particles.size(); ++i)
+            if (const float r = particles.radius[i]; !checkRadius(r))
+                return makeError("", "particle " + std::to_string(i) + " has radius " + std::to_string(r) +
+                                         " m: " + checkRadius(r).error().message);
+    if (anisotropic || ownRadii) {
         const auto t0 = std::chrono::steady_clock::now();
         ellipsoids_.resize(several ? groups.size() : 1);
-        for (std::size_t l = 0; l < ellipsoids_.size(); ++l)
-            computeAnisotropy(several ? std::span<const glm::vec3>(groups[l].particles.positions) : positions, s.radiusM,
-                              s.anisotropy, ellipsoids_[l]);
-        anisotropyMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        for (std::size_t l = 0; l < ellipsoids_.size(); ++l) {
+            const ParticleView& view = several ? groups[l].particles.view : particles;
+            const std::span<const glm::vec3> pos = several ? std::span<const glm::vec3>(groups[l].particles.positions)
+                                                           : positions;
+            Ellipsoids& e = ellipsoids_[l];
+            radii_.clear();
+            if (ownRadii)
+                for (std::size_t i = 0; i < view.size(); ++i) radii_.push_back(view.radius[i]);
+            if (anisotropic) {
+                computeAnisotropy(pos, s.radiusM, s.anisotropy, e, radii_);
+            } else {  // spheres of their own radii
+                e.centres.assign(pos.begin(), pos.end());
+                e.shapes.resize(radii_.size());
+                for (std::size_t i = 0; i < radii_.size(); ++i) e.shapes[i] = sphereShape(radii_[i]);
+            }
+        }
+        if (anisotropic) anisotropyMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (!several) positions = ellipsoids_[0].centres;
     }
+    const bool shaped = anisotropic || ownRadii;
     FrameSettings f;
     f.camera = s.camera;
     f.radius = s.radiusM;
-    if (anisotropic && !several) f.shapes = ellipsoids_[0].shapes;
+    if (shaped && !several) f.shapes = ellipsoids_[0].shapes;
     f.filter = s.filter;
     f.thickness = s.thickness;
     f.shading = shadingOf(singleFluid_);
@@ -738,7 +761,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
             gatherValues(s.noise.enabled ? f.noiseIdz : none, g.indices, g.idz);
             gatherValues(s.noise.enabled ? f.noiseAmplitude : none, g.indices, g.amplitude);
             gatherValues(s.whitening.enabled ? f.whiteness : none, g.indices, g.whiteness);
-            if (anisotropic)
+            if (shaped)
                 b.setFluid(ellipsoids_[l].centres, {g.particles.view, ellipsoids_[l].shapes, shadingOf(g.fluid), g.idz,
                                                     g.amplitude, g.whiteness});
             else
