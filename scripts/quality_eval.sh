@@ -2,7 +2,8 @@
 # Scores every depth filter against the true SPH iso-surface ray-traced by
 # refsurf (see docs/quality.md). Usage: scripts/quality_eval.sh REFSURF_DIR [OUT_DIR]
 # Assumes build/meniscus is built (Release), REFSURF_DIR/build/refsurf is built,
-# and /usr/bin/python3 has numpy + OpenImageIO. Prints markdown tables.
+# and /usr/bin/python3 has numpy + OpenImageIO. Prints markdown tables, and
+# writes error maps (scripts/error_map.py) of the MAPS rows into OUT_DIR.
 set -euo pipefail
 RS=$(cd "$1" && pwd); OUT=${2:-/tmp/meniscus_quality}; ROOT=$(cd "$(dirname "$0")/.." && pwd)
 M=$ROOT/build/meniscus; W=640; H=360; FOV=40
@@ -42,6 +43,11 @@ import json,sys; j=json.load(sys.stdin)
 a,s,z=j['depth_mean_abs_rel'],j['depth_mean_signed_rel'],j['depth_median_ref']/$R
 print('| $F | %.4f | %d | %d | %.2f | %.2f | %.2f | %.5f | %+.5f | %.2f | %+.2f |' % (j['iou'],j['ref_covered'],
   j['cand_covered'],j['normal_mean_deg'],j['normal_median_deg'],j['normal_p90_deg'],a,s,a*z,s*z))"
+  done
+  # Error maps (scripts/error_map.py) of the MAPS rows that were rendered.
+  for F in ${MAPS:-narrow-range narrow-range:1+an}; do
+    X=$OUT/${NAME}_${F//[:@+]/_}.exr
+    [[ -f $X ]] && /usr/bin/python3 "$ROOT/scripts/error_map.py" "$OUT/${NAME}_ref" "$X" "$OUT/${NAME}_${F//[:@+]/_}_error.png"
   done
   echo
 done <<< "$CAMS"
