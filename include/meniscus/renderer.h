@@ -214,8 +214,6 @@ private:
     std::vector<float> radii_;            // one fluid's own radii, contiguous
     double anisotropyMs_ = -1.0;         // their host time this frame (the bench's anisotropy line); -1 = none
     std::unique_ptr<FluidSplit> fluids_;  // this frame's fluids, when the particles carry a fluid index
-    std::vector<int> layerFluids_;       // several fluids: each composited layer's fluid index; else empty
-    int singleFluid_ = -1;               // one fluid: its index (-1: the particles carry none)
 };
 
 // One frame with a fresh Renderer (nothing cached).

@@ -41,11 +41,11 @@
 
 namespace meniscus {
 
+static_assert(kMaxFluids == shared::kMaxFluids, "one limit for the API and the shaders");
+
 // What a frame drew, for reading it back: the effects that were on, and the
 // fluids (several: each composited layer's fluid index; one: its index, -1
 // when the particles carry none).
-static_assert(kMaxFluids == shared::kMaxFluids, "one limit for the API and the shaders");
-
 struct Drawn {
     bool noise = false, whitening = false, spray = false, silhouette = false;
     std::vector<int> layerFluids;
@@ -219,14 +219,11 @@ Aovs readAovs(Backend& b, View v, bool colorOnly, const NoiseParams& noiseParams
     if (whitening)
         aovs.whitening = several ? nearestFluidsMap(b, d.layerFluids, aovs.fluid, LayerImage::Whitening)
                                  : b.readScalar(Slot::Whitening);
-    if (all || v == View::FluidId) {
-        if (several) {
-            // (read above)
-        } else if (d.singleFluid >= 0) {  // one fluid: its index wherever there is fluid
-            aovs.fluid = Image<float>(aovs.depth.width, aovs.depth.height, -1.0f);
-            for (std::size_t i = 0; i < aovs.depth.size(); ++i)
-                if (aovs.depth.pixels[i] < kInf) aovs.fluid.pixels[i] = float(d.singleFluid);
-        }
+    // One fluid (several were read above): its index wherever there is fluid.
+    if ((all || v == View::FluidId) && !several && d.singleFluid >= 0) {
+        aovs.fluid = Image<float>(aovs.depth.width, aovs.depth.height, -1.0f);
+        for (std::size_t i = 0; i < aovs.depth.size(); ++i)
+            if (aovs.depth.pixels[i] < kInf) aovs.fluid.pixels[i] = float(d.singleFluid);
     }
     return aovs;
 }
@@ -575,10 +572,6 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     if (auto st = fluids_->split(particles); !st) return st;
     const std::vector<FluidSplit::Group>& groups = fluids_->groups;
     const bool several = groups.size() > 1;
-    layerFluids_.clear();
-    if (several)
-        for (const FluidSplit::Group& g : groups) layerFluids_.push_back(g.fluid);
-    singleFluid_ = groups.size() == 1 ? groups[0].fluid : -1;
     if (several)  // (one fluid was checked above)
         if (auto st = checkFrameMemory(s.camera.width, s.camera.height, physicalMemoryBytes(), s.noise.enabled,
                                        s.whitening.enabled, int(groups.size()));
@@ -649,7 +642,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     if (shaped && !several) f.shapes = ellipsoids_[0].shapes;
     f.filter = s.filter;
     f.thickness = s.thickness;
-    f.shading = shadingOf(singleFluid_);
+    f.shading = shadingOf(groups.size() == 1 ? groups[0].fluid : -1);
     f.particles = particles;
     f.mesh = s.mesh;
     f.noise = s.noise;
@@ -813,7 +806,13 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
 }
 
 Drawn Renderer::drawn(const RenderSettings& s) const {
-    return {s.noise.enabled, s.whitening.enabled, drawsDrops(s), s.silhouette.enabled, layerFluids_, singleFluid_};
+    Drawn d{s.noise.enabled, s.whitening.enabled, drawsDrops(s), s.silhouette.enabled, {}, -1};
+    const std::vector<FluidSplit::Group> none;
+    const std::vector<FluidSplit::Group>& groups = fluids_ ? fluids_->groups : none;
+    if (groups.size() > 1)
+        for (const FluidSplit::Group& g : groups) d.layerFluids.push_back(g.fluid);
+    if (groups.size() == 1) d.singleFluid = groups[0].fluid;
+    return d;
 }
 
 Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSettings& s,
