@@ -20,6 +20,10 @@ DAM_R=${DAM_R:-0.0093}; SMALL_R=${SMALL_R:-0.025}
 CAMS="dam_auto $DAM $DAM_R $DAM_E $DAM_T
 dam_close $DAM $DAM_R 0.9,0.8,1.4 1.5,0.3,0.0
 small_auto $SMALL $SMALL_R $SM_E $SM_T"
+# EXTRA_CAMS=1 adds a grazing side view of the splashes and a far view.
+[[ ${EXTRA_CAMS:-0} == 1 ]] && CAMS+="
+dam_side $DAM $DAM_R 0.6,0.35,3.2 0.6,0.35,0.0
+dam_far $DAM $DAM_R 5.5,4.2,6.2 0.3,0.4,0.0"
 # FILTER[:ITERATIONS|:sep][@FLUID_SCALE][+an]; +an: with --anisotropy on (Yu & Turk's kernels).
 # FILTERS="..." in the environment picks others.
 FILTERS=${FILTERS:-"none gaussian bilateral binomial curvature-flow curvature-flow:40 curvature-flow:80 narrow-range narrow-range:sep narrow-range@0.5 narrow-range@0.25
