@@ -8,9 +8,13 @@ black (0 deg) through red and yellow to white (MAX_DEG, default 45, and above);
 covered by the true surface only (a hole or a miss): blue; by ours only (too
 much, e.g. spray the true surface does not have): green; neither: grey.
 """
+import os
 import sys
 import numpy as np
 import OpenImageIO as oiio
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from exr_aovs import angle_deg, load_coverage_and_normals  # noqa: E402
 
 
 def main():
@@ -20,17 +24,9 @@ def main():
     top = float(sys.argv[4]) if len(sys.argv) == 5 else 45.0
     ar = np.nan_to_num(np.load(ref + '_A.npy').astype(np.float64)) > 0.5
     nr = np.load(ref + '_N.npy').astype(np.float64)
-    inp = oiio.ImageInput.open(cand)
-    if inp is None:
-        sys.exit('error_map.py: %s' % oiio.geterror())
-    spec = inp.spec()
-    px = np.asarray(inp.read_image(0, 0, 0, spec.nchannels, oiio.FLOAT), np.float64)
-    inp.close()
-    px = px.reshape(spec.height, spec.width, spec.nchannels)
-    names = list(spec.channelnames)
-    ac = np.nan_to_num(px[..., names.index('A')]) > 0.5
-    nc = np.stack([px[..., names.index(c)] for c in ('N.X', 'N.Y', 'N.Z')], -1)
-    ang = np.degrees(np.arctan2(np.linalg.norm(np.cross(nr, nc), axis=-1), (nr * nc).sum(-1)))
+    ac, nc = load_coverage_and_normals(cand)
+    ac = np.nan_to_num(ac) > 0.5
+    ang = angle_deg(nr, nc)
     t = np.clip(np.nan_to_num(ang, nan=top) / top, 0.0, 1.0)
     # black -> red -> yellow -> white ("hot")
     hot = np.stack([np.clip(3 * t, 0, 1), np.clip(3 * t - 1, 0, 1), np.clip(3 * t - 2, 0, 1)], -1)

@@ -11,32 +11,18 @@ true surface, and the per-pixel excess |ours - true|. Prints one line per pair
 and the means over all pairs, in degrees. A pipeline that flickers (noise,
 order-dependent ties) turns more than the surface does: excess >> 0.
 """
+import os
 import sys
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from exr_aovs import angle_deg as angle, load_coverage_and_normals as load_exr  # noqa: E402
 
 
 def load_ref(prefix):
     a = np.load(prefix + '_A.npy').astype(np.float64)
     n = np.load(prefix + '_N.npy').astype(np.float64)
     return a, n
-
-
-def load_exr(path):
-    import OpenImageIO as oiio
-    inp = oiio.ImageInput.open(path)
-    if inp is None:
-        sys.exit('temporal_score.py: %s' % oiio.geterror())
-    spec = inp.spec()
-    px = np.asarray(inp.read_image(0, 0, 0, spec.nchannels, oiio.FLOAT), np.float64)
-    inp.close()
-    px = px.reshape(spec.height, spec.width, spec.nchannels)
-    names = list(spec.channelnames)
-    ch = lambda c: px[..., names.index(c)]
-    return ch('A'), np.stack([ch('N.X'), ch('N.Y'), ch('N.Z')], -1)
-
-
-def angle(a, b):
-    return np.degrees(np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), (a * b).sum(-1)))
 
 
 def main():
