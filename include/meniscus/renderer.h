@@ -210,7 +210,7 @@ private:
     std::int64_t turbulenceFrame_ = -1;  // the frameIndex noiseAmplitude_ belongs to; -1 = none
     std::unique_ptr<SpraySplit> spray_;  // this frame's body of water and drops, with the spray on
     double sprayClassifyMs_ = -1.0;      // its host time this frame (the bench's spray-classify line); -1 = none
-    std::vector<Ellipsoids> ellipsoids_;  // with anisotropy or own radii: one set per fluid drawn (or one)
+    std::vector<Ellipsoids> ellipsoids_;  // with anisotropy or own radii: one set per fluid drawn (centres: anisotropy only)
     std::vector<float> radii_;            // one fluid's own radii, contiguous
     double anisotropyMs_ = -1.0;         // their host time this frame (the bench's anisotropy line); -1 = none
     std::unique_ptr<FluidSplit> fluids_;  // this frame's fluids, when the particles carry a fluid index

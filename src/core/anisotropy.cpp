@@ -139,13 +139,13 @@ void symmetricEigen(const glm::dmat3& a, glm::dvec3& values, glm::dmat3& vectors
 
 namespace {
 
-// One particle's ellipsoid from its candidate neighbours (plain arrays,
-// padded to whole vectors with far points): returns whether it is isolated.
 // The weighted mean offset of a flat half-space's neighbourhood, in units of
 // R: with w = 1 - (d/R)^3, E_w[d cos theta] over the half ball =
 // (1/2) (R^4/4 - R^4/7) / (R^3/3 - R^3/6) / R = 9/28.
 constexpr double kHalfSpaceOffset = 9.0 / 28.0;
 
+// One particle's ellipsoid from its candidate neighbours (ranges of the
+// sorted points): returns whether it is isolated.
 struct Pca {
     float R2, invR3;
     const AnisotropyParams& params;

@@ -53,7 +53,6 @@ public:
         return true;
     }
 
-    const glm::ivec3& dims() const { return dims_; }
     std::size_t cellCount() const { return start_.empty() ? 0 : start_.size() - 1; }
     // The points in cell order, and the input index of each.
     const std::vector<glm::vec3>& points() const { return sorted_; }

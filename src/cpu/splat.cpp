@@ -98,10 +98,6 @@ float raySphereEyeDepth(const glm::vec3& ray, const glm::vec3& c, float r) {
     return t / len;
 }
 
-PixelRect projectedEllipsoidBounds(const Camera& camera, const glm::vec3& c, const glm::mat3& q) {
-    return ellipsoidBounds(camera, camera.focalPx(), c, q);
-}
-
 SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                        std::span<const EllipsoidShape> shapes) {
     SplatBins bins;

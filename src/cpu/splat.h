@@ -24,10 +24,6 @@ struct PixelRect {
 // reaches the eye plane. Empty when the sphere lies behind the camera.
 PixelRect projectedSphereBounds(const Camera& camera, const glm::vec3& centreView, float radius);
 
-// The same for the ellipsoid of view-space centre c and view-space outer form
-// q (shared/ellipsoid.h): exact up to a hundredth of a pixel of slack.
-PixelRect projectedEllipsoidBounds(const Camera& camera, const glm::vec3& centreView, const glm::mat3& q);
-
 // Eye depth of the nearest intersection of the pixel ray through (px, py) with
 // the sphere, or +inf when the ray misses it (or the hit is behind the eye).
 float raySphereEyeDepth(const glm::vec3& ray, const glm::vec3& centreView, float radius);

@@ -58,7 +58,8 @@ void Splat::uploadParticles(std::span<const glm::vec3> positionsWorld, std::span
     ellipsoids_ = !shapes.empty() && shapes.size() == positionsWorld.size();
     if (!ellipsoids_) return;
     // The symmetric m and q packed as splat.comp's Shapes block reads them.
-    std::vector<float> packed(shapes.size() * 12);
+    std::vector<float>& packed = packedShapes_;  // kept across frames: no allocation per frame
+    packed.resize(shapes.size() * 12);
     for (std::size_t i = 0; i < shapes.size(); ++i) {
         const glm::mat3 &m = shapes[i].m, &q = shapes[i].q;
         float* o = &packed[12 * i];

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <span>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -55,6 +56,7 @@ private:
     Program splat_, resolve_;
     Buffer positions_, noScene_;
     Buffer shapes_;  // splat.comp's Shapes block: 12 floats per particle
+    std::vector<float> packedShapes_;  // its host copy, packed
     bool ellipsoids_ = false;
     Texture sceneTex_;  // R32F buffer texture over the scene depth (or noScene_)
     Texture depthTex_;  // R32F buffer texture over the depth being splatted

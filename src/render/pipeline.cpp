@@ -610,9 +610,9 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
             return makeError("", "RenderSettings::anisotropy." + bad);
     if (ownRadii)
         for (std::size_t i = 0; i < particles.size(); ++i)
-            if (const float r = particles.radius[i]; !checkRadius(r))
-                return makeError("", "particle " + std::to_string(i) + " has radius " + std::to_string(r) +
-                                         " m: " + checkRadius(r).error().message);
+            if (const Status st = checkRadius(particles.radius[i]); !st)
+                return makeError("", "particle " + std::to_string(i) + " has radius " +
+                                         std::to_string(particles.radius[i]) + " m: " + st.error().message);
     if (anisotropic || ownRadii) {
         const auto t0 = std::chrono::steady_clock::now();
         ellipsoids_.resize(several ? groups.size() : 1);
@@ -626,14 +626,14 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
                 for (std::size_t i = 0; i < view.size(); ++i) radii_.push_back(view.radius[i]);
             if (anisotropic) {
                 computeAnisotropy(pos, s.radiusM, s.anisotropy, e, radii_);
-            } else {  // spheres of their own radii
-                e.centres.assign(pos.begin(), pos.end());
+            } else {  // spheres of their own radii, at their own positions
+                e.centres.clear();
                 e.shapes.resize(radii_.size());
                 for (std::size_t i = 0; i < radii_.size(); ++i) e.shapes[i] = sphereShape(radii_[i]);
             }
         }
         if (anisotropic) anisotropyMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        if (!several) positions = ellipsoids_[0].centres;
+        if (anisotropic && !several) positions = ellipsoids_[0].centres;
     }
     const bool shaped = anisotropic || ownRadii;
     FrameSettings f;
@@ -754,12 +754,11 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
             gatherValues(s.noise.enabled ? f.noiseIdz : none, g.indices, g.idz);
             gatherValues(s.noise.enabled ? f.noiseAmplitude : none, g.indices, g.amplitude);
             gatherValues(s.whitening.enabled ? f.whiteness : none, g.indices, g.whiteness);
-            if (shaped)
-                b.setFluid(ellipsoids_[l].centres, {g.particles.view, ellipsoids_[l].shapes, shadingOf(g.fluid), g.idz,
-                                                    g.amplitude, g.whiteness});
-            else
-                b.setFluid(g.particles.positions, {g.particles.view, {}, shadingOf(g.fluid), g.idz, g.amplitude,
-                                                   g.whiteness});
+            const std::span<const glm::vec3> centres =
+                anisotropic ? std::span<const glm::vec3>(ellipsoids_[l].centres) : g.particles.positions;
+            const std::span<const EllipsoidShape> shapes =
+                shaped ? std::span<const EllipsoidShape>(ellipsoids_[l].shapes) : std::span<const EllipsoidShape>();
+            b.setFluid(centres, {g.particles.view, shapes, shadingOf(g.fluid), g.idz, g.amplitude, g.whiteness});
             const std::string tag = "fluid " + std::to_string(g.fluid) + ": ";
             const SurfaceSlots q{Slot::SceneDepth,         layer(LayerImage::RawDepth), layer(LayerImage::Thickness),
                                  layer(LayerImage::Depth), layer(LayerImage::Normal),   layer(LayerImage::Noise),
