@@ -234,6 +234,10 @@ int main(int argc, char** argv) {
                    "the ellipsoid splat")
         ->capture_default_str()
         ->check(CLI::IsMember({"on", "off"}));
+    bool raycast = false;
+    app.add_flag("--raycast", raycast,
+                 "The ray-cast SPH surface (--surface raycast) in place of the smoothing and normals: the sph-field "
+                 "line (host, both backends) and the raycast stage");
     app.add_flag("--spray", spray,
                  "Also split off the spray (density below half the median, estimated from neighbours) and run the "
                  "spray-drop stage (the split's time is part of the frame's own)");
@@ -304,6 +308,8 @@ int main(int argc, char** argv) {
 
     // Each configuration: filter name, parameters.
     std::vector<std::pair<std::string, FilterParams>> configs;
+    // The ray cast takes the filters' place: one configuration, named for it.
+    if (raycast) filters = {"none"};
     if (filters.empty()) filters = {"none", "gaussian", "bilateral", "binomial", "curvature-flow", "narrow-range"};
     for (const auto& name : filters) {
         FilterParams f;
@@ -312,7 +318,8 @@ int main(int argc, char** argv) {
             return 2;
         }
         if (iterations >= 0) setFilterIterations(f, iterations);
-        configs.emplace_back(name + "(" + std::to_string(filterIterations(f)) + ")", f);
+        configs.emplace_back(raycast ? std::string("raycast") : name + "(" + std::to_string(filterIterations(f)) + ")", f);
+        if (raycast) break;
         if (name == "narrow-range" && (separable || filters.size() > 1)) {
             std::get<NarrowRangeParams>(f).separable = true;
             configs.emplace_back(name + "-1d(" + std::to_string(filterIterations(f)) + ")", f);
@@ -368,6 +375,7 @@ int main(int argc, char** argv) {
         settings.spray.enabled = spray;
         settings.silhouette.enabled = silhouette;
         settings.anisotropy.enabled = anisotropy == "on";
+        settings.raycast.enabled = raycast;
         settings.fluidScale = fluidScale;
         settings.fluidMaterials.clear();
         for (const char* m : {"water", "lava", "milk", "murky"}) {

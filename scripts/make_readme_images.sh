@@ -30,6 +30,8 @@ render anisotropy21_off "${close[@]}"
 render anisotropy21 "${close[@]}" --anisotropy on --iterations 1
 build/meniscus render data/demo/ParticleData_Fluid_21.bgeo -o docs/images/anisotropy_demo_off.png --width 640 --height 360 --backend cpu
 build/meniscus render data/demo/ParticleData_Fluid_21.bgeo -o docs/images/anisotropy_demo.png --width 640 --height 360 --backend cpu --anisotropy on --iterations 1
+render raycast21 "${close[@]}" --surface raycast
+build/meniscus render data/demo/ParticleData_Fluid_21.bgeo -o docs/images/raycast_demo.png --width 640 --height 360 --backend cpu --surface raycast
 render noise_close_off "${close[@]}"
 render noise_close_on "${close[@]}" --noise
 small=../shared/testdata/splishsplash/dambreak_r0.025_small/partio

@@ -24,7 +24,8 @@ small_auto $SMALL $SMALL_R $SM_E $SM_T"
 [[ ${EXTRA_CAMS:-0} == 1 ]] && CAMS+="
 dam_side $DAM $DAM_R 0.6,0.35,3.2 0.6,0.35,0.0
 dam_far $DAM $DAM_R 5.5,4.2,6.2 0.3,0.4,0.0"
-# FILTER[:ITERATIONS|:sep][@FLUID_SCALE][+an]; +an: with --anisotropy on (Yu & Turk's kernels).
+# FILTER[:ITERATIONS|:sep][@FLUID_SCALE][+an]; +an: with --anisotropy on (Yu & Turk's kernels);
+# FILTER raycast: --surface raycast (the SPH surface ray cast from the splat, no filter).
 # FILTERS="..." in the environment picks others.
 FILTERS=${FILTERS:-"none gaussian bilateral binomial curvature-flow curvature-flow:40 curvature-flow:80 narrow-range narrow-range:sep narrow-range@0.5 narrow-range@0.25
 none+an gaussian+an bilateral+an binomial+an curvature-flow+an narrow-range+an narrow-range:1+an narrow-range:sep+an narrow-range@0.5+an"}
@@ -37,6 +38,7 @@ while read -r NAME IN R E T; do
   echo "|---|---|---|---|---|---|---|---|---|---|---|"
   for F in $FILTERS; do
     B=${F%+an}; ARGS=(--filter "${B%%[:@]*}"); [[ $B == *:sep* ]] && ARGS+=(--separable)
+    [[ $B == raycast* ]] && ARGS=(--surface raycast)
     [[ $F == *+an ]] && ARGS+=(--anisotropy on)
     [[ $B == *@* ]] && ARGS+=(--fluid-scale "${B##*@}")
     [[ $B == *:[0-9]* ]] && { I=${B##*:}; ARGS+=(--iterations "${I%%@*}"); }

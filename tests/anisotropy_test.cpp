@@ -20,6 +20,7 @@
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
+#include "render_threads.h"
 #include "test_util.h"
 
 using namespace meniscus;
@@ -50,15 +51,7 @@ std::size_t indexOf(const std::vector<glm::vec3>& p, glm::vec3 x) {
     return p.size();
 }
 
-Camera lookAt(glm::vec3 eye, glm::vec3 target, int w = 160, int h = 120) {
-    Camera c;
-    c.eye = eye;
-    c.target = target;
-    c.width = w;
-    c.height = h;
-    c.fovYDegrees = 40.0f;
-    return c;
-}
+using test::lookAt;
 
 }  // namespace
 
@@ -348,19 +341,9 @@ TEST(AnisotropyPipeline, RendersWithItsTimingLineTheSameForAnyThreadCount) {
     s.camera = lookAt({2.5f, 2.1f, 2.9f}, {0.43f, 0.45f, 0.0f}, 192, 108);
     s.anisotropy.enabled = true;
     std::vector<StageTime> times;
-    Aovs one, two;
-    {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-        auto a = Renderer().render(set->positions, s, &times);
-        ASSERT_TRUE(a) << a.error().describe();
-        one = std::move(*a);
-    }
-    {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-        auto b = Renderer().render(set->positions, s);
-        ASSERT_TRUE(b) << b.error().describe();
-        two = std::move(*b);
-    }
+    const Aovs one = test::renderOnThreads(set->positions, s, 1, &times);
+    const Aovs two = test::renderOnThreads(set->positions, s, 2);
+    ASSERT_FALSE(one.depth.empty());
     EXPECT_TRUE(std::any_of(times.begin(), times.end(), [](const StageTime& t) { return t.stage == "anisotropy"; }));
     EXPECT_EQ(std::memcmp(one.color.pixels.data(), two.color.pixels.data(), one.color.pixels.size() * sizeof(glm::vec4)), 0);
     EXPECT_EQ(std::memcmp(one.depth.pixels.data(), two.depth.pixels.data(), one.depth.pixels.size() * sizeof(float)), 0);

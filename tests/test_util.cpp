@@ -237,6 +237,16 @@ std::vector<glm::vec3> shellBall(glm::vec3 centre, float ballRadius, float spaci
     return out;
 }
 
+Camera lookAt(glm::vec3 eye, glm::vec3 target, int w, int h) {
+    Camera c;
+    c.eye = eye;
+    c.target = target;
+    c.width = w;
+    c.height = h;
+    c.fovYDegrees = 40.0f;
+    return c;
+}
+
 Camera faceOnCamera(glm::vec3 target, float distance, int width, int height, float fovYDegrees) {
     Camera c;
     c.target = target;

@@ -105,6 +105,9 @@ std::vector<glm::vec3> shellBall(glm::vec3 centre, float ballRadius, float spaci
 // A camera at target + (0, 0, distance) looking down -z at `target`, up +y.
 Camera faceOnCamera(glm::vec3 target, float distance, int width, int height, float fovYDegrees = 40.0f);
 
+// A camera at `eye` looking at `target` (up +y, fov 40 degrees), w x h pixels.
+Camera lookAt(glm::vec3 eye, glm::vec3 target, int w = 160, int h = 120);
+
 // A cheap deterministic scramble of (i, salt) into [0, 1), for test images.
 float hash01(std::uint32_t i, std::uint32_t salt);
 

@@ -265,6 +265,17 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
     if (s.anisotropy.enabled)
         if (std::string bad = checkAnisotropyParams(s.anisotropy); !bad.empty())
             return makeError("", "--anisotropy: " + bad);
+    s.raycast = o.raycastParams;
+    s.raycast.enabled = o.surface == "raycast";
+    if (s.raycast.enabled) {
+        if (o.mesher.field != "sph")
+            return makeError("", "--surface raycast: the ray cast finds the SPH surface: --field " + o.mesher.field +
+                                     " is for --surface mesh");
+        s.raycast.iso = o.mesher.iso;
+        if (o.mesher.support > 0.0f) s.raycast.supportRadii = o.mesher.support;
+        if (std::string bad = checkRaycastParams(s.raycast); !bad.empty())
+            return makeError("", "--surface raycast: " + bad);
+    }
     if (o.fluidScale != 1.0f && o.fluidScale != 0.5f && o.fluidScale != 0.25f)
         return makeError("", "--fluid-scale: expected 1, 0.5 or 0.25");
     if (o.fluidScale != 1.0f && o.surface == "mesh")

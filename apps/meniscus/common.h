@@ -70,7 +70,8 @@ struct RenderOptions {
     // Diffuse particles (`meniscus whitewater`'s output) drawn as a layer:
     // a file, or a pattern filled with each input frame's number. Empty: none.
     std::string diffuse;
-    std::string surface = "screen";  // screen (splat + smoothing) or mesh (the isosurface path)
+    std::string surface = "screen";  // screen (splat + smoothing), raycast (splat + SPH ray cast) or mesh
+    RaycastParams raycastParams;     // --surface raycast (iso and support from --iso, --support)
     // Several fluids (SPEC §3.10): the integer attribute holding each
     // particle's fluid index (0 .. 3); empty: the files' own `fluid`, if any.
     std::string fluidAttribute;

@@ -32,12 +32,24 @@ void addMesherOptions(CLI::App* cmd, MesherOptions& o) {
 
 void addSurfaceOptions(CLI::App* cmd, RenderOptions& o) {
     cmd->add_option("--surface", o.surface,
-                    "screen: splat the particles as spheres and smooth the depth (the screen-space path); mesh: "
+                    "screen: splat the particles as spheres and smooth the depth (the screen-space path); raycast: "
+                    "splat them, then march each covered pixel's ray to the SPH iso-surface (the --field sph "
+                    "surface at --iso with --support, exact normals, no smoothing; slower on the CPU); mesh: "
                     "extract the isosurface (as `meniscus mesh` does) and rasterise its triangles instead; the "
                     "thickness, scene and shading are the same")
         ->capture_default_str()
-        ->check(CLI::IsMember({"screen", "mesh"}));
+        ->check(CLI::IsMember({"screen", "raycast", "mesh"}));
     addMesherOptions(cmd, o.mesher);
+    RaycastParams& rc = o.raycastParams;
+    cmd->add_option("--raycast-step", rc.stepRadii, "--surface raycast: the march's step, in particle radii")
+        ->capture_default_str();
+    cmd->add_option("--raycast-steps", rc.maxSteps,
+                    "--surface raycast: steps a ray takes before it gives up (no surface at that pixel)")
+        ->capture_default_str();
+    cmd->add_option("--raycast-cover", rc.coverRadii,
+                    "--surface raycast: radius of the splatted spheres that start the rays, in particle radii (the "
+                    "iso-surface reaches past the spheres of r between particles)")
+        ->capture_default_str();
 }
 
 MeshParams mesherParams(const MesherOptions& o, float radiusM, int threads) {

@@ -88,6 +88,13 @@ struct RenderSettings {
     // of its neighbourhood, centred on its smoothed position (each fluid's
     // own, with several); the other stages use the smoothed positions too.
     AnisotropyParams anisotropy;
+    // The SPH surface, ray cast (SPEC §3.5a): off unless raycast.enabled.
+    // Each covered pixel's ray is marched to the particles' SPH iso-surface
+    // (the surface refsurf and the mesh path see), which takes the place of
+    // the smoothing filter (`filter` is not used) and of the depth normals;
+    // the splat draws spheres of raycast.coverRadii r (or the ellipsoids,
+    // that much larger) only to start and bound the rays. Not with `mesh`.
+    RaycastParams raycast;
     // The particles' own radii (ParticleView::radius, e.g. a file's radius or
     // pscale attribute; variable resolution): when present and this is set,
     // the splat and the thickness draw each particle at its own radius (and
@@ -146,6 +153,7 @@ struct SpraySplit;        // src/render/pipeline.cpp
 struct FluidSplit;        // src/render/pipeline.cpp
 struct Drawn;             // src/render/pipeline.cpp
 struct Ellipsoids;        // src/core/anisotropy.h
+struct SphField;          // src/core/sph_field.h
 
 // Renders frames, keeping what does not change between them: the scene layer
 // (studio colour and depth) is cast again only when the camera or the studio
@@ -213,6 +221,8 @@ private:
     std::vector<Ellipsoids> ellipsoids_;  // with anisotropy or own radii: one set per fluid drawn (centres: anisotropy only)
     std::vector<float> radii_;            // one fluid's own radii, contiguous
     double anisotropyMs_ = -1.0;         // their host time this frame (the bench's anisotropy line); -1 = none
+    std::vector<SphField> fields_;        // with the raycast: one per fluid drawn
+    double fieldMs_ = -1.0;               // their host time this frame (the bench's sph-field line); -1 = none
     std::unique_ptr<FluidSplit> fluids_;  // this frame's fluids, when the particles carry a fluid index
 };
 

@@ -53,6 +53,10 @@ EllipsoidShape sphereShape(float radius) {
     return {glm::mat3(1.0f / radius), glm::mat3(radius * radius)};
 }
 
+EllipsoidShape scaledShape(const EllipsoidShape& shape, float scale) {
+    return {shape.m * (1.0f / scale), shape.q * (scale * scale)};
+}
+
 EllipsoidShape ellipsoidShape(const glm::mat3& axes, const glm::vec3& a) {
     const glm::dmat3 r(axes);
     const glm::dvec3 ad(a);

@@ -25,6 +25,8 @@ struct EllipsoidShape {
 
 // The ellipsoid of a sphere of radius r.
 EllipsoidShape sphereShape(float radius);
+// The same ellipsoid (same centre and axes) with every half-axis times `scale`.
+EllipsoidShape scaledShape(const EllipsoidShape& shape, float scale);
 // The ellipsoid with unit principal axes `axes` (columns, orthonormal) of half-lengths a.
 EllipsoidShape ellipsoidShape(const glm::mat3& axes, const glm::vec3& a);
 

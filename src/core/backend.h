@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "core/anisotropy.h"
+#include "core/sph_field.h"
 #include "meniscus/camera.h"
 #include "meniscus/mesh.h"
 #include "meniscus/params.h"
@@ -52,6 +53,7 @@ inline constexpr int kSlotCount = int(Slot::FirstLayer) + shared::kMaxFluids * k
 struct FluidSettings {
     ParticleView particles;
     std::span<const EllipsoidShape> shapes;  // as FrameSettings::shapes
+    const SphField* field = nullptr;         // as FrameSettings::field
     ShadingParams shading;
     std::span<const float> noiseIdz;
     std::span<const float> noiseAmplitude;
@@ -67,6 +69,10 @@ struct FrameSettings {
     // of the spheres of `radius`; empty: spheres. The other stages keep the radius.
     std::span<const EllipsoidShape> shapes;
     FilterParams filter;
+    // The SPH surface, ray cast (SPEC §3.5a), when raycast.enabled: the
+    // particles' field (this frame only, the Renderer's) the raycast stage reads.
+    RaycastParams raycast;
+    const SphField* field = nullptr;
     ThicknessParams thickness;
     ShadingParams shading;
     // The surface noise (SPEC §3.7): when enabled, the noise stage runs and
@@ -125,6 +131,11 @@ public:
     virtual void smooth(Slot in, Slot out) = 0;
     // View-space normals of the smoothed depth (cpu::computeNormals).
     virtual void normals(Slot depth, Slot normal) = 0;
+    // The raycast's stand-in for smooth + normals (cpu::raycastSurface): the
+    // eye depth and view-space normals of FrameSettings::field's iso-surface
+    // along the rays of the pixels the splat `raw` covers, from its depth,
+    // never behind the scene depth.
+    virtual void raycast(Slot sceneDepth, Slot raw, Slot depth, Slot normal) = 0;
     // The mesh path's stand-in for smooth + normals (cpu::rasteriseMesh): eye
     // depth and view-space normals of the nearest triangle of
     // FrameSettings::mesh per pixel, in front of the scene depth.

@@ -27,29 +27,46 @@ public:
         for (const glm::vec3& p : pts) lo = glm::min(lo, p), hi = glm::max(hi, p);
         const glm::vec3 extent = (hi - lo) / cell;
         if (!std::isfinite(extent.x) || !std::isfinite(extent.y) || !std::isfinite(extent.z)) return false;
-        for (int a = 0; a < 3; ++a) {
+        for (int a = 0; a < 3; ++a)
             if (extent[a] > float(maxCells)) return false;
-            dims_[a] = int(extent[a]) + 1;
+        const glm::ivec3 dims = glm::ivec3(extent) + 1;
+        if (double(dims.x) * dims.y * dims.z > double(maxCells)) return false;
+        sort(pts, lo, cell, dims);
+        return true;
+    }
+
+    // Like build, but never refuses finite points: when the whole box would
+    // take more than maxCells cells of side minCell, the grid spans only the
+    // box of the central 99.8 % of the points on each axis (grown by minCell)
+    // with cells as much larger as needed, and the points beyond it are kept
+    // in its boundary cells. Queries stay exact (a point within one cell of a
+    // query is in the 3x3x3 cells around it after the same clamping: clamping
+    // cell coordinates never moves two of them further apart); only the
+    // boundary cells' outliers cost a distance test each.
+    bool buildBounded(std::span<const glm::vec3> pts, float minCell, std::size_t maxCells) {
+        if (build(pts, minCell, maxCells)) return true;
+        if (pts.empty() || !(minCell > 0.0f) || maxCells < 1) return false;
+        glm::vec3 lo(0.0f), hi(0.0f);
+        std::vector<float> c(pts.size());
+        for (int a = 0; a < 3; ++a) {
+            for (std::size_t i = 0; i < pts.size(); ++i) c[i] = pts[i][a];
+            const std::size_t k0 = pts.size() / 1000, k1 = pts.size() - 1 - k0;
+            std::nth_element(c.begin(), c.begin() + std::ptrdiff_t(k0), c.end());
+            lo[a] = c[k0] - minCell;
+            std::nth_element(c.begin(), c.begin() + std::ptrdiff_t(k1), c.end());
+            hi[a] = c[k1] + minCell;
+            if (!std::isfinite(lo[a]) || !std::isfinite(hi[a])) return false;
         }
-        if (double(dims_[0]) * dims_[1] * dims_[2] > double(maxCells)) return false;
-        lo_ = lo, inv_ = 1.0f / cell;
-        const std::size_t cells = std::size_t(dims_[0]) * dims_[1] * dims_[2];
-        std::vector<std::uint32_t> cellOfPoint(pts.size());
-        start_.assign(cells + 1, 0);
-        for (std::size_t i = 0; i < pts.size(); ++i) {
-            const glm::ivec3 c = cellOf(pts[i]);
-            cellOfPoint[i] = std::uint32_t(index(c.x, c.y, c.z));
-            ++start_[cellOfPoint[i] + 1];
+        const glm::dvec3 size = glm::dvec3(hi - lo);
+        double cell = std::max(double(minCell), std::cbrt(size.x * size.y * size.z / double(maxCells)));
+        for (int n = 0;; ++n) {  // grow until the cells fit (a flat box needs more than the cube root)
+            const glm::dvec3 dims = glm::floor(size / cell) + 1.0;
+            if (dims.x * dims.y * dims.z <= double(maxCells)) break;
+            if (n == 64) return false;
+            cell *= 1.25;
         }
-        for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
-        std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
-        sorted_.resize(pts.size());
-        order_.resize(pts.size());
-        for (std::size_t i = 0; i < pts.size(); ++i) {
-            const std::uint32_t at = next[cellOfPoint[i]]++;
-            sorted_[at] = pts[i];
-            order_[at] = std::uint32_t(i);
-        }
+        const glm::ivec3 dims = glm::ivec3(glm::floor(size / cell)) + 1;
+        sort(pts, lo, float(cell), dims);
         return true;
     }
 
@@ -75,10 +92,43 @@ public:
                 f(start_[index(x0, y, z)], start_[index(x1, y, z) + 1]);
     }
 
-private:
+    // The grid's frame, for copies of it (the GL raycast uploads these):
+    // cell (x, y, z) spans lo + cell * [x, x + 1) etc.
+    glm::vec3 lo() const { return lo_; }
+    float invCell() const { return inv_; }
+    glm::ivec3 dims() const { return dims_; }
+    const std::vector<std::uint32_t>& starts() const { return start_; }  // cellCount() + 1 entries
+
+    // The (clamped) cell of a point; clamped as floats, so that a far point
+    // never overflows the integer conversion.
     glm::ivec3 cellOf(const glm::vec3& p) const {
-        const glm::vec3 u = (p - lo_) * inv_;
-        return glm::clamp(glm::ivec3(u), glm::ivec3(0), dims_ - 1);
+        const glm::vec3 u = glm::clamp((p - lo_) * inv_, glm::vec3(0.0f), glm::vec3(dims_ - 1));
+        return glm::ivec3(u);
+    }
+
+
+private:
+    // Counting sort of `pts` into the cells of side `cell` from `lo`, `dims`
+    // of them (coordinates clamped into the grid).
+    void sort(std::span<const glm::vec3> pts, const glm::vec3& lo, float cell, const glm::ivec3& dims) {
+        lo_ = lo, inv_ = 1.0f / cell, dims_ = dims;
+        const std::size_t cells = std::size_t(dims_[0]) * dims_[1] * dims_[2];
+        std::vector<std::uint32_t> cellOfPoint(pts.size());
+        start_.assign(cells + 1, 0);
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            const glm::ivec3 c = cellOf(pts[i]);
+            cellOfPoint[i] = std::uint32_t(index(c.x, c.y, c.z));
+            ++start_[cellOfPoint[i] + 1];
+        }
+        for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
+        std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
+        sorted_.resize(pts.size());
+        order_.resize(pts.size());
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            const std::uint32_t at = next[cellOfPoint[i]]++;
+            sorted_[at] = pts[i];
+            order_[at] = std::uint32_t(i);
+        }
     }
     std::size_t index(int x, int y, int z) const {
         return (std::size_t(z) * std::size_t(dims_.y) + std::size_t(y)) * std::size_t(dims_.x) + std::size_t(x);

@@ -7,6 +7,7 @@
 #include "cpu/filters.h"
 #include "cpu/normals.h"
 #include "cpu/raster_mesh.h"
+#include "cpu/raycast.h"
 #include "cpu/scene.h"
 #include "cpu/shading.h"
 #include "cpu/silhouette.h"
@@ -58,6 +59,14 @@ public:
         vec3s_[int(normal)] = cpu::computeNormals(scalar(depth), s_.camera, s_.radius, defaults::kDepthJumpRadii);
     }
 
+    void raycast(Slot sceneDepth, Slot raw, Slot depth, Slot normal) override {
+        static const SphField kNoField;  // no field: no surface
+        auto r = cpu::raycastSurface(s_.camera, s_.field ? *s_.field : kNoField, s_.raycast, s_.radius, scalar(raw),
+                                     &scalar(sceneDepth));
+        scalars_[int(depth)] = std::move(r.depth);
+        vec3s_[int(normal)] = std::move(r.normal);
+    }
+
     void rasterise(Slot sceneDepth, Slot depth, Slot normal) override {
         static const TriangleMesh kNoMesh;  // no mesh: no fluid
         auto r = cpu::rasteriseMesh(s_.camera, s_.mesh ? *s_.mesh : kNoMesh, &scalar(sceneDepth));
@@ -99,6 +108,7 @@ public:
         positions_ = positions;
         s_.particles = fluid.particles;
         s_.shapes = fluid.shapes;
+        s_.field = fluid.field;
         s_.shading = fluid.shading;
         s_.noiseIdz = fluid.noiseIdz;
         s_.noiseAmplitude = fluid.noiseAmplitude;

@@ -26,6 +26,7 @@
 #include "gl/normals.h"
 #include "gl/present.h"
 #include "gl/raster_mesh.h"
+#include "gl/raycast.h"
 #include "gl/scene.h"
 #include "gl/shading.h"
 #include "gl/silhouette.h"
@@ -51,6 +52,7 @@ struct Stages {
     Shading shading;
     LowResThickness lowResThickness;
     MeshRasteriser meshRasteriser;
+    Raycast raycast;
     SurfaceNoise surfaceNoise;
     SilhouetteReduction silhouetteReduction;
     SprayDrops sprayDrops;
@@ -188,6 +190,13 @@ public:
         st_.normals.run(fp_, img(depth), img(normal));
     }
 
+    void raycast(Slot sceneDepth, Slot raw, Slot depth, Slot normal) override {
+        const auto fills = bufferFills();
+        forget(depth);
+        forget(normal);
+        st_.raycast.run(fp_, s_.field, s_.raycast, img(raw), &img(sceneDepth), img(depth), img(normal));
+    }
+
     void rasterise(Slot sceneDepth, Slot depth, Slot normal) override {
         const auto fills = bufferFills();
         forget(depth);
@@ -226,6 +235,7 @@ public:
 
     void setFluid(std::span<const glm::vec3> positions, const FluidSettings& fluid) override {
         s_.particles = fluid.particles;
+        s_.field = fluid.field;
         s_.shading = fluid.shading;
         s_.noiseIdz = fluid.noiseIdz;
         s_.noiseAmplitude = fluid.noiseAmplitude;
@@ -441,7 +451,7 @@ Result<std::unique_ptr<Backend>> makeOnCurrent(std::unique_ptr<Context> ctx) {
                       take(CurvatureFlow::create(), s.curvatureFlow), take(NarrowRange::create(), s.narrowRange),
                       take(SceneCaster::create(), s.scene), take(Normals::create(), s.normals),
                       take(Shading::create(), s.shading), take(LowResThickness::create(), s.lowResThickness),
-                      take(MeshRasteriser::create(), s.meshRasteriser),
+                      take(MeshRasteriser::create(), s.meshRasteriser), take(Raycast::create(), s.raycast),
                       take(SurfaceNoise::create(), s.surfaceNoise),
                       take(SilhouetteReduction::create(), s.silhouetteReduction),
                       take(SprayDrops::create(), s.sprayDrops), take(Upsampling::create(), s.upsampling),

@@ -27,6 +27,7 @@
 #include <string>
 
 #include "core/anisotropy.h"
+#include "core/sph_field.h"
 #include "core/backend.h"
 #include "core/fluid_scale.h"
 #include "core/frame_memory.h"
@@ -528,6 +529,11 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     const int divisor = fluidDivisor(s.fluidScale);
     if (divisor == 0)
         return makeError("", "RenderSettings::fluidScale: expected 1, 0.5 or 0.25, got " + std::to_string(s.fluidScale));
+    if (s.raycast.enabled) {
+        if (std::string bad = checkRaycastParams(s.raycast); !bad.empty())
+            return makeError("", "RenderSettings::raycast." + bad);
+        if (s.mesh) return makeError("", "RenderSettings::raycast: the ray cast is for the particle surface, not the mesh path");
+    }
     if (divisor > 1 && s.mesh)
         return makeError("", "RenderSettings::fluidScale: reduced resolution is for the particle surface, not the mesh path");
     if ((s.view == View::Noise || s.view == View::Foam) && !s.noise.enabled)
@@ -613,7 +619,17 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
             if (const Status st = checkRadius(particles.radius[i]); !st)
                 return makeError("", "particle " + std::to_string(i) + " has radius " +
                                          std::to_string(particles.radius[i]) + " m: " + st.error().message);
-    if (anisotropic || ownRadii) {
+    const bool raycast = s.raycast.enabled;
+    fieldMs_ = -1.0;
+    if (raycast) {  // the field of each fluid's own positions (the centres' smoothing is the splat's only)
+        const auto t0 = std::chrono::steady_clock::now();
+        fields_.resize(several ? groups.size() : 1);
+        for (std::size_t l = 0; l < fields_.size(); ++l)
+            buildSphField(several ? std::span<const glm::vec3>(groups[l].particles.positions) : positions, s.radiusM,
+                          s.raycast, fields_[l]);
+        fieldMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
+    if (anisotropic || ownRadii || raycast) {
         const auto t0 = std::chrono::steady_clock::now();
         ellipsoids_.resize(several ? groups.size() : 1);
         for (std::size_t l = 0; l < ellipsoids_.size(); ++l) {
@@ -626,22 +642,34 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
                 for (std::size_t i = 0; i < view.size(); ++i) radii_.push_back(view.radius[i]);
             if (anisotropic) {
                 computeAnisotropy(pos, s.radiusM, s.anisotropy, e, radii_);
-            } else {  // spheres of their own radii, at their own positions
+            } else {  // spheres of their own radii (or of the radius), at their own positions
                 e.centres.clear();
-                e.shapes.resize(radii_.size());
-                for (std::size_t i = 0; i < radii_.size(); ++i) e.shapes[i] = sphereShape(radii_[i]);
+                e.shapes.resize(ownRadii ? radii_.size() : pos.size());
+                for (std::size_t i = 0; i < e.shapes.size(); ++i)
+                    e.shapes[i] = sphereShape(ownRadii ? radii_[i] : s.radiusM);
             }
+            // The raycast's rays start on (and only where) shapes coverRadii times larger.
+            if (raycast)
+                for (EllipsoidShape& shape : e.shapes) shape = scaledShape(shape, s.raycast.coverRadii);
         }
         if (anisotropic) anisotropyMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (anisotropic && !several) positions = ellipsoids_[0].centres;
     }
-    const bool shaped = anisotropic || ownRadii;
+    const bool shaped = anisotropic || ownRadii || raycast;
     FrameSettings f;
     f.camera = s.camera;
     f.radius = s.radiusM;
     if (shaped && !several) f.shapes = ellipsoids_[0].shapes;
     f.filter = s.filter;
     f.thickness = s.thickness;
+    f.raycast = s.raycast;
+    if (raycast) {
+        if (!several) f.field = &fields_[0];
+        // The larger shapes' chords, calibrated as spheres of coverRadii r at
+        // the same spacing (shared::thicknessWeight): the same thickness.
+        const float spacing = s.thickness.spacingM > 0.0f ? s.thickness.spacingM : 2.0f * s.radiusM;
+        f.thickness.spacingM = spacing / s.raycast.coverRadii;
+    }
     f.shading = shadingOf(groups.size() == 1 ? groups[0].fluid : -1);
     f.particles = particles;
     f.mesh = s.mesh;
@@ -697,6 +725,10 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
             return st;
         if (s.mesh) {
             if (auto st = stage((tag + "rasterise").c_str(), [&] { b.rasterise(q.sceneDepth, q.depth, q.normal); }); !st)
+                return st;
+        } else if (raycast) {
+            if (auto st = stage((tag + "raycast").c_str(), [&] { b.raycast(q.sceneDepth, q.raw, q.depth, q.normal); });
+                !st)
                 return st;
         } else {
             if (auto st = stage((tag + "smooth").c_str(), [&] { b.smooth(q.raw, q.depth); }); !st) return st;
@@ -758,7 +790,8 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
                 anisotropic ? std::span<const glm::vec3>(ellipsoids_[l].centres) : g.particles.positions;
             const std::span<const EllipsoidShape> shapes =
                 shaped ? std::span<const EllipsoidShape>(ellipsoids_[l].shapes) : std::span<const EllipsoidShape>();
-            b.setFluid(centres, {g.particles.view, shapes, shadingOf(g.fluid), g.idz, g.amplitude, g.whiteness});
+            b.setFluid(centres, {g.particles.view, shapes, raycast ? &fields_[l] : nullptr, shadingOf(g.fluid), g.idz,
+                                 g.amplitude, g.whiteness});
             const std::string tag = "fluid " + std::to_string(g.fluid) + ": ";
             const SurfaceSlots q{Slot::SceneDepth,         layer(LayerImage::RawDepth), layer(LayerImage::Thickness),
                                  layer(LayerImage::Depth), layer(LayerImage::Normal),   layer(LayerImage::Noise),
@@ -828,6 +861,7 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
         if (timings) {
             *timings = b.stageTimes();
             if (anisotropyMs_ >= 0.0) timings->insert(timings->begin(), {"anisotropy", anisotropyMs_});
+            if (fieldMs_ >= 0.0) timings->insert(timings->begin(), {"sph-field", fieldMs_});
             if (sprayClassifyMs_ >= 0.0) timings->insert(timings->begin(), {"spray-classify", sprayClassifyMs_});
             if (b.name() != "cpu") timings->push_back({"readback", readMs});  // GPU -> host copies of the AOVs read
         }
