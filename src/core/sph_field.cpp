@@ -5,10 +5,55 @@
 #include <limits>
 #include <string>
 
+#include <tbb/parallel_for.h>
+
 #include "core/lanes.h"
 #include "shared/sph_surface.h"
 
 namespace meniscus {
+
+namespace {
+
+// SphField::quiet: per cell, the bound sum_j W(dist(x_j, box) / h) over the
+// particles of the 27 cells around it, stopped as soon as it reaches iso.
+void markQuietCells(SphField& out) {
+    const detail::DenseGrid& g = out.grid;
+    const glm::ivec3 dims = g.dims();
+    const float cell = 1.0f / g.invCell(), invH = 1.0f / out.support, limit = out.isoRaw * (1.0f - 1e-4f);
+    const std::vector<glm::vec3>& pts = g.points();
+    std::vector<std::uint8_t> quiet(g.cellCount(), 0);
+    tbb::parallel_for(0, dims.z, [&](int z) {
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x) {
+                const glm::ivec3 c(x, y, z);
+                glm::vec3 lo = g.lo() + glm::vec3(c) * cell, hi = lo + cell;
+                for (int a = 0; a < 3; ++a) {  // the boundary cells hold everything beyond the box
+                    if (c[a] == 0) lo[a] = -std::numeric_limits<float>::infinity();
+                    if (c[a] == dims[a] - 1) hi[a] = std::numeric_limits<float>::infinity();
+                }
+                float bound = 0.0f;
+                g.forRowsNear(c, 1, [&](std::uint32_t b, std::uint32_t e) {
+                    for (std::uint32_t i = b; i < e && bound < limit; ++i) {
+                        const glm::vec3 d = glm::max(glm::vec3(0.0f), glm::max(lo - pts[i], pts[i] - hi));
+                        const float q = std::sqrt((d.x * d.x + d.y * d.y) + d.z * d.z) * invH;
+                        if (q < 1.0f) bound += shared::sphKernel(q);
+                    }
+                });
+                quiet[(std::size_t(z) * dims.y + y) * dims.x + x] = bound < limit;
+            }
+    });
+    out.quiet.assign((quiet.size() + 31) / 32, 0u);
+    for (std::size_t c = 0; c < quiet.size(); ++c) out.quiet[c >> 5] |= std::uint32_t(quiet[c]) << (c & 31);
+}
+
+}  // namespace
+
+bool sphFieldQuiet(const SphField& field, const glm::vec3& p) {
+    const glm::ivec3 c = field.grid.cellOf(p);
+    const glm::ivec3 dims = field.grid.dims();
+    const std::size_t i = (std::size_t(c.z) * dims.y + c.y) * dims.x + c.x;
+    return (field.quiet[i >> 5] >> (i & 31)) & 1u;
+}
 
 bool buildSphField(std::span<const glm::vec3> positions, float radius, const RaycastParams& params, SphField& out) {
     out = SphField{};
@@ -29,6 +74,7 @@ bool buildSphField(std::span<const glm::vec3> positions, float radius, const Ray
         out.xs[i] = q.x, out.ys[i] = q.y, out.zs[i] = q.z;
     }
     out.isoRaw = float(double(params.iso) * shared::sphRestField(params.supportRadii));
+    markQuietCells(out);
     return true;
 }
 
@@ -59,8 +105,7 @@ float sphFieldLastInCell(const SphField& field, const glm::vec3& origin, const g
     return exit - 1e-3f * cell / glm::length(dir);
 }
 
-bool evaluateSphField(const SphField& field, const glm::vec3& p, float& f, glm::vec3& grad) {
-    bool none = true;
+void evaluateSphField(const SphField& field, const glm::vec3& p, float& f, glm::vec3& grad) {
     using lanes::FloatV;
     using lanes::IntV;
     const float h2 = field.support * field.support, invH = 1.0f / field.support;
@@ -68,7 +113,6 @@ bool evaluateSphField(const SphField& field, const glm::vec3& p, float& f, glm::
     FloatV sum{}, gx{}, gy{}, gz{};
     const FloatV one = FloatV{} + 1.0f, lane = FloatV{0.0f, 1.0f, 2.0f, 3.0f};
     field.grid.forRowsNear(field.grid.cellOf(p), 1, [&](std::uint32_t b, std::uint32_t e) {
-        none = none && b == e;
         for (std::uint32_t i = b; i < e; i += lanes::kLanes) {
             const FloatV dx = p.x - lanes::loadV(xs + i), dy = p.y - lanes::loadV(ys + i), dz = p.z - lanes::loadV(zs + i);
             const FloatV d2 = (dx * dx + dy * dy) + dz * dz;
@@ -89,7 +133,6 @@ bool evaluateSphField(const SphField& field, const glm::vec3& p, float& f, glm::
     f = (sum[0] + sum[1]) + (sum[2] + sum[3]);
     grad = glm::vec3((gx[0] + gx[1]) + (gx[2] + gx[3]), (gy[0] + gy[1]) + (gy[2] + gy[3]),
                      (gz[0] + gz[1]) + (gz[2] + gz[3]));
-    return none;
 }
 
 }  // namespace meniscus

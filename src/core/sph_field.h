@@ -6,6 +6,7 @@
 // same order.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -23,6 +24,11 @@ struct SphField {
     // grid.points() as three arrays, padded with lanes::kLanes - 1 far
     // points, for the four-lane sum.
     std::vector<float> xs, ys, zs;
+    // One bit per cell (x-fastest, 32 to a word): set when F < iso all over
+    // the cell, because even the sum of W(distance of each particle near it
+    // to the cell's box / h) stays below the iso level (with 1e-4 to spare
+    // for rounding). Boundary cells reach to infinity on their outer sides.
+    std::vector<std::uint32_t> quiet;
 };
 
 // The field of these particles for radius r (metres) and the raycast's
@@ -34,9 +40,10 @@ bool buildSphField(std::span<const glm::vec3> positions, float radius, const Ray
 // sums (the point at offset i of its row's range into sum i mod 4, in order)
 // added as (s0 + s1) + (s2 + s3): the order the GL twin
 // (shaders/raycast.comp) sums in.
-// Returns true when no point lies in the cells around p's (then f = +0
-// exactly, and so everywhere in p's cell).
-bool evaluateSphField(const SphField& field, const glm::vec3& p, float& f, glm::vec3& grad);
+void evaluateSphField(const SphField& field, const glm::vec3& p, float& f, glm::vec3& grad);
+
+// Whether p's cell is quiet (SphField::quiet).
+bool sphFieldQuiet(const SphField& field, const glm::vec3& p);
 
 // For the ray origin + t dir: a ray parameter up to which its points stay in
 // the grid cell of its point at t (a thousandth of a cell short of the
@@ -47,7 +54,8 @@ float sphFieldLastInCell(const SphField& field, const glm::vec3& origin, const g
 // The field as shared::sphRaycast calls it.
 struct SphFieldOnGrid {
     const SphField& field;
-    bool operator()(const glm::vec3& p, float& f, glm::vec3& grad) const { return evaluateSphField(field, p, f, grad); }
+    void operator()(const glm::vec3& p, float& f, glm::vec3& grad) const { evaluateSphField(field, p, f, grad); }
+    bool quiet(const glm::vec3& p) const { return sphFieldQuiet(field, p); }
     float lastInCell(const glm::vec3& origin, const glm::vec3& dir, float t) const {
         return sphFieldLastInCell(field, origin, dir, t);
     }

@@ -34,6 +34,7 @@ void Raycast::run(const FrameParams& frame, const SphField* field, const Raycast
     points_.upload(packed_.data(), GLsizeiptr(packed_.size() * sizeof(glm::vec4)));
     const std::vector<std::uint32_t>& st = field->grid.starts();
     starts_.upload(st.data(), GLsizeiptr(st.size() * sizeof(std::uint32_t)));
+    quiet_.upload(field->quiet.data(), GLsizeiptr(field->quiet.size() * sizeof(std::uint32_t)));
     const bool scene = sceneDepth && sceneDepth->sized(W, H, 1);
     glUseProgram(program_.id());
     const glm::vec3 lo = field->grid.lo();
@@ -50,6 +51,8 @@ void Raycast::run(const FrameParams& frame, const SphField* field, const Raycast
     glUniform1i(8, scene ? 1 : 0);
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, points_.id(), 0, GLsizeiptr(packed_.size() * sizeof(glm::vec4)));
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 2, starts_.id(), 0, GLsizeiptr(st.size() * sizeof(std::uint32_t)));
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, quiet_.id(), 0,
+                      GLsizeiptr(field->quiet.size() * sizeof(std::uint32_t)));
     start.bind(3);
     (scene ? *sceneDepth : start).bind(4);
     depth.bind(5);

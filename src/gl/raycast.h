@@ -25,7 +25,7 @@ public:
 
 private:
     Program program_;
-    Buffer points_, starts_;
+    Buffer points_, starts_, quiet_;
     std::vector<glm::vec4> packed_;  // the grid's points as vec4 (std430), kept across frames
 };
 

@@ -16,16 +16,17 @@
 // steps place the crossing; its eye depth is returned (+inf: no surface
 // within maxSteps steps or before tMax) with the field's gradient there.
 //
-// Empty space is skipped: when the field finds no particle in the cells
-// around a sample, F is exactly 0 in all of that sample's cell, so the samples
-// still inside it are passed over (their a = t, F = 0 taken as read): the
-// result is the same as without the skip, only cheaper.
+// Quiet cells are passed over: where the field's grid knows that F stays
+// below iso all over a sample's cell (core/sph_field.h), that sample and the
+// ones after it still in the cell are not summed; the F of the last one is
+// summed only if the next sample turns out to be inside. The result is the
+// same as without the skip, only cheaper.
 //
 // The caller supplies the field: in C++ a functor with field(p, F, grad),
-// returning true when no particle was near, and field.lastInCell(origin,
-// dir, t), the ray parameter up to which the ray certainly stays in the cell
-// of its point at t (t itself when unknown); in GLSL the functions
-// sphFieldAt and sphLastInCell, declared before this header is included.
+// field.quiet(p) and field.lastInCell(origin, dir, t) (the ray parameter up
+// to which the ray certainly stays in the cell of its point at t; t itself
+// when unknown); in GLSL the functions sphFieldAt, sphQuiet and
+// sphLastInCell, declared before this header is included.
 #ifndef MENISCUS_SHARED_SPH_SURFACE_H
 #define MENISCUS_SHARED_SPH_SURFACE_H
 
@@ -38,6 +39,7 @@
 namespace meniscus::shared {
 using glm::vec3;
 using std::floor;
+using std::max;
 using std::min;
 using std::sqrt;
 #define MENISCUS_SPH_INLINE inline
@@ -47,6 +49,7 @@ using std::sqrt;
 #define MENISCUS_SPH_FIELD_PARAM , const Field& field
 #define MENISCUS_SPH_FIELD(p, f, g) field(p, f, g)
 #define MENISCUS_SPH_LAST_IN_CELL(o, d, t) field.lastInCell(o, d, t)
+#define MENISCUS_SPH_QUIET(p) field.quiet(p)
 #define MENISCUS_SPH_OUT(T) T&
 #define MENISCUS_SPH_INF std::numeric_limits<float>::infinity()
 #else
@@ -57,6 +60,7 @@ using std::sqrt;
 #define MENISCUS_SPH_FIELD_PARAM
 #define MENISCUS_SPH_FIELD(p, f, g) sphFieldAt(p, f, g)
 #define MENISCUS_SPH_LAST_IN_CELL(o, d, t) sphLastInCell(o, d, t)
+#define MENISCUS_SPH_QUIET(p) sphQuiet(p)
 #define MENISCUS_SPH_OUT(T) out T
 #define MENISCUS_SPH_INF uintBitsToFloat(0x7f800000u)
 #endif
@@ -112,7 +116,7 @@ MENISCUS_SPH_INLINE float sphRaycast(vec3 origin, vec3 dir, float t0, float tNea
     if (!(t0 < tMax)) return MENISCUS_SPH_INF;  // starts behind the scene: nothing to see
     float f = 0.0f;
     vec3 g = vec3(0.0f);
-    bool empty = MENISCUS_SPH_FIELD(sphRayPoint(origin, dir, t0), f, g);
+    MENISCUS_SPH_FIELD(sphRayPoint(origin, dir, t0), f, g);
     // [a, b]: a outside (F < iso, fa), b inside (F >= iso, fb).
     MENISCUS_SPH_PRECISE float a = t0, b = t0, fa = f, fb = f;
     bool found = false;
@@ -133,27 +137,26 @@ MENISCUS_SPH_INLINE float sphRaycast(vec3 origin, vec3 dir, float t0, float tNea
             return b;
         }
     } else {
-        for (int k = 0; k < maxSteps;) {
-            if (empty) {  // pass over the samples still in this empty cell
-                MENISCUS_SPH_EXACT float last = MENISCUS_SPH_LAST_IN_CELL(origin, dir, t0 + float(k) * step);
-                MENISCUS_SPH_EXACT float skip = floor((last - t0) / step);
-                if (skip > float(k)) {
-                    k = int(min(skip, float(maxSteps - 1)));
-                    MENISCUS_SPH_EXACT float tk = t0 + float(k) * step;
-                    a = tk, fa = 0.0f;
-                }
-            }
-            if (++k >= maxSteps) break;
+        bool aSummed = true;  // fa is F(a); false after passing over a quiet cell
+        for (int k = 1; k < maxSteps; ++k) {
             MENISCUS_SPH_EXACT float t = t0 + float(k) * step;
             if (t > tMax) break;
-            empty = MENISCUS_SPH_FIELD(sphRayPoint(origin, dir, t), f, g);
+            if (MENISCUS_SPH_QUIET(sphRayPoint(origin, dir, t))) {
+                MENISCUS_SPH_EXACT float last = floor((MENISCUS_SPH_LAST_IN_CELL(origin, dir, t) - t0) / step);
+                k = int(max(float(k), min(last, float(maxSteps - 1))));
+                MENISCUS_SPH_EXACT float tk = t0 + float(k) * step;
+                a = tk, aSummed = false;
+                continue;
+            }
+            MENISCUS_SPH_FIELD(sphRayPoint(origin, dir, t), f, g);
             if (f >= iso) {
                 b = t, fb = f, found = true;
                 break;
             }
-            a = t, fa = f;
+            a = t, fa = f, aSummed = true;
         }
         if (!found) return MENISCUS_SPH_INF;
+        if (!aSummed) MENISCUS_SPH_FIELD(sphRayPoint(origin, dir, a), fa, g);
     }
     // The linear interpolation of F across the bracket (regula falsi), then
     // Newton steps on F along the ray, each kept inside the bracket (else
@@ -197,6 +200,7 @@ inline double sphRestField(float supportRadii) {
 #undef MENISCUS_SPH_FIELD_PARAM
 #undef MENISCUS_SPH_FIELD
 #undef MENISCUS_SPH_LAST_IN_CELL
+#undef MENISCUS_SPH_QUIET
 #undef MENISCUS_SPH_OUT
 #undef MENISCUS_SPH_INF
 

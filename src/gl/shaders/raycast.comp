@@ -18,6 +18,7 @@ layout(std430, binding = 3) readonly buffer Start { float startDepth[]; };  // W
 layout(std430, binding = 4) readonly buffer Scene { float sceneDepth[]; };  // W*H when uHasScene
 layout(std430, binding = 5) writeonly buffer Depth { float depthOut[]; };   // W*H
 layout(std430, binding = 6) writeonly buffer Normals { float normals[]; };  // W*H*3
+layout(std430, binding = 7) readonly buffer Quiet { uint quiet[]; };        // SphField::quiet bits
 
 layout(location = 0) uniform vec3 uLo;        // the grid's corner, world metres
 layout(location = 1) uniform float uInvCell;  // 1 / cell side
@@ -31,15 +32,15 @@ layout(location = 8) uniform int uHasScene;
 layout(location = 9) uniform float uInvH2;    // 1 / h^2
 
 // Defined below, called by sph_surface.h's sphRaycast.
-bool sphFieldAt(vec3 p, out float f, out vec3 grad);
+void sphFieldAt(vec3 p, out float f, out vec3 grad);
+bool sphQuiet(vec3 p);
 float sphLastInCell(vec3 origin, vec3 dir, float t);
 #include "sph_surface.h"
 
 // evaluateSphField (core/sph_field.cpp), operation for operation: the point
 // at offset j of its row's range goes into partial sum j mod 4 (the CPU's
 // lane), the four added as (s0 + s1) + (s2 + s3).
-bool sphFieldAt(vec3 p, out float f, out vec3 grad) {
-    bool none = true;
+void sphFieldAt(vec3 p, out float f, out vec3 grad) {
     precise float h2 = uSupport * uSupport;
     precise float invH = 1.0 / uSupport;
     precise vec3 u = clamp((p - uLo) * uInvCell, vec3(0.0), vec3(uDims - 1));
@@ -50,7 +51,6 @@ bool sphFieldAt(vec3 p, out float f, out vec3 grad) {
         for (int y = max(c.y - 1, 0); y <= min(c.y + 1, uDims.y - 1); ++y) {
             const uint row = uint((z * uDims.y + y) * uDims.x);
             const uint b = starts[row + uint(x0)], e = starts[row + uint(x1) + 1u];
-            none = none && b == e;
             for (uint i = b; i < e; ++i) {
                 precise vec3 d = p - points[i].xyz;
                 precise float d2 = (d.x * d.x + d.y * d.y) + d.z * d.z;
@@ -70,7 +70,14 @@ bool sphFieldAt(vec3 p, out float f, out vec3 grad) {
                            (gz[0] + gz[1]) + (gz[2] + gz[3]));
     f = fs;
     grad = gs;
-    return none;
+}
+
+// sphFieldQuiet (core/sph_field.cpp): the quiet bit of p's (clamped) cell.
+bool sphQuiet(vec3 p) {
+    precise vec3 u = clamp((p - uLo) * uInvCell, vec3(0.0), vec3(uDims - 1));
+    const ivec3 c = ivec3(u);
+    const uint i = uint((c.z * uDims.y + c.y) * uDims.x + c.x);
+    return ((quiet[i >> 5u] >> (i & 31u)) & 1u) != 0u;
 }
 
 // sphFieldLastInCell (core/sph_field.cpp): how far the ray stays in the cell
