@@ -505,8 +505,14 @@ TEST(AnisotropyPipeline, AOneParticleSheetShadesEvenlyWithoutHoles) {
     EXPECT_EQ(e.dark, 0);
     EXPECT_EQ(e.grey, 0);
     // The spheres leave holes there, darker and greyer than the liquid around
-    // them (the transparent background shows through): the bounds see them.
+    // them (the transparent background shows through) unless the hole
+    // filling closes them (on by default): the bounds see them.
     rs.anisotropy.enabled = false;
+    auto filled = Renderer().render(p, rs);
+    ASSERT_TRUE(filled);
+    EXPECT_EQ(count(*filled).holes, 0);
+    rs.holeFill.enabled = false;
+    rs.thickness.minRadii = 0.0f;
     auto spheres = Renderer().render(p, rs);
     ASSERT_TRUE(spheres);
     const Count sp = count(*spheres);

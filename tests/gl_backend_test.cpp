@@ -188,10 +188,11 @@ TEST_F(GlBackend, SequenceReusesTheSceneAndCameraChangesRecastIt) {
         auto b = gl->render(f.positions, f.settings, &times);
         ASSERT_TRUE(a.ok() && b.ok());
         expectSame(*a, *b, f.settings.radiusM);
-        ASSERT_EQ(times.size(), 6u);  // five stages + readback
+        ASSERT_EQ(times.size(), 7u);  // six stages + readback
         EXPECT_EQ(times[0].stage, "scene");
-        EXPECT_EQ(times[4].stage, "shade");
-        EXPECT_EQ(times[5].stage, "readback");
+        EXPECT_EQ(times[2].stage, "fill-holes");
+        EXPECT_EQ(times[5].stage, "shade");
+        EXPECT_EQ(times[6].stage, "readback");
     }
 }
 

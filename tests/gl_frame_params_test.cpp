@@ -53,8 +53,8 @@ void main() {
     o[k++] = floatBitsToUint(P.nrLambda); o[k++] = floatBitsToUint(P.nrMu);
     o[k++] = uint(P.nrSeparable); o[k++] = floatBitsToUint(P.thicknessWeight);
     o[k++] = floatBitsToUint(P.thicknessBlurSigmaRadii); o[k++] = uint(P.thicknessMaxKernelPx);
-    o[k++] = uint(P.thicknessResolutionDivisor); o[k++] = uint(P.pad0);
-    o[k++] = uint(P.pad1); o[k++] = uint(P.pad2);
+    o[k++] = uint(P.thicknessResolutionDivisor); o[k++] = floatBitsToUint(P.thicknessMinRadii);
+    o[k++] = uint(P.pad0); o[k++] = uint(P.pad1);
 }
 )";
     auto prog = gl::computeProgram(src, "frame_params echo");

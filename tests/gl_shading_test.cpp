@@ -124,7 +124,8 @@ ShadeDiff compareWithCpu(const Camera& cam, float r, const cpu::SceneLayer& scen
                 whiteningParams);
     d.gl = out.download<glm::vec4>();
     const Image<glm::vec4> ref = cpu::shadeAndComposite(cam, scene, depth, normals, thickness, shading, noise,
-                                                        noiseParams, whitening, whiteningParams);
+                                                        noiseParams, whitening, whiteningParams, nullptr,
+                                                        ThicknessParams{}.minRadii, r);
     d.color = compareColor(ref, d.gl);
     const bool hasScene = scene.depth.width == depth.width && scene.depth.height == depth.height;
     for (std::size_t k = 0; k < ref.size() && k < d.gl.size(); ++k) {

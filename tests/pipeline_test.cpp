@@ -318,7 +318,7 @@ TEST(Pipeline, ViewsAndTimings) {
     ASSERT_TRUE(final);
     std::vector<std::string> stages;
     for (const auto& t : times) stages.push_back(t.stage);
-    EXPECT_EQ(stages, (std::vector<std::string>{"scene", "depth-splat+thickness", "smooth", "normals", "shade"}));
+    EXPECT_EQ(stages, (std::vector<std::string>{"scene", "depth-splat+thickness", "fill-holes", "smooth", "normals", "shade"}));
     for (const char* name : {"depth", "raw-depth", "normals", "thickness"}) {
         ASSERT_TRUE(viewFromName(name, &s.view)) << name;
         auto v = renderFrame(set.positions, s);

@@ -187,6 +187,16 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     cmd->add_option("--anisotropy-smoothing", an.smoothing,
                     "How far each ellipsoid's centre moves toward its neighbours' weighted mean, 0 to 1")
         ->capture_default_str();
+    cmd->add_option("--fill-holes", o.fillHoles,
+                    "Fill the gaps the splat leaves inside a sheet of liquid, up to this many particle radii wide, "
+                    "before the smoothing: where liquid of one surface closes a gap in along the row, the column and "
+                    "both diagonals (a gap open to a side, between drops or between layers, stays); 0 = off")
+        ->capture_default_str();
+    cmd->add_option("--min-thickness", o.minThickness,
+                    "Thin liquid: every liquid pixel is shaded as at least this many particle radii thick, so a "
+                    "sheet one particle thick or the rim of a drop is tinted, never the untinted background; 0 = the "
+                    "thickness as splatted")
+        ->capture_default_str();
     cmd->add_option("--fluid-scale", o.fluidScale,
                     "Reduced-resolution processing: 1, 0.5 or 0.25 of the width and height for the splat, smoothing, "
                     "normals and noise (about 4x or 16x fewer pixels); the surface is upsampled depth-aware and shaded "
@@ -265,6 +275,12 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
     if (s.anisotropy.enabled)
         if (std::string bad = checkAnisotropyParams(s.anisotropy); !bad.empty())
             return makeError("", "--anisotropy: " + bad);
+    s.holeFill.enabled = o.fillHoles > 0.0f;
+    if (s.holeFill.enabled) s.holeFill.maxSpanRadii = o.fillHoles;
+    s.thickness.minRadii = o.minThickness;
+    if (std::string bad = checkHoleFillParams(s.holeFill, s.thickness); !bad.empty())
+        return makeError("", std::string(bad.rfind("thickness", 0) == 0 ? "--min-thickness: " : "--fill-holes: ") +
+                                 bad);
     s.raycast = o.raycastParams;
     s.raycast.enabled = o.surface == "raycast";
     if (s.raycast.enabled) {

@@ -65,6 +65,9 @@ struct RenderOptions {
     // Anisotropic kernels (Yu & Turk 2013): --anisotropy on|off.
     std::string anisotropy = AnisotropyParams{}.enabled ? "on" : "off";
     AnisotropyParams anisotropyParams;
+    // Hole filling (SPEC §3.4a): the widest gap filled, radii (0: off); the thin-liquid floor, radii.
+    float fillHoles = HoleFillParams{}.maxSpanRadii;
+    float minThickness = ThicknessParams{}.minRadii;
     // Reduced-resolution processing (SPEC §3.9): 1, 0.5 or 0.25.
     float fluidScale = defaults::kFluidScale;
     // Diffuse particles (`meniscus whitewater`'s output) drawn as a layer:

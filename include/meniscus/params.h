@@ -163,7 +163,34 @@ struct ThicknessParams {
     float blurSigmaRadii = 1.0f;             // Gaussian blur sigma, radii; 0 = no blur
     int resolutionDivisor = 1;               // thickness on a 1/n-resolution grid, then upsampled: 1 = full, 2 = half (4 allowed)
     int maxKernelPx = defaults::kMaxKernelPx;
+    // Thin liquid (issue 17): a fluid pixel is shaded as at least this thick,
+    // radii, so the rim of a drop or a sheet one particle thick is tinted as
+    // liquid, never drawn as the untinted background. 0 = the thickness as splatted.
+    float minRadii = 1.0f;
 };
+
+// ---- Hole filling (SPEC §3.4a; formulas in src/shared/hole_fill.h) -----------
+
+// After the splat, before the smoothing: a pixel left uncovered inside a
+// sheet is filled when the liquid of one surface closes it in along the row,
+// the column and both diagonals (ends found within reachPx pixels each way,
+// at most jumpRadii r apart in depth), and at least three of those lines are
+// at most maxSpanRadii r long (a slit may be long one way). It takes the
+// lines' mean interpolated depth and thickness. Gaps open to a side (between
+// drops, a bay in the outline) and gaps between layers stay.
+struct HoleFillParams {
+    bool enabled = true;
+    float maxSpanRadii = 4.0f;               // widest gap filled, radii (4: two particle diameters)
+    float jumpRadii = defaults::kDepthJumpRadii;
+    int reachPx = 2 * defaults::kMaxKernelPx;  // search per side, pixels (the length of a slit filled)
+    // Passes, each reading the last one's output: where two slits cross,
+    // both lines are long until one pass has filled the slits around.
+    int passes = 2;
+};
+
+// The first parameter out of range, as "field: what is allowed" (the
+// thickness floor too); empty when all are fine.
+std::string checkHoleFillParams(const HoleFillParams& p, const ThicknessParams& thickness);
 
 // ---- Turbulence, for the surface noise (SPEC §3.7) ---------------------------
 

@@ -51,6 +51,9 @@ struct RenderSettings {
     View view = View::Final;
     FilterParams filter = NarrowRangeParams{};
     ThicknessParams thickness;
+    // Hole filling (SPEC §3.4a): on by default; the screen path only (the
+    // ray cast and the mesh decide their own coverage).
+    HoleFillParams holeFill;
     SceneParams scene;
     ShadingParams shading;
     // Several fluids (SPEC §3.10; Instant Liquids §5): when the particles

@@ -74,6 +74,7 @@ struct FrameSettings {
     RaycastParams raycast;
     const SphField* field = nullptr;
     ThicknessParams thickness;
+    HoleFillParams holeFill;
     ShadingParams shading;
     // The surface noise (SPEC §3.7): when enabled, the noise stage runs and
     // the shading tints foam. Per particle (this frame only, pointing into
@@ -129,6 +130,10 @@ public:
     virtual void splat(Slot sceneDepth, Slot depth, Slot thickness) = 0;
     // The chosen smoothing filter (cpu::smoothDepth); `none` copies.
     virtual void smooth(Slot in, Slot out) = 0;
+    // Hole filling (SPEC §3.4a, FrameSettings::holeFill): the uncovered
+    // pixels that liquid closes in get a depth and thickness, in place; never
+    // behind the scene (sceneDepth).
+    virtual void fillHoles(Slot sceneDepth, Slot depth, Slot thickness) = 0;
     // View-space normals of the smoothed depth (cpu::computeNormals).
     virtual void normals(Slot depth, Slot normal) = 0;
     // The raycast's stand-in for smooth + normals (cpu::raycastSurface): the

@@ -62,4 +62,14 @@ std::string checkSilhouetteParams(const SilhouetteParams& p) {
     return {};
 }
 
+std::string checkHoleFillParams(const HoleFillParams& p, const ThicknessParams& thickness) {
+    if (!within(thickness.minRadii, 0.0f, 100.0f)) return "thickness.minRadii: from 0 to 100 particle radii";
+    if (!p.enabled) return {};
+    if (!within(p.maxSpanRadii, 0.0f, 64.0f)) return "holeFill.maxSpanRadii: from 0 to 64 particle radii";
+    if (!within(p.jumpRadii, 0.0f, 1000.0f)) return "holeFill.jumpRadii: from 0 to 1000 particle radii";
+    if (p.reachPx < 1 || p.reachPx > 256) return "holeFill.reachPx: from 1 to 256 pixels";
+    if (p.passes < 0 || p.passes > 8) return "holeFill.passes: from 0 to 8";
+    return {};
+}
+
 }  // namespace meniscus

@@ -5,6 +5,7 @@
 #include "core/backend.h"
 #include "cpu/composite_fluids.h"
 #include "cpu/filters.h"
+#include "cpu/hole_fill.h"
 #include "cpu/normals.h"
 #include "cpu/raster_mesh.h"
 #include "cpu/raycast.h"
@@ -55,6 +56,11 @@ public:
         scalars_[int(out)] = cpu::smoothDepth(scalar(in), s_.camera, s_.radius, s_.filter);
     }
 
+    void fillHoles(Slot sceneDepth, Slot depth, Slot thickness) override {
+        cpu::fillHoles(s_.camera, s_.radius, s_.holeFill, &scalar(sceneDepth), scalars_[int(depth)],
+                       scalars_[int(thickness)]);
+    }
+
     void normals(Slot depth, Slot normal) override {
         vec3s_[int(normal)] = cpu::computeNormals(scalar(depth), s_.camera, s_.radius, defaults::kDepthJumpRadii);
     }
@@ -101,7 +107,8 @@ public:
                                                      scalar(thickness), s_.shading,
                                                      s_.noise.enabled ? &scalar(noise) : nullptr, &s_.noise,
                                                      s_.whitening.enabled ? &scalar(whitening) : nullptr,
-                                                     &s_.whitening, emission == Slot::None ? nullptr : &split);
+                                                     &s_.whitening, emission == Slot::None ? nullptr : &split,
+                                                     s_.thickness.minRadii, s_.radius);
     }
 
     void setFluid(std::span<const glm::vec3> positions, const FluidSettings& fluid) override {

@@ -41,6 +41,7 @@
 #include "cpu/filter_util.h"
 #include "cpu/sky.h"
 #include "shared/fluids.h"
+#include "shared/hole_fill.h"
 #include "shared/shading.h"
 #include "shared/surface_noise.h"
 
@@ -142,6 +143,7 @@ struct Setup {
     glm::vec3 sun;                  // the sky's sun: unit, world space
     glm::vec3 fluid, negK;
     float f0, opacity, refraction, specular, shininess, nhMin;
+    float minThicknessRadii, radiusM;  // thin liquid: T at least minThicknessRadii * radiusM
 };
 
 // Structure-of-arrays temporaries of one batch of fluid pixels.
@@ -185,7 +187,7 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
         B.vy[i] = vy;
         B.vz[i] = vz;
         const float T = B.T[i];
-        B.T[i] = T > 0.0f && T < INFINITY ? T : 0.0f;
+        B.T[i] = shared::thinLiquidThickness(T > 0.0f && T < INFINITY ? T : 0.0f, S.minThicknessRadii, S.radiusM);
     }
     // 2. Refraction: the background shifted along the normal by the projected
     // thickness, sampled bilinearly (pixel centres at +0.5, clamped to the image)
@@ -389,7 +391,8 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
                                    const Image<glm::vec3>& normals, const Image<float>& thickness,
                                    const ShadingParams& params, const Image<float>* noise,
                                    const NoiseParams* noiseParams, const Image<float>* whitening,
-                                   const WhiteningParams* whiteningParams, const LayerSplit* split) {
+                                   const WhiteningParams* whiteningParams, const LayerSplit* split,
+                                   float minThicknessRadii, float radiusM) {
     const int w = depth.width, h = depth.height;
     if (w <= 0 || h <= 0) return Image<glm::vec4>(w, h, glm::vec4(0.0f));
     // (std::vector zero-fills here; each row is then overwritten in parallel:
@@ -449,6 +452,8 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
     S.shininess = m.shininess;
     // The highlight is skipped where it is invisible (shared with the GL twin).
     S.nhMin = shared::highlightMinNh(m.specular, m.shininess);
+    S.minThicknessRadii = minThicknessRadii;
+    S.radiusM = radiusM;
 
     forEachRow(h, [&](int y) {
         Batch B;

@@ -43,6 +43,7 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
                                    const Image<float>* noise = nullptr, const NoiseParams* noiseParams = nullptr,
                                    const Image<float>* whitening = nullptr,
                                    const WhiteningParams* whiteningParams = nullptr,
-                                   const LayerSplit* split = nullptr);
+                                   const LayerSplit* split = nullptr, float minThicknessRadii = 0.0f,
+                                   float radiusM = 0.0f);
 
 }  // namespace meniscus::cpu

@@ -23,6 +23,7 @@
 #include "gl/filter_narrow_range.h"
 #include "gl/filter_separable.h"
 #include "gl/gpu_image.h"
+#include "gl/hole_fill.h"
 #include "gl/normals.h"
 #include "gl/present.h"
 #include "gl/raster_mesh.h"
@@ -53,6 +54,7 @@ struct Stages {
     LowResThickness lowResThickness;
     MeshRasteriser meshRasteriser;
     Raycast raycast;
+    HoleFill holeFill;
     SurfaceNoise surfaceNoise;
     SilhouetteReduction silhouetteReduction;
     SprayDrops sprayDrops;
@@ -182,6 +184,13 @@ public:
                 }
             },
             s_.filter);
+    }
+
+    void fillHoles(Slot sceneDepth, Slot depth, Slot thickness) override {
+        const auto fills = bufferFills();
+        forget(depth);
+        forget(thickness);
+        st_.holeFill.run(fp_, s_.holeFill, &img(sceneDepth), img(depth), img(thickness));
     }
 
     void normals(Slot depth, Slot normal) override {
@@ -452,6 +461,7 @@ Result<std::unique_ptr<Backend>> makeOnCurrent(std::unique_ptr<Context> ctx) {
                       take(SceneCaster::create(), s.scene), take(Normals::create(), s.normals),
                       take(Shading::create(), s.shading), take(LowResThickness::create(), s.lowResThickness),
                       take(MeshRasteriser::create(), s.meshRasteriser), take(Raycast::create(), s.raycast),
+                      take(HoleFill::create(), s.holeFill),
                       take(SurfaceNoise::create(), s.surfaceNoise),
                       take(SilhouetteReduction::create(), s.silhouetteReduction),
                       take(SprayDrops::create(), s.sprayDrops), take(Upsampling::create(), s.upsampling),

@@ -65,6 +65,7 @@ FrameParams packFrameParams(const Camera& camera, float radius, const FilterPara
     p.thicknessBlurSigmaRadii = thickness.blurSigmaRadii;
     p.thicknessMaxKernelPx = thickness.maxKernelPx;
     p.thicknessResolutionDivisor = thickness.resolutionDivisor;
+    p.thicknessMinRadii = thickness.minRadii;
     return p;
 }
 

@@ -1,5 +1,5 @@
 // The stage order of the screen-space pipeline (SPEC §1), in one place:
-//   scene -> depth splat + thickness (one pass) -> smoothing -> normals
+//   scene -> depth splat + thickness (one pass) -> [hole filling] -> smoothing -> normals
 //         -> [surface noise: N and bumped normals] -> [velocity whitening map]
 //         -> shading (+ foam, + white water) -> [silhouette reduction] -> [spray drops],
 // with reduced resolution (RenderSettings::fluidScale < 1, SPEC §3.9) the splat,
@@ -529,6 +529,8 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     const int divisor = fluidDivisor(s.fluidScale);
     if (divisor == 0)
         return makeError("", "RenderSettings::fluidScale: expected 1, 0.5 or 0.25, got " + std::to_string(s.fluidScale));
+    if (std::string bad = checkHoleFillParams(s.holeFill, s.thickness); !bad.empty())
+        return makeError("", "RenderSettings::" + bad);
     if (s.raycast.enabled) {
         if (std::string bad = checkRaycastParams(s.raycast); !bad.empty())
             return makeError("", "RenderSettings::raycast." + bad);
@@ -662,6 +664,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     if (shaped && !several) f.shapes = ellipsoids_[0].shapes;
     f.filter = s.filter;
     f.thickness = s.thickness;
+    f.holeFill = s.holeFill;
     f.raycast = s.raycast;
     if (raycast) {
         if (!several) f.field = &fields_[0];
@@ -716,9 +719,10 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         Slot sceneDepth, raw, thickness, depth, normal, noise, whitening = Slot::Whitening;
     };
     const SurfaceSlots full{Slot::SceneDepth, Slot::RawDepth, Slot::Thickness, Slot::Depth, Slot::Normal, Slot::Noise};
-    // The depth splat and thickness, the smoothing and normals (on the mesh
-    // path the triangles' depth and normals instead; thickness and raw depth
-    // stay the particles') and the noise; stage names prefixed by `tag`.
+    // The depth splat and thickness, the hole filling, the smoothing and
+    // normals (on the mesh path the triangles' depth and normals instead,
+    // with the ray cast its own; thickness and raw depth stay the
+    // particles') and the noise; stage names prefixed by `tag`.
     auto surface = [&](const std::string& tag, const SurfaceSlots& q) -> Status {
         if (auto st = stage((tag + "depth-splat+thickness").c_str(), [&] { b.splat(q.sceneDepth, q.raw, q.thickness); });
             !st)
@@ -731,6 +735,10 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
                 !st)
                 return st;
         } else {
+            if (s.holeFill.enabled)
+                if (auto st = stage((tag + "fill-holes").c_str(), [&] { b.fillHoles(q.sceneDepth, q.raw, q.thickness); });
+                    !st)
+                    return st;
             if (auto st = stage((tag + "smooth").c_str(), [&] { b.smooth(q.raw, q.depth); }); !st) return st;
             if (auto st = stage((tag + "normals").c_str(), [&] { b.normals(q.depth, q.normal); }); !st) return st;
         }

@@ -57,9 +57,9 @@ MENISCUS_BLOCK_BEGIN(FrameParams)
     float thicknessBlurSigmaRadii;
     int thicknessMaxKernelPx;
     int thicknessResolutionDivisor;
+    float thicknessMinRadii;  // thin liquid: shaded at least this thick, radii (shared/hole_fill.h)
     int pad0;
     int pad1;
-    int pad2;
 MENISCUS_BLOCK_END(FrameParams, P)
 
 #ifdef __cplusplus

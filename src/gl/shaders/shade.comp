@@ -25,6 +25,7 @@
 // colour (copied by the driver before the dispatch).
 #include "fluids.h"
 #include "frame_params.h"
+#include "hole_fill.h"
 #include "shading.h"
 #include "sky.h"
 #include "surface_noise.h"
@@ -98,7 +99,7 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out
     precise float nn = n.x * n.x + n.y * n.y + n.z * n.z;
     n = nn > 0.0 ? n : v;  // false for (0,0,0) and NaN
     float T = hasThickness ? texelFetch(thickness, k).x : 0.0;
-    T = T > 0.0 && T < kInf ? T : 0.0;
+    T = thinLiquidThickness(T > 0.0 && T < kInf ? T : 0.0, P.thicknessMinRadii, P.radius);
 
     // 2. Refraction: the background shifted along the normal by the projected
     // thickness, sampled bilinearly (pixel centres at +0.5, clamped to the

@@ -1,0 +1,80 @@
+// GL hole filling, SPEC §3.4a: shaders/hole_fill.comp, one invocation per
+// pixel, operation for operation as src/cpu/hole_fill.cpp (the rule and the
+// formulas are src/shared/hole_fill.h), so both fill the same pixels with the
+// same bits. Reads the splat through buffer textures and writes whole new
+// images, which then take the slots' places (no copy back).
+#include "gl/hole_fill.h"
+
+#include <utility>
+
+#include "gl/shaders.h"
+
+namespace meniscus::gl {
+
+namespace {
+constexpr int kGroup = 64;  // local_size_x of hole_fill.comp: columns per work group; a row per group row
+}  // namespace
+
+Result<HoleFill> HoleFill::create() {
+    HoleFill h;
+    auto p = loadComputeProgram("hole_fill.comp");
+    if (!p) return p.error();
+    h.program_ = std::move(*p);
+    h.depthTex_ = makeTexture();
+    h.thicknessTex_ = makeTexture();
+    h.sceneTex_ = makeTexture();
+    return h;
+}
+
+void HoleFill::run(const FrameParams& frame, const HoleFillParams& params, const GpuImage* sceneDepth,
+                   GpuImage& depth, GpuImage& thickness) {
+    const int W = frame.size.x, H = frame.size.y;
+    if (!params.enabled || W <= 0 || H <= 0 || params.reachPx < 1 || !depth.sized(W, H, 1)) return;
+    const bool hasT = thickness.sized(W, H, 1);
+    const bool hasScene = sceneDepth && sceneDepth->sized(W, H, 1);
+    depthOut_.resize(W, H, 1);
+    if (hasT) thicknessOut_.resize(W, H, 1);
+    glUseProgram(program_.id());
+    glUniform1f(0, params.maxSpanRadii);
+    glUniform1f(1, params.jumpRadii);
+    glUniform1i(2, params.reachPx);
+    glUniform2i(3, hasT ? 1 : 0, hasScene ? 1 : 0);
+    attachBufferTexture(depthTex_, GL_R32F, depth.buffer, depth.bytes());
+    // Unused bindings still need a texture of the right kind: the depth.
+    attachBufferTexture(thicknessTex_, GL_R32F, hasT ? thickness.buffer : depth.buffer,
+                        hasT ? thickness.bytes() : depth.bytes());
+    attachBufferTexture(sceneTex_, GL_R32F, hasScene ? sceneDepth->buffer : depth.buffer,
+                        hasScene ? sceneDepth->bytes() : depth.bytes());
+    const Texture* textures[] = {&depthTex_, &thicknessTex_, &sceneTex_};
+    for (int i = 0; i < 3; ++i) {
+        glActiveTexture(GLenum(GL_TEXTURE0 + i));
+        glBindTexture(GL_TEXTURE_BUFFER, textures[i]->id());
+    }
+    depthOut_.bind(3);
+    (hasT ? thicknessOut_ : depthOut_).bind(4);
+    // Each pass reads the last one's output (the CPU's passes; it stops
+    // early when a pass fills nothing, which changes nothing here).
+    for (int pass = 0; pass < params.passes; ++pass) {
+        if (pass > 0) {
+            std::swap(depth, depthOut_);
+            if (hasT) std::swap(thickness, thicknessOut_);
+            attachBufferTexture(depthTex_, GL_R32F, depth.buffer, depth.bytes());
+            if (hasT) attachBufferTexture(thicknessTex_, GL_R32F, thickness.buffer, thickness.bytes());
+            depthOut_.bind(3);
+            (hasT ? thicknessOut_ : depthOut_).bind(4);
+        }
+        glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint(H), 1);  // H <= 16384: in GL's guaranteed 65535
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    }
+    for (int i = 2; i >= 0; --i) {
+        glActiveTexture(GLenum(GL_TEXTURE0 + i));
+        glBindTexture(GL_TEXTURE_BUFFER, 0);
+    }
+    glUseProgram(0);
+    if (params.passes > 0) {
+        std::swap(depth, depthOut_);
+        if (hasT) std::swap(thickness, thicknessOut_);
+    }
+}
+
+}  // namespace meniscus::gl
