@@ -26,9 +26,9 @@ render spray21_cover --spray --spray-streak 0.03 --view spray "${close[@]}"
 render silhouette21_off --background none "${close[@]}"
 render silhouette21 --silhouette --background none "${close[@]}"
 render silhouette21_map --silhouette --view silhouette "${close[@]}"
-render anisotropy21_off "${close[@]}"
+render anisotropy21_off "${close[@]}" --anisotropy off --iterations 3
 render anisotropy21 "${close[@]}" --anisotropy on --iterations 1
-build/meniscus render data/demo/ParticleData_Fluid_21.bgeo -o docs/images/anisotropy_demo_off.png --width 640 --height 360 --backend cpu
+build/meniscus render data/demo/ParticleData_Fluid_21.bgeo -o docs/images/anisotropy_demo_off.png --width 640 --height 360 --backend cpu --anisotropy off --iterations 3
 build/meniscus render data/demo/ParticleData_Fluid_21.bgeo -o docs/images/anisotropy_demo.png --width 640 --height 360 --backend cpu --anisotropy on --iterations 1
 render raycast21 "${close[@]}" --surface raycast
 build/meniscus render data/demo/ParticleData_Fluid_21.bgeo -o docs/images/raycast_demo.png --width 640 --height 360 --backend cpu --surface raycast

@@ -24,7 +24,9 @@ small_auto $SMALL $SMALL_R $SM_E $SM_T"
 [[ ${EXTRA_CAMS:-0} == 1 ]] && CAMS+="
 dam_side $DAM $DAM_R 0.6,0.35,3.2 0.6,0.35,0.0
 dam_far $DAM $DAM_R 5.5,4.2,6.2 0.3,0.4,0.0"
-# FILTER[:ITERATIONS|:sep][@FLUID_SCALE][+an]; +an: with --anisotropy on (Yu & Turk's kernels);
+# FILTER[:ITERATIONS|:sep][@FLUID_SCALE][+an]; +an: with --anisotropy on (Yu & Turk's kernels; the
+# default since 2026-12-05), else --anisotropy off; without :ITERATIONS the filter's default count
+# (narrow-range: 1 since 2026-12-05; the tables of docs/quality.md were made with 3);
 # FILTER raycast: --surface raycast (the SPH surface ray cast from the splat, no filter).
 # FILTERS="..." in the environment picks others.
 FILTERS=${FILTERS:-"none gaussian bilateral binomial curvature-flow curvature-flow:40 curvature-flow:80 narrow-range narrow-range:sep narrow-range@0.5 narrow-range@0.25
@@ -39,7 +41,7 @@ while read -r NAME IN R E T; do
   for F in $FILTERS; do
     B=${F%+an}; ARGS=(--filter "${B%%[:@]*}"); [[ $B == *:sep* ]] && ARGS+=(--separable)
     [[ $B == raycast* ]] && ARGS=(--surface raycast)
-    [[ $F == *+an ]] && ARGS+=(--anisotropy on)
+    if [[ $F == *+an ]]; then ARGS+=(--anisotropy on); else ARGS+=(--anisotropy off); fi
     [[ $B == *@* ]] && ARGS+=(--fluid-scale "${B##*@}")
     [[ $B == *:[0-9]* ]] && { I=${B##*:}; ARGS+=(--iterations "${I%%@*}"); }
     "$M" --threads 2 render "$IN" -o "$OUT/${NAME}_${F//[:@+]/_}.exr" "${ARGS[@]}" --background none \

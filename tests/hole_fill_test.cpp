@@ -215,7 +215,8 @@ SheetStats renderSheet(bool fixes, float tiltDegrees) {
     rs.radiusM = r;
     rs.scene.background = false;
     rs.camera = test::lookAt(mid + dist * glm::vec3(std::sin(a), 0.0f, std::cos(a)), mid, 240, 180);
-    if (!fixes) {
+    if (!fixes) {  // the spheres as they were: no anisotropic kernels, no filling, no floor
+        rs.anisotropy.enabled = false;
         rs.holeFill.enabled = false;
         rs.thickness.minRadii = 0.0f;
     }
@@ -280,7 +281,7 @@ TEST(ThinSheet, OneParticleThickRendersWholeAndEvenlyTinted) {
         EXPECT_EQ(with.coverage, 1.0) << "tilt " << tilt;
         EXPECT_LT(with.worstDarker, 0.03) << "tilt " << tilt;
         EXPECT_LT(with.worstGreyer, 0.06) << "tilt " << tilt;
-        // Without the hole filling and the thin-liquid floor the same sheet
+        // As spheres, without the hole filling and the thin-liquid floor, the same sheet
         // has holes (10-23 % of the pixels), drawn as the background: the
         // test can fail.
         const SheetStats without = renderSheet(false, tilt);

@@ -359,6 +359,7 @@ struct MeshFrame {
         settings.camera = faceOnCamera({0.0f, 0.0f, 0.0f}, 1.5f, 160, 120);
         settings.radiusM = 0.25f;
         settings.mesh = &mesh;
+        settings.anisotropy.enabled = false;  // the splat of the one particle's sphere
     }
 };
 

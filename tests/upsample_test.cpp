@@ -285,11 +285,13 @@ TEST(FluidScale, TheRealFrameAtReducedResolution) {
         const double iou = double(both) / double(either), median = angles[angles.size() / 2];
         std::printf("fluid scale %.2f: mask IoU %.3f against full resolution, median normal difference %.1f deg\n",
                     double(scale), iou, median);
-        // Bounds well above what the renders give (0.5: IoU 0.92, 3.8 deg;
-        // 0.25: 0.87, 14 deg on this 320 x 180 view of the small dam break,
-        // where a quarter of the pixels leaves about one per particle).
+        // Bounds above what the renders give (spheres, 3 narrow-range
+        // iterations: 0.5: IoU 0.92, 3.8 deg; 0.25: 0.87, 14 deg on this
+        // 320 x 180 view of the small dam break, where a quarter of the pixels
+        // leaves about one per particle; the default anisotropic kernels with
+        // one iteration: 0.93, 6.2 deg and 0.89, 19.2 deg).
         EXPECT_GT(iou, scale == 0.5f ? 0.88 : 0.8);
-        EXPECT_LT(median, scale == 0.5f ? 6.0 : 20.0);
+        EXPECT_LT(median, scale == 0.5f ? 7.5 : 22.0);
     }
     s.fluidScale = 0.3f;
     auto bad = renderFrame(ParticleView::of(set), s);

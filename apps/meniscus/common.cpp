@@ -104,7 +104,7 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
         ->capture_default_str();
     cmd->add_option("--filter", o.filter, "Depth smoothing: " + filterNames())->capture_default_str();
     cmd->add_option("--iterations", o.iterations,
-                    "Smoothing iterations (default: the filter's own, e.g. 3 for narrow-range, 40 for curvature-flow)")
+                    "Smoothing iterations (default: the filter's own, e.g. 1 for narrow-range, 40 for curvature-flow)")
         ->check(CLI::Range(0, 10000));
     cmd->add_flag("--separable", o.separable, "narrow-range: the faster separable 1-D approximation");
     cmd->add_option("--material", o.material,

@@ -137,7 +137,7 @@ struct CurvatureFlowParams {
 
 // Narrow-range filter (Truong & Yuksel, I3D 2018; SPEC §3.5).
 struct NarrowRangeParams {
-    int iterations = 3;
+    int iterations = 1;                      // one: with the anisotropic kernels (the default) it scored best (docs/quality.md)
     float filterSizeRadii = 3.0f;            // world kernel radius, radii (sigma = radius / 3)
     float lambda = 10.0f;                    // range threshold tau = lambda * r
     float mu = 1.0f;                         // taps behind the range count as z0 + mu * r
@@ -297,7 +297,7 @@ std::string checkSprayParams(const SprayParams& p);
 // Computed once per frame on the host in O(N) (a hashed grid), threaded, the
 // result independent of the thread count. Off unless enabled.
 struct AnisotropyParams {
-    bool enabled = false;
+    bool enabled = true;          // on by default since issue 17: sheets close, spray reads as droplets
     float neighbourRadii = 4.0f;  // R, the neighbourhood radius, particle radii (2 rest spacings)
     float kr = 4.0f;              // largest ratio of the longest axis to the shortest (Yu & Turk's kr)
     float kn = 0.5f;              // a particle with too few neighbours is a sphere of kn r (Yu & Turk's kn)

@@ -67,7 +67,7 @@ std::string checkHoleFillParams(const HoleFillParams& p, const ThicknessParams& 
     if (!p.enabled) return {};
     if (!within(p.maxSpanRadii, 0.0f, 64.0f)) return "holeFill.maxSpanRadii: from 0 to 64 particle radii";
     if (!within(p.jumpRadii, 0.0f, 1000.0f)) return "holeFill.jumpRadii: from 0 to 1000 particle radii";
-    if (p.reachPx < 1 || p.reachPx > 256) return "holeFill.reachPx: from 1 to 256 pixels";
+    if (p.reachPx < 1 || p.reachPx > 254) return "holeFill.reachPx: from 1 to 254 pixels";
     if (p.passes < 0 || p.passes > 8) return "holeFill.passes: from 0 to 8";
     return {};
 }

@@ -1,16 +1,18 @@
 // CPU hole filling, SPEC §3.4a (the rule and formulas: src/shared/hole_fill.h).
-// Per row in parallel; the row's nearest covered pixels to the left and right
-// of every pixel come from two scans, so the row line (the first of the four)
-// rejects most of the background at once, and only pixels it closes walk the
-// column and the diagonals. Reads the splat as it came (a copy), so a filled
+// Per row in parallel; the nearest covered pixels along the row (two scans of
+// the row) and the column (two sweeps of blocks of columns) come without a
+// walk, so the row and the column turn most of the background away at once;
+// only pixels they close, one of them narrowly, walk the diagonals. Reads the splat as it came (a copy), so a filled
 // pixel never closes another and the order of the rows does not matter.
 #include "cpu/hole_fill.h"
 
 #include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "shared/hole_fill.h"
@@ -51,6 +53,28 @@ std::size_t fillPass(const Camera& camera, float radius, const HoleFillParams& p
     const bool hasScene = sceneDepth && sceneDepth->width == W && sceneDepth->height == H;
     const float f = camera.focalPx();
     const int maxPx = p.reachPx;
+    // Every pixel's distance to the nearest covered pixel above and below in
+    // its column (255: none within 254 >= reachPx), by sweeps down and up
+    // blocks of columns in parallel; bytes, to keep the sweeps' traffic small.
+    const std::size_t pixels = std::size_t(W) * std::size_t(H);
+    std::vector<std::uint8_t> up(pixels), down(pixels);
+    tbb::parallel_for(tbb::blocked_range<int>(0, W, 64), [&](const tbb::blocked_range<int>& cols) {
+        std::vector<int> dist(std::size_t(cols.size()));
+        for (int pass = 0; pass < 2; ++pass) {
+            std::fill(dist.begin(), dist.end(), 255);
+            std::vector<std::uint8_t>& out = pass == 0 ? up : down;
+            for (int k = 0; k < H; ++k) {
+                const int y = pass == 0 ? k : H - 1 - k;
+                const float* row = &src.pixels[std::size_t(y) * std::size_t(W)];
+                std::uint8_t* o = &out[std::size_t(y) * std::size_t(W)];
+                for (int x = cols.begin(); x < cols.end(); ++x) {
+                    int& d = dist[std::size_t(x - cols.begin())];
+                    d = row[x] < kInf ? 0 : std::min(d + 1, 255);
+                    o[x] = std::uint8_t(d);
+                }
+            }
+        }
+    });
     std::atomic<std::size_t> filled{0};
     tbb::parallel_for(0, H, [&](int y) {
         // The row's nearest covered pixel at or left of x (-1: none), and at or right (W: none).
@@ -61,6 +85,10 @@ std::size_t fillPass(const Camera& camera, float radius, const HoleFillParams& p
         for (int x = 0; x < W; ++x) {
             const int xl = left[std::size_t(x)], xr = right[std::size_t(x)];
             if (xl == x || xl < 0 || xr >= W || x - xl > maxPx || xr - x > maxPx) continue;
+            const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+            const int du = up[i], dd = down[i];
+            if (du > maxPx || dd > maxPx) continue;
+            const int yu = y - du, yd = y + dd;
             float zs[4], ts[4];
             bool closed = true;
             int narrow = 0;
@@ -70,6 +98,12 @@ std::size_t fillPass(const Camera& camera, float radius, const HoleFillParams& p
                 if (k == 0) {
                     a = {x - xl, src.at(xl, y), T ? T->at(xl, y) : 0.0f};
                     b = {xr - x, src.at(xr, y), T ? T->at(xr, y) : 0.0f};
+                } else if (k == 1) {
+                    a = {y - yu, src.at(x, yu), T ? T->at(x, yu) : 0.0f};
+                    b = {yd - y, src.at(x, yd), T ? T->at(x, yd) : 0.0f};
+                } else if (narrow == 0) {  // row and column both long: three narrow lines are out of reach
+                    closed = false;
+                    break;
                 } else {
                     a = walk(src, T, x, y, -dx, -dy, maxPx);
                     if (a.steps != 0) b = walk(src, T, x, y, dx, dy, maxPx);

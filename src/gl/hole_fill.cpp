@@ -1,5 +1,7 @@
-// GL hole filling, SPEC §3.4a: shaders/hole_fill.comp, one invocation per
-// pixel, operation for operation as src/cpu/hole_fill.cpp (the rule and the
+// GL hole filling, SPEC §3.4a: per pass shaders/hole_fill_sweep.comp (each
+// row's and column's steps to the nearest covered pixels), then
+// shaders/hole_fill.comp, one invocation per pixel, operation for operation
+// as src/cpu/hole_fill.cpp (the rule and the
 // formulas are src/shared/hole_fill.h), so both fill the same pixels with the
 // same bits. Reads the splat through buffer textures and writes whole new
 // images, which then take the slots' places (no copy back).
@@ -20,6 +22,9 @@ Result<HoleFill> HoleFill::create() {
     auto p = loadComputeProgram("hole_fill.comp");
     if (!p) return p.error();
     h.program_ = std::move(*p);
+    auto sw = loadComputeProgram("hole_fill_sweep.comp");
+    if (!sw) return sw.error();
+    h.sweep_ = std::move(*sw);
     h.depthTex_ = makeTexture();
     h.thicknessTex_ = makeTexture();
     h.sceneTex_ = makeTexture();
@@ -34,6 +39,20 @@ void HoleFill::run(const FrameParams& frame, const HoleFillParams& params, const
     const bool hasScene = sceneDepth && sceneDepth->sized(W, H, 1);
     depthOut_.resize(W, H, 1);
     if (hasT) thicknessOut_.resize(W, H, 1);
+    rowSteps_.resize(W, H, 1);
+    columnSteps_.resize(W, H, 1);
+    rowSteps_.bind(5);
+    columnSteps_.bind(6);
+    // The rows' and the columns' steps of the depth the pass reads (texture unit 0).
+    const auto sweep = [&] {
+        glUseProgram(sweep_.id());
+        glUniform1i(0, 0);
+        glDispatchCompute(GLuint((H + kGroup - 1) / kGroup), 1, 1);
+        glUniform1i(0, 1);
+        glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glUseProgram(program_.id());
+    };
     glUseProgram(program_.id());
     glUniform1f(0, params.maxSpanRadii);
     glUniform1f(1, params.jumpRadii);
@@ -63,6 +82,7 @@ void HoleFill::run(const FrameParams& frame, const HoleFillParams& params, const
             depthOut_.bind(3);
             (hasT ? thicknessOut_ : depthOut_).bind(4);
         }
+        sweep();
         glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint(H), 1);  // H <= 16384: in GL's guaranteed 65535
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     }

@@ -23,9 +23,10 @@ public:
              GpuImage& thickness);
 
 private:
-    Program program_;
+    Program program_, sweep_;
     Texture depthTex_, thicknessTex_, sceneTex_;
     GpuImage depthOut_, thicknessOut_;
+    GpuImage rowSteps_, columnSteps_;  // hole_fill_sweep.comp's steps (uint bits)
 };
 
 }  // namespace meniscus::gl
