@@ -27,7 +27,8 @@ dam_far $DAM $DAM_R 5.5,4.2,6.2 0.3,0.4,0.0"
 # FILTER[:ITERATIONS|:sep][@FLUID_SCALE][+an]; +an: with --anisotropy on (Yu & Turk's kernels; the
 # default since 2026-12-05), else --anisotropy off; without :ITERATIONS the filter's default count
 # (narrow-range: 1 since 2026-12-05; the tables of docs/quality.md were made with 3);
-# FILTER raycast: --surface raycast (the SPH surface ray cast from the splat, no filter).
+# FILTER raycast: --surface raycast (the SPH surface ray cast from the splat, no filter);
+# a trailing -nofill: --fill-holes 0 (the hole filling is on by default since 2026-12-05).
 # FILTERS="..." in the environment picks others.
 FILTERS=${FILTERS:-"none gaussian bilateral binomial curvature-flow curvature-flow:40 curvature-flow:80 narrow-range narrow-range:sep narrow-range@0.5 narrow-range@0.25
 none+an gaussian+an bilateral+an binomial+an curvature-flow+an narrow-range+an narrow-range:1+an narrow-range:sep+an narrow-range@0.5+an"}
@@ -39,9 +40,10 @@ while read -r NAME IN R E T; do
   echo "| filter | IoU | ref px | cand px | normal mean° | median° | p90° | depth abs rel | depth signed rel | abs / r | signed / r |"
   echo "|---|---|---|---|---|---|---|---|---|---|---|"
   for F in $FILTERS; do
-    B=${F%+an}; ARGS=(--filter "${B%%[:@]*}"); [[ $B == *:sep* ]] && ARGS+=(--separable)
+    G=${F%-nofill}; B=${G%+an}; ARGS=(--filter "${B%%[:@]*}"); [[ $B == *:sep* ]] && ARGS+=(--separable)
     [[ $B == raycast* ]] && ARGS=(--surface raycast)
-    if [[ $F == *+an ]]; then ARGS+=(--anisotropy on); else ARGS+=(--anisotropy off); fi
+    if [[ $G == *+an ]]; then ARGS+=(--anisotropy on); else ARGS+=(--anisotropy off); fi
+    [[ $F == *-nofill ]] && ARGS+=(--fill-holes 0)
     [[ $B == *@* ]] && ARGS+=(--fluid-scale "${B##*@}")
     [[ $B == *:[0-9]* ]] && { I=${B##*:}; ARGS+=(--iterations "${I%%@*}"); }
     "$M" --threads 2 render "$IN" -o "$OUT/${NAME}_${F//[:@+]/_}.exr" "${ARGS[@]}" --background none \

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "meniscus/io.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -512,6 +513,44 @@ TEST(Cli, RenderSaysWhichRadiusAndHow) {
     ASSERT_EQ(renderFrame21("cli_radius_line", "--width 64 --height 36", &out), 0) << out;
     EXPECT_NE(out.find("meniscus: radius 0.023"), std::string::npos) << out;
     EXPECT_NE(out.find("bulk number density"), std::string::npos) << out;
+}
+
+// Issue 17, item 2: a file with a smoothing length h and no radius renders as
+// the same file with the radius h / (2 x 1.2), byte for byte, particle by
+// particle (radii varying 0.6-1.4x across the set); --h-per-spacing changes
+// it; render and info say where the radius came from.
+TEST(Cli, SmoothingLengthGivesEachParticleItsRadius) {
+    auto set = meniscus::readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
+    ASSERT_TRUE(set) << set.error().describe();
+    std::vector<float> h(set->size()), r(set->size());
+    for (std::size_t i = 0; i < h.size(); ++i) {
+        h[i] = 0.06f * (0.6f + 0.8f * hash01(std::uint32_t(i), 17));
+        r[i] = h[i] * (1.0f / (2.0f * 1.2f));  // the library's arithmetic
+    }
+    const fs::path dir = tempDir() / "cli_smoothing_length";
+    fs::create_directories(dir);
+    meniscus::ParticleSet withH{set->positions, {{"h", meniscus::AttributeType::Float, 1, h, {}}}, {}};
+    meniscus::ParticleSet withR{set->positions, {{"radius", meniscus::AttributeType::Float, 1, r, {}}}, {}};
+    ASSERT_TRUE(meniscus::writeParticles(dir / "h.ply", withH));
+    ASSERT_TRUE(meniscus::writeParticles(dir / "r.ply", withR));
+    const std::string view = " --width 160 --height 90 --eye 2.5,2.1,2.9 --target 0.43,0.45,0";
+    std::string out;
+    ASSERT_EQ(runCli("render " + quote(dir / "h.ply") + " -o " + quote(dir / "h.png") + view, &out), 0) << out;
+    EXPECT_NE(out.find("radii from the smoothing length 'h': r = h / (2 x 1.2)"), std::string::npos) << out;
+    ASSERT_EQ(runCli("render " + quote(dir / "r.ply") + " -o " + quote(dir / "r.png") + view, &out), 0) << out;
+    EXPECT_EQ(out.find("smoothing length"), std::string::npos) << out;
+    EXPECT_EQ(readBytes(dir / "h.png"), readBytes(dir / "r.png"));
+    ASSERT_EQ(runCli("render " + quote(dir / "h.ply") + " -o " + quote(dir / "k.png") + view + " --h-per-spacing 2",
+                     &out),
+              0)
+        << out;
+    EXPECT_NE(readBytes(dir / "k.png"), readBytes(dir / "r.png"));
+    ASSERT_EQ(runCli("info --json " + quote(dir / "h.ply"), &out), 0) << out;
+    const auto j = nlohmann::json::parse(out.substr(out.find('{')));
+    EXPECT_EQ(j["radius_from_smoothing_length"]["attribute"], "h");
+    EXPECT_EQ(j["radius_method"], "file-attribute");
+    EXPECT_EQ(j["attributes"].size(), 1u);  // the file's own: h
+    EXPECT_NE(runCli("info " + quote(dir / "h.ply") + " --h-per-spacing 0", &out), 0);
 }
 
 TEST(Cli, AnisotropyOnOffAndItsErrors) {

@@ -11,6 +11,7 @@
 
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
+#include "meniscus/particle_view.h"
 #include "test_util.h"
 
 using namespace meniscus;
@@ -176,6 +177,55 @@ TEST(Particles, DefaultRadiusReadsTheFilesOwnRadius) {
     // An unusable value (0) is not taken.
     s.attributes[0].floats.assign(1000, 0.0f);
     EXPECT_EQ(defaultRadius(s).method, RadiusMethod::BulkDensity);
+}
+
+// Issue 17, item 2: a smoothing length h becomes each particle's radius
+// h / (2 k); a file's own radius wins; floats only; k must be positive.
+TEST(Particles, RadiusFromTheSmoothingLength) {
+    ParticleSet s;
+    s.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+    auto none = addRadiusFromSmoothingLength(s, 1.2f);
+    ASSERT_TRUE(none);
+    EXPECT_EQ(*none, "");
+    EXPECT_TRUE(s.attributes.empty());
+    s.attributes.push_back({"hsml", AttributeType::Float, 1, {0.024f, 0.048f, 0.012f}, {}});
+    auto h = addRadiusFromSmoothingLength(s, 1.2f);
+    ASSERT_TRUE(h);
+    EXPECT_EQ(*h, "hsml");
+    const Attribute* r = s.find("radius");
+    ASSERT_NE(r, nullptr);
+    ASSERT_EQ(r->floats.size(), 3u);
+    EXPECT_FLOAT_EQ(r->floats[0], 0.01f);
+    EXPECT_FLOAT_EQ(r->floats[1], 0.02f);
+    EXPECT_FLOAT_EQ(r->floats[2], 0.005f);
+    EXPECT_EQ(ParticleView::of(s).radius[1], r->floats[1]);  // what the renderer draws
+    const RadiusEstimate est = defaultRadius(s);
+    EXPECT_EQ(est.method, RadiusMethod::FileAttribute);
+    EXPECT_FLOAT_EQ(est.radius, 0.01f);  // the median
+    // Again: the set has a radius now, nothing changes.
+    auto again = addRadiusFromSmoothingLength(s, 2.0f);
+    ASSERT_TRUE(again);
+    EXPECT_EQ(*again, "");
+    EXPECT_FLOAT_EQ(s.find("radius")->floats[1], 0.02f);
+    EXPECT_EQ(s.attributes.size(), 2u);
+    // A file's pscale wins over its h.
+    ParticleSet p;
+    p.positions = {{0, 0, 0}};
+    p.attributes.push_back({"h", AttributeType::Float, 1, {0.5f}, {}});
+    p.attributes.push_back({"pscale", AttributeType::Float, 1, {0.1f}, {}});
+    ASSERT_TRUE(addRadiusFromSmoothingLength(p, 1.2f));
+    EXPECT_EQ(p.find("radius"), nullptr);
+    // An integer h is not a length; a bad k is an error.
+    ParticleSet q;
+    q.positions = {{0, 0, 0}};
+    q.attributes.push_back({"h", AttributeType::Int, 1, {}, {3}});
+    ASSERT_TRUE(addRadiusFromSmoothingLength(q, 1.2f));
+    EXPECT_EQ(q.find("radius"), nullptr);
+    for (float bad : {0.0f, -1.0f, NAN, INFINITY}) {
+        auto err = addRadiusFromSmoothingLength(q, bad);
+        ASSERT_FALSE(err) << bad;
+        EXPECT_NE(err.error().message.find("smoothing length per particle spacing"), std::string::npos);
+    }
 }
 
 // Regression (issue 13): 1,000 points in [0, 1e30]^3 gave "too few particles"

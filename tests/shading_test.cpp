@@ -233,6 +233,41 @@ TEST(Shading, SkySunFollowsTheLight) {
     EXPECT_GT(centre[0] - centre[1], 0.4f);
 }
 
+// Below the horizon the liquid mirrors what it shows through itself, not the
+// sky's brown ground (issue 17: grazing crests drew brown lines): a face turned
+// down and grazing (n.v about 0.31, F about 0.17) so that reflect(-v, n) points
+// well below the horizon (world y about -0.59, no sun glow) shows
+// a = C_fluid + (S - C_fluid) exp(-k T) whatever its Fresnel weight, 1e-5. The
+// sky's ground there would differ by more than 0.02.
+TEST(Shading, BelowTheHorizonTheLiquidMirrorsWhatItShowsThrough) {
+    const int W = 40, H = 30;
+    const Camera cam = test::faceOnCamera(glm::vec3(0.0f), 2.0f, W, H, 10.0f);  // narrow: all rays alike
+    const glm::vec4 sceneColor(0.5f, 0.6f, 0.7f, 1.0f);
+    const cpu::SceneLayer scene{Image<glm::vec4>(W, H, sceneColor), Image<float>(W, H, 10.0f)};
+    ShadingParams p;
+    p.material.specular = 0.0f;
+    const glm::vec3 nrm = glm::normalize(glm::vec3(0.0f, -0.95f, 0.31f));
+    const float T = 0.1f;
+    const Image<glm::vec4> out = cpu::shadeAndComposite(cam, scene, Image<float>(W, H, 2.0f),
+                                                        Image<glm::vec3>(W, H, nrm), Image<float>(W, H, T), p);
+    const Material& m = p.material;
+    const glm::vec3 a = m.fluidColor + (glm::vec3(sceneColor) - m.fluidColor) * glm::exp(-m.absorptionPerM * T);
+    const glm::vec3 sun = shared::sunDirection(p.lightDirWorld);
+    const float f0 = cpu::fresnelF0(m.ior);
+    float worstGround = 1.0f;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            for (int c = 0; c < 3; ++c) ASSERT_NEAR(out.at(x, y)[c], a[c], 1e-5f) << x << "," << y;
+            const glm::vec3 v = -glm::normalize(cam.pixelRay(float(x) + 0.5f, float(y) + 0.5f));
+            const glm::vec3 e = cam.dirToWorld(2.0f * glm::dot(nrm, v) * nrm - v);
+            ASSERT_LT(e.y / glm::length(e), -0.5f);  // past the ground blend (-0.25)
+            const float F = cpu::schlickFresnel(f0, glm::dot(nrm, v));
+            const glm::vec3 ground = a * (1.0f - F) + cpu::skyColor(e, sun) * F;
+            worstGround = std::min(worstGround, glm::length(ground - a));
+        }
+    EXPECT_GT(worstGround, 0.02f);
+}
+
 // A transparent scene (alpha 0, colour garbage) refracts the sky along the view
 // ray: the result equals that of an opaque scene painted with exactly that sky
 // (1e-6).

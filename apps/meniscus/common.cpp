@@ -2,6 +2,7 @@
 #include "common.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -81,6 +82,15 @@ void printWarnings(const ParticleSet& set) {
 bool isExr(const std::string& path) { return fs::path(path).extension() == ".exr"; }
 bool isPng(const std::string& path) { return fs::path(path).extension() == ".png"; }
 
+void addSmoothingLengthOption(CLI::App* cmd, float& hPerSpacing) {
+    cmd->add_option("--h-per-spacing", hPerSpacing,
+                    "A file with an SPH smoothing length (h, smoothing_length or hsml) and no radius: each particle's "
+                    "radius is h / (2 K), K being h in particle spacings (PySPH's hdx, Chrono's d0_multiplier; about "
+                    "1.7 for DualSPHysics' coefh 1)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+}
+
 void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     cmd->add_option("--width", o.width, "Image width in pixels")
         ->capture_default_str()
@@ -97,6 +107,7 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
                         "Particle radius in metres (default: the file's radius attribute, else estimated from the "
                         "bulk number density; docs/radius.md). Given, it also replaces a file's per-particle radii "
                         "(radius, pscale or particle_radius), which are otherwise drawn particle by particle");
+    if (radiusOption) addSmoothingLengthOption(cmd, o.hPerSpacing);
     cmd->add_option("--view", o.view,
                     "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
                     "smoothing), normals, thickness, noise (surface noise N), foam (foam cover), whitening (velocity "
@@ -413,14 +424,20 @@ Status Frames::addFluids(const RenderOptions& o) {
     return okStatus();
 }
 
-Result<ParticleSet> Frames::load(std::size_t i) const {
+Result<ParticleSet> Frames::load(std::size_t i, std::string* smoothingLength) const {
     auto set = embedded ? Result<ParticleSet>(*embedded) : readParticles(files[i]);
+    if (set) {
+        auto h = addRadiusFromSmoothingLength(*set, hPerSpacing);
+        if (!h) return h.error();
+        if (smoothingLength) *smoothingLength = *h;
+    }
     if (set && !fluidAttribute.empty())
         if (auto st = useFluidAttribute(*set, fluidAttribute); !st)
             return makeError(embedded ? std::string("the demo frame") : files[i].string(), st.error().message);
     for (std::size_t k = 0; set && k < moreFluids.size(); ++k) {
         auto more = readParticles(moreFluids[k][i]);
         if (!more) return more.error();
+        if (auto h = addRadiusFromSmoothingLength(*more, hPerSpacing); !h) return h.error();
         set->warnings.insert(set->warnings.end(), more->warnings.begin(), more->warnings.end());
         appendFluid(*set, *more, int(k) + 1);
     }
@@ -440,9 +457,15 @@ Result<std::string> Frames::outputName(const std::string& output, std::size_t i)
     return formatFramePattern(output, number >= 0 ? number : long(i));
 }
 
-Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded) {
+void printSmoothingLengthNote(const std::string& attribute, float hPerSpacing) {
+    std::fprintf(stderr, "meniscus: radii from the smoothing length '%s': r = %s / (2 x %g) (--h-per-spacing)\n",
+                 attribute.c_str(), attribute.c_str(), double(hPerSpacing));
+}
+
+Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded, float hPerSpacing) {
     Frames frames;
     frames.embedded = embedded;
+    frames.hPerSpacing = hPerSpacing;
     if (!embedded) {
         auto list = expandSequence(input);
         if (!list) return list.error();
@@ -452,7 +475,8 @@ Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded)
 }
 
 Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames, RenderSettings& settings) {
-    auto first = frames.load(0);
+    std::string smoothingLength;
+    auto first = frames.load(0, &smoothingLength);
     if (!first) return first.error();
     const std::string firstName = frames.embedded ? std::string("the demo frame") : frames.files[0].string();
     if (auto st = checkCoordinates(first->positions, firstName); !st) return st.error();
@@ -461,6 +485,7 @@ Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames,
         const RadiusEstimate est = defaultRadius(*first);
         radius = est.radius;
         std::cerr << "meniscus: " << (est.fallback ? "warning: " : "") << "radius " << est.describe() << "\n";
+        if (!smoothingLength.empty()) printSmoothingLengthNote(smoothingLength, frames.hPerSpacing);
         if (auto st = checkRadius(radius); !st)
             return makeError(firstName, "the estimated " + st.error().message + "; set --radius");
     }

@@ -43,6 +43,7 @@ struct RenderOptions {
     std::string eye, target, up = "0,1,0";
     float fov = defaults::kFovYDegrees;
     float radius = 0.0f;  // 0 = estimate
+    float hPerSpacing = defaults::kHPerSpacing;  // a file's smoothing length h, in particle spacings
     std::string view = "final";
     std::string filter = defaults::kFilterName;
     int iterations = -1;  // -1 = the filter's default
@@ -118,8 +119,13 @@ struct Frames {
     // count differs from the input's, or when --fluid-attribute is given too.
     Status addFluids(const RenderOptions& o);
 
+    // A file's smoothing length in particle spacings (addRadiusFromSmoothingLength).
+    float hPerSpacing = defaults::kHPerSpacing;
+
     std::size_t count() const { return embedded ? 1 : files.size(); }
-    Result<ParticleSet> load(std::size_t i) const;
+    // Frame i, with a `radius` attribute from the file's smoothing length when it
+    // has one and no radius (whose name then goes to *smoothingLength).
+    Result<ParticleSet> load(std::size_t i, std::string* smoothingLength = nullptr) const;
     // An error unless `output` can name every frame: several frames need a
     // printf pattern (`example` shows one).
     Status checkOutput(const std::string& output, const char* example) const;
@@ -127,7 +133,11 @@ struct Frames {
     // frame's own number (its file name's last digits), else its position.
     Result<std::string> outputName(const std::string& output, std::size_t i) const;
 };
-Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded);
+Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded,
+                          float hPerSpacing = defaults::kHPerSpacing);
+// --h-per-spacing, and the line saying radii came from a smoothing length.
+void addSmoothingLengthOption(CLI::App* cmd, float& hPerSpacing);
+void printSmoothingLengthNote(const std::string& attribute, float hPerSpacing);
 
 // Makes attribute `name` of `set` its fluid index (the `fluid` attribute the
 // renderer reads): integers, or floats holding whole numbers (DualSPHysics and

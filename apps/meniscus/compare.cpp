@@ -68,7 +68,7 @@ int runCompare(const RenderOptions& o) {
     if (!parsed) return fail(parsed.error().describe());
     RenderSettings settings = std::move(*parsed);
     settings.colorOnly = true;
-    auto frames = openFrames(o.input, nullptr);
+    auto frames = openFrames(o.input, nullptr, o.hPerSpacing);
     if (!frames) return fail(frames.error().describe());
     if (frames->count() != 1) return fail(o.input + ": compare takes one frame, not a sequence");
     auto set = fixForSequence(o, *frames, settings);

@@ -51,6 +51,7 @@ const char* radiusMethodName(RadiusMethod m) {
 struct InfoOptions {
     std::string input;
     bool json = false;
+    float hPerSpacing = defaults::kHPerSpacing;
 };
 
 int runInfo(const InfoOptions& o) {
@@ -58,6 +59,9 @@ int runInfo(const InfoOptions& o) {
     if (!frames) return fail(frames.error().describe());
     auto set = readParticles(frames->front());
     if (!set) return fail(set.error().describe());
+    const std::size_t fileAttributes = set->attributes.size();  // listed; a radius from h is not the file's
+    const auto smoothingLength = addRadiusFromSmoothingLength(*set, o.hPerSpacing);
+    if (!smoothingLength) return fail(smoothingLength.error().describe());
     printWarnings(*set);
     if (auto st = checkCoordinates(set->positions, frames->front().string()); !st) return fail(st.error().describe());
 
@@ -73,9 +77,13 @@ int runInfo(const InfoOptions& o) {
         j["bounds_min"] = {b.min.x, b.min.y, b.min.z};
         j["bounds_max"] = {b.max.x, b.max.y, b.max.z};
         j["attributes"] = nlohmann::json::array();
-        for (const auto& a : set->attributes)
+        for (std::size_t k = 0; k < fileAttributes; ++k) {
+            const Attribute& a = set->attributes[k];
             j["attributes"].push_back({{"name", a.name}, {"type", typeName(a)}, {"components", a.components}});
+        }
         j["radius_estimate"] = radius.radius;
+        if (!smoothingLength->empty())
+            j["radius_from_smoothing_length"] = {{"attribute", *smoothingLength}, {"h_per_spacing", o.hPerSpacing}};
         j["radius_method"] = radiusMethodName(radius.method);
         j["isolated_particles"] = radius.isolated;
         if (density) j["density"] = {{"min", density->min}, {"median", density->median}, {"max", density->max}};
@@ -89,10 +97,15 @@ int runInfo(const InfoOptions& o) {
     std::printf("bounds      (%.5g, %.5g, %.5g) .. (%.5g, %.5g, %.5g) m\n", b.min.x, b.min.y, b.min.z, b.max.x,
                 b.max.y, b.max.z);
     std::printf("attributes ");
-    for (const auto& a : set->attributes) std::printf(" %s(%s%s)", a.name.c_str(), typeName(a),
-                                                      a.components > 1 && a.components != 3 ? "[]" : "");
-    std::printf("%s\n", set->attributes.empty() ? " none" : "");
+    for (std::size_t k = 0; k < fileAttributes; ++k) {
+        const Attribute& a = set->attributes[k];
+        std::printf(" %s(%s%s)", a.name.c_str(), typeName(a), a.components > 1 && a.components != 3 ? "[]" : "");
+    }
+    std::printf("%s\n", fileAttributes == 0 ? " none" : "");
     std::printf("radius      %s\n", radius.describe().c_str());
+    if (!smoothingLength->empty())
+        std::printf("            from the smoothing length: r = %s / (2 x %g) (--h-per-spacing)\n",
+                    smoothingLength->c_str(), double(o.hPerSpacing));
     if (density)
         std::printf("density     min %.2f  median %.2f  max %.2f\n", density->min, density->median, density->max);
     return 0;
@@ -122,7 +135,7 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     if (!parsed) return fail(parsed.error().describe());
     RenderSettings settings = std::move(*parsed);
 
-    auto frames = openFrames(o.input, embedded);
+    auto frames = openFrames(o.input, embedded, o.hPerSpacing);
     if (!frames) return fail(frames.error().describe());
     if (auto st = frames->addFluids(o); !st) return fail(st.error().describe());
     const std::size_t count = frames->count();
@@ -228,6 +241,7 @@ int main(int argc, char** argv) {
     infoCmd->add_option("input", info.input, "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo)")
         ->required();
     infoCmd->add_flag("--json", info.json, "Print one JSON object (count, bounds_min, bounds_max, attributes, radius_estimate)");
+    addSmoothingLengthOption(infoCmd, info.hPerSpacing);
 
     RenderOptions render;
     auto* renderCmd = app.add_subcommand("render", "Render a particle file or sequence to PNG or EXR");

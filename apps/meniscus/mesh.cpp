@@ -74,8 +74,11 @@ CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
     cmd->add_option("-o,--output", o.output,
                     "Output .ply (binary, default) or .obj; for a sequence a pattern like mesh_%04d.ply")
         ->required();
-    cmd->add_option("--radius", o.radius, "Particle radius r in metres (default: estimated from the first frame)")
+    cmd->add_option("--radius", o.radius,
+                    "Particle radius r in metres (default: the median of the file's radius attribute or smoothing "
+                    "length, else estimated from the first frame)")
         ->check(CLI::PositiveNumber);
+    addSmoothingLengthOption(cmd, o.hPerSpacing);
     addMesherOptions(cmd, o.mesher);
     cmd->add_flag("--stats", o.stats, "Print the extraction's phases, sizes and peak memory for each frame");
     return cmd;
@@ -84,7 +87,7 @@ CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
 int runMesh(const MeshOptions& o, int threads) {
     const Result<MeshFormat> format = meshFormatOf(o.output);
     if (!format) return fail(format.error().describe());
-    auto frames = openFrames(o.input, nullptr);
+    auto frames = openFrames(o.input, nullptr, o.hPerSpacing);
     if (!frames) return fail(frames.error().describe());
     const std::size_t count = frames->count();
     if (auto st = frames->checkOutput(o.output, "mesh_%04d.ply"); !st) return fail(st.error().describe());
@@ -94,7 +97,8 @@ int runMesh(const MeshOptions& o, int threads) {
     const bool tty = ::isatty(STDERR_FILENO) == 1;
     ProgressBar progress(count, "meshing");
     for (std::size_t i = 0; i < count; ++i) {
-        auto set = frames->load(i);
+        std::string smoothingLength;
+        auto set = frames->load(i, &smoothingLength);
         if (!set) return fail(set.error().describe());
         printWarnings(*set);
         const std::string name = frames->files[i].string();
@@ -106,6 +110,7 @@ int runMesh(const MeshOptions& o, int threads) {
                 const RadiusEstimate est = defaultRadius(*set);
                 params.radiusM = est.radius;
                 std::cerr << "meniscus: " << (est.fallback ? "warning: " : "") << "radius " << est.describe() << "\n";
+                if (!smoothingLength.empty()) printSmoothingLengthNote(smoothingLength, frames->hPerSpacing);
             }
         }
         MeshStats stats;

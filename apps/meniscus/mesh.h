@@ -18,6 +18,7 @@ struct MeshOptions {
     std::string input;
     std::string output;
     float radius = 0.0f;  // metres; 0 = estimate from the first frame
+    float hPerSpacing = defaults::kHPerSpacing;  // a file's smoothing length h, in particle spacings
     MesherOptions mesher;
     bool stats = false;
 };

@@ -109,7 +109,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         scene = std::move(*read);
         simulator = std::move(*made);
     } else {
-        auto opened = openFrames(o.render.input, embedded);
+        auto opened = openFrames(o.render.input, embedded, o.render.hPerSpacing);
         if (!opened) return fail(opened.error().describe());
         if (auto st = opened->addFluids(o.render); !st) return fail(st.error().describe());
         frames = std::move(*opened);

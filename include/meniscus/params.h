@@ -59,6 +59,12 @@ inline constexpr int kAutoFramePoints = 50000;
 inline constexpr int kSequenceFramingFrames = 5;
 inline constexpr int kSequenceFramePoints = 20000;
 
+// A file's SPH smoothing length h gives each particle the radius
+// h / (2 k), k = kHPerSpacing: h in particle spacings (2 r). The codes name k
+// hdx (PySPH, 1.0-1.3 in its examples), d0_multiplier (Chrono, 1.2) or take
+// h = coefh sqrt(3) dp (DualSPHysics, about 1.7 for coefh 1); --h-per-spacing.
+inline constexpr float kHPerSpacing = 1.2f;
+
 // A depth step between neighbouring pixels larger than this many radii is a
 // discontinuity (silhouette / separate body): filters and normals never
 // difference or average across it.

@@ -55,6 +55,10 @@ inline constexpr std::string_view kAttrColor = "color";  // Float, 3 components:
 // Float, 1 component, metres: each particle's own radius. ParticleView::of
 // takes the first of these names a set has (Houdini writes pscale).
 inline constexpr std::string_view kAttrRadiusNames[] = {"radius", "pscale", "particle_radius"};
+// Float, 1 component, metres: each particle's SPH smoothing length h
+// (PySPH's h, GADGET-style hsml). Not a radius: addRadiusFromSmoothingLength
+// (particles.h) turns it into one.
+inline constexpr std::string_view kAttrSmoothingLengthNames[] = {"h", "smoothing_length", "SmoothingLength", "hsml"};
 
 struct ParticleView {
     StridedView<glm::vec3> positions;   // metres, world space (required)

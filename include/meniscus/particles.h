@@ -65,6 +65,15 @@ RadiusEstimate estimateRadius(std::span<const glm::vec3> positions);
 // has a usable one, else estimateRadius(positions).
 RadiusEstimate defaultRadius(const ParticleSet& set);
 
+// When `set` has a smoothing length (kAttrSmoothingLengthNames: one float
+// per particle) and no radius attribute (kAttrRadiusNames), adds the
+// attribute "radius" = h / (2 hPerSpacing) for each particle (h being
+// hPerSpacing particle spacings of 2 r; defaults::kHPerSpacing) and returns
+// the smoothing length's name; otherwise returns "" and changes nothing. An
+// error when hPerSpacing is not a positive number; a bad h becomes a bad
+// radius, which the renderer reports by particle.
+Result<std::string> addRadiusFromSmoothingLength(ParticleSet& set, float hPerSpacing);
+
 struct MinMedianMax {
     double min = 0, median = 0, max = 0;
 };

@@ -4,6 +4,7 @@
 #include "meniscus/particles.h"
 
 #include "core/hash_grid.h"
+#include "meniscus/particle_view.h"
 
 #include <algorithm>
 #include <array>
@@ -217,7 +218,7 @@ RadiusEstimate estimateRadius(std::span<const glm::vec3> positions) {
 }
 
 RadiusEstimate defaultRadius(const ParticleSet& set) {
-    for (const char* name : {"radius", "pscale", "particle_radius"}) {
+    for (std::string_view name : kAttrRadiusNames) {
         const Attribute* a = set.find(name);
         if (!a || a->components != 1) continue;
         const auto stats = attributeStats(set, name);
@@ -225,10 +226,28 @@ RadiusEstimate defaultRadius(const ParticleSet& set) {
         RadiusEstimate est;
         est.radius = float(stats->median);
         est.method = RadiusMethod::FileAttribute;
-        est.attribute = name;
+        est.attribute = std::string(name);
         return est;
     }
     return estimateRadius(set.positions);
+}
+
+Result<std::string> addRadiusFromSmoothingLength(ParticleSet& set, float hPerSpacing) {
+    if (!(hPerSpacing > 0.0f) || !std::isfinite(hPerSpacing))
+        return makeError("", "the smoothing length per particle spacing must be a positive number, not " +
+                                 std::to_string(hPerSpacing));
+    for (std::string_view name : kAttrRadiusNames)
+        if (set.find(name)) return std::string();
+    for (std::string_view name : kAttrSmoothingLengthNames) {
+        const Attribute* h = set.find(name);
+        if (!h || h->type != AttributeType::Float || h->components != 1 || h->floats.size() != set.size()) continue;
+        const float toRadius = 1.0f / (2.0f * hPerSpacing);
+        std::vector<float> radius(h->floats.size());
+        for (std::size_t i = 0; i < radius.size(); ++i) radius[i] = h->floats[i] * toRadius;
+        set.attributes.push_back({std::string(kAttrRadiusNames[0]), AttributeType::Float, 1, std::move(radius), {}});
+        return std::string(name);
+    }
+    return std::string();
 }
 
 std::optional<MinMedianMax> attributeStats(const ParticleSet& set, std::string_view name, int component) {

@@ -4,7 +4,8 @@
 //   a     = lerp(C_fluid, S(x + beta n_x, y - beta n_y), exp(-k_rgb T))   (eq. 18)
 //   C_out = a (1 - F) + b F + k_s (n·h)^alpha                              (eq. 20)
 // with b the sky (environment map) along reflect(-v, n) in world space and F
-// Schlick's Fresnel term.
+// Schlick's Fresnel term. Below the horizon b is a itself, what the liquid
+// shows through at that pixel (shared::reflectionRadiance says why).
 //
 // Choices:
 //  - The refraction offset is beta = refraction * T * f / z pixels: the
@@ -163,6 +164,7 @@ struct Batch {
     float white[kBatch];  // white-water cover (strength * the whitening map), 0 without it
     float er[kBatch], eg[kBatch], eb[kBatch];  // Beer-Lambert share exp(-k T)
     float F[kBatch];                           // Fresnel weight after the opaque mix
+    float ground[kBatch];                      // the reflected direction's groundShare (layer split only)
 };
 
 // Shades a batch of n fluid pixels of row y: branch-free loops over the
@@ -244,6 +246,7 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
     // 4. Absorption, Fresnel, reflection, branch-free.
     const float f0 = S.f0, op = S.opacity, nhMin = S.nhMin;
     int nSpec = 0;
+    const bool split = S.emission != nullptr;
     for (int i = 0; i < n; ++i) {
         const float nx = B.nx[i], ny = B.ny[i], nz = B.nz[i];
         const float vx = B.vx[i], vy = B.vy[i], vz = B.vz[i];
@@ -270,12 +273,15 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
         F = op > 0.0f ? F * (1.0f - op) : F;
         B.F[i] = F;
 
-        // Mirror reflection of the environment, reflect(-v, n) in world space.
+        // Mirror reflection of the environment, reflect(-v, n) in world space;
+        // below the horizon it mirrors what the liquid shows through itself.
         const float tn = 2.0f * nv;
         const float ex = tn * nx - vx, ey = tn * ny - vy, ez = tn * nz - vz;
         float br, bg, bb;
-        skyColorRgb(ex * X.x + ey * Y.x + ez * Z.x, ex * X.y + ey * Y.y + ez * Z.y, ex * X.z + ey * Y.z + ez * Z.z,
-                    sun, &br, &bg, &bb);
+        const float wx = ex * X.x + ey * Y.x + ez * Z.x, wy = ex * X.y + ey * Y.y + ez * Z.y,
+                    wz = ex * X.z + ey * Y.z + ez * Z.z;
+        reflectionRgb(wx, wy, wz, sun, ar, ag, ab, &br, &bg, &bb);
+        B.ground[i] = split ? shared::groundShare(wx, wy, wz) : 0.0f;  // only the layer split needs it
         B.cr[i] = ar * (1.0f - F) + br * F;
         B.cg[i] = ag * (1.0f - F) + bg * F;
         B.cb[i] = ab * (1.0f - F) + bb * F;
@@ -323,7 +329,7 @@ void splitLayer(const Setup& S, std::size_t row, int n, const Batch& B) {
     const float keepOpaque = S.opacity > 0.0f ? 1.0f - S.opacity : 1.0f;
     for (int i = 0; i < n; ++i) {
         const glm::vec3 t = shared::fluidTransmittance(glm::vec3(B.er[i], B.eg[i], B.eb[i]), keepOpaque, B.F[i],
-                                                       B.foam[i], B.white[i]);
+                                                       B.ground[i], B.foam[i], B.white[i]);
         const glm::vec3 e =
             shared::fluidEmission(glm::vec3(B.cr[i], B.cg[i], B.cb[i]), t, glm::vec3(B.sr[i], B.sg[i], B.sb[i]));
         const std::size_t k = row + std::size_t(B.x[i]);

@@ -23,4 +23,15 @@ inline void skyColorRgb(float dx, float dy, float dz, const glm::vec3& sunDir, f
     *b = c.z;
 }
 
+// What the liquid mirrors along a reflected direction: the sky above the
+// horizon, the colour (br, bg, bb) the liquid shows through itself below it
+// (shared::reflectionRadiance), inline for the same reason.
+inline void reflectionRgb(float dx, float dy, float dz, const glm::vec3& sunDir, float br, float bg, float bb, float* r,
+                          float* g, float* b) {
+    const glm::vec3 c = shared::reflectionRadiance(dx, dy, dz, sunDir, glm::vec3(br, bg, bb));
+    *r = c.x;
+    *g = c.y;
+    *b = c.z;
+}
+
 }  // namespace meniscus::cpu

@@ -9,10 +9,12 @@
 //
 // The split: the shading (cpu/shading.cpp, eqs. 18-20) is affine in the
 // background S it refracts, C = E + T S per channel, with
-//   T = exp(-k thickness) (1 - opacity) (1 - F) (1 - foam) (1 - white)
-// (the Beer-Lambert share, the opaque mix, the Fresnel weight and the two
-// covers of foam and white water; (1 - opacity) only for opaque materials,
-// where it is applied), and E = C - T S. Over a pixel with fluids 1..m
+//   T = exp(-k thickness) (1 - opacity) (1 - F (1 - g)) (1 - foam) (1 - white)
+// (the Beer-Lambert share, the opaque mix, the Fresnel weight with g the
+// ground's share of the reflected direction, below the horizon where the
+// reflection mirrors the liquid's own transmitted colour (sky.h,
+// reflectionRadiance), and the two covers of foam and white water;
+// (1 - opacity) only for opaque materials, where it is applied), and E = C - T S. Over a pixel with fluids 1..m
 // sorted nearest first, the composite is
 //   C = E_1 + T_1 (E_2 + T_2 (... E_{m-1} + T_{m-1} C_m))
 // where C_m, the farthest fluid's own colour, refracts the scene as a single
@@ -46,10 +48,12 @@ MENISCUS_FL_INLINE bool fluidInFront(float z, float sceneZ) { return z < sceneZ 
 
 // T, the share of the light behind a fluid pixel that passes it (per channel):
 // `absorb` = exp(-k thickness), `keepOpaque` = 1 - opacity (1 for transparent
-// materials), F the Fresnel weight after the opaque mix, and the foam and
-// white-water covers (0 when off).
-MENISCUS_FL_INLINE vec3 fluidTransmittance(vec3 absorb, float keepOpaque, float F, float foam, float white) {
-    MENISCUS_FL_EXACT float k = keepOpaque * (1.0f - F) * (1.0f - foam) * (1.0f - white);
+// materials), F the Fresnel weight after the opaque mix, `ground` the
+// reflected direction's groundShare (sky.h), and the foam and white-water
+// covers (0 when off).
+MENISCUS_FL_INLINE vec3 fluidTransmittance(vec3 absorb, float keepOpaque, float F, float ground, float foam,
+                                           float white) {
+    MENISCUS_FL_EXACT float k = keepOpaque * (1.0f - F * (1.0f - ground)) * (1.0f - foam) * (1.0f - white);
     MENISCUS_FL_EXACT vec3 t = vec3(absorb.x * k, absorb.y * k, absorb.z * k);
     return t;
 }

@@ -6,7 +6,8 @@
 // Liquids" §3):
 //   a     = lerp(C_fluid, S(x + beta n_x, y - beta n_y), exp(-k_rgb T))   (eq. 18)
 //   C_out = a (1 - F) + b F + k_s (n·h)^alpha                              (eq. 20)
-// with b the sky (src/shared/sky.h) along reflect(-v, n) in world space, F
+// with b the sky (src/shared/sky.h) along reflect(-v, n) in world space (below the
+// horizon a itself: reflectionRadiance), F
 // Schlick's Fresnel term, beta = refraction * T * f / z pixels, the background
 // sampled bilinearly with premultiplied alpha and the sky filling what the
 // scene leaves transparent; opaque materials mix toward a Lambert-lit fluid
@@ -152,7 +153,8 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out
     precise vec3 e = tn * n - v;
     precise vec3 ew = vec3(e.x * X.x + e.y * Y.x + e.z * Z.x, e.x * X.y + e.y * Y.y + e.z * Z.y,
                            e.x * X.z + e.y * Y.z + e.z * Z.z);
-    const vec3 b = skyRadiance(ew.x, ew.y, ew.z, uSun);
+    const vec3 b = reflectionRadiance(ew.x, ew.y, ew.z, uSun, a);  // below the horizon: a
+    const float ground = groundShare(ew.x, ew.y, ew.z);
     precise vec3 c = a * (1.0 - F) + b * F;
     // 5. Blinn-Phong highlight (eq. 20) on the lit side where visible:
     // (n.h)^s = exp(s ln(n.h)) for n.h in (nhMin, 1].
@@ -176,7 +178,7 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out
         c = noiseWithFoam(c, white, nl, uWhiteColor, kOpaqueAmbient);
     }
     back = s.rgb;
-    through = fluidTransmittance(absorb, op > 0.0 ? 1.0 - op : 1.0, F, foam, white);
+    through = fluidTransmittance(absorb, op > 0.0 ? 1.0 - op : 1.0, F, ground, foam, white);
     return c;
 }
 
