@@ -7,7 +7,9 @@
 # display; CI has none, so its tests run inside a virtual X server (xvfb-run
 # from xvfb, which needs xauth). The fuzzers (scripts/fuzz.sh) need clang and
 # its sanitizer and libFuzzer run-times (libclang-rt-14-dev, which clang-14
-# only recommends).
+# only recommends). Movies (-o out.mp4) are encoded through FFmpeg's libraries
+# (libavcodec-dev, libavformat-dev, libswscale-dev; Debian's libavcodec brings
+# the libx264 H.264 encoder).
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 SUDO=""
@@ -20,5 +22,6 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   libgtest-dev libgmock-dev libbenchmark-dev \
   libepoxy-dev libegl-dev libgl1-mesa-dri libegl-mesa0 glslang-tools \
   libglfw3-dev libglx-mesa0 xvfb xauth \
+  libavcodec-dev libavformat-dev libswscale-dev libavutil-dev \
   clang libclang-rt-14-dev >/dev/null
 echo "meniscus: dependencies installed"

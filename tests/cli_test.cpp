@@ -553,6 +553,28 @@ TEST(Cli, SmoothingLengthGivesEachParticleItsRadius) {
     EXPECT_NE(runCli("info " + quote(dir / "h.ply") + " --h-per-spacing 0", &out), 0);
 }
 
+// Issue 18, item 6: --version says what the build has; a subcommand's option
+// given before the subcommand is a usage error saying where it goes, while
+// --threads works on either side.
+TEST(Cli, VersionAndWhereOptionsGo) {
+    std::string out;
+    ASSERT_EQ(runCli("--version", &out), 0) << out;
+    EXPECT_EQ(out.rfind("meniscus 0.", 0), 0u) << out;
+    EXPECT_NE(out.find("backends: cpu"), std::string::npos) << out;
+    EXPECT_NE(out.find("movies: "), std::string::npos) << out;
+    const fs::path dir = tempDir() / "cli_where";
+    fs::create_directories(dir);
+    const std::string in = quote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
+    EXPECT_EQ(runCli("--width 64 render " + in + " -o " + quote(dir / "a.png"), &out), 2) << out;
+    EXPECT_NE(out.find("--width is an option of a subcommand and goes after it"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "a.png"));
+    EXPECT_EQ(runCli("--threads 1 render " + in + " -o " + quote(dir / "b.png") + " --width 64 --height 36", &out), 0)
+        << out;
+    EXPECT_EQ(runCli("render " + in + " -o " + quote(dir / "c.png") + " --width 64 --height 36 --threads 1", &out), 0)
+        << out;
+    EXPECT_EQ(readBytes(dir / "b.png"), readBytes(dir / "c.png"));
+}
+
 TEST(Cli, AnisotropyOnOffAndItsErrors) {
     std::string out;
     ASSERT_EQ(renderFrame21("cli_aniso_on", "--width 64 --height 36 --anisotropy on --anisotropy-radius 5", &out), 0)

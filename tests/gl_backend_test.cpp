@@ -270,6 +270,25 @@ TEST(Backends, NamesParseAndCpuIsTheDefault) {
     EXPECT_TRUE(note.empty());
 }
 
+// Issue 18, item 6: auto takes the GL backend on a GPU and the CPU backend,
+// with a note naming the rasteriser, when the only GL is a software one
+// (llvmpipe on CI), where the CPU backend is about twice as fast.
+TEST(Backends, AutoPrefersTheCpuOverASoftwareGl) {
+    auto gl = Renderer::create(BackendChoice::Gl);
+    if (!gl) GTEST_SKIP() << "no GL context: " << gl.error().describe();
+    const std::string glName = gl->backendName();
+    std::string note;
+    auto autoPick = Renderer::create(BackendChoice::Auto, &note);
+    ASSERT_TRUE(autoPick);
+    if (glName.find("llvmpipe") != std::string::npos || glName.find("softpipe") != std::string::npos) {
+        EXPECT_EQ(autoPick->backendName(), "cpu");
+        EXPECT_NE(note.find("software rasteriser, " + glName + "; using the CPU backend"), std::string::npos) << note;
+    } else {
+        EXPECT_EQ(autoPick->backendName(), glName);
+        EXPECT_TRUE(note.empty()) << note;
+    }
+}
+
 // The CLI: --backend gl and --backend cpu write the same picture (PNG bytes
 // within 2 steps, as above); a bad name is a usage error naming the choices.
 TEST_F(GlBackend, CliBackendsWriteTheSameImage) {

@@ -81,6 +81,7 @@ void printWarnings(const ParticleSet& set) {
 
 bool isExr(const std::string& path) { return fs::path(path).extension() == ".exr"; }
 bool isPng(const std::string& path) { return fs::path(path).extension() == ".png"; }
+bool isMp4(const std::string& path) { return fs::path(path).extension() == ".mp4"; }
 
 void addSmoothingLengthOption(CLI::App* cmd, float& hPerSpacing) {
     cmd->add_option("--h-per-spacing", hPerSpacing,
@@ -217,8 +218,8 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
 
 void addBackendOption(CLI::App* cmd, RenderOptions& o) {
     cmd->add_option("--backend", o.backend,
-                    "Where the stages run: cpu, gl (OpenGL 4.3 through headless EGL) or auto (gl when a context "
-                    "can be created, else cpu with a one-line note)")
+                    "Where the stages run: cpu, gl (OpenGL 4.3 through headless EGL) or auto (gl on a GPU; cpu, "
+                    "with a one-line note, when there is no GL or only a software one such as Mesa's llvmpipe)")
         ->capture_default_str();
 }
 
@@ -453,6 +454,7 @@ Status Frames::checkOutput(const std::string& output, const char* example) const
 
 Result<std::string> Frames::outputName(const std::string& output, std::size_t i) const {
     if (output.find('%') == std::string::npos) return output;
+    if (renumber) return formatFramePattern(output, long(i));
     const long number = embedded ? 0 : frameNumberFromName(files[i].filename().string());
     return formatFramePattern(output, number >= 0 ? number : long(i));
 }
@@ -474,12 +476,29 @@ Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded,
     return frames;
 }
 
-Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames, RenderSettings& settings) {
+Result<ParticleSet> Frames::loadChecked(std::size_t i, std::string* smoothingLength) const {
+    auto set = load(i, smoothingLength);
+    if (!set) return set.error();
+    if (auto st = checkCoordinates(set->positions, name(i)); !st) return st.error();
+    return set;
+}
+
+std::string Frames::name(std::size_t i) const {
+    return embedded ? std::string("the demo frame") : files[i].string();
+}
+
+Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames, RenderSettings& settings,
+                                   std::size_t* firstIndex) {
+    // With --on-error skip the first frame that loads sets the radius and the
+    // studio, and the camera samples only frames that load.
+    const bool skip = o.onError == "skip";
     std::string smoothingLength;
-    auto first = frames.load(0, &smoothingLength);
+    std::size_t f = 0;
+    auto first = frames.loadChecked(0, &smoothingLength);
+    while (!first && skip && f + 1 < frames.count()) first = frames.loadChecked(++f, &smoothingLength);
     if (!first) return first.error();
-    const std::string firstName = frames.embedded ? std::string("the demo frame") : frames.files[0].string();
-    if (auto st = checkCoordinates(first->positions, firstName); !st) return st.error();
+    if (firstIndex) *firstIndex = f;
+    const std::string firstName = frames.name(f);
     float radius = o.radius;
     if (radius == 0.0f) {
         const RadiusEstimate est = defaultRadius(*first);
@@ -499,7 +518,10 @@ Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames,
         addSample(first->positions);
         const std::size_t last = defaults::kSequenceFramingFrames - 1;
         for (std::size_t k = 1; count > 1 && k <= last; ++k) {
-            auto s = frames.load(k * (count - 1) / last);
+            const std::size_t i = k * (count - 1) / last;
+            if (i <= f) continue;
+            auto s = frames.loadChecked(i);
+            if (!s && skip) continue;
             if (!s) return s.error();
             addSample(s->positions);
         }

@@ -25,6 +25,7 @@ void printWarnings(const ParticleSet& set);
 
 bool isPng(const std::string& path);
 bool isExr(const std::string& path);
+bool isMp4(const std::string& path);
 
 // How the isosurface path meshes (mesh, and render/compare with --surface mesh).
 struct MesherOptions {
@@ -83,6 +84,14 @@ struct RenderOptions {
     // file or sequence matching the input frame for frame, fluid 1, 2, ...
     std::vector<std::string> moreFluids;
     MesherOptions mesher;
+    // Long runs (render): an .mp4 output's frame rate and quality; output
+    // frames numbered 0, 1, ... (--renumber); on a frame's error stop or skip
+    // it (--on-error); leave frames whose outputs are complete (--resume).
+    double fps = defaults::kVideoFps;
+    int crf = defaults::kVideoCrf;
+    bool renumber = false;
+    std::string onError = "stop";
+    bool resume = false;
 };
 
 // Size, camera, radius and look (--width ... --background) on `cmd`; without
@@ -126,6 +135,12 @@ struct Frames {
     // Frame i, with a `radius` attribute from the file's smoothing length when it
     // has one and no radius (whose name then goes to *smoothingLength).
     Result<ParticleSet> load(std::size_t i, std::string* smoothingLength = nullptr) const;
+    // load, and its coordinates checked (checkCoordinates) against frame i's name.
+    Result<ParticleSet> loadChecked(std::size_t i, std::string* smoothingLength = nullptr) const;
+    // Frame i's file, or "the demo frame".
+    std::string name(std::size_t i) const;
+    // Output frames numbered 0, 1, 2, ... in order instead of by their input's numbers.
+    bool renumber = false;
     // An error unless `output` can name every frame: several frames need a
     // printf pattern (`example` shows one).
     Status checkOutput(const std::string& output, const char* example) const;
@@ -150,8 +165,10 @@ Result<Renderer> makeRenderer(const RenderOptions& o);
 
 // Fixes radius, camera (the options' or auto-framed on a few frames) and the
 // studio in `settings` once for the whole sequence, so an animation does not
-// flicker; returns the first frame, already read.
-Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames, RenderSettings& settings);
+// flicker; returns the first frame, already read. With --on-error skip the
+// first frame that loads (its index in *firstIndex) and the frames that load.
+Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames, RenderSettings& settings,
+                                   std::size_t* firstIndex = nullptr);
 
 // The same for a simulation whose particles never leave `box` (its domain,
 // the tank): radius `radiusM`, the camera the options' or auto-framed on the

@@ -24,12 +24,52 @@
 #include "simulate.h"
 #include "whitewater.h"
 #include "progress.h"
+#include "render.h"
 #include "view.h"
 
 using namespace meniscus;
 using namespace meniscus::app;
 
 namespace {
+
+// `meniscus --version`: the version and what this build can do.
+std::string versionLine() {
+    std::string line = std::string("meniscus ") + MENISCUS_VERSION + " (backends: cpu";
+#ifdef MENISCUS_HAVE_GL
+    line += ", gl";
+#endif
+    line += "; viewer: ";
+#ifdef MENISCUS_HAVE_GLFW
+    line += "yes";
+#else
+    line += "no";
+#endif
+    line += "; movies: ";
+#ifdef MENISCUS_HAVE_FFMPEG
+    line += "yes";
+#else
+    line += "no";
+#endif
+    return line + ")";
+}
+
+// The first option before the subcommand's name that is not the program's own
+// (--threads, --help, --version), or "" when there is none.
+std::string optionBeforeSubcommand(int argc, char** argv, CLI::App& app) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--threads") {
+            ++i;
+            continue;
+        }
+        if (a.rfind("--threads=", 0) == 0 || a == "--help" || a == "-h" || a == "--version") continue;
+        if (a.empty() || a[0] != '-') return "";  // the subcommand (or a stray word CLI11 reports)
+        for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+            if (sub->get_option_no_throw(a.substr(0, a.find('='))) != nullptr) return a.substr(0, a.find('='));
+        return "";  // unknown anywhere: CLI11's own error
+    }
+    return "";
+}
 
 const char* typeName(const Attribute& a) {
     if (a.type == AttributeType::Int) return "int";
@@ -111,106 +151,6 @@ int runInfo(const InfoOptions& o) {
     return 0;
 }
 
-// ------------------------------------------------------------------ render
-
-// A diffuse particle set as the renderer's layer: its positions, velocities
-// (copied into `velocity`) and kinds (the whitewater `type`), as views.
-DiffuseLayer layerOf(const ParticleSet& set, std::vector<glm::vec3>& velocity) {
-    DiffuseLayer layer;
-    layer.positions = set.positions;
-    const ParticleView view = ParticleView::of(set);
-    velocity.clear();
-    for (std::size_t k = 0; k < view.velocity.count; ++k) velocity.push_back(view.velocity[k]);
-    layer.velocities = velocity;
-    const Attribute* type = set.find("type");
-    if (type && type->type == AttributeType::Int && type->components == 1 && type->count() == set.size())
-        layer.kind = type->ints;
-    return layer;
-}
-
-int runRender(const RenderOptions& o, const ParticleSet* embedded) {
-    if (!isPng(o.output) && !isExr(o.output))
-        return fail(o.output + ": output must end in .png or .exr");
-    auto parsed = settingsFromOptions(o);
-    if (!parsed) return fail(parsed.error().describe());
-    RenderSettings settings = std::move(*parsed);
-
-    auto frames = openFrames(o.input, embedded, o.hPerSpacing);
-    if (!frames) return fail(frames.error().describe());
-    if (auto st = frames->addFluids(o); !st) return fail(st.error().describe());
-    const std::size_t count = frames->count();
-    if (auto st = frames->checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error().describe());
-
-    // Radius and camera are fixed once per sequence, so the animation does not flicker.
-    auto first = fixForSequence(o, *frames, settings);
-    if (!first) return fail(first.error().describe());
-    settings.colorOnly = !isExr(o.output);  // a PNG needs only the colour AOV
-
-    auto made = makeRenderer(o);
-    if (!made) return fail(made.error().describe());
-    Renderer renderer = std::move(*made);
-    ProgressBar progress(count, "rendering");
-    for (std::size_t i = 0; i < count; ++i) {
-        auto set = i == 0 ? std::move(first) : frames->load(i);
-        if (!set) return fail(set.error().describe());
-        printWarnings(*set);
-        if (i > 0)
-            if (auto st = checkCoordinates(set->positions, frames->files[i].string()); !st)
-                return fail(st.error().describe());
-        // The mesh path: this frame's isosurface replaces splat smoothing and normals.
-        TriangleMesh mesh;
-        if (o.surface == "mesh") {
-            auto made = extractSurface(ParticleView::of(*set), mesherParams(o.mesher, settings.radiusM, 0));
-            if (!made) return fail(Error{frames->embedded ? std::string("the demo frame") : frames->files[i].string(),
-                                         made.error().message}.describe());
-            mesh = std::move(*made);
-            settings.mesh = &mesh;
-        }
-        if (i == 0 && o.whiten && !ParticleView::of(*set).velocity.present())
-            std::cerr << "meniscus: warning: "
-                      << (frames->embedded ? std::string("the demo frame") : frames->files[0].string())
-                      << " has no velocity attribute: --whiten leaves the colour as it is\n";
-        // The diffuse layer of this frame (its own file when a pattern).
-        ParticleSet diffuse;
-        std::vector<glm::vec3> diffuseVelocity;
-        if (!o.diffuse.empty()) {
-            std::string path = o.diffuse;
-            if (o.diffuse.find('%') != std::string::npos) {
-                const long number = frames->embedded ? 0 : frameNumberFromName(frames->files[i].filename().string());
-                auto name = formatFramePattern(o.diffuse, number < 0 ? long(i) : number);
-                if (!name) return fail(name.error().describe());
-                path = *name;
-            }
-            auto read = readParticles(path, ParticleFormat::Auto, true);  // a frame may have none yet
-            if (!read) return fail(read.error().describe());
-            diffuse = std::move(*read);
-            settings.diffuse = layerOf(diffuse, diffuseVelocity);
-        }
-        settings.frameIndex = std::int64_t(i);  // the noise's turbulence compares consecutive frames
-        auto aovs = renderer.render(ParticleView::of(*set), settings);
-        settings.mesh = nullptr;
-        settings.diffuse = {};
-        if (!aovs) return fail(aovs.error().describe());
-
-        auto name = frames->outputName(o.output, i);
-        if (!name) return fail(name.error().describe());
-        const std::string out = *name;
-        if (auto st = writeImage(out, *aovs, !settings.scene.background); !st) return fail(st.error().describe());
-        progress.update(i + 1);
-        if (count == 1) {
-            // A symlinked output is written through the link (the link stays).
-            std::error_code ec;
-            const bool link = std::filesystem::is_symlink(std::filesystem::symlink_status(out, ec));
-            std::cerr << "meniscus: wrote " << out
-                      << (link ? " (through the link, to " + std::filesystem::weakly_canonical(out, ec).string() + ")"
-                               : std::string())
-                      << "\n";
-        }
-    }
-    if (count > 1) std::cerr << "meniscus: wrote " << count << " frames to " << o.output << "\n";
-    return 0;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -231,6 +171,7 @@ int main(int argc, char** argv) {
         "  meniscus simulate scenes/dam_break.json -o out/frame_%04d.bgeo   liquid from a scene file alone\n"
         "  meniscus whitewater out/ -o diffuse/diffuse_%04d.bgeo   spray, foam and bubbles from that sequence"};
     app.require_subcommand(1);
+    app.set_version_flag("--version", versionLine());
     int threads = 0;
     app.add_option("--threads", threads, "Worker threads (default: all cores); also after a subcommand")
         ->check(CLI::NonNegativeNumber);
@@ -248,8 +189,10 @@ int main(int argc, char** argv) {
     renderCmd->add_option("input", render.input, "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo)")
         ->required();
     renderCmd->add_option("-o,--output", render.output,
-                          "Output .png (8-bit sRGB) or .exr (float AOVs); for a sequence a pattern like out_%04d.png")
+                          "Output .png (8-bit sRGB), .exr (float AOVs) or .mp4 (an H.264 movie of every frame, in "
+                          "order); images of a sequence need a pattern like out_%04d.png")
         ->required();
+    addSequenceOptions(renderCmd, render);
     addCameraOptions(renderCmd, render);
     addBackendOption(renderCmd, render);
     addSurfaceOptions(renderCmd, render);
@@ -306,6 +249,13 @@ int main(int argc, char** argv) {
     WhitewaterOptions whitewater;
     auto* whitewaterCmd = addWhitewaterCommand(app, whitewater);
 
+    // A subcommand's option before the subcommand: say where it goes.
+    if (auto misplaced = optionBeforeSubcommand(argc, argv, app); !misplaced.empty()) {
+        std::cerr << "meniscus: error: " << misplaced << " is an option of a subcommand and goes after it (e.g. "
+                  << "meniscus render IN -o OUT " << misplaced << " ...); only --threads, --help and --version "
+                  << "come before the subcommand\n";
+        return 2;
+    }
     // Bad usage exits 2, as the README says (CLI11's own codes are 100 and up).
     try {
         app.parse(argc, argv);

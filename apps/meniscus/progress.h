@@ -1,4 +1,5 @@
-// A one-line progress bar with ETA on stderr, shown only on a terminal.
+// A one-line progress bar with ETA on stderr on a terminal; step() prints a
+// log line per item instead when stderr is not one (a log file, a batch job).
 #pragma once
 
 #include <chrono>
@@ -11,7 +12,7 @@ class ProgressBar {
 public:
     ProgressBar(std::size_t total, std::string label)
         : total_(total), label_(std::move(label)), tty_(::isatty(STDERR_FILENO) == 1),
-          start_(std::chrono::steady_clock::now()) {}
+          start_(std::chrono::steady_clock::now()), last_(start_) {}
 
     void update(std::size_t done) {
         if (!tty_ || total_ == 0) return;
@@ -26,6 +27,20 @@ public:
         std::fflush(stderr);
     }
 
+    // Item `done` (1-based) finished: the bar on a terminal, else one line
+    // "meniscus: LABEL 3/120 ITEM in 0.41 s, ETA 0:49".
+    void step(std::size_t done, const std::string& item) {
+        const auto now = std::chrono::steady_clock::now();
+        const double took = std::chrono::duration<double>(now - last_).count();
+        last_ = now;
+        if (tty_) return update(done);
+        const double elapsed = std::chrono::duration<double>(now - start_).count();
+        const double eta = done > 0 ? elapsed / double(done) * double(total_ - done) : 0.0;
+        std::fprintf(stderr, "meniscus: %s %zu/%zu %s in %.2f s, ETA %s\n", label_.c_str(), done, total_, item.c_str(),
+                     took, clock(eta).c_str());
+        std::fflush(stderr);
+    }
+
 private:
     static std::string clock(double seconds) {
         const long s = long(seconds + 0.5);
@@ -36,5 +51,5 @@ private:
     std::size_t total_;
     std::string label_;
     bool tty_;
-    std::chrono::steady_clock::time_point start_;
+    std::chrono::steady_clock::time_point start_, last_;
 };

@@ -88,6 +88,33 @@ Result<std::string> formatFramePattern(const std::string& pattern, long number);
 
 // ---------------------------------------------------------------- images
 
+// The 8-bit sRGB image writePng writes for linear RGBA in [0,1]: R, G, B by
+// the exact sRGB transfer function, alpha linear; clamped, rounded, NaN -> 0.
+Image<glm::u8vec4> encodeSrgb8(const Image<glm::vec4>& linearRgba);
+
+// Write-then-rename for a file written over time (a movie, frame by frame):
+// write to tmp(), then commit() renames it onto the path given to begin()
+// (through a symbolic link, which stays); a PendingFile destroyed or
+// discard()ed before that removes tmp(), so a failed or interrupted write
+// leaves no partial file. tmp() is hidden and in the same directory.
+class PendingFile {
+public:
+    static Result<PendingFile> begin(const std::filesystem::path& path);
+    PendingFile(PendingFile&& other) noexcept;
+    PendingFile& operator=(PendingFile&& other) noexcept;
+    PendingFile(const PendingFile&) = delete;
+    PendingFile& operator=(const PendingFile&) = delete;
+    ~PendingFile();
+    const std::filesystem::path& tmp() const { return tmp_; }
+    Status commit();
+    void discard();
+
+private:
+    PendingFile(std::filesystem::path path, std::filesystem::path dest, std::filesystem::path tmp)
+        : path_(std::move(path)), dest_(std::move(dest)), tmp_(std::move(tmp)) {}
+    std::filesystem::path path_, dest_, tmp_;  // as given, its final target, the temporary
+};
+
 // 8-bit PNG, sRGB-encoded from linear RGBA in [0,1] (alpha stays linear).
 // withAlpha=false writes RGB. Written to a temporary name and renamed.
 Status writePng(const std::filesystem::path& path, const Image<glm::vec4>& linearRgba,

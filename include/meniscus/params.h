@@ -65,6 +65,12 @@ inline constexpr int kSequenceFramePoints = 20000;
 // h = coefh sqrt(3) dp (DualSPHysics, about 1.7 for coefh 1); --h-per-spacing.
 inline constexpr float kHPerSpacing = 1.2f;
 
+// Movies (include/meniscus/video.h): frames per second, and x264's constant
+// rate factor (0 lossless .. 51; 18 is about visually lossless, x264's own
+// default 23 shows blocking in the liquid's smooth gradients).
+inline constexpr double kVideoFps = 30.0;
+inline constexpr int kVideoCrf = 18;
+
 // A depth step between neighbouring pixels larger than this many radii is a
 // discontinuity (silhouette / separate body): filters and normals never
 // difference or average across it.

@@ -143,7 +143,9 @@ struct StageTime {
 
 // Where the stages run: the CPU reference, the OpenGL backend (a headless GL
 // 4.3 context made on the calling thread; the Renderer must then be used from
-// that thread), or Auto = GL when a context can be created, else the CPU.
+// that thread), or Auto = GL when a context can be created on a GPU, else the
+// CPU (also when the only GL is a software rasteriser such as Mesa's llvmpipe,
+// on which the CPU backend is faster).
 enum class BackendChoice { Cpu, Gl, Auto };
 
 // CLI names: cpu, gl, auto.
@@ -167,7 +169,7 @@ public:
 
     // A renderer on the chosen backend. Gl: an error saying why when no GL
     // context can be created (or the build has no GL). Auto: falls back to the
-    // CPU and sets *note to one line saying why.
+    // CPU and sets *note to one line saying why (no GL, or only a software one).
     static Result<Renderer> create(BackendChoice choice, std::string* note = nullptr);
 
     // A GL renderer on the OpenGL 4.3 context current on the calling thread (a

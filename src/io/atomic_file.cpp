@@ -1,4 +1,5 @@
-// Write-then-rename beside the file replaced (see atomic_file.h).
+// Write-then-rename beside the file replaced (see atomic_file.h and
+// PendingFile in include/meniscus/io.h).
 #include "atomic_file.h"
 
 #include <atomic>
@@ -8,10 +9,11 @@
 
 #include <unistd.h>
 
+#include "meniscus/io.h"
+
 namespace meniscus {
 
-Status writeAtomically(const std::filesystem::path& path,
-                       const std::function<Status(const std::filesystem::path&)>& write) {
+Result<PendingFile> PendingFile::begin(const std::filesystem::path& path) {
     namespace fs = std::filesystem;
     static std::atomic<unsigned> counter{0};
     // A symlinked output is written through the link: the file replaced is its
@@ -27,25 +29,61 @@ Status writeAtomically(const std::filesystem::path& path,
     }
     // Same directory, so the rename is atomic; hidden, so a sequence glob never picks it up.
     const fs::path dir = dest.has_parent_path() ? dest.parent_path() : fs::path(".");
-    const fs::path tmp = dir / ("." + dest.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
-                                std::to_string(counter++));
+    fs::path tmp = dir / ("." + dest.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
+                          std::to_string(counter++));
+    return PendingFile(path, std::move(dest), std::move(tmp));
+}
+
+PendingFile::PendingFile(PendingFile&& other) noexcept
+    : path_(std::move(other.path_)), dest_(std::move(other.dest_)), tmp_(std::move(other.tmp_)) {
+    other.tmp_.clear();
+}
+
+PendingFile& PendingFile::operator=(PendingFile&& other) noexcept {
+    if (this != &other) {
+        discard();
+        path_ = std::move(other.path_);
+        dest_ = std::move(other.dest_);
+        tmp_ = std::move(other.tmp_);
+        other.tmp_.clear();
+    }
+    return *this;
+}
+
+PendingFile::~PendingFile() { discard(); }
+
+void PendingFile::discard() {
+    if (tmp_.empty()) return;
+    std::error_code ec;
+    std::filesystem::remove(tmp_, ec);
+    tmp_.clear();
+}
+
+Status PendingFile::commit() {
+    if (tmp_.empty()) return makeError(path_.string(), "nothing to commit (already committed or discarded)");
+    std::error_code ec;
+    std::filesystem::rename(tmp_, dest_, ec);
+    if (ec) {
+        const std::string why = ec.message();
+        discard();
+        return makeError(path_.string(), "cannot create output file: " + why);
+    }
+    tmp_.clear();
+    return okStatus();
+}
+
+Status writeAtomically(const std::filesystem::path& path,
+                       const std::function<Status(const std::filesystem::path&)>& write) {
+    auto pending = PendingFile::begin(path);
+    if (!pending) return pending.error();
     Status st = okStatus();
     try {
-        st = write(tmp);
+        st = write(pending->tmp());
     } catch (const std::exception& e) {
         st = makeError(path.string(), std::string("write failed: ") + e.what());
     }
-    if (!st.ok()) {
-        fs::remove(tmp, ec);
-        return st;
-    }
-    fs::rename(tmp, dest, ec);
-    if (ec) {
-        const std::string why = ec.message();
-        fs::remove(tmp, ec);
-        return makeError(path.string(), "cannot create output file: " + why);
-    }
-    return okStatus();
+    if (!st.ok()) return st;  // the pending file removes the temporary
+    return pending->commit();
 }
 
 }  // namespace meniscus

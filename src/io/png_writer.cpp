@@ -124,18 +124,19 @@ Status checkShape(const std::filesystem::path& path, const Image<T>& image) {
 
 }  // namespace
 
+Image<glm::u8vec4> encodeSrgb8(const Image<glm::vec4>& linearRgba) {
+    Image<glm::u8vec4> out(linearRgba.width, linearRgba.height);
+    out.pixels.resize(linearRgba.pixels.size());
+    for (std::size_t i = 0; i < linearRgba.pixels.size(); ++i) {
+        const glm::vec4& p = linearRgba.pixels[i];
+        out.pixels[i] = glm::u8vec4(encodeSrgb(p.r), encodeSrgb(p.g), encodeSrgb(p.b), encodeLinear(p.a));
+    }
+    return out;
+}
+
 Status writePng(const std::filesystem::path& path, const Image<glm::vec4>& linearRgba, bool withAlpha) {
     if (auto st = checkShape(path, linearRgba); !st) return st;
-    const int channels = withAlpha ? 4 : 3;
-    std::vector<png_byte> bytes;
-    bytes.reserve(linearRgba.pixels.size() * std::size_t(channels));
-    for (const glm::vec4& p : linearRgba.pixels) {
-        bytes.push_back(encodeSrgb(p.r));
-        bytes.push_back(encodeSrgb(p.g));
-        bytes.push_back(encodeSrgb(p.b));
-        if (withAlpha) bytes.push_back(encodeLinear(p.a));
-    }
-    return writeEncoded(path, linearRgba.width, linearRgba.height, channels, bytes);
+    return writePng(path, encodeSrgb8(linearRgba), withAlpha);
 }
 
 Status writePng(const std::filesystem::path& path, const Image<glm::u8vec4>& srgba8, bool withAlpha) {

@@ -1,0 +1,285 @@
+// `meniscus render`: frames in order through one Renderer into numbered images
+// or one movie. Choices where issue 18 is silent:
+//  - --on-error skip: a frame that cannot be read, rendered or written is
+//    listed and left out (of a movie too); the run goes on, says which frames
+//    failed and why at the end, and exits 1. The default, stop, ends at the
+//    first error as before.
+//  - --resume: a frame whose output already exists and is complete (a PNG
+//    ending in its IEND chunk, an EXR with its magic number; every output is
+//    written under a temporary name and renamed, so a file there was written
+//    whole) is not rendered again. Not for a movie, which is written whole.
+//  - Ctrl-C (SIGINT, SIGTERM): the frame in progress finishes, the run stops
+//    there with exit 130; finished frames stay, a movie is not written (its
+//    temporary file is removed). A second Ctrl-C ends the process at once.
+#include "render.h"
+
+#include <algorithm>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "mesh.h"
+#include "meniscus/io.h"
+#include "meniscus/particle_view.h"
+#include "meniscus/particles.h"
+#include "meniscus/renderer.h"
+#include "meniscus/surface.h"
+#include "progress.h"
+#ifdef MENISCUS_HAVE_FFMPEG
+#include "meniscus/video.h"
+#endif
+
+namespace meniscus::app {
+namespace {
+
+volatile std::sig_atomic_t gInterrupted = 0;
+
+extern "C" void onInterrupt(int sig) {
+    gInterrupted = 1;
+    std::signal(sig, SIG_DFL);  // a second one ends the process
+}
+
+// A diffuse particle set as the renderer's layer: its positions, velocities
+// (copied into `velocity`) and kinds (the whitewater `type`), as views.
+DiffuseLayer layerOf(const ParticleSet& set, std::vector<glm::vec3>& velocity) {
+    DiffuseLayer layer;
+    layer.positions = set.positions;
+    const ParticleView view = ParticleView::of(set);
+    velocity.clear();
+    for (std::size_t k = 0; k < view.velocity.count; ++k) velocity.push_back(view.velocity[k]);
+    layer.velocities = velocity;
+    const Attribute* type = set.find("type");
+    if (type && type->type == AttributeType::Int && type->components == 1 && type->count() == set.size())
+        layer.kind = type->ints;
+    return layer;
+}
+
+// Whether `path` holds a whole image of ours: a PNG ending in its IEND chunk,
+// an EXR starting with the OpenEXR magic number.
+bool outputComplete(const std::string& path) {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (!in) return false;
+    const std::streamoff size = in.tellg();
+    if (isExr(path)) {
+        char magic[4] = {};
+        in.seekg(0);
+        return size >= 4 && in.read(magic, 4) && magic[0] == 0x76 && magic[1] == 0x2f && magic[2] == 0x31 &&
+               magic[3] == 0x01;
+    }
+    static const unsigned char iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+    unsigned char tail[12] = {};
+    if (size < 12 + 8) return false;
+    in.seekg(size - 12);
+    return bool(in.read(reinterpret_cast<char*>(tail), 12)) && std::equal(tail, tail + 12, iend);
+}
+
+// Where the frames go: numbered images, or one movie opened before the first.
+class Outputs {
+public:
+    static Result<Outputs> open(const RenderOptions& o, const RenderSettings& s, const Frames& frames) {
+        Outputs out(o, frames);
+        if (!isMp4(o.output)) return out;
+#ifdef MENISCUS_HAVE_FFMPEG
+        auto movie = VideoWriter::open(o.output, s.camera.width, s.camera.height, VideoParams{o.fps, o.crf});
+        if (!movie) return movie.error();
+        out.movie_.emplace(std::move(*movie));
+        return out;
+#else
+        return makeError(o.output, "this build has no movies (FFmpeg's libavcodec-dev, libavformat-dev and "
+                                   "libswscale-dev were not found when it was configured); write numbered PNGs "
+                                   "(-o frame_%04d.png)");
+#endif
+    }
+
+    bool movie() const { return isMp4(o_.output); }
+    // Frame i's image file, or the movie's name.
+    Result<std::string> name(std::size_t i) const { return movie() ? o_.output : frames_.outputName(o_.output, i); }
+
+    Status write(std::size_t i, const Aovs& aovs, bool withAlpha) {
+#ifdef MENISCUS_HAVE_FFMPEG
+        if (movie_) return movie_->add(encodeSrgb8(aovs.color));
+#endif
+        auto n = name(i);
+        if (!n) return n.error();
+        return writeImage(*n, aovs, withAlpha);
+    }
+
+    // The movie's end (nothing for images): the file appears under its name.
+    Status finish() {
+#ifdef MENISCUS_HAVE_FFMPEG
+        if (movie_) return movie_->finish();
+#endif
+        return okStatus();
+    }
+    std::size_t movieFrames() const {
+#ifdef MENISCUS_HAVE_FFMPEG
+        if (movie_) return movie_->frames();
+#endif
+        return 0;
+    }
+
+private:
+    Outputs(const RenderOptions& o, const Frames& frames) : o_(o), frames_(frames) {}
+    const RenderOptions& o_;
+    const Frames& frames_;
+#ifdef MENISCUS_HAVE_FFMPEG
+    std::optional<VideoWriter> movie_;
+#endif
+};
+
+// One frame: its particles (`set`, already read for the first), the mesh or
+// the diffuse layer when asked for, the render, the output.
+Status renderFrame(const RenderOptions& o, const Frames& frames, std::size_t i, Result<ParticleSet> set,
+                   Renderer& renderer, RenderSettings& settings, Outputs& outputs) {
+    if (!set) return set.error();
+    printWarnings(*set);
+    // The mesh path: this frame's isosurface replaces splat smoothing and normals.
+    TriangleMesh mesh;
+    if (o.surface == "mesh") {
+        auto made = extractSurface(ParticleView::of(*set), mesherParams(o.mesher, settings.radiusM, 0));
+        if (!made) return Error{frames.name(i), made.error().message};
+        mesh = std::move(*made);
+        settings.mesh = &mesh;
+    }
+    // The diffuse layer of this frame (its own file when a pattern).
+    ParticleSet diffuse;
+    std::vector<glm::vec3> diffuseVelocity;
+    if (!o.diffuse.empty()) {
+        std::string path = o.diffuse;
+        if (o.diffuse.find('%') != std::string::npos) {
+            const long number = frames.embedded ? 0 : frameNumberFromName(frames.files[i].filename().string());
+            auto name = formatFramePattern(o.diffuse, number < 0 ? long(i) : number);
+            if (!name) return name.error();
+            path = *name;
+        }
+        auto read = readParticles(path, ParticleFormat::Auto, true);  // a frame may have none yet
+        if (!read) return read.error();
+        diffuse = std::move(*read);
+        settings.diffuse = layerOf(diffuse, diffuseVelocity);
+    }
+    settings.frameIndex = std::int64_t(i);  // the noise's turbulence compares consecutive frames
+    auto aovs = renderer.render(ParticleView::of(*set), settings);
+    settings.mesh = nullptr;
+    settings.diffuse = {};
+    if (!aovs) return Error{aovs.error().file.empty() ? frames.name(i) : aovs.error().file, aovs.error().message};
+    return outputs.write(i, *aovs, !settings.scene.background);
+}
+
+}  // namespace
+
+void addSequenceOptions(CLI::App* cmd, RenderOptions& o) {
+    cmd->add_option("--fps", o.fps, "An .mp4 output's frame rate, frames per second")
+        ->capture_default_str()
+        ->check(CLI::Range(0.001, 1000.0));
+    cmd->add_option("--crf", o.crf,
+                    "An .mp4 output's quality: x264's constant rate factor, 0 (lossless) to 51 (worst); 18 looks "
+                    "lossless")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 51));
+    cmd->add_flag("--renumber", o.renumber,
+                  "Number the output images 0, 1, 2, ... in order instead of by the input files' own numbers");
+    cmd->add_option("--on-error", o.onError,
+                    "A frame that cannot be read, rendered or written: stop the run there (stop), or leave it out "
+                    "and go on (skip), listing the failed frames at the end and exiting 1")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"stop", "skip"}));
+    cmd->add_flag("--resume", o.resume,
+                  "Leave frames whose output images already exist and are complete (after an interrupted run)");
+}
+
+int runRender(const RenderOptions& o, const ParticleSet* embedded) {
+    if (!isPng(o.output) && !isExr(o.output) && !isMp4(o.output))
+        return fail(o.output + ": output must end in .png, .exr or .mp4");
+    if (o.resume && isMp4(o.output)) return fail("--resume: a movie is written whole; resume numbered images");
+    std::signal(SIGINT, onInterrupt);  // from here on Ctrl-C stops after the frame in progress
+    std::signal(SIGTERM, onInterrupt);
+    auto parsed = settingsFromOptions(o);
+    if (!parsed) return fail(parsed.error().describe());
+    RenderSettings settings = std::move(*parsed);
+
+    auto frames = openFrames(o.input, embedded, o.hPerSpacing);
+    if (!frames) return fail(frames.error().describe());
+    if (auto st = frames->addFluids(o); !st) return fail(st.error().describe());
+    frames->renumber = o.renumber;
+    const std::size_t count = frames->count();
+    if (!isMp4(o.output))
+        if (auto st = frames->checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error().describe());
+
+    // Radius and camera are fixed once per sequence, so the animation does not flicker.
+    std::size_t firstIndex = 0;
+    auto first = fixForSequence(o, *frames, settings, &firstIndex);
+    if (!first) return fail(first.error().describe());
+    settings.colorOnly = !isExr(o.output);  // a PNG or a movie needs only the colour AOV
+    if (o.whiten && !ParticleView::of(*first).velocity.present())
+        std::cerr << "meniscus: warning: " << frames->name(firstIndex)
+                  << " has no velocity attribute: --whiten leaves the colour as it is\n";
+
+    auto made = makeRenderer(o);
+    if (!made) return fail(made.error().describe());
+    Renderer renderer = std::move(*made);
+    auto outputs = Outputs::open(o, settings, *frames);
+    if (!outputs) return fail(outputs.error().describe());
+
+    std::vector<std::pair<std::size_t, std::string>> failed;  // frame, error
+    std::size_t written = 0, resumed = 0;
+    ProgressBar progress(count, "rendering");
+    for (std::size_t i = 0; i < count; ++i) {
+        auto name = outputs->name(i);
+        if (!name) return fail(name.error().describe());
+        if (o.resume && outputComplete(*name)) {
+            ++resumed;
+            progress.step(i + 1, *name + " (complete, kept)");
+            continue;
+        }
+        // (Frames before firstIndex did not load when fixForSequence tried them.)
+        const Status st = renderFrame(o, *frames, i, i == firstIndex ? std::move(first) : frames->loadChecked(i),
+                                      renderer, settings, *outputs);
+        if (!st) {
+            if (o.onError != "skip") return fail(st.error().describe());
+            failed.emplace_back(i, st.error().describe());
+            std::cerr << "meniscus: frame " << i + 1 << "/" << count << " skipped: " << st.error().describe() << "\n";
+        } else {
+            ++written;
+            progress.step(i + 1, *name);
+        }
+        if (gInterrupted) {
+            std::cerr << "\nmeniscus: interrupted after frame " << i + 1 << " of " << count
+                      << (outputs->movie() ? "; no movie written" : "; the frames written are complete (--resume goes on)")
+                      << "\n";
+            return 130;
+        }
+    }
+    if (auto st = outputs->finish(); !st) return fail(st.error().describe());
+
+    if (outputs->movie()) {
+        std::cerr << "meniscus: wrote " << o.output << " (" << outputs->movieFrames() << " frames, H.264, " << o.fps
+                  << " fps)\n";
+    } else if (count == 1 && written == 1) {
+        // A symlinked output is written through the link (the link stays).
+        const std::string out = *outputs->name(0);
+        std::error_code ec;
+        const bool link = std::filesystem::is_symlink(std::filesystem::symlink_status(out, ec));
+        std::cerr << "meniscus: wrote " << out
+                  << (link ? " (through the link, to " + std::filesystem::weakly_canonical(out, ec).string() + ")"
+                           : std::string())
+                  << "\n";
+    } else if (count > 1 || resumed > 0) {
+        std::cerr << "meniscus: wrote " << written << " frames to " << o.output
+                  << (resumed ? " (" + std::to_string(resumed) + " already complete, kept)" : std::string()) << "\n";
+    }
+    if (!failed.empty()) {
+        std::cerr << "meniscus: error: " << failed.size() << " of " << count << " frames failed:\n";
+        for (const auto& [i, why] : failed) std::cerr << "  frame " << i + 1 << ": " << why << "\n";
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace meniscus::app
