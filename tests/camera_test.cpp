@@ -141,6 +141,41 @@ TEST(Camera, AutoFrameFitsTheParticlesFromAThreeQuarterView) {
     EXPECT_NEAR(0.5f * (minY + maxY), 360.0f, 16.0f);
 }
 
+// Issue 18, item 3: the automatic camera from a given azimuth and elevation
+// looks along that direction and still frames the particles (90% fill).
+TEST(Camera, AutoFrameFromAGivenDirection) {
+    const auto pts = slabSheetAndSpray();
+    Camera base;
+    base.width = 640;
+    base.height = 360;
+    for (const auto& [az, el] : {std::pair{90.0f, 0.0f}, std::pair{-120.0f, 60.0f}, std::pair{0.0f, -30.0f}}) {
+        const Camera c = autoFrameCamera(pts, 0.025f, base, nullptr, az, el);
+        ASSERT_TRUE(validateCamera(c).ok());
+        const glm::vec3 dir = glm::normalize(c.eye - c.target);
+        const float a = glm::radians(az), e = glm::radians(el);
+        EXPECT_NEAR(dir.x, std::sin(a) * std::cos(e), 1e-5f) << az << "," << el;
+        EXPECT_NEAR(dir.y, std::sin(e), 1e-5f) << az << "," << el;
+        EXPECT_NEAR(dir.z, std::cos(a) * std::cos(e), 1e-5f) << az << "," << el;
+        float minX = 1e9f, maxX = -1e9f, minY = 1e9f, maxY = -1e9f;
+        for (std::size_t i = 0; i + 5 < pts.size(); ++i) {  // without the spray
+            const glm::vec2 q = c.projectView(c.toView(pts[i]));
+            minX = std::min(minX, q.x), maxX = std::max(maxX, q.x);
+            minY = std::min(minY, q.y), maxY = std::max(maxY, q.y);
+        }
+        EXPECT_GE(minX, -1.0f);
+        EXPECT_LE(maxX, 641.0f);
+        EXPECT_GE(minY, -1.0f);
+        EXPECT_LE(maxY, 361.0f);
+        EXPECT_GT(std::max((maxX - minX) / 640.0f, (maxY - minY) / 360.0f), 0.8f) << az << "," << el;
+    }
+    // The defaults are the three-quarter view's.
+    const Camera d = autoFrameCamera(pts, 0.025f, base);
+    const Camera g = autoFrameCamera(pts, 0.025f, base, nullptr, defaults::kAutoAzimuthDegrees,
+                                     defaults::kAutoElevationDegrees);
+    EXPECT_EQ(d.eye, g.eye);
+    EXPECT_EQ(d.target, g.target);
+}
+
 TEST(Camera, AutoFrameScalesWithTheScene) {
     auto pts = slabSheetAndSpray();
     const Camera c1 = autoFrameCamera(pts, 0.025f, Camera{});

@@ -41,14 +41,25 @@ Result<Camera> chooseCamera(const RenderOptions& o, const std::vector<glm::vec3>
     cam.farM = defaults::kFarM;
     if (o.eye.empty() != o.target.empty()) return makeError("", "give both --eye and --target, or neither");
     if (!o.eye.empty()) {
-        auto eye = parseVec3(o.eye), target = parseVec3(o.target), up = parseVec3(o.up);
-        if (!eye || !target || !up) return makeError("", "--eye, --target and --up take three numbers: x,y,z");
-        cam.eye = *eye;
-        cam.target = *target;
-        cam.up = *up;
+        auto eye = parseVec3(o.eye), target = parseVec3(o.target);
+        auto up = upRotation(o.up);
+        if (!eye || !target) return makeError("", "--eye and --target take three numbers: x,y,z");
+        if (!up) return up.error();
+        // In the data's coordinates, like the particles, which are turned to y up.
+        cam.eye = up->apply(*eye);
+        cam.target = up->apply(*target);
+        cam.up = {0.0f, 1.0f, 0.0f};
     } else {
         std::size_t outside = 0;
-        cam = autoFrameCamera(samplePoints, radius, cam, &outside);
+        cam = autoFrameCamera(samplePoints, radius, cam, &outside, o.azimuth, o.elevation);
+        if (o.distance > 0.0f) {
+            // Along the same direction; the clip range follows the new distance.
+            const float fitted = glm::length(cam.eye - cam.target);
+            cam.eye = cam.target + (cam.eye - cam.target) * (o.distance / fitted);
+            cam.nearM = std::min(cam.nearM, 1e-3f * o.distance);
+            cam.farM = std::max(cam.farM, cam.farM * o.distance / fitted);
+            outside = 0;  // counted for the fitted distance
+        }
         if (outside > 0)
             std::cerr << "meniscus: auto camera: " << outside << " of " << samplePoints.size()
                       << " sampled particles (the outermost) left outside the frame\n";
@@ -101,8 +112,22 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
         ->check(CLI::Range(1, defaults::kMaxImageSizePx));
     cmd->add_option("--eye", o.eye, "Camera position x,y,z in metres (default: automatic three-quarter view)");
     cmd->add_option("--target", o.target, "Point the camera looks at, x,y,z in metres");
-    cmd->add_option("--up", o.up, "Camera up direction x,y,z")->capture_default_str();
+    cmd->add_option("--up", o.up,
+                    "The data's up axis x,y,z (0,0,1 for z-up data such as DualSPHysics'): the particles, --eye and "
+                    "--target are turned so it points up in the picture, the studio's floor below")
+        ->capture_default_str();
     cmd->add_option("--fov", o.fov, "Vertical field of view in degrees")->capture_default_str();
+    cmd->add_option("--azimuth", o.azimuth,
+                    "Automatic camera: the direction it looks from, degrees around the vertical (0: from +z, 90: "
+                    "from +x)")
+        ->capture_default_str()
+        ->check(CLI::Range(-3600.0, 3600.0));
+    cmd->add_option("--elevation", o.elevation, "Automatic camera: degrees above the horizon (-89 to 89)")
+        ->capture_default_str()
+        ->check(CLI::Range(-89.0, 89.0));
+    cmd->add_option("--distance", o.distance,
+                    "Automatic camera: metres from the target (default: as close as frames the particles)")
+        ->check(CLI::NonNegativeNumber);
     if (radiusOption)
         cmd->add_option("--radius", o.radius,
                         "Particle radius in metres (default: the file's radius attribute, else estimated from the "
@@ -123,6 +148,23 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
                     "Fluid look: " + materialPresetNames() +
                         "; with several fluids one per fluid, comma-separated (e.g. water,lava: fluid 0 water, fluid 1 lava)")
         ->capture_default_str();
+    cmd->add_option("--fluid-color", o.fluidColor,
+                    "Custom material, over the preset and for every fluid: the colour seen through thick liquid, "
+                    "linear RGB r,g,b in [0, 1]");
+    cmd->add_option("--absorption", o.absorption,
+                    "Custom material: Beer-Lambert absorption per channel r,g,b, per metre (water: 6,2,1.3)");
+    cmd->add_option("--ior", o.ior, "Custom material: index of refraction (Fresnel F0; water 1.33)")
+        ->check(CLI::Range(1.0, 4.0));
+    cmd->add_option("--refraction", o.refraction,
+                    "Custom material: background offset through the liquid, times the projected thickness")
+        ->check(CLI::Range(0.0, 10.0));
+    cmd->add_option("--specular", o.specular, "Custom material: highlight strength k_s")->check(CLI::Range(0.0, 10.0));
+    cmd->add_option("--shininess", o.shininess, "Custom material: Blinn-Phong exponent")
+        ->check(CLI::Range(0.0, 100000.0));
+    cmd->add_option("--opacity", o.opacity, "Custom material: 0 transparent liquid .. 1 opaque (sand)")
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--light", o.light,
+                    "Direction toward the key light x,y,z, world space (default -0.4,1,0.55: above, front left)");
     cmd->add_option("--fluid-attribute", o.fluidAttribute,
                     "Several fluids: the integer particle attribute giving each particle's fluid, 0 to 3 (default: "
                     "the files' 'fluid' attribute, if any); each fluid is smoothed and shaded on its own, then "
@@ -251,7 +293,31 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
             return makeError("", "--material " + n + ": expected one of " + materialPresetNames());
         s.fluidMaterials.push_back(m);
     }
+    auto vec3Option = [](const std::string& text, const char* name, glm::vec3* out) -> Status {
+        if (text.empty()) return okStatus();
+        auto v = parseVec3(text);
+        if (!v || !std::isfinite(v->x) || !std::isfinite(v->y) || !std::isfinite(v->z))
+            return makeError("", std::string(name) + " " + text + ": expected three numbers x,y,z");
+        *out = *v;
+        return okStatus();
+    };
+    for (Material& m : s.fluidMaterials) {
+        if (auto st = vec3Option(o.fluidColor, "--fluid-color", &m.fluidColor); !st) return st.error();
+        if (auto st = vec3Option(o.absorption, "--absorption", &m.absorptionPerM); !st) return st.error();
+        if (!std::isnan(o.ior)) m.ior = o.ior;
+        if (!std::isnan(o.refraction)) m.refraction = o.refraction;
+        if (!std::isnan(o.specular)) m.specular = o.specular;
+        if (!std::isnan(o.shininess)) m.shininess = o.shininess;
+        if (!std::isnan(o.opacity)) m.opacity = o.opacity;
+    }
+    const Material& m0 = s.fluidMaterials.front();
+    if (glm::any(glm::lessThan(m0.fluidColor, glm::vec3(0.0f))) || glm::any(glm::greaterThan(m0.fluidColor, glm::vec3(1.0f))))
+        return makeError("", "--fluid-color " + o.fluidColor + ": each channel in [0, 1]");
+    if (glm::any(glm::lessThan(m0.absorptionPerM, glm::vec3(0.0f))))
+        return makeError("", "--absorption " + o.absorption + ": not negative");
     s.shading.material = s.fluidMaterials.front();
+    if (auto st = vec3Option(o.light, "--light", &s.shading.lightDirWorld); !st) return st.error();
+    if (!(glm::length(s.shading.lightDirWorld) > 0.0f)) return makeError("", "--light " + o.light + ": not zero");
     if (o.background != "studio" && o.background != "none")
         return makeError("", "--background " + o.background + ": expected studio or none");
     s.scene.background = o.background == "studio";
@@ -425,8 +491,49 @@ Status Frames::addFluids(const RenderOptions& o) {
     return okStatus();
 }
 
+glm::vec3 UpRotation::apply(const glm::vec3& v) const {
+    if (identity) return v;
+    // v c + (k x v) s + k (k . v)(1 - c)
+    return v * c + glm::cross(axis, v) * s + axis * (glm::dot(axis, v) * (1.0f - c));
+}
+
+void UpRotation::apply(ParticleSet& set) const {
+    if (identity) return;
+    for (glm::vec3& p : set.positions) p = apply(p);
+    Attribute* v = set.find(kAttrVelocity);
+    if (v && v->type == AttributeType::Float && v->components == 3)
+        for (std::size_t k = 0; k + 2 < v->floats.size(); k += 3) {
+            const glm::vec3 t = apply(glm::vec3(v->floats[k], v->floats[k + 1], v->floats[k + 2]));
+            v->floats[k] = t.x, v->floats[k + 1] = t.y, v->floats[k + 2] = t.z;
+        }
+}
+
+Result<UpRotation> upRotation(const std::string& text) {
+    const auto u = parseVec3(text);
+    if (!u || !std::isfinite(u->x) || !std::isfinite(u->y) || !std::isfinite(u->z) || glm::length(*u) == 0.0f)
+        return makeError("", "--up " + text + ": expected the up axis as three numbers x,y,z, not all zero");
+    const glm::vec3 n = glm::normalize(*u), y(0.0f, 1.0f, 0.0f);
+    UpRotation r;
+    const glm::vec3 a = glm::cross(n, y);
+    const float s = glm::length(a);
+    if (s == 0.0f) {
+        if (n.y > 0.0f) return r;  // already up
+        r.identity = false;        // upside down: half a turn about x
+        r.axis = {1.0f, 0.0f, 0.0f};
+        r.c = -1.0f;
+        r.s = 0.0f;
+        return r;
+    }
+    r.identity = false;
+    r.axis = a / s;
+    r.c = glm::dot(n, y);
+    r.s = s;
+    return r;
+}
+
 Result<ParticleSet> Frames::load(std::size_t i, std::string* smoothingLength) const {
     auto set = embedded ? Result<ParticleSet>(*embedded) : readParticles(files[i]);
+    if (set) up.apply(*set);
     if (set) {
         auto h = addRadiusFromSmoothingLength(*set, hPerSpacing);
         if (!h) return h.error();
@@ -438,6 +545,7 @@ Result<ParticleSet> Frames::load(std::size_t i, std::string* smoothingLength) co
     for (std::size_t k = 0; set && k < moreFluids.size(); ++k) {
         auto more = readParticles(moreFluids[k][i]);
         if (!more) return more.error();
+        up.apply(*more);
         if (auto h = addRadiusFromSmoothingLength(*more, hPerSpacing); !h) return h.error();
         set->warnings.insert(set->warnings.end(), more->warnings.begin(), more->warnings.end());
         appendFluid(*set, *more, int(k) + 1);

@@ -3,10 +3,13 @@
 // and the settings fixed once for a whole sequence.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include <glm/glm.hpp>
 
 #include "meniscus/params.h"
 #include "meniscus/renderer.h"
@@ -43,6 +46,8 @@ struct RenderOptions {
     int height = defaults::kHeight;
     std::string eye, target, up = "0,1,0";
     float fov = defaults::kFovYDegrees;
+    // The automatic camera's view direction and distance (0: fitted to the particles).
+    float azimuth = defaults::kAutoAzimuthDegrees, elevation = defaults::kAutoElevationDegrees, distance = 0.0f;
     float radius = 0.0f;  // 0 = estimate
     float hPerSpacing = defaults::kHPerSpacing;  // a file's smoothing length h, in particle spacings
     std::string view = "final";
@@ -50,6 +55,10 @@ struct RenderOptions {
     int iterations = -1;  // -1 = the filter's default
     bool separable = false;
     std::string material = defaults::kMaterialName;
+    // Custom material values over the preset(s), for every fluid; empty / NaN: the preset's.
+    std::string fluidColor, absorption;  // "r,g,b": linear RGB; Beer-Lambert k per channel, 1/m
+    float ior = NAN, refraction = NAN, specular = NAN, shininess = NAN, opacity = NAN;
+    std::string light;  // "x,y,z": toward the key light, world space; empty: the default
     std::string background = "studio";
     std::string backend = "auto";
     // Surface noise and foam (SPEC §3.7): off unless --noise.
@@ -92,6 +101,9 @@ struct RenderOptions {
     bool renumber = false;
     std::string onError = "stop";
     bool resume = false;
+    // A render scene file's name and, per option it set, its key (errors name the key).
+    std::string sceneFile;
+    std::vector<std::pair<std::string, std::string>> sceneKeys;
 };
 
 // Size, camera, radius and look (--width ... --background) on `cmd`; without
@@ -116,6 +128,20 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o);
 Status writeImage(const std::string& path, const Aovs& aovs, bool withAlpha);
 
 // The frames to render: the files an input names, or the one embedded frame.
+// The turn that takes a data set's up axis to +y, the renderer's up (the
+// studio's floor, the sky, the automatic camera): Rodrigues' rotation about
+// up x y, exact for the axes (z-up: (x, y, z) -> (x, z, -y)).
+struct UpRotation {
+    bool identity = true;
+    glm::vec3 axis{1.0f, 0.0f, 0.0f};  // unit
+    float c = 1.0f, s = 0.0f;          // cos, sin of the angle
+    glm::vec3 apply(const glm::vec3& v) const;
+    // Positions and the velocity attribute of `set` (other attributes are not directions).
+    void apply(ParticleSet& set) const;
+};
+// --up X,Y,Z: an error unless three finite numbers, not all zero.
+Result<UpRotation> upRotation(const std::string& up);
+
 struct Frames {
     std::vector<std::filesystem::path> files;  // empty for the embedded frame
     const ParticleSet* embedded = nullptr;
@@ -130,6 +156,8 @@ struct Frames {
 
     // A file's smoothing length in particle spacings (addRadiusFromSmoothingLength).
     float hPerSpacing = defaults::kHPerSpacing;
+    // Turns each frame so its up axis (--up) is +y.
+    UpRotation up;
 
     std::size_t count() const { return embedded ? 1 : files.size(); }
     // Frame i, with a `radius` attribute from the file's smoothing length when it

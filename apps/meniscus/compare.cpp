@@ -71,6 +71,9 @@ int runCompare(const RenderOptions& o) {
     auto frames = openFrames(o.input, nullptr, o.hPerSpacing);
     if (!frames) return fail(frames.error().describe());
     if (frames->count() != 1) return fail(o.input + ": compare takes one frame, not a sequence");
+    auto up = upRotation(o.up);
+    if (!up) return fail(up.error().describe());
+    frames->up = *up;
     auto set = fixForSequence(o, *frames, settings);
     if (!set) return fail(set.error().describe());
 

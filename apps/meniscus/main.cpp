@@ -1,6 +1,7 @@
 // The `meniscus` command line: argument parsing and messages only; the work is
 // done by the library. Errors: one line on stderr naming the file and the
 // problem, exit code 1 (2 for bad usage).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -25,12 +26,38 @@
 #include "whitewater.h"
 #include "progress.h"
 #include "render.h"
+#include "scene_file.h"
 #include "view.h"
 
 using namespace meniscus;
 using namespace meniscus::app;
 
 namespace {
+
+// The words of the command line with a render scene file's settings put in
+// its place (the file's groups the command line does not give again), or the
+// words as they are when `render` has no scene file.
+Result<std::vector<std::string>> withSceneFile(const std::vector<std::string>& words, CLI::App& render,
+                                               std::string* sceneFile,
+                                               std::vector<std::pair<std::string, std::string>>* keys) {
+    const auto r = std::find(words.begin(), words.end(), "render");
+    if (r == words.end()) return words;
+    const auto scene = std::find_if(r + 1, words.end(), [](const std::string& w) { return isJsonFile(w); });
+    if (scene == words.end()) return words;
+    auto parsed = sceneFileArgs(*scene, render);
+    if (!parsed) return parsed.error();
+    *sceneFile = *scene;
+    *keys = parsed->keyOfOption;
+    std::vector<std::string> given;  // options on the command line (-o as --output)
+    for (auto w = r + 1; w != words.end(); ++w)
+        if (w->size() > 1 && (*w)[0] == '-') given.push_back(*w == "-o" ? "--output" : w->substr(0, w->find('=')));
+    std::vector<std::string> out(words.begin(), r + 1);
+    for (const auto& group : parsed->groups)
+        if (std::find(given.begin(), given.end(), group.front()) == given.end()) out.insert(out.end(), group.begin(), group.end());
+    for (auto w = r + 1; w != words.end(); ++w)
+        if (w != scene) out.push_back(*w);
+    return out;
+}
 
 // `meniscus --version`: the version and what this build can do.
 std::string versionLine() {
@@ -186,7 +213,10 @@ int main(int argc, char** argv) {
 
     RenderOptions render;
     auto* renderCmd = app.add_subcommand("render", "Render a particle file or sequence to PNG or EXR");
-    renderCmd->add_option("input", render.input, "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo)")
+    renderCmd->add_option("input", render.input,
+                          "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo), or a render scene "
+                          "file (.json with \"particles\", README: Scene files) whose settings the command line's "
+                          "own options override")
         ->required();
     renderCmd->add_option("-o,--output", render.output,
                           "Output .png (8-bit sRGB), .exr (float AOVs) or .mp4 (an H.264 movie of every frame, in "
@@ -256,11 +286,19 @@ int main(int argc, char** argv) {
                   << "come before the subcommand\n";
         return 2;
     }
+    // `render scene.json`: the file's settings become arguments, the command line's own win.
+    std::vector<std::string> words(argv, argv + argc);
+    auto expanded = withSceneFile(words, *renderCmd, &render.sceneFile, &render.sceneKeys);
+    if (!expanded) return fail(expanded.error().describe());
+    std::vector<char*> args;
+    for (std::string& w : *expanded) args.push_back(w.data());
     // Bad usage exits 2, as the README says (CLI11's own codes are 100 and up).
     try {
-        app.parse(argc, argv);
+        app.parse(int(args.size()), args.data());
     } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : 2;
+        if (render.sceneFile.empty() || e.get_exit_code() == 0) return app.exit(e) == 0 ? 0 : 2;
+        std::cerr << "meniscus: error: " << withSceneKey(e.what(), render.sceneFile, render.sceneKeys) << "\n";
+        return 2;
     }
 
     std::unique_ptr<tbb::global_control> threadLimit;

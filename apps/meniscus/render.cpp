@@ -10,7 +10,8 @@
 //    whole) is not rendered again. Not for a movie, which is written whole.
 //  - Ctrl-C (SIGINT, SIGTERM): the frame in progress finishes, the run stops
 //    there with exit 130; finished frames stay, a movie is not written (its
-//    temporary file is removed). A second Ctrl-C ends the process at once.
+//    temporary file is removed). Further Ctrl-Cs change nothing (a tool may
+//    signal the process and its group both), so no partial file is ever left.
 #include "render.h"
 
 #include <algorithm>
@@ -23,6 +24,8 @@
 #include <utility>
 #include <vector>
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 
 #include "mesh.h"
@@ -32,6 +35,7 @@
 #include "meniscus/renderer.h"
 #include "meniscus/surface.h"
 #include "progress.h"
+#include "scene_file.h"
 #ifdef MENISCUS_HAVE_FFMPEG
 #include "meniscus/video.h"
 #endif
@@ -41,9 +45,11 @@ namespace {
 
 volatile std::sig_atomic_t gInterrupted = 0;
 
-extern "C" void onInterrupt(int sig) {
+extern "C" void onInterrupt(int) {
+    if (gInterrupted) return;  // again (or sent to the whole process group as well): already stopping
     gInterrupted = 1;
-    std::signal(sig, SIG_DFL);  // a second one ends the process
+    static const char note[] = "\nmeniscus: stopping after the frame in progress\n";
+    [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, note, sizeof note - 1);  // async-signal-safe
 }
 
 // A diffuse particle set as the renderer's layer: its positions, velocities
@@ -162,6 +168,7 @@ Status renderFrame(const RenderOptions& o, const Frames& frames, std::size_t i, 
         auto read = readParticles(path, ParticleFormat::Auto, true);  // a frame may have none yet
         if (!read) return read.error();
         diffuse = std::move(*read);
+        frames.up.apply(diffuse);
         settings.diffuse = layerOf(diffuse, diffuseVelocity);
     }
     settings.frameIndex = std::int64_t(i);  // the noise's turbulence compares consecutive frames
@@ -201,13 +208,16 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     std::signal(SIGINT, onInterrupt);  // from here on Ctrl-C stops after the frame in progress
     std::signal(SIGTERM, onInterrupt);
     auto parsed = settingsFromOptions(o);
-    if (!parsed) return fail(parsed.error().describe());
+    if (!parsed) return fail(withSceneKey(parsed.error().describe(), o.sceneFile, o.sceneKeys));
     RenderSettings settings = std::move(*parsed);
 
     auto frames = openFrames(o.input, embedded, o.hPerSpacing);
     if (!frames) return fail(frames.error().describe());
     if (auto st = frames->addFluids(o); !st) return fail(st.error().describe());
     frames->renumber = o.renumber;
+    auto up = upRotation(o.up);
+    if (!up) return fail(withSceneKey(up.error().describe(), o.sceneFile, o.sceneKeys));
+    frames->up = *up;
     const std::size_t count = frames->count();
     if (!isMp4(o.output))
         if (auto st = frames->checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error().describe());
@@ -215,7 +225,7 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     // Radius and camera are fixed once per sequence, so the animation does not flicker.
     std::size_t firstIndex = 0;
     auto first = fixForSequence(o, *frames, settings, &firstIndex);
-    if (!first) return fail(first.error().describe());
+    if (!first) return fail(withSceneKey(first.error().describe(), o.sceneFile, o.sceneKeys));
     settings.colorOnly = !isExr(o.output);  // a PNG or a movie needs only the colour AOV
     if (o.whiten && !ParticleView::of(*first).velocity.present())
         std::cerr << "meniscus: warning: " << frames->name(firstIndex)

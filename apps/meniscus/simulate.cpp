@@ -128,6 +128,8 @@ Bounds domainBounds(const sim::Scene& scene) {
 }
 
 int runSimulate(const SimulateOptions& o) {
+    if (auto up = upRotation(o.image.up); !up || !up->identity)
+        return fail("--up " + o.image.up + ": the simulator's up is +y (gravity along -y); --up turns files for render");
     auto scene = sceneFromOptions(o);
     if (!scene) return fail(scene.error().describe());
     sim::Scene& sc = *scene;

@@ -112,6 +112,9 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         auto opened = openFrames(o.render.input, embedded, o.render.hPerSpacing);
         if (!opened) return fail(opened.error().describe());
         if (auto st = opened->addFluids(o.render); !st) return fail(st.error().describe());
+        auto up = upRotation(o.render.up);
+        if (!up) return fail(up.error().describe());
+        opened->up = *up;
         frames = std::move(*opened);
     }
 

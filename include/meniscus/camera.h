@@ -64,9 +64,12 @@ Status validateCamera(const Camera& camera);
 // `base`; eye, target, up, near and far are set (near/far scale with the scene).
 // A far outlier moves neither the target nor the distance. `outside`, when
 // given, receives how many points lie outside the image (estimated from a
-// stride when there are more than ~50k).
+// stride when there are more than ~50k). The view direction: from the target
+// toward the eye at `azimuthDegrees` around +y (0 = from +z, 90 = from +x) and
+// `elevationDegrees` above the horizon (clamped to +-89).
 Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const Camera& base,
-                       std::size_t* outside = nullptr);
+                       std::size_t* outside = nullptr, float azimuthDegrees = defaults::kAutoAzimuthDegrees,
+                       float elevationDegrees = defaults::kAutoElevationDegrees);
 
 // A valid camera moved on a sphere around its target, as a viewer's mouse
 // moves it: `azimuthDegrees` about the `up` axis (positive = toward the camera's

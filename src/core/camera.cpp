@@ -83,7 +83,8 @@ Bounds robustBounds(const std::vector<glm::vec3>& pts, float fraction) {
     return b;
 }
 
-Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const Camera& base, std::size_t* outside) {
+Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const Camera& base, std::size_t* outside,
+                       float azimuthDegrees, float elevationDegrees) {
     Camera cam = base;
     cam.up = {0.0f, 1.0f, 0.0f};
     // At most ~kAutoFramePoints points decide the framing (an even stride through the set).
@@ -94,8 +95,10 @@ Camera autoFrameCamera(std::span<const glm::vec3> points, float radiusM, const C
     if (pts.empty()) pts = {glm::vec3(-1.0f), glm::vec3(1.0f)};
     const float pad = std::isfinite(radiusM) ? std::max(radiusM, 0.0f) : 0.0f;
 
-    const float az = glm::radians(defaults::kAutoAzimuthDegrees);
-    const float el = glm::radians(defaults::kAutoElevationDegrees);
+    const float az = glm::radians(std::isfinite(azimuthDegrees) ? azimuthDegrees : defaults::kAutoAzimuthDegrees);
+    const float el = glm::radians(std::clamp(std::isfinite(elevationDegrees) ? elevationDegrees
+                                                                             : defaults::kAutoElevationDegrees,
+                                             -89.0f, 89.0f));
     const glm::vec3 toEye{std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el)};
     const glm::vec3 fwd = -toEye;
     const glm::vec3 right = glm::normalize(glm::cross(fwd, cam.up));

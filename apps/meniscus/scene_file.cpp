@@ -1,0 +1,181 @@
+// Render scene files: JSON keys to `render`'s arguments (scene_file.h).
+#include "scene_file.h"
+
+#include <cctype>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+namespace meniscus::app {
+namespace {
+
+using nlohmann::json;
+
+// "fill_holes" or "fill-holes" -> "--fill-holes".
+std::string optionName(const std::string& key) {
+    std::string name = "--" + key;
+    for (char& c : name)
+        if (c == '_') c = '-';
+    return name;
+}
+
+std::string numberText(const json& v) {
+    if (v.is_number_integer()) return std::to_string(v.get<std::int64_t>());
+    if (v.is_number_unsigned()) return std::to_string(v.get<std::uint64_t>());
+    return v.dump();  // the shortest text that reads back as the same double
+}
+
+class Converter {
+public:
+    Converter(std::string file, CLI::App& render) : file_(std::move(file)), render_(render) {}
+
+    // Paths in the file are relative to its folder.
+    std::string path(const std::string& p) const {
+        const std::filesystem::path q(p);
+        if (q.is_absolute()) return p;
+        return (std::filesystem::path(file_).parent_path() / q).lexically_normal().string();
+    }
+
+    Error fail(const std::string& key, const std::string& what) const { return makeError(file_, key + ": " + what); }
+
+    // One setting: `key` (its path in the file, for errors) naming option `name`.
+    Status add(const std::string& key, const std::string& name, const json& v) {
+        const CLI::Option* opt = render_.get_option_no_throw(name);
+        if (!opt || name == "--help" || name == "--output")
+            return fail(key, "unknown key (a scene file's keys are `meniscus render`'s options, e.g. width, filter, "
+                             "anisotropy; grouped under camera, render, material and light or at the top level)");
+        const bool flag = opt->get_expected_max() == 0;  // takes no value
+        std::vector<std::string> group{name};
+        if (flag) {
+            if (!v.is_boolean()) return fail(key, "expected true or false");
+            if (v.get<bool>()) push(key, std::move(group));
+            return okStatus();
+        }
+        if (v.is_boolean()) {
+            group.push_back(v.get<bool>() ? "on" : "off");
+        } else if (v.is_number()) {
+            group.push_back(numberText(v));
+        } else if (v.is_string()) {
+            group.push_back(pathOption(name) ? path(v.get<std::string>()) : v.get<std::string>());
+        } else if (v.is_array() && !v.empty()) {
+            bool numbers = true, strings = true;
+            for (const json& e : v) {
+                numbers = numbers && e.is_number();
+                strings = strings && e.is_string();
+            }
+            if (!numbers && !strings) return fail(key, "expected a list of numbers or of strings");
+            if (strings && opt->get_expected_max() > 1) {  // a repeatable option: once per value
+                for (const json& e : v) push(key, {name, pathOption(name) ? path(e.get<std::string>()) : e.get<std::string>()});
+                return okStatus();
+            }
+            std::string joined;
+            for (const json& e : v) joined += (joined.empty() ? "" : ",") + (numbers ? numberText(e) : e.get<std::string>());
+            group.push_back(joined);
+        } else {
+            return fail(key, "expected a number, a string, true/false or a list");
+        }
+        push(key, std::move(group));
+        return okStatus();
+    }
+
+    // Every key of a section ("camera", "render") or of the top level.
+    Status addAll(const std::string& prefix, const json& section) {
+        if (!section.is_object()) return fail(prefix, "expected an object of settings");
+        for (const auto& [k, v] : section.items())
+            if (auto st = add(prefix + "." + k, optionName(k), v); !st) return st;
+        return okStatus();
+    }
+
+    static bool pathOption(const std::string& name) { return name == "--diffuse" || name == "--fluid"; }
+
+    void push(const std::string& key, std::vector<std::string> group) {
+        out_.keyOfOption.emplace_back(group.front(), key);
+        out_.groups.push_back(std::move(group));
+    }
+    SceneArgs& out() { return out_; }
+
+private:
+    std::string file_;
+    CLI::App& render_;
+    SceneArgs out_;
+};
+
+Result<json> readJson(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return makeError(path, "cannot open the scene file");
+    std::stringstream text;
+    text << in.rdbuf();
+    try {
+        return json::parse(text.str());
+    } catch (const json::exception& e) {
+        return makeError(path, std::string("not valid JSON: ") + e.what());
+    }
+}
+
+}  // namespace
+
+bool isJsonFile(const std::string& path) { return std::filesystem::path(path).extension() == ".json"; }
+
+Result<SceneArgs> sceneFileArgs(const std::string& path, CLI::App& render) {
+    auto root = readJson(path);
+    if (!root) return root.error();
+    if (!root->is_object()) return makeError(path, "a scene file is a JSON object ({\"particles\": ..., ...})");
+    Converter c(path, render);
+    if (!root->contains("particles"))
+        return makeError(path, "a render scene file needs \"particles\" (a simulation scene, docs/scenes.md, is run "
+                               "by `meniscus simulate SCENE -o OUT --render IMAGES`)");
+    const json& particles = (*root)["particles"];
+    if (!particles.is_string() || particles.get<std::string>().empty())
+        return c.fail("particles", "expected the particle file, folder or pattern (a string)");
+    c.push("particles", {c.path(particles.get<std::string>())});
+    for (const auto& [k, v] : root->items()) {
+        if (k == "particles") continue;
+        Status st = okStatus();
+        if (k == "output") {
+            if (!v.is_string() || v.get<std::string>().empty())
+                return c.fail(k, "expected the image, pattern or movie to write (a string)");
+            c.push(k, {"--output", c.path(v.get<std::string>())});
+        } else if (k == "camera" || k == "render") {
+            st = c.addAll(k, v);
+        } else if (k == "material") {
+            // A preset, one per fluid, or {"preset": ..., custom values}.
+            if (v.is_object()) {
+                for (const auto& [mk, mv] : v.items()) {
+                    const std::string key = "material." + mk;
+                    st = mk == "preset" ? c.add(key, "--material", mv) : c.add(key, optionName(mk), mv);
+                    if (!st) return st.error();
+                }
+            } else {
+                st = c.add(k, "--material", v);
+            }
+        } else if (k == "light") {
+            // {"direction": [x, y, z]} (toward the light) or the list itself.
+            if (v.is_object() && (v.size() != 1 || !v.contains("direction")))
+                return c.fail(k, "expected {\"direction\": [x, y, z]} (toward the light)");
+            const json& dir = v.is_object() ? v["direction"] : v;
+            st = c.add(v.is_object() ? "light.direction" : k, "--light", dir);
+        } else {
+            st = c.add(k, optionName(k), v);
+        }
+        if (!st) return st.error();
+    }
+    return std::move(c.out());
+}
+
+std::string withSceneKey(const std::string& message, const std::string& sceneFile,
+                         const std::vector<std::pair<std::string, std::string>>& keyOfOption) {
+    for (const auto& [option, key] : keyOfOption) {
+        const std::size_t at = message.find(option);
+        const char after = at == std::string::npos || at + option.size() >= message.size() ? ' '
+                                                                                            : message[at + option.size()];
+        if (at != std::string::npos && !std::isalnum(static_cast<unsigned char>(after)) && after != '-')
+            return sceneFile + ": " + key + ": " + message;
+    }
+    return message;
+}
+
+}  // namespace meniscus::app

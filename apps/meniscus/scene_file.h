@@ -1,0 +1,45 @@
+// Render scene files (issue 18, item 4): `meniscus render scene.json` reads
+// particles, camera, light, material, render settings and output from one
+// JSON file. Every key is one of `render`'s options, so each CLI option has
+// its scene-file twin and both are checked by the same code; the file's
+// settings become arguments, and options given on the command line as well
+// override them. Schema: README, "Scene files".
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "meniscus/result.h"
+
+namespace CLI {
+class App;
+}
+
+namespace meniscus::app {
+
+// Paths in the file (particles, output, diffuse, fluid) are relative to the
+// file's folder.
+//
+// Whether `path` ends in .json: `render` takes it as a scene file.
+bool isJsonFile(const std::string& path);
+
+struct SceneArgs {
+    // `render`'s arguments, one group per setting: {INPUT}, {"--output", OUT},
+    // {"--width", "320"}, {"--noise"}, ... (a group's first word names it).
+    std::vector<std::vector<std::string>> groups;
+    // For each option set by the file, its key ("camera.eye"), so later errors
+    // about the option can name the key.
+    std::vector<std::pair<std::string, std::string>> keyOfOption;
+};
+
+// The file's settings as arguments of `render` (whose options `render`
+// declares): an error naming the file and the key for an unknown key, a value
+// of the wrong kind, or JSON that does not parse.
+Result<SceneArgs> sceneFileArgs(const std::string& path, CLI::App& render);
+
+// `message` (about an option, "--width: ...") prefixed with the file and key
+// that set that option, when one did.
+std::string withSceneKey(const std::string& message, const std::string& sceneFile,
+                         const std::vector<std::pair<std::string, std::string>>& keyOfOption);
+
+}  // namespace meniscus::app
