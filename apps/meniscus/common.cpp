@@ -20,13 +20,14 @@ namespace meniscus::app {
 
 namespace {
 
+// "x,y,z": three finite numbers, or nothing.
 std::optional<glm::vec3> parseVec3(const std::string& text) {
     std::istringstream in(text);
     glm::vec3 v;
     char c1 = 0, c2 = 0;
     if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',') return std::nullopt;
     in >> std::ws;
-    if (!in.eof()) return std::nullopt;
+    if (!in.eof() || !std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return std::nullopt;
     return v;
 }
 
@@ -296,7 +297,7 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
     auto vec3Option = [](const std::string& text, const char* name, glm::vec3* out) -> Status {
         if (text.empty()) return okStatus();
         auto v = parseVec3(text);
-        if (!v || !std::isfinite(v->x) || !std::isfinite(v->y) || !std::isfinite(v->z))
+        if (!v)
             return makeError("", std::string(name) + " " + text + ": expected three numbers x,y,z");
         *out = *v;
         return okStatus();
@@ -510,7 +511,7 @@ void UpRotation::apply(ParticleSet& set) const {
 
 Result<UpRotation> upRotation(const std::string& text) {
     const auto u = parseVec3(text);
-    if (!u || !std::isfinite(u->x) || !std::isfinite(u->y) || !std::isfinite(u->z) || glm::length(*u) == 0.0f)
+    if (!u || glm::length(*u) == 0.0f)
         return makeError("", "--up " + text + ": expected the up axis as three numbers x,y,z, not all zero");
     const glm::vec3 n = glm::normalize(*u), y(0.0f, 1.0f, 0.0f);
     UpRotation r;
@@ -541,7 +542,7 @@ Result<ParticleSet> Frames::load(std::size_t i, std::string* smoothingLength) co
     }
     if (set && !fluidAttribute.empty())
         if (auto st = useFluidAttribute(*set, fluidAttribute); !st)
-            return makeError(embedded ? std::string("the demo frame") : files[i].string(), st.error().message);
+            return makeError(name(i), st.error().message);
     for (std::size_t k = 0; set && k < moreFluids.size(); ++k) {
         auto more = readParticles(moreFluids[k][i]);
         if (!more) return more.error();

@@ -34,10 +34,11 @@ using std::sqrt;
 // The ground's share of the environment along a world-space direction (need
 // not be unit): 0 at and above the horizon, min(1, -4 y) below it for the unit
 // direction's y, so the ground takes over within 15 degrees or so.
+MENISCUS_SKY_INLINE float groundShareOfY(float y) { return y >= 0.0f ? 0.0f : min(1.0f, -4.0f * y); }
 MENISCUS_SKY_INLINE float groundShare(float dx, float dy, float dz) {
     MENISCUS_SKY_EXACT float len = sqrt(dx * dx + dy * dy + dz * dz);
-    MENISCUS_SKY_EXACT float y = len > 0.0f ? dy * (1.0f / len) : 1.0f;
-    return y >= 0.0f ? 0.0f : min(1.0f, -4.0f * y);
+    MENISCUS_SKY_EXACT float inv = 1.0f / len;
+    return groundShareOfY(len > 0.0f ? dy * inv : 1.0f);  // environmentRadiance's y, the same bits
 }
 
 // Linear RGB radiance of the environment along a world-space direction (dx, dy,
@@ -53,9 +54,9 @@ MENISCUS_SKY_INLINE vec3 environmentRadiance(float dx, float dy, float dz, vec3 
     MENISCUS_SKY_EXACT float y = ok ? dy * inv : 1.0f;
     MENISCUS_SKY_EXACT float z = ok ? dz * inv : 0.0f;
     // Above the horizon mix toward the zenith by sqrt(y), below toward the ground
-    // (groundShare: the same y, so the same bits); both computed, one selected.
+    // (groundShareOfY); both computed, one selected.
     bool up = y >= 0.0f;
-    MENISCUS_SKY_EXACT float t = up ? sqrt(max(y, 0.0f)) : groundShare(dx, dy, dz);
+    MENISCUS_SKY_EXACT float t = up ? sqrt(max(y, 0.0f)) : groundShareOfY(y);
     MENISCUS_SKY_EXACT float u = 1.0f - t;
     MENISCUS_SKY_EXACT float cr = 0.78f * u + (up ? 0.16f : ground.x) * t;
     MENISCUS_SKY_EXACT float cg = 0.85f * u + (up ? 0.34f : ground.y) * t;

@@ -49,7 +49,6 @@ struct VideoWriter::Impl {
     SwsContext* sws = nullptr;
     AVFrame* frame = nullptr;
     AVPacket* packet = nullptr;
-    bool headerWritten = false;
     bool finished = false;
     std::size_t count = 0;
     int width = 0, height = 0;
@@ -165,7 +164,6 @@ Result<VideoWriter> VideoWriter::open(const std::filesystem::path& path, int wid
         ret = avformat_write_header(v.format, &options);
         av_dict_free(&options);
         if (ret < 0) return v.fail("cannot write the MP4 header: " + avError(ret));
-        v.headerWritten = true;
         return VideoWriter(std::move(impl));
     } catch (const std::exception& e) {
         return makeError(name, std::string("cannot start the movie: ") + e.what());
