@@ -5,7 +5,8 @@
 # glslang-tools checks every shader file. The viewer's window needs GLFW
 # (libglfw3-dev, its context through Mesa's GLX: libglx-mesa0) and an X
 # display; CI has none, so its tests run inside a virtual X server (xvfb-run
-# from xvfb, which needs xauth). The fuzzers (scripts/fuzz.sh) need clang and
+# from xvfb, which needs xauth); its panels are Dear ImGui (libimgui-dev,
+# whose static library has the GLFW and OpenGL 3 backends). The fuzzers (scripts/fuzz.sh) need clang and
 # its sanitizer and libFuzzer run-times (libclang-rt-14-dev, which clang-14
 # only recommends). Movies (-o out.mp4) are encoded through FFmpeg's libraries
 # (libavcodec-dev, libavformat-dev, libswscale-dev; Debian's libavcodec brings
@@ -21,7 +22,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   nlohmann-json3-dev libcli11-dev libtinyxml2-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
   libepoxy-dev libegl-dev libgl1-mesa-dri libegl-mesa0 glslang-tools \
-  libglfw3-dev libglx-mesa0 xvfb xauth \
+  libglfw3-dev libglx-mesa0 xvfb xauth libimgui-dev \
   libavcodec-dev libavformat-dev libswscale-dev libavutil-dev \
   clang libclang-rt-14-dev >/dev/null
 echo "meniscus: dependencies installed"

@@ -17,10 +17,6 @@ using namespace meniscus::test;
 
 namespace {
 
-std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
-
-int runCli(const std::string& args, std::string* out = nullptr) { return runCommand(cliPath() + " " + args, out); }
-
 // DIR/in/f_1.bgeo .. f_N.bgeo: the small real frame 21 (copies), the ones in
 // `corrupt` replaced by bytes no reader takes. Returns DIR, emptied first.
 fs::path sequence(const std::string& name, int n, std::vector<int> corrupt = {}) {
@@ -41,7 +37,7 @@ fs::path sequence(const std::string& name, int n, std::vector<int> corrupt = {})
 }
 
 std::string renderArgs(const fs::path& dir, const std::string& output) {
-    return "render " + quote(dir / "in" / "f_*.bgeo") + " -o " + quote(dir / "out" / output) +
+    return "render " + shellQuote(dir / "in" / "f_*.bgeo") + " -o " + shellQuote(dir / "out" / output) +
            " --width 160 --height 90 --backend cpu";
 }
 

@@ -16,8 +16,6 @@ using namespace meniscus::test;
 
 namespace {
 
-std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
-int runCli(const std::string& args, std::string* out = nullptr) { return runCommand(cliPath() + " " + args, out); }
 const fs::path kFrame = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
 
 }  // namespace
@@ -25,13 +23,13 @@ const fs::path kFrame = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo
 TEST(CliMesh, RealFrameToPlyAndObj) {
     const fs::path dir = tempDir();
     std::string out;
-    ASSERT_EQ(runCli("mesh " + quote(kFrame) + " -o " + quote(dir / "f.ply") + " --stats", &out), 0) << out;
+    ASSERT_EQ(runCli("mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / "f.ply") + " --stats", &out), 0) << out;
     EXPECT_NE(out.find("wrote"), std::string::npos) << out;
     EXPECT_NE(out.find("peak"), std::string::npos) << out;  // --stats
     auto back = meniscus::readParticles(dir / "f.ply");  // the vertices, through our own PLY reader
     ASSERT_TRUE(back.ok()) << back.error().describe();
     EXPECT_GT(back->size(), 10000u);
-    ASSERT_EQ(runCli("mesh " + quote(kFrame) + " -o " + quote(dir / "f.obj") + " --field thesis --cube-size 1", &out), 0)
+    ASSERT_EQ(runCli("mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / "f.obj") + " --field thesis --cube-size 1", &out), 0)
         << out;
     const auto obj = readBytes(dir / "f.obj");
     EXPECT_NE(std::string(obj.begin(), obj.begin() + 200).find("# written by meniscus"), std::string::npos);
@@ -40,8 +38,8 @@ TEST(CliMesh, RealFrameToPlyAndObj) {
 TEST(CliMesh, SameFileForAnyThreadCount) {
     const fs::path dir = tempDir();
     std::string out;
-    ASSERT_EQ(runCli("mesh " + quote(kFrame) + " -o " + quote(dir / "one.ply") + " --threads 1", &out), 0) << out;
-    ASSERT_EQ(runCli("--threads 3 mesh " + quote(kFrame) + " -o " + quote(dir / "three.ply"), &out), 0) << out;
+    ASSERT_EQ(runCli("mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / "one.ply") + " --threads 1", &out), 0) << out;
+    ASSERT_EQ(runCli("--threads 3 mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / "three.ply"), &out), 0) << out;
     EXPECT_TRUE(readBytes(dir / "one.ply") == readBytes(dir / "three.ply"));
 }
 
@@ -53,7 +51,7 @@ TEST(CliMesh, SequenceToNumberedFiles) {
         fs::copy_file(testData("splishsplash/partio/" + name), dir / "in" / name);
     }
     std::string out;
-    ASSERT_EQ(runCli("mesh " + quote(dir / "in") + " -o " + quote(dir / "m_%04d.ply") + " --cube-size 1", &out), 0)
+    ASSERT_EQ(runCli("mesh " + shellQuote(dir / "in") + " -o " + shellQuote(dir / "m_%04d.ply") + " --cube-size 1", &out), 0)
         << out;
     EXPECT_TRUE(fs::exists(dir / "m_0009.ply"));
     EXPECT_TRUE(fs::exists(dir / "m_0021.ply"));
@@ -61,7 +59,7 @@ TEST(CliMesh, SequenceToNumberedFiles) {
     EXPECT_NE(out.find("m_0009.ply"), std::string::npos) << out;
     EXPECT_NE(out.find("m_0021.ply"), std::string::npos) << out;
     // Two frames into one name is refused before anything is written.
-    EXPECT_NE(runCli("mesh " + quote(dir / "in") + " -o " + quote(dir / "one.ply"), &out), 0);
+    EXPECT_NE(runCli("mesh " + shellQuote(dir / "in") + " -o " + shellQuote(dir / "one.ply"), &out), 0);
     EXPECT_NE(out.find("pattern"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "one.ply"));
 }
@@ -69,17 +67,17 @@ TEST(CliMesh, SequenceToNumberedFiles) {
 TEST(CliMesh, BadInputAndOptionsFailCleanly) {
     const fs::path dir = tempDir();
     std::string out;
-    EXPECT_EQ(runCli("mesh " + quote(kFrame) + " -o " + quote(dir / "x.stl"), &out), 1);
+    EXPECT_EQ(runCli("mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / "x.stl"), &out), 1);
     EXPECT_NE(out.find("x.stl"), std::string::npos) << out;
-    EXPECT_EQ(runCli("mesh " + quote(dir / "missing.bgeo") + " -o " + quote(dir / "x.ply"), &out), 1);
+    EXPECT_EQ(runCli("mesh " + shellQuote(dir / "missing.bgeo") + " -o " + shellQuote(dir / "x.ply"), &out), 1);
     EXPECT_NE(out.find("missing.bgeo"), std::string::npos) << out;
-    EXPECT_EQ(runCli("mesh " + quote(kFrame) + " -o " + quote(dir / "x.ply") + " --cube-size 0", &out), 1);
+    EXPECT_EQ(runCli("mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / "x.ply") + " --cube-size 0", &out), 1);
     EXPECT_NE(out.find("cube size"), std::string::npos) << out;
-    EXPECT_EQ(runCli("mesh " + quote(kFrame) + " -o " + quote(dir / "x.ply") + " --field metaballs", &out), 2);
+    EXPECT_EQ(runCli("mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / "x.ply") + " --field metaballs", &out), 2);
     // A truncated file: the reader's error, naming it.
     const auto bytes = readBytes(kFrame);
     writeBytes(dir / "cut.bgeo", std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + long(bytes.size() / 2)));
-    EXPECT_EQ(runCli("mesh " + quote(dir / "cut.bgeo") + " -o " + quote(dir / "x.ply"), &out), 1);
+    EXPECT_EQ(runCli("mesh " + shellQuote(dir / "cut.bgeo") + " -o " + shellQuote(dir / "x.ply"), &out), 1);
     EXPECT_NE(out.find("cut.bgeo"), std::string::npos) << out;
     fs::remove(dir / "cut.bgeo");
     EXPECT_TRUE(fs::is_empty(dir)) << "nothing written";
@@ -92,13 +90,13 @@ TEST(CliMesh, BadInputAndOptionsFailCleanly) {
 TEST(CliMesh, OutputExtensionInAnyCase) {
     const fs::path dir = tempDir();
     std::string out;
-    ASSERT_EQ(runCli("mesh " + quote(kFrame) + " -o " + quote(dir / "OUT.PLY") + " --cube-size 2", &out), 0) << out;
-    ASSERT_EQ(runCli("mesh " + quote(kFrame) + " -o " + quote(dir / "Out.Obj") + " --cube-size 2", &out), 0) << out;
+    ASSERT_EQ(runCli("mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / "OUT.PLY") + " --cube-size 2", &out), 0) << out;
+    ASSERT_EQ(runCli("mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / "Out.Obj") + " --cube-size 2", &out), 0) << out;
     const auto ply = readBytes(dir / "OUT.PLY"), obj = readBytes(dir / "Out.Obj");
     EXPECT_EQ(std::string(ply.begin(), ply.begin() + 4), "ply\n");
     EXPECT_EQ(std::string(obj.begin(), obj.begin() + 21), "# written by meniscus");
     for (const char* name : {"x.stl", "x", "x.ply.gz"}) {
-        EXPECT_EQ(runCli("mesh " + quote(kFrame) + " -o " + quote(dir / name), &out), 1) << name;
+        EXPECT_EQ(runCli("mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / name), &out), 1) << name;
         EXPECT_NE(out.find((dir / name).string() + ": output must end in .ply or .obj"), std::string::npos) << out;
         EXPECT_FALSE(fs::exists(dir / name)) << name;
     }
@@ -110,16 +108,16 @@ TEST(CliMesh, OutputExtensionInAnyCase) {
 TEST(CliMesh, RenderSurfaceMesh) {
     const fs::path dir = tempDir();
     std::string out;
-    const std::string common = quote(kFrame) + " --width 160 --height 90 --radius 0.025 ";
-    ASSERT_EQ(runCli("render " + common + "-o " + quote(dir / "mesh_cpu.png") + " --surface mesh --backend cpu", &out), 0)
+    const std::string common = shellQuote(kFrame) + " --width 160 --height 90 --radius 0.025 ";
+    ASSERT_EQ(runCli("render " + common + "-o " + shellQuote(dir / "mesh_cpu.png") + " --surface mesh --backend cpu", &out), 0)
         << out;
-    ASSERT_EQ(runCli("render " + common + "-o " + quote(dir / "screen.png") + " --backend cpu", &out), 0) << out;
+    ASSERT_EQ(runCli("render " + common + "-o " + shellQuote(dir / "screen.png") + " --backend cpu", &out), 0) << out;
     const auto mesh = readPng(dir / "mesh_cpu.png").bytes, screen = readPng(dir / "screen.png").bytes;
     ASSERT_EQ(mesh.size(), screen.size());
     std::size_t differ = 0;
     for (std::size_t i = 0; i < mesh.size(); ++i) differ += mesh[i] != screen[i];
     EXPECT_GT(differ, mesh.size() / 50) << "the mesh path should not look like the splat path";
-    if (runCli("render " + common + "-o " + quote(dir / "mesh_gl.png") + " --surface mesh --backend gl", &out) == 0) {
+    if (runCli("render " + common + "-o " + shellQuote(dir / "mesh_gl.png") + " --surface mesh --backend gl", &out) == 0) {
         const auto gl = readPng(dir / "mesh_gl.png").bytes;
         ASSERT_EQ(gl.size(), mesh.size());
         std::size_t off = 0;
@@ -131,13 +129,13 @@ TEST(CliMesh, RenderSurfaceMesh) {
         }
         EXPECT_LE(off, gl.size() / 200) << "worst " << worst;  // silhouette pixels only (tests/gl_raster_mesh_test.cpp)
     }
-    EXPECT_EQ(runCli("render " + common + "-o " + quote(dir / "x.png") + " --surface voxels", &out), 2);
+    EXPECT_EQ(runCli("render " + common + "-o " + shellQuote(dir / "x.png") + " --surface voxels", &out), 2);
 }
 
 TEST(CliMesh, CompareWritesTwoLabelledPanels) {
     const fs::path dir = tempDir();
     std::string out;
-    ASSERT_EQ(runCli("compare " + quote(kFrame) + " -o " + quote(dir / "c.png") +
+    ASSERT_EQ(runCli("compare " + shellQuote(kFrame) + " -o " + shellQuote(dir / "c.png") +
                          " --width 200 --height 120 --radius 0.025 --backend cpu",
                      &out),
               0)
@@ -164,6 +162,6 @@ TEST(CliMesh, CompareWritesTwoLabelledPanels) {
     };
     EXPECT_GT(whiteIn(0, 200), 50);
     EXPECT_GT(whiteIn(200, 400), 50);
-    EXPECT_NE(runCli("compare " + quote(kFrame) + " -o " + quote(dir / "c.jpg"), &out), 0);
+    EXPECT_NE(runCli("compare " + shellQuote(kFrame) + " -o " + shellQuote(dir / "c.jpg"), &out), 0);
     EXPECT_FALSE(fs::exists(dir / "c.jpg"));
 }

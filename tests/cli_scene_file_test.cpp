@@ -16,19 +16,6 @@ using namespace meniscus::test;
 
 namespace {
 
-std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
-
-int runCli(const std::string& args, std::string* out = nullptr) { return runCommand(cliPath() + " " + args, out); }
-
-// DIR with the small real frame as f.bgeo, emptied first.
-fs::path sceneDir(const std::string& name) {
-    const fs::path dir = tempDir() / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    fs::copy_file(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"), dir / "f.bgeo");
-    return dir;
-}
-
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
 }  // namespace
@@ -36,20 +23,20 @@ void write(const fs::path& p, const std::string& text) { std::ofstream(p) << tex
 // The issue's minimal form, as written, from another folder: the same bytes as
 // the options; an option on the command line overrides the file's.
 TEST(SceneFile, TheMinimalFormRendersAsItsOptions) {
-    const fs::path dir = sceneDir("scene_minimal");
+    const fs::path dir = dirWithFrame("scene_minimal");
     write(dir / "scene.json",
           R"({"particles": "f.bgeo", "radius": 0.01, "camera": {"eye": [2.6, 2.0, 3.2], "target": [0, 0.35, 0],)"
           R"( "fov": 40}, "render": {"width": 320, "height": 180}, "output": "out.png"})");
     std::string out;
-    ASSERT_EQ(runCommand("cd / && " + cliPath() + " render " + quote(dir / "scene.json"), &out), 0) << out;
+    ASSERT_EQ(runCommand("cd / && " + cliPath() + " render " + shellQuote(dir / "scene.json"), &out), 0) << out;
     ASSERT_TRUE(fs::exists(dir / "out.png")) << out;  // relative to the scene file, not the working folder
-    ASSERT_EQ(runCli("render " + quote(dir / "f.bgeo") + " -o " + quote(dir / "cli.png") +
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "cli.png") +
                          " --radius 0.01 --eye 2.6,2,3.2 --target 0,0.35,0 --fov 40 --width 320 --height 180",
                      &out),
               0)
         << out;
     EXPECT_EQ(readBytes(dir / "out.png"), readBytes(dir / "cli.png"));
-    ASSERT_EQ(runCli("render " + quote(dir / "scene.json") + " --width 160 --height 90 -o " + quote(dir / "s.png"),
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "scene.json") + " --width 160 --height 90 -o " + shellQuote(dir / "s.png"),
                      &out),
               0)
         << out;
@@ -60,7 +47,7 @@ TEST(SceneFile, TheMinimalFormRendersAsItsOptions) {
 // Sections, flags, on/off as true/false, lists, a material object with custom
 // values, the light: the same bytes as the options they stand for.
 TEST(SceneFile, EveryKindOfSettingMatchesItsOption) {
-    const fs::path dir = sceneDir("scene_kinds");
+    const fs::path dir = dirWithFrame("scene_kinds");
     write(dir / "scene.json", R"({
       "particles": "f.bgeo", "output": "a.png",
       "camera": {"eye": [2.5, 2.1, 2.9], "target": [0.43, 0.45, 0.0], "up": [0, 1, 0], "fov": 35},
@@ -70,8 +57,8 @@ TEST(SceneFile, EveryKindOfSettingMatchesItsOption) {
       "light": {"direction": [0.2, 1, 0.1]}
     })");
     std::string out;
-    ASSERT_EQ(runCli("render " + quote(dir / "scene.json"), &out), 0) << out;
-    ASSERT_EQ(runCli("render " + quote(dir / "f.bgeo") + " -o " + quote(dir / "b.png") +
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "scene.json"), &out), 0) << out;
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "b.png") +
                          " --eye 2.5,2.1,2.9 --target 0.43,0.45,0 --up 0,1,0 --fov 35 --width 160 --height 90 "
                          "--filter curvature-flow --iterations 20 --backend cpu --anisotropy off --fill-holes 0 "
                          "--noise --noise-bump 0.5 --material murky --ior 1.5 --absorption 3,1,0.5 "
@@ -81,7 +68,7 @@ TEST(SceneFile, EveryKindOfSettingMatchesItsOption) {
         << out;
     EXPECT_EQ(readBytes(dir / "a.png"), readBytes(dir / "b.png"));
     // And the custom values do change the picture.
-    ASSERT_EQ(runCli("render " + quote(dir / "f.bgeo") + " -o " + quote(dir / "c.png") +
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "c.png") +
                          " --eye 2.5,2.1,2.9 --target 0.43,0.45,0 --up 0,1,0 --fov 35 --width 160 --height 90 "
                          "--filter curvature-flow --iterations 20 --backend cpu --anisotropy off --fill-holes 0 "
                          "--noise --noise-bump 0.5 --material murky",
@@ -95,22 +82,22 @@ TEST(SceneFile, EveryKindOfSettingMatchesItsOption) {
 // defaults give the default view's bytes; another azimuth, elevation or
 // distance another picture; in a scene file as camera.azimuth and so on.
 TEST(SceneFile, AutomaticCameraDirectionAndDistance) {
-    const fs::path dir = sceneDir("scene_auto_camera");
-    const std::string base = "render " + quote(dir / "f.bgeo") + " --width 160 --height 90 --backend cpu -o ";
+    const fs::path dir = dirWithFrame("scene_auto_camera");
+    const std::string base = "render " + shellQuote(dir / "f.bgeo") + " --width 160 --height 90 --backend cpu -o ";
     std::string out;
-    ASSERT_EQ(runCli(base + quote(dir / "d.png"), &out), 0) << out;
-    ASSERT_EQ(runCli(base + quote(dir / "e.png") + " --azimuth 35 --elevation 25", &out), 0) << out;
+    ASSERT_EQ(runCli(base + shellQuote(dir / "d.png"), &out), 0) << out;
+    ASSERT_EQ(runCli(base + shellQuote(dir / "e.png") + " --azimuth 35 --elevation 25", &out), 0) << out;
     EXPECT_EQ(readBytes(dir / "d.png"), readBytes(dir / "e.png"));
     for (const char* other : {"--azimuth 120", "--elevation 60", "--distance 9"}) {
-        ASSERT_EQ(runCli(base + quote(dir / "o.png") + " " + other, &out), 0) << out;
+        ASSERT_EQ(runCli(base + shellQuote(dir / "o.png") + " " + other, &out), 0) << out;
         EXPECT_NE(readBytes(dir / "d.png"), readBytes(dir / "o.png")) << other;
     }
     write(dir / "s.json", R"({"particles": "f.bgeo", "output": "s.png", "render": {"width": 160, "height": 90,)"
                           R"( "backend": "cpu"}, "camera": {"azimuth": 120}})");
-    ASSERT_EQ(runCli("render " + quote(dir / "s.json"), &out), 0) << out;
-    ASSERT_EQ(runCli(base + quote(dir / "a.png") + " --azimuth 120", &out), 0) << out;
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "s.json"), &out), 0) << out;
+    ASSERT_EQ(runCli(base + shellQuote(dir / "a.png") + " --azimuth 120", &out), 0) << out;
     EXPECT_EQ(readBytes(dir / "s.png"), readBytes(dir / "a.png"));
-    EXPECT_EQ(runCli(base + quote(dir / "x.png") + " --elevation 90", &out), 2) << out;
+    EXPECT_EQ(runCli(base + shellQuote(dir / "x.png") + " --elevation 90", &out), 2) << out;
 }
 
 // --up (issue 18, item 3): the real frame turned to z up, (x, y, z) ->
@@ -118,7 +105,7 @@ TEST(SceneFile, AutomaticCameraDirectionAndDistance) {
 // y-up original, with the automatic camera and with --eye/--target given in
 // the z-up coordinates; without --up it lies on its side.
 TEST(SceneFile, UpStandsZUpDataTheRightWay) {
-    const fs::path dir = sceneDir("scene_up");
+    const fs::path dir = dirWithFrame("scene_up");
     auto set = meniscus::readParticles(dir / "f.bgeo");
     ASSERT_TRUE(set) << set.error().describe();
     ASSERT_TRUE(meniscus::writeParticles(dir / "y.ply", *set));
@@ -133,28 +120,28 @@ TEST(SceneFile, UpStandsZUpDataTheRightWay) {
     ASSERT_TRUE(meniscus::writeParticles(dir / "z.ply", *set));
     const std::string opts = " --width 160 --height 90 --backend cpu --whiten -o ";
     std::string out;
-    ASSERT_EQ(runCli("render " + quote(dir / "y.ply") + opts + quote(dir / "y.png"), &out), 0) << out;
-    ASSERT_EQ(runCli("render " + quote(dir / "z.ply") + opts + quote(dir / "z.png") + " --up 0,0,1", &out), 0) << out;
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "y.ply") + opts + shellQuote(dir / "y.png"), &out), 0) << out;
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "z.ply") + opts + shellQuote(dir / "z.png") + " --up 0,0,1", &out), 0) << out;
     EXPECT_EQ(readBytes(dir / "y.png"), readBytes(dir / "z.png"));
-    ASSERT_EQ(runCli("render " + quote(dir / "z.ply") + opts + quote(dir / "side.png"), &out), 0) << out;
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "z.ply") + opts + shellQuote(dir / "side.png"), &out), 0) << out;
     EXPECT_NE(readBytes(dir / "y.png"), readBytes(dir / "side.png"));
-    ASSERT_EQ(runCli("render " + quote(dir / "y.ply") + opts + quote(dir / "ye.png") +
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "y.ply") + opts + shellQuote(dir / "ye.png") +
                          " --eye 2.5,2.1,2.9 --target 0.43,0.45,0",
                      &out),
               0)
         << out;
-    ASSERT_EQ(runCli("render " + quote(dir / "z.ply") + opts + quote(dir / "ze.png") +
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "z.ply") + opts + shellQuote(dir / "ze.png") +
                          " --eye 2.5,-2.9,2.1 --target 0.43,0,0.45 --up 0,0,1",
                      &out),
               0)
         << out;
     EXPECT_EQ(readBytes(dir / "ye.png"), readBytes(dir / "ze.png"));
-    EXPECT_EQ(runCli("render " + quote(dir / "z.ply") + opts + quote(dir / "x.png") + " --up 0,0,0", &out), 1);
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "z.ply") + opts + shellQuote(dir / "x.png") + " --up 0,0,0", &out), 1);
     EXPECT_NE(out.find("--up 0,0,0: expected the up axis"), std::string::npos) << out;
 }
 
 TEST(SceneFile, ErrorsNameTheKey) {
-    const fs::path dir = sceneDir("scene_errors");
+    const fs::path dir = dirWithFrame("scene_errors");
     struct Case {
         const char* json;
         const char* says;
@@ -178,7 +165,7 @@ TEST(SceneFile, ErrorsNameTheKey) {
     for (const Case& c : cases) {
         write(dir / "s.json", c.json);
         std::string out;
-        EXPECT_EQ(runCli("render " + quote(dir / "s.json"), &out), c.rc) << c.json << "\n" << out;
+        EXPECT_EQ(runCli("render " + shellQuote(dir / "s.json"), &out), c.rc) << c.json << "\n" << out;
         EXPECT_NE(out.find(c.says), std::string::npos) << c.json << "\n" << out;
         if (std::string(c.says) != "missing.bgeo") {  // that error names the particle file
             EXPECT_NE(out.find("s.json"), std::string::npos) << c.json << "\n" << out;

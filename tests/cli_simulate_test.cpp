@@ -16,17 +16,13 @@ using namespace meniscus::test;
 
 namespace {
 
-std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
-int runCli(const std::string& args, std::string* out = nullptr) { return runCommand(cliPath() + " " + args, out); }
-
-
 }  // namespace
 
 TEST(CliSimulate, SceneToASequenceTheReadersTakeBack) {
     const fs::path dir = tempDir();
     const fs::path scene = writeSmallScene(dir);
     std::string out;
-    ASSERT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "out/f_%04d.bgeo"), &out), 0) << out;
+    ASSERT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "out/f_%04d.bgeo"), &out), 0) << out;
     for (int k = 0; k <= 5; ++k) {
         char name[32];
         std::snprintf(name, sizeof name, "out/f_%04d.bgeo", k);
@@ -41,7 +37,7 @@ TEST(CliSimulate, SceneToASequenceTheReadersTakeBack) {
     EXPECT_NE(out.find("wrote"), std::string::npos) << out;  // not a terminal: a line per frame
     // The other formats.
     for (const char* ext : {"vtk", "vtu", "ply"}) {
-        ASSERT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / (std::string("g_%02d.") + ext)) + " --duration 0.02", &out), 0) << out;
+        ASSERT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / (std::string("g_%02d.") + ext)) + " --duration 0.02", &out), 0) << out;
         auto set = meniscus::readParticles(dir / (std::string("g_01.") + ext));
         ASSERT_TRUE(set.ok()) << set.error().describe();
         EXPECT_NE(set->find(meniscus::kAttrVelocity), nullptr) << ext;
@@ -52,12 +48,12 @@ TEST(CliSimulate, SameFilesForAnyThreadCountAndResumeContinues) {
     const fs::path dir = tempDir();
     const fs::path scene = writeSmallScene(dir);
     std::string out;
-    ASSERT_EQ(runCli("--threads 1 simulate " + quote(scene) + " -o " + quote(dir / "a/f_%04d.bgeo"), &out), 0) << out;
-    ASSERT_EQ(runCli("--threads 2 simulate " + quote(scene) + " -o " + quote(dir / "b/f_%04d.bgeo"), &out), 0) << out;
+    ASSERT_EQ(runCli("--threads 1 simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "a/f_%04d.bgeo"), &out), 0) << out;
+    ASSERT_EQ(runCli("--threads 2 simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "b/f_%04d.bgeo"), &out), 0) << out;
     EXPECT_TRUE(readBytes(dir / "a/f_0005.bgeo") == readBytes(dir / "b/f_0005.bgeo"));
     // Interrupted after frame 2: --resume writes 3..5 from frame 2's particles.
     fs::remove(dir / "b/f_0003.bgeo"), fs::remove(dir / "b/f_0004.bgeo"), fs::remove(dir / "b/f_0005.bgeo");
-    ASSERT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "b/f_%04d.bgeo") + " --resume", &out), 0) << out;
+    ASSERT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "b/f_%04d.bgeo") + " --resume", &out), 0) << out;
     EXPECT_NE(out.find("resuming after"), std::string::npos) << out;
     EXPECT_EQ(out.find("f_0001.bgeo"), std::string::npos) << "frames before the resume point are not rewritten";
     auto resumed = meniscus::readParticles(dir / "b/f_0005.bgeo");
@@ -74,15 +70,15 @@ TEST(CliSimulate, BadScenesAndOutputsFailCleanly) {
     const fs::path dir = tempDir();
     std::string out;
     std::ofstream(dir / "typo.json") << R"({"version": 1, "domain": {"min": [0,0,0], "max": [1,1,1]}, "fluid": [], "raduis": 0.01})";
-    EXPECT_EQ(runCli("simulate " + quote(dir / "typo.json") + " -o " + quote(dir / "f_%04d.bgeo"), &out), 1);
+    EXPECT_EQ(runCli("simulate " + shellQuote(dir / "typo.json") + " -o " + shellQuote(dir / "f_%04d.bgeo"), &out), 1);
     EXPECT_NE(out.find("typo.json"), std::string::npos) << out;
     EXPECT_NE(out.find("raduis"), std::string::npos) << out;
-    EXPECT_EQ(runCli("simulate " + quote(dir / "missing.json") + " -o " + quote(dir / "f_%04d.bgeo"), &out), 1);
+    EXPECT_EQ(runCli("simulate " + shellQuote(dir / "missing.json") + " -o " + shellQuote(dir / "f_%04d.bgeo"), &out), 1);
     const fs::path scene = writeSmallScene(dir);
-    EXPECT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "nonumber.bgeo"), &out), 1);
+    EXPECT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "nonumber.bgeo"), &out), 1);
     EXPECT_NE(out.find("frame number"), std::string::npos) << out;
-    EXPECT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "f_%04d.png"), &out), 1);
-    EXPECT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "f_%04d.bgeo") + " --solver magic", &out), 2);
+    EXPECT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "f_%04d.png"), &out), 1);
+    EXPECT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "f_%04d.bgeo") + " --solver magic", &out), 2);
     std::size_t files = 0;
     for (const auto& e : fs::directory_iterator(dir)) files += e.path().extension() != ".json";
     EXPECT_EQ(files, 0u) << "nothing written";
@@ -96,8 +92,8 @@ TEST(CliSimulate, RenderWritesAnImagePerFrameFromOneCamera) {
     const fs::path dir = tempDir();
     const fs::path scene = writeSmallScene(dir);
     std::string out;
-    const std::string args = "simulate " + quote(scene) + " -o " + quote(dir / "f/f_%04d.bgeo") + " --render " +
-                             quote(dir / "img/i_%04d.png") + " --width 96 --height 72";
+    const std::string args = "simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "f/f_%04d.bgeo") + " --render " +
+                             shellQuote(dir / "img/i_%04d.png") + " --width 96 --height 72";
     ASSERT_EQ(runCli(args, &out), 0) << out;
     EXPECT_NE(out.find("one camera for all"), std::string::npos) << out;
     EXPECT_NE(out.find("and " + (dir / "img/i_0005.png").string()), std::string::npos) << out;
@@ -147,8 +143,8 @@ TEST(CliSimulate, BadRenderPatternsFailBeforeSimulating) {
     const fs::path scene = writeSmallScene(dir);
     std::string out;
     for (const char* bad : {"img/i.png", "img/i_%04d.jpg"}) {
-        EXPECT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "f/f_%04d.bgeo") + " --render " +
-                             quote(dir / bad),
+        EXPECT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "f/f_%04d.bgeo") + " --render " +
+                             shellQuote(dir / bad),
                          &out),
                   1)
             << bad;
@@ -171,12 +167,12 @@ TEST(CliSimulate, ResumeFromAnEmptyFrame) {
   "emitters": [ { "position": [0.15, 0.25, 0.15], "direction": [0, -1, 0], "radius": 0.03, "speed": 1.0 } ]
 })";
     std::string out;
-    ASSERT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "a/f_%04d.bgeo"), &out), 0) << out;
-    ASSERT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "b/f_%04d.bgeo") + " --duration 0", &out), 0)
+    ASSERT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "a/f_%04d.bgeo"), &out), 0) << out;
+    ASSERT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "b/f_%04d.bgeo") + " --duration 0", &out), 0)
         << out;
     ASSERT_TRUE(fs::exists(dir / "b/f_0000.bgeo"));
     ASSERT_FALSE(meniscus::readParticles(dir / "b/f_0000.bgeo").ok()) << "the frame is empty";
-    ASSERT_EQ(runCli("simulate " + quote(scene) + " -o " + quote(dir / "b/f_%04d.bgeo") + " --resume", &out), 0) << out;
+    ASSERT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "b/f_%04d.bgeo") + " --resume", &out), 0) << out;
     EXPECT_NE(out.find("resuming after"), std::string::npos) << out;
     auto resumed = meniscus::readParticles(dir / "b/f_0003.bgeo");
     auto straight = meniscus::readParticles(dir / "a/f_0003.bgeo");

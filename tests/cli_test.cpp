@@ -18,10 +18,6 @@ using namespace meniscus::test;
 
 namespace {
 
-std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
-
-int runCli(const std::string& args, std::string* out = nullptr) { return runCommand(cliPath() + " " + args, out); }
-
 // The frame_stats.csv row for (dataset, frame): count, then bounds min/max, then density min/median/max.
 std::vector<double> statsRow(const std::string& dataset, int frame) {
     const auto row = frameStatsRow(dataset, frame);
@@ -40,7 +36,7 @@ TEST(Cli, InfoJsonReportsTheRealFrames) {
                                    "splishsplash/partio/ParticleData_Fluid_61.bgeo"}) {
         const int frame = file.find("_61") != std::string::npos ? 61 : 21;
         std::string out;
-        ASSERT_EQ(runCli("info --json " + quote(testData(file)), &out), 0) << out;
+        ASSERT_EQ(runCli("info --json " + shellQuote(testData(file)), &out), 0) << out;
         const auto j = nlohmann::json::parse(out);
         const auto row = statsRow("dambreak_r0.025_small", frame);
         ASSERT_EQ(row.size(), 10u);
@@ -66,7 +62,7 @@ TEST(Cli, InfoJsonReportsTheRealFrames) {
 
 TEST(Cli, InfoJsonOnTheLargeFrame) {
     std::string out;
-    ASSERT_EQ(runCli("info --json " + quote(repoData("dambreak_r0.01/ParticleData_Fluid_21.bgeo")), &out), 0) << out;
+    ASSERT_EQ(runCli("info --json " + shellQuote(repoData("dambreak_r0.01/ParticleData_Fluid_21.bgeo")), &out), 0) << out;
     const auto j = nlohmann::json::parse(out);
     const auto row = statsRow("dambreak_r0.01", 21);
     ASSERT_EQ(row.size(), 10u);
@@ -81,12 +77,12 @@ TEST(Cli, RendersPngAndExr) {
     const fs::path dir = tempDir();
     const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
     std::string out;
-    ASSERT_EQ(runCli("render " + quote(in) + " -o " + quote(dir / "f.png") + " --width 160 --height 90", &out), 0)
+    ASSERT_EQ(runCli("render " + shellQuote(in) + " -o " + shellQuote(dir / "f.png") + " --width 160 --height 90", &out), 0)
         << out;
     const auto png = readBytes(dir / "f.png");
     ASSERT_GT(png.size(), 8u);
     EXPECT_EQ(png[1], 'P');
-    ASSERT_EQ(runCli("render " + quote(in) + " -o " + quote(dir / "f.exr") +
+    ASSERT_EQ(runCli("render " + shellQuote(in) + " -o " + shellQuote(dir / "f.exr") +
                            " --width 160 --height 90 --eye 0,2,5 --target 0,0.5,0 --fov 50 --radius 0.03",
                        &out),
               0)
@@ -104,7 +100,7 @@ TEST(Cli, ExrCarriesEveryAov) {
     const fs::path dir = tempDir();
     const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
     std::string out;
-    ASSERT_EQ(runCli("render " + quote(in) + " -o " + quote(dir / "f.exr") + " --width 160 --height 90", &out), 0)
+    ASSERT_EQ(runCli("render " + shellQuote(in) + " -o " + shellQuote(dir / "f.exr") + " --width 160 --height 90", &out), 0)
         << out;
     const ExrData exr = readExr(dir / "f.exr");
     std::vector<std::string> names = exr.names;
@@ -140,26 +136,26 @@ TEST(Cli, ExrCarriesEveryAov) {
 TEST(Cli, PipelineOptions) {
     const fs::path dir = tempDir();
     const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
-    const std::string base = "render " + quote(in) + " --width 64 --height 36 -o ";
+    const std::string base = "render " + shellQuote(in) + " --width 64 --height 36 -o ";
     std::string out;
     for (const char* f : {"none", "gaussian", "bilateral", "binomial", "curvature-flow", "narrow-range"})
-        EXPECT_EQ(runCli(base + quote(dir / "f.png") + " --filter " + f + " --iterations 2", &out), 0) << f << out;
-    EXPECT_EQ(runCli(base + quote(dir / "f.png") + " --filter narrow-range --separable", &out), 0) << out;
+        EXPECT_EQ(runCli(base + shellQuote(dir / "f.png") + " --filter " + f + " --iterations 2", &out), 0) << f << out;
+    EXPECT_EQ(runCli(base + shellQuote(dir / "f.png") + " --filter narrow-range --separable", &out), 0) << out;
     for (const char* m : {"water", "murky", "milk", "lava", "sand"})
-        EXPECT_EQ(runCli(base + quote(dir / "f.png") + " --material " + m, &out), 0) << m << out;
+        EXPECT_EQ(runCli(base + shellQuote(dir / "f.png") + " --material " + m, &out), 0) << m << out;
     for (const char* v : {"final", "depth", "raw-depth", "normals", "thickness"})
-        EXPECT_EQ(runCli(base + quote(dir / "f.png") + " --view " + v, &out), 0) << v << out;
-    ASSERT_EQ(runCli(base + quote(dir / "t.png") + " --background none", &out), 0) << out;
+        EXPECT_EQ(runCli(base + shellQuote(dir / "f.png") + " --view " + v, &out), 0) << v << out;
+    ASSERT_EQ(runCli(base + shellQuote(dir / "t.png") + " --background none", &out), 0) << out;
     EXPECT_EQ(readPng(dir / "t.png").format, png_uint_32(PNG_FORMAT_RGBA));
 
     const std::pair<const char*, const char*> bad[] = {{"--filter", "median"}, {"--material", "honey"},
                                                        {"--view", "shaded"}, {"--background", "black"}};
     for (const auto& [opt, value] : bad) {
-        EXPECT_EQ(runCli(base + quote(dir / "bad.png") + " " + opt + " " + value, &out), 1) << opt;
+        EXPECT_EQ(runCli(base + shellQuote(dir / "bad.png") + " " + opt + " " + value, &out), 1) << opt;
         EXPECT_NE(out.find(opt), std::string::npos) << out;
         EXPECT_NE(out.find(value), std::string::npos) << out;
     }
-    EXPECT_NE(runCli(base + quote(dir / "bad.png") + " --filter gaussian --separable", &out), 0);
+    EXPECT_NE(runCli(base + shellQuote(dir / "bad.png") + " --filter gaussian --separable", &out), 0);
     EXPECT_FALSE(fs::exists(dir / "bad.png"));
 }
 
@@ -167,11 +163,11 @@ TEST(Cli, PipelineOptions) {
 TEST(Cli, NoiseOptions) {
     const fs::path dir = tempDir();
     const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
-    const std::string base = "render " + quote(in) + " --width 96 --height 54 -o ";
+    const std::string base = "render " + shellQuote(in) + " --width 96 --height 54 -o ";
     std::string out;
     for (const char* v : {"final", "noise", "foam"})
-        EXPECT_EQ(runCli(base + quote(dir / "n.png") + " --noise --view " + v, &out), 0) << v << out;
-    ASSERT_EQ(runCli(base + quote(dir / "n.exr") + " --noise --noise-bump 0.4 --foam 3 --noise-octaves 2 "
+        EXPECT_EQ(runCli(base + shellQuote(dir / "n.png") + " --noise --view " + v, &out), 0) << v << out;
+    ASSERT_EQ(runCli(base + shellQuote(dir / "n.exr") + " --noise --noise-bump 0.4 --foam 3 --noise-octaves 2 "
                                                    "--noise-frequency 1.5 --turbulence-tau 0.8",
                      &out),
               0)
@@ -180,9 +176,9 @@ TEST(Cli, NoiseOptions) {
     for (const char* c : {"Noise", "foam"})
         EXPECT_NE(std::find(exr.names.begin(), exr.names.end(), c), exr.names.end()) << c;
     // Without --noise the views say what is missing; bad values name the parameter.
-    EXPECT_EQ(runCli(base + quote(dir / "bad.png") + " --view noise", &out), 1);
+    EXPECT_EQ(runCli(base + shellQuote(dir / "bad.png") + " --view noise", &out), 1);
     EXPECT_NE(out.find("--noise"), std::string::npos) << out;
-    EXPECT_EQ(runCli(base + quote(dir / "bad.png") + " --noise --noise-octaves 9", &out), 1);
+    EXPECT_EQ(runCli(base + shellQuote(dir / "bad.png") + " --noise --noise-octaves 9", &out), 1);
     EXPECT_NE(out.find("octaves"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "bad.png"));
 }
@@ -192,26 +188,26 @@ TEST(Cli, NoiseOptions) {
 TEST(Cli, WhiteningOptions) {
     const fs::path dir = tempDir();
     const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
-    const std::string base = "render " + quote(in) + " --width 96 --height 54 -o ";
+    const std::string base = "render " + shellQuote(in) + " --width 96 --height 54 -o ";
     std::string out;
     for (const char* v : {"final", "whitening"})
-        EXPECT_EQ(runCli(base + quote(dir / "w.png") + " --whiten --view " + v, &out), 0) << v << out;
-    ASSERT_EQ(runCli(base + quote(dir / "w.exr") + " --whiten --whiten-threshold 1 --whiten-ramp 3 "
+        EXPECT_EQ(runCli(base + shellQuote(dir / "w.png") + " --whiten --view " + v, &out), 0) << v << out;
+    ASSERT_EQ(runCli(base + shellQuote(dir / "w.exr") + " --whiten --whiten-threshold 1 --whiten-ramp 3 "
                                                    "--whiten-strength 0.8 --noise",
                      &out),
               0)
         << out;
     const ExrData exr = readExr(dir / "w.exr");
     EXPECT_NE(std::find(exr.names.begin(), exr.names.end(), "whitening"), exr.names.end());
-    EXPECT_EQ(runCli(base + quote(dir / "bad.png") + " --view whitening", &out), 1);
+    EXPECT_EQ(runCli(base + shellQuote(dir / "bad.png") + " --view whitening", &out), 1);
     EXPECT_NE(out.find("--whiten"), std::string::npos) << out;
-    EXPECT_EQ(runCli(base + quote(dir / "bad.png") + " --whiten --whiten-ramp 0", &out), 1);
+    EXPECT_EQ(runCli(base + shellQuote(dir / "bad.png") + " --whiten --whiten-ramp 0", &out), 1);
     EXPECT_NE(out.find("rampMps"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "bad.png"));
     // Positions only: said, and rendered unwhitened.
     writeText(dir / "p.xyz", "0 0 0\n0.05 0 0\n0 0.05 0\n");
-    ASSERT_EQ(runCli("render " + quote(dir / "p.xyz") + " --width 32 --height 18 --radius 0.03 --whiten -o " +
-                         quote(dir / "p.png"),
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "p.xyz") + " --width 32 --height 18 --radius 0.03 --whiten -o " +
+                         shellQuote(dir / "p.png"),
                      &out),
               0)
         << out;
@@ -243,7 +239,7 @@ TEST(Cli, SeveralFluidsFromAnAttribute) {
     const std::string opts = " --width 64 --height 40 --radius 0.01 --fluid-attribute phase ";
     std::string out;
     for (const char* in : {"two.ply", "twof.ply"}) {
-        ASSERT_EQ(runCli("render " + quote(dir / in) + opts + "--material water,lava -o " + quote(dir / "f.exr"), &out),
+        ASSERT_EQ(runCli("render " + shellQuote(dir / in) + opts + "--material water,lava -o " + shellQuote(dir / "f.exr"), &out),
                   0)
             << in << out;
         const ExrData exr = readExr(dir / "f.exr");
@@ -252,20 +248,20 @@ TEST(Cli, SeveralFluidsFromAnAttribute) {
         const std::vector<float>& v = exr.channels[std::size_t(at - exr.names.begin())].values;
         EXPECT_EQ(std::set<float>(v.begin(), v.end()), (std::set<float>{-1.0f, 0.0f, 1.0f})) << in;
     }
-    EXPECT_EQ(runCli("render " + quote(dir / "two.ply") + opts + "--view fluid-id -o " + quote(dir / "id.png"), &out), 0)
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "two.ply") + opts + "--view fluid-id -o " + shellQuote(dir / "id.png"), &out), 0)
         << out;
-    EXPECT_EQ(runCli("render " + quote(dir / "two.ply") + " --width 64 --height 40 --radius 0.01 --fluid-attribute "
-                         "kind -o " + quote(dir / "bad.png"),
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "two.ply") + " --width 64 --height 40 --radius 0.01 --fluid-attribute "
+                         "kind -o " + shellQuote(dir / "bad.png"),
                      &out),
               1);
     EXPECT_NE(out.find("--fluid-attribute kind: no such attribute (the file has: phase)"), std::string::npos) << out;
     EXPECT_NE(out.find("two.ply"), std::string::npos) << out;
-    EXPECT_EQ(runCli("render " + quote(dir / "frac.ply") + opts + "-o " + quote(dir / "bad.png"), &out), 1);
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "frac.ply") + opts + "-o " + shellQuote(dir / "bad.png"), &out), 1);
     EXPECT_NE(out.find("not a whole number"), std::string::npos) << out;
-    EXPECT_EQ(runCli("render " + quote(dir / "five.ply") + opts + "-o " + quote(dir / "bad.png"), &out), 1);
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "five.ply") + opts + "-o " + shellQuote(dir / "bad.png"), &out), 1);
     EXPECT_NE(out.find("fluid index 5: expected 0 to 3"), std::string::npos) << out;
-    EXPECT_EQ(runCli("render " + quote(dir / "two.ply") + opts + "--material water,lava,milk,sand,water -o " +
-                         quote(dir / "bad.png"),
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "two.ply") + opts + "--material water,lava,milk,sand,water -o " +
+                         shellQuote(dir / "bad.png"),
                      &out),
               1);
     EXPECT_NE(out.find("5 materials for at most 4 fluids"), std::string::npos) << out;
@@ -297,8 +293,8 @@ TEST(Cli, SeveralFluidsFromOneSequencePerFluid) {
     writeBlock(dir / "lone.ply", 0.12, false);
     const std::string opts = " --width 64 --height 40 --radius 0.01 --material water,lava ";
     std::string out;
-    ASSERT_EQ(runCli("render " + quote(dir / "water_%d.ply") + " --fluid " + quote(dir / "oil_%d.ply") + opts + "-o " +
-                         quote(dir / "f_%d.exr"),
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "water_%d.ply") + " --fluid " + shellQuote(dir / "oil_%d.ply") + opts + "-o " +
+                         shellQuote(dir / "f_%d.exr"),
                      &out),
               0)
         << out;
@@ -310,13 +306,13 @@ TEST(Cli, SeveralFluidsFromOneSequencePerFluid) {
         const std::vector<float>& v = exr.channels[std::size_t(at - exr.names.begin())].values;
         EXPECT_EQ(std::set<float>(v.begin(), v.end()), (std::set<float>{-1.0f, 0.0f, 1.0f})) << f;
     }
-    EXPECT_EQ(runCli("render " + quote(dir / "water_%d.ply") + " --fluid " + quote(dir / "lone.ply") + opts + "-o " +
-                         quote(dir / "bad_%d.png"),
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "water_%d.ply") + " --fluid " + shellQuote(dir / "lone.ply") + opts + "-o " +
+                         shellQuote(dir / "bad_%d.png"),
                      &out),
               1);
     EXPECT_NE(out.find("--fluid: 1 frame(s), the input has 2"), std::string::npos) << out;
-    EXPECT_EQ(runCli("render " + quote(dir / "water_1.ply") + " --fluid " + quote(dir / "lone.ply") +
-                         " --fluid-attribute id" + opts + "-o " + quote(dir / "bad.png"),
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "water_1.ply") + " --fluid " + shellQuote(dir / "lone.ply") +
+                         " --fluid-attribute id" + opts + "-o " + shellQuote(dir / "bad.png"),
                      &out),
               1);
     EXPECT_NE(out.find("give one or the other"), std::string::npos) << out;
@@ -327,7 +323,7 @@ TEST(Cli, SeveralFluidsFromOneSequencePerFluid) {
 TEST(Cli, DemoNeedsNoInput) {
     const fs::path dir = tempDir();
     std::string out;
-    ASSERT_EQ(runCommand("cd " + quote(dir) + " && " + cliPath() + " demo --width 128 --height 72", &out), 0) << out;
+    ASSERT_EQ(runCommand("cd " + shellQuote(dir) + " && " + cliPath() + " demo --width 128 --height 72", &out), 0) << out;
     EXPECT_TRUE(fs::exists(dir / "demo.png"));
 }
 
@@ -339,14 +335,14 @@ TEST(Cli, RendersASequenceInNaturalOrder) {
         fs::copy_file(testData("splishsplash/partio/" + name), dir / "in" / name);
     }
     std::string out;
-    ASSERT_EQ(runCli("render " + quote(dir / "in" / "ParticleData_Fluid_*.bgeo") + " -o " +
-                           quote(dir / "out_%04d.png") + " --width 64 --height 36",
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "in" / "ParticleData_Fluid_*.bgeo") + " -o " +
+                           shellQuote(dir / "out_%04d.png") + " --width 64 --height 36",
                        &out),
               0)
         << out;
     for (const char* name : {"out_0009.png", "out_0021.png", "out_0061.png"}) EXPECT_TRUE(fs::exists(dir / name)) << name;
     // Several frames into one fixed name is refused before anything is written.
-    EXPECT_NE(runCli("render " + quote(dir / "in") + " -o " + quote(dir / "one.png"), &out), 0);
+    EXPECT_NE(runCli("render " + shellQuote(dir / "in") + " -o " + shellQuote(dir / "one.png"), &out), 0);
     EXPECT_NE(out.find("pattern"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "one.png"));
 }
@@ -355,15 +351,15 @@ TEST(Cli, BadArgumentsGiveAClearError) {
     const fs::path dir = tempDir();
     const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
     std::string out;
-    EXPECT_NE(runCli("render " + quote(in) + " -o " + quote(dir / "x.jpg"), &out), 0);
+    EXPECT_NE(runCli("render " + shellQuote(in) + " -o " + shellQuote(dir / "x.jpg"), &out), 0);
     EXPECT_NE(out.find("x.jpg"), std::string::npos) << out;
-    EXPECT_NE(runCli("render " + quote(in) + " -o " + quote(dir / "x.png") + " --eye 1,2", &out), 0);
+    EXPECT_NE(runCli("render " + shellQuote(in) + " -o " + shellQuote(dir / "x.png") + " --eye 1,2", &out), 0);
     EXPECT_NE(out.find("--eye"), std::string::npos) << out;
-    EXPECT_NE(runCli("render " + quote(in) + " -o " + quote(dir / "x.png") + " --eye 0,0,0 --target 0,0,0", &out), 0);
-    EXPECT_NE(runCli("render " + quote(dir / "missing.bgeo") + " -o " + quote(dir / "x.png"), &out), 0);
+    EXPECT_NE(runCli("render " + shellQuote(in) + " -o " + shellQuote(dir / "x.png") + " --eye 0,0,0 --target 0,0,0", &out), 0);
+    EXPECT_NE(runCli("render " + shellQuote(dir / "missing.bgeo") + " -o " + shellQuote(dir / "x.png"), &out), 0);
     EXPECT_NE(out.find("missing.bgeo"), std::string::npos) << out;
     EXPECT_TRUE(fs::is_empty(dir));
-    EXPECT_NE(runCli("render " + quote(in) + " -o " + quote(dir / "no_such_dir" / "x.png"), &out), 0);
+    EXPECT_NE(runCli("render " + shellQuote(in) + " -o " + shellQuote(dir / "no_such_dir" / "x.png"), &out), 0);
     EXPECT_NE(out.find("x.png"), std::string::npos) << out;
 }
 
@@ -404,7 +400,7 @@ TEST(Cli, MalformedInputsFailCleanly) {
         fs::create_directories(outDir);
         for (const char* ext : {".png", ".exr"}) {
             std::string out;
-            const int rc = runCli("render " + quote(in) + " -o " + quote(outDir / (std::string("r") + ext)), &out);
+            const int rc = runCli("render " + shellQuote(in) + " -o " + shellQuote(outDir / (std::string("r") + ext)), &out);
             EXPECT_EQ(rc, 1) << name << ": " << out;
             EXPECT_NE(out.find(name), std::string::npos) << name << ": " << out;
             EXPECT_NE(out.find("error"), std::string::npos) << name << ": " << out;
@@ -412,7 +408,7 @@ TEST(Cli, MalformedInputsFailCleanly) {
             EXPECT_TRUE(fs::is_empty(outDir)) << name;
         }
         std::string out;
-        EXPECT_EQ(runCli("info --json " + quote(in), &out), 1) << name << ": " << out;
+        EXPECT_EQ(runCli("info --json " + shellQuote(in), &out), 1) << name << ": " << out;
     }
 }
 
@@ -420,7 +416,7 @@ TEST(Cli, NanPositionsAreDroppedWithACountedWarning) {
     const fs::path dir = tempDir();
     writeText(dir / "some_nan.xyz", "0 0 0\nnan 1 1\n0.1 0 0\n0 0.1 0\n0.1 0.1 inf\n");
     std::string out;
-    ASSERT_EQ(runCli("info --json " + quote(dir / "some_nan.xyz"), &out), 0) << out;
+    ASSERT_EQ(runCli("info --json " + shellQuote(dir / "some_nan.xyz"), &out), 0) << out;
     EXPECT_NE(out.find("dropped 2 of 5"), std::string::npos) << out;
 }
 
@@ -440,7 +436,7 @@ TEST(Cli, ViewWithoutADisplayFailsClearly) {
     const fs::path dir = tempDir();
     std::string out;
     EXPECT_EQ(runCommand("env -u DISPLAY -u WAYLAND_DISPLAY " + cliPath() + " view --frames 1 --screenshot " +
-                             quote(dir / "s.png"),
+                             shellQuote(dir / "s.png"),
                          &out),
               1)
         << out;
@@ -476,16 +472,16 @@ TEST(Cli, TinyAndHugeCoordinatesFailWithTheFileNamed) {
     std::string out;
     // Two points 1e-15 m apart: info ends (it used to hang), render refuses the radius.
     writeText(dir / "t.xyz", "0 0 0\n1e-15 0 0\n");
-    EXPECT_EQ(runCli("info " + quote(dir / "t.xyz"), &out), 0) << out;
+    EXPECT_EQ(runCli("info " + shellQuote(dir / "t.xyz"), &out), 0) << out;
     EXPECT_NE(out.find("radius      5e-16 m"), std::string::npos) << out;
-    EXPECT_EQ(runCli("render " + quote(dir / "t.xyz") + " -o " + quote(dir / "t.png"), &out), 1) << out;
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "t.xyz") + " -o " + shellQuote(dir / "t.png"), &out), 1) << out;
     EXPECT_NE(out.find("t.xyz: the estimated particle radius 5e-16 m is out of range"), std::string::npos) << out;
     // Coordinates up to 1e30: what is wrong with the data, naming the file.
     std::string big;
     for (int i = 0; i < 1000; ++i) big += std::to_string(i) + "e27 " + std::to_string(999 - i) + "e27 1e27\n";
     writeText(dir / "big.xyz", big);
     for (const std::string cmd : {"info ", "render "}) {
-        const std::string args = cmd + quote(dir / "big.xyz") + (cmd == "render " ? " -o " + quote(dir / "b.png") : "");
+        const std::string args = cmd + shellQuote(dir / "big.xyz") + (cmd == "render " ? " -o " + shellQuote(dir / "b.png") : "");
         EXPECT_EQ(runCli(args, &out), 1) << out;
         EXPECT_NE(out.find("big.xyz: coordinates reach"), std::string::npos) << out;
         EXPECT_NE(out.find("rescale the data"), std::string::npos) << out;
@@ -497,8 +493,8 @@ TEST(Cli, TinyAndHugeCoordinatesFailWithTheFileNamed) {
 int renderFrame21(const std::string& dirName, const std::string& args, std::string* out) {
     const fs::path dir = tempDir() / dirName;
     fs::create_directories(dir);
-    return runCli("render " + quote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
-                      quote(dir / "r.png") + " " + args,
+    return runCli("render " + shellQuote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
+                      shellQuote(dir / "r.png") + " " + args,
                   out);
 }
 
@@ -535,22 +531,22 @@ TEST(Cli, SmoothingLengthGivesEachParticleItsRadius) {
     ASSERT_TRUE(meniscus::writeParticles(dir / "r.ply", withR));
     const std::string view = " --width 160 --height 90 --eye 2.5,2.1,2.9 --target 0.43,0.45,0";
     std::string out;
-    ASSERT_EQ(runCli("render " + quote(dir / "h.ply") + " -o " + quote(dir / "h.png") + view, &out), 0) << out;
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "h.ply") + " -o " + shellQuote(dir / "h.png") + view, &out), 0) << out;
     EXPECT_NE(out.find("radii from the smoothing length 'h': r = h / (2 x 1.2)"), std::string::npos) << out;
-    ASSERT_EQ(runCli("render " + quote(dir / "r.ply") + " -o " + quote(dir / "r.png") + view, &out), 0) << out;
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "r.ply") + " -o " + shellQuote(dir / "r.png") + view, &out), 0) << out;
     EXPECT_EQ(out.find("smoothing length"), std::string::npos) << out;
     EXPECT_EQ(readBytes(dir / "h.png"), readBytes(dir / "r.png"));
-    ASSERT_EQ(runCli("render " + quote(dir / "h.ply") + " -o " + quote(dir / "k.png") + view + " --h-per-spacing 2",
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "h.ply") + " -o " + shellQuote(dir / "k.png") + view + " --h-per-spacing 2",
                      &out),
               0)
         << out;
     EXPECT_NE(readBytes(dir / "k.png"), readBytes(dir / "r.png"));
-    ASSERT_EQ(runCli("info --json " + quote(dir / "h.ply"), &out), 0) << out;
+    ASSERT_EQ(runCli("info --json " + shellQuote(dir / "h.ply"), &out), 0) << out;
     const auto j = nlohmann::json::parse(out.substr(out.find('{')));
     EXPECT_EQ(j["radius_from_smoothing_length"]["attribute"], "h");
     EXPECT_EQ(j["radius_method"], "file-attribute");
     EXPECT_EQ(j["attributes"].size(), 1u);  // the file's own: h
-    EXPECT_NE(runCli("info " + quote(dir / "h.ply") + " --h-per-spacing 0", &out), 0);
+    EXPECT_NE(runCli("info " + shellQuote(dir / "h.ply") + " --h-per-spacing 0", &out), 0);
 }
 
 // Issue 18, item 6: --version says what the build has; a subcommand's option
@@ -564,13 +560,13 @@ TEST(Cli, VersionAndWhereOptionsGo) {
     EXPECT_NE(out.find("movies: "), std::string::npos) << out;
     const fs::path dir = tempDir() / "cli_where";
     fs::create_directories(dir);
-    const std::string in = quote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-    EXPECT_EQ(runCli("--width 64 render " + in + " -o " + quote(dir / "a.png"), &out), 2) << out;
+    const std::string in = shellQuote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
+    EXPECT_EQ(runCli("--width 64 render " + in + " -o " + shellQuote(dir / "a.png"), &out), 2) << out;
     EXPECT_NE(out.find("--width is an option of a subcommand and goes after it"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "a.png"));
-    EXPECT_EQ(runCli("--threads 1 render " + in + " -o " + quote(dir / "b.png") + " --width 64 --height 36", &out), 0)
+    EXPECT_EQ(runCli("--threads 1 render " + in + " -o " + shellQuote(dir / "b.png") + " --width 64 --height 36", &out), 0)
         << out;
-    EXPECT_EQ(runCli("render " + in + " -o " + quote(dir / "c.png") + " --width 64 --height 36 --threads 1", &out), 0)
+    EXPECT_EQ(runCli("render " + in + " -o " + shellQuote(dir / "c.png") + " --width 64 --height 36 --threads 1", &out), 0)
         << out;
     EXPECT_EQ(readBytes(dir / "b.png"), readBytes(dir / "c.png"));
 }
@@ -590,8 +586,8 @@ TEST(Cli, HugeFrameIsRefusedWithTheFigure) {
     const fs::path dir = tempDir() / "cli_huge";
     fs::create_directories(dir);
     std::string out;
-    const int rc = runCli("render " + quote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
-                              quote(dir / "h.png") + " --width 16384 --height 16384 --backend cpu",
+    const int rc = runCli("render " + shellQuote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
+                              shellQuote(dir / "h.png") + " --width 16384 --height 16384 --backend cpu",
                           &out);
     if (rc == 0) GTEST_SKIP() << "this machine has the memory for it";
     EXPECT_EQ(rc, 1) << out;
@@ -606,8 +602,8 @@ TEST(Cli, SymlinkedOutputIsWrittenThrough) {
     fs::create_directories(dir);
     fs::create_symlink("target.png", dir / "link.png");
     std::string out;
-    ASSERT_EQ(runCli("render " + quote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
-                         quote(dir / "link.png") + " --width 64 --height 36",
+    ASSERT_EQ(runCli("render " + shellQuote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
+                         shellQuote(dir / "link.png") + " --width 64 --height 36",
                      &out),
               0)
         << out;

@@ -16,9 +16,6 @@ using namespace meniscus::test;
 
 namespace {
 
-std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
-int runCli(const std::string& args, std::string* out = nullptr) { return runCommand(cliPath() + " " + args, out); }
-
 fs::path realSequence(const fs::path& dir) {
     fs::create_directories(dir / "in");
     for (int k = 19; k <= 23; ++k) {
@@ -34,7 +31,7 @@ TEST(CliWhitewater, RealSequenceToNumberedDiffuseFiles) {
     const fs::path dir = tempDir();
     const fs::path in = realSequence(dir);
     std::string out;
-    ASSERT_EQ(runCli("whitewater " + quote(in) + " -o " + quote(dir / "out" / "diffuse_%04d.bgeo"), &out), 0) << out;
+    ASSERT_EQ(runCli("whitewater " + shellQuote(in) + " -o " + shellQuote(dir / "out" / "diffuse_%04d.bgeo"), &out), 0) << out;
     EXPECT_NE(out.find("frames per second, estimated"), std::string::npos) << out;
     EXPECT_NE(out.find("automatic limits"), std::string::npos) << out;
     EXPECT_NE(out.find("wrote"), std::string::npos) << out;  // one line per frame off a terminal
@@ -54,8 +51,8 @@ TEST(CliWhitewater, SameFilesForAnyThreadCount) {
     const fs::path in = realSequence(dir);
     std::string out;
     const std::string common = " --fps 15 --limits 1,10,0.5,5,1,14";
-    ASSERT_EQ(runCli("--threads 1 whitewater " + quote(in) + " -o " + quote(dir / "a_%04d.bgeo") + common, &out), 0) << out;
-    ASSERT_EQ(runCli("whitewater " + quote(in) + " -o " + quote(dir / "b_%04d.bgeo") + common + " --threads 2", &out), 0)
+    ASSERT_EQ(runCli("--threads 1 whitewater " + shellQuote(in) + " -o " + shellQuote(dir / "a_%04d.bgeo") + common, &out), 0) << out;
+    ASSERT_EQ(runCli("whitewater " + shellQuote(in) + " -o " + shellQuote(dir / "b_%04d.bgeo") + common + " --threads 2", &out), 0)
         << out;
     EXPECT_EQ(out.find("automatic"), std::string::npos) << out;  // limits given: no measuring pass
     for (int k = 19; k <= 23; ++k) {
@@ -70,17 +67,17 @@ TEST(CliWhitewater, BadInputFailsWithNothingWritten) {
     fs::create_directories(dir / "novel");
     for (int k : {1, 2}) writeText(dir / "novel" / ("f_" + std::to_string(k) + ".xyz"), "0 0 0\n0.05 0 0\n0 0.05 0\n");
     std::string out;
-    EXPECT_EQ(runCli("whitewater " + quote(dir / "novel") + " -o " + quote(dir / "d_%04d.bgeo") + " --radius 0.025", &out), 1)
+    EXPECT_EQ(runCli("whitewater " + shellQuote(dir / "novel") + " -o " + shellQuote(dir / "d_%04d.bgeo") + " --radius 0.025", &out), 1)
         << out;
     EXPECT_NE(out.find("no velocity attribute"), std::string::npos) << out;
     EXPECT_NE(out.find("f_1.xyz"), std::string::npos) << out;  // names the file
     EXPECT_FALSE(fs::exists(dir / "d_0001.bgeo"));
     const fs::path in = realSequence(dir);
-    EXPECT_EQ(runCli("whitewater " + quote(in) + " -o " + quote(dir / "d_%04d.bgeo") + " --limits 1,2,3", &out), 2) << out;
-    EXPECT_EQ(runCli("whitewater " + quote(in) + " -o " + quote(dir / "d_%04d.bgeo") + " --limits 5,1,1,2,1,2", &out), 1)
+    EXPECT_EQ(runCli("whitewater " + shellQuote(in) + " -o " + shellQuote(dir / "d_%04d.bgeo") + " --limits 1,2,3", &out), 2) << out;
+    EXPECT_EQ(runCli("whitewater " + shellQuote(in) + " -o " + shellQuote(dir / "d_%04d.bgeo") + " --limits 5,1,1,2,1,2", &out), 1)
         << out;
     EXPECT_NE(out.find("trappedAir"), std::string::npos) << out;
-    EXPECT_EQ(runCli("whitewater " + quote(in) + " -o " + quote(dir / "d.bgeo"), &out), 1) << out;  // no pattern
+    EXPECT_EQ(runCli("whitewater " + shellQuote(in) + " -o " + shellQuote(dir / "d.bgeo"), &out), 1) << out;  // no pattern
     EXPECT_FALSE(fs::exists(dir / "d_0019.bgeo"));
 }
 
@@ -90,25 +87,25 @@ TEST(CliWhitewater, RenderDrawsTheDiffuseLayer) {
     const fs::path dir = tempDir();
     const fs::path in = realSequence(dir);
     std::string out;
-    ASSERT_EQ(runCli("whitewater " + quote(in) + " -o " + quote(dir / "d_%04d.bgeo") + " --fps 15", &out), 0) << out;
+    ASSERT_EQ(runCli("whitewater " + shellQuote(in) + " -o " + shellQuote(dir / "d_%04d.bgeo") + " --fps 15", &out), 0) << out;
     const fs::path frame = in / "ParticleData_Fluid_23.bgeo";
     const std::string size = " --width 160 --height 90 --backend cpu";
-    ASSERT_EQ(runCli("render " + quote(frame) + " -o " + quote(dir / "plain.png") + size, &out), 0) << out;
-    ASSERT_EQ(runCli("render " + quote(frame) + " -o " + quote(dir / "ww.png") + size + " --diffuse " +
-                         quote(dir / "d_%04d.bgeo"),
+    ASSERT_EQ(runCli("render " + shellQuote(frame) + " -o " + shellQuote(dir / "plain.png") + size, &out), 0) << out;
+    ASSERT_EQ(runCli("render " + shellQuote(frame) + " -o " + shellQuote(dir / "ww.png") + size + " --diffuse " +
+                         shellQuote(dir / "d_%04d.bgeo"),
                      &out),
               0)
         << out;
     EXPECT_FALSE(readBytes(dir / "plain.png") == readBytes(dir / "ww.png"));
-    ASSERT_EQ(runCli("render " + quote(frame) + " -o " + quote(dir / "ww.exr") + size + " --diffuse " +
-                         quote(dir / "d_0023.bgeo"),
+    ASSERT_EQ(runCli("render " + shellQuote(frame) + " -o " + shellQuote(dir / "ww.exr") + size + " --diffuse " +
+                         shellQuote(dir / "d_0023.bgeo"),
                      &out),
               0)
         << out;
     const auto exr = readBytes(dir / "ww.exr");
     EXPECT_NE(std::string(exr.begin(), exr.end()).find("spray"), std::string::npos);  // the cover channel
-    EXPECT_EQ(runCli("render " + quote(frame) + " -o " + quote(dir / "x.png") + size + " --diffuse " +
-                         quote(dir / "missing_%04d.bgeo"),
+    EXPECT_EQ(runCli("render " + shellQuote(frame) + " -o " + shellQuote(dir / "x.png") + size + " --diffuse " +
+                         shellQuote(dir / "missing_%04d.bgeo"),
                      &out),
               1)
         << out;

@@ -1,7 +1,7 @@
 // GL scene stage (SPEC §3.1, src/gl/scene.cpp) against the CPU reference
 // cpu::castScene: the studio of the real frame, a synthetic box seen from all
 // four sides and from above and near the horizon (far fade, sky), the
-// background switched off, the light direction (planes' lighting, the sun). Skips only when no headless GL 4.3 context can be
+// floor-only studio of a moving camera, the background switched off, the light direction (planes' lighting, the sun). Skips only when no headless GL 4.3 context can be
 // created at all.
 #include <algorithm>
 #include <cmath>
@@ -129,6 +129,36 @@ TEST_F(GlScene, EverySideAndHeightMatchesCpu) {
             expectWithinTolerance(d, cam.width * cam.height, what);
             EXPECT_GT(d.depth.coveredCpu, 0) << what;
         }
+}
+
+TEST_F(GlScene, FloorOnlyStudioMatchesCpu) {
+    // The floor-only studio of a moving camera (SceneParams::walls = false):
+    // from every side, high and low (the radial far fade, sky where the walls
+    // would stand), and the real frame's camera; it must differ from the walled
+    // studio, so the GL side really takes the other branch.
+    Bounds box;
+    box.extend({-0.5f, 0.0f, -0.4f});
+    box.extend({0.5f, 0.5f, 0.4f});
+    SceneParams floorOnly;
+    floorOnly.walls = false;
+    for (float az : {35.0f, 125.0f, 215.0f, 305.0f})
+        for (float el : {2.0f, 25.0f, 70.0f}) {
+            const Camera cam = orbitCamera(box, az, el, 3.0f, 97, 61);
+            const shared::Studio studio = shared::makeStudio(box, 0.05f, cam, floorOnly, ShadingParams{}.lightDirWorld);
+            char what[64];
+            std::snprintf(what, sizeof what, "floor only, azimuth %.0f elevation %.0f", az, el);
+            expectWithinTolerance(compareScene(cam, studio), cam.width * cam.height, what);
+        }
+    const Camera cam = realFrameCamera(160, 90);
+    const Bounds real = computeBounds(realFrame().positions);
+    Image<glm::vec4> floorColor, walledColor;
+    const SceneDiff d = compareScene(
+        cam, shared::makeStudio(real, realFrame().radius, cam, floorOnly, ShadingParams{}.lightDirWorld), nullptr,
+        &floorColor);
+    expectWithinTolerance(d, 160 * 90, "floor only, real frame");
+    compareScene(cam, shared::makeStudio(real, realFrame().radius, cam, SceneParams{}, ShadingParams{}.lightDirWorld),
+                 nullptr, &walledColor);
+    EXPECT_NE(floorColor.pixels, walledColor.pixels);
 }
 
 TEST_F(GlScene, FarFloorFadesIntoTheSkyAsOnTheCpu) {

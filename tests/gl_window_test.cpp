@@ -358,3 +358,64 @@ TEST_F(GlWindow, ViewSimulateShowsTheFramesSimulateRenders) {
     EXPECT_EQ(runCommand(viewerCommand("--simulate " + (dir / "missing.json").string() + " --frames 1"), &out), 1);
     EXPECT_NE(out.find("missing.json"), std::string::npos) << out;
 }
+
+// The panels (issue 18, item 1): a scripted click on the radius slider
+// changes the picture, prints the `render` option that makes it, and the
+// picture is what `render` with that option writes; after an orbit, "save"
+// writes a scene file that `render` turns into the same picture; the
+// timeline's ">" shows the next frame; a dropped file is shown; the window's
+// own screenshot has the panels over the picture.
+TEST_F(GlWindow, PanelsTuneTheLookAsRenderDoes) {
+    const auto dir = tempDir();
+    const std::string frame = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo").string();
+    const std::string size = " --width 640 --height 480";
+    std::string out;
+    const auto run = [&](const std::string& args) {
+        const std::string cmd = "cd " + dir.string() + " && " + viewerCommand(args);
+        EXPECT_EQ(runCommand(cmd, &out), 0) << cmd << "\n" << out;
+        return out;
+    };
+    const auto render = [&](const std::string& args, const std::string& name) {
+        EXPECT_EQ(runCommand(cliPath() + " render " + args + " --backend gl -o " + (dir / name).string(), &out), 0)
+            << out;
+        return dir / name;
+    };
+    run(frame + size + " --frames 2 --screenshot plain.png");
+    const std::string said = run(frame + size + " --frames 2 --input-script 'click:radius (m)@0.7;key:c' "
+                                 "--screenshot slid.png --screenshot-window window.png");
+    const std::size_t at = said.find("meniscus: set --radius ");
+    ASSERT_NE(at, std::string::npos) << said;
+    const float radius = std::stof(said.substr(at + 23));
+    EXPECT_GT(radius, 0.025f) << "0.7 of the way along a slider from r/4 to 4r";
+    EXPECT_GT(comparePng(dir / "plain.png", dir / "slid.png").off, 0.05) << "the picture should change";
+    // The camera stays where the viewer framed it (key C prints it); a new --radius alone would frame anew.
+    const std::size_t eye = said.find("--eye ");
+    ASSERT_NE(eye, std::string::npos) << said;
+    const std::string camera = said.substr(eye, said.find('\n', eye) - eye);
+    EXPECT_LE(comparePng(dir / "slid.png", render(frame + size + " --radius " + std::to_string(radius) + " " + camera,
+                                                  "r.png"))
+                  .worst,
+              1);
+    EXPECT_GT(comparePng(dir / "slid.png", dir / "window.png").off, 0.05) << "the panels are drawn over the picture";
+
+    run(frame + size + " --frames 2 --input-script 'click:radius (m)@0.7;drag:60,-20;click:save' --screenshot saved.png");
+    ASSERT_TRUE(std::filesystem::exists(dir / "scene.json"));
+    EXPECT_LE(comparePng(dir / "saved.png", render((dir / "scene.json").string(), "from_scene.png")).worst, 1);
+    // The saved file opens the viewer as it was.
+    run((dir / "scene.json").string() + " --frames 2 --screenshot reopened.png");
+    EXPECT_LE(comparePng(dir / "saved.png", dir / "reopened.png").worst, 1);
+
+    const std::string seq = "'" + (testData("splishsplash/partio") / "ParticleData_Fluid_*.bgeo").string() + "'";
+    ASSERT_EQ(runCommand(cliPath() + " render " + seq + size + " --backend gl -o " + (dir / "seq_%04d.png").string(),
+                         &out),
+              0)
+        << out;
+    run(seq + size + " --frames 2 --input-script 'click:>' --screenshot next.png");
+    EXPECT_LE(comparePng(dir / "next.png", dir / "seq_0009.png").worst, 1);
+    run(frame + size + " --frames 2 --input-script 'drop:" +
+        testData("splishsplash/partio/ParticleData_Fluid_61.bgeo").string() + "' --screenshot dropped.png");
+    EXPECT_LE(comparePng(dir / "dropped.png", render(testData("splishsplash/partio/ParticleData_Fluid_61.bgeo").string() +
+                                                         size, "r61.png"))
+                  .worst,
+              1);
+}

@@ -14,6 +14,7 @@
 #include "cpu/scene.h"
 #include "cpu/sky.h"
 #include "cpu/splat.h"
+#include "shared/studio_shade.h"
 #include "meniscus/renderer.h"
 #include "test_util.h"
 
@@ -340,4 +341,82 @@ TEST(Scene, ReusedRendererRecastsTheSceneWhenTheLightChanges) {
     for (std::size_t k = 0; k < first->color.size(); ++k)
         maxDiff = std::max(maxDiff, double(glm::length(first->color.pixels[k] - second->color.pixels[k])));
     EXPECT_GT(maxDiff, 0.1);
+}
+
+// The floor-only studio (SceneParams::walls = false, for moving cameras): the
+// same floor from every side (its checker and fade centred under the box, so
+// it does not slide as the camera turns), no walls (sky where they stood),
+// every plane hit on the floor at its analytic depth, squares that alternate
+// about the box's centre with no corner darkening (two colours only).
+TEST(Scene, FloorOnlyStudioIsTheSameFloorFromEverySide) {
+    const auto pts = blockParticles();
+    const Bounds box = boundsOf(pts);
+    SceneParams floorOnly;
+    floorOnly.walls = false;
+    const shared::Studio ref =
+        shared::makeStudio(box, kRadius, orbitCamera(box, 35.0f, 25.0f, 3.0f), floorOnly, ShadingParams{}.lightDirWorld);
+    EXPECT_FALSE(ref.walls);
+    EXPECT_EQ(ref.wallX, box.center().x);
+    EXPECT_EQ(ref.wallZ, box.center().z);
+    for (float az = 0.0f; az < 360.0f; az += 45.0f) {
+        SCOPED_TRACE(testing::Message() << "azimuth " << az);
+        const Camera cam = orbitCamera(box, az, 10.0f, 3.0f, 160, 120);
+        const shared::Studio studio = shared::makeStudio(box, kRadius, cam, floorOnly, ShadingParams{}.lightDirWorld);
+        EXPECT_EQ(studio, ref);  // nothing depends on the camera
+        // Where the walls' studio shows a wall, the floor-only one shows sky or
+        // the floor beyond: every hit is the floor's plane.
+        const shared::Studio withWalls = shared::makeStudio(box, kRadius, cam, SceneParams{}, ShadingParams{}.lightDirWorld);
+        const cpu::SceneLayer layer = cpu::castScene(cam, studio), walled = cpu::castScene(cam, withWalls);
+        int sky = 0, wallGone = 0;
+        for (int j = 0; j < cam.height; ++j)
+            for (int i = 0; i < cam.width; ++i) {
+                const float z = layer.depth.at(i, j);
+                const glm::dvec3 D = worldRay(cam, i, j);
+                wallGone += walled.depth.at(i, j) < 0.999f * z;  // a wall stood in front of this (or the sky)
+                if (!std::isfinite(z)) {
+                    ++sky;
+                    continue;
+                }
+                const double t = (studio.floorY - cam.eye.y) / D.y;
+                ASSERT_NEAR(z, t, 1e-5 * t) << i << "," << j;
+            }
+        EXPECT_GT(sky, 1000);
+        EXPECT_GT(wallGone, 1000);  // the walls would have stood there
+    }
+    // Straight down on the centre: the four squares around it alternate, and
+    // every floor pixel inside the fade is one of the two lit checker colours.
+    Camera down;
+    down.target = {box.center().x, ref.floorY, box.center().z};
+    down.eye = down.target + glm::vec3(0.0f, 3.0f, 0.0f);
+    down.up = {0.0f, 0.0f, -1.0f};
+    down.width = 200;
+    down.height = 200;
+    const cpu::SceneLayer top = cpu::castScene(down, ref);
+    const float lit = shared::studioShading(ref).litFloor;
+    const glm::vec3 light = lit * shared::kStudioFloorLight, dark = lit * shared::kStudioFloorDark;
+    auto colourAt = [&](float dx, float dz) {
+        const glm::vec2 px = down.projectView(down.toView(down.target + glm::vec3(dx, 0.0f, dz)));
+        return glm::vec3(top.color.at(int(px.x), int(px.y)));
+    };
+    const float h = 0.5f * ref.checkerM;
+    EXPECT_EQ(colourAt(h, h), light);  // squares counted from the centre: (0, 0) is even
+    EXPECT_EQ(colourAt(-h, -h), light);
+    EXPECT_EQ(colourAt(-h, h), dark);
+    EXPECT_EQ(colourAt(h, -h), dark);
+    for (const glm::vec4& c : top.color.pixels) ASSERT_TRUE(glm::vec3(c) == light || glm::vec3(c) == dark);
+}
+
+// A moving camera that keeps the walls (--background studio) fixes their
+// sides with SceneParams::wallsSeenFrom: cameras on opposite sides then get
+// the same studio.
+TEST(Scene, WallsSeenFromAFixedEyeStayPut) {
+    const auto pts = blockParticles();
+    const Bounds box = boundsOf(pts);
+    const Camera a = orbitCamera(box, 35.0f, 25.0f, 3.0f), b = orbitCamera(box, 215.0f, 25.0f, 3.0f);
+    const glm::vec3 light = ShadingParams{}.lightDirWorld;
+    EXPECT_NE(shared::makeStudio(box, kRadius, a, SceneParams{}, light),
+              shared::makeStudio(box, kRadius, b, SceneParams{}, light));  // per frame: they jump
+    SceneParams fixed;
+    fixed.wallsSeenFrom = a.eye;
+    EXPECT_EQ(shared::makeStudio(box, kRadius, b, fixed, light), shared::makeStudio(box, kRadius, a, SceneParams{}, light));
 }

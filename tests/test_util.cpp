@@ -36,6 +36,18 @@ fs::path tempDir() {
     return dir;
 }
 
+fs::path dirWithFrame(const std::string& name) {
+    const fs::path dir = tempDir() / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    fs::copy_file(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"), dir / "f.bgeo");
+    return dir;
+}
+
+std::string shellQuote(const fs::path& p) { return "'" + p.string() + "'"; }
+
+int runCli(const std::string& args, std::string* output) { return runCommand(cliPath() + " " + args, output); }
+
 std::vector<std::uint8_t> readBytes(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     if (!in) throw std::runtime_error("cannot open " + p.string());

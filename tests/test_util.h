@@ -24,6 +24,12 @@ std::filesystem::path repoData(const std::string& rel);  // data/REL
 
 // A fresh, empty directory unique to the calling test; removed by the next run.
 std::filesystem::path tempDir();
+// tempDir() / name, emptied, holding the small real frame as f.bgeo (tests/data/splishsplash).
+std::filesystem::path dirWithFrame(const std::string& name);
+// 'path' for a shell command line.
+std::string shellQuote(const std::filesystem::path& p);
+// The CLI with these arguments (runCommand of cliPath() + " " + args).
+int runCli(const std::string& args, std::string* output = nullptr);
 
 std::vector<std::uint8_t> readBytes(const std::filesystem::path& p);
 void writeBytes(const std::filesystem::path& p, const std::vector<std::uint8_t>& bytes);

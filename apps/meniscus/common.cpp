@@ -13,6 +13,7 @@
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
+#include "scene_file.h"
 
 namespace fs = std::filesystem;
 
@@ -41,7 +42,15 @@ Result<Camera> chooseCamera(const RenderOptions& o, const std::vector<glm::vec3>
     cam.nearM = defaults::kNearM;
     cam.farM = defaults::kFarM;
     if (o.eye.empty() != o.target.empty()) return makeError("", "give both --eye and --target, or neither");
-    if (!o.eye.empty()) {
+    if (!o.cameraPath.empty()) {
+        // The path's first key; runRender moves the camera along the rest.
+        if (!o.eye.empty()) return makeError("", "--camera-path sets the eye and target: leave out --eye and --target");
+        auto keys = cameraPathFromOptions(o);
+        if (!keys) return keys.error();
+        cam.eye = keys->front().eye;
+        cam.target = keys->front().target;
+        cam.fovYDegrees = keys->front().fovYDegrees;
+    } else if (!o.eye.empty()) {
         auto eye = parseVec3(o.eye), target = parseVec3(o.target);
         auto up = upRotation(o.up);
         if (!eye || !target) return makeError("", "--eye and --target take three numbers: x,y,z");
@@ -171,7 +180,9 @@ void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
                     "the files' 'fluid' attribute, if any); each fluid is smoothed and shaded on its own, then "
                     "composited front to back");
     cmd->add_option("--background", o.background,
-                    "studio (checker floor, two walls, sky) or none (transparent PNG background)")
+                    "studio (checker floor, two back walls, sky), floor (the checker floor alone, centred under the "
+                    "particles, sky behind), none (transparent PNG background), or auto: studio for a still camera, "
+                    "floor for one that moves (render --orbit, --turntable, --camera-path)")
         ->capture_default_str();
     NoiseParams& q = o.noiseParams;
     cmd->add_flag("--noise", o.noise,
@@ -319,9 +330,10 @@ Result<RenderSettings> settingsFromOptions(const RenderOptions& o) {
     s.shading.material = s.fluidMaterials.front();
     if (auto st = vec3Option(o.light, "--light", &s.shading.lightDirWorld); !st) return st.error();
     if (!(glm::length(s.shading.lightDirWorld) > 0.0f)) return makeError("", "--light " + o.light + ": not zero");
-    if (o.background != "studio" && o.background != "none")
-        return makeError("", "--background " + o.background + ": expected studio or none");
-    s.scene.background = o.background == "studio";
+    if (o.background != "auto" && o.background != "studio" && o.background != "floor" && o.background != "none")
+        return makeError("", "--background " + o.background + ": expected auto, studio, floor or none");
+    s.scene.background = o.background != "none";
+    s.scene.walls = o.background != "floor";  // auto: walls unless runRender sees the camera move
     s.noise = o.noiseParams;
     s.noise.enabled = o.noise;
     if (o.noise)
@@ -533,7 +545,7 @@ Result<UpRotation> upRotation(const std::string& text) {
 }
 
 Result<ParticleSet> Frames::load(std::size_t i, std::string* smoothingLength) const {
-    auto set = embedded ? Result<ParticleSet>(*embedded) : readParticles(files[i]);
+    auto set = embedded ? Result<ParticleSet>(*embedded) : readParticles(files[source(i)]);
     if (set) up.apply(*set);
     if (set) {
         auto h = addRadiusFromSmoothingLength(*set, hPerSpacing);
@@ -544,7 +556,7 @@ Result<ParticleSet> Frames::load(std::size_t i, std::string* smoothingLength) co
         if (auto st = useFluidAttribute(*set, fluidAttribute); !st)
             return makeError(name(i), st.error().message);
     for (std::size_t k = 0; set && k < moreFluids.size(); ++k) {
-        auto more = readParticles(moreFluids[k][i]);
+        auto more = readParticles(moreFluids[k][source(i)]);
         if (!more) return more.error();
         up.apply(*more);
         if (auto h = addRadiusFromSmoothingLength(*more, hPerSpacing); !h) return h.error();
@@ -563,7 +575,7 @@ Status Frames::checkOutput(const std::string& output, const char* example) const
 
 Result<std::string> Frames::outputName(const std::string& output, std::size_t i) const {
     if (output.find('%') == std::string::npos) return output;
-    if (renumber) return formatFramePattern(output, long(i));
+    if (renumber || repeat) return formatFramePattern(output, long(i));
     const long number = embedded ? 0 : frameNumberFromName(files[i].filename().string());
     return formatFramePattern(output, number >= 0 ? number : long(i));
 }
@@ -593,7 +605,7 @@ Result<ParticleSet> Frames::loadChecked(std::size_t i, std::string* smoothingLen
 }
 
 std::string Frames::name(std::size_t i) const {
-    return embedded ? std::string("the demo frame") : files[i].string();
+    return embedded ? std::string("the demo frame") : files[source(i)].string();
 }
 
 Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames, RenderSettings& settings,
@@ -622,8 +634,8 @@ Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames,
         const std::size_t stride = std::max<std::size_t>(1, p.size() / defaults::kSequenceFramePoints);
         for (std::size_t i = 0; i < p.size(); i += stride) samplePoints.push_back(p[i]);
     };
-    const std::size_t count = frames.count();
-    if (o.eye.empty()) {
+    const std::size_t count = frames.repeat ? 1 : frames.count();  // a repeated file: nothing more to sample
+    if (o.eye.empty() && o.cameraPath.empty()) {
         addSample(first->positions);
         const std::size_t last = defaults::kSequenceFramingFrames - 1;
         for (std::size_t k = 1; count > 1 && k <= last; ++k) {
@@ -639,6 +651,19 @@ Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames,
     if (auto st = fixCamera(o, samplePoints, radius, computeBounds(first->positions), settings); !st)
         return st.error();
     return first;
+}
+
+Result<std::vector<CameraKey>> cameraPathFromOptions(const RenderOptions& o) {
+    if (o.cameraPath.empty()) return std::vector<CameraKey>{};
+    auto keys = readCameraPath(o.cameraPath, o.fov);
+    if (!keys) return keys.error();
+    auto up = upRotation(o.up);
+    if (!up) return up.error();
+    for (CameraKey& k : *keys) {
+        k.eye = up->apply(k.eye);
+        k.target = up->apply(k.target);
+    }
+    return keys;
 }
 
 Status fixForBox(const RenderOptions& o, const Bounds& box, float radiusM, RenderSettings& settings) {

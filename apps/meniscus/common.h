@@ -11,6 +11,7 @@
 
 #include <glm/glm.hpp>
 
+#include "meniscus/camera_path.h"
 #include "meniscus/params.h"
 #include "meniscus/renderer.h"
 #include "meniscus/result.h"
@@ -59,7 +60,8 @@ struct RenderOptions {
     std::string fluidColor, absorption;  // "r,g,b": linear RGB; Beer-Lambert k per channel, 1/m
     float ior = NAN, refraction = NAN, specular = NAN, shininess = NAN, opacity = NAN;
     std::string light;  // "x,y,z": toward the key light, world space; empty: the default
-    std::string background = "studio";
+    // auto: studio for a still camera, floor when the camera moves (runRender).
+    std::string background = "auto";
     std::string backend = "auto";
     // Surface noise and foam (SPEC §3.7): off unless --noise.
     bool noise = false;
@@ -101,6 +103,14 @@ struct RenderOptions {
     bool renumber = false;
     std::string onError = "stop";
     bool resume = false;
+    // Camera motion (render): turn about +y through the target, degrees per
+    // second of sequence time; one whole turn over the sequence; a key-framed
+    // path (--camera-path: a JSON file or the JSON array itself); a single
+    // input file rendered as this many frames (0: as many as the input has).
+    double orbit = 0.0;
+    bool turntable = false;
+    std::string cameraPath;
+    std::size_t frames = 0;
     // A render scene file's name and, per option it set, its key (errors name the key).
     std::string sceneFile;
     std::vector<std::pair<std::string, std::string>> sceneKeys;
@@ -159,7 +169,11 @@ struct Frames {
     // Turns each frame so its up axis (--up) is +y.
     UpRotation up;
 
-    std::size_t count() const { return embedded ? 1 : files.size(); }
+    // A single input rendered as this many frames (--frames); 0: the input's own.
+    std::size_t repeat = 0;
+    std::size_t count() const { return repeat ? repeat : embedded ? 1 : files.size(); }
+    // The input file (or embedded frame) of output frame i.
+    std::size_t source(std::size_t i) const { return repeat ? 0 : i; }
     // Frame i, with a `radius` attribute from the file's smoothing length when it
     // has one and no radius (whose name then goes to *smoothingLength).
     Result<ParticleSet> load(std::size_t i, std::string* smoothingLength = nullptr) const;
@@ -173,7 +187,8 @@ struct Frames {
     // printf pattern (`example` shows one).
     Status checkOutput(const std::string& output, const char* example) const;
     // The output name of frame i: `output`, or the pattern filled with the
-    // frame's own number (its file name's last digits), else its position.
+    // frame's own number (its file name's last digits), else its position
+    // (always its position for a repeated input).
     Result<std::string> outputName(const std::string& output, std::size_t i) const;
 };
 Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded,
@@ -191,9 +206,13 @@ Status useFluidAttribute(ParticleSet& set, const std::string& name);
 // The renderer on --backend; Auto falling back to the CPU says why on stderr.
 Result<Renderer> makeRenderer(const RenderOptions& o);
 
-// Fixes radius, camera (the options' or auto-framed on a few frames) and the
-// studio in `settings` once for the whole sequence, so an animation does not
-// flicker; returns the first frame, already read. With --on-error skip the
+// --camera-path's keys (readCameraPath) turned by --up into the renderer's
+// coordinates, as --eye and --target are; empty without --camera-path.
+Result<std::vector<CameraKey>> cameraPathFromOptions(const RenderOptions& o);
+
+// Fixes radius, camera (the options', the camera path's first key, or
+// auto-framed on a few frames) and the studio in `settings` once for the
+// whole sequence, so an animation does not flicker; returns the first frame, already read. With --on-error skip the
 // first frame that loads (its index in *firstIndex) and the frames that load.
 Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames, RenderSettings& settings,
                                    std::size_t* firstIndex = nullptr);

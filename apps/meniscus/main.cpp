@@ -27,6 +27,7 @@
 #include "progress.h"
 #include "render.h"
 #include "scene_file.h"
+#include "render_command.h"
 #include "view.h"
 
 using namespace meniscus;
@@ -37,12 +38,20 @@ namespace {
 // The words of the command line with a render scene file's settings put in
 // its place (the file's groups the command line does not give again), or the
 // words as they are when `render` has no scene file.
+//
+// `view` takes the same files (checked as `render`'s): the settings it has no
+// option for (output, fps, ...) are left out.
 Result<std::vector<std::string>> withSceneFile(const std::vector<std::string>& words, CLI::App& render,
-                                               std::string* sceneFile,
+                                               CLI::App& sub, std::string* sceneFile,
                                                std::vector<std::pair<std::string, std::string>>* keys) {
-    const auto r = std::find(words.begin(), words.end(), "render");
+    const auto r = std::find(words.begin(), words.end(), sub.get_name());
     if (r == words.end()) return words;
-    const auto scene = std::find_if(r + 1, words.end(), [](const std::string& w) { return isJsonFile(w); });
+    // The input word: a .json that is not the value of an option (--simulate s.json, --camera-path p.json).
+    auto scene = words.end();
+    for (auto w = r + 1; w != words.end() && scene == words.end(); ++w) {
+        const CLI::Option* before = sub.get_option_no_throw(*(w - 1));
+        if (isJsonFile(*w) && !(w - 1 != r && before && before->get_expected_max() > 0)) scene = w;
+    }
     if (scene == words.end()) return words;
     auto parsed = sceneFileArgs(*scene, render);
     if (!parsed) return parsed.error();
@@ -52,8 +61,11 @@ Result<std::vector<std::string>> withSceneFile(const std::vector<std::string>& w
     for (auto w = r + 1; w != words.end(); ++w)
         if (w->size() > 1 && (*w)[0] == '-') given.push_back(*w == "-o" ? "--output" : w->substr(0, w->find('=')));
     std::vector<std::string> out(words.begin(), r + 1);
-    for (const auto& group : parsed->groups)
+    for (const auto& group : parsed->groups) {
+        const bool option = group.front().rfind("--", 0) == 0;
+        if (option && !sub.get_option_no_throw(group.front())) continue;
         if (std::find(given.begin(), given.end(), group.front()) == given.end()) out.insert(out.end(), group.begin(), group.end());
+    }
     for (auto w = r + 1; w != words.end(); ++w)
         if (w != scene) out.push_back(*w);
     return out;
@@ -212,25 +224,7 @@ int main(int argc, char** argv) {
     addSmoothingLengthOption(infoCmd, info.hPerSpacing);
 
     RenderOptions render;
-    auto* renderCmd = app.add_subcommand("render", "Render a particle file or sequence to PNG or EXR");
-    renderCmd->add_option("input", render.input,
-                          "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo), or a render scene "
-                          "file (.json with \"particles\", README: Scene files) whose settings the command line's "
-                          "own options override")
-        ->required();
-    renderCmd->add_option("-o,--output", render.output,
-                          "Output .png (8-bit sRGB), .exr (float AOVs) or .mp4 (an H.264 movie of every frame, in "
-                          "order); images of a sequence need a pattern like out_%04d.png")
-        ->required();
-    addSequenceOptions(renderCmd, render);
-    addCameraOptions(renderCmd, render);
-    addBackendOption(renderCmd, render);
-    addSurfaceOptions(renderCmd, render);
-    addFluidInputOption(renderCmd, render);
-    renderCmd->add_option("--diffuse", render.diffuse,
-                          "Draw diffuse particles (spray, foam; `meniscus whitewater` writes them) over the liquid as "
-                          "drops with the --spray-size and --spray-streak look: a file, or a pattern like "
-                          "diffuse_%04d.bgeo filled with each input frame's number");
+    auto* renderCmd = addRenderCommand(app, render);
 
     RenderOptions demo;
     demo.output = "demo.png";
@@ -244,12 +238,16 @@ int main(int argc, char** argv) {
     ViewOptions view;
     auto* viewCmd = app.add_subcommand(
         "view",
-        "Show a particle file or sequence in a window, rendered live by the GL backend (needs a display). Drag "
-        "with the left button to orbit, scroll to zoom, left/right arrows to step through a sequence, Esc or Q "
-        "to quit; the window can be resized. Without an input it shows the bundled demo frame");
+        "Show a particle file or sequence in a window, rendered live by the GL backend (needs a display), with "
+        "panels for every setting (each change printed as the `render` option that makes it), the timeline, "
+        "per-stage times, and saving the view as a scene file. Drag with the left button to orbit, scroll to "
+        "zoom, left/right arrows to step through a sequence, space to play it, Tab to hide the panels, C to "
+        "print the camera's --eye --target --fov, H for help, Esc or Q to quit; drop a file, folder or scene "
+        "file on the window to show it. Without an input it shows the bundled demo frame");
     auto* viewInput = viewCmd->add_option(
         "input", view.render.input,
-        "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo); default: the demo frame");
+        "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo), or a render scene file (.json, "
+        "README: Scene files); default: the demo frame");
     addCameraOptions(viewCmd, view.render);
     addFluidInputOption(viewCmd, view.render);
     viewCmd->add_option("--simulate", view.simulate.scene,
@@ -261,13 +259,17 @@ int main(int argc, char** argv) {
                         "the scene's)")
         ->excludes(viewInput);
     addSolverOption(viewCmd, view.simulate.solver)->needs("--simulate");
-    viewCmd->add_option("--screenshot", view.screenshot, "On exit, save what the window shows to this .png");
+    viewCmd->add_option("--screenshot", view.screenshot,
+                        "On exit, save the picture the window shows (without the panels) to this .png");
+    viewCmd->add_option("--screenshot-window", view.screenshotWindow,
+                        "On exit, save the whole window, panels included, to this .png");
     // For tests and scripts: no interaction, just N frames rendered and shown.
     viewCmd->add_option("--frames", view.frames, "Render and show N frames, then exit")
         ->check(CLI::PositiveNumber)
         ->group("");
     viewCmd->add_option("--input-script", view.inputScript,
-                        "Replay input, one event per frame: drag:DX,DY;scroll:N;key:left|right|q|escape")
+                        "Replay input, one event per frame: drag:DX,DY;scroll:N;key:left|right|space|tab|h|c|q|"
+                        "escape;drop:PATH;click:LABEL@F (a panel widget by its label, F the fraction of its width)")
         ->group("");
 
     MeshOptions mesh;
@@ -288,7 +290,10 @@ int main(int argc, char** argv) {
     }
     // `render scene.json`: the file's settings become arguments, the command line's own win.
     std::vector<std::string> words(argv, argv + argc);
-    auto expanded = withSceneFile(words, *renderCmd, &render.sceneFile, &render.sceneKeys);
+    auto expanded = withSceneFile(words, *renderCmd, *renderCmd, &render.sceneFile, &render.sceneKeys);
+    if (!expanded) return fail(expanded.error().describe());
+    if (render.sceneFile.empty())
+        expanded = withSceneFile(*expanded, *renderCmd, *viewCmd, &view.render.sceneFile, &view.render.sceneKeys);
     if (!expanded) return fail(expanded.error().describe());
     std::vector<char*> args;
     for (std::string& w : *expanded) args.push_back(w.data());
@@ -296,8 +301,9 @@ int main(int argc, char** argv) {
     try {
         app.parse(int(args.size()), args.data());
     } catch (const CLI::ParseError& e) {
-        if (render.sceneFile.empty() || e.get_exit_code() == 0) return app.exit(e) == 0 ? 0 : 2;
-        std::cerr << "meniscus: error: " << withSceneKey(e.what(), render.sceneFile, render.sceneKeys) << "\n";
+        const RenderOptions& scene = render.sceneFile.empty() ? view.render : render;
+        if (scene.sceneFile.empty() || e.get_exit_code() == 0) return app.exit(e) == 0 ? 0 : 2;
+        std::cerr << "meniscus: error: " << withSceneKey(e.what(), scene.sceneFile, scene.sceneKeys) << "\n";
         return 2;
     }
 

@@ -12,6 +12,16 @@
 //    there with exit 130; finished frames stay, a movie is not written (its
 //    temporary file is removed). Further Ctrl-Cs change nothing (a tool may
 //    signal the process and its group both), so no partial file is ever left.
+//  - A moving camera (--orbit, --turntable, --camera-path): frame i is at
+//    i / --fps seconds; the path gives eye, target and fov, then --orbit or
+//    --turntable turns the eye about the vertical through the target. The
+//    default background (auto) is then the floor alone, centred under the
+//    particles (two walls would jump sides as the camera goes round); an
+//    explicit --background studio keeps its walls where the first frame's
+//    camera puts them, for the whole run.
+//  - --frames N renders a single input file as N frames (the turntable of a
+//    still); without camera motion that is N identical frames, a held shot.
+//    A sequence renders its own frames: --frames with one is an error.
 #include "render.h"
 
 #include <algorithm>
@@ -160,7 +170,8 @@ Status renderFrame(const RenderOptions& o, const Frames& frames, std::size_t i, 
     if (!o.diffuse.empty()) {
         std::string path = o.diffuse;
         if (o.diffuse.find('%') != std::string::npos) {
-            const long number = frames.embedded ? 0 : frameNumberFromName(frames.files[i].filename().string());
+            const long number =
+                frames.embedded ? 0 : frameNumberFromName(frames.files[frames.source(i)].filename().string());
             auto name = formatFramePattern(o.diffuse, number < 0 ? long(i) : number);
             if (!name) return name.error();
             path = *name;
@@ -182,7 +193,9 @@ Status renderFrame(const RenderOptions& o, const Frames& frames, std::size_t i, 
 }  // namespace
 
 void addSequenceOptions(CLI::App* cmd, RenderOptions& o) {
-    cmd->add_option("--fps", o.fps, "An .mp4 output's frame rate, frames per second")
+    cmd->add_option("--fps", o.fps,
+                    "Frames per second: an .mp4 output's frame rate, and a moving camera's clock (frame i at i / fps "
+                    "seconds)")
         ->capture_default_str()
         ->check(CLI::Range(0.001, 1000.0));
     cmd->add_option("--crf", o.crf,
@@ -199,6 +212,23 @@ void addSequenceOptions(CLI::App* cmd, RenderOptions& o) {
         ->check(CLI::IsMember({"stop", "skip"}));
     cmd->add_flag("--resume", o.resume,
                   "Leave frames whose output images already exist and are complete (after an interrupted run)");
+    cmd->add_option("--orbit", o.orbit,
+                    "Moving camera: turn about the vertical through the target at this many degrees per second of "
+                    "sequence time (frame i at i / --fps seconds; positive: counter-clockwise seen from above), "
+                    "keeping distance and elevation")
+        ->check(CLI::Range(-36000.0, 36000.0));
+    cmd->add_flag("--turntable", o.turntable,
+                  "Moving camera: one whole turn about the vertical through the target over the sequence (frame i "
+                  "of N at 360 i / N degrees); for a single file give --frames");
+    cmd->add_option("--camera-path", o.cameraPath,
+                    "Moving camera along key frames: a JSON file (or the JSON text itself) holding [{\"time\": s, "
+                    "\"eye\": [x,y,z], \"target\": [x,y,z], \"fov\": degrees}, ...], times in seconds (frame i at "
+                    "i / --fps), increasing; positions in metres, in the data's coordinates like --eye; fov optional "
+                    "(default --fov); smooth (Catmull-Rom) between keys, the first and last key held before and after");
+    cmd->add_option("--frames", o.frames,
+                    "Render a single input file as N frames, numbered 0 to N-1 (a turntable of one frame: "
+                    "--turntable --frames 120); without a moving camera the same picture N times")
+        ->check(CLI::Range(std::size_t(1), std::size_t(1000000)));
 }
 
 int runRender(const RenderOptions& o, const ParticleSet* embedded) {
@@ -218,7 +248,22 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     auto up = upRotation(o.up);
     if (!up) return fail(withSceneKey(up.error().describe(), o.sceneFile, o.sceneKeys));
     frames->up = *up;
+    if (o.frames > 0) {
+        if (frames->count() != 1)
+            return fail(withSceneKey("--frames renders a single input file as N frames; " + o.input + " has " +
+                                         std::to_string(frames->count()) + ", each rendered once (leave out --frames)",
+                                     o.sceneFile, o.sceneKeys));
+        frames->repeat = o.frames;
+    }
     const std::size_t count = frames->count();
+    if (o.orbit != 0.0 && o.turntable)
+        return fail(withSceneKey("--orbit and --turntable: give one or the other", o.sceneFile, o.sceneKeys));
+    if (o.turntable && count == 1)
+        return fail(withSceneKey("--turntable turns once over the sequence: for a single file give --frames N",
+                                 o.sceneFile, o.sceneKeys));
+    auto path = cameraPathFromOptions(o);
+    if (!path) return fail(withSceneKey(path.error().describe(), o.sceneFile, o.sceneKeys));
+    const CameraMotion motion{std::move(*path), o.orbit, o.turntable, count, o.fps};
     if (!isMp4(o.output))
         if (auto st = frames->checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error().describe());
 
@@ -226,6 +271,17 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     std::size_t firstIndex = 0;
     auto first = fixForSequence(o, *frames, settings, &firstIndex);
     if (!first) return fail(withSceneKey(first.error().describe(), o.sceneFile, o.sceneKeys));
+    const Camera start = settings.camera;
+    if (motion.moves() && o.background == "auto") {
+        settings.scene.walls = false;
+        std::cerr << "meniscus: the camera moves: the floor alone as background (--background studio keeps the "
+                     "walls, fixed where the first frame sees them)\n";
+    } else if (motion.moves() && o.background == "studio") {
+        settings.scene.wallsSeenFrom = cameraForFrame(start, motion, 0).eye;
+    }
+    // A repeated file is read once.
+    std::optional<ParticleSet> still;
+    if (frames->repeat) still = *first;
     settings.colorOnly = !isExr(o.output);  // a PNG or a movie needs only the colour AOV
     if (o.whiten && !ParticleView::of(*first).velocity.present())
         std::cerr << "meniscus: warning: " << frames->name(firstIndex)
@@ -249,7 +305,11 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
             continue;
         }
         // (Frames before firstIndex did not load when fixForSequence tried them.)
-        const Status st = renderFrame(o, *frames, i, i == firstIndex ? std::move(first) : frames->loadChecked(i),
+        settings.camera = cameraForFrame(start, motion, i);
+        const Status st = renderFrame(o, *frames, i,
+                                      i == firstIndex ? std::move(first)
+                                      : still         ? Result<ParticleSet>(*still)
+                                                      : frames->loadChecked(i),
                                       renderer, settings, *outputs);
         if (!st) {
             if (o.onError != "skip") return fail(st.error().describe());

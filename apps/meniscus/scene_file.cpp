@@ -61,6 +61,8 @@ public:
             group.push_back(numberText(v));
         } else if (v.is_string()) {
             group.push_back(pathOption(name) ? path(v.get<std::string>()) : v.get<std::string>());
+        } else if (v.is_array() && !v.empty() && v.front().is_object()) {
+            group.push_back(v.dump());  // a list of objects (camera.path's keys): the option reads it as JSON
         } else if (v.is_array() && !v.empty()) {
             bool numbers = true, strings = true;
             for (const json& e : v) {
@@ -82,15 +84,22 @@ public:
         return okStatus();
     }
 
-    // Every key of a section ("camera", "render") or of the top level.
+    // Every key of a section ("camera", "render") or of the top level: the
+    // option of that name, else the section's own (camera.path: --camera-path).
     Status addAll(const std::string& prefix, const json& section) {
         if (!section.is_object()) return fail(prefix, "expected an object of settings");
-        for (const auto& [k, v] : section.items())
-            if (auto st = add(prefix + "." + k, optionName(k), v); !st) return st;
+        for (const auto& [k, v] : section.items()) {
+            std::string name = optionName(k);
+            if (!render_.get_option_no_throw(name) && render_.get_option_no_throw(optionName(prefix + "-" + k)))
+                name = optionName(prefix + "-" + k);
+            if (auto st = add(prefix + "." + k, name, v); !st) return st;
+        }
         return okStatus();
     }
 
-    static bool pathOption(const std::string& name) { return name == "--diffuse" || name == "--fluid"; }
+    static bool pathOption(const std::string& name) {
+        return name == "--diffuse" || name == "--fluid" || name == "--camera-path";
+    }
 
     void push(const std::string& key, std::vector<std::string> group) {
         out_.keyOfOption.emplace_back(group.front(), key);
@@ -106,7 +115,7 @@ private:
 
 Result<json> readJson(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) return makeError(path, "cannot open the scene file");
+    if (!in) return makeError(path, "cannot open the file");
     std::stringstream text;
     text << in.rdbuf();
     try {
@@ -116,7 +125,63 @@ Result<json> readJson(const std::string& path) {
     }
 }
 
+// A list of three numbers as a vec3.
+bool readVec3(const json& v, glm::vec3& out) {
+    if (!v.is_array() || v.size() != 3) return false;
+    for (std::size_t i = 0; i < 3; ++i) {
+        if (!v[i].is_number()) return false;
+        out[int(i)] = v[i].get<float>();
+    }
+    return true;
+}
+
 }  // namespace
+
+Result<std::vector<CameraKey>> readCameraPath(const std::string& spec, float defaultFov) {
+    const std::size_t first = spec.find_first_not_of(" \t\r\n");
+    const bool inline_ = first != std::string::npos && spec[first] == '[';
+    // Errors name the option, and the file when the path is in one.
+    const std::string where = inline_ ? "--camera-path: " : "--camera-path " + spec + ": ";
+    json root;
+    if (inline_) {
+        try {
+            root = json::parse(spec);
+        } catch (const json::exception& e) {
+            return makeError("", where + "not valid JSON: " + e.what());
+        }
+    } else {
+        auto read = readJson(spec);
+        if (!read) return makeError("", where + read.error().message);
+        root = std::move(*read);
+    }
+    if (!root.is_array() || root.empty())
+        return makeError("", where + "expected a list of at least one key, [{\"time\": 0, \"eye\": [x, y, z], "
+                                     "\"target\": [x, y, z], \"fov\": 40}, ...]");
+    std::vector<CameraKey> keys;
+    for (std::size_t k = 0; k < root.size(); ++k) {
+        const json& e = root[k];
+        const std::string which = where + "key " + std::to_string(k + 1) + ": ";
+        if (!e.is_object()) return makeError("", which + "expected an object {\"time\": ..., \"eye\": ..., ...}");
+        CameraKey key;
+        key.fovYDegrees = defaultFov;
+        for (const auto& [name, v] : e.items()) {
+            if (name != "time" && name != "eye" && name != "target" && name != "fov")
+                return makeError("", which + "unknown field \"" + name + "\" (expected time, eye, target, fov)");
+            const bool vector = name == "eye" || name == "target";
+            const bool ok = vector ? readVec3(v, name == "eye" ? key.eye : key.target) : v.is_number();
+            if (!ok)
+                return makeError("", which + name + ": expected " +
+                                         (vector ? "[x, y, z] in metres" : name == "time" ? "seconds" : "degrees"));
+            if (name == "time") key.timeS = v.get<double>();
+            if (name == "fov") key.fovYDegrees = v.get<float>();
+        }
+        for (const char* need : {"time", "eye", "target"})
+            if (!e.contains(need)) return makeError("", which + "needs \"" + need + "\"");
+        keys.push_back(key);
+    }
+    if (std::string bad = checkCameraPath(keys); !bad.empty()) return makeError("", where + bad);
+    return keys;
+}
 
 bool isJsonFile(const std::string& path) { return std::filesystem::path(path).extension() == ".json"; }
 

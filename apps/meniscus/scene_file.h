@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "meniscus/camera_path.h"
 #include "meniscus/result.h"
 
 namespace CLI {
@@ -36,6 +37,14 @@ struct SceneArgs {
 // declares): an error naming the file and the key for an unknown key, a value
 // of the wrong kind, or JSON that does not parse.
 Result<SceneArgs> sceneFileArgs(const std::string& path, CLI::App& render);
+
+// --camera-path's value: a JSON array of keys, {"time": seconds, "eye":
+// [x, y, z], "target": [x, y, z], "fov": degrees} (fov optional: `defaultFov`;
+// metres in the data's coordinates), in increasing time: the text itself
+// (starting with '[', as a scene file's camera.path passes it) or a file
+// holding it. Errors start with "--camera-path" (withSceneKey then names the
+// scene file's key) and name the file, the key's number and the field.
+Result<std::vector<CameraKey>> readCameraPath(const std::string& spec, float defaultFov);
 
 // `message` (about an option, "--width: ...") prefixed with the file and key
 // that set that option, when one did.

@@ -5,6 +5,7 @@
 // frame is drawn again when the window loses its contents.
 #include "view.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -18,12 +19,16 @@
 
 #if MENISCUS_HAVE_GLFW
 #include "meniscus/window.h"
+#include "view_ui.h"
 #endif
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
 #include "meniscus/renderer.h"
 #include "meniscus/sim.h"
+#include "frame_prefetch.h"
 #include "live_simulation.h"
+#include "scene_file.h"
+#include "scene_save.h"
 
 namespace meniscus::app {
 
@@ -41,40 +46,74 @@ namespace {
 constexpr float kDegreesPerDragUnit = 0.3f;  // orbit per screen unit the cursor moves with the button held
 constexpr float kZoomPerWheelStep = 0.9f;    // camera distance factor per wheel step away from the user
 constexpr double kLiveSpeed = 1.0;  // --simulate: at most real time (simulated s per wall-clock s), so a fast scene plays
+constexpr int kUiSettleFrames = 3;  // the panels react to hover and lay out over a few frames after an event
+constexpr int kScriptWidgetFrames = 60;  // a scripted click waits this many frames for its widget to be drawn
 
-// One WindowInput per event of an input script ("drag:DX,DY;scroll:N;key:K").
-Result<std::vector<WindowInput>> parseInputScript(const std::string& script) {
-    std::vector<WindowInput> events;
+// One event of an input script: window input, or the pointer over a panel widget.
+struct ScriptEvent {
+    WindowInput in;
+    std::string widget;  // click: the widget's label (empty for the other events)
+    float at = 0.5f;     // where on the widget, as a fraction of its width
+    bool down = false;   // the button
+};
+
+// The events of an input script ("drag:DX,DY;scroll:N;key:K;drop:PATH;click:LABEL@F"); a
+// click is three events: the pointer over the widget, the button down, up.
+Result<std::vector<ScriptEvent>> parseInputScript(const std::string& script) {
+    static const std::pair<const char*, Key> kKeys[] = {
+        {"left", Key::Left}, {"right", Key::Right}, {"q", Key::Q}, {"escape", Key::Escape}, {"space", Key::Space},
+        {"tab", Key::Tab},   {"h", Key::H},         {"c", Key::C}};
+    std::vector<ScriptEvent> events;
     std::stringstream all(script);
     std::string item;
     while (std::getline(all, item, ';')) {
         if (item.empty()) continue;
-        WindowInput in;
+        ScriptEvent e;
         double a = 0.0, b = 0.0;
         char end = 0;
         bool ok = true;
-        if (std::sscanf(item.c_str(), "drag:%lf,%lf%c", &a, &b, &end) == 2 && std::isfinite(a) && std::isfinite(b))
-            in.drag = glm::dvec2(a, b);
-        else if (std::sscanf(item.c_str(), "scroll:%lf%c", &a, &end) == 1 && std::isfinite(a))
-            in.scroll = a;
-        else if (item == "key:left") in.keys.push_back(Key::Left);
-        else if (item == "key:right") in.keys.push_back(Key::Right);
-        else if (item == "key:q") in.keys.push_back(Key::Q);
-        else if (item == "key:escape") in.keys.push_back(Key::Escape);
-        else ok = false;
+        if (std::sscanf(item.c_str(), "drag:%lf,%lf%c", &a, &b, &end) == 2 && std::isfinite(a) && std::isfinite(b)) {
+            e.in.drag = glm::dvec2(a, b);
+        } else if (std::sscanf(item.c_str(), "scroll:%lf%c", &a, &end) == 1 && std::isfinite(a)) {
+            e.in.scroll = a;
+        } else if (item.rfind("drop:", 0) == 0 && item.size() > 5) {
+            e.in.dropped.push_back(item.substr(5));
+        } else if (item.rfind("click:", 0) == 0) {
+            const std::size_t at = item.rfind('@');
+            e.widget = item.substr(6, at == std::string::npos ? std::string::npos : at - 6);
+            if (at != std::string::npos)
+                ok = std::sscanf(item.c_str() + at + 1, "%f%c", &e.at, &end) == 1 && e.at >= 0.0f && e.at <= 1.0f;
+            ok = ok && !e.widget.empty();
+            if (ok) {
+                events.push_back(e);  // over it
+                e.down = true;
+                events.push_back(e);  // pressed
+                e.down = false;       // and released below
+            }
+        } else if (item.rfind("key:", 0) == 0) {
+            ok = false;
+            for (const auto& [name, key] : kKeys)
+                if (item.substr(4) == name) {
+                    e.in.keys.push_back(key);
+                    ok = true;
+                }
+        } else {
+            ok = false;
+        }
         if (!ok)
             return makeError("", "--input-script: '" + item +
-                                     "' is not an event (drag:DX,DY, scroll:N, key:left|right|q|escape; separated by ;)");
-        events.push_back(std::move(in));
+                                     "' is not an event (drag:DX,DY, scroll:N, key:left|right|space|tab|h|c|q|escape, "
+                                     "drop:PATH, click:LABEL@FRACTION; separated by ;)");
+        events.push_back(std::move(e));
     }
     return events;
 }
 
-std::string title(const ViewOptions& o, const Frames& frames, std::size_t index) {
-    std::string t = "meniscus view: " + (frames.embedded ? std::string("demo") : o.render.input);
-    if (frames.count() > 1)
-        t += " (" + std::to_string(index + 1) + "/" + std::to_string(frames.count()) + ": " +
-             frames.files[index].filename().string() + ")";
+std::string title(const RenderOptions& o, std::size_t count, std::size_t index, const Frames* frames) {
+    std::string t = "meniscus view: " + (o.input.empty() ? std::string("demo") : o.input);
+    if (count > 1 && frames)
+        t += " (" + std::to_string(index + 1) + "/" + std::to_string(count) + ": " +
+             frames->files[index].filename().string() + ")";
     return t;
 }
 
@@ -84,6 +123,44 @@ std::string liveTitle(const ViewOptions& o, const sim::Scene& scene, const LiveS
     return "meniscus view: " + o.simulate.scene + " (" + t + (running ? ")" : ", done)");
 }
 
+// The frames of o.input (the demo frame when empty) with the camera, radius
+// and studio fixed for them in `settings`, framed for a `size` framebuffer.
+struct Opened {
+    Frames frames;
+    ParticleSet first;
+};
+Result<Opened> openInput(const RenderOptions& o, const ParticleSet* embedded, glm::ivec2 size,
+                         RenderSettings& settings) {
+    auto opened = openFrames(o.input, o.input.empty() ? embedded : nullptr, o.hPerSpacing);
+    if (!opened) return opened.error();
+    if (auto st = opened->addFluids(o); !st) return st.error();
+    auto up = upRotation(o.up);
+    if (!up) return up.error();
+    opened->up = *up;
+    RenderOptions sized = o;
+    if (size.x > 0 && size.y > 0) {
+        sized.width = size.x;
+        sized.height = size.y;
+    }
+    auto first = fixForSequence(sized, *opened, settings);
+    if (!first) return first.error();
+    printWarnings(*first);
+    return Opened{std::move(*opened), std::move(*first)};
+}
+
+// "--eye x,y,z --target x,y,z --fov f" of `camera` in the data's frame (o.up), every digit a float has,
+// so `render` with them draws the same picture.
+std::string cameraOptions(const Camera& camera, const std::string& upText) {
+    auto up = upRotation(upText);
+    UpRotation back = up ? *up : UpRotation{};
+    back.s = -back.s;  // the inverse turn: renderer -> data
+    const glm::vec3 e = back.apply(camera.eye), t = back.apply(camera.target);
+    char line[256];
+    std::snprintf(line, sizeof line, "--eye %.9g,%.9g,%.9g --target %.9g,%.9g,%.9g --fov %.9g", e.x, e.y, e.z, t.x,
+                  t.y, t.z, double(camera.fovYDegrees));
+    return line;
+}
+
 }  // namespace
 
 int runView(const ViewOptions& o, const ParticleSet* embedded) {
@@ -91,12 +168,13 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     if (!parsed) return fail(parsed.error().describe());
     RenderSettings settings = std::move(*parsed);
     if (!o.screenshot.empty() && !isPng(o.screenshot)) return fail(o.screenshot + ": --screenshot must end in .png");
+    if (!o.screenshotWindow.empty() && !isPng(o.screenshotWindow))
+        return fail(o.screenshotWindow + ": --screenshot-window must end in .png");
     auto script = parseInputScript(o.inputScript);
     if (!script) return fail(script.error().describe());
 
-    // What the window shows: the frames of an input, or a scene simulated live
-    // (its errors, like a bad input's, come before any window).
-    Frames frames;
+    // A scene simulated live is checked before any window; an input's errors
+    // come before the window too (read again for the window's own size below).
     std::optional<sim::Scene> scene;
     std::unique_ptr<sim::Simulator> simulator;
     if (!o.simulate.scene.empty()) {
@@ -112,44 +190,66 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         auto opened = openFrames(o.render.input, embedded, o.render.hPerSpacing);
         if (!opened) return fail(opened.error().describe());
         if (auto st = opened->addFluids(o.render); !st) return fail(st.error().describe());
-        auto up = upRotation(o.render.up);
-        if (!up) return fail(up.error().describe());
-        opened->up = *up;
-        frames = std::move(*opened);
+        if (auto up = upRotation(o.render.up); !up) return fail(up.error().describe());
     }
 
     // The window first: without a display nothing else is worth doing.
     auto window = Window::create(o.render.width, o.render.height,
-                                 scene ? "meniscus view: " + o.simulate.scene : title(o, frames, 0));
+                                 scene ? "meniscus view: " + o.simulate.scene : title(o.render, 1, 0, nullptr));
     if (!window)
         return fail(window.error().describe() +
                     "; meniscus view needs a display (`meniscus render` writes images without one)");
     Window& win = **window;
 
     // The camera is framed for the framebuffer's real size (HiDPI screens differ).
-    RenderOptions sized = o.render;
-    const glm::ivec2 fb = win.framebufferSize();
-    if (fb.x > 0 && fb.y > 0) {
-        sized.width = fb.x;
-        sized.height = fb.y;
-    }
     std::shared_ptr<const ParticleSet> current;  // what is on screen
+    std::unique_ptr<FramePrefetch> prefetch;     // the input's frames, read ahead (after the window: joined first)
+    std::size_t index = 0;
+    RenderOptions look = o.render;  // the look as options, as the panels change it
+    float estimatedRadius = 0.0f;   // the radius fixed for the input (look.radius 0: this one)
+    Camera homeCamera;              // the camera the input opened with (reset camera)
+    // Shows o.input (or the one a drop or a scene file names): an error leaves what is shown.
+    const auto open = [&](const RenderOptions& next) -> Status {
+        auto s = settingsFromOptions(next);
+        if (!s) return s.error();
+        auto opened = openInput(next, embedded, win.framebufferSize(), *s);
+        if (!opened) return opened.error();
+        prefetch.reset();
+        current = std::make_shared<const ParticleSet>(std::move(opened->first));
+        prefetch = std::make_unique<FramePrefetch>(std::move(opened->frames), [&win] { win.wake(); });
+        index = 0;
+        prefetch->want(0);
+        settings = std::move(*s);
+        look = next;
+        estimatedRadius = settings.radiusM;
+        homeCamera = settings.camera;
+        win.setTitle(title(look, prefetch->frames().count(), 0, &prefetch->frames()));
+        return okStatus();
+    };
     if (scene) {
         // Framed once on the domain, as `simulate --render` frames its images.
+        RenderOptions sized = o.render;
+        const glm::ivec2 fb = win.framebufferSize();
+        if (fb.x > 0 && fb.y > 0) {
+            sized.width = fb.x;
+            sized.height = fb.y;
+        }
         if (auto st = fixForBox(sized, domainBounds(*scene), scene->params.radius, settings); !st)
             return fail(st.error().describe());
-    } else {
-        auto first = fixForSequence(sized, frames, settings);
-        if (!first) return fail(first.error().describe());
-        printWarnings(*first);
-        current = std::make_shared<const ParticleSet>(std::move(*first));
+        estimatedRadius = settings.radiusM;
+        homeCamera = settings.camera;
+    } else if (auto st = open(o.render); !st) {
+        return fail(st.error().describe());
     }
+    const std::size_t count0 = prefetch ? prefetch->frames().count() : 1;
 
     auto made = Renderer::createOnCurrentGlContext();  // after the window, so destroyed before it
     if (!made) return fail(made.error().describe());
     Renderer renderer = std::move(*made);
+    std::unique_ptr<ViewerUi> ui = ViewerUi::create(win);  // null in a build without Dear ImGui
     std::cerr << "meniscus: viewing on " << renderer.backendName() << ": drag to orbit, scroll to zoom, "
-              << (frames.count() > 1 ? "left/right for frames, " : "") << "Esc or Q to quit\n";
+              << (count0 > 1 ? "left/right for frames, space to play, " : "")
+              << (ui ? "Tab for the panels, H for help, " : "") << "Esc or Q to quit\n";
 
     // After the window, so stopped (joined) before the window goes.
     std::optional<LiveSimulation> live;
@@ -162,39 +262,131 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     }
     const bool tty = ::isatty(STDERR_FILENO) == 1;
 
-    std::size_t index = 0;
+    UiModel model;
+    model.backend = renderer.backendName();
+    model.scenePath = o.render.sceneFile.empty() ? "scene.json" : o.render.sceneFile;
+    bool panels = true;
+    int uiFrames = kUiSettleFrames;
+
+    // A frame of the input on screen (waiting for the reader); an error leaves the one shown.
+    const auto show = [&](std::size_t next) {
+        FramePrefetch::Loaded f = prefetch->wait(next);
+        if (!f.set) {
+            std::cerr << "meniscus: error: " << f.error << "\n";
+            model.message = f.error;
+            return;
+        }
+        printWarnings(*f.set);
+        current = f.set;
+        index = next;
+        win.setTitle(title(look, prefetch->frames().count(), index, &prefetch->frames()));
+    };
+    // The panels' look, checked and read back as `render` reads its options.
+    const auto applyLook = [&](const RenderOptions& next) {
+        auto re = reparsed(next);
+        auto s = re ? settingsFromOptions(*re) : Result<RenderSettings>(re.error());
+        if (!s) {
+            model.message = s.error().describe();
+            std::cerr << "meniscus: error: " << model.message << "\n";
+            return;
+        }
+        s->camera = settings.camera;
+        s->radiusM = re->radius > 0.0f ? re->radius : estimatedRadius;
+        s->scene.studioBounds = settings.scene.studioBounds;
+        std::string set;
+        for (const std::string& c : changedOptions(look, *re)) set += (set.empty() ? "" : " ") + c;
+        if (!set.empty()) std::cerr << "meniscus: set " << set << "\n";
+        model.message = set.empty() ? model.message : "set " + set;
+        look = *re;
+        settings = std::move(*s);
+    };
+
+    // A scene file brings its settings; any other path is a new input shown with the same look.
+    const auto openPath = [&](const std::string& path) {
+        auto next = isJsonFile(path) ? loadSceneFile(path) : Result<RenderOptions>(look);
+        if (next && !isJsonFile(path)) {
+            next->input = path;
+            next->moreFluids.clear();
+            next->eye.clear();
+            next->target.clear();
+        }
+        const Status st = next ? open(*next) : Status(next.error());
+        model.message = st ? "showing " + path : st.error().describe();
+        std::cerr << "meniscus: " << (st ? "" : "error: ") << model.message << "\n";
+        if (st && isJsonFile(path)) model.scenePath = path;
+    };
+    const auto copyTheCamera = [&] {
+        const std::string line = cameraOptions(settings.camera, look.up);
+        std::cout << line << std::endl;
+        win.setClipboard(line);
+        model.message = "copied " + line;
+    };
+
     bool stale = true;  // the frame on the backend does not show the current particles, camera and size
     int rendered = 0;
     long liveNumber = -1;      // the simulated frame on screen
     bool liveRunning = true;   // as the title last said
     int liveShown = 0;         // simulated frames shown
     std::size_t scripted = 0;  // events of the script replayed so far
+    int scriptWait = 0;        // frames a scripted click has waited for its widget
+    using Clock = std::chrono::steady_clock;
+    Clock::time_point nextFrameDue = Clock::now(), lastShown = Clock::now();
     while (!win.shouldClose()) {
         WindowInput in = win.takeInput();
+        // What the panels take is theirs (a script's events are meant for the picture).
+        if (ui && panels && ui->wantsMouse()) in.drag = glm::dvec2(0.0), in.scroll = 0.0;
+        if (ui && ui->wantsKeyboard()) in.keys.clear();  // typing a file name
         if (scripted < script->size()) {  // as if the user had done it during the last frame
-            const WindowInput& e = (*script)[scripted++];
-            in.drag += e.drag;
-            in.scroll += e.scroll;
-            in.keys.insert(in.keys.end(), e.keys.begin(), e.keys.end());
+            const ScriptEvent& e = (*script)[scripted];
+            if (!e.widget.empty()) {
+                if (!ui) return fail("--input-script: click:" + e.widget + " needs the panels (a build with Dear ImGui)");
+                if (ui->scriptPointer(e.widget, e.at, e.down)) {
+                    ++scripted;
+                    scriptWait = 0;
+                } else if (++scriptWait > kScriptWidgetFrames) {
+                    return fail("--input-script: no widget labelled '" + e.widget + "' is shown");
+                }
+            } else {
+                ++scripted;
+                in.drag += e.in.drag;
+                in.scroll += e.in.scroll;
+                in.keys.insert(in.keys.end(), e.in.keys.begin(), e.in.keys.end());
+                in.dropped.insert(in.dropped.end(), e.in.dropped.begin(), e.in.dropped.end());
+            }
+            in.any = true;
         }
-        bool quit = false;
+        if (in.any) uiFrames = kUiSettleFrames;
+        bool quit = false, copyCamera = false;
+        const std::size_t count = prefetch ? prefetch->frames().count() : 1;
         for (Key key : in.keys) {
             quit |= key == Key::Escape || key == Key::Q;
-            if ((key != Key::Left && key != Key::Right) || frames.count() < 2) continue;
-            const std::size_t n = frames.count();
-            const std::size_t next = key == Key::Right ? (index + 1) % n : (index + n - 1) % n;
-            auto set = frames.load(next);
-            if (!set) {  // keep showing the frame we have
-                std::cerr << "meniscus: error: " << set.error().describe() << "\n";
-                continue;
+            if (key == Key::Tab) panels = !panels;
+            if (key == Key::H || key == Key::F1) model.showHelp = !model.showHelp;
+            if (key == Key::C) copyCamera = true;
+            if (key == Key::Space && count > 1) model.playing = !model.playing;
+            if ((key == Key::Left || key == Key::Right) && count > 1) {
+                show(key == Key::Right ? (index + 1) % count : (index + count - 1) % count);
+                stale = true;
             }
-            printWarnings(*set);
-            current = std::make_shared<const ParticleSet>(std::move(*set));
-            index = next;
-            win.setTitle(title(o, frames, index));
-            stale = true;
         }
         if (quit) break;
+        for (const std::string& path : in.dropped) {
+            openPath(path);
+            stale = true;
+        }
+        if (model.playing && count > 1 && Clock::now() >= nextFrameDue) {
+            // The next frame once it has been read; playback waits for the reader rather than the window.
+            const std::size_t next = (index + 1) % count;
+            if (next == 0 && !model.loop) {
+                model.playing = false;
+            } else if (prefetch->get(next)) {
+                show(next);
+                stale = true;
+                const auto period = std::chrono::duration<double>(1.0 / (look.fps * double(model.speed)));
+                nextFrameDue = std::max(nextFrameDue + std::chrono::duration_cast<Clock::duration>(period),
+                                        Clock::now() - std::chrono::duration_cast<Clock::duration>(period));
+            }
+        }
         if (live) {
             // The newest finished frame, if it is not on screen yet (running
             // read first: once it is false, latest() is the last frame).
@@ -218,6 +410,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
                                           std::pow(kZoomPerWheelStep, float(in.scroll)));
             stale = true;
         }
+        if (copyCamera) copyTheCamera();
         const glm::ivec2 size = win.framebufferSize();
         if (size.x > 0 && size.y > 0) {  // 0 x 0 while minimised: nothing to draw
             if (size.x != settings.camera.width || size.y != settings.camera.height) {
@@ -227,35 +420,88 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
             }
             if (stale || (o.frames > 0 && !live)) {
                 settings.frameIndex = live ? std::int64_t(liveNumber) : std::int64_t(index);  // the noise's turbulence
-                if (auto st = renderer.draw(ParticleView::of(*current), settings); !st)
+                const auto start = Clock::now();
+                if (auto st = renderer.draw(ParticleView::of(*current), settings, ui && panels ? &model.stages : nullptr);
+                    !st)
                     return fail(st.error().describe());
+                const auto end = Clock::now();
+                model.drawMs = std::chrono::duration<double, std::milli>(end - start).count();
+                const double gap = std::chrono::duration<double>(end - lastShown).count();
+                model.framesPerSecond = gap > 0.0 ? 0.8 * model.framesPerSecond + 0.2 / gap : model.framesPerSecond;
+                lastShown = end;
                 ++rendered;
                 stale = false;
                 in.damaged = true;
             }
-            if (in.damaged) {
+            if (in.damaged || (ui && uiFrames > 0)) {
                 if (auto st = renderer.present(size.x, size.y); !st) return fail(st.error().describe());
+                if (ui) {
+                    model.look = look;
+                    model.radiusM = settings.radiusM;
+                    model.camera = settings.camera;
+                    model.frame = index;
+                    model.frameCount = count;
+                    const UiRequests req = ui->frame(model, panels);
+                    if (req.lookChanged) {
+                        applyLook(model.look);
+                        stale = true;
+                    }
+                    if (req.fovChanged) {
+                        settings.camera.fovYDegrees = model.camera.fovYDegrees;
+                        stale = true;
+                    }
+                    if (req.seek >= 0 && prefetch && std::size_t(req.seek) != index) {
+                        show(std::size_t(req.seek));
+                        stale = true;
+                    }
+                    if (req.resetCamera) {
+                        settings.camera = homeCamera;
+                        stale = true;
+                    }
+                    if (req.copyCamera) copyTheCamera();
+                    if (req.save) {
+                        const Status st = saveSceneFile(model.scenePath, look, settings.camera);
+                        model.message = st ? "saved " + model.scenePath : st.error().describe();
+                        std::cerr << "meniscus: " << (st ? "" : "error: ") << model.message << "\n";
+                    }
+                    if (req.load) {
+                        openPath(model.scenePath);
+                        stale = true;
+                    }
+                    if (uiFrames > 0) --uiFrames;
+                }
                 win.swapBuffers();
             }
         }
         // With --frames, a live view counts new simulated frames and ends with the simulation.
         const bool enough = live ? liveShown >= o.frames || !liveRunning : rendered >= o.frames;
-        if (o.frames > 0 && enough && scripted >= script->size()) break;
-        // A running simulation wakes the loop with each frame; otherwise --frames keeps it going.
-        if (o.frames > 0 && !(live && liveRunning && scripted >= script->size())) win.pollEvents();
-        else win.waitEvents();
+        if (o.frames > 0 && enough && scripted >= script->size() && !stale) break;
+        // A running simulation wakes the loop with each frame; otherwise --frames, the panels settling,
+        // or playback keep it going.
+        if ((o.frames > 0 && !(live && liveRunning && scripted >= script->size())) || stale || (ui && uiFrames > 0))
+            win.pollEvents();
+        else if (model.playing)
+            win.waitEvents(std::max(0.0, std::chrono::duration<double>(nextFrameDue - Clock::now()).count()));
+        else
+            win.waitEvents();
     }
     if (live && live->running()) {
         live->stop();
         std::cerr << "meniscus: stopped the simulation at t = " << live->latest().time << " s\n";
     }
 
+    // The back buffer is undefined after a swap: draw the last frame again and read that.
+    const glm::ivec2 size = win.framebufferSize();
     if (!o.screenshot.empty()) {
-        // The back buffer is undefined after a swap: draw the last frame again and read that.
-        const glm::ivec2 size = win.framebufferSize();
         if (auto st = renderer.present(size.x, size.y); !st) return fail(st.error().describe());
         if (auto st = writePng(o.screenshot, win.readPixels(), false); !st) return fail(st.error().describe());
         std::cerr << "meniscus: wrote " << o.screenshot << "\n";
+    }
+    if (!o.screenshotWindow.empty()) {
+        if (auto st = renderer.present(size.x, size.y); !st) return fail(st.error().describe());
+        if (ui) ui->frame(model, panels);
+        if (auto st = writePng(o.screenshotWindow, win.readPixels(), false); !st) return fail(st.error().describe());
+        std::cerr << "meniscus: wrote " << o.screenshotWindow << "\n";
     }
     return 0;
 }

@@ -11,7 +11,8 @@ namespace meniscus::app {
 
 struct ViewOptions {
     RenderOptions render;    // input (empty: the embedded demo frame), size, camera, look; output/backend unused
-    std::string screenshot;  // when set: what the window shows on exit, saved as PNG
+    std::string screenshot;  // when set: the picture the window shows on exit (without the panels), saved as PNG
+    std::string screenshotWindow;  // when set: the whole window on exit, panels included, saved as PNG
     int frames = 0;          // > 0: render and show this many frames, then exit (no interaction needed)
     std::string inputScript; // for tests and scripts: input events replayed one per frame (see runView)
     // --simulate: simulate.scene (with its solver; the radius is render.radius)

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <variant>
 
@@ -436,6 +437,13 @@ inline constexpr float kDiffuseFoamLiftRadii = 2.0f;
 
 struct SceneParams {
     bool background = true;                  // false: no floor/walls, transparent background
+    // false: the floor only, its checker and fade centred under the box, the
+    // sky behind (for a moving camera, around which walls would jump sides).
+    bool walls = true;
+    // The eye position that picks the walls' sides (the far side of the box
+    // from it); none: each frame's own camera eye. A moving camera that keeps
+    // the walls sets its first frame's eye here, so they stay put.
+    std::optional<glm::vec3> wallsSeenFrom;
     // Box the studio is built around (floor under it, back walls behind it);
     // empty = the bounds of the particles being rendered. Set it once per
     // sequence so the studio does not move between frames.

@@ -198,7 +198,9 @@ public:
     // (the chosen view) on the backend for present() instead of returning the
     // AOVs. For View::Final nothing is read back; the other views are drawn on
     // the host from the read-back AOVs and handed back to the backend.
-    Status draw(const ParticleView& particles, const RenderSettings& settings);
+    // `timings` as for render() (without the readback entry).
+    Status draw(const ParticleView& particles, const RenderSettings& settings,
+                std::vector<StageTime>* timings = nullptr);
 
     // Draws the colour of the last draw() into the default framebuffer of the
     // current GL context, framebufferWidth x framebufferHeight pixels (the

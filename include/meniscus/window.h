@@ -21,7 +21,7 @@ struct GLFWwindow;
 namespace meniscus {
 
 // The keys a viewer reacts to; every other key is Other.
-enum class Key { Escape, Q, Left, Right, Other };
+enum class Key { Escape, Q, Left, Right, Space, Tab, H, F1, C, Other };
 
 // Input since the last Window::takeInput(), summed, so that events arriving
 // during a slow frame are not lost.
@@ -30,6 +30,8 @@ struct WindowInput {
     double scroll = 0.0;     // vertical wheel steps, positive = away from the user
     std::vector<Key> keys;   // keys pressed (and auto-repeated), in order
     bool damaged = false;    // exposed or resized: the contents must be drawn again
+    std::vector<std::string> dropped;  // files or folders dropped on the window, in order
+    bool any = false;        // some event arrived (a viewer with panels draws them again)
 };
 
 class Window {
@@ -51,9 +53,11 @@ public:
     bool shouldClose() const;  // the user closed the window (or requestClose)
     void requestClose();
     void setTitle(const std::string& title);
+    void setClipboard(const std::string& text);  // the system clipboard's text
 
     void pollEvents();  // handles pending events and returns at once
     void waitEvents();  // sleeps until at least one event has arrived, then handles them
+    void waitEvents(double timeoutSeconds);  // the same, but sleeps no longer than this
     // Wakes a waitEvents() on the main thread (an empty event). Unlike the
     // rest, may be called from any thread, while the window exists: a worker
     // that has something new to show calls it.
@@ -67,6 +71,11 @@ public:
     // The back buffer as drawn since the last swap, 8-bit RGBA with row 0 the
     // TOP row (flipped from GL's bottom-first order); waits for the GPU.
     Image<glm::u8vec4> readPixels() const;
+
+    // GLFW's own handle, for libraries that drive GLFW themselves (the
+    // viewer's Dear ImGui panels install their callbacks on it, chained to
+    // this window's, so takeInput still sees every event).
+    GLFWwindow* glfwHandle() const { return window_; }
 
     const std::string& renderer() const { return renderer_; }  // GL_RENDERER
     const std::string& version() const { return version_; }    // GL_VERSION

@@ -1,6 +1,6 @@
 // CPU scene stage, SPEC §3.1: the default "studio" the fluid stands in — a
 // checker floor and two back walls forming the inside corner of a box around
-// the particles — ray-cast per pixel into colour and eye depth, with the
+// the particles, or the floor alone for a moving camera — ray-cast per pixel into colour and eye depth, with the
 // procedural sky (sky.cpp) wherever no plane is hit. Rendering the opaque scene
 // first and splatting fluid against its depth is the compositing order of van
 // der Laan et al. 2009 (US 8,947,430) and Instant Liquids (Cords & Staadt
@@ -25,6 +25,7 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 using shared::studioCornerFall;
 using shared::studioFloorInt;
+using shared::studioFloorRadius;
 
 // Everything one pixel of castScene needs, by value: a row works on its own
 // copy, so no load in the loop can alias the output (the compiler then
@@ -37,6 +38,10 @@ struct CastConstants {
     float floorLight[3], floorDark[3], wallLight[3], wallDark[3];  // linear RGB
 };
 
+// Walls = false: the floor alone, (a, b) its coordinates from the box's centre
+// (c.wallX, c.wallZ with normals +1), no corner darkening, a radial far fade.
+// A template parameter, so the studio with walls compiles as it always did.
+template <bool Walls>
 void castRow(const CastConstants c, int y, int width, float* depthRow, glm::vec4* colourRow) {
     // World ray D = dirToWorld(view ray with z = -1): eye + t D has eye depth t.
     const glm::vec3 rowDir = (-(float(y) + 0.5f - c.halfH) * c.invF) * c.up - c.back;
@@ -53,15 +58,16 @@ void castRow(const CastConstants c, int y, int width, float* depthRow, glm::vec4
             // plane and inside the corner (walls above the floor and below their
             // top, everything on the camera's side of the walls).
             const float tF = (c.floorY - c.eye.y) / Dy;
-            const bool okF = Dy < 0.0f && tF >= c.nearM && (c.eye.x + tF * Dx - c.wallX) * c.nX >= 0.0f &&
-                             (c.eye.z + tF * Dz - c.wallZ) * c.nZ >= 0.0f;
+            const bool okF = Dy < 0.0f && tF >= c.nearM &&
+                             (!Walls || ((c.eye.x + tF * Dx - c.wallX) * c.nX >= 0.0f &&
+                                         (c.eye.z + tF * Dz - c.wallZ) * c.nZ >= 0.0f));
             const float tX = (c.wallX - c.eye.x) / Dx;
             const float yX = c.eye.y + tX * Dy;
-            const bool okX = Dx * c.nX < 0.0f && tX >= c.nearM && yX >= c.floorY && yX <= c.topY &&
+            const bool okX = Walls && Dx * c.nX < 0.0f && tX >= c.nearM && yX >= c.floorY && yX <= c.topY &&
                              (c.eye.z + tX * Dz - c.wallZ) * c.nZ >= 0.0f;
             const float tZ = (c.wallZ - c.eye.z) / Dz;
             const float yZ = c.eye.y + tZ * Dy;
-            const bool okZ = Dz * c.nZ < 0.0f && tZ >= c.nearM && yZ >= c.floorY && yZ <= c.topY &&
+            const bool okZ = Walls && Dz * c.nZ < 0.0f && tZ >= c.nearM && yZ >= c.floorY && yZ <= c.topY &&
                              (c.eye.x + tZ * Dx - c.wallX) * c.nX >= 0.0f;
             // The nearest valid hit (in exact arithmetic at most one is valid).
             float t = okF ? tF : kInf;
@@ -86,13 +92,15 @@ void castRow(const CastConstants c, int y, int width, float* depthRow, glm::vec4
                            : (onFloor ? c.floorLight[ch] : c.wallLight[ch]);
             };
             const float lit = onFloor ? c.sh.litFloor : plane == 1 ? c.sh.litWallX : c.sh.litWallZ;
-            const float ao = 1.0f - 0.25f * (studioCornerFall(a, c.sh.aoScale) + studioCornerFall(b, c.sh.aoScale));
+            const float ao =
+                Walls ? 1.0f - 0.25f * (studioCornerFall(a, c.sh.aoScale) + studioCornerFall(b, c.sh.aoScale)) : 1.0f;
             const float shade = lit * ao;
             red[k] = pick(0) * shade;
             green[k] = pick(1) * shade;
             blue[k] = pick(2) * shade;
             // The weight of the sky: -1 where no plane is hit.
-            fade[k] = plane >= 0 ? std::clamp((std::max(a, b) - c.sh.fadeStart) * c.sh.invFade, 0.0f, 1.0f) : -1.0f;
+            const float reach = Walls ? std::max(a, b) : studioFloorRadius(a, b);
+            fade[k] = plane >= 0 ? std::clamp((reach - c.sh.fadeStart) * c.sh.invFade, 0.0f, 1.0f) : -1.0f;
             depthRow[x0 + k] = t;
         }
         for (int k = 0; k < n; ++k) {
@@ -137,7 +145,8 @@ SceneLayer castScene(const Camera& camera, const shared::Studio& studio) {
         c.wallDark[ch] = shared::kStudioWallDark[ch];
     }
 
-    forEachRow(H, [&](int y) { castRow(c, y, W, &out.depth.at(0, y), &out.color.at(0, y)); });
+    if (studio.walls) forEachRow(H, [&](int y) { castRow<true>(c, y, W, &out.depth.at(0, y), &out.color.at(0, y)); });
+    else forEachRow(H, [&](int y) { castRow<false>(c, y, W, &out.depth.at(0, y), &out.color.at(0, y)); });
     return out;
 }
 

@@ -45,6 +45,7 @@ void SceneCaster::run(const FrameParams& frame, const shared::Studio& studio, Gp
     glUniform3f(3, sh.litFloor, sh.litWallX, sh.litWallZ);
     glUniform1i(4, kRows);
     glUniform3f(5, sh.sunDir.x, sh.sunDir.y, sh.sunDir.z);
+    glUniform1i(6, studio.walls ? 1 : 0);
     color.bind(1);
     depth.bind(2);
     glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint((H + kRows - 1) / kRows), 1);

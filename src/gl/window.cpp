@@ -31,6 +31,11 @@ Key keyFromGlfw(int key) {
         case GLFW_KEY_Q: return Key::Q;
         case GLFW_KEY_LEFT: return Key::Left;
         case GLFW_KEY_RIGHT: return Key::Right;
+        case GLFW_KEY_SPACE: return Key::Space;
+        case GLFW_KEY_TAB: return Key::Tab;
+        case GLFW_KEY_H: return Key::H;
+        case GLFW_KEY_F1: return Key::F1;
+        case GLFW_KEY_C: return Key::C;
         default: return Key::Other;
     }
 }
@@ -42,21 +47,34 @@ Window* owner(GLFWwindow* w) { return static_cast<Window*>(glfwGetWindowUserPoin
 // GLFW's callbacks, with access to the window's input (a friend of Window).
 struct WindowCallbacks {
     static void key(GLFWwindow* w, int key, int, int action, int) {
+        owner(w)->input_.any = true;
         if (action == GLFW_PRESS || action == GLFW_REPEAT) owner(w)->input_.keys.push_back(keyFromGlfw(key));
     }
     static void button(GLFWwindow* w, int button, int action, int) {
-        if (button != GLFW_MOUSE_BUTTON_LEFT) return;
         Window* self = owner(w);
+        self->input_.any = true;
+        if (button != GLFW_MOUSE_BUTTON_LEFT) return;
         self->dragging_ = action == GLFW_PRESS;
         glfwGetCursorPos(w, &self->cursor_.x, &self->cursor_.y);  // a drag starts where the press was
     }
     static void cursor(GLFWwindow* w, double x, double y) {
         Window* self = owner(w);
+        self->input_.any = true;
         if (self->dragging_) self->input_.drag += glm::dvec2(x, y) - self->cursor_;
         self->cursor_ = {x, y};
     }
-    static void scroll(GLFWwindow* w, double, double dy) { owner(w)->input_.scroll += dy; }
-    static void damaged(GLFWwindow* w) { owner(w)->input_.damaged = true; }
+    static void scroll(GLFWwindow* w, double, double dy) {
+        owner(w)->input_.scroll += dy;
+        owner(w)->input_.any = true;
+    }
+    static void damaged(GLFWwindow* w) {
+        owner(w)->input_.damaged = true;
+        owner(w)->input_.any = true;
+    }
+    static void dropped(GLFWwindow* w, int count, const char** paths) {
+        for (int i = 0; i < count; ++i) owner(w)->input_.dropped.emplace_back(paths[i]);
+        owner(w)->input_.any = true;
+    }
     static void resized(GLFWwindow* w, int, int) { damaged(w); }
 };
 
@@ -99,6 +117,7 @@ Result<std::unique_ptr<Window>> Window::create(int width, int height, const std:
     glfwSetScrollCallback(win->window_, WindowCallbacks::scroll);
     glfwSetWindowRefreshCallback(win->window_, WindowCallbacks::damaged);
     glfwSetFramebufferSizeCallback(win->window_, WindowCallbacks::resized);
+    glfwSetDropCallback(win->window_, WindowCallbacks::dropped);
     return win;
 }
 
@@ -111,8 +130,10 @@ void Window::makeCurrent() const { glfwMakeContextCurrent(window_); }
 bool Window::shouldClose() const { return glfwWindowShouldClose(window_); }
 void Window::requestClose() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
 void Window::setTitle(const std::string& title) { glfwSetWindowTitle(window_, title.c_str()); }
+void Window::setClipboard(const std::string& text) { glfwSetClipboardString(window_, text.c_str()); }
 void Window::pollEvents() { glfwPollEvents(); }
 void Window::waitEvents() { glfwWaitEvents(); }
+void Window::waitEvents(double timeoutSeconds) { glfwWaitEventsTimeout(timeoutSeconds); }
 void Window::wake() { glfwPostEmptyEvent(); }  // thread-safe (GLFW's docs)
 void Window::swapBuffers() { glfwSwapBuffers(window_); }
 

@@ -878,9 +878,9 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
     });
 }
 
-Status Renderer::draw(const ParticleView& particles, const RenderSettings& s) {
+Status Renderer::draw(const ParticleView& particles, const RenderSettings& s, std::vector<StageTime>* timings) {
     return guarded("drawing", [&]() -> Status {
-        if (auto st = runStages(particles, s, nullptr); !st) return st;
+        if (auto st = runStages(particles, s, timings); !st) return st;
         if (s.view == View::Final) return okStatus();  // the colour is already in its slot
         Aovs aovs = readAovs(*backend_, s.view, true, s.noise, drawn(s));
         rawDepthAtFullSize(s, aovs);

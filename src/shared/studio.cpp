@@ -1,5 +1,6 @@
 // The studio of SPEC §3.1: a checker floor and two back walls forming the
-// inside corner of a box around the particles. Every length comes from the
+// inside corner of a box around the particles, or the floor alone for a
+// moving camera. Every length comes from the
 // particles' box and radius (checker size, wall margins, corner shading,
 // distance fade), so the studio scales with the scene. Built here once for
 // both backends (cpu::castScene, gl::SceneCaster).
@@ -47,10 +48,12 @@ Studio makeStudio(const Bounds& particleBox, float radius, const Camera& camera,
     // Each wall on the far side of the box from the eye, so it stands behind the fluid.
     const glm::vec3 c = box.center();
     const float wallGap = r + kWallGapRadii * r;
-    s.wallXNormal = camera.eye.x >= c.x ? 1.0f : -1.0f;
-    s.wallX = s.wallXNormal > 0.0f ? box.min.x - wallGap : box.max.x + wallGap;
-    s.wallZNormal = camera.eye.z >= c.z ? 1.0f : -1.0f;
-    s.wallZ = s.wallZNormal > 0.0f ? box.min.z - wallGap : box.max.z + wallGap;
+    const glm::vec3 eye = params.wallsSeenFrom.value_or(camera.eye);
+    s.walls = params.walls;
+    s.wallXNormal = !s.walls || eye.x >= c.x ? 1.0f : -1.0f;
+    s.wallX = !s.walls ? c.x : s.wallXNormal > 0.0f ? box.min.x - wallGap : box.max.x + wallGap;
+    s.wallZNormal = !s.walls || eye.z >= c.z ? 1.0f : -1.0f;
+    s.wallZ = !s.walls ? c.z : s.wallZNormal > 0.0f ? box.min.z - wallGap : box.max.z + wallGap;
     const glm::vec3 e = box.extent();
     const float horizontal = std::max(e.x, e.z) + 2.0f * wallGap;
     s.checkerM = niceChecker(horizontal);

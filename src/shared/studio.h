@@ -16,6 +16,10 @@ namespace meniscus::shared {
 // The studio's geometry and key light. All lengths in metres, world space.
 struct Studio {
     bool enabled = true;       // false: sky only, transparent background
+    // false: the floor alone (SceneParams::walls), no corner: wallX and wallZ
+    // are then the box's centre, the origin of the checker and of the radial
+    // far fade, with normals +1; wallTopY is unused.
+    bool walls = true;
     float floorY = 0.0f;       // floor plane y = floorY, facing +y
     float wallX = 0.0f;        // back wall plane x = wallX, facing the camera side
     float wallXNormal = 1.0f;  // +1 or -1: the side of the wall the camera is on
@@ -34,7 +38,9 @@ struct Studio {
 // just under the lowest sphere, walls ~1 radius outside the spheres on the far
 // side of the box from the eye, checker ~1/8 of the horizontal extent rounded
 // to 1, 2 or 5 x 10^k metres, lit from `lightDirWorld` (toward the light, need
-// not be unit). params.background == false: enabled = false.
+// not be unit). params.background == false: enabled = false. The walls' sides
+// are picked from params.wallsSeenFrom when set; params.walls == false: the
+// floor alone, centred under the box.
 Studio makeStudio(const Bounds& box, float radius, const Camera& camera, const SceneParams& params,
                   const glm::vec3& lightDirWorld);
 

@@ -1,20 +1,22 @@
 // How the studio's planes look (SPEC §3.1), written once for C++ and GLSL
 // (STYLE.md: src/shared/ is compiled by C++ and included by the GL shaders):
 // checker colours, the flat key + ambient lighting, the far fade into the sky,
-// the checker parity and the corner darkening. cpu::castScene (src/cpu/scene.cpp)
-// and shaders/scene.comp both use these; what is constant per image is
-// computed once on the host by shared::studioShading (studio.h). In GLSL every
-// intermediate is `precise`, matching the CPU's plain IEEE arithmetic.
+// the checker parity, the corner darkening and the floor-only studio's radius.
+// cpu::castScene (src/cpu/scene.cpp) and shaders/scene.comp both use these;
+// what is constant per image is computed once on the host by
+// shared::studioShading (studio.h). In GLSL every intermediate is `precise`, matching the CPU's plain IEEE arithmetic.
 #ifndef MENISCUS_SHARED_STUDIO_SHADE_H
 #define MENISCUS_SHARED_STUDIO_SHADE_H
 
 #ifdef __cplusplus
 #include <algorithm>
+#include <cmath>
 #include <glm/glm.hpp>
 namespace meniscus::shared {
 using vec3 = glm::vec3;
 using std::clamp;
 using std::max;
+using std::sqrt;
 #define MENISCUS_STUDIO_CONST inline constexpr
 #define MENISCUS_STUDIO_INLINE inline
 #define MENISCUS_STUDIO_EXACT const
@@ -53,6 +55,16 @@ MENISCUS_STUDIO_INLINE float studioCornerFall(float d, float scale) {
     MENISCUS_STUDIO_EXACT float u = max(0.0f, 1.0f - d / scale);
     MENISCUS_STUDIO_EXACT float uu = u * u;
     return uu;
+}
+
+// The floor-only studio's distance from the box's centre (a, b: the floor
+// point's x and z from it), where the far fade is measured: radial, so the
+// fade looks the same from every side as the camera turns.
+MENISCUS_STUDIO_INLINE float studioFloorRadius(float a, float b) {
+    MENISCUS_STUDIO_EXACT float aa = a * a;
+    MENISCUS_STUDIO_EXACT float bb = b * b;
+    MENISCUS_STUDIO_EXACT float r = sqrt(aa + bb);
+    return r;
 }
 
 #ifdef __cplusplus

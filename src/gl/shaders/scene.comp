@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Scene stage (SPEC §3.1) on the GPU: the GL twin of src/cpu/scene.cpp. The
 // default studio (checker floor, two back walls forming the inside corner of a
-// box around the particles) ray-cast per pixel into colour and eye depth, with
+// box around the particles, or the floor alone) ray-cast per pixel into colour and eye depth, with
 // the procedural sky (src/shared/sky.h) wherever no plane is hit. Rendering
 // the opaque scene first and splatting fluid against its depth is the
 // compositing order of van der Laan et al. 2009 (US 8,947,430) and Instant
@@ -29,6 +29,9 @@ layout(location = 2) uniform vec4 uChecker;  // 1/checkerM, corner darkening sca
 layout(location = 3) uniform vec3 uLit;      // flat lighting of floor, wall x, wall z
 layout(location = 4) uniform int uRows;      // rows per invocation
 layout(location = 5) uniform vec3 uSun;      // the sky's sun, unit world (studio.lightDirWorld)
+// 0: the floor alone (studio.walls false): uPlanes.yz is the box's centre, the
+// origin of the checker and of the radial fade; no walls, no corner darkening.
+layout(location = 6) uniform int uWalls;
 
 #define kInf uintBitsToFloat(0x7f800000u)
 
@@ -54,15 +57,16 @@ void main() {
         // everything on the camera's side of the walls).
         precise float tF = (floorY - eye.y) / Dy;
         precise float fxF = (eye.x + tF * Dx - wallX) * nX, fzF = (eye.z + tF * Dz - wallZ) * nZ;
-        const bool okF = Dy < 0.0 && tF >= nearM && fxF >= 0.0 && fzF >= 0.0;
+        const bool walls = uWalls != 0;
+        const bool okF = Dy < 0.0 && tF >= nearM && (!walls || (fxF >= 0.0 && fzF >= 0.0));
         precise float tX = (wallX - eye.x) / Dx;
         precise float yX = eye.y + tX * Dy;
         precise float sX = Dx * nX, fzX = (eye.z + tX * Dz - wallZ) * nZ;
-        const bool okX = sX < 0.0 && tX >= nearM && yX >= floorY && yX <= topY && fzX >= 0.0;
+        const bool okX = walls && sX < 0.0 && tX >= nearM && yX >= floorY && yX <= topY && fzX >= 0.0;
         precise float tZ = (wallZ - eye.z) / Dz;
         precise float yZ = eye.y + tZ * Dy;
         precise float sZ = Dz * nZ, fxZ = (eye.x + tZ * Dx - wallX) * nX;
-        const bool okZ = sZ < 0.0 && tZ >= nearM && yZ >= floorY && yZ <= topY && fxZ >= 0.0;
+        const bool okZ = walls && sZ < 0.0 && tZ >= nearM && yZ >= floorY && yZ <= topY && fxZ >= 0.0;
         // The nearest valid hit (in exact arithmetic at most one is valid).
         float t = okF ? tF : kInf;
         int plane = okF ? 0 : -1;
@@ -89,12 +93,13 @@ void main() {
         const vec3 base = odd ? (onFloor ? kStudioFloorDark : kStudioWallDark)
                               : (onFloor ? kStudioFloorLight : kStudioWallLight);
         const float lit = onFloor ? uLit.x : plane == 1 ? uLit.y : uLit.z;
-        precise float ao = 1.0 - 0.25 * (studioCornerFall(a, aoScale) + studioCornerFall(b, aoScale));
+        precise float ao = walls ? 1.0 - 0.25 * (studioCornerFall(a, aoScale) + studioCornerFall(b, aoScale)) : 1.0;
         precise float shade = lit * ao;
         precise vec3 c = base * shade;
         // The weight of the sky: -1 where no plane is hit; the far floor fades
         // into the sky (hides the checker's aliasing there).
-        precise float fade = plane >= 0 ? clamp((max(a, b) - fadeStart) * invFade, 0.0, 1.0) : -1.0;
+        const float reach = walls ? max(a, b) : studioFloorRadius(a, b);
+        precise float fade = plane >= 0 ? clamp((reach - fadeStart) * invFade, 0.0, 1.0) : -1.0;
         const vec3 sky = skyRadiance(Dx, Dy, Dz, uSun);
         precise vec3 blend = c * (1.0 - fade) + sky * fade;  // glm::mix's formula
         const vec3 rgb = fade == 0.0 ? c : fade < 0.0 ? sky : blend;

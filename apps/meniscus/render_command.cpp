@@ -1,0 +1,34 @@
+// `render`'s command line (render_command.h).
+#include "render_command.h"
+
+#include <CLI/CLI.hpp>
+
+#include "mesh.h"
+#include "render.h"
+
+namespace meniscus::app {
+
+CLI::App* addRenderCommand(CLI::App& parent, RenderOptions& render) {
+    auto* renderCmd = parent.add_subcommand("render", "Render a particle file or sequence to PNG or EXR");
+    renderCmd->add_option("input", render.input,
+                          "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo), or a render scene "
+                          "file (.json with \"particles\", README: Scene files) whose settings the command line's "
+                          "own options override")
+        ->required();
+    renderCmd->add_option("-o,--output", render.output,
+                          "Output .png (8-bit sRGB), .exr (float AOVs) or .mp4 (an H.264 movie of every frame, in "
+                          "order); images of a sequence need a pattern like out_%04d.png")
+        ->required();
+    addSequenceOptions(renderCmd, render);
+    addCameraOptions(renderCmd, render);
+    addBackendOption(renderCmd, render);
+    addSurfaceOptions(renderCmd, render);
+    addFluidInputOption(renderCmd, render);
+    renderCmd->add_option("--diffuse", render.diffuse,
+                          "Draw diffuse particles (spray, foam; `meniscus whitewater` writes them) over the liquid as "
+                          "drops with the --spray-size and --spray-streak look: a file, or a pattern like "
+                          "diffuse_%04d.bgeo filled with each input frame's number");
+    return renderCmd;
+}
+
+}  // namespace meniscus::app

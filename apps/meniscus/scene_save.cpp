@@ -1,0 +1,195 @@
+// The viewer's settings as a scene file and back (scene_save.h).
+#include "scene_save.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "meniscus/io.h"
+#include "render_command.h"
+#include "scene_file.h"
+
+namespace meniscus::app {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// CLI11 keeps no text for a flag's bool; these are addCameraOptions's flags.
+// (SceneSave.EveryOptionHasItsText fails when a new flag is missing here.)
+bool* flagOf(RenderOptions& o, const std::string& name) {
+    if (name == "--separable") return &o.separable;
+    if (name == "--noise") return &o.noise;
+    if (name == "--whiten") return &o.whiten;
+    if (name == "--spray") return &o.spray;
+    if (name == "--silhouette") return &o.silhouette;
+    return nullptr;
+}
+
+// Written from the camera, not from the options.
+bool cameraOption(const std::string& name) {
+    return name == "--eye" || name == "--target" || name == "--fov" || name == "--azimuth" ||
+           name == "--elevation" || name == "--distance" || name == "--width" || name == "--height";
+}
+
+// Text of each option of `o` (flags "true"/"false"; "?" for a flag flagOf does not know).
+std::vector<std::pair<std::string, std::string>> texts(RenderOptions& o) {
+    CLI::App app;
+    addCameraOptions(&app, o);
+    std::vector<std::pair<std::string, std::string>> out;
+    for (CLI::Option* opt : app.get_options()) {
+        const std::string name = opt->get_name();
+        if (name.rfind("--", 0) != 0 || name == "--help") continue;
+        if (opt->get_expected_max() == 0) {
+            const bool* flag = flagOf(o, name);
+            out.emplace_back(name, flag ? (*flag ? "true" : "false") : "?");
+            continue;
+        }
+        opt->capture_default_str();
+        out.emplace_back(name, opt->get_default_str());
+    }
+    return out;
+}
+
+// "3", "0.25" as a JSON number; anything else ("on", "0.2,0.5,0.9") as the string.
+json valueJson(const std::string& text) {
+    if (text == "true") return true;
+    char* end = nullptr;
+    const long long n = std::strtoll(text.c_str(), &end, 10);
+    if (!text.empty() && end == text.c_str() + text.size()) return n;  // an integer stays one (--iterations 2)
+    const double v = std::strtod(text.c_str(), &end);
+    if (!text.empty() && end == text.c_str() + text.size() && std::isfinite(v)) return v;
+    return text;
+}
+
+// `path` relative to `folder` when the two share more than the root (a
+// project moved as a whole keeps working), else absolute.
+std::string relativeTo(const std::string& path, const fs::path& folder) {
+    const fs::path a = fs::absolute(path).lexically_normal(), b = fs::absolute(folder).lexically_normal();
+    auto ia = a.begin(), ib = b.begin();
+    const bool shared = ia != a.end() && ib != b.end() && ++ia != a.end() && ++ib != b.end() && *ia == *ib;
+    const fs::path rel = a.lexically_relative(b);
+    return !shared || rel.empty() ? a.generic_string() : rel.generic_string();
+}
+
+json vec3Json(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> optionTexts(const RenderOptions& o) {
+    RenderOptions copy = o;
+    return texts(copy);
+}
+
+Result<RenderOptions> reparsed(const RenderOptions& o) {
+    RenderOptions out = o;
+    CLI::App app;
+    app.allow_extras(false);
+    addCameraOptions(&app, out);
+    // An option at its default text is left as it is (the default, e.g.
+    // --iterations -1, need not be a value the option accepts).
+    const auto defaults = optionTexts(RenderOptions{});
+    const auto mine = optionTexts(o);
+    std::vector<std::string> words;
+    for (std::size_t i = 0; i < mine.size(); ++i) {
+        const auto& [name, text] = mine[i];
+        if (bool* flag = flagOf(out, name)) {
+            *flag = false;  // given again below when on
+            if (text == "true") words.push_back(name);
+        } else if (i >= defaults.size() || text != defaults[i].second) {
+            words.push_back(name + "=" + text);
+        }
+    }
+    std::vector<std::string> reversed(words.rbegin(), words.rend());  // CLI11 takes them last first
+    try {
+        app.parse(reversed);
+    } catch (const CLI::ParseError& e) {
+        return makeError("", e.what());
+    }
+    return out;
+}
+
+std::vector<std::string> changedOptions(const RenderOptions& before, const RenderOptions& after) {
+    const auto a = optionTexts(before), b = optionTexts(after);
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+        if (a[i].second == b[i].second) continue;
+        if (b[i].second == "true") out.push_back(b[i].first);
+        else if (b[i].second == "false") out.push_back(b[i].first + "=false");
+        else out.push_back(b[i].first + " " + (b[i].second.empty() ? "''" : b[i].second));
+    }
+    return out;
+}
+
+Result<std::string> sceneFileText(const RenderOptions& o, const Camera& camera, const std::string& sceneFile) {
+    if (o.input.empty())
+        return makeError(sceneFile, "the demo frame has no file a scene could name; open a particle file first");
+    const fs::path folder = fs::path(sceneFile).parent_path().empty() ? fs::path(".") : fs::path(sceneFile).parent_path();
+    auto up = upRotation(o.up);
+    if (!up) return up.error();
+    UpRotation back = *up;  // the camera is in the renderer's frame; the file's eye and target in the data's
+    back.s = -back.s;
+    json scene;
+    scene["particles"] = relativeTo(o.input, folder);
+    if (!o.moreFluids.empty()) {
+        json fluids = json::array();
+        for (const std::string& f : o.moreFluids) fluids.push_back(relativeTo(f, folder));
+        scene["fluid"] = fluids;
+    }
+    scene["camera"] = {{"eye", vec3Json(back.apply(camera.eye))},
+                       {"target", vec3Json(back.apply(camera.target))},
+                       {"fov", camera.fovYDegrees}};
+    json render = {{"width", camera.width}, {"height", camera.height}};
+    const auto defaults = optionTexts(RenderOptions{});
+    const auto mine = optionTexts(o);
+    for (std::size_t i = 0; i < mine.size() && i < defaults.size(); ++i) {
+        const auto& [name, text] = mine[i];
+        if (cameraOption(name) || text == defaults[i].second) continue;
+        render[name.substr(2)] = valueJson(text);
+    }
+    scene["render"] = render;
+    return scene.dump(2) + "\n";
+}
+
+Status saveSceneFile(const std::string& path, const RenderOptions& o, const Camera& camera) {
+    auto text = sceneFileText(o, camera, path);
+    if (!text) return text.error();
+    auto pending = PendingFile::begin(path);
+    if (!pending) return pending.error();
+    {
+        std::ofstream out(pending->tmp(), std::ios::binary);
+        out << *text;
+        if (!out.flush()) return makeError(path, "cannot write the scene file");
+    }
+    return pending->commit();
+}
+
+Result<RenderOptions> loadSceneFile(const std::string& path) {
+    CLI::App parent;
+    RenderOptions o;
+    CLI::App* render = addRenderCommand(parent, o);
+    auto args = sceneFileArgs(path, *render);
+    if (!args) return args.error();
+    std::vector<std::string> words{"render"};
+    bool output = false;
+    for (const auto& group : args->groups) {
+        output = output || group.front() == "--output";
+        words.insert(words.end(), group.begin(), group.end());
+    }
+    if (!output) words.insert(words.end(), {"--output", "unused.png"});  // render requires one; the viewer has none
+    std::vector<std::string> reversed(words.rbegin(), words.rend());
+    try {
+        parent.parse(reversed);
+    } catch (const CLI::ParseError& e) {
+        return makeError(path, withSceneKey(e.what(), path, args->keyOfOption));
+    }
+    o.sceneFile = path;
+    o.sceneKeys = args->keyOfOption;
+    return o;
+}
+
+}  // namespace meniscus::app

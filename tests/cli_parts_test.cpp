@@ -1,0 +1,184 @@
+// The CLI's own parts that the viewer is built on, without a window: its look
+// held as `render`'s options (reparsed, the changes printed, saved as a scene
+// file and read back) and its frame reader on a worker thread.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "frame_prefetch.h"
+#include "scene_save.h"
+#include "test_util.h"
+
+using namespace meniscus;
+using namespace meniscus::app;
+using namespace meniscus::test;
+
+// Every option of addCameraOptions has a text (a new flag must be added to scene_save.cpp's flagOf).
+TEST(SceneSave, EveryOptionHasItsText) {
+    const auto texts = optionTexts(RenderOptions{});
+    ASSERT_GT(texts.size(), 40u);
+    std::set<std::string> names;
+    for (const auto& [name, text] : texts) {
+        EXPECT_NE(text, "?") << name << ": a flag scene_save.cpp does not know";
+        names.insert(name);
+    }
+    for (const char* name : {"--filter", "--iterations", "--material", "--opacity", "--noise", "--anisotropy", "--light"})
+        EXPECT_TRUE(names.count(name)) << name;
+}
+
+// The panels' values go through the command line's parser: what it accepts is
+// kept (as the text reads), what it refuses is an error naming the option.
+TEST(SceneSave, ReparsedIsWhatTheCommandLineReads) {
+    RenderOptions o;
+    o.iterations = 3;
+    o.noise = true;
+    o.opacity = 0.123456789f;
+    o.fluidColor = "0.1,0.2,0.3";
+    o.anisotropy = "off";
+    o.filter = "bilateral";
+    auto r = reparsed(o);
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_EQ(r->iterations, 3);
+    EXPECT_TRUE(r->noise);
+    EXPECT_FALSE(r->whiten);
+    EXPECT_EQ(r->opacity, 0.123457f);  // the text's six digits, as `render --opacity 0.123457` gets
+    EXPECT_EQ(r->fluidColor, "0.1,0.2,0.3");
+    EXPECT_EQ(r->anisotropy, "off");
+    EXPECT_EQ(r->filter, "bilateral");
+    EXPECT_TRUE(std::isnan(r->ior));  // not given: still the preset's
+
+    RenderOptions bad;
+    bad.opacity = 2.0f;
+    auto refused = reparsed(bad);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("--opacity"), std::string::npos) << refused.error().message;
+}
+
+TEST(SceneSave, ChangedOptionsAreCommandLineWords) {
+    RenderOptions a, b;
+    b.iterations = 3;
+    b.noise = true;
+    b.material = "milk";
+    const auto changed = changedOptions(a, b);
+    EXPECT_EQ(changed, (std::vector<std::string>{"--iterations 3", "--material milk", "--noise"}));
+    EXPECT_EQ(changedOptions(b, a), (std::vector<std::string>{"--iterations -1", "--material water", "--noise=false"}));
+    EXPECT_TRUE(changedOptions(a, a).empty());
+}
+
+// Saved and read back: the same options, the camera's eye and target (in the
+// data's frame, here z-up), the particles relative to the file.
+TEST(SceneSave, ASavedSceneReadsBackAsTheSameOptions) {
+    const auto dir = tempDir();
+    std::filesystem::create_directories(dir / "data");
+    std::filesystem::copy_file(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"), dir / "data" / "f.bgeo");
+    const std::string frame = (dir / "data" / "f.bgeo").string();
+    RenderOptions o;
+    o.input = frame;
+    o.up = "0,0,1";
+    o.iterations = 2;
+    o.spray = true;
+    o.material = "milk";
+    o.opacity = 0.25f;
+    Camera cam;
+    cam.eye = {1.0f, 2.0f, 3.0f};
+    cam.target = {0.5f, 0.25f, -0.5f};
+    cam.fovYDegrees = 35.0f;
+    cam.width = 320;
+    cam.height = 200;
+    const std::string path = (dir / "sub" / "scene.json").string();
+    std::filesystem::create_directories(dir / "sub");
+    ASSERT_TRUE(saveSceneFile(path, o, cam));
+    std::ifstream in(path);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_EQ(j["particles"], "../data/f.bgeo") << "relative to the scene file";
+    EXPECT_EQ(j["render"]["iterations"], 2);
+    EXPECT_EQ(j["render"]["spray"], true);
+    EXPECT_FALSE(j["render"].contains("filter")) << "defaults are left out: " << j.dump();
+
+    auto back = loadSceneFile(path);
+    ASSERT_TRUE(back) << back.error().describe();
+    EXPECT_EQ(std::filesystem::weakly_canonical(back->input), std::filesystem::weakly_canonical(frame));
+    EXPECT_EQ(back->iterations, 2);
+    EXPECT_TRUE(back->spray);
+    EXPECT_EQ(back->material, "milk");
+    EXPECT_EQ(back->opacity, 0.25f);
+    EXPECT_EQ(back->width, 320);
+    EXPECT_EQ(back->height, 200);
+    EXPECT_EQ(back->fov, 35.0f);
+    // z-up data: the renderer's (x, y, z) is the data's (x, -z, y).
+    float e[3], t[3];
+    ASSERT_EQ(std::sscanf(back->eye.c_str(), "%f,%f,%f", &e[0], &e[1], &e[2]), 3) << back->eye;
+    ASSERT_EQ(std::sscanf(back->target.c_str(), "%f,%f,%f", &t[0], &t[1], &t[2]), 3) << back->target;
+    EXPECT_NEAR(e[0], 1.0f, 1e-5f);
+    EXPECT_NEAR(e[1], -3.0f, 1e-5f);
+    EXPECT_NEAR(e[2], 2.0f, 1e-5f);
+    EXPECT_NEAR(t[1], 0.5f, 1e-5f);
+    EXPECT_NEAR(t[2], 0.25f, 1e-5f);
+    auto up = upRotation(back->up);
+    ASSERT_TRUE(up);
+    const glm::vec3 eyeBack = up->apply(glm::vec3(e[0], e[1], e[2]));
+    EXPECT_NEAR(glm::distance(eyeBack, cam.eye), 0.0f, 1e-5f);
+
+    // Sharing no more than the root with the scene file's folder: absolute.
+    o.input = "/nonexistent_top/f.bgeo";
+    ASSERT_TRUE(saveSceneFile(path, o, cam));
+    std::ifstream again(path);
+    EXPECT_EQ(nlohmann::json::parse(again)["particles"], "/nonexistent_top/f.bgeo");
+
+    EXPECT_FALSE(saveSceneFile((dir / "demo.json").string(), RenderOptions{}, cam)) << "the demo frame has no file";
+    EXPECT_FALSE(std::filesystem::exists(dir / "demo.json"));
+}
+
+TEST(SceneSave, ABadSceneFileIsAnErrorNamingTheKey) {
+    const auto dir = tempDir();
+    writeText(dir / "bad.json", R"({"particles": "x.bgeo", "render": {"iterations": -4}})");
+    auto r = loadSceneFile((dir / "bad.json").string());
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().describe().find("render.iterations"), std::string::npos) << r.error().describe();
+}
+
+// The reader gives each frame as Frames::load does, reads ahead of the one
+// wanted, and forgets frames behind it.
+TEST(FramePrefetch, ReadsAheadTheFramesLoadGives) {
+    auto frames = openFrames((testData("splishsplash/partio") / "ParticleData_Fluid_*.bgeo").string(), nullptr);
+    ASSERT_TRUE(frames);
+    ASSERT_EQ(frames->count(), 4u);
+    std::vector<ParticleSet> direct;
+    for (std::size_t i = 0; i < 4; ++i) direct.push_back(*frames->load(i));
+    std::atomic<int> ready{0};
+    FramePrefetch prefetch(*frames, [&] { ++ready; }, 2);
+    const FramePrefetch::Loaded f2 = prefetch.wait(2);
+    ASSERT_TRUE(f2.set) << f2.error;
+    EXPECT_EQ(f2.set->positions, direct[2].positions);
+    // Frames 3 and 0 (wrapping) come next without being asked for.
+    for (std::size_t i : {std::size_t(3), std::size_t(0)}) {
+        for (int t = 0; t < 2000 && !prefetch.get(i); ++t) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        auto f = prefetch.get(i);
+        ASSERT_TRUE(f) << "frame " << i << " was not read ahead";
+        EXPECT_EQ(f->set->positions, direct[i].positions);
+    }
+    EXPECT_FALSE(prefetch.get(1)) << "frame 1 is behind the window";
+    EXPECT_GE(ready.load(), 3);
+    EXPECT_EQ(prefetch.wait(1).set->positions, direct[1].positions);
+}
+
+TEST(FramePrefetch, AFrameThatCannotBeReadIsAnErrorNotACrash) {
+    const auto dir = tempDir();
+    std::filesystem::copy_file(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"), dir / "f_0001.bgeo");
+    writeText(dir / "f_0002.bgeo", "not a bgeo file");
+    auto frames = openFrames((dir / "f_*.bgeo").string(), nullptr);
+    ASSERT_TRUE(frames);
+    FramePrefetch prefetch(*frames, nullptr);
+    EXPECT_TRUE(prefetch.wait(0).set);
+    const FramePrefetch::Loaded bad = prefetch.wait(1);
+    EXPECT_FALSE(bad.set);
+    EXPECT_NE(bad.error.find("f_0002.bgeo"), std::string::npos) << bad.error;
+}
