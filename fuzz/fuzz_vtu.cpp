@@ -1,4 +1,4 @@
-// libFuzzer target: VTK XML UnstructuredGrid (src/io/vtu.cpp): ascii, base64, appended, zlib.
+// libFuzzer target: VTK XML UnstructuredGrid (src/io/vtu.cpp): ascii, base64, appended; zlib, LZ4, LZMA.
 #include "fuzz_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

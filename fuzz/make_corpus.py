@@ -12,7 +12,10 @@ libFuzzer starts from every layout the readers know, with real values:
                  ascii and binary.
   vtu, vtp       VTK 9 (python3-vtk9) writing the first N particles in each layout
                  of tests/data/vtu (scripts/make_vtu_fixtures.py does the same for
-                 the full frame).
+                 the full frame), and with VTK's LZ4 and LZMA compressors
+                 (tests/data/vtk_compressed).
+  pvd            ParaView collections (.pvd): hand-made, in the forms ParaView and
+                 simulation codes write (parts, groups, no timesteps, out of order).
   ply            the same N particles: VTK's PLY writer (vertex + face elements),
                  and x y z vx vy vz density id in ascii and both binary byte orders.
   csv, xyz       the same N particles as text: plain, ParaView-style, ';' and tab.
@@ -145,7 +148,14 @@ def vtk_writers(fx):
                                                            id32=False)),
                      ("bigendian_binary.vtu", dict(mode="binary", big_endian=True)),
                      ("bigendian_appended_raw_zlib.vtu", dict(mode="appended", compress=True,
-                                                              big_endian=True))):
+                                                              big_endian=True)),
+                     ("appended_raw_lz4_blocks.vtu", dict(mode="appended", compress=True, block_size=64,
+                                                          compressor="lz4")),
+                     ("binary_lz4.vtu", dict(mode="binary", compress=True, compressor="lz4")),
+                     ("appended_raw_lzma_blocks.vtu", dict(mode="appended", compress=True, block_size=64,
+                                                           compressor="lzma")),
+                     ("uint64_binary_lzma.vtu", dict(mode="binary", compress=True, header64=True,
+                                                     compressor="lzma"))):
         fx.write(ug, grid, "fluid21_first16_" + name, **kw)
     poly = fx.as_polydata(grid)
     fx.OUT = os.path.join(OUT, "vtp")
@@ -248,7 +258,24 @@ def mesh_seeds():
     put("mesh_ply", "tetra_faces_first_big_endian.ply", head + body)
 
 
+def pvd_seeds():
+    head = '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n<Collection>\n'
+    tail = '</Collection>\n</VTKFile>\n'
+    def pvd(rows):
+        return (head + "".join("  <DataSet %s/>\n" % r for r in rows) + tail).encode()
+    put("pvd", "paraview_series.pvd", pvd(['timestep="%g" group="" part="0" file="f_%04d.vtu"' % (0.05 * i, i)
+                                          for i in range(4)]))
+    put("pvd", "out_of_order.pvd", pvd(['timestep="0.2" part="0" file="b/f_2.vtu"',
+                                        'timestep="0" part="0" file="b/f_0.vtu"',
+                                        'timestep="0.1" part="0" file="b/f_1.vtu"']))
+    put("pvd", "parts.pvd", pvd(['timestep="%d" part="%d" file="p%d_%d.vtp"' % (t, p, p, t)
+                                 for t in range(2) for p in (1, 0)]))
+    put("pvd", "no_timesteps.pvd", pvd(['file="a.vtu"', 'file="/abs/b.vtu"']))
+    put("pvd", "exponent_times.pvd", pvd(['timestep="1e-3" file="x_1.vtu"', 'timestep=" 2.5E-3 " file="x_2.vtu"']))
+
+
 def main():
+    pvd_seeds()
     mesh_seeds()
     cut_bgeo()
     cut_vtk()

@@ -10,7 +10,9 @@
 # its sanitizer and libFuzzer run-times (libclang-rt-14-dev, which clang-14
 # only recommends). Movies (-o out.mp4) are encoded through FFmpeg's libraries
 # (libavcodec-dev, libavformat-dev, libswscale-dev; Debian's libavcodec brings
-# the libx264 H.264 encoder).
+# the libx264 H.264 encoder). VTK XML files (.vtu/.vtp) compressed with VTK's
+# LZ4 or LZMA compressor are read through liblz4 and liblzma (liblz4-dev,
+# liblzma-dev; zlib-compressed ones through zlib).
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 SUDO=""
@@ -19,7 +21,7 @@ $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends \
   ca-certificates cmake make g++ pkg-config \
   libglm-dev zlib1g-dev libpng-dev libopenexr-dev libtbb-dev \
-  nlohmann-json3-dev libcli11-dev libtinyxml2-dev \
+  nlohmann-json3-dev libcli11-dev libtinyxml2-dev liblz4-dev liblzma-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
   libepoxy-dev libegl-dev libgl1-mesa-dri libegl-mesa0 glslang-tools \
   libglfw3-dev libglx-mesa0 xvfb xauth libimgui-dev \

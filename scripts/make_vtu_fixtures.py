@@ -79,7 +79,8 @@ def as_polydata(grid):
 
 
 def write(writer_cls, data, name, mode, encode=False, compress=False, header64=False,
-          big_endian=False, block_size=None, id32=True):
+          big_endian=False, block_size=None, id32=True, compressor="zlib"):
+    """compress: with `compressor`, "zlib", "lz4" or "lzma" (VTK's three)."""
     w = writer_cls()
     w.SetInputData(data)
     w.SetFileName(os.path.join(OUT, name))
@@ -87,7 +88,8 @@ def write(writer_cls, data, name, mode, encode=False, compress=False, header64=F
      "appended": w.SetDataModeToAppended}[mode]()
     w.SetEncodeAppendedData(1 if encode else 0)
     if compress:
-        w.SetCompressorTypeToZLib()
+        {"zlib": w.SetCompressorTypeToZLib, "lz4": w.SetCompressorTypeToLZ4,
+         "lzma": w.SetCompressorTypeToLZMA}[compressor]()
     else:
         w.SetCompressorTypeToNone()
     if block_size:

@@ -137,6 +137,47 @@ TEST(CliSimulate, RenderWritesAnImagePerFrameFromOneCamera) {
     EXPECT_FALSE(fs::exists(dir / "img/i_0001.png")) << "frames before the resume point are not rendered again";
 }
 
+// `render` takes a simulation scene as its input, directly or as a render
+// scene file's "particles" (issue 18, item 4): it simulates the scene and
+// writes the same images `simulate --render` does, frame for frame (the same
+// camera on the tank, the same radius); a movie has a frame per simulated
+// frame at the scene's fps.
+TEST(CliSimulate, RenderTakesASimulationSceneAsItsParticles) {
+    const fs::path dir = tempDir();
+    const fs::path scene = writeSmallScene(dir);
+    std::string out;
+    const std::string size = " --width 64 --height 48 --backend cpu";
+    ASSERT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "f/f_%04d.bgeo") + " --render " +
+                         shellQuote(dir / "sim/i_%04d.png") + size,
+                     &out),
+              0)
+        << out;
+    fs::create_directories(dir / "ren");
+    fs::create_directories(dir / "look");
+    ASSERT_EQ(runCli("render " + shellQuote(scene) + " -o " + shellQuote(dir / "ren/i_%02d.png") + size, &out), 0)
+        << out;
+    EXPECT_NE(out.find("simulating"), std::string::npos) << out;
+    for (int k = 0; k <= 5; ++k) {
+        char a[32], b[32];
+        std::snprintf(a, sizeof a, "sim/i_%04d.png", k);
+        std::snprintf(b, sizeof b, "ren/i_%02d.png", k);
+        const PngData x = readPng(dir / a), y = readPng(dir / b);
+        ASSERT_FALSE(x.bytes.empty()) << a;
+        EXPECT_EQ(x.bytes, y.bytes) << b << " differs from " << a;
+    }
+    EXPECT_FALSE(fs::exists(dir / "ren/i_06.png"));
+
+    // The same through a render scene file naming the simulation as its particles.
+    writeText(dir / "look.json", R"({"particles": "small.json", "render": {"width": 64, "height": 48,
+                                     "backend": "cpu"}, "output": "look/l_%02d.png"})");
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "look.json"), &out), 0) << out;
+    EXPECT_EQ(readPng(dir / "look/l_05.png").bytes, readPng(dir / "sim/i_0005.png").bytes);
+    // Not a simulation: the scene reader's error, naming the file.
+    writeText(dir / "bad.json", R"({"domain": {"min": [0, 0, 0]}})");
+    EXPECT_NE(runCli("render " + shellQuote(dir / "bad.json") + " -o " + shellQuote(dir / "x.png"), &out), 0);
+    EXPECT_NE(out.find("bad.json"), std::string::npos) << out;
+}
+
 // A bad --render pattern is an error before anything is simulated or written.
 TEST(CliSimulate, BadRenderPatternsFailBeforeSimulating) {
     const fs::path dir = tempDir();

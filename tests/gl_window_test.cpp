@@ -412,6 +412,17 @@ TEST_F(GlWindow, PanelsTuneTheLookAsRenderDoes) {
         << out;
     run(seq + size + " --frames 2 --input-script 'click:>' --screenshot next.png");
     EXPECT_LE(comparePng(dir / "next.png", dir / "seq_0009.png").worst, 1);
+    // Play: the frames advance by themselves (which one is on screen at the end depends on the clock).
+    run(seq + size + " --frames 12 --input-script 'click:play' --screenshot played.png");
+    int closest = -1, best = 256;
+    for (int k : {1, 9, 21, 61}) {
+        char name[32];
+        std::snprintf(name, sizeof name, "seq_%04d.png", k);
+        const int worst = comparePng(dir / "played.png", dir / name).worst;
+        if (worst < best) best = worst, closest = k;
+    }
+    EXPECT_LE(best, 1) << "the picture is one of the sequence's frames";
+    EXPECT_NE(closest, 1) << "playing left the first frame";
     run(frame + size + " --frames 2 --input-script 'drop:" +
         testData("splishsplash/partio/ParticleData_Fluid_61.bgeo").string() + "' --screenshot dropped.png");
     EXPECT_LE(comparePng(dir / "dropped.png", render(testData("splishsplash/partio/ParticleData_Fluid_61.bgeo").string() +

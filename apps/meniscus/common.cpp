@@ -605,6 +605,7 @@ Result<ParticleSet> Frames::loadChecked(std::size_t i, std::string* smoothingLen
 }
 
 std::string Frames::name(std::size_t i) const {
+    if (!simulation.empty()) return simulation + " (frame " + std::to_string(i) + ")";
     return embedded ? std::string("the demo frame") : files[source(i)].string();
 }
 

@@ -169,8 +169,12 @@ struct Frames {
     // Turns each frame so its up axis (--up) is +y.
     UpRotation up;
 
-    // A single input rendered as this many frames (--frames); 0: the input's own.
+    // A single input rendered as this many frames (--frames), or the frames of
+    // a simulation; 0: the input's own.
     std::size_t repeat = 0;
+    // A simulation scene rendered as it runs (render with a simulation scene
+    // as input): its file, which names the frames in messages; no files.
+    std::string simulation;
     std::size_t count() const { return repeat ? repeat : embedded ? 1 : files.size(); }
     // The input file (or embedded frame) of output frame i.
     std::size_t source(std::size_t i) const { return repeat ? 0 : i; }

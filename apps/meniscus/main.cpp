@@ -249,6 +249,7 @@ int main(int argc, char** argv) {
         "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo), or a render scene file (.json, "
         "README: Scene files); default: the demo frame");
     addCameraOptions(viewCmd, view.render);
+    addSurfaceOptions(viewCmd, view.render);
     addFluidInputOption(viewCmd, view.render);
     viewCmd->add_option("--simulate", view.simulate.scene,
                         "Instead of an input, simulate this scene file (.json, docs/scenes.md) live on a worker "

@@ -27,7 +27,9 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <cmath>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -46,6 +48,7 @@
 #include "meniscus/surface.h"
 #include "progress.h"
 #include "scene_file.h"
+#include "simulate.h"
 #ifdef MENISCUS_HAVE_FFMPEG
 #include "meniscus/video.h"
 #endif
@@ -171,7 +174,7 @@ Status renderFrame(const RenderOptions& o, const Frames& frames, std::size_t i, 
         std::string path = o.diffuse;
         if (o.diffuse.find('%') != std::string::npos) {
             const long number =
-                frames.embedded ? 0 : frameNumberFromName(frames.files[frames.source(i)].filename().string());
+                frames.files.empty() ? -1 : frameNumberFromName(frames.files[frames.source(i)].filename().string());
             auto name = formatFramePattern(o.diffuse, number < 0 ? long(i) : number);
             if (!name) return name.error();
             path = *name;
@@ -188,6 +191,122 @@ Status renderFrame(const RenderOptions& o, const Frames& frames, std::size_t i, 
     settings.diffuse = {};
     if (!aovs) return Error{aovs.error().file.empty() ? frames.name(i) : aovs.error().file, aovs.error().message};
     return outputs.write(i, *aovs, !settings.scene.background);
+}
+
+// Frames 0 .. frames.count() - 1, their particles from `next` (called once
+// per frame, in order), rendered through `motion` from the camera in
+// `settings` to o.output. Returns the exit code.
+int renderFrames(const RenderOptions& o, const Frames& frames, const CameraMotion& motion, RenderSettings& settings,
+                 const std::function<Result<ParticleSet>(std::size_t)>& next) {
+    const std::size_t count = frames.count();
+    const Camera start = settings.camera;
+    if (motion.moves() && o.background == "auto") {
+        settings.scene.walls = false;
+        std::cerr << "meniscus: the camera moves: the floor alone as background (--background studio keeps the "
+                     "walls, fixed where the first frame sees them)\n";
+    } else if (motion.moves() && o.background == "studio") {
+        settings.scene.wallsSeenFrom = cameraForFrame(start, motion, 0).eye;
+    }
+    auto made = makeRenderer(o);
+    if (!made) return fail(made.error().describe());
+    Renderer renderer = std::move(*made);
+    auto outputs = Outputs::open(o, settings, frames);
+    if (!outputs) return fail(outputs.error().describe());
+
+    std::vector<std::pair<std::size_t, std::string>> failed;  // frame, error
+    std::size_t written = 0, resumed = 0;
+    ProgressBar progress(count, "rendering");
+    for (std::size_t i = 0; i < count; ++i) {
+        auto name = outputs->name(i);
+        if (!name) return fail(name.error().describe());
+        if (o.resume && outputComplete(*name)) {
+            ++resumed;
+            progress.step(i + 1, *name + " (complete, kept)");
+            continue;
+        }
+        settings.camera = cameraForFrame(start, motion, i);
+        const Status st = renderFrame(o, frames, i, next(i), renderer, settings, *outputs);
+        if (!st) {
+            if (o.onError != "skip") return fail(st.error().describe());
+            failed.emplace_back(i, st.error().describe());
+            std::cerr << "meniscus: frame " << i + 1 << "/" << count << " skipped: " << st.error().describe() << "\n";
+        } else {
+            ++written;
+            progress.step(i + 1, *name);
+        }
+        if (gInterrupted) {
+            std::cerr << "\nmeniscus: interrupted after frame " << i + 1 << " of " << count
+                      << (outputs->movie() ? "; no movie written" : "; the frames written are complete (--resume goes on)")
+                      << "\n";
+            return 130;
+        }
+    }
+    if (auto st = outputs->finish(); !st) return fail(st.error().describe());
+
+    if (outputs->movie()) {
+        std::cerr << "meniscus: wrote " << o.output << " (" << outputs->movieFrames() << " frames, H.264, " << o.fps
+                  << " fps)\n";
+    } else if (count == 1 && written == 1) {
+        // A symlinked output is written through the link (the link stays).
+        const std::string out = *outputs->name(0);
+        std::error_code ec;
+        const bool link = std::filesystem::is_symlink(std::filesystem::symlink_status(out, ec));
+        std::cerr << "meniscus: wrote " << out
+                  << (link ? " (through the link, to " + std::filesystem::weakly_canonical(out, ec).string() + ")"
+                           : std::string())
+                  << "\n";
+    } else if (count > 1 || resumed > 0) {
+        std::cerr << "meniscus: wrote " << written << " frames to " << o.output
+                  << (resumed ? " (" + std::to_string(resumed) + " already complete, kept)" : std::string()) << "\n";
+    }
+    if (!failed.empty()) {
+        std::cerr << "meniscus: error: " << failed.size() << " of " << count << " frames failed:\n";
+        for (const auto& [i, why] : failed) std::cerr << "  frame " << i + 1 << ": " << why << "\n";
+        return 1;
+    }
+    return 0;
+}
+
+// A simulation scene as the input (a render scene file's "particles" may
+// name one): simulated here, each frame rendered as it is reached (every
+// 1/fps simulated seconds, the scene's fps), framed once on the scene's
+// domain as `simulate --render` frames its images; the particle radius is
+// the simulation's (--radius sets it).
+int renderSimulation(const RenderOptions& o, RenderSettings& settings) {
+    if (auto up = upRotation(o.up); !up || !up->identity)
+        return fail("--up " + o.up + ": a simulation's up is +y (gravity along -y); --up turns files");
+    if (o.frames > 0) return fail("--frames: " + o.input + " is a simulation, whose frames are its own");
+    SimulateOptions so;
+    so.scene = o.input;
+    so.radius = o.radius;
+    auto scene = sceneFromOptions(so);
+    if (!scene) return fail(scene.error().describe());
+    auto made = sim::Simulator::create(*scene);
+    if (!made) return fail(made.error().describe());
+    sim::Simulator& simulator = **made;
+    Frames frames;
+    frames.simulation = o.input;
+    frames.repeat = std::size_t(std::floor(scene->duration * scene->fps + 1e-9)) + 1;
+    frames.renumber = true;
+    // The movie and a moving camera keep the simulation's time: --fps is the scene's unless given otherwise.
+    RenderOptions timed = o;
+    if (o.fps == defaults::kVideoFps) timed.fps = scene->fps;
+    if (o.orbit != 0.0 && o.turntable) return fail("--orbit and --turntable: give one or the other");
+    auto path = cameraPathFromOptions(o);
+    if (!path) return fail(withSceneKey(path.error().describe(), o.sceneFile, o.sceneKeys));
+    const CameraMotion motion{std::move(*path), o.orbit, o.turntable, frames.count(), timed.fps};
+    if (!isMp4(o.output))
+        if (auto st = frames.checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error().describe());
+    if (auto st = fixForBox(o, domainBounds(*scene), scene->params.radius, settings); !st)
+        return fail(withSceneKey(st.error().describe(), o.sceneFile, o.sceneKeys));
+    settings.colorOnly = !isExr(o.output);
+    std::cerr << "meniscus: simulating " << o.input << ": " << simulator.size() << " particles, r = "
+              << scene->params.radius << " m, " << sim::solverName(scene->params.solver) << ", " << scene->duration
+              << " s, a frame every " << 1.0 / scene->fps << " s\n";
+    return renderFrames(timed, frames, motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
+        if (auto st = simulator.advanceTo(double(i) / scene->fps); !st) return Error{o.input, st.error().message};
+        return simulator.particles();
+    });
 }
 
 }  // namespace
@@ -240,6 +359,7 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     auto parsed = settingsFromOptions(o);
     if (!parsed) return fail(withSceneKey(parsed.error().describe(), o.sceneFile, o.sceneKeys));
     RenderSettings settings = std::move(*parsed);
+    if (isJsonFile(o.input)) return renderSimulation(o, settings);
 
     auto frames = openFrames(o.input, embedded, o.hPerSpacing);
     if (!frames) return fail(frames.error().describe());
@@ -271,14 +391,6 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     std::size_t firstIndex = 0;
     auto first = fixForSequence(o, *frames, settings, &firstIndex);
     if (!first) return fail(withSceneKey(first.error().describe(), o.sceneFile, o.sceneKeys));
-    const Camera start = settings.camera;
-    if (motion.moves() && o.background == "auto") {
-        settings.scene.walls = false;
-        std::cerr << "meniscus: the camera moves: the floor alone as background (--background studio keeps the "
-                     "walls, fixed where the first frame sees them)\n";
-    } else if (motion.moves() && o.background == "studio") {
-        settings.scene.wallsSeenFrom = cameraForFrame(start, motion, 0).eye;
-    }
     // A repeated file is read once.
     std::optional<ParticleSet> still;
     if (frames->repeat) still = *first;
@@ -287,69 +399,11 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
         std::cerr << "meniscus: warning: " << frames->name(firstIndex)
                   << " has no velocity attribute: --whiten leaves the colour as it is\n";
 
-    auto made = makeRenderer(o);
-    if (!made) return fail(made.error().describe());
-    Renderer renderer = std::move(*made);
-    auto outputs = Outputs::open(o, settings, *frames);
-    if (!outputs) return fail(outputs.error().describe());
-
-    std::vector<std::pair<std::size_t, std::string>> failed;  // frame, error
-    std::size_t written = 0, resumed = 0;
-    ProgressBar progress(count, "rendering");
-    for (std::size_t i = 0; i < count; ++i) {
-        auto name = outputs->name(i);
-        if (!name) return fail(name.error().describe());
-        if (o.resume && outputComplete(*name)) {
-            ++resumed;
-            progress.step(i + 1, *name + " (complete, kept)");
-            continue;
-        }
+    return renderFrames(o, *frames, motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
         // (Frames before firstIndex did not load when fixForSequence tried them.)
-        settings.camera = cameraForFrame(start, motion, i);
-        const Status st = renderFrame(o, *frames, i,
-                                      i == firstIndex ? std::move(first)
-                                      : still         ? Result<ParticleSet>(*still)
-                                                      : frames->loadChecked(i),
-                                      renderer, settings, *outputs);
-        if (!st) {
-            if (o.onError != "skip") return fail(st.error().describe());
-            failed.emplace_back(i, st.error().describe());
-            std::cerr << "meniscus: frame " << i + 1 << "/" << count << " skipped: " << st.error().describe() << "\n";
-        } else {
-            ++written;
-            progress.step(i + 1, *name);
-        }
-        if (gInterrupted) {
-            std::cerr << "\nmeniscus: interrupted after frame " << i + 1 << " of " << count
-                      << (outputs->movie() ? "; no movie written" : "; the frames written are complete (--resume goes on)")
-                      << "\n";
-            return 130;
-        }
-    }
-    if (auto st = outputs->finish(); !st) return fail(st.error().describe());
-
-    if (outputs->movie()) {
-        std::cerr << "meniscus: wrote " << o.output << " (" << outputs->movieFrames() << " frames, H.264, " << o.fps
-                  << " fps)\n";
-    } else if (count == 1 && written == 1) {
-        // A symlinked output is written through the link (the link stays).
-        const std::string out = *outputs->name(0);
-        std::error_code ec;
-        const bool link = std::filesystem::is_symlink(std::filesystem::symlink_status(out, ec));
-        std::cerr << "meniscus: wrote " << out
-                  << (link ? " (through the link, to " + std::filesystem::weakly_canonical(out, ec).string() + ")"
-                           : std::string())
-                  << "\n";
-    } else if (count > 1 || resumed > 0) {
-        std::cerr << "meniscus: wrote " << written << " frames to " << o.output
-                  << (resumed ? " (" + std::to_string(resumed) + " already complete, kept)" : std::string()) << "\n";
-    }
-    if (!failed.empty()) {
-        std::cerr << "meniscus: error: " << failed.size() << " of " << count << " frames failed:\n";
-        for (const auto& [i, why] : failed) std::cerr << "  frame " << i + 1 << ": " << why << "\n";
-        return 1;
-    }
-    return 0;
+        if (i == firstIndex) return std::move(*first);
+        return still ? Result<ParticleSet>(*still) : frames->loadChecked(i);
+    });
 }
 
 }  // namespace meniscus::app

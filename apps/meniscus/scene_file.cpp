@@ -190,9 +190,16 @@ Result<SceneArgs> sceneFileArgs(const std::string& path, CLI::App& render) {
     if (!root) return root.error();
     if (!root->is_object()) return makeError(path, "a scene file is a JSON object ({\"particles\": ..., ...})");
     Converter c(path, render);
+    // A simulation scene (docs/scenes.md: a domain and fluid or emitters) is
+    // the particles themselves: render simulates it.
+    if (!root->contains("particles") && root->contains("domain")) {
+        SceneArgs simulation;
+        simulation.groups.push_back({path});
+        return simulation;
+    }
     if (!root->contains("particles"))
-        return makeError(path, "a render scene file needs \"particles\" (a simulation scene, docs/scenes.md, is run "
-                               "by `meniscus simulate SCENE -o OUT --render IMAGES`)");
+        return makeError(path, "a render scene file needs \"particles\": a particle file, folder or pattern, or a "
+                               "simulation scene (docs/scenes.md)");
     const json& particles = (*root)["particles"];
     if (!particles.is_string() || particles.get<std::string>().empty())
         return c.fail("particles", "expected the particle file, folder or pattern (a string)");

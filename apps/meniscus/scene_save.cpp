@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "meniscus/io.h"
+#include "mesh.h"
 #include "render_command.h"
 #include "scene_file.h"
 
@@ -40,6 +41,7 @@ bool cameraOption(const std::string& name) {
 std::vector<std::pair<std::string, std::string>> texts(RenderOptions& o) {
     CLI::App app;
     addCameraOptions(&app, o);
+    addSurfaceOptions(&app, o);
     std::vector<std::pair<std::string, std::string>> out;
     for (CLI::Option* opt : app.get_options()) {
         const std::string name = opt->get_name();
@@ -90,6 +92,7 @@ Result<RenderOptions> reparsed(const RenderOptions& o) {
     CLI::App app;
     app.allow_extras(false);
     addCameraOptions(&app, out);
+    addSurfaceOptions(&app, out);
     // An option at its default text is left as it is (the default, e.g.
     // --iterations -1, need not be a value the option accepts).
     const auto defaults = optionTexts(RenderOptions{});

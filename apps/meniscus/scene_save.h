@@ -15,7 +15,7 @@
 
 namespace meniscus::app {
 
-// Every option addCameraOptions declares, as "--name" and its value's text
+// Every option addCameraOptions and addSurfaceOptions declare, as "--name" and its value's text
 // (flags: "true"/"false"), in declaration order.
 std::vector<std::pair<std::string, std::string>> optionTexts(const RenderOptions& o);
 

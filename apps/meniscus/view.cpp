@@ -164,6 +164,9 @@ std::string cameraOptions(const Camera& camera, const std::string& upText) {
 }  // namespace
 
 int runView(const ViewOptions& o, const ParticleSet* embedded) {
+    if (o.render.surface == "mesh")
+        return fail("--surface mesh: the viewer draws the screen-space or ray-cast surface; `meniscus render "
+                    "--surface mesh` (or `meniscus mesh`) extracts meshes");
     auto parsed = settingsFromOptions(o.render);
     if (!parsed) return fail(parsed.error().describe());
     RenderSettings settings = std::move(*parsed);
@@ -383,8 +386,9 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
                 show(next);
                 stale = true;
                 const auto period = std::chrono::duration<double>(1.0 / (look.fps * double(model.speed)));
+                // At the sequence's rate, or as fast as the frames come when drawing is slower.
                 nextFrameDue = std::max(nextFrameDue + std::chrono::duration_cast<Clock::duration>(period),
-                                        Clock::now() - std::chrono::duration_cast<Clock::duration>(period));
+                                        Clock::now());
             }
         }
         if (live) {

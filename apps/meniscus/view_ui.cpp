@@ -86,9 +86,10 @@ bool ViewerUi::wantsMouse() const { return ImGui::GetIO().WantCaptureMouse; }
 bool ViewerUi::wantsKeyboard() const { return ImGui::GetIO().WantCaptureKeyboard; }
 
 bool ViewerUi::scriptPointer(const std::string& label, float f, bool down) {
+    // Shown for a few frames in a row: a new window (a combo's list) has its places by then.
     const auto it = widgets_.find(label);
-    if (it == widgets_.end() || framesDrawn_ < kSettleFrames) return false;  // laid out yet?
-    const glm::vec4 r = it->second;
+    if (it == widgets_.end() || it->second.frames < kSettleFrames) return false;
+    const glm::vec4 r = it->second.box;
     scripted_ = true;
     scriptedDown_ = down;
     scriptedAt_ = {r.x + f * (r.z - r.x), 0.5f * (r.y + r.w)};
@@ -108,10 +109,14 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
     UiRequests req;
     RenderOptions& o = m.look;
     // Every widget is recorded by its label, for scripted input.
-    const auto note = [this](const char* label) {
+    std::map<std::string, Widget> drawn;  // this frame's widgets
+    const auto note = [&](const std::string& label) {
         // The item's box, less the label to the right of a slider or field (the item width).
         const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
-        widgets_[label] = {a.x, a.y, std::min(b.x, a.x + ImGui::CalcItemWidth()), b.y};
+        Widget& w = drawn[label];
+        w.box = {a.x, a.y, std::min(b.x, a.x + ImGui::CalcItemWidth()), b.y};
+        const auto before = widgets_.find(label);
+        w.frames = before == widgets_.end() ? 1 : before->second.frames + 1;
     };
     const auto changed = [&](bool edited, const char* label) {
         note(label);
@@ -121,11 +126,13 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
     const auto combo = [&](const char* label, std::string& value, const std::vector<std::string>& items) {
         bool edited = false;
         if (ImGui::BeginCombo(label, value.c_str())) {
-            for (const std::string& item : items)
+            for (const std::string& item : items) {
                 if (ImGui::Selectable(item.c_str(), item == value) && item != value) {
                     value = item;
                     edited = true;
                 }
+                note(std::string(label) + "/" + item);  // a script picks it as "click:surface/raycast"
+            }
             ImGui::EndCombo();
         }
         return changed(edited, label);
@@ -154,7 +161,6 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
         if (slider(label, shown, lo, hi, "%.3g", log)) v = shown;
     };
 
-    widgets_.clear();
     if (visible) {
         ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Once);
         ImGui::SetNextWindowSize(ImVec2(kPanelWidth, ImGui::GetIO().DisplaySize.y), ImGuiCond_Once);
@@ -198,6 +204,7 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
             if (button("load")) req.load = true;
         }
         if (header("Surface", true)) {
+            combo("surface", o.surface, {"screen", "raycast"});
             combo("view", o.view, splitList(viewNames()));
             combo("filter", o.filter, splitList(filterNames()));
             FilterParams filter;
@@ -210,6 +217,11 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
             if (slider("radius (m)", radius, 0.25f * r0, 4.0f * r0, "%.4g", true)) o.radius = radius;
             slider("fill holes (radii)", o.fillHoles, 0.0f, 16.0f);
             slider("min thickness (radii)", o.minThickness, 0.0f, 4.0f);
+            if (o.surface == "raycast") {
+                slider("iso level", o.mesher.iso, 0.05f, 0.95f);
+                slider("raycast step (radii)", o.raycastParams.stepRadii, 0.05f, 2.0f);
+                slider("raycast cover (radii)", o.raycastParams.coverRadii, 1.0f, 4.0f);
+            }
             std::string scale = o.fluidScale == 1.0f ? "1" : o.fluidScale == 0.5f ? "0.5" : "0.25";
             if (combo("fluid scale", scale, {"1", "0.5", "0.25"})) o.fluidScale = std::stof(scale);
         }
@@ -247,6 +259,7 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
             slider("isolated size (radii)", a.kn, 0.05f, 1.0f);
             sliderInt("min neighbours", a.minNeighbours, 1, 50);
             check("keep surface", a.keepSurface);
+            slider("centre smoothing", a.smoothing, 0.0f, 1.0f);
         }
         if (header("Scene and light")) {
             combo("background", o.background, {"auto", "studio", "floor", "none"});
@@ -318,9 +331,9 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
         }
         ImGui::End();
     }
+    widgets_ = std::move(drawn);
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-    framesDrawn_ = visible ? framesDrawn_ + 1 : 0;
     return req;
 }
 

@@ -73,8 +73,11 @@ public:
 
 private:
     ViewerUi() = default;
-    std::map<std::string, glm::vec4> widgets_;  // label -> min x, min y, max x, max y of the last frame
-    int framesDrawn_ = 0;  // frames drawn with the panels shown, in a row
+    struct Widget {
+        glm::vec4 box{0.0f};  // min x, min y, max x, max y (screen units)
+        int frames = 0;       // frames in a row it has been drawn
+    };
+    std::map<std::string, Widget> widgets_;  // by label (a combo's items as "combo/item"), of the last frame
     bool scripted_ = false, scriptedDown_ = false;
     glm::vec2 scriptedAt_{0.0f};
 };

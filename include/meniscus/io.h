@@ -68,7 +68,8 @@ Result<std::vector<std::uint8_t>> inflateGzip(ByteView data, const std::string& 
 // ---------------------------------------------------------------- sequences
 
 // Expands an input spec into an ordered frame list:
-//  - an existing regular file: just that file;
+//  - an existing regular file: just that file (a .pvd collection: the files it
+//    lists, in timestep order; see readPvd below);
 //  - a directory: every particle file in it (known extensions);
 //  - a printf pattern with one integer conversion (frame_%04d.ply, f_%d.bgeo);
 //  - a glob pattern with * and ? in the file name (ParticleData_Fluid_*.bgeo).
@@ -76,8 +77,33 @@ Result<std::vector<std::uint8_t>> inflateGzip(ByteView data, const std::string& 
 // result is an error that names the spec.
 Result<std::vector<std::filesystem::path>> expandSequence(const std::string& spec);
 
-// True when `spec` names more than a single file (a directory or a pattern).
+// True when `spec` names more than a single file (a directory, a pattern or a
+// .pvd collection).
 bool isSequenceSpec(const std::string& spec);
+
+// A ParaView data collection (.pvd, `<VTKFile type="Collection">`), the time
+// series index ParaView writes beside .vtu/.vtp frames (src/io/pvd.cpp).
+// expandSequence() gives a .pvd's files in this order: an existing file
+// named *.pvd is the sequence it lists.
+struct PvdCollection {
+    std::vector<std::filesystem::path> files;  // ascending timestep; relative ones joined to the .pvd's folder
+    std::vector<double> times;                 // files[i]'s timestep (file order 0, 1, ... when none has one)
+    std::vector<long long> parts;              // files[i]'s part (the lowest of its timestep; usually 0)
+    std::vector<std::string> warnings;         // e.g. the datasets of further parts left out
+};
+// One file per timestep: the DataSet with the lowest `part` (0 as ParaView
+// writes it); the others are counted in `warnings`. Errors (naming `name`):
+// not XML, not a VTKFile of type Collection, no DataSet, a DataSet without a
+// file, a timestep that is not a finite number, only some DataSets with a
+// timestep, a part that is not a whole number from 0, two files for one
+// timestep and part. `baseDir` is joined to relative file names; nothing is
+// read from the disk.
+Result<PvdCollection> parsePvd(ByteView data, const std::string& name, const std::filesystem::path& baseDir);
+// parsePvd of a file, relative names from its folder; also an error (naming
+// the .pvd) when a listed file does not exist.
+Result<PvdCollection> readPvd(const std::filesystem::path& path);
+// True for a name ending in .pvd (any case).
+bool isPvdName(std::string_view name);
 
 // Natural order comparison: digit runs compare by value.
 bool naturalLess(std::string_view a, std::string_view b);

@@ -3,7 +3,9 @@
 // output names from printf patterns.
 //
 // Rules (see io.h):
-//  - An existing regular file is a sequence of one, whatever its name holds.
+//  - An existing regular file is a sequence of one, whatever its name holds,
+//    except a ParaView collection (*.pvd): the files it lists, in timestep
+//    order (readPvd, src/io/pvd.cpp).
 //  - A directory gives every regular particle file in it (.bgeo, .bgeo.gz, .vtk,
 //    .vtu, .vtp, .ply, .csv, .xyz; case-insensitive). When it holds several
 //    kinds, the most numerous extension wins (ties: the order of that list),
@@ -262,7 +264,14 @@ Result<std::vector<fs::path>> expandSequenceImpl(const std::string& spec) {
     if (spec.empty()) return makeError("", "empty input path");
     std::error_code ec;
     const fs::path p(spec);
-    if (fs::is_regular_file(p, ec)) return std::vector<fs::path>{p};
+    if (fs::is_regular_file(p, ec)) {
+        if (isPvdName(p.filename().string())) {
+            auto pvd = readPvd(p);
+            if (!pvd) return pvd.error();
+            return std::move(pvd->files);
+        }
+        return std::vector<fs::path>{p};
+    }
     if (fs::is_directory(p, ec)) return expandDirectory(spec);
     const std::string file = splitSpec(spec).file;
     if (hasConversion(file)) return expandPrintf(spec);
@@ -286,7 +295,8 @@ Result<std::vector<fs::path>> expandSequence(const std::string& spec) {
 bool isSequenceSpec(const std::string& spec) {
     std::error_code ec;
     const fs::path p(spec);
-    if (spec.empty() || fs::is_regular_file(p, ec)) return false;
+    if (spec.empty()) return false;
+    if (fs::is_regular_file(p, ec)) return isPvdName(p.filename().string());
     if (fs::is_directory(p, ec)) return true;
     const std::string file = splitSpec(spec).file;
     return hasConversion(file) || hasWildcard(file);

@@ -9,7 +9,8 @@
 //
 //   <VTKFile type="UnstructuredGrid|PolyData" version="0.1|1.0"
 //            byte_order="LittleEndian|BigEndian" header_type="UInt32|UInt64"
-//            compressor="vtkZLibDataCompressor">        (header_type absent: UInt32)
+//            compressor="vtkZLibDataCompressor|vtkLZ4DataCompressor|vtkLZMADataCompressor">
+//                                                         (header_type absent: UInt32)
 //     <UnstructuredGrid> <Piece NumberOfPoints="N"> ... several pieces are concatenated
 //       <PointData> <DataArray type=".." Name=".." NumberOfComponents="c" format=".."> ...
 //       <Points> <DataArray NumberOfComponents="3" ...>
@@ -18,9 +19,22 @@
 // Binary array layout (format="binary" and format="appended"); every header
 // word is a header_type integer in the file's byte order, and so is the data:
 //   uncompressed: [nbytes] [data]
-//   zlib:         [nblocks] [blocksize] [lastblocksize] [csize_1 .. csize_n] [block_1 .. block_n]
-//                 each block is one zlib stream (compress2) inflating to blocksize
-//                 bytes, the last to lastblocksize (0 means a full block).
+//   compressed:   [nblocks] [blocksize] [lastblocksize] [csize_1 .. csize_n] [block_1 .. block_n]
+//                 each block inflating to blocksize bytes, the last to
+//                 lastblocksize (0 means a full block); the same layout for every
+//                 compressor (vtkXMLWriter writes the header, the compressor the
+//                 blocks), each block being, as VTK 9's compressors write them:
+//                   zlib: one zlib stream (compress2; vtkZLibDataCompressor);
+//                   LZ4:  one raw LZ4 block (LZ4_compress_fast, no frame;
+//                         vtkLZ4DataCompressor reads it with LZ4_decompress_safe);
+//                   LZMA: one complete .xz stream (lzma_easy_buffer_encode,
+//                         CRC64 check; vtkLZMADataCompressor reads it with
+//                         lzma_stream_buffer_decode).
+//                 Before anything is allocated, each block's size is checked
+//                 against its compressed bytes times the compressor's largest
+//                 possible ratio (zlib ~1032:1, LZ4 ~255:1); for LZMA, whose
+//                 ratio can reach several thousand to one, the output grows only
+//                 as the stream really decodes, and the decoder's memory is capped.
 // format="binary": the array's text is base64. VTK encodes an uncompressed array
 //   (header + data) as one base64 stream, but a compressed array as two: the
 //   header on its own (with its own '=' padding), then the blocks. We decode in
@@ -55,6 +69,8 @@
 #include <vector>
 
 #include <tinyxml2.h>
+#include <lz4.h>
+#include <lzma.h>
 #include <zlib.h>
 
 #include "io/io_util.h"
@@ -264,10 +280,22 @@ private:
 
 // ---------------------------------------------------------------- file-wide settings
 
+enum class Compressor { None, ZLib, LZ4, LZMA };
+
+const char* compressorName(Compressor c) {
+    switch (c) {
+        case Compressor::ZLib: return "zlib";
+        case Compressor::LZ4: return "LZ4";
+        case Compressor::LZMA: return "LZMA";
+        case Compressor::None: break;
+    }
+    return "uncompressed";
+}
+
 struct FileLayout {
     bool swap = false;           // file byte order differs from ours
     std::size_t headerSize = 4;  // UInt32 or UInt64 header words
-    bool zlib = false;
+    Compressor compressor = Compressor::None;
     bool hasAppended = false;
     bool appendedBase64 = false;
     ByteView appended;  // from the byte after '_' to the closing </AppendedData>
@@ -279,13 +307,70 @@ std::uint64_t readHeaderWord(ByteSource& src, const FileLayout& f) {
     return f.headerSize == 8 ? loadValue<std::uint64_t>(b, f.swap) : loadValue<std::uint32_t>(b, f.swap);
 }
 
+// LZMA (xz) streams reach ratios of several thousand to one (about 6800:1 for
+// long runs of zeros with liblzma's encoder); a block claiming more than this
+// per compressed byte is corrupt.
+constexpr std::uint64_t kLzmaMaxRatio = 1u << 16;
+// The decoder's memory cap: VTK's presets (levels 1..9) need at most a 64 MiB dictionary.
+constexpr std::uint64_t kLzmaMemLimit = std::uint64_t(1) << 27;
+
+// One .xz stream (as vtkLZMADataCompressor writes it) decoded onto the end of
+// `out`, which grows only as data really decodes; it must decode to exactly
+// `want` bytes. `error(why)` does not return.
+template <class OnError>
+void decodeLzmaBlock(const std::vector<std::uint8_t>& comp, std::uint64_t want, std::vector<std::uint8_t>& out,
+                     OnError error) {
+    lzma_stream s = LZMA_STREAM_INIT;
+    struct End {
+        lzma_stream* s;
+        ~End() { lzma_end(s); }
+    } end{&s};
+    if (lzma_stream_decoder(&s, kLzmaMemLimit, 0) != LZMA_OK) error("cannot start the LZMA decoder (out of memory)");
+    s.next_in = comp.data();
+    s.avail_in = comp.size();
+    const std::size_t start = out.size();
+    std::uint64_t got = 0;
+    while (true) {
+        // Room for twice what has decoded so far (at least 64 KiB), never more
+        // than one byte beyond `want` (that byte catches longer streams).
+        if (start + got == out.size()) {
+            const std::uint64_t room = std::min<std::uint64_t>(want + 1, std::max<std::uint64_t>(got * 2, 65536));
+            out.resize(start + std::size_t(room));
+        }
+        s.next_out = out.data() + start + got;
+        s.avail_out = out.size() - start - std::size_t(got);
+        const std::size_t before = s.avail_out;
+        const lzma_ret rc = lzma_code(&s, LZMA_FINISH);
+        got += before - s.avail_out;
+        if (got > want) {
+            out.resize(start);
+            error("decodes to more than " + str(want) + " bytes");
+        }
+        if (rc == LZMA_STREAM_END) break;
+        if (rc == LZMA_OK) continue;
+        out.resize(start);
+        switch (rc) {
+            case LZMA_MEMLIMIT_ERROR: error("needs more than " + str(kLzmaMemLimit >> 20) + " MiB to decode"); break;
+            case LZMA_MEM_ERROR: error("out of memory"); break;
+            case LZMA_FORMAT_ERROR: error("not an .xz stream"); break;
+            case LZMA_OPTIONS_ERROR: error("unsupported .xz options"); break;
+            case LZMA_BUF_ERROR: error("the .xz stream is cut short"); break;
+            case LZMA_DATA_ERROR: error("LZMA data error"); break;
+            default: error("LZMA decoder error " + str(std::uint64_t(rc))); break;
+        }
+    }
+    out.resize(start + std::size_t(got));
+    if (got != want) error("decodes to " + str(got) + " bytes, expected " + str(want));
+    if (s.avail_in != 0) error(str(s.avail_in) + " bytes after the end of the .xz stream");
+}
+
 // The array's data bytes (header consumed, blocks inflated); exactly expectedBytes long.
 std::vector<std::uint8_t> readBinaryArray(ByteSource& src, const FileLayout& f, std::size_t expectedBytes,
                                           const std::string& what) {
     auto mismatch = [&](std::uint64_t has) {
         fail(what + ": count mismatch: data holds " + str(has) + " bytes, NumberOfPoints needs " + str(expectedBytes));
     };
-    if (!f.zlib) {
+    if (f.compressor == Compressor::None) {
         const std::uint64_t nbytes = readHeaderWord(src, f);
         if (nbytes != expectedBytes) mismatch(nbytes);
         if (nbytes > src.maxBytesLeft())
@@ -326,32 +411,56 @@ std::vector<std::uint8_t> readBinaryArray(ByteSource& src, const FileLayout& f, 
         fail(what + ": compressed size beyond data (blocks need " + str(compTotal) + " bytes, at most " +
              str(src.maxBytesLeft()) + " left)");
 
-    // zlib cannot inflate by more than about 1032:1; reject impossible headers
-    // before allocating what they claim.
+    // No block can inflate beyond its compressor's largest ratio (zlib about
+    // 1032:1, LZ4 about 255:1, LZMA a few thousand to one); reject impossible
+    // headers before allocating what they claim.
+    const char* cname = compressorName(f.compressor);
+    const std::uint64_t maxRatio = f.compressor == Compressor::ZLib  ? 1100
+                                   : f.compressor == Compressor::LZ4 ? 256
+                                                                     : kLzmaMaxRatio;
     auto blockBytes = [&](std::uint64_t k) { return k + 1 == nblocks && lastSize ? lastSize : blockSize; };
+    auto blockError = [&](std::uint64_t k, const std::string& why) {
+        fail(what + ": " + cname + " block " + str(k + 1) + " of " + str(nblocks) + " corrupt (" + why + ")");
+    };
     for (std::uint64_t k = 0; k < nblocks; ++k)
-        if (blockBytes(k) / 1100 > compSize[k] + 1)
-            fail(what + ": zlib block " + str(k + 1) + " of " + str(nblocks) + " corrupt (" + str(compSize[k]) +
-                 " compressed bytes cannot hold " + str(blockBytes(k)) + ")");
+        if (blockBytes(k) / maxRatio > compSize[k] + 1)
+            blockError(k, str(compSize[k]) + " compressed bytes cannot hold " + str(blockBytes(k)));
 
-    std::vector<std::uint8_t> out(total);
+    // LZMA: the output grows as the streams decode (its ratio bound is too loose
+    // to allocate on); the others: the whole array at once.
+    std::vector<std::uint8_t> out(f.compressor == Compressor::LZMA ? 0 : total);
     std::vector<std::uint8_t> comp;
     std::uint64_t offset = 0;
     for (std::uint64_t k = 0; k < nblocks; ++k) {
         comp.resize(compSize[k]);
         src.read(comp.data(), comp.size());
         const std::uint64_t want = blockBytes(k);
-        uLongf got = uLongf(want);
-        const int rc = uncompress(out.data() + offset, &got, comp.data(), uLong(comp.size()));
-        if (rc != Z_OK || got != want) {
-            const std::string why = rc == Z_OK ? "inflates to " + str(got) + " bytes, expected " + str(want)
-                                  : rc == Z_BUF_ERROR ? "inflates to more than " + str(want) + " bytes or is cut short"
-                                  : rc == Z_MEM_ERROR ? "out of memory"
-                                                      : "zlib data error";
-            fail(what + ": zlib block " + str(k + 1) + " of " + str(nblocks) + " corrupt (" + why + ")");
+        if (f.compressor == Compressor::ZLib) {
+            uLongf got = uLongf(want);
+            const int rc = uncompress(out.data() + offset, &got, comp.data(), uLong(comp.size()));
+            if (rc != Z_OK || got != want) {
+                const std::string why = rc == Z_OK ? "inflates to " + str(got) + " bytes, expected " + str(want)
+                                      : rc == Z_BUF_ERROR ? "inflates to more than " + str(want) + " bytes or is cut short"
+                                      : rc == Z_MEM_ERROR ? "out of memory"
+                                                          : "zlib data error";
+                blockError(k, why);
+            }
+        } else if (f.compressor == Compressor::LZ4) {
+            constexpr std::uint64_t kIntMax = std::uint64_t(std::numeric_limits<int>::max());
+            if (comp.size() > kIntMax || want > kIntMax) blockError(k, "block larger than LZ4 allows");
+            const int got = LZ4_decompress_safe(reinterpret_cast<const char*>(comp.data()),
+                                                reinterpret_cast<char*>(out.data() + offset), int(comp.size()),
+                                                int(want));
+            if (got < 0) blockError(k, "LZ4 data error, or it decodes to more than " + str(want) + " bytes");
+            if (std::uint64_t(got) != want)
+                blockError(k, "decodes to " + str(std::uint64_t(got)) + " bytes, expected " + str(want));
+        } else {
+            decodeLzmaBlock(comp, want, out, [&](const std::string& why) { blockError(k, why); });
         }
         offset += want;
     }
+    if (out.size() != total)
+        fail(what + ": " + cname + " blocks decode to " + str(out.size()) + " bytes, expected " + str(total));
     return out;
 }
 
@@ -717,9 +826,16 @@ ParticleSet parseDocument(ByteView data) {
             fail("unsupported header_type " + inQuotes(h) + " (expected UInt32 or UInt64)");
     }
     if (const char* c = root->Attribute("compressor"); c && *c) {
-        if (std::string_view(c) != "vtkZLibDataCompressor")
-            fail("unsupported compressor " + inQuotes(c) + " (only vtkZLibDataCompressor)");
-        f.zlib = true;
+        const std::string_view name(c);
+        if (name == "vtkZLibDataCompressor")
+            f.compressor = Compressor::ZLib;
+        else if (name == "vtkLZ4DataCompressor")
+            f.compressor = Compressor::LZ4;
+        else if (name == "vtkLZMADataCompressor")
+            f.compressor = Compressor::LZMA;
+        else
+            fail("unsupported compressor " + inQuotes(c) +
+                 " (expected vtkZLibDataCompressor, vtkLZ4DataCompressor or vtkLZMADataCompressor)");
     }
 
     const tinyxml2::XMLElement* dataset = root->FirstChildElement(std::string(type).c_str());

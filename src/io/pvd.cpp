@@ -1,0 +1,171 @@
+// ParaView data collections (.pvd): the time series index ParaView writes
+// ("Save Data" of a series; its vtkPVDReader reads it) and simulation codes
+// write beside their .vtu/.vtp frames:
+//
+//   <VTKFile type="Collection" version="0.1" ...>
+//     <Collection>
+//       <DataSet timestep="0.1" group="" part="0" file="frames/f_0001.vtu"/>
+//       ...
+//
+// Rules (see io.h):
+//  - every DataSet needs a non-empty `file`; a relative one is relative to the
+//    .pvd's folder;
+//  - `timestep` is a finite number; either every DataSet has one or none does
+//    (then the file order counts, as times 0, 1, 2, ...);
+//  - `part` (default 0) splits a timestep into pieces written as separate
+//    files; one file per timestep is read: the one with the lowest part
+//    (part 0 as ParaView writes it), the others are counted in `warnings`;
+//  - the frames come in ascending timestep order (equal timesteps of
+//    different parts: the lowest part; two files for one timestep and part are
+//    an error), whatever their order in the file.
+// Problems come back as an Error naming the .pvd, never as a crash.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <new>
+#include <string>
+
+#include <tinyxml2.h>
+
+#include "io/io_util.h"
+#include "meniscus/io.h"
+
+namespace meniscus {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using io_util::fail;
+
+std::string trimmed(const char* s) {
+    std::string_view v(s ? s : "");
+    while (!v.empty() && (v.front() == ' ' || v.front() == '\t' || v.front() == '\n' || v.front() == '\r'))
+        v.remove_prefix(1);
+    while (!v.empty() && (v.back() == ' ' || v.back() == '\t' || v.back() == '\n' || v.back() == '\r'))
+        v.remove_suffix(1);
+    return std::string(v);
+}
+
+std::string timeText(double t) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.9g", t);
+    return buf;
+}
+
+struct Entry {
+    double time = 0.0;
+    long long part = 0;
+    std::size_t index = 0;  // position in the file, from 0
+    std::string file;
+};
+
+PvdCollection parsePvdDocument(ByteView data, const fs::path& baseDir) {
+    if (data.empty()) fail("file is empty");
+    tinyxml2::XMLDocument doc;
+    if (doc.Parse(reinterpret_cast<const char*>(data.data()), data.size()) != tinyxml2::XML_SUCCESS)
+        fail(std::string("malformed or truncated XML: ") + (doc.ErrorStr() ? doc.ErrorStr() : "unknown error"));
+    const tinyxml2::XMLElement* root = doc.RootElement();
+    if (!root) fail("not a ParaView collection (no XML element)");
+    if (std::string_view(root->Name()) != "VTKFile")
+        fail("not a ParaView collection (root element is <" + std::string(root->Name()) + ">, expected <VTKFile>)");
+    const char* type = root->Attribute("type");
+    if (!type || std::string_view(type) != "Collection")
+        fail("not a ParaView collection (VTKFile type " + io_util::quoteShort(type ? type : "(none)") +
+             ", expected 'Collection')");
+    const tinyxml2::XMLElement* collection = root->FirstChildElement("Collection");
+    if (!collection) fail("missing <Collection> element");
+
+    std::vector<Entry> entries;
+    std::size_t withTime = 0;
+    for (const auto* e = collection->FirstChildElement("DataSet"); e; e = e->NextSiblingElement("DataSet")) {
+        Entry d;
+        d.index = entries.size();
+        const std::string what = "DataSet " + std::to_string(d.index + 1);
+        const char* file = e->Attribute("file");
+        if (!file || trimmed(file).empty()) fail(what + " has no file attribute");
+        d.file = file;
+        if (const char* t = e->Attribute("timestep")) {
+            const std::string text = trimmed(t);
+            if (!io_util::parseNumber(text, d.time) || !std::isfinite(d.time))
+                fail(what + ": bad timestep " + io_util::quoteShort(t) + " (expected a finite number)");
+            ++withTime;
+        }
+        if (const char* p = e->Attribute("part")) {
+            const std::string text = trimmed(p);
+            double v = 0.0;
+            if (!io_util::parseNumber(text, v) || v != std::floor(v) || v < 0.0 || v > 1e15)
+                fail(what + ": bad part " + io_util::quoteShort(p) + " (expected a whole number from 0)");
+            d.part = (long long)v;
+        }
+        entries.push_back(std::move(d));
+    }
+    if (entries.empty()) fail("no datasets (the <Collection> holds no <DataSet> elements)");
+    if (withTime != 0 && withTime != entries.size())
+        fail(std::to_string(entries.size() - withTime) + " of " + std::to_string(entries.size()) +
+             " DataSet elements have no timestep (give every one a timestep, or none)");
+    if (withTime == 0)
+        for (Entry& d : entries) d.time = double(d.index);
+
+    // Ascending time, then part, then file order.
+    std::stable_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+        if (a.time != b.time) return a.time < b.time;
+        return a.part < b.part;
+    });
+    PvdCollection out;
+    std::size_t otherParts = 0;
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        const Entry& d = entries[i];
+        if (i > 0 && entries[i - 1].time == d.time) {
+            if (entries[i - 1].part == d.part)
+                fail("DataSet " + std::to_string(entries[i - 1].index + 1) + " and " + std::to_string(d.index + 1) +
+                     " are both timestep " + timeText(d.time) + ", part " +
+                     std::to_string(d.part));
+            ++otherParts;
+            continue;
+        }
+        const fs::path file(d.file);
+        out.files.push_back(file.is_absolute() || baseDir.empty() ? file : baseDir / file);
+        out.times.push_back(d.time);
+        out.parts.push_back(d.part);
+    }
+    if (otherParts)
+        out.warnings.push_back(std::to_string(otherParts) +
+                               " dataset(s) of further parts left out (one file per timestep: its lowest part)");
+    return out;
+}
+
+}  // namespace
+
+bool isPvdName(std::string_view name) { return io_util::endsWith(io_util::lower(name), ".pvd"); }
+
+Result<PvdCollection> parsePvd(ByteView data, const std::string& name, const fs::path& baseDir) {
+    try {
+        return parsePvdDocument(data, baseDir);
+    } catch (const io_util::ParseFailure& f) {
+        return makeError(name, f.message);
+    } catch (const std::bad_alloc&) {
+        return makeError(name, "out of memory reading a ParaView collection");
+    } catch (const std::exception& e) {
+        return makeError(name, std::string("cannot read ParaView collection: ") + e.what());
+    }
+}
+
+Result<PvdCollection> readPvd(const fs::path& path) {
+    auto bytes = readFileBytes(path);
+    if (!bytes) return bytes.error();
+    auto pvd = parsePvd(ByteView(bytes->data(), bytes->size()), path.string(), path.parent_path());
+    if (!pvd) return pvd;
+    for (std::size_t i = 0; i < pvd->files.size(); ++i) {
+        std::error_code ec;
+        const fs::path& f = pvd->files[i];
+        if (!fs::is_regular_file(f, ec))
+            return makeError(path.string(), "the file of timestep " + timeText(pvd->times[i]) +
+                                                 ", '" + f.string() + "', " +
+                                                 (fs::exists(f, ec) ? "is not a regular file" : "does not exist"));
+    }
+    return pvd;
+}
+
+}  // namespace meniscus
