@@ -18,7 +18,8 @@ libFuzzer starts from every layout the readers know, with real values:
                  simulation codes write (parts, groups, no timesteps, out of order).
   ply            the same N particles: VTK's PLY writer (vertex + face elements),
                  and x y z vx vy vz density id in ascii and both binary byte orders.
-  csv, xyz       the same N particles as text: plain, ParaView-style, ';' and tab.
+  csv, xyz       the same N particles as text: plain, ParaView-style, ';' and tab;
+                 and DualSPHysics' CSV (tests/data/dualsphysics, also its VTK for vtk).
   mesh_obj, mesh_ply  small meshes (mesh_reader.cpp): what writeMesh writes, and
                  hand-made files in the forms other tools write.
 Deterministic: running it again gives the same files.
@@ -274,8 +275,20 @@ def pvd_seeds():
     put("pvd", "exponent_times.pvd", pvd(['timestep="1e-3" file="x_1.vtu"', 'timestep=" 2.5E-3 " file="x_2.vtu"']))
 
 
+# ---------------------------------------------------------------- DualSPHysics
+
+def dualsphysics_seeds():
+    # tests/data/dualsphysics (its README.txt: the layouts of DualSPHysics'
+    # JOutputCsv and JSpVtkData): ';' CSV with units and a trailing separator,
+    # ',' CSV with head lines, binary legacy VTK with Vel/Rhop/Idp/Type.
+    src = os.path.join(REPO, "tests", "data", "dualsphysics")
+    for reader, name in (("csv", "PartCsv_0000.csv"), ("csv", "PartAll_comma_0000.csv"), ("vtk", "PartAll_0000.vtk")):
+        put(reader, "dualsphysics_" + name, open(os.path.join(src, name), "rb").read())
+
+
 def main():
     pvd_seeds()
+    dualsphysics_seeds()
     mesh_seeds()
     cut_bgeo()
     cut_vtk()

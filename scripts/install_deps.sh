@@ -12,7 +12,10 @@
 # (libavcodec-dev, libavformat-dev, libswscale-dev; Debian's libavcodec brings
 # the libx264 H.264 encoder). VTK XML files (.vtu/.vtp) compressed with VTK's
 # LZ4 or LZMA compressor are read through liblz4 and liblzma (liblz4-dev,
-# liblzma-dev; zlib-compressed ones through zlib).
+# liblzma-dev; zlib-compressed ones through zlib). H5Part and PySPH .hdf5
+# files are read through HDF5's C library (libhdf5-dev), PySPH's .npz through
+# libzip (libzip-dev). The Python module is built with pybind11 (pybind11-dev,
+# python3-dev) and takes numpy arrays (python3-numpy).
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 SUDO=""
@@ -26,5 +29,6 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   libepoxy-dev libegl-dev libgl1-mesa-dri libegl-mesa0 glslang-tools \
   libglfw3-dev libglx-mesa0 xvfb xauth libimgui-dev \
   libavcodec-dev libavformat-dev libswscale-dev libavutil-dev \
+  libhdf5-dev libzip-dev pybind11-dev python3-dev python3-numpy \
   clang libclang-rt-14-dev >/dev/null
 echo "meniscus: dependencies installed"

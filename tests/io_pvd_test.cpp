@@ -14,6 +14,7 @@ namespace meniscus {
 namespace {
 
 namespace fs = std::filesystem;
+using test::failsNaming;
 using test::runCli;
 using test::shellQuote;
 using test::tempDir;
@@ -30,14 +31,6 @@ std::string pvdText(const std::vector<std::string>& dataSets) {
 Result<PvdCollection> parse(const std::string& text, const std::string& name = "t.pvd") {
     const auto b = toBytes(text);
     return parsePvd(b, name, "base");
-}
-
-::testing::AssertionResult failsWith(const Result<PvdCollection>& r, const std::string& name, const std::string& word) {
-    if (r.ok()) return ::testing::AssertionFailure() << "parsed OK, " << r->files.size() << " files";
-    const std::string msg = r.error().describe();
-    if (r.error().file != name) return ::testing::AssertionFailure() << "does not name " << name << ": " << msg;
-    if (msg.find(word) == std::string::npos) return ::testing::AssertionFailure() << "no '" << word << "' in: " << msg;
-    return ::testing::AssertionSuccess() << msg;
 }
 
 // Three small frames, each the demo-sized block moved along x by its number,
@@ -127,33 +120,33 @@ TEST(Pvd, LowestPartOfEachTimestep) {
 }
 
 TEST(Pvd, ErrorsNameThePvd) {
-    EXPECT_TRUE(failsWith(parse(""), "t.pvd", "empty"));
-    EXPECT_TRUE(failsWith(parse("<VTKFile type=\"Collection\"><Collection>"), "t.pvd", "XML"));
-    EXPECT_TRUE(failsWith(parse(pvdText({})), "t.pvd", "no datasets"));
-    EXPECT_TRUE(failsWith(parse("<VTKFile type=\"UnstructuredGrid\"><Collection/></VTKFile>"), "t.pvd",
+    EXPECT_TRUE(failsNaming(parse(""), "t.pvd", "empty"));
+    EXPECT_TRUE(failsNaming(parse("<VTKFile type=\"Collection\"><Collection>"), "t.pvd", "XML"));
+    EXPECT_TRUE(failsNaming(parse(pvdText({})), "t.pvd", "no datasets"));
+    EXPECT_TRUE(failsNaming(parse("<VTKFile type=\"UnstructuredGrid\"><Collection/></VTKFile>"), "t.pvd",
                           "not a ParaView collection"));
-    EXPECT_TRUE(failsWith(parse("<Collection/>"), "t.pvd", "not a ParaView collection"));
-    EXPECT_TRUE(failsWith(parse("<VTKFile type=\"Collection\"></VTKFile>"), "t.pvd", "<Collection>"));
-    EXPECT_TRUE(failsWith(parse(pvdText({R"(timestep="0.1s" file="a.vtu")"})), "t.pvd", "bad timestep '0.1s'"));
-    EXPECT_TRUE(failsWith(parse(pvdText({R"(timestep="nan" file="a.vtu")"})), "t.pvd", "bad timestep"));
-    EXPECT_TRUE(failsWith(parse(pvdText({R"(timestep="inf" file="a.vtu")"})), "t.pvd", "bad timestep"));
-    EXPECT_TRUE(failsWith(parse(pvdText({R"(timestep="" file="a.vtu")"})), "t.pvd", "bad timestep"));
-    EXPECT_TRUE(failsWith(parse(pvdText({R"(timestep="1")"})), "t.pvd", "no file"));
-    EXPECT_TRUE(failsWith(parse(pvdText({R"(timestep="1" file="a.vtu")", R"(file="b.vtu")"})), "t.pvd",
+    EXPECT_TRUE(failsNaming(parse("<Collection/>"), "t.pvd", "not a ParaView collection"));
+    EXPECT_TRUE(failsNaming(parse("<VTKFile type=\"Collection\"></VTKFile>"), "t.pvd", "<Collection>"));
+    EXPECT_TRUE(failsNaming(parse(pvdText({R"(timestep="0.1s" file="a.vtu")"})), "t.pvd", "bad timestep '0.1s'"));
+    EXPECT_TRUE(failsNaming(parse(pvdText({R"(timestep="nan" file="a.vtu")"})), "t.pvd", "bad timestep"));
+    EXPECT_TRUE(failsNaming(parse(pvdText({R"(timestep="inf" file="a.vtu")"})), "t.pvd", "bad timestep"));
+    EXPECT_TRUE(failsNaming(parse(pvdText({R"(timestep="" file="a.vtu")"})), "t.pvd", "bad timestep"));
+    EXPECT_TRUE(failsNaming(parse(pvdText({R"(timestep="1")"})), "t.pvd", "no file"));
+    EXPECT_TRUE(failsNaming(parse(pvdText({R"(timestep="1" file="a.vtu")", R"(file="b.vtu")"})), "t.pvd",
                           "no timestep"));
-    EXPECT_TRUE(failsWith(parse(pvdText({R"(timestep="1" part="-1" file="a.vtu")"})), "t.pvd", "bad part"));
-    EXPECT_TRUE(failsWith(parse(pvdText({R"(timestep="1" file="a.vtu")", R"(timestep="1.0" file="b.vtu")"})),
+    EXPECT_TRUE(failsNaming(parse(pvdText({R"(timestep="1" part="-1" file="a.vtu")"})), "t.pvd", "bad part"));
+    EXPECT_TRUE(failsNaming(parse(pvdText({R"(timestep="1" file="a.vtu")", R"(timestep="1.0" file="b.vtu")"})),
                           "t.pvd", "both timestep 1"));
 
     // On the disk: a missing .pvd, and a .pvd listing a missing file.
     const fs::path dir = tempDir();
     const fs::path missing = dir / "none.pvd";
-    EXPECT_TRUE(failsWith(readPvd(missing), missing.string(), "no such file"));
+    EXPECT_TRUE(failsNaming(readPvd(missing), missing.string(), "no such file"));
     const auto seq = expandSequence(missing.string());
     ASSERT_FALSE(seq.ok());
     const fs::path pvd = dir / "gone.pvd";
     writeText(pvd, pvdText({R"(timestep="0.25" file="frames/f_7.vtu")"}));
-    EXPECT_TRUE(failsWith(readPvd(pvd), pvd.string(), "does not exist"));
+    EXPECT_TRUE(failsNaming(readPvd(pvd), pvd.string(), "does not exist"));
     const auto seq2 = expandSequence(pvd.string());
     ASSERT_FALSE(seq2.ok());
     EXPECT_EQ(seq2.error().file, pvd.string());

@@ -28,6 +28,7 @@ namespace {
 
 using test::readBytes;
 using test::testData;
+using test::failsNaming;
 using test::toBytes;
 
 enum class Comp { None, ZLib, LZ4, LZMA };
@@ -157,22 +158,6 @@ Result<ParticleSet> parseText(const std::string& text, const std::string& name) 
     return parseVtu(bytes, name);
 }
 
-std::string lowerCase(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
-// !ok(), the message names the file and contains one of `words` (any case).
-::testing::AssertionResult failsWith(const Result<ParticleSet>& r, const std::string& name,
-                                     std::initializer_list<const char*> words) {
-    if (r.ok()) return ::testing::AssertionFailure() << "parsed OK, " << r->size() << " points";
-    const std::string msg = r.error().describe();
-    if (msg.find(name) == std::string::npos) return ::testing::AssertionFailure() << "no file name in: " << msg;
-    for (const char* w : words)
-        if (lowerCase(msg).find(lowerCase(w)) != std::string::npos) return ::testing::AssertionSuccess() << msg;
-    return ::testing::AssertionFailure() << "no expected word in: " << msg;
-}
-
 std::uint32_t bits(float v) { return std::bit_cast<std::uint32_t>(v); }
 
 // Same particles, same attributes, bit for bit.
@@ -294,11 +279,11 @@ TEST(VtuCompressedMalformed, CorruptFirstBlock) {
         // LZ4 has no checksum: garbage must be caught by its structure (0xff
         // tokens claim literal runs beyond the block); LZMA by its CRC too.
         for (std::size_t k = 0; k < 24; ++k) s[blockStart + k] = char(0xff);
-        EXPECT_TRUE(failsWith(parseText(s, file), file, {blockWord(file).c_str()})) << file;
+        EXPECT_TRUE(failsNaming(parseText(s, file), file, {blockWord(file).c_str()})) << file;
         std::string t = fixtureText(file);
         for (std::size_t k = 20; k < 40; ++k) t[blockStart + k] = char(t[blockStart + k] ^ 0x5a);
         if (std::string(file).find("lzma") != std::string::npos) {
-            EXPECT_TRUE(failsWith(parseText(t, file), file, {"LZMA block"})) << file;
+            EXPECT_TRUE(failsNaming(parseText(t, file), file, {"LZMA block"})) << file;
         } else {
             (void)parseText(t, file);  // may decode to other values: no crash is all LZ4 can promise
         }
@@ -315,7 +300,7 @@ TEST(VtuCompressedMalformed, BlockCutShort) {
             std::string t = s;
             const std::uint32_t shorter = csize - cut;
             std::memcpy(t.data() + start + 12, &shorter, 4);
-            EXPECT_TRUE(failsWith(parseText(t, file), file, {blockWord(file).c_str()})) << file << " cut " << cut;
+            EXPECT_TRUE(failsNaming(parseText(t, file), file, {blockWord(file).c_str()})) << file << " cut " << cut;
         }
     }
 }
@@ -328,7 +313,7 @@ TEST(VtuCompressedMalformed, EveryFixtureTruncatedFails) {
         const std::string s = fixtureText(file);
         for (double frac : {0.01, 0.1, 0.3, 0.5, 0.7, 0.9, 0.999}) {
             const std::string t = s.substr(0, std::size_t(double(s.size()) * frac));
-            EXPECT_TRUE(failsWith(parseText(t, file), file, {"truncated", "XML", "missing", "mismatch"}))
+            EXPECT_TRUE(failsNaming(parseText(t, file), file, {"truncated", "XML", "missing", "mismatch"}))
                 << file << " cut at " << frac;
         }
         // Cut inside the appended data, the closing tags put back. (Cells are
@@ -337,7 +322,7 @@ TEST(VtuCompressedMalformed, EveryFixtureTruncatedFails) {
         const std::size_t start = appendedStart(s);
         for (std::size_t cut : {start + 2, start + 20, start + 200, start + (s.size() - start) / 2}) {
             const std::string t = s.substr(0, cut) + "\n  </AppendedData>\n</VTKFile>\n";
-            EXPECT_TRUE(failsWith(parseText(t, file), file, {"truncated", "block", "beyond"}))
+            EXPECT_TRUE(failsNaming(parseText(t, file), file, {"truncated", "block", "beyond"}))
                 << file << " cut at " << cut;
         }
     }
@@ -378,22 +363,22 @@ TEST(VtuCompressedMalformed, BlocksDecodingToOtherSizes) {
         const std::string name = c == Comp::LZ4 ? "lz4.vtp" : "lzma.vtp";
         const char* word = c == Comp::LZ4 ? "LZ4 block" : "LZMA block";
         // 10 points = 120 bytes claimed; the block holds 240 or 60.
-        EXPECT_TRUE(failsWith(parseText(singleBlockFile(c, compressBlock(c, raw240), 120, 10), name), name, {word}));
-        EXPECT_TRUE(failsWith(parseText(singleBlockFile(c, compressBlock(c, raw60), 120, 10), name), name, {word}));
+        EXPECT_TRUE(failsNaming(parseText(singleBlockFile(c, compressBlock(c, raw240), 120, 10), name), name, {word}));
+        EXPECT_TRUE(failsNaming(parseText(singleBlockFile(c, compressBlock(c, raw60), 120, 10), name), name, {word}));
         // Valid: exactly 120 bytes.
         std::vector<std::uint8_t> raw120(raw240.begin(), raw240.begin() + 120);
         const auto ok = parseText(singleBlockFile(c, compressBlock(c, raw120), 120, 10), name);
         ASSERT_TRUE(ok.ok()) << ok.error().describe();
         EXPECT_EQ(ok->size(), 10u);
         // Not a stream of this compressor at all.
-        EXPECT_TRUE(failsWith(parseText(singleBlockFile(c, compressBlock(Comp::ZLib, raw120), 120, 10), name), name,
+        EXPECT_TRUE(failsNaming(parseText(singleBlockFile(c, compressBlock(Comp::ZLib, raw120), 120, 10), name), name,
                               {word}));
     }
     // Bytes after the end of the .xz stream.
     std::vector<std::uint8_t> raw120(raw240.begin(), raw240.begin() + 120);
     auto xz = compressBlock(Comp::LZMA, raw120);
     xz.insert(xz.end(), {1, 2, 3});
-    EXPECT_TRUE(failsWith(parseText(singleBlockFile(Comp::LZMA, xz, 120, 10), "tail.vtp"), "tail.vtp",
+    EXPECT_TRUE(failsNaming(parseText(singleBlockFile(Comp::LZMA, xz, 120, 10), "tail.vtp"), "tail.vtp",
                           {"after the end"}));
 }
 
@@ -404,7 +389,7 @@ TEST(VtuCompressedMalformed, ImpossibleRatioRefusedBeforeAllocating) {
     const std::uint64_t claimed = 1200000000;  // 100 000 000 points
     for (Comp c : {Comp::LZ4, Comp::LZMA}) {
         const std::string name = c == Comp::LZ4 ? "bomb_lz4.vtp" : "bomb_lzma.vtp";
-        EXPECT_TRUE(failsWith(parseText(singleBlockFile(c, junk, claimed, claimed / 12), name), name,
+        EXPECT_TRUE(failsNaming(parseText(singleBlockFile(c, junk, claimed, claimed / 12), name), name,
                               {"cannot hold"}));
     }
     // Within LZMA's bound but not what the stream holds: fails without
@@ -412,14 +397,14 @@ TEST(VtuCompressedMalformed, ImpossibleRatioRefusedBeforeAllocating) {
     std::vector<std::uint8_t> zeros(1 << 20, 0);
     const auto xz = compressBlock(Comp::LZMA, zeros);
     const std::uint64_t big = std::uint64_t(xz.size()) * 60000 / 12 * 12;
-    EXPECT_TRUE(failsWith(parseText(singleBlockFile(Comp::LZMA, xz, big, big / 12), "big.vtp"), "big.vtp",
+    EXPECT_TRUE(failsNaming(parseText(singleBlockFile(Comp::LZMA, xz, big, big / 12), "big.vtp"), "big.vtp",
                           {"decodes to"}));
 }
 
 TEST(VtuCompressedMalformed, UnknownCompressorNamed) {
     std::string s = fixtureText("fluid21_first500_lz4_binary.vtu");
     s.replace(s.find("vtkLZ4DataCompressor"), 20, "vtkZstdDataCompressor");
-    EXPECT_TRUE(failsWith(parseText(s, "zstd.vtu"), "zstd.vtu", {"unsupported compressor"}));
+    EXPECT_TRUE(failsNaming(parseText(s, "zstd.vtu"), "zstd.vtu", {"unsupported compressor"}));
 }
 
 // Random corruption of these files: VtuMalformed.RandomCorruptionNeverCrashes (io_vtu_test.cpp).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -45,6 +46,20 @@ fs::path dirWithFrame(const std::string& name) {
 }
 
 std::string shellQuote(const fs::path& p) { return "'" + p.string() + "'"; }
+
+::testing::AssertionResult errorNames(const Error& e, const std::string& name,
+                                      std::initializer_list<std::string_view> words) {
+    const std::string msg = e.describe();
+    if (msg.find(name) == std::string::npos) return ::testing::AssertionFailure() << "does not name " << name << ": " << msg;
+    const auto lower = [](std::string_view v) {
+        std::string out(v);
+        for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
+        return out;
+    };
+    for (std::string_view w : words)
+        if (lower(msg).find(lower(w)) != std::string::npos) return ::testing::AssertionSuccess() << msg;
+    return ::testing::AssertionFailure() << "none of the expected words in: " << msg;
+}
 
 int runCli(const std::string& args, std::string* output) { return runCommand(cliPath() + " " + args, output); }
 

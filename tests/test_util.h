@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <string_view>
+#include <initializer_list>
 #include <vector>
 
 #include <OpenEXR/ImfPixelType.h>
@@ -38,6 +40,22 @@ std::vector<std::uint8_t> toBytes(const std::string& s);
 
 // gzip-compress (for making .bgeo.gz-like test inputs).
 std::vector<std::uint8_t> gzipBytes(const std::vector<std::uint8_t>& raw);
+
+// An error whose message names `name` and holds one of `words` (any case):
+// what every reader's malformed-input test checks.
+::testing::AssertionResult errorNames(const Error& e, const std::string& name,
+                                      std::initializer_list<std::string_view> words);
+// !r.ok(), and its error as errorNames says.
+template <class T>
+::testing::AssertionResult failsNaming(const Result<T>& r, const std::string& name,
+                                       std::initializer_list<std::string_view> words) {
+    if (r.ok()) return ::testing::AssertionFailure() << "succeeded where an error naming " << name << " was expected";
+    return errorNames(r.error(), name, words);
+}
+template <class T>
+::testing::AssertionResult failsNaming(const Result<T>& r, const std::string& name, std::string_view word) {
+    return failsNaming(r, name, {word});
+}
 
 // Runs a shell command; returns its exit status, captures stdout+stderr.
 int runCommand(const std::string& cmd, std::string* output = nullptr);

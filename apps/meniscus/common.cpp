@@ -21,7 +21,19 @@ namespace meniscus::app {
 
 namespace {
 
-// "x,y,z": three finite numbers, or nothing.
+// The camera (chooseCamera), radius and studio box for a whole sequence.
+Status fixCamera(const RenderOptions& o, const std::vector<glm::vec3>& samplePoints, float radius,
+                 const Bounds& studio, RenderSettings& settings) {
+    auto camera = chooseCamera(o, samplePoints, radius);
+    if (!camera) return camera.error();
+    settings.camera = *camera;
+    settings.radiusM = radius;
+    settings.scene.studioBounds = studio;
+    return okStatus();
+}
+
+}  // namespace
+
 std::optional<glm::vec3> parseVec3(const std::string& text) {
     std::istringstream in(text);
     glm::vec3 v;
@@ -32,9 +44,8 @@ std::optional<glm::vec3> parseVec3(const std::string& text) {
     return v;
 }
 
-// The camera for a whole sequence: the user's, or auto-framed on the particles
-// of a few frames (first, last, three between).
-Result<Camera> chooseCamera(const RenderOptions& o, const std::vector<glm::vec3>& samplePoints, float radius) {
+Result<Camera> chooseCamera(const RenderOptions& o, std::span<const glm::vec3> samplePoints, float radius,
+                            std::size_t* outsideCount) {
     Camera cam;
     cam.width = o.width;
     cam.height = o.height;
@@ -70,7 +81,8 @@ Result<Camera> chooseCamera(const RenderOptions& o, const std::vector<glm::vec3>
             cam.farM = std::max(cam.farM, cam.farM * o.distance / fitted);
             outside = 0;  // counted for the fitted distance
         }
-        if (outside > 0)
+        if (outsideCount) *outsideCount = outside;
+        else if (outside > 0)
             std::cerr << "meniscus: auto camera: " << outside << " of " << samplePoints.size()
                       << " sampled particles (the outermost) left outside the frame\n";
     }
@@ -78,18 +90,10 @@ Result<Camera> chooseCamera(const RenderOptions& o, const std::vector<glm::vec3>
     return cam;
 }
 
-// The camera (chooseCamera), radius and studio box for a whole sequence.
-Status fixCamera(const RenderOptions& o, const std::vector<glm::vec3>& samplePoints, float radius,
-                 const Bounds& studio, RenderSettings& settings) {
-    auto camera = chooseCamera(o, samplePoints, radius);
-    if (!camera) return camera.error();
-    settings.camera = *camera;
-    settings.radiusM = radius;
-    settings.scene.studioBounds = studio;
-    return okStatus();
+void sampleFramePoints(std::span<const glm::vec3> positions, std::vector<glm::vec3>& samples) {
+    const std::size_t stride = std::max<std::size_t>(1, positions.size() / defaults::kSequenceFramePoints);
+    for (std::size_t i = 0; i < positions.size(); i += stride) samples.push_back(positions[i]);
 }
-
-}  // namespace
 
 int fail(const std::string& line) {
     std::cerr << "meniscus: error: " << line << "\n";
@@ -449,6 +453,25 @@ void addFluidInputOption(CLI::App* cmd, RenderOptions& o) {
                     "Several fluids, one input per fluid (as SPlisHSPlasH writes one file per fluid model): another "
                     "file or sequence, frame for frame with the input, drawn as fluid 1 (then 2, 3 when repeated); "
                     "the input is fluid 0. Give --material one preset per fluid");
+    addSelectOption(cmd, o.select);
+}
+
+void addSelectOption(CLI::App* cmd, std::string& select) {
+    cmd->add_option("--select", select,
+                    "Use only the particles that match, e.g. 'Type==fluid' (DualSPHysics: drops the boundary "
+                    "particles) or 'density>900 && velocity.y<0': ATTR OP VALUE, OP one of == != < <= > >=, "
+                    "clauses joined by && (all must hold). ATTR is a particle attribute as `meniscus info` lists it "
+                    "(or x, y, z for the position), VALUE a number in the file's units (metres, m/s, kg/m^3); a "
+                    "vector needs a component (velocity.x, .y, .z) or |velocity| for its length. DualSPHysics' Type "
+                    "takes fixed (0), moving (1), floating (2), bound (0-2) or fluid (3). Applied to every file as "
+                    "it is read, before --up; a frame left with no particles is an error");
+}
+
+Status Frames::setSelection(const std::string& text) {
+    auto parsed = parseSelection(text);
+    if (!parsed) return parsed.error();
+    selection = std::move(*parsed);
+    return okStatus();
 }
 
 void appendFluid(ParticleSet& set, const ParticleSet& more, int fluid) {
@@ -485,6 +508,7 @@ void appendFluid(ParticleSet& set, const ParticleSet& more, int fluid) {
 }
 
 Status Frames::addFluids(const RenderOptions& o) {
+    if (auto st = setSelection(o.select); !st) return st;
     fluidAttribute = o.fluidAttribute;
     if (o.moreFluids.empty()) return okStatus();
     if (!o.fluidAttribute.empty()) return makeError("", "--fluid and --fluid-attribute: give one or the other");
@@ -546,6 +570,9 @@ Result<UpRotation> upRotation(const std::string& text) {
 
 Result<ParticleSet> Frames::load(std::size_t i, std::string* smoothingLength) const {
     auto set = embedded ? Result<ParticleSet>(*embedded) : readParticles(files[source(i)]);
+    // --select first: its positions and velocities are the file's, before --up.
+    if (set)
+        if (auto st = applySelection(*set, selection, name(i)); !st) return st.error();
     if (set) up.apply(*set);
     if (set) {
         auto h = addRadiusFromSmoothingLength(*set, hPerSpacing);
@@ -558,6 +585,7 @@ Result<ParticleSet> Frames::load(std::size_t i, std::string* smoothingLength) co
     for (std::size_t k = 0; set && k < moreFluids.size(); ++k) {
         auto more = readParticles(moreFluids[k][source(i)]);
         if (!more) return more.error();
+        if (auto st = applySelection(*more, selection, moreFluids[k][source(i)].string()); !st) return st.error();
         up.apply(*more);
         if (auto h = addRadiusFromSmoothingLength(*more, hPerSpacing); !h) return h.error();
         set->warnings.insert(set->warnings.end(), more->warnings.begin(), more->warnings.end());
@@ -576,7 +604,7 @@ Status Frames::checkOutput(const std::string& output, const char* example) const
 Result<std::string> Frames::outputName(const std::string& output, std::size_t i) const {
     if (output.find('%') == std::string::npos) return output;
     if (renumber || repeat) return formatFramePattern(output, long(i));
-    const long number = embedded ? 0 : frameNumberFromName(files[i].filename().string());
+    const long number = embedded ? 0 : frameNumberOf(files[i]);  // run.h5part/Step#12 -> 12
     return formatFramePattern(output, number >= 0 ? number : long(i));
 }
 
@@ -631,10 +659,7 @@ Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames,
             return makeError(firstName, "the estimated " + st.error().message + "; set --radius");
     }
     std::vector<glm::vec3> samplePoints;
-    auto addSample = [&](const std::vector<glm::vec3>& p) {
-        const std::size_t stride = std::max<std::size_t>(1, p.size() / defaults::kSequenceFramePoints);
-        for (std::size_t i = 0; i < p.size(); i += stride) samplePoints.push_back(p[i]);
-    };
+    const auto addSample = [&](const std::vector<glm::vec3>& p) { sampleFramePoints(p, samplePoints); };
     const std::size_t count = frames.repeat ? 1 : frames.count();  // a repeated file: nothing more to sample
     if (o.eye.empty() && o.cameraPath.empty()) {
         addSample(first->positions);

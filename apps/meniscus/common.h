@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstddef>
 #include <filesystem>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -13,6 +15,7 @@
 
 #include "meniscus/camera_path.h"
 #include "meniscus/params.h"
+#include "meniscus/particles.h"
 #include "meniscus/renderer.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
@@ -94,6 +97,9 @@ struct RenderOptions {
     // Several fluids from one input per fluid (--fluid, repeatable): each a
     // file or sequence matching the input frame for frame, fluid 1, 2, ...
     std::vector<std::string> moreFluids;
+    // Only the particles that match (--select, parseSelection), e.g.
+    // "Type==fluid"; empty: all of them.
+    std::string select;
     MesherOptions mesher;
     // Long runs (render): an .mp4 output's frame rate and quality; output
     // frames numbered 0, 1, ... (--renumber); on a frame's error stop or skip
@@ -103,6 +109,9 @@ struct RenderOptions {
     bool renumber = false;
     std::string onError = "stop";
     bool resume = false;
+    // Frame-parallel runs (issue 20): "I/N" renders only the I-th of N
+    // contiguous shares of the frames (job arrays); empty: all of them.
+    std::string shard;
     // Camera motion (render): turn about +y through the target, degrees per
     // second of sequence time; one whole turn over the sequence; a key-framed
     // path (--camera-path: a JSON file or the JSON array itself); a single
@@ -120,8 +129,12 @@ struct RenderOptions {
 // --radius when `radiusOption` is false (simulate: the images use the
 // simulation's own radius, which its --radius sets).
 void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption = true);
-// --fluid-attribute's alternative, --fluid (one more input per fluid), on `cmd`.
+// --fluid-attribute's alternative, --fluid (one more input per fluid), and
+// --select (addSelectOption), the options on what each input frame holds, on `cmd`.
 void addFluidInputOption(CLI::App* cmd, RenderOptions& o);
+// --select EXPR on `cmd` (render, view, mesh, compare, whitewater): which particles of each
+// file are drawn (parseSelection, include/meniscus/particles.h).
+void addSelectOption(CLI::App* cmd, std::string& select);
 // Particles of `more` appended to `set` as fluid `fluid` (set's own become
 // fluid 0 when it has no fluid attribute yet): attributes both have with the
 // same type are joined, others left out with a warning in set.warnings; ids
@@ -160,9 +173,17 @@ struct Frames {
     // One more sequence per further fluid (addFluids): frame i of each joins
     // frame i of `files` as fluid 1, 2, ... (the input being fluid 0).
     std::vector<std::vector<std::filesystem::path>> moreFluids;
-    // Opens the sequences of --fluid; an error naming the one whose frame
-    // count differs from the input's, or when --fluid-attribute is given too.
+    // Opens the sequences of --fluid (an error naming the one whose frame
+    // count differs from the input's, or when --fluid-attribute is given too)
+    // and takes --select (setSelection).
     Status addFluids(const RenderOptions& o);
+
+    // Only the particles matching this are kept of each file as it is read
+    // (the input's and each --fluid's, before --up turns them; applySelection),
+    // so every command that loads frames through load() honours --select.
+    ParticleFilter selection;
+    // Parses --select's text into `selection`; an error naming the option.
+    Status setSelection(const std::string& text);
 
     // A file's smoothing length in particle spacings (addRadiusFromSmoothingLength).
     float hPerSpacing = defaults::kHPerSpacing;
@@ -213,6 +234,21 @@ Result<Renderer> makeRenderer(const RenderOptions& o);
 // --camera-path's keys (readCameraPath) turned by --up into the renderer's
 // coordinates, as --eye and --target are; empty without --camera-path.
 Result<std::vector<CameraKey>> cameraPathFromOptions(const RenderOptions& o);
+
+// "x,y,z": three finite numbers, or nothing.
+std::optional<glm::vec3> parseVec3(const std::string& text);
+
+// The camera for a whole sequence (fixForSequence; the Python module's
+// render): the user's (--eye and --target in the data's frame, turned by
+// --up; --camera-path's first key), or auto-framed on `samplePoints` (the
+// particles of a few frames: first, last, three between). The sampled
+// particles left outside the automatic frame are counted in *outsideCount,
+// or said on stderr without it.
+Result<Camera> chooseCamera(const RenderOptions& o, std::span<const glm::vec3> samplePoints, float radius,
+                            std::size_t* outsideCount = nullptr);
+// The positions of one frame fixForSequence samples for the automatic camera
+// (an even stride, at most defaults::kSequenceFramePoints).
+void sampleFramePoints(std::span<const glm::vec3> positions, std::vector<glm::vec3>& samples);
 
 // Fixes radius, camera (the options', the camera path's first key, or
 // auto-framed on a few frames) and the studio in `settings` once for the

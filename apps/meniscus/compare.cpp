@@ -29,6 +29,7 @@ CLI::App* addCompareCommand(CLI::App& app, RenderOptions& o) {
     cmd->add_option("input", o.input, "One particle file")->required();
     cmd->add_option("-o,--output", o.output, "Output .png (two panels of --width x --height pixels)")->required();
     addCameraOptions(cmd, o);
+    addSelectOption(cmd, o.select);
     addBackendOption(cmd, o);
     addMesherOptions(cmd, o.mesher);
     return cmd;
@@ -71,6 +72,7 @@ int runCompare(const RenderOptions& o) {
     auto frames = openFrames(o.input, nullptr, o.hPerSpacing);
     if (!frames) return fail(frames.error().describe());
     if (frames->count() != 1) return fail(o.input + ": compare takes one frame, not a sequence");
+    if (auto st = frames->setSelection(o.select); !st) return fail(st.error().describe());
     auto up = upRotation(o.up);
     if (!up) return fail(up.error().describe());
     frames->up = *up;

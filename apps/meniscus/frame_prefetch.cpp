@@ -5,8 +5,15 @@
 
 namespace meniscus::app {
 
-FramePrefetch::FramePrefetch(Frames frames, std::function<void()> ready, std::size_t ahead)
-    : frames_(std::move(frames)), ready_(std::move(ready)), ahead_(ahead), worker_([this] { run(); }) {}
+FramePrefetch::FramePrefetch(Frames frames, std::function<void()> ready, std::size_t ahead,
+                             std::shared_ptr<const ParticleSet> seed, std::size_t seedIndex)
+    : frames_(std::move(frames)),
+      ready_(std::move(ready)),
+      ahead_(ahead),
+      wanted_(seedIndex),
+      cache_(seed ? std::map<std::size_t, Loaded>{{seedIndex, Loaded{std::move(seed), {}}}}
+                  : std::map<std::size_t, Loaded>{}),
+      worker_([this] { run(); }) {}
 
 FramePrefetch::~FramePrefetch() {
     {

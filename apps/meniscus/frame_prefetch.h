@@ -25,7 +25,10 @@ public:
     };
     // Reads frames of `frames` on its own thread; `ready` is called (from that
     // thread) after each frame is read, e.g. to wake the window's loop.
-    FramePrefetch(Frames frames, std::function<void()> ready, std::size_t ahead = 4);
+    // `seed` is frame `seedIndex` already read (the viewer's first frame,
+    // which opening the input read), so it is not read twice.
+    FramePrefetch(Frames frames, std::function<void()> ready, std::size_t ahead = 4,
+                  std::shared_ptr<const ParticleSet> seed = nullptr, std::size_t seedIndex = 0);
     ~FramePrefetch();  // stops and joins the worker (a read in progress finishes first)
     FramePrefetch(const FramePrefetch&) = delete;
     FramePrefetch& operator=(const FramePrefetch&) = delete;

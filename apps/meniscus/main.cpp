@@ -19,6 +19,7 @@
 #include "meniscus/params.h"
 #include "meniscus/particles.h"
 #include "compare.h"
+#include "convert.h"
 #include "meniscus/renderer.h"
 #include "meniscus/surface.h"
 #include "mesh.h"
@@ -208,7 +209,8 @@ int main(int argc, char** argv) {
         "  meniscus render frame_21.bgeo -o m.png --surface mesh   render that mesh instead of smoothing splats\n"
         "  meniscus compare frame_21.bgeo -o side_by_side.png      screen space and mesh, side by side, timed\n"
         "  meniscus simulate scenes/dam_break.json -o out/frame_%04d.bgeo   liquid from a scene file alone\n"
-        "  meniscus whitewater out/ -o diffuse/diffuse_%04d.bgeo   spray, foam and bubbles from that sequence"};
+        "  meniscus whitewater out/ -o diffuse/diffuse_%04d.bgeo   spray, foam and bubbles from that sequence\n"
+        "  meniscus convert 'PartFluid_*.vtk' out/f_%04d.bgeo      particle files to another format"};
     app.require_subcommand(1);
     app.set_version_flag("--version", versionLine());
     int threads = 0;
@@ -281,6 +283,8 @@ int main(int argc, char** argv) {
     auto* simulateCmd = addSimulateCommand(app, simulate);
     WhitewaterOptions whitewater;
     auto* whitewaterCmd = addWhitewaterCommand(app, whitewater);
+    ConvertOptions convert;
+    auto* convertCmd = addConvertCommand(app, convert);
 
     // A subcommand's option before the subcommand: say where it goes.
     if (auto misplaced = optionBeforeSubcommand(argc, argv, app); !misplaced.empty()) {
@@ -316,6 +320,7 @@ int main(int argc, char** argv) {
     if (*meshCmd) return runMesh(mesh, threads);
     if (*simulateCmd) return runSimulate(simulate);
     if (*whitewaterCmd) return runWhitewater(whitewater);
+    if (*convertCmd) return runConvert(convert);
     if (*compareCmd) return runCompare(compare);
     if (*renderCmd) return runRender(render, nullptr);
     if (*demoCmd) {

@@ -79,6 +79,7 @@ CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
                     "length, else estimated from the first frame)")
         ->check(CLI::PositiveNumber);
     addSmoothingLengthOption(cmd, o.hPerSpacing);
+    addSelectOption(cmd, o.select);
     addMesherOptions(cmd, o.mesher);
     cmd->add_flag("--stats", o.stats, "Print the extraction's phases, sizes and peak memory for each frame");
     return cmd;
@@ -89,6 +90,7 @@ int runMesh(const MeshOptions& o, int threads) {
     if (!format) return fail(format.error().describe());
     auto frames = openFrames(o.input, nullptr, o.hPerSpacing);
     if (!frames) return fail(frames.error().describe());
+    if (auto st = frames->setSelection(o.select); !st) return fail(st.error().describe());
     const std::size_t count = frames->count();
     if (auto st = frames->checkOutput(o.output, "mesh_%04d.ply"); !st) return fail(st.error().describe());
 

@@ -19,6 +19,7 @@ struct MeshOptions {
     std::string output;
     float radius = 0.0f;  // metres; 0 = estimate from the first frame
     float hPerSpacing = defaults::kHPerSpacing;  // a file's smoothing length h, in particle spacings
+    std::string select;  // --select: only the particles that match (parseSelection); empty: all
     MesherOptions mesher;
     bool stats = false;
 };

@@ -19,6 +19,15 @@
 //    particles (two walls would jump sides as the camera goes round); an
 //    explicit --background studio keeps its walls where the first frame's
 //    camera puts them, for the whole run.
+//  - --shard I/N renders the I-th of N contiguous shares of the frames
+//    (frames I*count/N up to (I+1)*count/N), named as in the whole run, for
+//    job arrays; a movie cannot be split. Frames left out (another shard's, or
+//    kept by --resume) still warm the noise's turbulence for the frames that
+//    follow: the holdFrames + 1 frames before a rendered frame are drawn and
+//    dropped, so its boost is what an unbroken run gives (the tracker's
+//    memory ends there), and a simulation is stepped through every frame time
+//    before the share, as the whole run steps it. Each share's output is then
+//    byte for byte the whole run's.
 //  - --frames N renders a single input file as N frames (the turntable of a
 //    still); without camera motion that is N identical frames, a held shot.
 //    A sequence renders its own frames: --frames with one is an error.
@@ -174,7 +183,7 @@ Status renderFrame(const RenderOptions& o, const Frames& frames, std::size_t i, 
         std::string path = o.diffuse;
         if (o.diffuse.find('%') != std::string::npos) {
             const long number =
-                frames.files.empty() ? -1 : frameNumberFromName(frames.files[frames.source(i)].filename().string());
+                frames.files.empty() ? -1 : frameNumberOf(frames.files[frames.source(i)]);
             auto name = formatFramePattern(o.diffuse, number < 0 ? long(i) : number);
             if (!name) return name.error();
             path = *name;
@@ -191,6 +200,37 @@ Status renderFrame(const RenderOptions& o, const Frames& frames, std::size_t i, 
     settings.diffuse = {};
     if (!aovs) return Error{aovs.error().file.empty() ? frames.name(i) : aovs.error().file, aovs.error().message};
     return outputs.write(i, *aovs, !settings.scene.background);
+}
+
+// The camera's motion over `count` frames at `fps` (--orbit, --turntable,
+// --camera-path), shared by files and simulations; errors name the scene
+// file's key when the option came from one.
+Result<CameraMotion> motionFromOptions(const RenderOptions& o, std::size_t count, double fps) {
+    const auto failure = [&](const std::string& message) {
+        return makeError("", withSceneKey(message, o.sceneFile, o.sceneKeys));
+    };
+    if (o.orbit != 0.0 && o.turntable) return failure("--orbit and --turntable: give one or the other");
+    if (o.turntable && count == 1)
+        return failure("--turntable turns once over the sequence: for a single file give --frames N");
+    auto path = cameraPathFromOptions(o);
+    if (!path) return failure(path.error().describe());
+    return CameraMotion{std::move(*path), o.orbit, o.turntable, count, fps};
+}
+
+// --shard I/N as the frames [begin, end) of `count` it renders.
+struct Share {
+    std::size_t begin = 0, end = 0;
+};
+Result<Share> shareOf(const std::string& shard, std::size_t count) {
+    if (shard.empty()) return Share{0, count};
+    long long i = -1, n = 0;
+    char slash = 0, extra = 0;
+    if (std::sscanf(shard.c_str(), "%lld %c %lld %c", &i, &slash, &n, &extra) != 3 || slash != '/' || n < 1 ||
+        i < 0 || i >= n)
+        return makeError("", "--shard " + shard + ": give I/N with 0 <= I < N (e.g. --shard 3/8, or "
+                             "$SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT)");
+    const auto at = [&](long long k) { return std::size_t((unsigned long long)(count) * (unsigned long long)(k) / (unsigned long long)(n)); };
+    return Share{at(i), at(i + 1)};
 }
 
 // Frames 0 .. frames.count() - 1, their particles from `next` (called once
@@ -213,15 +253,49 @@ int renderFrames(const RenderOptions& o, const Frames& frames, const CameraMotio
     auto outputs = Outputs::open(o, settings, frames);
     if (!outputs) return fail(outputs.error().describe());
 
-    std::vector<std::pair<std::size_t, std::string>> failed;  // frame, error
-    std::size_t written = 0, resumed = 0;
-    ProgressBar progress(count, "rendering");
-    for (std::size_t i = 0; i < count; ++i) {
+    auto share = shareOf(o.shard, count);
+    if (!share) return fail(share.error().describe());
+    if (!o.shard.empty())
+        std::cerr << "meniscus: shard " << o.shard << ": frames " << share->begin + 1 << " to " << share->end << " of "
+                  << count << "\n";
+    // Which frames are rendered: the share's, less those --resume keeps.
+    std::vector<char> rendered(share->end, 0);
+    for (std::size_t i = share->begin; i < share->end; ++i) {
         auto name = outputs->name(i);
         if (!name) return fail(name.error().describe());
-        if (o.resume && outputComplete(*name)) {
-            ++resumed;
-            progress.step(i + 1, *name + " (complete, kept)");
+        rendered[i] = !(o.resume && outputComplete(*name));
+    }
+    // The turbulence tracker's memory, in frames (0: nothing carries over):
+    // a frame not rendered is drawn and dropped when one of the `memory`
+    // frames after it is rendered.
+    const std::size_t memory =
+        settings.noise.enabled ? std::size_t(std::max(settings.noise.turbulence.holdFrames, 0)) + 1 : 0;
+    const auto remembered = [&](std::size_t i) {
+        for (std::size_t j = i + 1; j <= i + memory && j < share->end; ++j)
+            if (rendered[j]) return true;
+        return false;
+    };
+
+    std::vector<std::pair<std::size_t, std::string>> failed;  // frame, error
+    std::size_t written = 0, resumed = 0;
+    ProgressBar progress(share->end - share->begin, "rendering");
+    for (std::size_t i = 0; i < share->end; ++i) {
+        auto name = outputs->name(i);
+        if (!name) return fail(name.error().describe());
+        if (!rendered[i]) {
+            if (i >= share->begin) {
+                ++resumed;
+                progress.step(i + 1 - share->begin, *name + " (complete, kept)");
+            }
+            if (remembered(i)) {
+                if (auto set = next(i)) {
+                    settings.camera = cameraForFrame(start, motion, i);
+                    settings.frameIndex = std::int64_t(i);
+                    (void)renderer.render(ParticleView::of(*set), settings);
+                }
+            } else if (!frames.simulation.empty()) {
+                (void)next(i);  // stepped through, as the whole run steps it
+            }
             continue;
         }
         settings.camera = cameraForFrame(start, motion, i);
@@ -232,7 +306,7 @@ int renderFrames(const RenderOptions& o, const Frames& frames, const CameraMotio
             std::cerr << "meniscus: frame " << i + 1 << "/" << count << " skipped: " << st.error().describe() << "\n";
         } else {
             ++written;
-            progress.step(i + 1, *name);
+            progress.step(i + 1 - share->begin, *name);
         }
         if (gInterrupted) {
             std::cerr << "\nmeniscus: interrupted after frame " << i + 1 << " of " << count
@@ -291,10 +365,8 @@ int renderSimulation(const RenderOptions& o, RenderSettings& settings) {
     // The movie and a moving camera keep the simulation's time: --fps is the scene's unless given otherwise.
     RenderOptions timed = o;
     if (o.fps == defaults::kVideoFps) timed.fps = scene->fps;
-    if (o.orbit != 0.0 && o.turntable) return fail("--orbit and --turntable: give one or the other");
-    auto path = cameraPathFromOptions(o);
-    if (!path) return fail(withSceneKey(path.error().describe(), o.sceneFile, o.sceneKeys));
-    const CameraMotion motion{std::move(*path), o.orbit, o.turntable, frames.count(), timed.fps};
+    auto motion = motionFromOptions(o, frames.count(), timed.fps);
+    if (!motion) return fail(motion.error().describe());
     if (!isMp4(o.output))
         if (auto st = frames.checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error().describe());
     if (auto st = fixForBox(o, domainBounds(*scene), scene->params.radius, settings); !st)
@@ -303,7 +375,7 @@ int renderSimulation(const RenderOptions& o, RenderSettings& settings) {
     std::cerr << "meniscus: simulating " << o.input << ": " << simulator.size() << " particles, r = "
               << scene->params.radius << " m, " << sim::solverName(scene->params.solver) << ", " << scene->duration
               << " s, a frame every " << 1.0 / scene->fps << " s\n";
-    return renderFrames(timed, frames, motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
+    return renderFrames(timed, frames, *motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
         if (auto st = simulator.advanceTo(double(i) / scene->fps); !st) return Error{o.input, st.error().message};
         return simulator.particles();
     });
@@ -331,6 +403,10 @@ void addSequenceOptions(CLI::App* cmd, RenderOptions& o) {
         ->check(CLI::IsMember({"stop", "skip"}));
     cmd->add_flag("--resume", o.resume,
                   "Leave frames whose output images already exist and are complete (after an interrupted run)");
+    cmd->add_option("--shard", o.shard,
+                    "I/N: render only the I-th (from 0) of N contiguous shares of the frames, named as in the whole "
+                    "run, for job arrays (Slurm: --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT); the N runs "
+                    "together write exactly the whole run's images");
     cmd->add_option("--orbit", o.orbit,
                     "Moving camera: turn about the vertical through the target at this many degrees per second of "
                     "sequence time (frame i at i / --fps seconds; positive: counter-clockwise seen from above), "
@@ -354,6 +430,8 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     if (!isPng(o.output) && !isExr(o.output) && !isMp4(o.output))
         return fail(o.output + ": output must end in .png, .exr or .mp4");
     if (o.resume && isMp4(o.output)) return fail("--resume: a movie is written whole; resume numbered images");
+    if (!o.shard.empty() && isMp4(o.output))
+        return fail("--shard: a movie is written whole; shard numbered images (and join them with ffmpeg)");
     std::signal(SIGINT, onInterrupt);  // from here on Ctrl-C stops after the frame in progress
     std::signal(SIGTERM, onInterrupt);
     auto parsed = settingsFromOptions(o);
@@ -376,14 +454,8 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
         frames->repeat = o.frames;
     }
     const std::size_t count = frames->count();
-    if (o.orbit != 0.0 && o.turntable)
-        return fail(withSceneKey("--orbit and --turntable: give one or the other", o.sceneFile, o.sceneKeys));
-    if (o.turntable && count == 1)
-        return fail(withSceneKey("--turntable turns once over the sequence: for a single file give --frames N",
-                                 o.sceneFile, o.sceneKeys));
-    auto path = cameraPathFromOptions(o);
-    if (!path) return fail(withSceneKey(path.error().describe(), o.sceneFile, o.sceneKeys));
-    const CameraMotion motion{std::move(*path), o.orbit, o.turntable, count, o.fps};
+    auto motion = motionFromOptions(o, count, o.fps);
+    if (!motion) return fail(motion.error().describe());
     if (!isMp4(o.output))
         if (auto st = frames->checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error().describe());
 
@@ -399,7 +471,7 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
         std::cerr << "meniscus: warning: " << frames->name(firstIndex)
                   << " has no velocity attribute: --whiten leaves the colour as it is\n";
 
-    return renderFrames(o, *frames, motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
+    return renderFrames(o, *frames, *motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
         // (Frames before firstIndex did not load when fixForSequence tried them.)
         if (i == firstIndex) return std::move(*first);
         return still ? Result<ParticleSet>(*still) : frames->loadChecked(i);

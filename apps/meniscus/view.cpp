@@ -47,6 +47,7 @@ constexpr float kDegreesPerDragUnit = 0.3f;  // orbit per screen unit the cursor
 constexpr float kZoomPerWheelStep = 0.9f;    // camera distance factor per wheel step away from the user
 constexpr double kLiveSpeed = 1.0;  // --simulate: at most real time (simulated s per wall-clock s), so a fast scene plays
 constexpr int kUiSettleFrames = 3;  // the panels react to hover and lay out over a few frames after an event
+constexpr std::size_t kPrefetchAhead = 4;  // frames read ahead of the one shown
 constexpr int kScriptWidgetFrames = 60;  // a scripted click waits this many frames for its widget to be drawn
 
 // One event of an input script: window input, or the pointer over a panel widget.
@@ -123,29 +124,36 @@ std::string liveTitle(const ViewOptions& o, const sim::Scene& scene, const LiveS
     return "meniscus view: " + o.simulate.scene + " (" + t + (running ? ")" : ", done)");
 }
 
-// The frames of o.input (the demo frame when empty) with the camera, radius
-// and studio fixed for them in `settings`, framed for a `size` framebuffer.
-struct Opened {
-    Frames frames;
-    ParticleSet first;
-};
-Result<Opened> openInput(const RenderOptions& o, const ParticleSet* embedded, glm::ivec2 size,
-                         RenderSettings& settings) {
+// The frames of o.input (the demo frame when empty) with its fluids and up
+// axis: what can fail about an input before a window is worth opening.
+Result<Frames> openSequence(const RenderOptions& o, const ParticleSet* embedded) {
     auto opened = openFrames(o.input, o.input.empty() ? embedded : nullptr, o.hPerSpacing);
     if (!opened) return opened.error();
     if (auto st = opened->addFluids(o); !st) return st.error();
     auto up = upRotation(o.up);
     if (!up) return up.error();
     opened->up = *up;
+    return opened;
+}
+
+// `frames` with the camera, radius and studio fixed for them in `settings`,
+// framed for a `size` framebuffer, and the first frame that loads.
+struct Opened {
+    Frames frames;
+    std::shared_ptr<const ParticleSet> first;
+    std::size_t firstIndex = 0;
+};
+Result<Opened> frameInput(const RenderOptions& o, Frames frames, glm::ivec2 size, RenderSettings& settings) {
     RenderOptions sized = o;
     if (size.x > 0 && size.y > 0) {
         sized.width = size.x;
         sized.height = size.y;
     }
-    auto first = fixForSequence(sized, *opened, settings);
+    std::size_t firstIndex = 0;
+    auto first = fixForSequence(sized, frames, settings, &firstIndex);
     if (!first) return first.error();
     printWarnings(*first);
-    return Opened{std::move(*opened), std::move(*first)};
+    return Opened{std::move(frames), std::make_shared<const ParticleSet>(std::move(*first)), firstIndex};
 }
 
 // "--eye x,y,z --target x,y,z --fov f" of `camera` in the data's frame (o.up), every digit a float has,
@@ -177,8 +185,9 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     if (!script) return fail(script.error().describe());
 
     // A scene simulated live is checked before any window; an input's errors
-    // come before the window too (read again for the window's own size below).
+    // come before the window too (its frames are framed for the window's own size below).
     std::optional<sim::Scene> scene;
+    std::optional<Frames> input;
     std::unique_ptr<sim::Simulator> simulator;
     if (!o.simulate.scene.empty()) {
         SimulateOptions so = o.simulate;
@@ -190,10 +199,9 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         scene = std::move(*read);
         simulator = std::move(*made);
     } else {
-        auto opened = openFrames(o.render.input, embedded, o.render.hPerSpacing);
+        auto opened = openSequence(o.render, embedded);
         if (!opened) return fail(opened.error().describe());
-        if (auto st = opened->addFluids(o.render); !st) return fail(st.error().describe());
-        if (auto up = upRotation(o.render.up); !up) return fail(up.error().describe());
+        input = std::move(*opened);
     }
 
     // The window first: without a display nothing else is worth doing.
@@ -211,22 +219,29 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     RenderOptions look = o.render;  // the look as options, as the panels change it
     float estimatedRadius = 0.0f;   // the radius fixed for the input (look.radius 0: this one)
     Camera homeCamera;              // the camera the input opened with (reset camera)
-    // Shows o.input (or the one a drop or a scene file names): an error leaves what is shown.
-    const auto open = [&](const RenderOptions& next) -> Status {
+    // Shows o.input (or the one a drop or a scene file names; `frames` when
+    // already opened): an error leaves what is shown.
+    const auto open = [&](const RenderOptions& next, std::optional<Frames> frames) -> Status {
         auto s = settingsFromOptions(next);
         if (!s) return s.error();
-        auto opened = openInput(next, embedded, win.framebufferSize(), *s);
+        if (!frames) {
+            auto opened = openSequence(next, embedded);
+            if (!opened) return opened.error();
+            frames = std::move(*opened);
+        }
+        auto opened = frameInput(next, std::move(*frames), win.framebufferSize(), *s);
         if (!opened) return opened.error();
         prefetch.reset();
-        current = std::make_shared<const ParticleSet>(std::move(opened->first));
-        prefetch = std::make_unique<FramePrefetch>(std::move(opened->frames), [&win] { win.wake(); });
-        index = 0;
-        prefetch->want(0);
+        current = opened->first;
+        // The frame just read is the reader's first: not read twice.
+        prefetch = std::make_unique<FramePrefetch>(std::move(opened->frames), [&win] { win.wake(); },
+                                                   kPrefetchAhead, opened->first, opened->firstIndex);
+        index = opened->firstIndex;
         settings = std::move(*s);
         look = next;
         estimatedRadius = settings.radiusM;
         homeCamera = settings.camera;
-        win.setTitle(title(look, prefetch->frames().count(), 0, &prefetch->frames()));
+        win.setTitle(title(look, prefetch->frames().count(), index, &prefetch->frames()));
         return okStatus();
     };
     if (scene) {
@@ -241,7 +256,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
             return fail(st.error().describe());
         estimatedRadius = settings.radiusM;
         homeCamera = settings.camera;
-    } else if (auto st = open(o.render); !st) {
+    } else if (auto st = open(o.render, std::move(input)); !st) {
         return fail(st.error().describe());
     }
     const std::size_t count0 = prefetch ? prefetch->frames().count() : 1;
@@ -313,7 +328,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
             next->eye.clear();
             next->target.clear();
         }
-        const Status st = next ? open(*next) : Status(next.error());
+        const Status st = next ? open(*next, std::nullopt) : Status(next.error());
         model.message = st ? "showing " + path : st.error().describe();
         std::cerr << "meniscus: " << (st ? "" : "error: ") << model.message << "\n";
         if (st && isJsonFile(path)) model.scenePath = path;

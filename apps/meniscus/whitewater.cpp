@@ -28,6 +28,7 @@ CLI::App* addWhitewaterCommand(CLI::App& app, WhitewaterOptions& o) {
         ->required();
     cmd->add_option("--radius", o.radius, "Fluid particle radius r in metres (default: estimated from the first frame)")
         ->check(CLI::PositiveNumber);
+    addSelectOption(cmd, o.select);
     cmd->add_option("--fps", o.fps,
                     "Frames per second of the input (default: estimated from how far the particles of the first two "
                     "frames move along their velocities)")
@@ -82,6 +83,7 @@ int runWhitewater(WhitewaterOptions o) {
 
     auto frames = openFrames(o.input, nullptr);
     if (!frames) return fail(frames.error().describe());
+    if (auto st = frames->setSelection(o.select); !st) return fail(st.error().describe());
     const std::size_t count = frames->count();
     if (auto st = frames->checkOutput(o.output, "diffuse_%04d.bgeo"); !st) return fail(st.error().describe());
     auto load = [&](std::size_t i) -> Result<ParticleSet> {

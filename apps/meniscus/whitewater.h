@@ -23,6 +23,7 @@ struct WhitewaterOptions {
     std::vector<float> lifetime;  // min, max, s
     std::vector<float> gravity;   // x, y, z, m/s^2
     std::vector<float> box;       // min x, y, z, max x, y, z, metres
+    std::string select;           // --select: only the fluid particles that match; empty: all
     WhitewaterParams params;
 };
 

@@ -18,7 +18,10 @@ namespace meniscus {
 
 // ---------------------------------------------------------------- particles
 
-enum class ParticleFormat { Auto, Bgeo, VtkLegacy, Vtu, Ply, Csv, Xyz };
+// Hdf5: H5Part or PySPH's .hdf5, told apart by what the file holds; Npz:
+// numpy's .npz (PySPH's or plain arrays). Both are read only, and optional in
+// a build (particleFormatAvailable).
+enum class ParticleFormat { Auto, Bgeo, VtkLegacy, Vtu, Ply, Csv, Xyz, Hdf5, Npz };
 
 // Each parser reads a whole file already in memory. `name` is used in error
 // messages only. Parsers return what the file holds (NaN positions included);
@@ -30,8 +33,44 @@ Result<ParticleSet> parsePly(ByteView data, const std::string& name);        // 
 Result<ParticleSet> parseCsv(ByteView data, const std::string& name);        // src/io/text.cpp
 Result<ParticleSet> parseXyz(ByteView data, const std::string& name);        // src/io/text.cpp
 
-// Format from the file name (.bgeo, .bgeo.gz, .vtk, .vtu, .ply, .csv, .xyz, .txt);
-// Auto when unknown.
+// Containers: files that hold several frames or several particle arrays. A
+// frame inside one is named by a path into the file, HDF5 style, which
+// readParticles, expandSequence and frameNumberOf understand:
+//  - H5Part (.h5part, .h5; src/io/h5part.cpp): groups Step#0, Step#1, ...
+//    of 1-D datasets x, y, z, ... (Bethel et al. 2005, the H5Part format).
+//    One file is a whole sequence: expandSequence(run.h5part) gives
+//    run.h5part/Step#0, run.h5part/Step#1, ... in step order, and the frame
+//    number of run.h5part/Step#12 is 12. The file alone reads its first step
+//    (with a warning when it has more).
+//  - PySPH output (.hdf5: src/io/pysph_hdf5.cpp; .npz: src/io/npz.cpp), one
+//    file per output step, one particle array per body (fluid, boundary,
+//    ...): out_100.hdf5/fluid reads the array "fluid" (also written
+//    out_100.hdf5/particles/fluid); the file alone reads "fluid", else the
+//    first array with particles (with a warning when there are several). The
+//    frame number of out_100.hdf5/fluid is 100, the file's.
+//  - a plain .npz (numpy.savez of x, y, z, ... arrays; keys "fluid/x", ...
+//    make bodies, named as out.npz/fluid).
+// Names go through the shared alias table (x y z, u v w, rho, id, ...);
+// PySPH's smoothing length h is kept as "h" (addRadiusFromSmoothingLength).
+// `inner` is the part of the path after the file ("" for the default).
+// Without HDF5 or libzip in the build these return an error saying so.
+Result<ParticleSet> parseHdf5(ByteView data, const std::string& name, const std::string& inner = "");
+Result<ParticleSet> parseNpz(ByteView data, const std::string& name, const std::string& inner = "");
+// False for Hdf5 / Npz when the build lacks HDF5 / libzip.
+bool particleFormatAvailable(ParticleFormat format);
+// The steps of an H5Part file in step order ("Step#0", "Step#1", ...; empty
+// for an HDF5 file that is not H5Part). Errors name the file.
+Result<std::vector<std::string>> listH5PartSteps(const std::filesystem::path& path);
+// The particle arrays of a PySPH .hdf5 / .npz (or the bodies of a plain
+// .npz), in the file's order, with their particle counts (0: none stored).
+struct ParticleArrayInfo {
+    std::string name;
+    std::size_t count = 0;
+};
+Result<std::vector<ParticleArrayInfo>> listParticleArrays(const std::filesystem::path& path);
+
+// Format from the file name (.bgeo, .bgeo.gz, .vtk, .vtu, .ply, .csv, .xyz,
+// .txt, .h5part, .h5, .hdf5, .npz); Auto when unknown.
 ParticleFormat formatFromName(std::string_view name);
 
 // Parse with the given (or detected) format, then: drop particles with
@@ -41,6 +80,9 @@ ParticleFormat formatFromName(std::string_view name);
 // emitter started, which `simulate --resume` reads back).
 Result<ParticleSet> parseParticles(ByteView data, const std::string& name,
                                    ParticleFormat format = ParticleFormat::Auto, bool allowEmpty = false);
+// readParticles also takes a path into a container (see above:
+// run.h5part/Step#3, out_100.hdf5/fluid); HDF5 files are read from the disk
+// as needed, not whole into memory.
 Result<ParticleSet> readParticles(const std::filesystem::path& path,
                                   ParticleFormat format = ParticleFormat::Auto, bool allowEmpty = false);
 
@@ -69,16 +111,21 @@ Result<std::vector<std::uint8_t>> inflateGzip(ByteView data, const std::string& 
 
 // Expands an input spec into an ordered frame list:
 //  - an existing regular file: just that file (a .pvd collection: the files it
-//    lists, in timestep order; see readPvd below);
+//    lists, in timestep order; see readPvd below; an H5Part file: its steps,
+//    as paths into it, run.h5part/Step#0, ..., in step order);
+//  - a path into a container (run.h5part/Step#3, out.hdf5/fluid): itself; a
+//    pattern of containers with a path into each (out_*.hdf5/fluid): the
+//    pattern's files, each with that path;
 //  - a directory: every particle file in it (known extensions);
 //  - a printf pattern with one integer conversion (frame_%04d.ply, f_%d.bgeo);
 //  - a glob pattern with * and ? in the file name (ParticleData_Fluid_*.bgeo).
-// Frames are sorted in natural numeric order ("_2" before "_10"). An empty
-// result is an error that names the spec.
+// Frames are sorted in natural numeric order ("_2" before "_10"); H5Part
+// files found in a directory or by a pattern give their steps in their place.
+// An empty result is an error that names the spec.
 Result<std::vector<std::filesystem::path>> expandSequence(const std::string& spec);
 
-// True when `spec` names more than a single file (a directory, a pattern or a
-// .pvd collection).
+// True when `spec` names more than a single file (a directory, a pattern, a
+// .pvd collection or an H5Part file of more than one step).
 bool isSequenceSpec(const std::string& spec);
 
 // A ParaView data collection (.pvd, `<VTKFile type="Collection">`), the time
@@ -104,6 +151,12 @@ Result<PvdCollection> parsePvd(ByteView data, const std::string& name, const std
 Result<PvdCollection> readPvd(const std::filesystem::path& path);
 // True for a name ending in .pvd (any case).
 bool isPvdName(std::string_view name);
+// Writes a ParaView collection listing `files` (each relative to the .pvd's
+// folder when it can be) with `times`, one DataSet of part 0 each, as
+// parsePvd reads it back. An error naming the .pvd when the counts differ or a
+// time is not finite; written to a temporary name and renamed.
+Status writePvd(const std::filesystem::path& path, const std::vector<std::filesystem::path>& files,
+                const std::vector<double>& times);
 
 // Natural order comparison: digit runs compare by value.
 bool naturalLess(std::string_view a, std::string_view b);
@@ -209,4 +262,8 @@ namespace meniscus {
 // The frame number a file name carries: the last run of digits in its name
 // without extensions (ParticleData_Fluid_21.bgeo -> 21), or -1 when none.
 long frameNumberFromName(std::string_view fileName);
+// The frame number of a frame path (as expandSequence gives them): its file
+// name's, and for a path into a container the step's (run.h5part/Step#12 ->
+// 12) or else the container's (out_100.hdf5/fluid -> 100); -1 when none.
+long frameNumberOf(const std::filesystem::path& framePath);
 }  // namespace meniscus

@@ -4,6 +4,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "meniscus/result.h"
@@ -85,5 +86,55 @@ std::optional<MinMedianMax> attributeStats(const ParticleSet& set, std::string_v
 // Drops particles whose position has a non-finite coordinate, in every
 // attribute alike. Returns how many were dropped.
 std::size_t dropNonFinite(ParticleSet& set);
+
+// ---------------------------------------------------------------- selection (src/core/select.cpp)
+
+// DualSPHysics' particle types as its output's Type array holds them
+// (DualSPHysics v5 src/source/JSph.cpp, JSph::SaveData, and
+// JDebugSphCpu::GetCodeType; PartVTK -vars:+type "Type (fixed,moving,floating,fluid)").
+enum class DualSphysicsType : int { Fixed = 0, Moving = 1, Floating = 2, Fluid = 3 };
+
+// Which particles to keep (the CLI's --select): clauses ATTR OP VALUE, all of
+// which must hold:
+//   selection := clause { "&&" clause }
+//   clause    := operand op value
+//   operand   := NAME | NAME.C | "|" NAME "|"
+//   op        := == | != | < | <= | > | >=
+//   value     := a number | for an attribute called Type (any case), one of
+//                DualSPHysics' types: fixed (0), moving (1), floating (2),
+//                bound or boundary (0 to 2: == and != only), fluid (3)
+// NAME is an attribute as the file's reader names it (velocity, density, id,
+// Type, Press, ...; `meniscus info` lists them), matched exactly, else in any
+// case; x, y, z or position.x ... are the positions. A vector needs a component,
+// NAME.x / .y / .z or NAME.0, .1, ... , or |NAME|, its length. Values are in
+// the file's own units (metres, m/s, kg/m^3). Compared in the attribute's
+// precision (a float attribute against the value rounded to float); a NaN
+// value matches only !=.
+enum class SelectOp { Equal, NotEqual, Less, LessEqual, Greater, GreaterEqual };
+struct SelectClause {
+    std::string text;          // the clause as written, trimmed (for messages)
+    std::string attribute;     // the operand's name as written, bars removed ("velocity.y", "Type")
+    bool magnitude = false;    // |NAME|
+    SelectOp op = SelectOp::Equal;
+    double low = 0, high = 0;  // the value; a group of types (bound) spans [low, high], else low == high
+};
+struct ParticleFilter {
+    std::string text;                  // the whole expression as given
+    std::vector<SelectClause> clauses; // none: every particle
+    bool empty() const { return clauses.empty(); }
+};
+
+// Parses a selection; an empty or blank text gives an empty filter. An error
+// ("--select 'TEXT': ..." naming the bad clause or token) for anything else
+// than the grammar above.
+Result<ParticleFilter> parseSelection(std::string_view text);
+
+// Keeps the particles of `set` that match every clause, dropping the others
+// from the positions and every attribute alike (order kept). Errors, naming
+// `name` (the file): an attribute the set does not have (listing those it
+// has), a vector attribute without a component or a component it lacks, an
+// attribute whose value count is not particles x components, and a selection
+// that leaves no particle. An empty filter changes nothing.
+Status applySelection(ParticleSet& set, const ParticleFilter& filter, const std::string& name);
 
 }  // namespace meniscus

@@ -17,6 +17,7 @@
 #include <cstring>
 #include <new>
 
+#include "io/attribute_names.h"
 #include "io/gzip_stream.h"
 #include "io/io_util.h"
 #include "meniscus/io.h"
@@ -191,18 +192,6 @@ std::vector<AttrInfo> readAttributeTable(Reader& in, const Header& h) {
     return attrs;
 }
 
-// Canonical name where the meaning is obvious; otherwise the file's own name.
-std::string canonicalName(const AttrInfo& a, const std::vector<AttrInfo>& all) {
-    auto taken = [&](const std::string& n) {
-        for (const auto& b : all)
-            if (b.name == n) return true;
-        return false;
-    };
-    if (a.name == "v" && a.size == 3 && (a.type == kVector || a.type == kFloat) && !taken("velocity"))
-        return "velocity";
-    return a.name;
-}
-
 std::size_t recordWords(const std::vector<AttrInfo>& attrs) {
     std::size_t words = 4;  // P = x, y, z, w
     for (const auto& a : attrs) words += std::size_t(a.size);
@@ -216,7 +205,7 @@ ParticleSet allocatePoints(std::size_t n, const std::vector<AttrInfo>& attrs) {
     set.positions.resize(n);
     for (const auto& a : attrs) {
         Attribute attr;
-        attr.name = canonicalName(a, attrs);
+        attr.name = a.name;  // canonical names come after decoding (applyCanonicalNames)
         attr.components = a.size;
         if (a.type == kInt || a.type == kIndex) {
             attr.type = AttributeType::Int;
@@ -346,8 +335,12 @@ ParticleSet parseCompressed(ByteView gz, const std::string& name) {
 
 Result<ParticleSet> parseBgeo(ByteView data, const std::string& name) {
     return io_util::guardParse(name, "BGEO", [&]() -> Result<ParticleSet> {
-        if (data.size() >= 2 && data[0] == 0x1f && data[1] == 0x8b) return parseCompressed(data, name);
-        return parseDecompressed(data);
+        const bool gz = data.size() >= 2 && data[0] == 0x1f && data[1] == 0x8b;
+        ParticleSet set = gz ? parseCompressed(data, name) : parseDecompressed(data);
+        // Houdini's "v" is the velocity; the alias table every reader shares
+        // (io/attribute_names.h) names it and the others.
+        io_util::applyCanonicalNames(set.attributes);
+        return set;
     });
 }
 

@@ -1,13 +1,17 @@
 // PLY particle reader (the format itself, header and rows: ply_format.h).
 //
-// Only the "vertex" element is read: x y z become positions; vx vy vz ->
-// "velocity" (Float, 3); density or rho -> "density"; id -> "id" (Int). Other
+// Only the "vertex" element is read. Its scalar properties are named through
+// the alias table every reader shares (io/attribute_names.h, any case): x y z
+// become positions; vx vy vz (or another spelling of the table, e.g. Vel.x ...)
+// -> "velocity" (Float, 3); density, rho or Rhop -> "density"; id or Idp -> "id"
+// (Int). Other
 // scalar vertex properties are kept by name (float types -> Float, integer types
 // -> Int), except that a run NAME_0, NAME_1, ... NAME_{k-1} of one kind becomes
 // one k-component attribute NAME (as writeParticles stores one); vertex list
 // properties and all other elements (faces, edges, ...) are skipped, but still
 // checked so that a truncated file is reported.
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -17,6 +21,7 @@
 #include <new>
 #include <optional>
 
+#include "io/attribute_names.h"
 #include "io/io_util.h"
 #include "io/ply_format.h"
 #include "meniscus/io.h"
@@ -80,14 +85,24 @@ Result<VertexLayout> planVertexLayout(const Element& vertex, const std::string& 
             if (vertex.properties[i].name == vertex.properties[j].name)
                 return makeError(name, "PLY vertex element has two properties named '" + vertex.properties[i].name + "'");
 
-    const int xyz[3] = {findScalar(vertex, "x"), findScalar(vertex, "y"), findScalar(vertex, "z")};
-    const int vel[3] = {findScalar(vertex, "vx"), findScalar(vertex, "vy"), findScalar(vertex, "vz")};
-    for (int c = 0; c < 3; ++c)
-        if (xyz[c] < 0)
-            return makeError(name, std::string("PLY vertex element has no scalar '") + "xyz"[c] + "' property");
-    const bool hasVelocity = vel[0] >= 0 && vel[1] >= 0 && vel[2] >= 0;
-    const int density = findScalar(vertex, "density") >= 0 ? findScalar(vertex, "density") : findScalar(vertex, "rho");
-    const int id = findScalar(vertex, "id");
+    // Positions, velocity, density and id through the alias table every reader
+    // shares (io/attribute_names.h); list properties take no part.
+    std::vector<std::string> scalarNames;
+    for (const Property& p : vertex.properties) scalarNames.push_back(p.isList ? std::string() : p.name);
+    const io_util::ColumnRoles roles = io_util::findColumnRoles(scalarNames);
+    const std::array<int, 3>& xyz = roles.position;
+    const std::array<int, 3>& vel = roles.velocity;
+    if (!roles.hasPosition()) {
+        bool have[3] = {false, false, false};
+        for (const std::string& n : scalarNames)
+            if (const int c = io_util::componentIn(io_util::positionColumns(), n); c >= 0) have[c] = true;
+        for (int c = 0; c < 3; ++c)
+            if (!have[c]) return makeError(name, std::string("PLY vertex element has no scalar '") + "xyz"[c] + "' property");
+        return makeError(name, "PLY vertex element has no complete set of scalar x, y, z properties");
+    }
+    const bool hasVelocity = roles.hasVelocity();
+    const int density = roles.density;
+    const int id = roles.id;
 
     VertexLayout layout;
     layout.columns.resize(vertex.properties.size());
@@ -125,8 +140,7 @@ Result<VertexLayout> planVertexLayout(const Element& vertex, const std::string& 
         } else {
             // Kept by name; a name that would clash with a canonical attribute
             // (a second density column, a scalar "velocity") gets a suffix.
-            std::string attrName = p.name;
-            if (attrName == kAttrVelocity || attrName == kAttrDensity || attrName == kAttrId) attrName += "_ply";
+            std::string attrName = io_util::nonCanonicalName(p.name, "_ply");
             col.attribute = addAttribute(layout, attrName,
                                          col.fromInteger ? AttributeType::Int : AttributeType::Float, 1);
         }

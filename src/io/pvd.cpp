@@ -28,6 +28,7 @@
 
 #include <tinyxml2.h>
 
+#include "io/atomic_file.h"
 #include "io/io_util.h"
 #include "meniscus/io.h"
 
@@ -166,6 +167,46 @@ Result<PvdCollection> readPvd(const fs::path& path) {
                                                  (fs::exists(f, ec) ? "is not a regular file" : "does not exist"));
     }
     return pvd;
+}
+
+Status writePvd(const fs::path& path, const std::vector<fs::path>& files, const std::vector<double>& times) {
+    const std::string name = path.string();
+    if (files.size() != times.size())
+        return makeError(name, std::to_string(files.size()) + " files but " + std::to_string(times.size()) + " times");
+    for (double t : times)
+        if (!std::isfinite(t)) return makeError(name, "a timestep that is not a finite number");
+    tinyxml2::XMLDocument doc;
+    doc.InsertEndChild(doc.NewDeclaration());
+    tinyxml2::XMLElement* root = doc.NewElement("VTKFile");
+    root->SetAttribute("type", "Collection");
+    root->SetAttribute("version", "0.1");
+    root->SetAttribute("byte_order", "LittleEndian");
+    doc.InsertEndChild(root);
+    tinyxml2::XMLElement* collection = root->InsertNewChildElement("Collection");
+    const fs::path base = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        // Relative to the .pvd, so the folder can move as a whole.
+        std::error_code ec;
+        fs::path rel = fs::relative(files[i], base, ec);
+        if (ec || rel.empty()) rel = files[i];
+        char time[32];
+        std::snprintf(time, sizeof time, "%.17g", times[i]);
+        tinyxml2::XMLElement* ds = collection->InsertNewChildElement("DataSet");
+        ds->SetAttribute("timestep", time);
+        ds->SetAttribute("group", "");
+        ds->SetAttribute("part", 0);
+        ds->SetAttribute("file", rel.generic_string().c_str());
+    }
+    tinyxml2::XMLPrinter printer;
+    doc.Print(&printer);
+    return writeAtomically(path, [&](const fs::path& tmp) -> Status {
+        std::FILE* f = std::fopen(tmp.c_str(), "wb");
+        if (!f) return makeError(name, "cannot open for writing");
+        const std::size_t size = std::size_t(printer.CStrSize() - 1);  // without the terminating NUL
+        const bool ok = std::fwrite(printer.CStr(), 1, size, f) == size;
+        if (std::fclose(f) != 0 || !ok) return makeError(name, "write error");
+        return okStatus();
+    });
 }
 
 }  // namespace meniscus

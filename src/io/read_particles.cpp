@@ -5,6 +5,7 @@
 #include <fstream>
 #include <new>
 
+#include "io/containers.h"
 #include "io/io_util.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
@@ -25,7 +26,28 @@ ParticleFormat formatFromContent(ByteView data) {
     if (startsWith("# vtk DataFile")) return ParticleFormat::VtkLegacy;
     if (startsWith("ply")) return ParticleFormat::Ply;
     if (startsWith("<?xml") || startsWith("<VTKFile")) return ParticleFormat::Vtu;
+    if (io_util::hasHdf5Signature(data)) return ParticleFormat::Hdf5;
+    if (startsWith("PK\x03\x04") || startsWith("PK\x05\x06")) return ParticleFormat::Npz;  // a zip archive
     return ParticleFormat::Auto;
+}
+
+// The checks every particle file gets, whatever its format (see io.h).
+Result<ParticleSet> finishParticles(Result<ParticleSet> parsed, const std::string& name, bool allowEmpty) {
+    if (!parsed) return parsed;
+    ParticleSet& set = parsed.value();
+    for (const Attribute& a : set.attributes)
+        if (a.count() != set.size())
+            return makeError(name, "attribute '" + a.name + "' has " + std::to_string(a.count()) +
+                                       " values but the file has " + std::to_string(set.size()) + " particles");
+    const std::size_t total = set.size();
+    const std::size_t dropped = dropNonFinite(set);
+    if (dropped > 0)
+        set.warnings.push_back(name + ": dropped " + std::to_string(dropped) + " of " + std::to_string(total) +
+                               " particles with NaN/Inf positions");
+    if (set.size() == 0 && !(allowEmpty && total == 0))
+        return makeError(name, total == 0 ? "file contains no particles"
+                                          : "all " + std::to_string(total) + " particles have NaN/Inf positions");
+    return parsed;
 }
 
 }  // namespace
@@ -38,6 +60,8 @@ ParticleFormat formatFromName(std::string_view name) {
     if (endsWith(n, ".ply")) return ParticleFormat::Ply;
     if (endsWith(n, ".csv")) return ParticleFormat::Csv;
     if (endsWith(n, ".xyz") || endsWith(n, ".txt")) return ParticleFormat::Xyz;
+    if (io_util::isHdf5Name(n)) return ParticleFormat::Hdf5;
+    if (io_util::isNpzName(n)) return ParticleFormat::Npz;
     return ParticleFormat::Auto;
 }
 
@@ -74,29 +98,34 @@ Result<ParticleSet> parseParticles(ByteView data, const std::string& name, Parti
             case ParticleFormat::Ply: return parsePly(data, name);
             case ParticleFormat::Csv: return parseCsv(data, name);
             case ParticleFormat::Xyz: return parseXyz(data, name);
+            case ParticleFormat::Hdf5: return parseHdf5(data, name);
+            case ParticleFormat::Npz: return parseNpz(data, name);
             case ParticleFormat::Auto: break;
         }
-        return makeError(name, "unknown particle file format (expected .bgeo, .vtk, .vtu, .vtp, .ply, .csv or .xyz)");
+        return makeError(name, "unknown particle file format (expected .bgeo, .vtk, .vtu, .vtp, .ply, .csv, .xyz, "
+                               ".h5part, .h5, .hdf5 or .npz)");
     }();
-    if (!parsed) return parsed;
-
-    ParticleSet& set = parsed.value();
-    for (const Attribute& a : set.attributes)
-        if (a.count() != set.size())
-            return makeError(name, "attribute '" + a.name + "' has " + std::to_string(a.count()) +
-                                       " values but the file has " + std::to_string(set.size()) + " particles");
-    const std::size_t total = set.size();
-    const std::size_t dropped = dropNonFinite(set);
-    if (dropped > 0)
-        set.warnings.push_back(name + ": dropped " + std::to_string(dropped) + " of " + std::to_string(total) +
-                               " particles with NaN/Inf positions");
-    if (set.size() == 0 && !(allowEmpty && total == 0))
-        return makeError(name, total == 0 ? "file contains no particles"
-                                          : "all " + std::to_string(total) + " particles have NaN/Inf positions");
-    return parsed;
+    return finishParticles(std::move(parsed), name, allowEmpty);
 }
 
 Result<ParticleSet> readParticles(const std::filesystem::path& path, ParticleFormat format, bool allowEmpty) {
+    const std::string name = path.string();
+    // A frame inside a container: run.h5part/Step#3, out_100.hdf5/fluid, out.npz/fluid.
+    if (const auto inside = io_util::splitContainerPath(path)) {
+        if (io_util::isNpzName(inside->file.filename().string())) {
+            auto bytes = readFileBytes(inside->file);
+            if (!bytes) return bytes.error();
+            return finishParticles(parseNpz(bytes.value(), name, inside->inner), name, allowEmpty);
+        }
+        return finishParticles(io_util::readHdf5File(inside->file, inside->inner, name), name, allowEmpty);
+    }
+    // HDF5 files are opened where they are: an H5Part file may hold a long
+    // sequence, of which one step is read.
+    if ((format == ParticleFormat::Auto ? formatFromName(name) : format) == ParticleFormat::Hdf5) {
+        std::error_code ec;
+        if (std::filesystem::is_regular_file(path, ec))
+            return finishParticles(io_util::readHdf5File(path, "", name), name, allowEmpty);
+    }
     auto bytes = readFileBytes(path);
     if (!bytes) return bytes.error();
     return parseParticles(bytes.value(), path.string(), format, allowEmpty);

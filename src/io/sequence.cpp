@@ -5,9 +5,13 @@
 // Rules (see io.h):
 //  - An existing regular file is a sequence of one, whatever its name holds,
 //    except a ParaView collection (*.pvd): the files it lists, in timestep
-//    order (readPvd, src/io/pvd.cpp).
+//    order (readPvd, src/io/pvd.cpp); and an H5Part file: its steps, as paths
+//    into it (run.h5part/Step#0, ...), in step order (listH5PartSteps).
+//  - A path into a container (run.h5part/Step#3, out.hdf5/fluid) is itself;
+//    a pattern or glob of containers followed by a path into each
+//    (out_*.hdf5/fluid) is the pattern's files, each with that path.
 //  - A directory gives every regular particle file in it (.bgeo, .bgeo.gz, .vtk,
-//    .vtu, .vtp, .ply, .csv, .xyz; case-insensitive). When it holds several
+//    .vtu, .vtp, .ply, .csv, .xyz, .h5part, .h5, .hdf5, .npz; case-insensitive). When it holds several
 //    kinds, the most numerous extension wins (ties: the order of that list),
 //    silently: a simulation directory often holds a few stray exports besides
 //    the frames.
@@ -21,7 +25,8 @@
 //    matched with fnmatch(3), other characters literal.
 // In every case hidden files (leading '.') and temporary/backup files (names
 // ending in ~, .tmp, .temp, .part, .swp) are ignored, and the frames are sorted
-// with naturalLess on their file names.
+// with naturalLess on their file names; an H5Part file among them then gives
+// its steps in its place.
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
@@ -31,6 +36,7 @@
 
 #include <fnmatch.h>
 
+#include "io/containers.h"
 #include "io/io_util.h"
 #include "meniscus/io.h"
 
@@ -40,11 +46,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr std::string_view kParticleExtensions[] = {".bgeo.gz", ".bgeo", ".vtk", ".vtu",
-                                                    ".vtp",     ".ply",  ".csv", ".xyz"};
+constexpr std::string_view kParticleExtensions[] = {".bgeo.gz", ".bgeo", ".vtk", ".vtu",  ".vtp", ".ply",
+                                                    ".csv",     ".xyz",  ".h5part", ".h5", ".hdf5", ".npz"};
 // Preference when two extensions are equally numerous in a directory.
-constexpr std::string_view kExtensionPreference[] = {".bgeo", ".bgeo.gz", ".vtk", ".vtu",
-                                                     ".vtp",  ".ply",     ".csv", ".xyz"};
+constexpr std::string_view kExtensionPreference[] = {".bgeo", ".bgeo.gz", ".vtk",    ".vtu", ".vtp", ".ply",
+                                                     ".csv",  ".xyz",     ".h5part", ".h5",  ".hdf5", ".npz"};
 
 bool isDigit(char c) { return c >= '0' && c <= '9'; }
 
@@ -211,7 +217,8 @@ Result<std::vector<fs::path>> expandDirectory(const std::string& spec) {
         if (it != byExtension.end() && (!best || it->second.size() > best->size())) best = &it->second;
     }
     if (!best)
-        return makeError(spec, "directory holds no particle files (.bgeo, .bgeo.gz, .vtk, .vtu, .vtp, .ply, .csv, .xyz)");
+        return makeError(spec, "directory holds no particle files (.bgeo, .bgeo.gz, .vtk, .vtu, .vtp, .ply, .csv, .xyz, "
+                               ".h5part, .h5, .hdf5, .npz)");
     std::vector<std::string> chosen = *best;
     sortNatural(chosen);
     return joinAll(dir, chosen);
@@ -260,6 +267,49 @@ Result<std::vector<fs::path>> expandGlob(const std::string& spec) {
     return joinAll(s.dir, matched);
 }
 
+// The steps of an H5Part file as paths into it; nullopt when `file` is not
+// an HDF5-named file with H5Part steps (or cannot be read: reading it later
+// says why).
+std::optional<std::vector<fs::path>> h5partFrames(const fs::path& file) {
+    if (!io_util::isHdf5Name(file.filename().string())) return std::nullopt;
+    auto steps = listH5PartSteps(file);
+    if (!steps || steps->empty()) return std::nullopt;
+    std::vector<fs::path> out;
+    for (const std::string& s : *steps) out.push_back(file / s);
+    return out;
+}
+
+// Each H5Part file of a listing replaced by its steps.
+std::vector<fs::path> withH5PartSteps(std::vector<fs::path> files) {
+    std::vector<fs::path> out;
+    for (fs::path& f : files) {
+        if (auto steps = h5partFrames(f)) out.insert(out.end(), steps->begin(), steps->end());
+        else out.push_back(std::move(f));
+    }
+    return out;
+}
+
+// A pattern of containers with a path into each: "out_*.hdf5/fluid" splits
+// into the pattern "out_*.hdf5" and "fluid"; nullopt when `spec` has no such
+// part (the first part from the left named like a container with a pattern).
+std::optional<std::pair<std::string, std::string>> splitContainerPattern(const std::string& spec) {
+    const fs::path p(spec);
+    fs::path head;
+    fs::path tail;
+    bool found = false;
+    for (const fs::path& part : p) {
+        if (found) {
+            tail /= part;
+            continue;
+        }
+        head /= part;
+        const std::string name = part.string();
+        if (io_util::isContainerName(name) && (hasConversion(name) || hasWildcard(name))) found = true;
+    }
+    if (!found || tail.empty()) return std::nullopt;
+    return std::make_pair(head.string(), tail.string());
+}
+
 Result<std::vector<fs::path>> expandSequenceImpl(const std::string& spec) {
     if (spec.empty()) return makeError("", "empty input path");
     std::error_code ec;
@@ -270,12 +320,28 @@ Result<std::vector<fs::path>> expandSequenceImpl(const std::string& spec) {
             if (!pvd) return pvd.error();
             return std::move(pvd->files);
         }
+        if (auto steps = h5partFrames(p)) return std::move(*steps);
         return std::vector<fs::path>{p};
     }
-    if (fs::is_directory(p, ec)) return expandDirectory(spec);
+    if (fs::is_directory(p, ec)) {
+        auto files = expandDirectory(spec);
+        if (!files) return files;
+        return withH5PartSteps(std::move(*files));
+    }
+    // A frame inside a container (run.h5part/Step#3, out.hdf5/fluid).
+    if (io_util::splitContainerPath(p)) return std::vector<fs::path>{p};
+    if (auto split = splitContainerPattern(spec)) {
+        auto files = expandSequenceImpl(split->first);
+        if (!files) return makeError(spec, files.error().message);
+        for (fs::path& f : *files) f /= split->second;
+        return files;
+    }
     const std::string file = splitSpec(spec).file;
-    if (hasConversion(file)) return expandPrintf(spec);
-    if (hasWildcard(file)) return expandGlob(spec);
+    if (hasConversion(file) || hasWildcard(file)) {
+        auto files = hasConversion(file) ? expandPrintf(spec) : expandGlob(spec);
+        if (!files) return files;
+        return withH5PartSteps(std::move(*files));
+    }
     if (hasConversion(spec) || hasWildcard(spec))
         return makeError(spec, "patterns (%d, * and ?) may only be in the file name, not in its directories");
     if (fs::exists(p, ec)) return makeError(spec, "not a regular file or directory");
@@ -296,7 +362,12 @@ bool isSequenceSpec(const std::string& spec) {
     std::error_code ec;
     const fs::path p(spec);
     if (spec.empty()) return false;
-    if (fs::is_regular_file(p, ec)) return isPvdName(p.filename().string());
+    if (fs::is_regular_file(p, ec)) {
+        if (isPvdName(p.filename().string())) return true;
+        const auto steps = h5partFrames(p);
+        return steps && steps->size() > 1;
+    }
+    if (splitContainerPattern(spec)) return true;
     if (fs::is_directory(p, ec)) return true;
     const std::string file = splitSpec(spec).file;
     return hasConversion(file) || hasWildcard(file);

@@ -1,19 +1,35 @@
 // Text particle readers: CSV with a header row, and plain XYZ.
 //
 // CSV follows RFC 4180 (https://www.rfc-editor.org/rfc/rfc4180) loosely: the
-// first non-blank line names the columns; fields are separated by ',' or, when
-// the header uses them instead, ';' or tab; names may be double-quoted and are
-// trimmed. Column names are matched case-insensitively:
-//   x y z, Points:0 Points:1 Points:2 (ParaView's "Save Data" CSV), pos_x ...,
-//   position_x ...                                        -> positions
-//   vx vy vz, Velocity:0 ... (ParaView), velocity_x ..., vel_x ...
-//                                                         -> "velocity" (Float, 3)
-//   density, rho                                          -> "density"
-//   id                                                    -> "id" (Int)
-// Every other named column is kept by its name as a Float attribute; columns
-// with an empty name (a trailing separator) are ignored. Blank lines are
-// skipped; a row with the wrong number of fields or a non-numeric field is an
-// error naming the line.
+// header is the first non-blank line that names all three positions (lines
+// before it are skipped; when no line among the first 64 does, the first
+// non-blank line is the header, and the error names the missing column);
+// fields are separated by ',' or, when the header uses them instead, ';' or
+// tab; names may be double-quoted and are trimmed. Column names go through the
+// alias table every reader shares (io/attribute_names.h): case-insensitive,
+// a trailing unit in brackets ignored ("Pos.x [m]"):
+//   x y z, Points:0 Points:1 Points:2 (ParaView's "Save Data" CSV), Pos.x
+//   Pos.y Pos.z (DualSPHysics), pos_x ..., position_x ...   -> positions
+//   vx vy vz, Velocity:0 ... (ParaView), Vel.x ... (DualSPHysics),
+//   velocity_x ..., vel_x ..., u v w                        -> "velocity" (Float, 3)
+//   density, rho, Rhop (DualSPHysics before v5.2, Rho after)    -> "density"
+//   id, Idp (DualSPHysics)                                  -> "id" (Int)
+// Every other named column is kept as a Float attribute under its name
+// without the unit ("Press [Pa]" -> "Press", "Type" stays "Type"); columns with
+// an empty name (a trailing separator) are ignored, and a row may have or lack
+// the trailing separator whatever the header does. Blank lines are skipped; a
+// row with the wrong number of fields or a non-numeric field is an error
+// naming the line.
+//
+// DualSPHysics' particle CSV (PartCsv_XXXX.csv of `DualSPHysics -sv:csv`,
+// PartVTK -savecsv) is written by JOutputCsv::SaveCsv (DualSPHysics
+// src/source/JOutputCsv.cpp, LGPL): optional free "head" lines, then one
+// header cell per scalar, a vector as NAME.x NAME.y NAME.z, each followed by
+// its unit (JDataArrays::GetUnitsByName: " [m]", " [m/s]", " [kg/m^3]",
+// " [Pa]", ...) and the separator (';', or ',' with -csvsep:1), the line
+// ending in one; then the rows, floats as "%15.7E", integers as "%u", each
+// value followed by the separator too. Its Type column holds 0 fixed, 1
+// moving, 2 floating boundary, 3 fluid (see particles.h, DualSphysicsType).
 //
 // XYZ is the plain point-cloud format: one point per line, "x y z" separated by
 // whitespace (commas are accepted too). Columns after the third carry no names,
@@ -30,6 +46,7 @@
 #include <new>
 #include <optional>
 
+#include "io/attribute_names.h"
 #include "io/io_util.h"
 #include "meniscus/io.h"
 
@@ -49,12 +66,6 @@ std::string_view trim(std::string_view s) {
     while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
     while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
     return s;
-}
-
-std::string lower(std::string_view s) {
-    std::string out(s);
-    std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return out;
 }
 
 // An integer, also written as a float with no fraction ("12.0").
@@ -122,30 +133,6 @@ struct Column {
     std::string name;  // as written, for messages
 };
 
-using NameTriple = std::array<std::string_view, 3>;
-
-// The component 0..2 that `key` (lower case) names in one of the triples, or -1.
-int componentOf(const std::string& key, std::initializer_list<NameTriple> triples) {
-    for (const NameTriple& t : triples)
-        for (int c = 0; c < 3; ++c)
-            if (key == t[std::size_t(c)]) return c;
-    return -1;
-}
-
-int positionComponent(const std::string& key) {
-    return componentOf(key, {{"x", "y", "z"},
-                             {"points:0", "points:1", "points:2"},
-                             {"pos_x", "pos_y", "pos_z"},
-                             {"position_x", "position_y", "position_z"}});
-}
-
-int velocityComponent(const std::string& key) {
-    return componentOf(key, {{"vx", "vy", "vz"},
-                             {"velocity:0", "velocity:1", "velocity:2"},
-                             {"velocity_x", "velocity_y", "velocity_z"},
-                             {"vel_x", "vel_y", "vel_z"}});
-}
-
 struct CsvLayout {
     std::vector<Column> columns;
     std::vector<Attribute> attributes;
@@ -160,21 +147,25 @@ std::size_t addAttribute(CsvLayout& layout, std::string attrName, AttributeType 
     return layout.attributes.size() - 1;
 }
 
-Result<CsvLayout> planCsvLayout(const std::vector<std::string>& names, const std::string& name) {
-    // First pass: which column feeds each position / velocity component.
-    int pos[3] = {-1, -1, -1}, vel[3] = {-1, -1, -1};
-    int density = -1, id = -1;
-    for (std::size_t i = 0; i < names.size(); ++i) {
-        const std::string key = lower(names[i]);
-        if (const int c = positionComponent(key); c >= 0 && pos[c] < 0) pos[c] = int(i);
-        else if (const int v = velocityComponent(key); v >= 0 && vel[v] < 0) vel[v] = int(i);
-        else if ((key == "density" || key == "rho") && density < 0) density = int(i);
-        else if (key == "id" && id < 0) id = int(i);
-    }
+// The error for a header without a complete set of position columns: the
+// first of x, y, z that no column names in any of the table's spellings.
+Error missingPositionError(const std::vector<std::string>& names, const std::string& name) {
+    bool have[3] = {false, false, false};
+    for (const std::string& n : names)
+        if (const int c = io_util::componentIn(io_util::positionColumns(), n); c >= 0) have[c] = true;
     for (int c = 0; c < 3; ++c)
-        if (pos[c] < 0)
-            return makeError(name, std::string("CSV header has no '") + "xyz"[c] + "' column (expected x,y,z or Points:0,Points:1,Points:2)");
-    const bool hasVelocity = vel[0] >= 0 && vel[1] >= 0 && vel[2] >= 0;
+        if (!have[c])
+            return makeError(name, std::string("CSV header has no '") + "xyz"[c] +
+                                       "' column (expected x,y,z, Points:0,Points:1,Points:2 or Pos.x,Pos.y,Pos.z)");
+    return makeError(name, "CSV header has no complete set of position columns (x,y,z, Points:0,Points:1,Points:2 "
+                           "or Pos.x,Pos.y,Pos.z, one spelling for all three)");
+}
+
+Result<CsvLayout> planCsvLayout(const std::vector<std::string>& names, const std::string& name) {
+    // Which columns are positions, velocity, density and id: the alias table
+    // shared by every reader (attribute_names.h).
+    const io_util::ColumnRoles roles = io_util::findColumnRoles(names);
+    if (!roles.hasPosition()) return missingPositionError(names, name);
 
     CsvLayout layout;
     layout.columns.resize(names.size());
@@ -183,21 +174,25 @@ Result<CsvLayout> planCsvLayout(const std::vector<std::string>& names, const std
         Column& col = layout.columns[i];
         col.name = names[i];
         const int ii = int(i);
-        if (names[i].empty()) continue;  // Slot::Ignore
+        if (names[i].empty()) continue;  // Slot::Ignore (a trailing separator)
         col.slot = Slot::Attribute;
+        const auto& pos = roles.position;
+        const auto& vel = roles.velocity;
         if (ii == pos[0] || ii == pos[1] || ii == pos[2]) {
             col.slot = ii == pos[0] ? Slot::PosX : ii == pos[1] ? Slot::PosY : Slot::PosZ;
-        } else if (hasVelocity && (ii == vel[0] || ii == vel[1] || ii == vel[2])) {
+        } else if (roles.hasVelocity() && (ii == vel[0] || ii == vel[1] || ii == vel[2])) {
             if (!velocityAttr) velocityAttr = addAttribute(layout, std::string(kAttrVelocity), AttributeType::Float, 3);
             col.attribute = *velocityAttr;
             col.component = ii == vel[0] ? 0 : ii == vel[1] ? 1 : 2;
-        } else if (ii == density) {
+        } else if (ii == roles.density) {
             col.attribute = addAttribute(layout, std::string(kAttrDensity), AttributeType::Float, 1);
-        } else if (ii == id) {
+        } else if (ii == roles.id) {
             col.attribute = addAttribute(layout, std::string(kAttrId), AttributeType::Int, 1);
         } else {
-            std::string attrName = names[i];
-            if (attrName == kAttrVelocity || attrName == kAttrDensity || attrName == kAttrId) attrName += "_csv";
+            // Kept by its name without the unit ("Press [Pa]" -> "Press"), which
+            // --select and the fluid index then use.
+            std::string attrName = io_util::nonCanonicalName(std::string(io_util::withoutUnit(names[i])), "_csv");
+            if (attrName.empty()) attrName = names[i];
             for (const Attribute& a : layout.attributes)
                 if (a.name == attrName) return makeError(name, "CSV header names column '" + attrName + "' twice");
             col.attribute = addAttribute(layout, attrName, AttributeType::Float, 1);
@@ -246,25 +241,56 @@ Status storeCsvRow(const std::vector<std::string>& fields, const std::vector<Col
     return okStatus();
 }
 
-Result<ParticleSet> parseCsvImpl(ByteView data, const std::string& name) {
-    Lines lines(asText(data));
-    std::string_view line;
-    while (lines.next(line) && trim(line).empty()) {
-    }
-    if (trim(line).empty()) return makeError(name, "CSV file is empty (no header row)");
+// Lines before the header that are looked through for it (see parseCsvImpl).
+constexpr int kMaxPreambleLines = 64;
 
-    const char delim = detectDelimiter(line);
+Result<ParticleSet> parseCsvImpl(ByteView data, const std::string& name) {
+    // The header row: the first non-blank line whose columns name all three
+    // positions, so that lines before it (DualSPHysics' JOutputCsv::SaveCsv
+    // writes its optional "head" text there; a title; '#' comments) are
+    // skipped. Without such a line among the first kMaxPreambleLines, the first
+    // non-blank line is the header and its error names the missing column.
+    Lines scan(asText(data));
+    std::optional<Lines> afterHeader, afterFirst;
+    std::string_view line, header, first;
     std::vector<std::string> fields;
-    splitCsv(line, delim, fields);
+    for (int seen = 0; seen < kMaxPreambleLines && scan.next(line);) {
+        if (trim(line).empty()) continue;
+        ++seen;
+        if (!afterFirst) {
+            first = line;
+            afterFirst = scan;
+        }
+        splitCsv(line, detectDelimiter(line), fields);
+        if (io_util::findColumnRoles(fields).hasPosition()) {
+            header = line;
+            afterHeader = scan;
+            break;
+        }
+    }
+    if (!afterFirst) return makeError(name, "CSV file is empty (no header row)");
+    if (!afterHeader) {
+        header = first;
+        afterHeader = afterFirst;
+    }
+    Lines& lines = *afterHeader;
+
+    const char delim = detectDelimiter(header);
+    splitCsv(header, delim, fields);
     auto layout = planCsvLayout(fields, name);
     if (!layout) return layout.error();
     const std::size_t width = fields.size();
+    const bool headerEndsInSeparator = layout->columns.back().slot == Slot::Ignore && fields.back().empty();
 
     ParticleSet set;
     set.attributes = std::move(layout->attributes);
     while (lines.next(line)) {
         if (trim(line).empty()) continue;
         splitCsv(line, delim, fields);
+        // DualSPHysics ends the header and every row with a separator; one
+        // without the other is accepted too.
+        if (fields.size() == width + 1 && fields.back().empty()) fields.pop_back();
+        else if (fields.size() + 1 == width && headerEndsInSeparator) fields.emplace_back();
         if (fields.size() != width)
             return makeError(name, "line " + std::to_string(lines.number()) + ": expected " + std::to_string(width) +
                                        " fields as in the header, found " + std::to_string(fields.size()));

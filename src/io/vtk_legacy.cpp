@@ -22,6 +22,7 @@
 #include <iterator>
 #include <new>
 
+#include "io/attribute_names.h"
 #include "io/io_util.h"
 #include "meniscus/io.h"
 
@@ -554,18 +555,11 @@ private:
         set_.attributes.push_back(std::move(attr));
     }
 
-    // velocity/v/Velocity -> velocity, density/Density/rho -> density,
-    // id/Id/ID -> id, when the type fits and the canonical name is free.
-    void applyCanonicalNames() {
-        for (Attribute& a : set_.attributes) {
-            std::string target;
-            const bool f = a.type == AttributeType::Float;
-            if ((a.name == "v" || a.name == "Velocity") && f && a.components == 3) target = std::string(kAttrVelocity);
-            if ((a.name == "Density" || a.name == "rho") && f && a.components == 1) target = std::string(kAttrDensity);
-            if ((a.name == "Id" || a.name == "ID") && !f && a.components == 1) target = std::string(kAttrId);
-            if (!target.empty() && set_.find(target) == nullptr) a.name = target;
-        }
-    }
+    // Vel/velocity/v -> velocity, Rhop/rho/density -> density, Idp/id -> id
+    // (any case; DualSPHysics' PartVTK names its arrays Vel, Rhop or Rho, Idp),
+    // through the alias table every reader shares (io/attribute_names.h), when
+    // the type fits and the canonical name is free.
+    void applyCanonicalNames() { io_util::applyCanonicalNames(set_.attributes); }
 };
 
 }  // namespace

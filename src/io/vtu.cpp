@@ -47,8 +47,10 @@
 //   before <AppendedData> is parsed (with the still open elements closed here)
 //   and the arrays are read from the bytes by offset.
 //
-// Arrays named velocity/Velocity/v (3 components), density/Density/rho and
-// id/Id/ID (1 component) become the canonical "velocity", "density" and "id";
+// Arrays the alias table every reader shares (io/attribute_names.h) names
+// velocity (velocity, Vel, v, any case; 3 components, float), density
+// (density, rho, Rhop; 1, float) and id (id, Idp; 1 component, integer or
+// floats holding whole numbers) become the canonical "velocity", "density" and "id";
 // every other point array is kept by name (integer types as Int, float types as
 // Float). Every size, offset and count is checked against the buffer; problems
 // come back as an Error naming the file, never as a crash or an exception.
@@ -73,6 +75,7 @@
 #include <lzma.h>
 #include <zlib.h>
 
+#include "io/attribute_names.h"
 #include "io/io_util.h"
 #include "meniscus/io.h"
 
@@ -620,27 +623,6 @@ Attribute readDataArray(const tinyxml2::XMLElement* e, std::uint64_t tuples, con
 
 // ---------------------------------------------------------------- attribute names
 
-std::string canonicalName(const std::string& n, int comps) {
-    if (comps == 3 && (n == "velocity" || n == "Velocity" || n == "v")) return std::string(kAttrVelocity);
-    if (comps == 1 && (n == "density" || n == "Density" || n == "rho")) return std::string(kAttrDensity);
-    if (comps == 1 && (n == "id" || n == "Id" || n == "ID")) return std::string(kAttrId);
-    return n;
-}
-
-// Ids written as floats become Int when every value is a whole number.
-bool floatIdsToInt(Attribute& a) {
-    std::vector<std::int64_t> ints(a.floats.size());
-    for (std::size_t i = 0; i < a.floats.size(); ++i) {
-        const float v = a.floats[i];
-        if (!std::isfinite(v) || v != std::trunc(v) || std::fabs(v) > 9.0e18f) return false;
-        ints[i] = std::int64_t(v);
-    }
-    a.type = AttributeType::Int;
-    a.ints = std::move(ints);
-    a.floats.clear();
-    return true;
-}
-
 // The point arrays of one piece, named as the ParticleSet will hold them.
 std::vector<Attribute> readPointData(const tinyxml2::XMLElement* piece, std::uint64_t tuples, const FileLayout& f,
                                      const std::string& where, std::vector<std::string>& warnings) {
@@ -658,8 +640,12 @@ std::vector<Attribute> readPointData(const tinyxml2::XMLElement* piece, std::uin
             continue;
         }
         Attribute a = readDataArray(e, tuples, f, what, false);
-        std::string name = canonicalName(original, a.components);
-        if (name == kAttrId && a.type == AttributeType::Float && !floatIdsToInt(a)) name = original;
+        // The alias table every reader shares (io/attribute_names.h): Vel,
+        // Rhop, Idp (DualSPHysics), Velocity, rho, ID, ... (any case).
+        std::string name(io_util::canonicalArrayName(original, a.components));
+        if (name.empty()) name = original;
+        if (name == kAttrId && !io_util::floatIdsToInt(a)) name = original;
+        if ((name == kAttrVelocity || name == kAttrDensity) && a.type != AttributeType::Float) name = original;
         const auto taken = [&](const std::string& n) {
             return std::any_of(attrs.begin(), attrs.end(), [&](const Attribute& x) { return x.name == n; });
         };

@@ -76,7 +76,8 @@ Status writeParticles(const std::filesystem::path& path, const ParticleSet& set,
             return makeError(file, "ASCII Houdini .geo is not written; name the file .bgeo (or .bgeo.gz)");
         format = formatFromName(name);
     }
-    if (format == ParticleFormat::Auto || format == ParticleFormat::Csv || format == ParticleFormat::Xyz)
+    if (format != ParticleFormat::Bgeo && format != ParticleFormat::VtkLegacy && format != ParticleFormat::Vtu &&
+        format != ParticleFormat::Ply)  // CSV, XYZ and the read-only HDF5 and .npz
         return makeError(file, "cannot write particles in this format: name the file .bgeo, .bgeo.gz, .vtk, .vtu, "
                                ".vtp or .ply");
     if (Status st = checkSet(set, file); !st) return st;
