@@ -87,6 +87,7 @@ TEST(SceneSave, ASavedSceneReadsBackAsTheSameOptions) {
     o.spray = true;
     o.material = "milk";
     o.opacity = 0.25f;
+    o.select = "density>500 && velocity.y<0";
     Camera cam;
     cam.eye = {1.0f, 2.0f, 3.0f};
     cam.target = {0.5f, 0.25f, -0.5f};
@@ -110,6 +111,7 @@ TEST(SceneSave, ASavedSceneReadsBackAsTheSameOptions) {
     EXPECT_TRUE(back->spray);
     EXPECT_EQ(back->material, "milk");
     EXPECT_EQ(back->opacity, 0.25f);
+    EXPECT_EQ(back->select, "density>500 && velocity.y<0") << "the selection is part of the scene";
     EXPECT_EQ(back->width, 320);
     EXPECT_EQ(back->height, 200);
     EXPECT_EQ(back->fov, 35.0f);

@@ -176,6 +176,12 @@ TEST(CliSimulate, RenderTakesASimulationSceneAsItsParticles) {
     writeText(dir / "bad.json", R"({"domain": {"min": [0, 0, 0]}})");
     EXPECT_NE(runCli("render " + shellQuote(dir / "bad.json") + " -o " + shellQuote(dir / "x.png"), &out), 0);
     EXPECT_NE(out.find("bad.json"), std::string::npos) << out;
+    // --select picks particles of files: with a simulation it is an error, not ignored.
+    EXPECT_EQ(runCli("render " + shellQuote(scene) + " -o " + shellQuote(dir / "s_%02d.png") + " --select 'density>0'" + size,
+                     &out),
+              1);
+    EXPECT_NE(out.find("--select"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "s_00.png"));
 }
 
 // A bad --render pattern is an error before anything is simulated or written.

@@ -160,7 +160,7 @@ TEST(H5Part, ADirectoryOrPatternGivesTheStepsOfItsFiles) {
     const fs::path dir = test::tempDir() / "h5part_dir";
     fs::create_directories(dir);
     fs::copy_file(data("steps.h5part"), dir / "run.h5part");
-    for (const std::string spec : {dir.string(), (dir / "*.h5part").string()}) {
+    for (const std::string& spec : {dir.string(), (dir / "*.h5part").string()}) {
         auto frames = expandSequence(spec);
         ASSERT_TRUE(frames.ok()) << frames.error().describe();
         ASSERT_EQ(frames->size(), 4u) << spec;
@@ -309,7 +309,7 @@ TEST(PySphHdf5, OneFilePerOutputStepIsASequence) {
     ASSERT_EQ(frames->size(), 4u);
     EXPECT_EQ(frames->back(), dir / "db_1000.hdf5");
     // A pattern of files with an array in each.
-    for (const std::string spec : {(dir / "db_*.hdf5" / "boundary").string(), (dir / "db_%d.hdf5/boundary").string()}) {
+    for (const std::string& spec : {(dir / "db_*.hdf5" / "boundary").string(), (dir / "db_%d.hdf5/boundary").string()}) {
         auto arrays = expandSequence(spec);
         ASSERT_TRUE(arrays.ok()) << arrays.error().describe();
         ASSERT_EQ(arrays->size(), 4u);
@@ -374,6 +374,9 @@ TEST(Hdf5Cli, InfoReadsTheFormats) {
     ASSERT_EQ(test::runCli("info " + test::shellQuote(data("pysph_dam_break_2d_100.hdf5")), &out), 0) << out;
     EXPECT_NE(out.find("particles   120"), std::string::npos) << out;
     EXPECT_NE(out.find("from the smoothing length"), std::string::npos) << out;
+    // Its particle arrays are listed, with how to name another.
+    EXPECT_NE(out.find("arrays      boundary (60) fluid (120) (shown: the one named fluid"), std::string::npos) << out;
+    EXPECT_NE(out.find("pysph_dam_break_2d_100.hdf5/NAME"), std::string::npos) << out;
     ASSERT_NE(test::runCli("info " + test::shellQuote(data("bad_step_without_x.h5part")), &out), 0);
     EXPECT_NE(out.find("bad_step_without_x.h5part/Step#0"), std::string::npos) << out;
 }

@@ -19,11 +19,6 @@ namespace meniscus::app {
 
 namespace {
 
-bool writable(ParticleFormat f) {
-    return f == ParticleFormat::Bgeo || f == ParticleFormat::VtkLegacy || f == ParticleFormat::Vtu ||
-           f == ParticleFormat::Ply;
-}
-
 bool sameFile(const std::filesystem::path& a, const std::filesystem::path& b) {
     std::error_code ec;
     return std::filesystem::exists(b, ec) && std::filesystem::equivalent(a, b, ec);
@@ -62,12 +57,8 @@ CLI::App* addConvertCommand(CLI::App& app, ConvertOptions& o) {
 }
 
 int runConvert(const ConvertOptions& o) {
-    const ParticleFormat format = formatFromName(o.output);
-    // ASCII Houdini .geo reads as BGEO's family but is not written.
-    const bool geo = o.output.size() >= 4 && o.output.compare(o.output.size() - 4, 4, ".geo") == 0;
-    if (!writable(format) || geo)
-        return fail(o.output + ": cannot write particles in this format: name the output .bgeo, .bgeo.gz, .vtk, "
-                               ".vtu, .vtp or .ply");
+    auto format = writableFormatOf(o.output);
+    if (!format) return fail(format.error().describe());
     auto filter = parseSelection(o.select);
     if (!filter) return fail(filter.error().describe());
     auto files = expandSequence(o.input);
@@ -103,7 +94,7 @@ int runConvert(const ConvertOptions& o) {
         printWarnings(*set);
         if (set->size() > 0)
             if (auto st = applySelection(*set, *filter, in.string()); !st) return fail(st.error().describe());
-        if (auto st = writeParticles(*out, *set, format); !st) return fail(st.error().describe());
+        if (auto st = writeParticles(*out, *set, *format); !st) return fail(st.error().describe());
         progress.step(i + 1, *out + " (" + std::to_string(set->size()) + " particles)");
         written.push_back(*out);
     }

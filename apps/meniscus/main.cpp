@@ -145,6 +145,10 @@ int runInfo(const InfoOptions& o) {
     printWarnings(*set);
     if (auto st = checkCoordinates(set->positions, frames->front().string()); !st) return fail(st.error().describe());
 
+    // PySPH's files hold several particle arrays, of which one is shown: list them all.
+    std::vector<ParticleArrayInfo> arrays;
+    if (const ParticleFormat f = formatFromName(o.input); f == ParticleFormat::Hdf5 || f == ParticleFormat::Npz)
+        if (auto listed = listParticleArrays(o.input)) arrays = std::move(*listed);
     const Bounds b = computeBounds(set->positions);
     const RadiusEstimate radius = defaultRadius(*set);
     const auto density = attributeStats(*set, kAttrDensity);
@@ -167,6 +171,10 @@ int runInfo(const InfoOptions& o) {
         j["radius_method"] = radiusMethodName(radius.method);
         j["isolated_particles"] = radius.isolated;
         if (density) j["density"] = {{"min", density->min}, {"median", density->median}, {"max", density->max}};
+        if (!arrays.empty()) {
+            j["particle_arrays"] = nlohmann::json::array();
+            for (const ParticleArrayInfo& p : arrays) j["particle_arrays"].push_back({{"name", p.name}, {"count", p.count}});
+        }
         j["warnings"] = set->warnings;
         std::cout << j.dump() << "\n";
         return 0;
@@ -174,6 +182,11 @@ int runInfo(const InfoOptions& o) {
     std::printf("file        %s\n", frames->front().string().c_str());
     if (frames->size() > 1) std::printf("frames      %zu (first shown)\n", frames->size());
     std::printf("particles   %zu\n", set->size());
+    if (!arrays.empty()) {
+        std::printf("arrays     ");
+        for (const ParticleArrayInfo& p : arrays) std::printf(" %s (%zu)", p.name.c_str(), p.count);
+        std::printf(" (shown: the one named fluid, else the first; another as %s/NAME)\n", o.input.c_str());
+    }
     std::printf("bounds      (%.5g, %.5g, %.5g) .. (%.5g, %.5g, %.5g) m\n", b.min.x, b.min.y, b.min.z, b.max.x,
                 b.max.y, b.max.z);
     std::printf("attributes ");

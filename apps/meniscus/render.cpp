@@ -351,6 +351,9 @@ int renderSimulation(const RenderOptions& o, RenderSettings& settings) {
         return fail("--up " + o.up + ": a simulation's up is +y (gravity along -y); --up turns files");
     if (o.frames > 0) return fail("--frames: " + o.input + " is a simulation, whose frames are its own");
     SimulateOptions so;
+    if (!o.select.empty())
+        return fail("--select " + o.select + ": picks particles of files; " + o.input +
+                    " is a simulation scene, whose particles are all its fluid");
     so.scene = o.input;
     so.radius = o.radius;
     auto scene = sceneFromOptions(so);

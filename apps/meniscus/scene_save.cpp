@@ -95,7 +95,8 @@ Result<RenderOptions> reparsed(const RenderOptions& o) {
     addSurfaceOptions(&app, out);
     // An option at its default text is left as it is (the default, e.g.
     // --iterations -1, need not be a value the option accepts).
-    const auto defaults = optionTexts(RenderOptions{});
+    const RenderOptions fresh;  // named: GCC 12 warns (falsely) of a temporary's string as uninitialised
+    const auto defaults = optionTexts(fresh);
     const auto mine = optionTexts(o);
     std::vector<std::string> words;
     for (std::size_t i = 0; i < mine.size(); ++i) {
@@ -147,13 +148,15 @@ Result<std::string> sceneFileText(const RenderOptions& o, const Camera& camera, 
                        {"target", vec3Json(back.apply(camera.target))},
                        {"fov", camera.fovYDegrees}};
     json render = {{"width", camera.width}, {"height", camera.height}};
-    const auto defaults = optionTexts(RenderOptions{});
+    const RenderOptions fresh;  // named: GCC 12 warns (falsely) of a temporary's string as uninitialised
+    const auto defaults = optionTexts(fresh);
     const auto mine = optionTexts(o);
     for (std::size_t i = 0; i < mine.size() && i < defaults.size(); ++i) {
         const auto& [name, text] = mine[i];
         if (cameraOption(name) || text == defaults[i].second) continue;
         render[name.substr(2)] = valueJson(text);
     }
+    if (!o.select.empty()) render["select"] = o.select;  // an input option, not a look one: not in optionTexts
     scene["render"] = render;
     return scene.dump(2) + "\n";
 }

@@ -135,9 +135,8 @@ int runSimulate(const SimulateOptions& o) {
     sim::Scene& sc = *scene;
     if (o.output.find('%') == std::string::npos)
         return fail(o.output + ": the output needs a frame number pattern, e.g. out/frame_%04d.bgeo");
-    const ParticleFormat format = formatFromName(o.output);
-    if (format == ParticleFormat::Auto || format == ParticleFormat::Csv || format == ParticleFormat::Xyz)
-        return fail(o.output + ": write .bgeo, .bgeo.gz, .vtk, .vtu or .ply");
+    auto format = writableFormatOf(o.output);
+    if (!format) return fail(format.error().describe());
     std::optional<FrameImages> images;
     if (!o.render.empty()) {
         auto opened = openImages(o, sc);
@@ -191,7 +190,7 @@ int runSimulate(const SimulateOptions& o) {
         auto name = nameOf(k);
         if (!name) return fail(name.error().describe());
         const ParticleSet set = simulator.particles();
-        if (auto st = writeParticles(*name, set, format); !st) return fail(st.error().describe());
+        if (auto st = writeParticles(*name, set, *format); !st) return fail(st.error().describe());
         std::string imageNote;
         if (images) {
             auto image = writeFrameImage(*images, set, k);

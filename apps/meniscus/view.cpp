@@ -190,6 +190,9 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     std::optional<Frames> input;
     std::unique_ptr<sim::Simulator> simulator;
     if (!o.simulate.scene.empty()) {
+        if (!o.render.select.empty())
+            return fail("--select " + o.render.select + ": picks particles of files; --simulate shows a simulation, "
+                        "whose particles are all its fluid");
         SimulateOptions so = o.simulate;
         so.radius = o.render.radius;  // one radius: the simulation's and the picture's
         auto read = sceneFromOptions(so);

@@ -100,6 +100,11 @@ Result<ParticleSet> readParticles(const std::filesystem::path& path,
 // non-finite position. Written to a temporary name and renamed.
 Status writeParticles(const std::filesystem::path& path, const ParticleSet& set,
                       ParticleFormat format = ParticleFormat::Auto);
+// The format writeParticles writes `path` in (`format`, or from the name when
+// Auto), or its refusal, naming the file, of one it cannot write: for
+// checking an output before any work.
+Result<ParticleFormat> writableFormatOf(const std::filesystem::path& path,
+                                        ParticleFormat format = ParticleFormat::Auto);
 
 // Whole file into memory. Error names the file.
 Result<std::vector<std::uint8_t>> readFileBytes(const std::filesystem::path& path);

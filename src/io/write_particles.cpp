@@ -68,7 +68,7 @@ Status checkSet(const ParticleSet& set, const std::string& file) {
 
 }  // namespace
 
-Status writeParticles(const std::filesystem::path& path, const ParticleSet& set, ParticleFormat format) {
+Result<ParticleFormat> writableFormatOf(const std::filesystem::path& path, ParticleFormat format) {
     const std::string file = path.string();
     const std::string name = lower(path.filename().string());
     if (format == ParticleFormat::Auto) {
@@ -80,6 +80,15 @@ Status writeParticles(const std::filesystem::path& path, const ParticleSet& set,
         format != ParticleFormat::Ply)  // CSV, XYZ and the read-only HDF5 and .npz
         return makeError(file, "cannot write particles in this format: name the file .bgeo, .bgeo.gz, .vtk, .vtu, "
                                ".vtp or .ply");
+    return format;
+}
+
+Status writeParticles(const std::filesystem::path& path, const ParticleSet& set, ParticleFormat format) {
+    const std::string file = path.string();
+    const std::string name = lower(path.filename().string());
+    auto writable = writableFormatOf(path, format);
+    if (!writable) return writable.error();
+    format = *writable;
     if (Status st = checkSet(set, file); !st) return st;
     Status fits = okStatus();
     if (format == ParticleFormat::Bgeo) fits = io_write::checkBgeo(set, file);
