@@ -15,7 +15,9 @@
 # liblzma-dev; zlib-compressed ones through zlib). H5Part and PySPH .hdf5
 # files are read through HDF5's C library (libhdf5-dev), PySPH's .npz through
 # libzip (libzip-dev). The Python module is built with pybind11 (pybind11-dev,
-# python3-dev) and takes numpy arrays (python3-numpy).
+# python3-dev) and takes numpy arrays (python3-numpy). Sort-last rendering and
+# frame-parallel sequences over several processes use MPI (libopenmpi-dev;
+# openmpi-bin's mpirun runs the MPI tests).
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 SUDO=""
@@ -30,5 +32,6 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   libglfw3-dev libglx-mesa0 xvfb xauth libimgui-dev \
   libavcodec-dev libavformat-dev libswscale-dev libavutil-dev \
   libhdf5-dev libzip-dev pybind11-dev python3-dev python3-numpy \
+  libopenmpi-dev openmpi-bin \
   clang libclang-rt-14-dev >/dev/null
 echo "meniscus: dependencies installed"

@@ -49,35 +49,35 @@ void expectSameFiles(const fs::path& whole, const fs::path& parts) {
     for (const std::string& n : names(whole)) EXPECT_EQ(readBytes(whole / n), readBytes(parts / n)) << n;
 }
 
+// `in` rendered with `more` as a whole run into DIR/whole and as `shares`
+// runs of --shard I/N into DIR/parts; the frames each share wrote, in order.
+std::vector<std::size_t> renderInShares(const fs::path& in, const fs::path& dir, const std::string& more, int shares) {
+    std::string out;
+    fs::create_directories(dir / "whole");
+    fs::create_directories(dir / "parts");
+    EXPECT_EQ(runCli(render(in, dir / "whole" / "f_%02d.png", more), &out), 0) << out;
+    std::vector<std::size_t> written;
+    for (int i = 0; i < shares; ++i) {
+        const std::size_t before = names(dir / "parts").size();
+        const std::string shard = " --shard " + std::to_string(i) + "/" + std::to_string(shares);
+        EXPECT_EQ(runCli(render(in, dir / "parts" / "f_%02d.png", more + shard), &out), 0) << out;
+        written.push_back(names(dir / "parts").size() - before);
+    }
+    return written;
+}
+
 }  // namespace
 
 TEST(CliShard, SharesTogetherWriteTheWholeRunsImagesWithTurbulentNoise) {
     const fs::path dir = sequenceDir("shard_noise");
-    std::string out;
-    fs::create_directories(dir / "whole");
-    fs::create_directories(dir / "parts");
-    ASSERT_EQ(runCli(render(dir / "in", dir / "whole" / "f_%02d.png", "--noise"), &out), 0) << out;
-    for (int i = 0; i < 3; ++i) {
-        const std::size_t before = names(dir / "parts").size();
-        ASSERT_EQ(runCli(render(dir / "in", dir / "parts" / "f_%02d.png", "--noise --shard " + std::to_string(i) + "/3"),
-                         &out),
-                  0)
-            << out;
-        // Contiguous shares of 4 frames over 3: 1, 1 and 2 frames.
-        EXPECT_EQ(names(dir / "parts").size() - before, i < 2 ? 1u : 2u) << out;
-    }
+    // Contiguous shares of 4 frames over 3: 1, 1 and 2 frames.
+    EXPECT_EQ(renderInShares(dir / "in", dir, "--noise", 3), (std::vector<std::size_t>{1, 1, 2}));
     expectSameFiles(dir / "whole", dir / "parts");
 }
 
 TEST(CliShard, MoreSharesThanFramesLeavesSomeEmpty) {
     const fs::path dir = sequenceDir("shard_many");
-    std::string out;
-    fs::create_directories(dir / "whole");
-    fs::create_directories(dir / "parts");
-    ASSERT_EQ(runCli(render(dir / "in", dir / "whole" / "f_%02d.png", ""), &out), 0) << out;
-    for (int i = 0; i < 7; ++i)
-        ASSERT_EQ(runCli(render(dir / "in", dir / "parts" / "f_%02d.png", "--shard " + std::to_string(i) + "/7"), &out), 0)
-            << out;
+    EXPECT_EQ(renderInShares(dir / "in", dir, "", 7), (std::vector<std::size_t>{0, 1, 0, 1, 0, 1, 1}));
     expectSameFiles(dir / "whole", dir / "parts");
 }
 
@@ -97,14 +97,8 @@ TEST(CliShard, ResumeKeepsTheWholeRunsBytesWithTurbulentNoise) {
 
 TEST(CliShard, ASimulationSceneSplitsIntoTheSameImages) {
     const fs::path dir = tempDir() / "shard_simulation";
-    fs::create_directories(dir / "whole");
-    fs::create_directories(dir / "parts");
-    const fs::path scene = writeSmallScene(dir);
-    std::string out;
-    ASSERT_EQ(runCli(render(scene, dir / "whole" / "f_%02d.png", ""), &out), 0) << out;
-    for (int i = 0; i < 2; ++i)
-        ASSERT_EQ(runCli(render(scene, dir / "parts" / "f_%02d.png", "--shard " + std::to_string(i) + "/2"), &out), 0)
-            << out;
+    fs::create_directories(dir);
+    renderInShares(writeSmallScene(dir), dir, "", 2);
     expectSameFiles(dir / "whole", dir / "parts");
 }
 

@@ -612,3 +612,27 @@ TEST(Cli, SymlinkedOutputIsWrittenThrough) {
     EXPECT_GT(fs::file_size(dir / "target.png"), 100u);
     EXPECT_NE(out.find("through the link"), std::string::npos) << out;
 }
+
+// Issue 20, item 3: a build without MPI, started by mpirun on several
+// processes, says in one line that it is not an MPI build instead of
+// rendering the whole job once per process (the launcher's environment is
+// what it sees; OpenMPI's is faked here, so no mpirun is needed). An MPI build
+// would start MPI on that environment: its tests are cli_mpi_test's.
+TEST(Cli, ANonMpiBuildUnderMpirunSaysSo) {
+#ifdef MENISCUS_HAVE_MPI
+    GTEST_SKIP() << "an MPI build (cli_mpi_test covers mpirun)";
+#else
+    const std::filesystem::path dir = tempDir() / "not_mpi";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    std::string out;
+    EXPECT_EQ(runCommand("OMPI_COMM_WORLD_SIZE=3 " + cliPath() + " render " +
+                             shellQuote(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo")) + " -o " +
+                             shellQuote(dir / "f.png") + " --width 64 --height 48",
+                         &out),
+              1)
+        << out;
+    EXPECT_NE(out.find("not an MPI build"), std::string::npos) << out;
+    EXPECT_FALSE(std::filesystem::exists(dir / "f.png"));
+#endif
+}

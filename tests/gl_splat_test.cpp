@@ -16,6 +16,7 @@
 #include "shared/thickness.h"
 #include "gl/splat.h"
 #include "gl/thickness_lowres.h"
+#include "gl/buffer_fill.h"
 #include "gl/filter_separable.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
@@ -125,7 +126,7 @@ TEST_F(GlSplat, NoParticlesIsAllInfinity) {
     for (float z : gl->pixels) EXPECT_TRUE(std::isinf(z) && z > 0);
 }
 
-// ---- Thickness chords (SPEC §3.4): GL fixed-point sums vs the CPU's float sums.
+// ---- Thickness chords (SPEC §3.4): GL's fixed-point sums vs the CPU's.
 
 namespace {
 struct GlDepthAndThickness {
@@ -147,10 +148,19 @@ GlDepthAndThickness glSplatWithThickness(const Camera& cam, std::span<const glm:
     return {depth.download<float>(), thickness.download<float>()};
 }
 
-// Tolerance: each chord is rounded to 1/32768 of a radius in the fixed-point
-// sum (relative 1.5e-5 of r per sphere crossed); the CPU sums floats. Relative
-// to max(T, 2 r w) -- one whole diameter -- the difference stays below 1e-4.
-constexpr double kThicknessRel = 1e-4;
+// Tolerance: both backends round each chord to 1/32768 of a radius and add
+// the same integers (shared/splat_chords.h), then resolve them with the same
+// formula (and blur and upsample with the same operations), so on llvmpipe
+// (IEEE sqrt and division; what CI runs) they agree bit for bit: measured 0
+// on every case here, and required. A hardware driver may round sqrt or
+// division otherwise, moving a chord by a unit or a grazing pixel's coverage:
+// there relative 1e-4 of max(T, 2 r w) -- one whole diameter -- as before the
+// CPU summed in fixed point too.
+double thicknessRel() {
+    std::string why;
+    const gl::Context* ctx = sharedGlContext(&why);
+    return ctx && gl::isSoftwareRenderer(ctx->renderer()) ? 0.0 : 1e-4;
+}
 
 // Compares depth and thickness with the CPU; returns the CPU's largest thickness.
 double expectThicknessMatches(const Camera& cam, std::span<const glm::vec3> pos, float r, const Image<float>* scene,
@@ -168,7 +178,7 @@ double expectThicknessMatches(const Camera& cam, std::span<const glm::vec3> pos,
     for (float v : cpu.thickness.pixels) maxT = std::max(maxT, double(v));
     std::printf("thickness: max %.4g m, max abs diff %.3g m, max rel %.3g\n", maxT, t.maxAbs, t.maxRel);
     EXPECT_EQ(t.nonFinite, 0);
-    EXPECT_LE(t.maxRel, kThicknessRel);
+    EXPECT_LE(t.maxRel, thicknessRel());
     return maxT / diameter;
 }
 }  // namespace
@@ -245,8 +255,8 @@ TEST_F(GlSplat, NothingInViewGivesEmptyDepthAndThickness) {
 // blurred there, upsampled), as cpu::splatDepthAndThickness computes it with
 // resolutionDivisor 2 and 4: on the real frame at a size no divisor divides,
 // with and without a scene (nearest of each block) and with and without the
-// blur. Tolerance as at full resolution (fixed-point chords), relative to one
-// calibrated diameter.
+// blur. Tolerance as at full resolution (the same fixed-point chords): exact
+// on llvmpipe.
 TEST_F(GlSplat, LowResolutionThicknessMatchesCpu) {
     const RealFrame& frame = realFrame();
     ASSERT_FALSE(frame.positions.empty());
@@ -297,7 +307,7 @@ TEST_F(GlSplat, LowResolutionThicknessMatchesCpu) {
                             t.maxRel);
                 EXPECT_GT(maxT, 2.0 * diameter);
                 EXPECT_EQ(t.nonFinite, 0);
-                EXPECT_LE(t.maxRel, kThicknessRel);
+                EXPECT_LE(t.maxRel, thicknessRel());
             }
 }
 

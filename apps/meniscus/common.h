@@ -112,6 +112,11 @@ struct RenderOptions {
     // Frame-parallel runs (issue 20): "I/N" renders only the I-th of N
     // contiguous shares of the frames (job arrays); empty: all of them.
     std::string shard;
+    // Under mpirun (issue 20): split the frames of a sequence over the
+    // processes ("frames"), or the particles of each frame, composited
+    // sort-last ("particles"); "auto": frames for a sequence, particles for
+    // one frame.
+    std::string split = "auto";
     // Camera motion (render): turn about +y through the target, degrees per
     // second of sequence time; one whole turn over the sequence; a key-framed
     // path (--camera-path: a JSON file or the JSON array itself); a single

@@ -31,6 +31,19 @@
 //  - --frames N renders a single input file as N frames (the turntable of a
 //    still); without camera motion that is N identical frames, a held shot.
 //    A sequence renders its own frames: --frames with one is an error.
+//  - Under mpirun (issue 20; cluster.h), --split frames gives process k of K
+//    the frames of --shard k/K; --split particles gives it the k-th of K
+//    contiguous index ranges of each frame's particles (after --select),
+//    or, for an input with %r, its share of the part files (one per rank of
+//    the simulation that wrote them), splatted there and composited sort-last
+//    on process 0, which alone shades and writes. auto: frames for a
+//    sequence (or --frames N), particles for one frame. Radius, camera and
+//    studio are chosen as the one-process run chooses them (every process
+//    reads the whole file for that; with %r: the radius of part 0, the camera
+//    on samples of every part, the studio around all of them), so the
+//    pictures are that run's, byte for byte. Any process's error ends the
+//    whole job (MPI_Abort) with that error; the picture being composited is
+//    not written.
 #include "render.h"
 
 #include <algorithm>
@@ -41,6 +54,7 @@
 #include <functional>
 #include <iostream>
 #include <optional>
+#include <regex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,6 +63,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cluster.h"
 #include "mesh.h"
 #include "meniscus/io.h"
 #include "meniscus/particle_view.h"
@@ -111,9 +126,10 @@ bool outputComplete(const std::string& path) {
 // Where the frames go: numbered images, or one movie opened before the first.
 class Outputs {
 public:
-    static Result<Outputs> open(const RenderOptions& o, const RenderSettings& s, const Frames& frames) {
+    // `writer`: this process writes (one that only splats for another does not).
+    static Result<Outputs> open(const RenderOptions& o, const RenderSettings& s, const Frames& frames, bool writer) {
         Outputs out(o, frames);
-        if (!isMp4(o.output)) return out;
+        if (!isMp4(o.output) || !writer) return out;
 #ifdef MENISCUS_HAVE_FFMPEG
         auto movie = VideoWriter::open(o.output, s.camera.width, s.camera.height, VideoParams{o.fps, o.crf});
         if (!movie) return movie.error();
@@ -199,6 +215,7 @@ Status renderFrame(const RenderOptions& o, const Frames& frames, std::size_t i, 
     settings.mesh = nullptr;
     settings.diffuse = {};
     if (!aovs) return Error{aovs.error().file.empty() ? frames.name(i) : aovs.error().file, aovs.error().message};
+    if (settings.compositor && !settings.compositor->root()) return okStatus();  // the root writes the picture
     return outputs.write(i, *aovs, !settings.scene.background);
 }
 
@@ -236,9 +253,12 @@ Result<Share> shareOf(const std::string& shard, std::size_t count) {
 // Frames 0 .. frames.count() - 1, their particles from `next` (called once
 // per frame, in order), rendered through `motion` from the camera in
 // `settings` to o.output. Returns the exit code.
-int renderFrames(const RenderOptions& o, const Frames& frames, const CameraMotion& motion, RenderSettings& settings,
-                 const std::function<Result<ParticleSet>(std::size_t)>& next) {
+int renderFrames(Cluster& cluster, const RenderOptions& o, const Frames& frames, const CameraMotion& motion,
+                 RenderSettings& settings, const std::function<Result<ParticleSet>(std::size_t)>& next) {
     const std::size_t count = frames.count();
+    // Composited sort-last: every process reads and splats each frame, the root writes it.
+    const bool composited = settings.compositor != nullptr;
+    const bool writer = !composited || cluster.root();
     const Camera start = settings.camera;
     if (motion.moves() && o.background == "auto") {
         settings.scene.walls = false;
@@ -250,7 +270,7 @@ int renderFrames(const RenderOptions& o, const Frames& frames, const CameraMotio
     auto made = makeRenderer(o);
     if (!made) return fail(made.error().describe());
     Renderer renderer = std::move(*made);
-    auto outputs = Outputs::open(o, settings, frames);
+    auto outputs = Outputs::open(o, settings, frames, writer);
     if (!outputs) return fail(outputs.error().describe());
 
     auto share = shareOf(o.shard, count);
@@ -285,7 +305,7 @@ int renderFrames(const RenderOptions& o, const Frames& frames, const CameraMotio
         if (!rendered[i]) {
             if (i >= share->begin) {
                 ++resumed;
-                progress.step(i + 1 - share->begin, *name + " (complete, kept)");
+                if (writer) progress.step(i + 1 - share->begin, *name + " (complete, kept)");
             }
             if (remembered(i)) {
                 if (auto set = next(i)) {
@@ -299,14 +319,28 @@ int renderFrames(const RenderOptions& o, const Frames& frames, const CameraMotio
             continue;
         }
         settings.camera = cameraForFrame(start, motion, i);
-        const Status st = renderFrame(o, frames, i, next(i), renderer, settings, *outputs);
+        Result<ParticleSet> set = next(i);
+        // Composited: a frame one process cannot read is a failure on all (they
+        // would otherwise wait for its splat).
+        bool readFailed = !set;
+        if (composited && !cluster.allOk(bool(set))) {
+            if (set) set = makeError(frames.name(i), "could not be read by another process (its error is above)");
+            readFailed = true;
+        }
+        const Status st = renderFrame(o, frames, i, std::move(set), renderer, settings, *outputs);
+        if (!st && composited && cluster.size() > 1 && !readFailed) {
+            // Past the reading, a process's error leaves the others in the composite: end the job.
+            std::cerr << "meniscus: error: " << st.error().describe() << " (process " << cluster.rank() << " of "
+                      << cluster.size() << ")\n";
+            cluster.abort(1);
+        }
         if (!st) {
             if (o.onError != "skip") return fail(st.error().describe());
             failed.emplace_back(i, st.error().describe());
             std::cerr << "meniscus: frame " << i + 1 << "/" << count << " skipped: " << st.error().describe() << "\n";
         } else {
             ++written;
-            progress.step(i + 1 - share->begin, *name);
+            if (writer) progress.step(i + 1 - share->begin, *name);
         }
         if (gInterrupted) {
             std::cerr << "\nmeniscus: interrupted after frame " << i + 1 << " of " << count
@@ -317,7 +351,9 @@ int renderFrames(const RenderOptions& o, const Frames& frames, const CameraMotio
     }
     if (auto st = outputs->finish(); !st) return fail(st.error().describe());
 
-    if (outputs->movie()) {
+    if (!writer) {
+        return failed.empty() ? 0 : 1;
+    } else if (outputs->movie()) {
         std::cerr << "meniscus: wrote " << o.output << " (" << outputs->movieFrames() << " frames, H.264, " << o.fps
                   << " fps)\n";
     } else if (count == 1 && written == 1) {
@@ -346,7 +382,7 @@ int renderFrames(const RenderOptions& o, const Frames& frames, const CameraMotio
 // 1/fps simulated seconds, the scene's fps), framed once on the scene's
 // domain as `simulate --render` frames its images; the particle radius is
 // the simulation's (--radius sets it).
-int renderSimulation(const RenderOptions& o, RenderSettings& settings) {
+int renderSimulation(Cluster& cluster, const RenderOptions& o, RenderSettings& settings) {
     if (auto up = upRotation(o.up); !up || !up->identity)
         return fail("--up " + o.up + ": a simulation's up is +y (gravity along -y); --up turns files");
     if (o.frames > 0) return fail("--frames: " + o.input + " is a simulation, whose frames are its own");
@@ -378,7 +414,7 @@ int renderSimulation(const RenderOptions& o, RenderSettings& settings) {
     std::cerr << "meniscus: simulating " << o.input << ": " << simulator.size() << " particles, r = "
               << scene->params.radius << " m, " << sim::solverName(scene->params.solver) << ", " << scene->duration
               << " s, a frame every " << 1.0 / scene->fps << " s\n";
-    return renderFrames(timed, frames, *motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
+    return renderFrames(cluster, timed, frames, *motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
         if (auto st = simulator.advanceTo(double(i) / scene->fps); !st) return Error{o.input, st.error().message};
         return simulator.particles();
     });
@@ -410,6 +446,14 @@ void addSequenceOptions(CLI::App* cmd, RenderOptions& o) {
                     "I/N: render only the I-th (from 0) of N contiguous shares of the frames, named as in the whole "
                     "run, for job arrays (Slurm: --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT); the N runs "
                     "together write exactly the whole run's images");
+    cmd->add_option("--split", o.split,
+                    "Under mpirun: give each process a share of the frames of a sequence (frames), or a share of "
+                    "every frame's particles, splatted there and composited exactly on process 0 (particles; an "
+                    "input with %r, e.g. fluid_r%r.vtu, gives each process its share of those part files); auto: "
+                    "frames for a sequence, particles for one frame. The images are the one-process run's, byte for "
+                    "byte")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "frames", "particles"}));
     cmd->add_option("--orbit", o.orbit,
                     "Moving camera: turn about the vertical through the target at this many degrees per second of "
                     "sequence time (frame i at i / --fps seconds; positive: counter-clockwise seen from above), "
@@ -429,7 +473,114 @@ void addSequenceOptions(CLI::App* cmd, RenderOptions& o) {
         ->check(CLI::Range(std::size_t(1), std::size_t(1000000)));
 }
 
-int runRender(const RenderOptions& o, const ParticleSet* embedded) {
+namespace {
+
+// The part files of a %r pattern (%r or %0Nr: the rank of the process that
+// wrote it), r = 0, 1, ... while they exist.
+std::vector<std::string> expandParts(const std::string& pattern) {
+    static const std::regex rank("%(0[0-9]+)?r");
+    std::vector<std::string> parts;
+    for (int r = 0; r < 1000000; ++r) {
+        std::string name;
+        std::smatch m;
+        std::string rest = pattern;
+        while (std::regex_search(rest, m, rank)) {
+            char digits[32];
+            const int width = m[1].matched ? std::atoi(m[1].str().c_str()) : 0;
+            std::snprintf(digits, sizeof digits, "%0*d", std::min(width, 20), r);
+            name += m.prefix().str() + digits;
+            rest = m.suffix().str();
+        }
+        name += rest;
+        if (!std::filesystem::exists(name)) break;
+        parts.push_back(name);
+    }
+    return parts;
+}
+
+// The split of issue 20 for `count` frames on `processes` (--split).
+Result<std::string> splitMode(const RenderOptions& o, std::size_t count, bool parts) {
+    if (o.split != "auto" && o.split != "frames" && o.split != "particles")
+        return makeError("", "--split " + o.split + ": expected auto, frames or particles");
+    if (parts) {
+        if (o.split == "frames") return makeError("", "--split frames: " + o.input + " names the parts of one frame (%r)");
+        return std::string("particles");
+    }
+    if (o.split != "auto") return o.split;
+    return std::string(count > 1 ? "frames" : "particles");
+}
+
+// One frame written as part files (a %r pattern): process k of K reads its
+// share of the parts, joined in part order; the radius is estimated on part
+// 0, the camera framed on samples of every part, the studio built around all
+// of them, the same on one process as on K.
+int renderParts(Cluster& cluster, const RenderOptions& o, RenderSettings& settings) {
+    if (o.input.find('%') != o.input.rfind('%') && std::regex_search(o.input, std::regex("%[^r0-9]|%0[0-9]+[^0-9r]")))
+        return fail(o.input + ": a %r pattern names the part files of one frame; a sequence of parts is not supported "
+                              "(render each frame's parts on their own)");
+    if (o.frames > 0) return fail("--frames: " + o.input + " names the parts of one frame (%r)");
+    if (settings.anisotropy.enabled)
+        return fail("--anisotropy on: an ellipsoid needs all of its particle's neighbours, and with part files (" +
+                    o.input + ") a process holds only its own parts: add --anisotropy off (or join the parts into "
+                    "one file, which every process reads)");
+    const std::vector<std::string> parts = expandParts(o.input);
+    if (parts.empty()) {
+        std::vector<std::string> none = {std::regex_replace(o.input, std::regex("%(0[0-9]+)?r"), "0")};
+        return fail(none[0] + ": no such file (the first part of " + o.input + ", %r = 0)");
+    }
+    auto frames = openFrames(parts[0], nullptr, o.hPerSpacing);
+    if (!frames) return fail(frames.error().describe());
+    if (auto st = frames->addFluids(o); !st) return fail(st.error().describe());
+    if (!frames->moreFluids.empty()) return fail("--fluid: " + o.input + " names the parts of one frame (%r)");
+    auto up = upRotation(o.up);
+    if (!up) return fail(withSceneKey(up.error().describe(), o.sceneFile, o.sceneKeys));
+    frames->up = *up;
+    auto motion = motionFromOptions(o, 1, o.fps);
+    if (!motion) return fail(motion.error().describe());
+    // Radius (part 0's), and a first camera and studio that the parts' own replace below.
+    auto first = fixForSequence(o, *frames, settings, nullptr);
+    if (!first) return fail(withSceneKey(first.error().describe(), o.sceneFile, o.sceneKeys));
+    // This process's parts, joined; their samples and bounds.
+    const IndexRange mine = shareRange(parts.size(), cluster.rank(), cluster.size());
+    ParticleSet set;
+    std::vector<glm::vec3> samples;
+    Bounds box;
+    bool ok = true;
+    for (std::size_t p = mine.begin; p < mine.end && ok; ++p) {
+        Frames one = *frames;
+        one.files = {parts[p]};
+        auto part = one.loadChecked(0);
+        if (part) {
+            sampleFramePoints(part->positions, samples);
+            for (const glm::vec3& q : part->positions) box.extend(q);
+        }
+        const Status st = part ? appendParticles(set, std::move(*part), parts[p], parts[mine.begin]) : Status(part.error());
+        if (!st) {
+            std::cerr << "meniscus: error: " << st.error().describe() << "\n";
+            ok = false;
+        }
+    }
+    if (!cluster.allOk(ok)) return 1;
+    if (auto st = cluster.allGather(samples); !st) return fail(st.error().describe());
+    box = cluster.allBounds(box);
+    if (o.eye.empty() && o.cameraPath.empty()) {
+        auto camera = chooseCamera(o, samples, settings.radiusM);
+        if (!camera) return fail(camera.error().describe());
+        settings.camera = *camera;
+    }
+    settings.scene.studioBounds = box;
+    if (cluster.size() > 1) settings.compositor = cluster.compositor();
+    settings.colorOnly = !isExr(o.output);
+    if (cluster.root())
+        std::cerr << "meniscus: " << parts.size() << " part" << (parts.size() == 1 ? "" : "s") << " of " << o.input
+                  << (cluster.size() > 1 ? " over " + std::to_string(cluster.size()) + " processes" : std::string())
+                  << "\n";
+    return renderFrames(cluster, o, *frames, *motion, settings,
+                        [&](std::size_t) -> Result<ParticleSet> { return std::move(set); });
+}
+
+int runRenderOn(Cluster& cluster, const RenderOptions& options, const ParticleSet* embedded) {
+    RenderOptions o = options;
     if (!isPng(o.output) && !isExr(o.output) && !isMp4(o.output))
         return fail(o.output + ": output must end in .png, .exr or .mp4");
     if (o.resume && isMp4(o.output)) return fail("--resume: a movie is written whole; resume numbered images");
@@ -440,10 +591,30 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
     auto parsed = settingsFromOptions(o);
     if (!parsed) return fail(withSceneKey(parsed.error().describe(), o.sceneFile, o.sceneKeys));
     RenderSettings settings = std::move(*parsed);
-    if (isJsonFile(o.input)) return renderSimulation(o, settings);
+    const bool parts = !embedded && std::regex_search(o.input, std::regex("%(0[0-9]+)?r"));
+    const bool simulation = !parts && isJsonFile(o.input);
 
-    auto frames = openFrames(o.input, embedded, o.hPerSpacing);
+    auto frames = simulation || parts ? Result<Frames>(Frames{}) : openFrames(o.input, embedded, o.hPerSpacing);
     if (!frames) return fail(frames.error().describe());
+    // Several processes (mpirun): frames or particles to each (--split).
+    const std::size_t inputFrames = o.frames > 0 ? o.frames : frames->count();
+    auto split = splitMode(o, simulation ? 2 : inputFrames, parts);
+    if (!split) return fail(split.error().describe());
+    if (cluster.size() > 1 && cluster.root())
+        std::cerr << "meniscus: " << cluster.size() << " processes, split by " << *split << "\n";
+    if (cluster.size() > 1 && *split == "frames") {
+        if (!o.shard.empty()) return fail("--shard: under mpirun the processes split the frames themselves; leave it out");
+        if (isMp4(o.output))
+            return fail("-o " + o.output + ": a movie is written whole by one process; under mpirun write numbered "
+                        "images (and join them with ffmpeg), or --split particles");
+        o.shard = std::to_string(cluster.rank()) + "/" + std::to_string(cluster.size());
+    }
+    if (simulation) {
+        if (cluster.size() > 1 && *split != "frames") return fail("--split particles: " + o.input + " is a simulation; split its frames");
+        return renderSimulation(cluster, o, settings);
+    }
+    if (parts) return renderParts(cluster, o, settings);
+    if (cluster.size() > 1 && *split == "particles") settings.compositor = cluster.compositor();
     if (auto st = frames->addFluids(o); !st) return fail(st.error().describe());
     frames->renumber = o.renumber;
     auto up = upRotation(o.up);
@@ -474,11 +645,35 @@ int runRender(const RenderOptions& o, const ParticleSet* embedded) {
         std::cerr << "meniscus: warning: " << frames->name(firstIndex)
                   << " has no velocity attribute: --whiten leaves the colour as it is\n";
 
-    return renderFrames(o, *frames, *motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
+    // Split by particles: every process reads the whole frame (its neighbours
+    // give the anisotropic kernels) and splats its index range of it.
+    const bool byParticles = settings.compositor != nullptr;
+    return renderFrames(cluster, o, *frames, *motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
         // (Frames before firstIndex did not load when fixForSequence tried them.)
-        if (i == firstIndex) return std::move(*first);
-        return still ? Result<ParticleSet>(*still) : frames->loadChecked(i);
+        Result<ParticleSet> set = i == firstIndex ? std::move(*first)
+                                  : still         ? Result<ParticleSet>(*still)
+                                                  : frames->loadChecked(i);
+        if (set && byParticles) {
+            const IndexRange r = shareRange(set->size(), cluster.rank(), cluster.size());
+            settings.share = ParticleRange{r.begin, r.end};
+        }
+        return set;
     });
+}
+
+}  // namespace
+
+int runRender(const RenderOptions& o, const ParticleSet* embedded) {
+    auto cluster = Cluster::start();
+    if (!cluster) return fail(cluster.error().describe());
+    const int code = runRenderOn(**cluster, o, embedded);
+    // One process's failure ends the job: the others would wait for it in a
+    // composite, or go on rendering frames of a run that failed.
+    if (code != 0 && (*cluster)->size() > 1) {
+        std::cerr.flush();
+        (*cluster)->abort(code);
+    }
+    return code;
 }
 
 }  // namespace meniscus::app

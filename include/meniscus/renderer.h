@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "meniscus/params.h"
 #include "meniscus/particle_view.h"
 #include "meniscus/result.h"
+#include "meniscus/sort_last.h"
 #include "meniscus/types.h"
 
 namespace meniscus {
@@ -21,6 +23,11 @@ namespace meniscus {
 // What the colour AOV (and so the PNG) shows: the shaded, composited image or
 // a picture of one intermediate stage for a person to look at.
 enum class View { Final, Depth, RawDepth, Normals, Thickness, Noise, Foam, Whitening, Spray, Silhouette, FluidId };
+
+// The particles [begin, end) of a view.
+struct ParticleRange {
+    std::size_t begin = 0, end = 0;
+};
 
 // Diffuse particles for RenderSettings::diffuse: world positions, velocities
 // (m/s; empty: round drops) and each one's kind in the whitewater numbering
@@ -129,6 +136,33 @@ struct RenderSettings {
     // is out of range, a position or normal is not finite, or the normals are
     // not one per vertex.
     const TriangleMesh* mesh = nullptr;
+    // Sort-last rendering over several processes (issue 20;
+    // include/meniscus/sort_last.h): when set, each process renders its own
+    // share of the particles with the same settings, the splat runs as the
+    // stages depth-splat (this share's partial), composite (the compositor
+    // combines the partials of all processes; its error ends the frame) and,
+    // on the root only, thickness (the combined partial resolved); the root
+    // goes on with the combined image and its picture is bit-identical to
+    // the one-process render of all the particles, however they were split.
+    // On the others render() returns empty Aovs (every image 0 x 0) and
+    // draw() does nothing more, right after the composite. Not owned; it
+    // must stay valid during render()/draw(). Either backend (GL reads its
+    // partial back and uploads the combination). Not yet
+    // with what needs more than a share's particles or splat (each an error
+    // naming its setting): noise, whitening, spray and the diffuse layer,
+    // anisotropy (unless `share` below), raycast, the mesh path, particles
+    // carrying a fluid index;
+    // and scene.studioBounds must be set (the whole data's, the same on
+    // every process).
+    SplatCompositor* compositor = nullptr;
+    // With a compositor, when every process holds the whole frame (one file
+    // that each reads): the particles given to render() are all of them, the
+    // same on every process, and this process splats only [share->begin,
+    // share->end) of them. What needs a particle's neighbours (the anisotropic
+    // kernels) is then computed from all of them, as the one-process render
+    // does, so it can be on. Unset: the particles given are this process's
+    // own, and neighbours in other shares are unknown (anisotropy refused).
+    std::optional<ParticleRange> share;
     // Only `color` is needed (a PNG, a preview): render() leaves the other AOVs
     // empty, which on GL saves their GPU -> host copies. Every AOV otherwise
     // (an EXR).

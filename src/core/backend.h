@@ -21,6 +21,7 @@
 #include "meniscus/particle_view.h"
 #include "meniscus/renderer.h"
 #include "meniscus/result.h"
+#include "meniscus/sort_last.h"
 #include "meniscus/types.h"
 #include "shared/fluids.h"
 #include "shared/studio.h"
@@ -109,6 +110,11 @@ struct FrameSettings {
     // The mesh of the mesh path (RenderSettings::mesh, checked by the
     // Renderer), or null. Valid for this frame only.
     const TriangleMesh* mesh = nullptr;
+    // Sort-last rendering (RenderSettings::compositor, meniscus/sort_last.h),
+    // or null: the Renderer then runs splatPartial, the compositor and
+    // resolveSplat in place of splat. The backends only carry it (for a
+    // backend that would have to refuse it, or composite on its own).
+    SplatCompositor* compositor = nullptr;
 };
 
 class Backend {
@@ -128,6 +134,14 @@ public:
     // Depth splat and thickness (chords, calibration, blur) in one pass
     // (cpu::splatDepthAndThickness), in front of the scene depth.
     virtual void splat(Slot sceneDepth, Slot depth, Slot thickness) = 0;
+    // The same stage in halves, for sort-last rendering (FrameSettings::
+    // compositor): this process's depth and fixed-point chords into `partial`
+    // on the host (cpu::splatPartial; GL reads them back), then a (combined)
+    // partial resolved into the depth and thickness slots
+    // (cpu::resolveThickness; GL uploads it; the depth may be moved out of
+    // `partial`). splat() = the two in a row, to the bit.
+    virtual void splatPartial(Slot sceneDepth, SplatPartial& partial) = 0;
+    virtual void resolveSplat(SplatPartial& partial, Slot depth, Slot thickness) = 0;
     // The chosen smoothing filter (cpu::smoothDepth); `none` copies.
     virtual void smooth(Slot in, Slot out) = 0;
     // Hole filling (SPEC §3.4a, FrameSettings::holeFill): the uncovered

@@ -12,6 +12,7 @@
 #include "cpu/scene.h"
 #include "cpu/shading.h"
 #include "cpu/silhouette.h"
+#include "cpu/splat.h"
 #include "cpu/spray.h"
 #include "cpu/surface_noise.h"
 #include "cpu/velocity_map.h"
@@ -50,6 +51,15 @@ public:
                                               s_.shapes);
         scalars_[int(depth)] = std::move(dt.depth);
         scalars_[int(thickness)] = std::move(dt.thickness);
+    }
+
+    void splatPartial(Slot sceneDepth, SplatPartial& partial) override {
+        partial = cpu::splatPartial(s_.camera, positions_, s_.radius, s_.thickness, &scalar(sceneDepth), s_.shapes);
+    }
+
+    void resolveSplat(SplatPartial& partial, Slot depth, Slot thickness) override {
+        scalars_[int(thickness)] = cpu::resolveThickness(s_.camera, partial, s_.radius, s_.thickness);
+        scalars_[int(depth)] = std::move(partial.depth);
     }
 
     void smooth(Slot in, Slot out) override {

@@ -10,6 +10,10 @@
 // same for any thread count. The same bins and tile pass also sum the chord
 // lengths of the thickness stage (SPEC §3.4, thickness.cpp), alone or in the
 // same pass as the depth, since both need the same ray-sphere intersection.
+// The chords are summed in fixed point (shared/splat_chords.h, the GL
+// splat's arithmetic): integer sums are exact and order-independent, so the
+// partial sums of several processes (sort-last, meniscus/sort_last.h) add up
+// to the whole's bits.
 #include "splat.h"
 
 #include <algorithm>
@@ -21,6 +25,8 @@
 
 #include "cpu/filter_separable.h"  // detail::FloatV and its helpers
 #include "shared/ellipsoid.h"
+#include "shared/splat_chords.h"
+#include "shared/thickness.h"
 
 namespace meniscus::cpu {
 
@@ -185,6 +191,15 @@ inline FloatV blendV(IntV mask, FloatV a, FloatV b) {  // a where mask is set, e
 }
 using lanes::sqrtV;
 inline void storeV(float* p, FloatV v) { std::memcpy(p, &v, sizeof v); }
+// The chord sums' lanes: unsigned, so that they wrap (mod 2^32) as GL's
+// atomicAdd does instead of overflowing (undefined for signed integers).
+using UintV = std::uint32_t __attribute__((vector_size(sizeof(IntV))));
+inline UintV loadU(const std::uint32_t* p) {
+    UintV v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline void storeU(std::uint32_t* p, UintV v) { std::memcpy(p, &v, sizeof v); }
 
 // Tile-local arrays: rows of kStride floats, the last kLanes - 1 (+1 for
 // alignment) padding so that a group of kLanes pixels starting anywhere in the
@@ -209,7 +224,8 @@ int lowEnd(int x1) {
 // data lives in tile-local arrays (one sqrt per pixel instead of one per
 // sphere-pixel pair). Lanes past the sphere's rectangle are masked, not
 // branched on. Chords are summed in bin order, a fixed order. The arithmetic
-// is the scalar raySphereEyeDepth's, operation for operation.
+// is the scalar raySphereEyeDepth's, operation for operation. Chords are
+// added as fixed-point integers (shared/splat_chords.h), as on GL.
 //
 // kDiv > 1 (chords only): the output has one pixel per kDiv x kDiv block, its
 // ray through the block's centre, and the scene depth of the block is its
@@ -219,7 +235,7 @@ int lowEnd(int x1) {
 // pixel: that holds every low-resolution centre inside the projection.
 template <bool kDepth, bool kChord, int kDiv = 1, bool kEllipsoid = false>
 void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
-               Image<float>* depth, Image<float>* chordSum, float chordScale) {
+               Image<float>* depth, Image<std::uint32_t>* chords) {
     static_assert(kDiv == 1 || (!kDepth && kTile % kDiv == 0));
     const int W = camera.width, H = camera.height;
     const int tx = t % bins.tilesX, ty = t / bins.tilesX;
@@ -232,7 +248,7 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
         for (int y = by0; y < by1; ++y)
             for (int x = bx0; x < bx1; ++x) {
                 if constexpr (kDepth) depth->at(x, y) = kInf;
-                if constexpr (kChord) chordSum->at(x, y) = 0.0f;  // (x, y) in output pixels
+                if constexpr (kChord) chords->at(x, y) = 0u;  // (x, y) in output pixels
             }
         return;
     }
@@ -240,7 +256,8 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
     // Unit ray u per pixel; eye depth = (ray parameter) * invLen since ray.z = -1.
     alignas(64) float ux[kTileN], uy[kTileN], uz[kTileN], invLen[kTileN];
     alignas(64) float tNear[kTileN], tFar[kTileN];  // near plane and scene, as ray parameters (chord clip)
-    alignas(64) float zBest[kTileN], chord[kTileN];
+    alignas(64) float zBest[kTileN];
+    alignas(64) std::uint32_t chord[kTileN];  // fixed-point sums
     const float nearM = camera.nearM;
     const float zNear = std::max(nearM, std::numeric_limits<float>::min());
     const float invF = 1.0f / camera.focalPx();
@@ -255,7 +272,8 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
             const int j = y * kStride + x;
             const int n = std::min(kLanes, bx1 - bx0 - x);  // pixels of the image in this group
             if (by0 + y >= by1 || n <= 0) {  // padding: finite values, never used
-                for (float* a : {ux, uy, uz, invLen, tNear, tFar, zBest, chord}) storeV(a + j, FloatV{});
+                for (float* a : {ux, uy, uz, invLen, tNear, tFar, zBest}) storeV(a + j, FloatV{});
+                storeU(chord + j, UintV{});
                 continue;
             }
             const FloatV rx = ((float(kDiv * (bx0 + x)) + lanesF) - halfW) * invF;
@@ -281,7 +299,7 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
             // Starting the min at the scene depth discards hits at or behind it
             // (the test is strict); still equal at the end = no fluid.
             storeV(zBest + j, zScene);
-            storeV(chord + j, FloatV{});
+            storeU(chord + j, UintV{});
         }
     }
 
@@ -333,7 +351,13 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
                 if constexpr (kChord) {
                     const FloatV t1 = b + h, tf = detail::loadV(tFar + j), tn = detail::loadV(tNear + j);
                     const FloatV len = blendV(tf < t1, tf, t1) - blendV(t0 < tn, tn, t0);
-                    storeV(chord + j, detail::loadV(chord + j) + blendV(hit & (len > zero), len, zero));
+                    // GL's `if (chord > 0.0) atomicAdd(sum, chordToFixed(chord, r))`:
+                    // lanes without a chord convert 0 + 1/2, which truncates to 0.
+                    // The units are below 2^31 (clamped), so the signed conversion
+                    // is defined and equals the unsigned one.
+                    const FloatV units = shared::chordFixedUnits(blendV(hit & (len > zero), len, zero), radius);
+                    const UintV fixed = UintV(__builtin_convertvector(units, IntV));
+                    storeU(chord + j, loadU(chord + j) + fixed);
                 }
             }
         }
@@ -349,62 +373,62 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
                 const float zScene = scene ? scene[row + x] : kInf;
                 depth->pixels[row + x] = zBest[j] < zScene ? zBest[j] : kInf;
             }
-            if constexpr (kChord) chordSum->pixels[row + x] = chord[j] * chordScale;
+            if constexpr (kChord) chords->pixels[row + x] = chord[j];
         }
     }
 }
 
 template <bool kEllipsoid>
 void splatBinsAs(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
-                 Image<float>* depth, Image<float>* chordSum, float chordScale) {
+                 Image<float>* depth, Image<std::uint32_t>* chords) {
     const int tiles = bins.tilesX * bins.tilesY;
     // One task per tile, each writing only its own pixels: thread-count independent.
     auto run = [&](auto kernel) { tbb::parallel_for(0, tiles, [&](int t) { kernel(t); }); };
-    if (depth && chordSum)
+    if (depth && chords)
         run([&](int t) {
-            splatTile<true, true, 1, kEllipsoid>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale);
+            splatTile<true, true, 1, kEllipsoid>(t, camera, bins, radius, sceneDepth, depth, chords);
         });
     else if (depth)
         run([&](int t) {
-            splatTile<true, false, 1, kEllipsoid>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale);
+            splatTile<true, false, 1, kEllipsoid>(t, camera, bins, radius, sceneDepth, depth, chords);
         });
-    else if (chordSum)
+    else if (chords)
         run([&](int t) {
-            splatTile<false, true, 1, kEllipsoid>(t, camera, bins, radius, sceneDepth, depth, chordSum, chordScale);
+            splatTile<false, true, 1, kEllipsoid>(t, camera, bins, radius, sceneDepth, depth, chords);
         });
 }
 
 template <bool kEllipsoid>
 void splatChordsLowResAs(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
-                         int divisor, Image<float>& chordSum, float chordScale) {
+                         int divisor, Image<std::uint32_t>& chords) {
     const int tiles = bins.tilesX * bins.tilesY;
     auto run = [&](auto kernel) { tbb::parallel_for(0, tiles, [&](int t) { kernel(t); }); };
     if (divisor == 2)
         run([&](int t) {
-            splatTile<false, true, 2, kEllipsoid>(t, camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale);
+            splatTile<false, true, 2, kEllipsoid>(t, camera, bins, radius, sceneDepth, nullptr, &chords);
         });
     else if (divisor == 4)
         run([&](int t) {
-            splatTile<false, true, 4, kEllipsoid>(t, camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale);
+            splatTile<false, true, 4, kEllipsoid>(t, camera, bins, radius, sceneDepth, nullptr, &chords);
         });
     else
-        splatBinsAs<kEllipsoid>(camera, bins, radius, sceneDepth, nullptr, &chordSum, chordScale);
+        splatBinsAs<kEllipsoid>(camera, bins, radius, sceneDepth, nullptr, &chords);
 }
 
 }  // namespace
 
 void splatBins(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
-               Image<float>* depth, Image<float>* chordSum, float chordScale) {
-    if (bins.ellipsoids.empty()) splatBinsAs<false>(camera, bins, radius, sceneDepth, depth, chordSum, chordScale);
-    else splatBinsAs<true>(camera, bins, radius, sceneDepth, depth, chordSum, chordScale);
+               Image<float>* depth, Image<std::uint32_t>* chords) {
+    if (bins.ellipsoids.empty()) splatBinsAs<false>(camera, bins, radius, sceneDepth, depth, chords);
+    else splatBinsAs<true>(camera, bins, radius, sceneDepth, depth, chords);
 }
 
 void splatChordsLowRes(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
-                       int divisor, Image<float>& chordSum, float chordScale) {
+                       int divisor, Image<std::uint32_t>& chords) {
     if (bins.ellipsoids.empty())
-        splatChordsLowResAs<false>(camera, bins, radius, sceneDepth, divisor, chordSum, chordScale);
+        splatChordsLowResAs<false>(camera, bins, radius, sceneDepth, divisor, chords);
     else
-        splatChordsLowResAs<true>(camera, bins, radius, sceneDepth, divisor, chordSum, chordScale);
+        splatChordsLowResAs<true>(camera, bins, radius, sceneDepth, divisor, chords);
 }
 
 Image<float> splatDepth(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
@@ -413,6 +437,23 @@ Image<float> splatDepth(const Camera& camera, std::span<const glm::vec3> positio
     const SplatBins bins = binParticles(camera, positionsWorld, radius, shapes);
     splatBins(camera, bins, radius, sceneDepth, &depth, nullptr);
     return depth;
+}
+
+SplatPartial splatPartial(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
+                          const ThicknessParams& params, const Image<float>* sceneDepth,
+                          std::span<const EllipsoidShape> shapes) {
+    const int W = camera.width, H = camera.height, d = shared::thicknessDivisor(params.resolutionDivisor);
+    SplatPartial partial{Image<float>(W, H), Image<std::uint32_t>((W + d - 1) / d, (H + d - 1) / d)};
+    const SplatBins bins = binParticles(camera, positionsWorld, radius, shapes);
+    // At full resolution depth and chords share the pass (and the ray hits);
+    // on a coarser grid the chords take rays of their own.
+    if (d == 1) {
+        splatBins(camera, bins, radius, sceneDepth, &partial.depth, &partial.chords);
+    } else {
+        splatBins(camera, bins, radius, sceneDepth, &partial.depth, nullptr);
+        splatChordsLowRes(camera, bins, radius, sceneDepth, d, partial.chords);
+    }
+    return partial;
 }
 
 }  // namespace meniscus::cpu

@@ -9,6 +9,8 @@
 
 #include "core/anisotropy.h"
 #include "meniscus/camera.h"
+#include "meniscus/params.h"
+#include "meniscus/sort_last.h"
 #include "meniscus/types.h"
 
 namespace meniscus::cpu {
@@ -62,21 +64,34 @@ SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> position
                        std::span<const EllipsoidShape> shapes = {});
 
 // One pass over the bins, one task per tile. With `depth`: the nearest-hit eye
-// depth as splatDepth. With `chordSum`: the summed length (metres, along the
-// ray) of each pixel ray inside the spheres, clipped to eye depths
-// [camera.nearM, sceneDepth(x, y)). Either output may be null; the non-null
-// ones must be camera-sized and are fully overwritten. The chord sums are
-// multiplied by chordScale on the way out (the thickness calibration weight).
+// depth as splatDepth. With `chords`: the summed length along the ray of each
+// pixel ray inside the spheres, clipped to eye depths [camera.nearM,
+// sceneDepth(x, y)), in fixed point: each chord rounded to whole units of
+// radius / shared::kChordScale and added mod 2^32 (shared/splat_chords.h; the
+// GL splat's arithmetic), so sums over any split of the particles add up to
+// the same bits. Either output may be null; the non-null ones must be
+// camera-sized and are fully overwritten.
 void splatBins(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
-               Image<float>* depth, Image<float>* chordSum, float chordScale = 1.0f);
+               Image<float>* depth, Image<std::uint32_t>* chords);
 
 // The chord sums of splatBins on a coarser grid: one pixel per divisor x
-// divisor block of the camera's pixels (divisor 1, 2 or 4; chordSum sized
+// divisor block of the camera's pixels (divisor 1, 2 or 4; chords sized
 // ceil(W / divisor) x ceil(H / divisor)), its ray through the block's centre,
 // clipped at the nearest scene depth of the block. `bins` are the camera's
 // full-resolution bins; spheres that cover no full-resolution pixel centre are
 // not in them and so are left out here too.
 void splatChordsLowRes(const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
-                       int divisor, Image<float>& chordSum, float chordScale);
+                       int divisor, Image<std::uint32_t>& chords);
+
+// The splat stage's first half (sort-last rendering, meniscus/sort_last.h):
+// the depth as splatDepth and the fixed-point chord sums as splatBins, on the
+// thickness grid of params.resolutionDivisor (the camera's pixels, or one per
+// d x d block as splatChordsLowRes), in one pass over the particles. Nothing
+// is resolved: the partials of any split of the particles combine (depth by
+// min, chords by a wrapping sum) into the whole's partial, bit for bit, and
+// resolveThickness (thickness.h) finishes the stage.
+SplatPartial splatPartial(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
+                          const ThicknessParams& params, const Image<float>* sceneDepth = nullptr,
+                          std::span<const EllipsoidShape> shapes = {});
 
 }  // namespace meniscus::cpu

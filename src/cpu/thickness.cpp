@@ -8,8 +8,13 @@
 // depth on average.
 //
 // The chords come from the same tiled binning and tile pass as the depth splat
-// (splat.cpp): the per-pixel sum runs in bin order, a fixed order, so the
-// result does not depend on the thread count.
+// (splat.cpp), summed per pixel in fixed point (shared/splat_chords.h), so the
+// result depends neither on the thread count nor on how the particles are
+// ordered or split. The stage comes in two halves for sort-last rendering
+// (meniscus/sort_last.h): splatPartial (splat.cpp) leaves the depth and the
+// integer sums, which processes can combine exactly, and resolveThickness
+// below turns a (combined) partial into metres: the weight, the blur with the
+// combined depth and, on a coarser grid, the upsampling onto its fluid pixels.
 //
 // Optional blur (thesis §4.1.3): a separable Gaussian whose sigma is constant
 // in world space (blurSigmaRadii * r, projected with the raw fluid depth at the
@@ -40,6 +45,7 @@
 #include "cpu/filter_separable.h"  // KernelTable, the vector helpers, transpose
 #include "cpu/filter_util.h"
 #include "cpu/splat.h"
+#include "shared/splat_chords.h"
 #include "shared/thickness.h"
 
 namespace meniscus::cpu {
@@ -166,19 +172,29 @@ void blurThickness(Image<float>& thickness, const Image<float>& rawDepth, float 
     });
 }
 
-// Thickness on the grid of one pixel per d x d block (d > 1): the chords
-// through the block centres, blurred there (sigma projected with the nearest
-// fluid depth of the block and focal length f / d, so it is the same world
-// length), then bilinearly upsampled onto the full-resolution fluid pixels
-// (0 elsewhere). Chords and blur cost ~1/d^2 and ~1/d^3 of full resolution;
-// the thickness only feeds absorption and the refraction offset, which are
-// smooth, so the detail lost is below what the blur removes anyway.
-Image<float> lowResThickness(const Camera& camera, const SplatBins& bins, float radius, const ThicknessParams& params,
-                             const Image<float>* sceneDepth, const Image<float>& rawDepth, int d) {
+// The fixed-point chord sums in metres times the calibration weight `weight`
+// (shared::chordSumToMetres, as shaders/splat_resolve.comp).
+Image<float> chordsToMetres(const Image<std::uint32_t>& chords, float radius, float weight) {
+    Image<float> out(chords.width, chords.height);
+    forEachRow(chords.height, [&](int y) {
+        const std::size_t row = std::size_t(y) * std::size_t(chords.width);
+        for (std::size_t i = row; i < row + std::size_t(chords.width); ++i)
+            out.pixels[i] = shared::chordSumToMetres(chords.pixels[i], radius, weight);
+    });
+    return out;
+}
+
+// Thickness on the grid of one pixel per d x d block (d > 1): `low`, the
+// chords through the block centres in metres, blurred there (sigma projected
+// with the nearest fluid depth of the block and focal length f / d, so it is
+// the same world length), then bilinearly upsampled onto the full-resolution
+// fluid pixels (0 elsewhere). Chords and blur cost ~1/d^2 and ~1/d^3 of full
+// resolution; the thickness only feeds absorption and the refraction offset,
+// which are smooth, so the detail lost is below what the blur removes anyway.
+Image<float> lowResThickness(const Camera& camera, Image<float> low, float radius, const ThicknessParams& params,
+                             const Image<float>& rawDepth, int d) {
     const int W = camera.width, H = camera.height;
     const int w = (W + d - 1) / d, h = (H + d - 1) / d;
-    Image<float> low(w, h);
-    splatChordsLowRes(camera, bins, radius, sceneDepth, d, low, shared::thicknessWeight(radius, params));
     Image<float> out(W, H, 0.0f);
     if (rawDepth.width != W || rawDepth.height != H) return out;
     // The nearest fluid depth of each block (+inf when it has none): the min
@@ -236,33 +252,41 @@ Image<float> lowResThickness(const Camera& camera, const SplatBins& bins, float 
     return out;
 }
 
+// The second half of the stage: chords on the thickness grid into metres,
+// blurred, upsampled at d > 1; rawDepth is the (combined) splat depth.
+Image<float> resolve(const Camera& camera, const Image<std::uint32_t>& chords, const Image<float>& rawDepth,
+                     float radius, const ThicknessParams& params) {
+    const int W = camera.width, H = camera.height, d = shared::thicknessDivisor(params.resolutionDivisor);
+    if (chords.width != (W + d - 1) / d || chords.height != (H + d - 1) / d) return Image<float>(W, H, 0.0f);
+    Image<float> thickness = chordsToMetres(chords, radius, shared::thicknessWeight(radius, params));
+    if (d > 1) return lowResThickness(camera, std::move(thickness), radius, params, rawDepth, d);
+    blurThickness(thickness, rawDepth, camera.focalPx(), radius, params);
+    return thickness;
+}
+
 }  // namespace
 
 Image<float> computeThickness(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                               const ThicknessParams& params, const Image<float>* sceneDepth,
                               const Image<float>& rawDepth, std::span<const EllipsoidShape> shapes) {
     const SplatBins bins = binParticles(camera, positionsWorld, radius, shapes);
-    if (const int d = shared::thicknessDivisor(params.resolutionDivisor); d > 1)
-        return lowResThickness(camera, bins, radius, params, sceneDepth, rawDepth, d);
-    Image<float> thickness(camera.width, camera.height, 0.0f);
-    splatBins(camera, bins, radius, sceneDepth, nullptr, &thickness, shared::thicknessWeight(radius, params));
-    blurThickness(thickness, rawDepth, camera.focalPx(), radius, params);
-    return thickness;
+    const int d = shared::thicknessDivisor(params.resolutionDivisor);
+    Image<std::uint32_t> chords((camera.width + d - 1) / d, (camera.height + d - 1) / d);
+    splatChordsLowRes(camera, bins, radius, sceneDepth, d, chords);
+    return resolve(camera, chords, rawDepth, radius, params);
+}
+
+Image<float> resolveThickness(const Camera& camera, const SplatPartial& partial, float radius,
+                              const ThicknessParams& params) {
+    return resolve(camera, partial.chords, partial.depth, radius, params);
 }
 
 DepthAndThickness splatDepthAndThickness(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                                          const ThicknessParams& params, const Image<float>* sceneDepth,
                                          std::span<const EllipsoidShape> shapes) {
-    DepthAndThickness out{Image<float>(camera.width, camera.height), Image<float>(camera.width, camera.height)};
-    const SplatBins bins = binParticles(camera, positionsWorld, radius, shapes);
-    if (const int d = shared::thicknessDivisor(params.resolutionDivisor); d > 1) {
-        splatBins(camera, bins, radius, sceneDepth, &out.depth, nullptr);
-        out.thickness = lowResThickness(camera, bins, radius, params, sceneDepth, out.depth, d);
-        return out;
-    }
-    splatBins(camera, bins, radius, sceneDepth, &out.depth, &out.thickness, shared::thicknessWeight(radius, params));
-    blurThickness(out.thickness, out.depth, camera.focalPx(), radius, params);
-    return out;
+    SplatPartial partial = splatPartial(camera, positionsWorld, radius, params, sceneDepth, shapes);
+    Image<float> thickness = resolveThickness(camera, partial, radius, params);
+    return {std::move(partial.depth), std::move(thickness)};
 }
 
 }  // namespace meniscus::cpu

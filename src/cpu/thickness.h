@@ -10,12 +10,15 @@
 #include "core/anisotropy.h"
 #include "meniscus/camera.h"
 #include "meniscus/params.h"
+#include "meniscus/sort_last.h"
 #include "meniscus/types.h"
 
 namespace meniscus::cpu {
 
 // T(x,y) = w * sum_i chord_i(x,y), w = s^3 / (4/3 pi r^3) (shared::thicknessWeight),
-// in metres; 0 where no sphere is hit. Chords are clipped to [near, sceneDepth(x,y)) when sceneDepth
+// in metres; 0 where no sphere is hit. Each chord is rounded to a whole
+// unit of r / shared::kChordScale (1.5e-5 r) and the sum kept in fixed point
+// (shared/splat_chords.h), as on GL. Chords are clipped to [near, sceneDepth(x,y)) when sceneDepth
 // is given. Blurred when params.blurSigmaRadii > 0 (sigma projected with the
 // raw fluid depth `rawDepth`, which must then be camera-sized; only pixels with
 // fluid there are blurred, the others keep their unblurred value). With
@@ -30,9 +33,21 @@ Image<float> computeThickness(const Camera& camera, std::span<const glm::vec3> p
                               const ThicknessParams& params, const Image<float>* sceneDepth,
                               const Image<float>& rawDepth, std::span<const EllipsoidShape> shapes = {});
 
+// The splat stage's second half (sort-last rendering, meniscus/sort_last.h):
+// the thickness in metres of a partial (splatPartial in splat.h; or the
+// combination of several processes' partials, which is the partial of all
+// their particles): the fixed-point sums times w (shared/splat_chords.h),
+// blurred with partial.depth as computeThickness's rawDepth, and with
+// params.resolutionDivisor d > 1 upsampled onto partial.depth's fluid pixels.
+// partial.depth is camera-sized and partial.chords on the thickness grid
+// (camera-sized, or ceil(W / d) x ceil(H / d)); otherwise the result is 0.
+Image<float> resolveThickness(const Camera& camera, const SplatPartial& partial, float radius,
+                              const ThicknessParams& params);
+
 // splatDepth and computeThickness in one pass over the particles (they share
 // the binning and the ray-sphere intersection); the thickness blur uses the
-// depth of the same pass. Same results as the two calls.
+// depth of the same pass. Same results as the two calls, and as
+// resolveThickness(splatPartial(...)), which it is.
 struct DepthAndThickness {
     Image<float> depth;      // as splatDepth
     Image<float> thickness;  // as computeThickness(..., depth)

@@ -7,6 +7,7 @@
 #include "gl/backend.h"
 
 #include <chrono>
+#include <cstdint>
 #include <cstdlib>
 #include <string>
 #include <string_view>
@@ -153,6 +154,37 @@ public:
         } else {
             st_.splat.run(fp_, &img(sceneDepth), img(depth), nullptr);
             st_.lowResThickness.run(fp_, st_.splat, st_.separable, &img(sceneDepth), img(depth), d, img(thickness));
+        }
+    }
+
+    // Sort-last: the splat's depth and fixed-point sums read back for the
+    // compositor, and the combination uploaded and resolved as splat() does.
+    void splatPartial(Slot sceneDepth, SplatPartial& partial) override {
+        const auto fills = bufferFills();
+        const int d = shared::thicknessDivisor(fp_.thicknessResolutionDivisor);
+        if (d == 1) {
+            st_.splat.runPartial(fp_, &img(sceneDepth), partialDepth_, partialChords_);
+        } else {
+            st_.splat.run(fp_, &img(sceneDepth), partialDepth_, nullptr);
+            st_.lowResThickness.chords(fp_, st_.splat, &img(sceneDepth), d, partialChords_);
+        }
+        partial.depth = download<float>(partialDepth_);
+        partial.chords = download<std::uint32_t>(partialChords_);
+    }
+
+    void resolveSplat(SplatPartial& partial, Slot depth, Slot thickness) override {
+        const auto fills = bufferFills();
+        forget(depth);
+        forget(thickness);
+        img(depth).upload(partial.depth);
+        const int d = shared::thicknessDivisor(fp_.thicknessResolutionDivisor);
+        if (d == 1) {
+            img(thickness).upload(partial.chords);  // resolved in place, as splat() leaves it
+            st_.splat.resolveChords(fp_, img(thickness));
+            st_.separable.blurThickness(fp_, img(depth), img(thickness));
+        } else {
+            partialChords_.upload(partial.chords);
+            st_.lowResThickness.resolve(fp_, st_.splat, st_.separable, img(depth), d, partialChords_, img(thickness));
         }
     }
 
@@ -410,12 +442,16 @@ private:
     // takes that move instead. MENISCUS_GL_STAGED_READBACK=0|1 overrides.
     template <class T>
     Image<T> download(Slot slot) {
+        return download<T>(img(slot));
+    }
+    template <class T>
+    Image<T> download(const GpuImage& image) {
         static const char* env = std::getenv("MENISCUS_GL_STAGED_READBACK");
         const bool staged = env && *env ? *env == '1' : fill_.has_value();
-        if (!staged) return img(slot).download<T>();
+        if (!staged) return image.download<T>();
         {
             const auto fills = bufferFills();
-            staging_.copyFrom(img(slot));
+            staging_.copyFrom(image);
         }
         return staging_.download<T>();
     }
@@ -444,6 +480,7 @@ private:
     FrameSettings s_;
     GpuImage images_[kSlotCount];
     GpuImage staging_;  // read-back copies (download)
+    GpuImage partialDepth_, partialChords_;  // sort-last: this share's splat before it is read back
     bool sceneValid_ = false;
     Camera sceneCamera_;
     shared::Studio sceneStudio_;

@@ -72,15 +72,30 @@ void Splat::uploadParticles(std::span<const glm::vec3> positionsWorld, std::span
 }
 
 void Splat::run(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& depth, GpuImage* thickness) {
-    runAt(frame, sceneDepth, &depth, thickness, 1);
+    runAt(frame, sceneDepth, &depth, thickness, 1, true);
 }
 
-void Splat::runChordsLowRes(const FrameParams& frame, const GpuImage* sceneDepth, int divisor, GpuImage& thickness) {
-    runAt(frame, sceneDepth, nullptr, &thickness, divisor);
+void Splat::runChordsLowRes(const FrameParams& frame, const GpuImage* sceneDepth, int divisor, GpuImage& thickness,
+                            bool resolve) {
+    runAt(frame, sceneDepth, nullptr, &thickness, divisor, resolve);
+}
+
+void Splat::runPartial(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& depth, GpuImage& chords) {
+    runAt(frame, sceneDepth, &depth, &chords, 1, false);
+}
+
+void Splat::resolveChords(const FrameParams& frame, GpuImage& chords) {
+    const GLuint pixels = GLuint(chords.width) * GLuint(chords.height);
+    chords.bind(3);
+    glUseProgram(resolve_.id());
+    glUniform1ui(0, pixels);
+    glDispatchCompute(gridGroups(pixels, kGroup * kPixelsPerInvocation), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glUseProgram(0);
 }
 
 void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage* depth, GpuImage* thickness,
-                  int divisor) {
+                  int divisor, bool resolve) {
     const int W = frame.size.x, H = frame.size.y, d = divisor;
     const int outW = (W + d - 1) / d, outH = (H + d - 1) / d;
     const GLuint pixels = GLuint(outW) * GLuint(outH);
@@ -145,7 +160,7 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
     }
 
     // Resolve: chord sums to metres.
-    if (thickness) {
+    if (thickness && resolve) {
         glUseProgram(resolve_.id());
         glUniform1ui(0, pixels);
         glDispatchCompute(gridGroups(pixels, kGroup * kPixelsPerInvocation), 1, 1);

@@ -38,20 +38,30 @@ public:
     // depth over the uploaded spheres, +inf where none; hits nearer than the
     // near plane or at/behind sceneDepth (when given, camera-sized) are
     // discarded -- exactly cpu::splatDepth. thickness (when given): the summed
-    // chords clipped to [near, scene) times frame.thicknessWeight, unblurred --
-    // cpu::splatBins' chordSum to within the fixed-point rounding (1.5e-5 r
-    // per chord). Asynchronous: nothing waits for the GPU here.
+    // chords clipped to [near, scene) in fixed point, resolved to metres times
+    // frame.thicknessWeight, unblurred -- cpu::splatBins' chords, by the same
+    // formulas (shared/splat_chords.h), resolved as cpu::resolveThickness
+    // does. Asynchronous: nothing waits for the GPU here.
     void run(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& depth, GpuImage* thickness);
 
     // The chords alone on the grid of one pixel per divisor x divisor block
     // (2 or 4), rays through the block centres; `sceneDepth` (when given) is
     // on that grid, each block's nearest scene depth. `thickness` is resized to
     // ceil(W / divisor) x ceil(H / divisor) -- cpu::splatChordsLowRes, unblurred.
-    void runChordsLowRes(const FrameParams& frame, const GpuImage* sceneDepth, int divisor, GpuImage& thickness);
+    // With resolve false, `thickness` keeps the fixed-point sums (uints).
+    void runChordsLowRes(const FrameParams& frame, const GpuImage* sceneDepth, int divisor, GpuImage& thickness,
+                         bool resolve = true);
+
+    // Sort-last (meniscus/sort_last.h): run() with the chords left as the
+    // fixed-point sums (one uint per pixel) -- cpu::splatPartial's at full
+    // resolution; and the resolve alone, in place: sums (of any grid) into
+    // metres times frame.thicknessWeight (shared/splat_chords.h).
+    void runPartial(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage& depth, GpuImage& chords);
+    void resolveChords(const FrameParams& frame, GpuImage& chords);
 
 private:
     void runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage* depth, GpuImage* thickness,
-               int divisor);
+               int divisor, bool resolve);
 
     Program splat_, resolve_;
     Buffer positions_, noScene_;

@@ -1,7 +1,8 @@
 // GL reduced-resolution thickness (SPEC §3.4): low-resolution chords
 // (shaders/splat.comp with uDiv), the nearest raw depth per block and the
 // bilinear upsampling (shaders/thickness_lowres.comp), the blur between them
-// (shaders/filter_separable_thickness.comp) -- cpu lowResThickness step by step.
+// (shaders/filter_separable_thickness.comp) -- cpu lowResThickness step by step;
+// in two halves for sort-last (the chords' fixed-point sums, then resolved).
 #include "gl/thickness_lowres.h"
 
 #include "gl/dispatch.h"
@@ -26,37 +27,52 @@ Result<LowResThickness> LowResThickness::create() {
 
 void LowResThickness::run(const FrameParams& frame, Splat& splat, SeparableFilters& blur, const GpuImage* sceneDepth,
                           const GpuImage& rawDepth, int divisor, GpuImage& thickness) {
+    chords(frame, splat, sceneDepth, divisor, low_);
+    resolve(frame, splat, blur, rawDepth, divisor, low_, thickness);
+}
+
+void LowResThickness::nearestPerBlock(const FrameParams& frame, int divisor, const GpuImage& full, GpuImage& low) {
     const int W = frame.size.x, H = frame.size.y, d = divisor;
     const int w = (W + d - 1) / d, h = (H + d - 1) / d;
-    thickness.resize(W, H, 1);
-
+    low.resize(w, h, 1);
     glUseProgram(program_.id());
     glUniform2i(0, W, H);
     glUniform1i(1, d);
     glUniform1i(2, 0);
-    // The nearest depth per block: of the scene (once per block here, not per
-    // sphere and block in the splat) and of the raw fluid depth.
-    auto nearestPerBlock = [&](const GpuImage& full, GpuImage& low) {
-        low.resize(w, h, 1);
-        full.bind(1);
-        low.bind(3);
-        dispatchPixels(GLuint(w) * GLuint(h));
-    };
-    const bool hasScene = sceneDepth && sceneDepth->width == W && sceneDepth->height == H;
-    if (hasScene) nearestPerBlock(*sceneDepth, lowScene_);
-    nearestPerBlock(rawDepth, lowDepth_);
+    full.bind(1);
+    low.bind(3);
+    dispatchPixels(GLuint(w) * GLuint(h));
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glUseProgram(0);
+}
 
-    splat.runChordsLowRes(frame, hasScene ? &lowScene_ : nullptr, d, low_);
+void LowResThickness::chords(const FrameParams& frame, Splat& splat, const GpuImage* sceneDepth, int divisor,
+                             GpuImage& chords) {
+    const int W = frame.size.x, H = frame.size.y;
+    // The nearest scene depth per block (once per block here, not per sphere
+    // and block in the splat) clips the chords.
+    const bool hasScene = sceneDepth && sceneDepth->width == W && sceneDepth->height == H;
+    if (hasScene) nearestPerBlock(frame, divisor, *sceneDepth, lowScene_);
+    splat.runChordsLowRes(frame, hasScene ? &lowScene_ : nullptr, divisor, chords, /*resolve=*/false);
+}
 
-    blur.blurThickness(frame, lowDepth_, low_, frame.right.w / float(d));
+void LowResThickness::resolve(const FrameParams& frame, Splat& splat, SeparableFilters& blur, const GpuImage& rawDepth,
+                              int divisor, GpuImage& chords, GpuImage& thickness) {
+    const int W = frame.size.x, H = frame.size.y, d = divisor;
+    thickness.resize(W, H, 1);
+    splat.resolveChords(frame, chords);
+    // The nearest raw depth per block projects the blur's sigma.
+    nearestPerBlock(frame, d, rawDepth, lowDepth_);
+    blur.blurThickness(frame, lowDepth_, chords, frame.right.w / float(d));
 
     // Upsampling onto the fluid pixels.
     glUseProgram(program_.id());
-    low_.bind(1);
+    glUniform2i(0, W, H);
+    glUniform1i(1, d);
+    glUniform1i(2, 1);
+    chords.bind(1);
     rawDepth.bind(2);
     thickness.bind(3);
-    glUniform1i(2, 1);
     dispatchPixels(GLuint(W) * GLuint(H));
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);

@@ -25,7 +25,19 @@ public:
     void run(const FrameParams& frame, Splat& splat, SeparableFilters& blur, const GpuImage* sceneDepth,
              const GpuImage& rawDepth, int divisor, GpuImage& thickness);
 
+    // run() in halves, for sort-last (meniscus/sort_last.h): the chords as
+    // fixed-point sums on the block grid (cpu::splatPartial's), then a
+    // (combined) grid of sums resolved in place, blurred with rawDepth and
+    // upsampled onto its fluid pixels (cpu::resolveThickness). run() is the
+    // two in a row.
+    void chords(const FrameParams& frame, Splat& splat, const GpuImage* sceneDepth, int divisor, GpuImage& chords);
+    void resolve(const FrameParams& frame, Splat& splat, SeparableFilters& blur, const GpuImage& rawDepth,
+                 int divisor, GpuImage& chords, GpuImage& thickness);
+
 private:
+    // The nearest depth of each divisor x divisor block of `full` into `low`.
+    void nearestPerBlock(const FrameParams& frame, int divisor, const GpuImage& full, GpuImage& low);
+
     Program program_;
     GpuImage low_, lowDepth_, lowScene_;  // chords, nearest raw depth, nearest scene depth per block
 };

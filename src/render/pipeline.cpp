@@ -12,6 +12,9 @@
 // or, on the mesh path (RenderSettings::mesh):
 //   scene -> depth splat + thickness -> rasterise the mesh -> [noise] -> [whitening] -> shading
 //         -> [silhouette] -> [spray].
+// With a compositor (sort-last over several processes, meniscus/sort_last.h)
+// the splat is three stages, depth-splat -> composite -> thickness, and a
+// process other than the root stops after the composite.
 // With the spray on, the particles classified as spray (core/spray.h) are
 // taken out before the splat and drawn by the last stage, which also draws
 // the diffuse layer (RenderSettings::diffuse, the whitewater) when given.
@@ -38,6 +41,7 @@
 #include "shared/raster_mesh.h"
 #include "shared/studio.h"
 #include "shared/surface_noise.h"
+#include "shared/thickness.h"
 #include "shared/velocity_map.h"
 
 namespace meniscus {
@@ -333,6 +337,60 @@ static_assert(defaults::kMaxImageSizePx <= shared::kRasterMaxSidePx,
 // layer's, or both.
 bool drawsDrops(const RenderSettings& s) { return s.spray.enabled || !s.diffuse.empty(); }
 
+// The particles [begin, begin + count) of a view, every attribute with them.
+ParticleView sliceView(const ParticleView& v, std::size_t begin, std::size_t count) {
+    auto slice = [&](auto view) {
+        if (view.present()) {
+            view.data += begin * view.strideBytes;
+            view.count = count;
+        }
+        return view;
+    };
+    ParticleView out = v;
+    out.positions = slice(v.positions);
+    out.velocity = slice(v.velocity);
+    out.density = slice(v.density);
+    out.id = slice(v.id);
+    out.fluid = slice(v.fluid);
+    out.color = slice(v.color);
+    out.radius = slice(v.radius);
+    return out;
+}
+
+// Sort-last rendering (RenderSettings::compositor) combines the splats of the
+// processes' shares exactly, so everything decided by one share's particles
+// (spheres, own radii) or by the combined splat (the stages after it) gives
+// the one-process picture. What reads more than that is refused until it is
+// composited too.
+Status checkSortLast(const RenderSettings& s, const ParticleView& all) {
+    auto refuse = [](const std::string& setting, const std::string& why) {
+        return makeError("", "RenderSettings::" + setting +
+                                 " is not composited across processes yet (RenderSettings::compositor): " + why);
+    };
+    if (s.noise.enabled) return refuse("noise", "the noise splats the particles of every share near the surface");
+    if (s.whitening.enabled)
+        return refuse("whitening", "the whitening splats the particles of every share near the surface");
+    if (s.spray.enabled) return refuse("spray", "a drop is told from the body by its neighbours in every share");
+    if (!s.diffuse.empty()) return refuse("diffuse", "the drops are drawn over the combined image");
+    if (s.anisotropy.enabled && !s.share)
+        return refuse("anisotropy", "an ellipsoid needs its neighbours, which may be in another share; give every "
+                                    "process the whole frame and its RenderSettings::share, or turn it off");
+    if (s.share && (s.share->begin > s.share->end || s.share->end > all.size()))
+        return makeError("", "RenderSettings::share: [" + std::to_string(s.share->begin) + ", " +
+                                 std::to_string(s.share->end) + ") is not a range of the " +
+                                 std::to_string(all.size()) + " particles");
+    if (s.raycast.enabled) return refuse("raycast", "the rays march the density of every share's particles");
+    if (s.mesh) return refuse("mesh", "the mesh path rasterises a mesh, not the particles' splat");
+    if (all.fluid.present())
+        return makeError("", "ParticleView::fluid: particles carrying a fluid index are not composited across "
+                             "processes yet (RenderSettings::compositor): the fluids' layers would depend on the share");
+    if (s.scene.studioBounds.empty())
+        return makeError("", "RenderSettings::scene.studioBounds: must be set with RenderSettings::compositor, to "
+                             "the bounds of all the processes' particles (a share's own bounds would build another "
+                             "studio on each process)");
+    return okStatus();
+}
+
 }  // namespace
 
 namespace {
@@ -559,6 +617,8 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         return makeError("", "RenderSettings::diffuse: kind must be empty or one per position");
     if (drops)
         if (std::string bad = checkSprayParams(s.spray); !bad.empty()) return makeError("", "RenderSettings::spray." + bad);
+    if (s.compositor)
+        if (auto st = checkSortLast(s, all); !st) return st;
     // The studio is built around every particle, spray included.
     Bounds box = s.scene.studioBounds;
     if (box.empty())
@@ -700,6 +760,15 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
     f.fluidDivisor = divisor;
     f.upsampleJumpM = defaults::kDepthJumpRadii * s.radiusM;
+    f.compositor = s.compositor;
+    // Sort-last over the whole frame (RenderSettings::share): the kernels
+    // above saw every particle; this process splats its share of them.
+    if (s.compositor && s.share) {
+        const std::size_t begin = s.share->begin, count = s.share->end - s.share->begin;
+        positions = positions.subspan(begin, count);
+        if (!f.shapes.empty()) f.shapes = f.shapes.subspan(begin, count);
+        f.particles = sliceView(particles, begin, count);
+    }
     Backend& b = *backend_;
     if (auto st = b.beginFrame(positions, f); !st) return st.error();
 
@@ -719,14 +788,51 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         Slot sceneDepth, raw, thickness, depth, normal, noise, whitening = Slot::Whitening;
     };
     const SurfaceSlots full{Slot::SceneDepth, Slot::RawDepth, Slot::Thickness, Slot::Depth, Slot::Normal, Slot::Noise};
+    // Sort-last (RenderSettings::compositor): set on a process other than
+    // the root once its partial is composited; the frame ends there.
+    bool handedOver = false;
+    // The depth splat and thickness into q.raw and q.thickness: one stage,
+    // or with a compositor three: this share's partial, its combination with
+    // the other processes' (exact: min and integer sums), and on the root the
+    // thickness resolved from the combination (weight, blur, upsampling on
+    // the combined depth), which is then the partial of all the particles.
+    SplatPartial partial;
+    const Camera splatCamera = divisor > 1 ? reducedCamera(s.camera, divisor) : s.camera;
+    auto splat = [&](const std::string& tag, const SurfaceSlots& q) -> Status {
+        if (!s.compositor)
+            return stage((tag + "depth-splat+thickness").c_str(), [&] { b.splat(q.sceneDepth, q.raw, q.thickness); });
+        if (auto st = stage((tag + "depth-splat").c_str(), [&] { b.splatPartial(q.sceneDepth, partial); }); !st)
+            return st;
+        Status composited = okStatus();
+        if (auto st = stage((tag + "composite").c_str(), [&] { composited = s.compositor->composite(partial); }); !st)
+            return st;
+        if (!composited)
+            return makeError(composited.error().file, "composite (RenderSettings::compositor): " +
+                                                          composited.error().message);
+        if (!s.compositor->root()) {
+            handedOver = true;
+            return okStatus();
+        }
+        // A compositor's combination has the partials' sizes; anything else
+        // (processes with different settings) would be read out of bounds.
+        const int d = shared::thicknessDivisor(f.thickness.resolutionDivisor);
+        const int W = splatCamera.width, H = splatCamera.height, w = (W + d - 1) / d, h = (H + d - 1) / d;
+        auto size = [](int x, int y) { return std::to_string(x) + "x" + std::to_string(y); };
+        if (partial.depth.width != W || partial.depth.height != H || partial.chords.width != w ||
+            partial.chords.height != h)
+            return makeError("", "composite (RenderSettings::compositor): the combined partial's depth is " +
+                                     size(partial.depth.width, partial.depth.height) + " and its chords " +
+                                     size(partial.chords.width, partial.chords.height) + ", expected " + size(W, H) +
+                                     " and " + size(w, h) + ": every process must render with the same camera and "
+                                     "settings");
+        return stage((tag + "thickness").c_str(), [&] { b.resolveSplat(partial, q.raw, q.thickness); });
+    };
     // The depth splat and thickness, the hole filling, the smoothing and
     // normals (on the mesh path the triangles' depth and normals instead,
     // with the ray cast its own; thickness and raw depth stay the
     // particles') and the noise; stage names prefixed by `tag`.
     auto surface = [&](const std::string& tag, const SurfaceSlots& q) -> Status {
-        if (auto st = stage((tag + "depth-splat+thickness").c_str(), [&] { b.splat(q.sceneDepth, q.raw, q.thickness); });
-            !st)
-            return st;
+        if (auto st = splat(tag, q); !st || handedOver) return st;
         if (s.mesh) {
             if (auto st = stage((tag + "rasterise").c_str(), [&] { b.rasterise(q.sceneDepth, q.depth, q.normal); }); !st)
                 return st;
@@ -762,10 +868,10 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     // Reduced resolution (SPEC §3.9): the low surface in the Low* slots
     // (raw depth in `q.raw`), upsampled into the full-size `q`.
     auto reducedSurface = [&](const std::string& tag, const SurfaceSlots& q) -> Status {
-        b.setCamera(reducedCamera(s.camera, divisor));
+        b.setCamera(splatCamera);
         if (auto st = surface(tag, {Slot::LowSceneDepth, q.raw, Slot::LowThickness, Slot::LowDepth, Slot::LowNormal,
                                     Slot::LowNoise});
-            !st)
+            !st || handedOver)
             return st;
         b.setCamera(s.camera);
         return stage((tag + "upsample").c_str(), [&] {
@@ -827,14 +933,14 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     } else if (divisor > 1) {
         // Reduced resolution: the surface on the low camera, upsampled to the
         // full one, shaded there, and its edges blended into the scene.
-        if (auto st = reducedSurface("", full); !st) return st;
+        if (auto st = reducedSurface("", full); !st || handedOver) return st;
         if (auto st = shadeSurface("", full, Slot::Color); !st) return st;
         if (auto st = stage("fluid-edges",
                             [&] { b.blendFluidEdges(Slot::SceneColor, Slot::Depth, Slot::Coverage, Slot::Color); });
             !st)
             return st;
     } else {
-        if (auto st = surface("", full); !st) return st;
+        if (auto st = surface("", full); !st || handedOver) return st;
         if (auto st = shadeSurface("", full, Slot::Color); !st) return st;
     }
     if (s.silhouette.enabled)
@@ -860,6 +966,18 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
     return guarded("rendering", [&]() -> Result<Aovs> {
         if (auto st = runStages(particles, s, timings); !st) return st.error();
         Backend& b = *backend_;
+        // The host's own stages (not the backend's), first in the list.
+        auto hostTimes = [&] {
+            *timings = b.stageTimes();
+            if (anisotropyMs_ >= 0.0) timings->insert(timings->begin(), {"anisotropy", anisotropyMs_});
+            if (fieldMs_ >= 0.0) timings->insert(timings->begin(), {"sph-field", fieldMs_});
+            if (sprayClassifyMs_ >= 0.0) timings->insert(timings->begin(), {"spray-classify", sprayClassifyMs_});
+        };
+        // Sort-last, not the root: the frame ended after the composite.
+        if (s.compositor && !s.compositor->root()) {
+            if (timings) hostTimes();
+            return Aovs{};
+        }
         const auto t0 = std::chrono::steady_clock::now();
         Aovs aovs = readAovs(b, s.view, s.colorOnly, s.noise, drawn(s));
         rawDepthAtFullSize(s, aovs);
@@ -867,10 +985,7 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
         const double readMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (timings) {
-            *timings = b.stageTimes();
-            if (anisotropyMs_ >= 0.0) timings->insert(timings->begin(), {"anisotropy", anisotropyMs_});
-            if (fieldMs_ >= 0.0) timings->insert(timings->begin(), {"sph-field", fieldMs_});
-            if (sprayClassifyMs_ >= 0.0) timings->insert(timings->begin(), {"spray-classify", sprayClassifyMs_});
+            hostTimes();
             if (b.name() != "cpu") timings->push_back({"readback", readMs});  // GPU -> host copies of the AOVs read
         }
         applyView(s.view, s.colorOnly, aovs);
@@ -881,6 +996,7 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
 Status Renderer::draw(const ParticleView& particles, const RenderSettings& s, std::vector<StageTime>* timings) {
     return guarded("drawing", [&]() -> Status {
         if (auto st = runStages(particles, s, timings); !st) return st;
+        if (s.compositor && !s.compositor->root()) return okStatus();  // sort-last: ended after the composite
         if (s.view == View::Final) return okStatus();  // the colour is already in its slot
         Aovs aovs = readAovs(*backend_, s.view, true, s.noise, drawn(s));
         rawDepthAtFullSize(s, aovs);

@@ -10,8 +10,9 @@
 //    agree to rounding of sqrt/division only.
 //  - Thickness (uThickness != 0): the chord of the pixel ray inside the sphere,
 //    clipped to eye depths [near, scene), summed with atomicAdd in fixed point
-//    (GL 4.3 has no float atomics): units of radius / kChordScale, so the sum
-//    does not depend on the order the GPU runs the particles in.
+//    (GL 4.3 has no float atomics; shared/splat_chords.h, the CPU's formula):
+//    units of radius / kChordScale, so the sum does not depend on the order
+//    the GPU runs the particles in.
 //  - Reduced resolution (uDiv = d > 1; cpu splatTile<.., kDiv>): chords only,
 //    one output pixel per d x d block, its ray through the block's centre and
 //    its scene depth the nearest of the block's (sceneDepth is then that
@@ -34,7 +35,7 @@
 // splat_resolve.comp.
 #extension GL_GOOGLE_include_directive : require
 #include "frame_params.h"
-#include "splat_common.glsl"
+#include "splat_chords.h"
 #include "ellipsoid.h"
 
 layout(local_size_x = 64) in;
@@ -174,7 +175,7 @@ void splatPixel(vec3 c, Shape sh, int x, int y) {
         precise float tn = P.eye.w * len;
         precise float tf = zScene * len;
         precise float chord = (tf < t1 ? tf : t1) - (t0 < tn ? tn : t0);
-        if (chord > 0.0) atomicAdd(chordFixed[k], uint(chord * (kChordScale / r) + 0.5));
+        if (chord > 0.0) atomicAdd(chordFixed[k], chordToFixed(chord, r));
     }
     if (d != 1) return;  // chords only
     precise float z = t0 * (1.0 / len);

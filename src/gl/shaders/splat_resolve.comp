@@ -1,10 +1,10 @@
 #version 430 core
 // After the splat (SPEC §3.4; splat.comp), one invocation per pixel: the
 // fixed-point chord sums become thickness in metres, times the calibration
-// weight w (shared::thicknessWeight).
+// weight w (shared::thicknessWeight), by shared/splat_chords.h as on the CPU.
 #extension GL_GOOGLE_include_directive : require
 #include "frame_params.h"
-#include "splat_common.glsl"
+#include "splat_chords.h"
 
 layout(local_size_x = 64) in;
 
@@ -13,8 +13,7 @@ layout(std430, binding = 3) buffer Chords { uint chordFixed[]; };  // float thic
 layout(location = 0) uniform uint uPixels;  // W * H
 
 void main() {
-    const float toMetres = P.radius / kChordScale;
     // Grid-stride loop: any image size with a bounded dispatch size.
     for (uint k = gl_GlobalInvocationID.x; k < uPixels; k += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
-        chordFixed[k] = floatBitsToUint((float(chordFixed[k]) * toMetres) * P.thicknessWeight);
+        chordFixed[k] = floatBitsToUint(chordSumToMetres(chordFixed[k], P.radius, P.thicknessWeight));
 }
