@@ -32,14 +32,16 @@ EFFICIENCY = 0.8
 def parse(lines):
     ranks, roots = {}, {}
     rank_re = re.compile(r"sort-last K=(\d+) rank (\d+)\s+(\d+)x(\d+)\s+(\d+) particles\s+splat\s+([\d.]+) ms\s+"
-                         r"composite\s+([\d.]+) ms \(reduce-scatter\s+([\d.]+), gather\s+([\d.]+)\)")
+                         r"composite\s+([\d.]+) ms \(reduce-scatter\s+([\d.]+), gather\s+([\d.]+)\)\s+"
+                         r"sent\s+([\d.]+) MB of\s+([\d.]+) MB")
     root_re = re.compile(r"sort-last K=(\d+) root\s+(\d+)x(\d+)\s+(\d+) particles\s+finish\s+([\d.]+) ms\s+frame\s+([\d.]+) ms")
     for line in lines:
         m = rank_re.search(line)
         if m:
             k, r = int(m[1]), int(m[2])
             ranks.setdefault(k, {})[r] = dict(w=int(m[3]), h=int(m[4]), n=int(m[5]), splat=float(m[6]),
-                                              composite=float(m[7]), reduce=float(m[8]), gather=float(m[9]))
+                                              composite=float(m[7]), reduce=float(m[8]), gather=float(m[9]),
+                                              sent=float(m[10]), image=float(m[11]))
         m = root_re.search(line)
         if m:
             roots[int(m[1])] = dict(w=int(m[2]), h=int(m[3]), n=int(m[4]), finish=float(m[5]), frame=float(m[6]))
@@ -71,11 +73,17 @@ def main():
         t_c = min(r["reduce"] for r in ranks[2].values()) * 1e6 / (p_measured / 2)
     print("Measured, this machine (loopback, one thread per process):")
     print()
-    print("| K | splat per rank (ms, max) | composite (ms, max) | root finish (ms) | frame (ms) |")
-    print("| --- | --- | --- | --- | --- |")
+    # A process waits in the composite for the last to finish its splat: the
+    # smallest composite time (the last to arrive's) is the composite itself.
+    print("| K | particles per rank | splat per rank (ms, min-max) | composite (ms, last to arrive) | "
+          "composite incl. waiting (ms, max) | MB sent per rank (binary swap + gather) | root finish (ms) | frame (ms) |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
     for k in sorted(ranks):
-        rs = ranks[k].values()
-        print(f"| {k} | {max(r['splat'] for r in rs):.1f} | {max(r['composite'] for r in rs):.1f} | "
+        rs = list(ranks[k].values())
+        print(f"| {k} | {min(r['n'] for r in rs):.0f}-{max(r['n'] for r in rs):.0f} | "
+              f"{min(r['splat'] for r in rs):.1f}-{max(r['splat'] for r in rs):.1f} | "
+              f"{min(r['composite'] for r in rs):.1f} | {max(r['composite'] for r in rs):.1f} | "
+              f"{max(r['sent'] for r in rs):.2f} of {rs[0]['image']:.2f} | "
               f"{roots[k]['finish']:.1f} | {roots[k]['frame']:.1f} |")
     print()
     print(f"Fitted: t_p = {t_p * 1e3:.3f} us per particle, t_c = {t_c:.2f} ns per pixel and step, "

@@ -68,6 +68,16 @@ void writeParts(const fs::path& dir, int parts) {
     }
 }
 
+// `in` rendered with `more` to `name` (in `dir`) by one process without
+// mpirun and by `processes` under it: the same bytes.
+void expectSameAsOneProcess(const fs::path& dir, const fs::path& in, int processes, const std::string& more,
+                            const std::string& name) {
+    std::string out;
+    ASSERT_EQ(runCli(render(in, dir / ("one_" + name), more), &out), 0) << out;
+    ASSERT_EQ(runMpi(processes, render(in, dir / ("mpi_" + name), more), &out), 0) << out;
+    EXPECT_EQ(readBytes(dir / ("mpi_" + name)), readBytes(dir / ("one_" + name))) << processes << " processes";
+}
+
 }  // namespace
 
 TEST(CliMpi, SortLastPngAndExrAreTheOneProcessRunsForOneToFourProcesses) {
@@ -88,23 +98,15 @@ TEST(CliMpi, SortLastPngAndExrAreTheOneProcessRunsForOneToFourProcesses) {
 }
 
 TEST(CliMpi, SortLastWithReducedResolutionSpheresAndAnotherFilter) {
-    const fs::path dir = freshDir("mpi_sort_last_options");
-    const std::string more = "--fluid-scale 0.5 --filter curvature-flow --silhouette --anisotropy off";
-    std::string out;
-    ASSERT_EQ(runCli(render(kFrame, dir / "one.exr", more), &out), 0) << out;
-    ASSERT_EQ(runMpi(3, render(kFrame, dir / "three.exr", more), &out), 0) << out;
-    EXPECT_EQ(readBytes(dir / "three.exr"), readBytes(dir / "one.exr"));
+    expectSameAsOneProcess(freshDir("mpi_sort_last_options"), kFrame, 3,
+                           "--fluid-scale 0.5 --filter curvature-flow --silhouette --anisotropy off", "f.exr");
 }
 
 TEST(CliMpi, AProcessWithNoParticles) {
     // Two particles over three processes: the first has none.
     const fs::path dir = freshDir("mpi_empty_rank");
     writeText(dir / "two.xyz", "0 0 0\n0.012 0.004 0\n");
-    std::string out;
-    const std::string more = "--radius 0.01";
-    ASSERT_EQ(runCli(render(dir / "two.xyz", dir / "one.png", more), &out), 0) << out;
-    ASSERT_EQ(runMpi(3, render(dir / "two.xyz", dir / "three.png", more), &out), 0) << out;
-    EXPECT_EQ(readBytes(dir / "three.png"), readBytes(dir / "one.png"));
+    expectSameAsOneProcess(dir, dir / "two.xyz", 3, "--radius 0.01", "f.png");
 }
 
 TEST(CliMpi, PartFilesOnePerRankGiveTheWholeFramesPicture) {
@@ -175,11 +177,20 @@ TEST(CliMpi, AProcessThatCannotReadItsPartEndsTheJobWithNoImage) {
     EXPECT_NE(out.find("f_2.bgeo"), std::string::npos) << out;
 }
 
-TEST(CliMpi, WhatSortLastCannotCompositeYetIsRefused) {
+TEST(CliMpi, SortLastWithNoiseWhiteningAndSpray) {
+    // Every process reads the whole frame: the root splats the noise and the
+    // whitening of every particle and draws every drop after the composite.
+    expectSameAsOneProcess(freshDir("mpi_noise_spray"), kFrame, 3, "--noise --whiten --spray", "f.exr");
+}
+
+TEST(CliMpi, WhatSortLastCannotCompositeIsRefused) {
     const fs::path dir = freshDir("mpi_refused");
+    writeParts(dir, 2);
     std::string out;
-    EXPECT_NE(runMpi(2, render(kFrame, dir / "n.png", "--noise"), &out), 0) << out;
-    EXPECT_NE(out.find("noise"), std::string::npos) << out;
+    // Part files: no process holds every particle.
+    EXPECT_NE(runMpi(2, render(dir / "part_r%r.bgeo", dir / "n.png", "--anisotropy off --noise"), &out), 0) << out;
+    EXPECT_NE(out.find("--noise: needs every particle"), std::string::npos) << out;
+    for (int p = 0; p < 2; ++p) fs::remove(dir / ("part_r" + std::to_string(p) + ".bgeo"));
     EXPECT_NE(runMpi(2, render(kFrame, dir / "m.mp4", "--split frames --frames 4"), &out), 0) << out;
     EXPECT_NE(out.find("movie"), std::string::npos) << out;
     EXPECT_NE(runMpi(2, render(kFrame, dir / "s_%d.png", "--shard 0/2 --frames 2"), &out), 0) << out;

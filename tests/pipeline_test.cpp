@@ -81,15 +81,8 @@ protected:
     }
 };
 
-// The real small dam-break frame (SPlisHSPlasH, 2,000-odd particles).
-const ParticleSet& realFrame() {
-    static const ParticleSet set = [] {
-        auto r = readParticles(test::testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-        EXPECT_TRUE(r) << r.error().describe();
-        return r ? *r : ParticleSet{};
-    }();
-    return set;
-}
+// The real small dam-break frame (test_util).
+const ParticleSet& realFrame() { return test::smallFrame21(); }
 
 // One particle: the splat is the analytic sphere depth (relative 1e-5) and the
 // normals are the analytic sphere normals (within 1 degree, away from the

@@ -68,15 +68,8 @@ private:
     bool root_;
 };
 
-// The real small dam-break frame (SPlisHSPlasH, 2,000-odd particles).
-const ParticleSet& realFrame() {
-    static const ParticleSet set = [] {
-        auto r = readParticles(test::testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
-        EXPECT_TRUE(r) << r.error().describe();
-        return r ? *r : ParticleSet{};
-    }();
-    return set;
-}
+// The real small dam-break frame (test_util).
+const ParticleSet& realFrame() { return test::smallFrame21(); }
 
 Bounds boundsOf(std::span<const glm::vec3> pts) {
     Bounds b;
@@ -515,16 +508,29 @@ TEST(SortLast, GlBackendIsBitIdenticalToItsOwnRender) {
 }
 
 // Every process given the whole frame and its share (RenderSettings::share):
-// the anisotropic kernels (the default look) see every neighbour, each
-// process splats its contiguous index range, and the root's picture is the
-// one-process render's for K = 1 .. 4, with a share that is empty.
-TEST(SortLast, WholeFrameSharesKeepTheAnisotropicKernels) {
+// what reads more than a share (the anisotropic kernels' neighbours, the
+// spray's split, the noise and whitening splatted again on the root, the
+// drops) sees every particle, each process splats its contiguous index
+// range, and the root's picture is the one-process render's for K = 1 .. 4,
+// with a share that is empty.
+void expectWholeFrameSharesMatch(const RenderSettings& s, const std::string& what) {
     const ParticleSet& set = realFrame();
-    RenderSettings s = realFrameSettings();
-    s.anisotropy.enabled = true;
-    const ParticleView all{std::span<const glm::vec3>(set.positions)};
+    const ParticleView all = ParticleView::of(set);
     auto whole = renderFrame(all, s);
     ASSERT_TRUE(whole) << whole.error().describe();
+    // The effects are in the picture (the comparisons below are not of empty images).
+    const auto anyNonZero = [](const Image<float>& img) {
+        return std::any_of(img.pixels.begin(), img.pixels.end(), [](float v) { return v != 0.0f; });
+    };
+    if (s.noise.enabled) {
+        EXPECT_TRUE(anyNonZero(whole->noise)) << what;
+    }
+    if (s.whitening.enabled) {
+        EXPECT_TRUE(anyNonZero(whole->whitening)) << what;
+    }
+    if (s.spray.enabled || !s.diffuse.empty()) {
+        EXPECT_TRUE(anyNonZero(whole->spray)) << what;
+    }
     const std::size_t n = set.size();
     for (const std::vector<std::size_t>& cuts :
          std::vector<std::vector<std::size_t>>{{0, n}, {0, n / 3, n}, {0, n / 4, n / 4, n}, {0, 1, n / 2, n - 7, n}}) {
@@ -545,14 +551,25 @@ TEST(SortLast, WholeFrameSharesKeepTheAnisotropicKernels) {
         mine.share = ParticleRange{cuts[0], cuts[1]};
         auto r = renderFrame(all, mine);
         ASSERT_TRUE(r) << r.error().describe();
-        expectSameImage(*whole, *r, std::to_string(k) + " whole-frame shares, anisotropic");
+        expectSameImage(*whole, *r, what + ", " + std::to_string(k) + " whole-frame shares");
+        EXPECT_TRUE(sameBits(whole->noise, r->noise)) << what << ": noise";
+        EXPECT_TRUE(sameBits(whole->whitening, r->whitening)) << what << ": whitening";
+        EXPECT_TRUE(sameBits(whole->spray, r->spray)) << what << ": spray";
     }
+}
+
+TEST(SortLast, WholeFrameSharesKeepTheAnisotropicKernels) {
+    RenderSettings s = realFrameSettings();
+    s.anisotropy.enabled = true;
+    expectWholeFrameSharesMatch(s, "anisotropic");
     // A share outside the particles is an error naming it; without a share the kernels are refused.
+    const ParticleSet& set = realFrame();
+    const ParticleView all{std::span<const glm::vec3>(set.positions)};
     PartialStore none;
     InProcessCompositor root(none, true);
     RenderSettings bad = s;
     bad.compositor = &root;
-    bad.share = ParticleRange{2, n + 1};
+    bad.share = ParticleRange{2, set.size() + 1};
     auto r = renderFrame(all, bad);
     ASSERT_FALSE(r);
     EXPECT_NE(r.error().message.find("RenderSettings::share"), std::string::npos) << r.error().message;
@@ -560,6 +577,25 @@ TEST(SortLast, WholeFrameSharesKeepTheAnisotropicKernels) {
     r = renderFrame(all, bad);
     ASSERT_FALSE(r);
     EXPECT_NE(r.error().message.find("anisotropy"), std::string::npos) << r.error().message;
+}
+
+TEST(SortLast, WholeFrameSharesKeepNoiseWhiteningSprayAndDiffuse) {
+    RenderSettings s = realFrameSettings();
+    s.anisotropy.enabled = true;
+    s.noise.enabled = true;
+    s.whitening.enabled = true;
+    s.spray.enabled = true;
+    s.view = View::Final;
+    // A diffuse layer: a few drops above the liquid.
+    const Bounds b = boundsOf(realFrame().positions);
+    std::vector<glm::vec3> drops;
+    for (int i = 0; i < 40; ++i)
+        drops.push_back(glm::mix(b.min, b.max, glm::vec3(0.05f + 0.022f * float(i), 1.02f, 0.5f)));
+    s.diffuse.positions = drops;
+    ASSERT_TRUE(ParticleView::of(realFrame()).velocity.present()) << "the frame has velocities";
+    expectWholeFrameSharesMatch(s, "noise, whitening, spray, diffuse");
+    s.noise.enabled = s.whitening.enabled = false;
+    expectWholeFrameSharesMatch(s, "spray and diffuse alone (the body's share sliced)");
 }
 
 }  // namespace meniscus

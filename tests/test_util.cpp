@@ -1,5 +1,7 @@
 #include "test_util.h"
 
+#include "meniscus/io.h"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -21,6 +23,15 @@
 #include <zlib.h>
 
 namespace meniscus::test {
+
+const ParticleSet& smallFrame21() {
+    static const ParticleSet set = [] {
+        auto r = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
+        EXPECT_TRUE(r) << r.error().describe();
+        return r ? *r : ParticleSet{};
+    }();
+    return set;
+}
 namespace fs = std::filesystem;
 
 fs::path testData(const std::string& rel) { return fs::path(MENISCUS_TEST_DATA) / rel; }

@@ -24,6 +24,9 @@ namespace meniscus::test {
 std::filesystem::path testData(const std::string& rel);  // tests/data/REL
 std::filesystem::path repoData(const std::string& rel);  // data/REL
 
+// Frame 21 of the small real dam break (SPlisHSPlasH, tests/data/splishsplash/partio),
+// read once per test binary.
+const ParticleSet& smallFrame21();
 // A fresh, empty directory unique to the calling test; removed by the next run.
 std::filesystem::path tempDir();
 // tempDir() / name, emptied, holding the small real frame as f.bgeo (tests/data/splishsplash).

@@ -519,10 +519,20 @@ int renderParts(Cluster& cluster, const RenderOptions& o, RenderSettings& settin
         return fail(o.input + ": a %r pattern names the part files of one frame; a sequence of parts is not supported "
                               "(render each frame's parts on their own)");
     if (o.frames > 0) return fail("--frames: " + o.input + " names the parts of one frame (%r)");
-    if (settings.anisotropy.enabled)
-        return fail("--anisotropy on: an ellipsoid needs all of its particle's neighbours, and with part files (" +
-                    o.input + ") a process holds only its own parts: add --anisotropy off (or join the parts into "
-                    "one file, which every process reads)");
+    // What needs every particle on one process (a neighbourhood, or the
+    // root drawing all of them after the composite) is not there with parts.
+    const std::pair<bool, const char*> whole[] = {{settings.anisotropy.enabled, "--anisotropy on"},
+                                                  {settings.noise.enabled, "--noise"},
+                                                  {settings.whitening.enabled, "--whiten"},
+                                                  {settings.spray.enabled, "--spray"},
+                                                  {!o.diffuse.empty(), "--diffuse"}};
+    for (const auto& [on, option] : whole)
+        if (on)
+            return fail(std::string(option) + ": needs every particle of the frame in one process (the anisotropic "
+                        "kernels their neighbours; the noise, whitening and drops all of them on process 0), and with "
+                        "part files (" + o.input + ") a process holds only its own parts: join the parts into one "
+                        "file, which every process reads" +
+                        (settings.anisotropy.enabled ? std::string(", or add --anisotropy off") : std::string()));
     const std::vector<std::string> parts = expandParts(o.input);
     if (parts.empty()) {
         std::vector<std::string> none = {std::regex_replace(o.input, std::regex("%(0[0-9]+)?r"), "0")};

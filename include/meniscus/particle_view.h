@@ -60,6 +60,11 @@ inline constexpr std::string_view kAttrRadiusNames[] = {"radius", "pscale", "par
 // (particles.h) turns it into one.
 inline constexpr std::string_view kAttrSmoothingLengthNames[] = {"h", "smoothing_length", "SmoothingLength", "hsml"};
 
+// The particles [begin, end) of a view.
+struct ParticleRange {
+    std::size_t begin = 0, end = 0;
+};
+
 struct ParticleView {
     StridedView<glm::vec3> positions;   // metres, world space (required)
     StridedView<glm::vec3> velocity;    // m/s

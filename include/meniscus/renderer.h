@@ -24,11 +24,6 @@ namespace meniscus {
 // a picture of one intermediate stage for a person to look at.
 enum class View { Final, Depth, RawDepth, Normals, Thickness, Noise, Foam, Whitening, Spray, Silhouette, FluidId };
 
-// The particles [begin, end) of a view.
-struct ParticleRange {
-    std::size_t begin = 0, end = 0;
-};
-
 // Diffuse particles for RenderSettings::diffuse: world positions, velocities
 // (m/s; empty: round drops) and each one's kind in the whitewater numbering
 // (include/meniscus/whitewater.h: 0 foam, 1 spray, 2 bubble; empty: all
@@ -150,8 +145,8 @@ struct RenderSettings {
     // partial back and uploads the combination). Not yet
     // with what needs more than a share's particles or splat (each an error
     // naming its setting): noise, whitening, spray and the diffuse layer,
-    // anisotropy (unless `share` below), raycast, the mesh path, particles
-    // carrying a fluid index;
+    // anisotropy (these five unless `share` below), raycast, the mesh path,
+    // particles carrying a fluid index;
     // and scene.studioBounds must be set (the whole data's, the same on
     // every process).
     SplatCompositor* compositor = nullptr;
@@ -160,8 +155,11 @@ struct RenderSettings {
     // same on every process, and this process splats only [share->begin,
     // share->end) of them. What needs a particle's neighbours (the anisotropic
     // kernels) is then computed from all of them, as the one-process render
-    // does, so it can be on. Unset: the particles given are this process's
-    // own, and neighbours in other shares are unknown (anisotropy refused).
+    // does, so it can be on; so can the spray (its split sees every particle)
+    // and, on the root, the noise, the whitening and the drops, drawn from
+    // every particle after the composite (the noise and the whitening on the
+    // CPU backend). Unset: the particles given are this process's own, and
+    // all of these are refused.
     std::optional<ParticleRange> share;
     // Only `color` is needed (a PNG, a preview): render() leaves the other AOVs
     // empty, which on GL saves their GPU -> host copies. Every AOV otherwise

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -115,6 +116,12 @@ struct FrameSettings {
     // resolveSplat in place of splat. The backends only carry it (for a
     // backend that would have to refuse it, or composite on its own).
     SplatCompositor* compositor = nullptr;
+    // Sort-last over the whole frame with stages after the composite that
+    // read every particle (the noise, the whitening): splatPartial splats
+    // only these of beginFrame's positions (and shapes); the other stages see
+    // all of them. Unset: all of them. The CPU backend only (the Renderer
+    // refuses it on another).
+    std::optional<ParticleRange> splatRange;
 };
 
 class Backend {

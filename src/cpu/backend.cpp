@@ -54,7 +54,13 @@ public:
     }
 
     void splatPartial(Slot sceneDepth, SplatPartial& partial) override {
-        partial = cpu::splatPartial(s_.camera, positions_, s_.radius, s_.thickness, &scalar(sceneDepth), s_.shapes);
+        std::span<const glm::vec3> positions = positions_;
+        std::span<const EllipsoidShape> shapes = s_.shapes;
+        if (const auto& r = s_.splatRange) {  // this process's share of the whole frame
+            positions = positions.subspan(r->begin, r->end - r->begin);
+            if (!shapes.empty()) shapes = shapes.subspan(r->begin, r->end - r->begin);
+        }
+        partial = cpu::splatPartial(s_.camera, positions, s_.radius, s_.thickness, &scalar(sceneDepth), shapes);
     }
 
     void resolveSplat(SplatPartial& partial, Slot depth, Slot thickness) override {

@@ -367,11 +367,16 @@ Status checkSortLast(const RenderSettings& s, const ParticleView& all) {
         return makeError("", "RenderSettings::" + setting +
                                  " is not composited across processes yet (RenderSettings::compositor): " + why);
     };
-    if (s.noise.enabled) return refuse("noise", "the noise splats the particles of every share near the surface");
-    if (s.whitening.enabled)
-        return refuse("whitening", "the whitening splats the particles of every share near the surface");
-    if (s.spray.enabled) return refuse("spray", "a drop is told from the body by its neighbours in every share");
-    if (!s.diffuse.empty()) return refuse("diffuse", "the drops are drawn over the combined image");
+    // Given the whole frame (share), the root has every particle for the
+    // stages after the composite, and the spray's split sees every neighbour.
+    const std::string whole = "; give every process the whole frame and its RenderSettings::share";
+    if (s.noise.enabled && !s.share)
+        return refuse("noise", "the noise splats the particles of every share near the surface" + whole);
+    if (s.whitening.enabled && !s.share)
+        return refuse("whitening", "the whitening splats the particles of every share near the surface" + whole);
+    if (s.spray.enabled && !s.share)
+        return refuse("spray", "a drop is told from the body by its neighbours in every share" + whole);
+    if (!s.diffuse.empty() && !s.share) return refuse("diffuse", "the drops are drawn over the combined image" + whole);
     if (s.anisotropy.enabled && !s.share)
         return refuse("anisotropy", "an ellipsoid needs its neighbours, which may be in another share; give every "
                                     "process the whole frame and its RenderSettings::share, or turn it off");
@@ -761,13 +766,29 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     f.fluidDivisor = divisor;
     f.upsampleJumpM = defaults::kDepthJumpRadii * s.radiusM;
     f.compositor = s.compositor;
-    // Sort-last over the whole frame (RenderSettings::share): the kernels
-    // above saw every particle; this process splats its share of them.
+    // Sort-last over the whole frame (RenderSettings::share): the kernels,
+    // the spray's split and the noise's inputs above saw every particle; this
+    // process splats its share of them (of the body, with the spray on: the
+    // kept particles of the share, a contiguous run of the body). With the
+    // noise or the whitening, which splat every particle again after the
+    // composite (on the root), the backend gets all and splats its range.
     if (s.compositor && s.share) {
-        const std::size_t begin = s.share->begin, count = s.share->end - s.share->begin;
-        positions = positions.subspan(begin, count);
-        if (!f.shapes.empty()) f.shapes = f.shapes.subspan(begin, count);
-        f.particles = sliceView(particles, begin, count);
+        ParticleRange r = *s.share;
+        if (s.spray.enabled) {
+            const std::vector<std::uint32_t>& kept = spray_->kept;
+            r.begin = std::size_t(std::lower_bound(kept.begin(), kept.end(), std::uint32_t(s.share->begin)) - kept.begin());
+            r.end = std::size_t(std::lower_bound(kept.begin(), kept.end(), std::uint32_t(s.share->end)) - kept.begin());
+        }
+        if (s.noise.enabled || s.whitening.enabled) {
+            if (backend_->name() != "cpu")
+                return makeError("", "RenderSettings::share with the noise or the whitening: sort-last composites "
+                                     "these on the CPU backend only");
+            f.splatRange = r;
+        } else {
+            positions = positions.subspan(r.begin, r.end - r.begin);
+            if (!f.shapes.empty()) f.shapes = f.shapes.subspan(r.begin, r.end - r.begin);
+            f.particles = sliceView(particles, r.begin, r.end - r.begin);
+        }
     }
     Backend& b = *backend_;
     if (auto st = b.beginFrame(positions, f); !st) return st.error();
