@@ -158,8 +158,9 @@ Result<Aovs> renderSortLast(const std::vector<Share>& shares, RenderSettings s,
 
 template <class T>
 bool sameBits(const Image<T>& a, const Image<T>& b) {
-    return a.width == b.width && a.height == b.height &&
-           std::memcmp(a.pixels.data(), b.pixels.data(), a.size() * sizeof(T)) == 0;
+    // (memcmp of an empty image's null data would be undefined: sizes first.)
+    return a.width == b.width && a.height == b.height && a.size() == b.size() &&
+           (a.size() == 0 || std::memcmp(a.pixels.data(), b.pixels.data(), a.size() * sizeof(T)) == 0);
 }
 
 // Every AOV of `got` has the bits of `want`.
