@@ -135,21 +135,11 @@ SplatCompositor* Cluster::compositor() {
     return nullptr;
 }
 
-Cluster::Cost Cluster::lastComposite() const {
-#ifdef MENISCUS_HAVE_MPI
-    if (mpi_) {
-        const CompositeStats& s = mpi_->compositor->last();
-        return {s.reduceScatterMs, s.gatherMs, s.bytesSent, s.imageBytes};
-    }
-#endif
-    return {};
-}
-
-IndexRange shareRange(std::size_t count, int rank, int size) {
-    const auto at = [&](int k) {
-        return std::size_t((unsigned long long)(count) * (unsigned long long)(k) / (unsigned long long)(size));
+IndexRange shareRange(std::size_t count, std::size_t k, std::size_t n) {
+    const auto at = [&](std::size_t j) {
+        return std::size_t((unsigned long long)(count) * (unsigned long long)(j) / (unsigned long long)(n));
     };
-    return {at(rank), at(rank + 1)};
+    return {at(k), at(k + 1)};
 }
 
 Status appendParticles(ParticleSet& into, ParticleSet&& part, const std::string& partName,

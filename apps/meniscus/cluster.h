@@ -47,13 +47,6 @@ public:
     Bounds allBounds(const Bounds& mine);
     // The sort-last compositor over the world (null on one process without MPI).
     SplatCompositor* compositor();
-    // The last composite's cost on this process (zeros without MPI):
-    // reduce-scatter and gather milliseconds, bytes sent.
-    struct Cost {
-        double reduceMs = 0.0, gatherMs = 0.0;
-        std::uint64_t bytesSent = 0, imageBytes = 0;
-    };
-    Cost lastComposite() const;
 
 private:
     Cluster() = default;
@@ -63,12 +56,13 @@ private:
     std::unique_ptr<Mpi> mpi_;
 };
 
-// The index range [begin, end) of process `rank`'s share of `count` items
-// split into `size` contiguous shares as even as whole items allow.
+// The index range [begin, end) of share `k`'s of `count` items split into
+// `n` contiguous shares as even as whole items allow (a process's share of a
+// frame's particles or parts; --shard's of the frames).
 struct IndexRange {
     std::size_t begin = 0, end = 0;
 };
-IndexRange shareRange(std::size_t count, int rank, int size);
+IndexRange shareRange(std::size_t count, std::size_t k, std::size_t n);
 
 // Appends `part` to `into` (empty: becomes it); an error naming `partName`
 // when its attributes (names, types, components) are not `into`'s.

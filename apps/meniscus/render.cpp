@@ -235,19 +235,15 @@ Result<CameraMotion> motionFromOptions(const RenderOptions& o, std::size_t count
 }
 
 // --shard I/N as the frames [begin, end) of `count` it renders.
-struct Share {
-    std::size_t begin = 0, end = 0;
-};
-Result<Share> shareOf(const std::string& shard, std::size_t count) {
-    if (shard.empty()) return Share{0, count};
+Result<IndexRange> shareOf(const std::string& shard, std::size_t count) {
+    if (shard.empty()) return IndexRange{0, count};
     long long i = -1, n = 0;
     char slash = 0, extra = 0;
     if (std::sscanf(shard.c_str(), "%lld %c %lld %c", &i, &slash, &n, &extra) != 3 || slash != '/' || n < 1 ||
         i < 0 || i >= n)
         return makeError("", "--shard " + shard + ": give I/N with 0 <= I < N (e.g. --shard 3/8, or "
                              "$SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT)");
-    const auto at = [&](long long k) { return std::size_t((unsigned long long)(count) * (unsigned long long)(k) / (unsigned long long)(n)); };
-    return Share{at(i), at(i + 1)};
+    return shareRange(count, std::size_t(i), std::size_t(n));
 }
 
 // Frames 0 .. frames.count() - 1, their particles from `next` (called once
@@ -535,8 +531,8 @@ int renderParts(Cluster& cluster, const RenderOptions& o, RenderSettings& settin
                         (settings.anisotropy.enabled ? std::string(", or add --anisotropy off") : std::string()));
     const std::vector<std::string> parts = expandParts(o.input);
     if (parts.empty()) {
-        std::vector<std::string> none = {std::regex_replace(o.input, std::regex("%(0[0-9]+)?r"), "0")};
-        return fail(none[0] + ": no such file (the first part of " + o.input + ", %r = 0)");
+        const std::string first = std::regex_replace(o.input, std::regex("%(0[0-9]+)?r"), "0");
+        return fail(first + ": no such file (the first part of " + o.input + ", %r = 0)");
     }
     auto frames = openFrames(parts[0], nullptr, o.hPerSpacing);
     if (!frames) return fail(frames.error().describe());
