@@ -59,16 +59,6 @@ std::string caseName(const testing::TestParamInfo<FilterCase>& info) {
     return n;
 }
 
-// Default settings for the real frame at W x H: estimated radius, auto camera.
-RenderSettings realFrameSettings(const ParticleSet& set, int width, int height) {
-    RenderSettings s;
-    s.radiusM = estimateRadius(set.positions).radius;
-    Camera base;
-    base.width = width;
-    base.height = height;
-    s.camera = autoFrameCamera(set.positions, s.radiusM, base);
-    return s;
-}
 
 class PipelineFilter : public testing::TestWithParam<FilterCase> {
 protected:
@@ -189,7 +179,7 @@ TEST_P(PipelineFilter, BallNormalsMatchTheAnalyticBall) {
 // of silhouette pixels.
 TEST_P(PipelineFilter, ScalingSceneRadiusAndCameraChangesNothing) {
     const ParticleSet& set = realFrame();
-    const RenderSettings real = realFrameSettings(set, 240, 135);
+    const RenderSettings real = test::autoFramedSettings(set, 240, 135);
     const float r = real.radiusM;
     RenderSettings a = settingsFor(real.camera, r);
 
@@ -233,7 +223,7 @@ TEST_P(PipelineFilter, ScalingSceneRadiusAndCameraChangesNothing) {
 // Every AOV is bit-identical with 1, 2 and 3 worker threads.
 TEST_P(PipelineFilter, ThreadCountDoesNotChangeAnyBit) {
     const ParticleSet& set = realFrame();
-    const RenderSettings real = realFrameSettings(set, 320, 180);
+    const RenderSettings real = test::autoFramedSettings(set, 320, 180);
     const RenderSettings s = settingsFor(real.camera, real.radiusM);
     auto renderWith = [&](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
@@ -306,7 +296,7 @@ INSTANTIATE_TEST_SUITE_P(AllFilters, PipelineFilter, testing::ValuesIn(allFilter
 // stage timings come back in pipeline order.
 TEST(Pipeline, ViewsAndTimings) {
     const ParticleSet& set = realFrame();
-    RenderSettings s = realFrameSettings(set, 160, 90);
+    RenderSettings s = test::autoFramedSettings(set, 160, 90);
     std::vector<StageTime> times;
     auto final = renderFrame(set.positions, s, &times);
     ASSERT_TRUE(final);
@@ -330,7 +320,7 @@ TEST(Pipeline, ViewsAndTimings) {
 // AOVs empty; without it every AOV is filled.
 TEST(Pipeline, ColorOnlyGivesTheSameColourAndNothingElse) {
     const ParticleSet& set = realFrame();
-    RenderSettings s = realFrameSettings(set, 160, 90);
+    RenderSettings s = test::autoFramedSettings(set, 160, 90);
     Renderer renderer;
     for (View v : {View::Final, View::Depth, View::RawDepth, View::Normals, View::Thickness}) {
         s.view = v;

@@ -71,23 +71,13 @@ private:
 // The real small dam-break frame (test_util).
 const ParticleSet& realFrame() { return test::smallFrame21(); }
 
-Bounds boundsOf(std::span<const glm::vec3> pts) {
-    Bounds b;
-    for (const glm::vec3& p : pts) b.extend(p);
-    return b;
-}
-
-// What sort-last needs set: no anisotropy, the whole data's studio.
+// Spheres (the whole-frame shares turn the kernels on), and the whole data's
+// studio, which sort-last needs set.
 RenderSettings realFrameSettings(int width = 320, int height = 180) {
     const ParticleSet& set = realFrame();
-    RenderSettings s;
-    s.radiusM = estimateRadius(set.positions).radius;
-    Camera base;
-    base.width = width;
-    base.height = height;
-    s.camera = autoFrameCamera(set.positions, s.radiusM, base);
+    RenderSettings s = test::autoFramedSettings(set, width, height);
     s.anisotropy.enabled = false;
-    s.scene.studioBounds = boundsOf(set.positions);
+    s.scene.studioBounds = computeBounds(set.positions);
     return s;
 }
 
@@ -588,7 +578,7 @@ TEST(SortLast, WholeFrameSharesKeepNoiseWhiteningSprayAndDiffuse) {
     s.spray.enabled = true;
     s.view = View::Final;
     // A diffuse layer: a few drops above the liquid.
-    const Bounds b = boundsOf(realFrame().positions);
+    const Bounds b = computeBounds(realFrame().positions);
     std::vector<glm::vec3> drops;
     for (int i = 0; i < 40; ++i)
         drops.push_back(glm::mix(b.min, b.max, glm::vec3(0.05f + 0.022f * float(i), 1.02f, 0.5f)));

@@ -24,6 +24,16 @@
 
 namespace meniscus::test {
 
+RenderSettings autoFramedSettings(const ParticleSet& set, int width, int height) {
+    RenderSettings s;
+    s.radiusM = estimateRadius(set.positions).radius;
+    Camera base;
+    base.width = width;
+    base.height = height;
+    s.camera = autoFrameCamera(set.positions, s.radiusM, base);
+    return s;
+}
+
 const ParticleSet& smallFrame21() {
     static const ParticleSet set = [] {
         auto r = readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));

@@ -18,6 +18,7 @@
 
 #include "meniscus/camera.h"
 #include "meniscus/particles.h"
+#include "meniscus/renderer.h"
 
 namespace meniscus::test {
 
@@ -27,6 +28,8 @@ std::filesystem::path repoData(const std::string& rel);  // data/REL
 // Frame 21 of the small real dam break (SPlisHSPlasH, tests/data/splishsplash/partio),
 // read once per test binary.
 const ParticleSet& smallFrame21();
+// Default render settings for `set` at W x H: its estimated radius, the automatic camera.
+RenderSettings autoFramedSettings(const ParticleSet& set, int width, int height);
 // A fresh, empty directory unique to the calling test; removed by the next run.
 std::filesystem::path tempDir();
 // tempDir() / name, emptied, holding the small real frame as f.bgeo (tests/data/splishsplash).
