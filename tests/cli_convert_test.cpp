@@ -26,8 +26,9 @@ const char* const kWritable[] = {"vtk", "vtu", "vtp", "ply", "bgeo", "bgeo.gz"};
 // (by name, any order) with the same types and values.
 void expectSameSet(const ParticleSet& a, const ParticleSet& b, const std::string& what) {
     ASSERT_EQ(a.size(), b.size()) << what;
-    if (a.size() > 0)  // (null data of an empty set: memcmp undefined)
+    if (a.size() > 0) {  // (null data of an empty set: memcmp undefined)
         ASSERT_EQ(0, std::memcmp(a.positions.data(), b.positions.data(), a.size() * sizeof(glm::vec3))) << what;
+    }
     ASSERT_EQ(a.attributes.size(), b.attributes.size()) << what;
     for (const Attribute& x : a.attributes) {
         const Attribute* y = b.find(x.name);
@@ -36,9 +37,10 @@ void expectSameSet(const ParticleSet& a, const ParticleSet& b, const std::string
         EXPECT_EQ(x.components, y->components) << what << ": " << x.name;
         EXPECT_EQ(x.ints, y->ints) << what << ": " << x.name;
         ASSERT_EQ(x.floats.size(), y->floats.size()) << what << ": " << x.name;
-        if (!x.floats.empty())  // memcmp of an empty vector's null data is undefined
+        if (!x.floats.empty()) {  // memcmp of an empty vector's null data is undefined
             EXPECT_EQ(0, std::memcmp(x.floats.data(), y->floats.data(), x.floats.size() * sizeof(float)))
                 << what << ": " << x.name;
+        }
     }
 }
 

@@ -50,8 +50,9 @@ void expectSameSet(const ParticleSet& a, const ParticleSet& b) {
         EXPECT_EQ(x.components, y->components) << x.name;
         EXPECT_EQ(x.ints, y->ints) << x.name;
         ASSERT_EQ(x.floats.size(), y->floats.size()) << x.name;
-        if (!x.floats.empty())  // memcmp of an empty vector's null data is undefined
+        if (!x.floats.empty()) {  // memcmp of an empty vector's null data is undefined
             EXPECT_EQ(std::memcmp(x.floats.data(), y->floats.data(), x.floats.size() * sizeof(float)), 0) << x.name;
+        }
     }
 }
 
