@@ -50,7 +50,8 @@ double medianMs(int repeat, const std::function<void()>& fn) {
 }
 
 // The isosurface path's phases (median of `repeat` extractions), then the
-// OpenVDB peer (../shared/peers/openvdb_mesh: ParticlesToLevelSet + volumeToMesh)
+// OpenVDB peer (a small program outside this repository, built by
+// scripts/build_openvdb_peer.sh: ParticlesToLevelSet + volumeToMesh)
 // on the same particles at the same voxel size, in the same run.
 int benchMesh(const ParticleSet& set, float radius, int repeat, int nThreads, const std::string& openvdb) {
     const std::size_t n = set.size();

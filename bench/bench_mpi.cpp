@@ -1,14 +1,13 @@
-// bench_mpi: sort-last rendering over MPI (issue 20, item 5), one frame split
-// over the K processes of `mpirun -n K bench_mpi [INPUT]`. Each process takes
-// the k-th of K contiguous index ranges of the particles; per process the
-// splat time (its share of the particles), the composite time (MPI's
-// reduce-scatter and the gather of the strips on process 0) and the bytes a
-// binary swap sends; on process 0 the finish (thickness, filters, normals,
-// shading on the combined image) and the whole frame. Medians over --repeat
-// runs, each started together (MPI_Barrier). One thread per process by
-// default, as on a cluster where each rank has its own cores; on one machine
-// the processes share its cores and its memory bus (loopback only).
-// scripts/bench_mpi.sh runs K = 1 .. 4.
+// bench_mpi: sort-last rendering over MPI, one frame split over the K processes
+// of `mpirun -n K bench_mpi [INPUT]`. Each process takes the k-th of K
+// contiguous index ranges of the particles; per process the splat time (its
+// share of the particles), the composite time (MPI's reduce-scatter and the
+// gather of the strips on process 0) and the bytes a binary swap sends; on
+// process 0 the finish (thickness, filters, normals, shading on the combined
+// image) and the whole frame. Medians over --repeat runs, each started together
+// (MPI_Barrier). One thread per process by default, as on a cluster where each
+// rank has its own cores; on one machine the processes share its cores and its
+// memory bus (loopback only). scripts/bench_mpi.sh runs K = 1 .. 4.
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -43,7 +42,7 @@ double stageMs(const std::vector<StageTime>& times, const std::string& name) {
 }
 
 int run(int rank, int size, int argc, char** argv) {
-    CLI::App app{"bench_mpi: sort-last rendering of one frame over the processes of mpirun (issue 20)"};
+    CLI::App app{"bench_mpi: sort-last rendering of one frame over the processes of mpirun"};
     std::string input = MENISCUS_BENCH_INPUT;
     int width = 1920, height = 1080, repeat = 5, threads = 1;
     app.add_option("input", input, "Particle file")->capture_default_str();

@@ -1,5 +1,5 @@
 // bench_sim: the simulator's speed on a scene (default: the r = 0.01 dam
-// break of issue 15, SPlisHSPlasH's DamBreakModel), one line per phase.
+// break, SPlisHSPlasH's DamBreakModel), one line per phase.
 //   bench_sim [SCENE] [--radius R] [--seconds S] [--threads N] [--peer-log SPH_log.txt]
 // With --seconds shorter than the scene's duration the run is that long and
 // the lines say so; nothing is extrapolated unless a line says "extrapolated".

@@ -4,8 +4,8 @@
 # A notebook-style script (cells marked `# %%`, as VS Code, Spyder and Jupytext
 # read them): read a SPlisHSPlasH frame, render it, look at its AOVs, render a
 # short sequence with one camera, mesh it, and run a small simulation. Needs
-# only numpy and the `meniscus` module (`PYTHONPATH=build/python`, see the
-# README's "Python" section). The ctest test `python.example` runs it whole.
+# only numpy and the `meniscus` module (`PYTHONPATH=build/python`, see
+# docs/python.md). The ctest test `python.example` runs it whole.
 #
 #     PYTHONPATH=build/python python3 examples/python_render.py --out /tmp/meniscus_example
 

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
-# The GL backend on a real GPU, for the README's performance table: run on a
+# The GL backend on a real GPU, for the table in docs/performance.md ("GL
+# backend on a GPU (NVIDIA H200)"): run on a
 # lent NVIDIA machine (no Debian packages there, nothing to install) over a
 # bundle made here by scripts/make_device_bundle.sh. Prints the GPU, driver and
 # the bench's lines, and writes CPU and GL renders of frame 21 (PNG + EXR) to
 # $OUT for a parity check on that driver.
 #   usage (on the device machine, from the repository root):
 #     bash scripts/device_gl_bench.sh [BUNDLE]      # BUNDLE defaults to .devbundle
-# The glvnd loaders come as Debian .debs in .gl/ (see the device tool's notes);
+# The glvnd loaders come as Debian .debs in .gl/, unpacked below;
 # NVIDIA's EGL vendor library is the driver's own.
 set -uo pipefail
 B=${1:-.devbundle}

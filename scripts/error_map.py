@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""A picture of where a render differs from the true surface (issue 17, item 6).
+"""A picture of where a render differs from the true surface.
 
   error_map.py REF_PREFIX CANDIDATE.exr OUT.png [MAX_DEG]
 

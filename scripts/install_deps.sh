@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs Meniscus's build and test dependencies from Debian 12 packages (run as root).
+# The scripts build with Ninja (ninja-build) when it is there, Make otherwise.
 # The GL backend needs libepoxy + EGL; Mesa's llvmpipe (libgl1-mesa-dri,
 # libegl-mesa0) gives CI a headless GL 4.5 context without a GPU, and
 # glslang-tools checks every shader file. The viewer's window needs GLFW
@@ -24,7 +25,7 @@ SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends \
-  ca-certificates cmake make g++ pkg-config \
+  ca-certificates cmake make ninja-build g++ pkg-config \
   libglm-dev zlib1g-dev libpng-dev libopenexr-dev libtbb-dev \
   nlohmann-json3-dev libcli11-dev libtinyxml2-dev liblz4-dev liblzma-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \

@@ -1,13 +1,18 @@
 #!/usr/bin/env bash
-# Re-renders the README's pictures (docs/images/) on the CPU backend, the
+# Re-renders the pictures of the README and of the docs pages (docs/images/;
+# most are in docs/features.md, "Pictures") on the CPU backend, the
 # reference: frame 21 of the 117,649-particle dam break at 640x360 with default
 # settings, each debug view, every filter and every material; the velocity
 # whitening; the spray; the surface
-# noise (a close view of frame 21, and frames 17-21 of the small dam break in
-# ../shared/testdata as a sequence, for the turbulence); two fluids (the small
-# frame 21 split by its `phase` attribute, tests/data/splishsplash/two_fluids/);
-# and the demo.
+# noise (a close view of frame 21, and frames 17-21 of the small dam break as a
+# sequence, for the turbulence); two fluids (the small frame 21 split by its
+# `phase` attribute, tests/data/splishsplash/two_fluids/); and the demo.
 # Look at them before committing.
+# MENISCUS_TESTDATA: the folder of the SPlisHSPlasH test runs that are not in
+# this repository (it holds splishsplash/dambreak_r0.025_small/partio/, the
+# small dam break, r = 0.025 m, all frames; a relative path is taken from the
+# repository root). The noise-sequence and whitewater pictures need it; without
+# it they are skipped, with a note.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -34,8 +39,14 @@ render raycast21 "${close[@]}" --surface raycast
 build/meniscus render data/demo/ParticleData_Fluid_21.bgeo -o docs/images/raycast_demo.png --width 640 --height 360 --backend cpu --surface raycast
 render noise_close_off "${close[@]}"
 render noise_close_on "${close[@]}" --noise
-small=../shared/testdata/splishsplash/dambreak_r0.025_small/partio
-if [ -d "$small" ]; then
+small=
+if [ -n "${MENISCUS_TESTDATA:-}" ]; then
+    small=$MENISCUS_TESTDATA/splishsplash/dambreak_r0.025_small/partio
+    [ -d "$small" ] || { echo "make_readme_images.sh: $small not found (MENISCUS_TESTDATA must hold splishsplash/dambreak_r0.025_small/partio/)" >&2; exit 1; }
+else
+    echo "make_readme_images.sh: MENISCUS_TESTDATA not set: the noise-sequence and whitewater pictures are not re-rendered" >&2
+fi
+if [ -n "$small" ]; then
     seq=$(mktemp -d)
     for k in 17 18 19 20 21; do ln -s "$(realpath "$small/ParticleData_Fluid_$k.bgeo")" "$seq/"; done
     for v in final foam noise; do

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A cluster model of sort-last rendering fitted to bench_mpi's lines (issue 20, item 5).
+"""A cluster model of sort-last rendering fitted to bench_mpi's lines.
 
 Reads bench_mpi's output (scripts/bench_mpi.sh) on stdin and prints a Markdown
 table of the modelled frame time for 10^9 particles at 1920x1080 on 32 to 256

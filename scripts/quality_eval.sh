@@ -4,7 +4,11 @@
 # Assumes build/meniscus is built (Release), REFSURF_DIR/build/refsurf is built,
 # and /usr/bin/python3 has numpy + OpenImageIO. Prints markdown tables, and
 # writes error maps (scripts/error_map.py) of the MAPS rows into OUT_DIR.
+# REFSURF_DIR (required): a copy of refsurf's source, the reference ray tracer
+# of the true SPH surface, with build/refsurf built in it; refsurf is not part
+# of this repository (docs/quality.md, Method).
 set -euo pipefail
+[[ $# -ge 1 ]] || { echo "usage: scripts/quality_eval.sh REFSURF_DIR [OUT_DIR] (REFSURF_DIR: a copy of refsurf's source with build/refsurf built; see docs/quality.md)" >&2; exit 2; }
 RS=$(cd "$1" && pwd); OUT=${2:-/tmp/meniscus_quality}; ROOT=$(cd "$(dirname "$0")/.." && pwd)
 M=$ROOT/build/meniscus; W=640; H=360; FOV=40
 mkdir -p "$OUT"

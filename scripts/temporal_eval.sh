@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
-# Temporal coherence (issue 17, item 5): renders consecutive frames with one
-# static camera (the first frame's automatic one), ray-traces the true SPH
-# surface of each with refsurf, and scores per pixel how much our normals
-# change from frame to frame against how much the true surface's do
-# (scripts/temporal_score.py). Usage:
+# Temporal coherence: renders consecutive frames with one static camera (the
+# first frame's automatic one), ray-traces the true SPH surface of each with
+# refsurf, and scores per pixel how much our normals change from frame to frame
+# against how much the true surface's do (scripts/temporal_score.py). Usage:
 #   scripts/temporal_eval.sh REFSURF_DIR [OUT_DIR] [-- extra render options]
 # FRAMES="a.bgeo b.bgeo ..." (default: the bundled data/demo frames 19-23, the
 # small SPlisHSPlasH dam break, r = 0.025 m). Needs build/meniscus, REFSURF_DIR/
 # build/refsurf, and /usr/bin/python3 with numpy + OpenImageIO (as quality_eval.sh).
+# REFSURF_DIR (required): a copy of refsurf's source, the reference ray tracer
+# of the true SPH surface, with build/refsurf built in it; refsurf is not part
+# of this repository (docs/quality.md, Method).
 set -euo pipefail
+[[ $# -ge 1 ]] || { echo "usage: scripts/temporal_eval.sh REFSURF_DIR [OUT_DIR] [-- extra render options] (REFSURF_DIR: a copy of refsurf's source with build/refsurf built; see docs/quality.md)" >&2; exit 2; }
 RS=$(cd "$1" && pwd); shift
 OUT=/tmp/meniscus_temporal
 if [[ $# -gt 0 && $1 != -- ]]; then OUT=$1; shift; fi

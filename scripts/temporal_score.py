@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Temporal coherence of a rendered sequence against the true surface (issue 17, item 5).
+"""Temporal coherence of a rendered sequence against the true surface.
 
   temporal_score.py REF_PREFIX_0 CAND_0.exr REF_PREFIX_1 CAND_1.exr [...]
 

@@ -362,7 +362,7 @@ TEST(AnisotropyPipeline, RendersWithItsTimingLineTheSameForAnyThreadCount) {
     EXPECT_NE(bad.error().describe().find("anisotropy.kr"), std::string::npos) << bad.error().describe();
 }
 
-// ---- The particles' own radii (issue 17, item 2) ------------------------------
+// ---- The particles' own radii -------------------------------------------------
 
 TEST(ParticleRadii, TheViewTakesRadiusOrPscale) {
     ParticleSet set;
@@ -460,11 +460,11 @@ TEST(ParticleRadii, AnisotropyKeepsEachParticlesOwnVolume) {
 }
 
 TEST(AnisotropyPipeline, AOneParticleSheetShadesEvenlyWithoutHoles) {
-    // Issue 17, item 3: a sheet one particle thick at rest spacing, seen from
-    // above at an angle, rendered whole: with the ellipsoids every pixel over
-    // its inner part is liquid, and no pixel is darker or greyer than the
-    // median of its 5x5 neighbourhood by more than 0.06 in luminance or 0.04
-    // in chroma (linear RGB; the sheet's own shading varies smoothly).
+    // A sheet one particle thick at rest spacing, seen from above at an angle,
+    // rendered whole: with the ellipsoids every pixel over its inner part is
+    // liquid, and no pixel is darker or greyer than the median of its 5x5
+    // neighbourhood by more than 0.06 in luminance or 0.04 in chroma (linear
+    // RGB; the sheet's own shading varies smoothly).
     const float r = 0.01f, s = 2.0f * r;
     const std::vector<glm::vec3> p = block(40, 1, 40, s);
     const glm::vec3 mid = glm::vec3(19.5f, 0.0f, 19.5f) * s;

@@ -34,7 +34,7 @@ TEST(AtomicFile, ReplacesAFileAndLeavesNoTemporary) {
     EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
 }
 
-// Regression (issue 13): a symlinked output was replaced by a regular file.
+// Regression: a symlinked output was replaced by a regular file.
 TEST(AtomicFile, WritesThroughASymbolicLink) {
     const fs::path dir = test::tempDir() / "atomic_link";
     fs::remove_all(dir);

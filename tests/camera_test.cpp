@@ -1,5 +1,5 @@
-// Camera conventions of SPEC §2: focal length, pixel rays, row 0 at the top,
-// auto-framing, validation.
+// Camera conventions of docs/conventions.md#conventions: focal length, pixel
+// rays, row 0 at the top, auto-framing, validation.
 #include <algorithm>
 #include <cmath>
 
@@ -141,8 +141,8 @@ TEST(Camera, AutoFrameFitsTheParticlesFromAThreeQuarterView) {
     EXPECT_NEAR(0.5f * (minY + maxY), 360.0f, 16.0f);
 }
 
-// Issue 18, item 3: the automatic camera from a given azimuth and elevation
-// looks along that direction and still frames the particles (90% fill).
+// The automatic camera from a given azimuth and elevation looks along that
+// direction and still frames the particles (90% fill).
 TEST(Camera, AutoFrameFromAGivenDirection) {
     const auto pts = slabSheetAndSpray();
     Camera base;
@@ -186,8 +186,8 @@ TEST(Camera, AutoFrameScalesWithTheScene) {
     EXPECT_NEAR(c10.nearM, 10.0f * c1.nearM, 1e-4f);
 }
 
-// Regression (issue 13): one particle at x = 1e6 beside the fluid must move
-// neither the target nor the distance, and is reported as left outside.
+// Regression: one particle at x = 1e6 beside the fluid must move neither the
+// target nor the distance, and is reported as left outside.
 TEST(Camera, AutoFrameIgnoresAFarOutlierAndCountsIt) {
     auto pts = slabSheetAndSpray();
     std::size_t outside = 99;

@@ -1,4 +1,4 @@
-// Moving cameras in `meniscus render` (issue 18, item 3): --turntable over
+// Moving cameras in `meniscus render`: --turntable over
 // --frames N of one file, --orbit at a rate in degrees per second of sequence
 // time, camera.path in a scene file; each frame is exactly the still render
 // from that frame's camera, with the floor-only background a moving camera

@@ -1,8 +1,8 @@
-// `meniscus convert IN OUT` (issue 19, item 5): every writable format
-// round-trips a real SPlisHSPlasH frame with its positions bit for bit and
-// every attribute's values exactly; sequences become numbered sequences; a
-// format it cannot write, a bad input or an output that is the input is an
-// error naming the file, with nothing written.
+// `meniscus convert IN OUT`: every writable format round-trips a real
+// SPlisHSPlasH frame with its positions bit for bit and every attribute's
+// values exactly; sequences become numbered sequences; a format it cannot
+// write, a bad input or an output that is the input is an error naming the
+// file, with nothing written.
 #include <cstring>
 #include <filesystem>
 #include <string>

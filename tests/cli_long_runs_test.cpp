@@ -1,7 +1,7 @@
-// Long runs of `meniscus render` (issue 18, item 5): a corrupt frame skipped
-// and listed (--on-error skip) or ending the run (the default), --resume
-// leaving complete outputs, --renumber, a progress line per frame when stderr
-// is a log, and Ctrl-C leaving only whole files.
+// Long runs of `meniscus render`: a corrupt frame skipped and listed
+// (--on-error skip) or ending the run (the default), --resume leaving complete
+// outputs, --renumber, a progress line per frame when stderr is a log, and
+// Ctrl-C leaving only whole files.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -76,6 +76,8 @@ TEST(CliLongRuns, ACorruptFrameIsSkippedAndListedOrStopsTheRun) {
     EXPECT_EQ(runCli(renderArgs(dir, "o_%04d.png") + " --eye 2.5,2.1,2.9 --target 0.43,0.45,0", &out), 1) << out;
     EXPECT_EQ(listDir(dir / "out"), std::vector<std::string>{"o_0001.png"}) << out;
     EXPECT_NE(out.find((dir / "in" / "f_2.bgeo").string()), std::string::npos) << out;
+    // The error says how to go on past such frames.
+    EXPECT_NE(out.find("frame 2 of 4; --on-error skip renders the others"), std::string::npos) << out;
 }
 
 TEST(CliLongRuns, ACorruptFirstFrameLeavesTheCameraToTheOthers) {

@@ -1,11 +1,10 @@
-// Sort-last and frame-parallel rendering under mpirun (issue 20, item 4),
-// with OpenMPI as on the CI machine (--oversubscribe: more processes than
-// cores; --allow-run-as-root: CI runs as root). Every picture is compared
-// byte for byte with the plain one-process run of the same command: PNG and
-// EXR (every AOV) of a real SPlisHSPlasH frame split over 1 to 4 processes,
-// a process with no particles, part files (%r) fewer than the processes,
-// frames split over processes; a process that cannot read its part ends the
-// job with that error and no image.
+// Sort-last and frame-parallel rendering under mpirun, with OpenMPI as on the
+// CI machine (--oversubscribe: more processes than cores; --allow-run-as-root:
+// CI runs as root). Every picture is compared byte for byte with the plain
+// one-process run of the same command: PNG and EXR (every AOV) of a real
+// SPlisHSPlasH frame split over 1 to 4 processes, a process with no particles,
+// part files (%r) fewer than the processes, frames split over processes; a
+// process that cannot read its part ends the job with that error and no image.
 #include <algorithm>
 #include <filesystem>
 #include <string>

@@ -1,7 +1,6 @@
-// Render scene files (issue 18, item 4): `meniscus render scene.json` gives
-// the bytes of the same settings as options; the command line overrides the
-// file; paths are relative to the file; unknown keys and bad values are
-// errors that name the key.
+// Render scene files: `meniscus render scene.json` gives the bytes of the same
+// settings as options; the command line overrides the file; paths are relative
+// to the file; unknown keys and bad values are errors that name the key.
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -20,8 +19,9 @@ void write(const fs::path& p, const std::string& text) { std::ofstream(p) << tex
 
 }  // namespace
 
-// The issue's minimal form, as written, from another folder: the same bytes as
-// the options; an option on the command line overrides the file's.
+// The minimal form (particles, radius, camera, size, output), rendered from
+// another folder: the same bytes as the options; an option on the command line
+// overrides the file's.
 TEST(SceneFile, TheMinimalFormRendersAsItsOptions) {
     const fs::path dir = dirWithFrame("scene_minimal");
     write(dir / "scene.json",
@@ -78,9 +78,9 @@ TEST(SceneFile, EveryKindOfSettingMatchesItsOption) {
     EXPECT_NE(readBytes(dir / "a.png"), readBytes(dir / "c.png"));
 }
 
-// The automatic camera's direction and distance (issue 18, item 3): the
-// defaults give the default view's bytes; another azimuth, elevation or
-// distance another picture; in a scene file as camera.azimuth and so on.
+// The automatic camera's direction and distance: the defaults give the default
+// view's bytes; another azimuth, elevation or distance another picture; in a
+// scene file as camera.azimuth and so on.
 TEST(SceneFile, AutomaticCameraDirectionAndDistance) {
     const fs::path dir = dirWithFrame("scene_auto_camera");
     const std::string base = "render " + shellQuote(dir / "f.bgeo") + " --width 160 --height 90 --backend cpu -o ";
@@ -100,10 +100,10 @@ TEST(SceneFile, AutomaticCameraDirectionAndDistance) {
     EXPECT_EQ(runCli(base + shellQuote(dir / "x.png") + " --elevation 90", &out), 2) << out;
 }
 
-// --up (issue 18, item 3): the real frame turned to z up, (x, y, z) ->
-// (x, -z, y) with its velocities, renders with --up 0,0,1 byte for byte as the
-// y-up original, with the automatic camera and with --eye/--target given in
-// the z-up coordinates; without --up it lies on its side.
+// --up: the real frame turned to z up, (x, y, z) -> (x, -z, y) with its
+// velocities, renders with --up 0,0,1 byte for byte as the y-up original, with
+// the automatic camera and with --eye/--target given in the z-up coordinates;
+// without --up it lies on its side.
 TEST(SceneFile, UpStandsZUpDataTheRightWay) {
     const fs::path dir = dirWithFrame("scene_up");
     auto set = meniscus::readParticles(dir / "f.bgeo");

@@ -1,9 +1,8 @@
-// Frame-parallel rendering without MPI (issue 20, item 2): `render --shard I/N`
-// renders the I-th of N contiguous shares of a sequence, named as in the
-// whole run, and the N runs together write the whole run's images byte for
-// byte: with the noise's turbulence (whose memory spans frames) and for a
-// simulation scene (stepped through every frame time) too. --resume keeps
-// the same bytes as well.
+// Frame-parallel rendering without MPI: `render --shard I/N` renders the I-th
+// of N contiguous shares of a sequence, named as in the whole run, and the N
+// runs together write the whole run's images byte for byte: with the noise's
+// turbulence (whose memory spans frames) and for a simulation scene (stepped
+// through every frame time) too. --resume keeps the same bytes as well.
 #include <algorithm>
 #include <filesystem>
 #include <string>

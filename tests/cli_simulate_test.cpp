@@ -35,6 +35,18 @@ TEST(CliSimulate, SceneToASequenceTheReadersTakeBack) {
     }
     EXPECT_FALSE(fs::exists(dir / "out/f_0006.bgeo"));
     EXPECT_NE(out.find("wrote"), std::string::npos) << out;  // not a terminal: a line per frame
+    // The frames' times beside them (ParaView's collection): the scene's 50 fps.
+    auto pvd = meniscus::readPvd(dir / "out/f.pvd");
+    ASSERT_TRUE(pvd.ok()) << pvd.error().describe() << out;
+    ASSERT_EQ(pvd->files.size(), 6u);
+    EXPECT_EQ(pvd->files[5], dir / "out/f_0005.bgeo");
+    auto rate = meniscus::frameRateOfInput(dir / "out/f.pvd");
+    ASSERT_TRUE(rate.ok() && rate->has_value());
+    EXPECT_NEAR(rate->value(), 50.0, 1e-6);
+    // A folder of frames is still read as the frames alone.
+    auto folder = meniscus::expandSequence((dir / "out").string());
+    ASSERT_TRUE(folder.ok()) << folder.error().describe();
+    EXPECT_EQ(folder->size(), 6u);
     // The other formats.
     for (const char* ext : {"vtk", "vtu", "ply"}) {
         ASSERT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / (std::string("g_%02d.") + ext)) + " --duration 0.02", &out), 0) << out;
@@ -138,10 +150,9 @@ TEST(CliSimulate, RenderWritesAnImagePerFrameFromOneCamera) {
 }
 
 // `render` takes a simulation scene as its input, directly or as a render
-// scene file's "particles" (issue 18, item 4): it simulates the scene and
-// writes the same images `simulate --render` does, frame for frame (the same
-// camera on the tank, the same radius); a movie has a frame per simulated
-// frame at the scene's fps.
+// scene file's "particles": it simulates the scene and writes the same images
+// `simulate --render` does, frame for frame (the same camera on the tank, the
+// same radius); a movie has a frame per simulated frame at the scene's fps.
 TEST(CliSimulate, RenderTakesASimulationSceneAsItsParticles) {
     const fs::path dir = tempDir();
     const fs::path scene = writeSmallScene(dir);
@@ -166,6 +177,20 @@ TEST(CliSimulate, RenderTakesASimulationSceneAsItsParticles) {
         EXPECT_EQ(x.bytes, y.bytes) << b << " differs from " << a;
     }
     EXPECT_FALSE(fs::exists(dir / "ren/i_06.png"));
+    // --duration: how long the simulation runs (a frame every 1/fps), as
+    // simulate's; particle files refuse it.
+    ASSERT_EQ(runCli("render " + shellQuote(scene) + " -o " + shellQuote(dir / "dur/d_%02d.png") + " --duration 0.04" +
+                         size,
+                     &out),
+              0)
+        << out;
+    EXPECT_EQ(readPng(dir / "dur/d_02.png").bytes, readPng(dir / "sim/i_0002.png").bytes);
+    EXPECT_FALSE(fs::exists(dir / "dur/d_03.png"));
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "f/f_0001.bgeo") + " -o " + shellQuote(dir / "x.png") +
+                         " --duration 1" + size,
+                     &out),
+              1);
+    EXPECT_NE(out.find("--duration: sets how long a simulation scene runs"), std::string::npos) << out;
 
     // The same through a render scene file naming the simulation as its particles.
     writeText(dir / "look.json", R"({"particles": "small.json", "render": {"width": 64, "height": 48,

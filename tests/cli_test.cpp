@@ -51,10 +51,11 @@ TEST(Cli, InfoJsonReportsTheRealFrames) {
         std::set<std::string> names;
         for (const auto& a : j["attributes"]) names.insert(a["name"].get<std::string>());
         EXPECT_TRUE(names.count("id") && names.count("velocity") && names.count("density")) << out;
-        // SPEC's estimate is half the median nearest-neighbour distance. The
-        // simulator's r is 0.025 (lattice spacing 0.05 at 800 kg/m^3, ~0.046 at
-        // 1000); in a disordered liquid the nearest neighbour sits at ~0.8 of the
-        // mean spacing, so the estimate lands near 0.0186.
+        // docs/pipeline.md#depth-splat's estimate is half the median
+        // nearest-neighbour distance. The simulator's r is 0.025 (lattice
+        // spacing 0.05 at 800 kg/m^3, ~0.046 at 1000); in a disordered liquid
+        // the nearest neighbour sits at ~0.8 of the mean spacing, so the
+        // estimate lands near 0.0186.
         EXPECT_GT(j["radius_estimate"].get<double>(), 0.017);
         EXPECT_LT(j["radius_estimate"].get<double>(), 0.026);
     }
@@ -359,8 +360,42 @@ TEST(Cli, BadArgumentsGiveAClearError) {
     EXPECT_NE(runCli("render " + shellQuote(dir / "missing.bgeo") + " -o " + shellQuote(dir / "x.png"), &out), 0);
     EXPECT_NE(out.find("missing.bgeo"), std::string::npos) << out;
     EXPECT_TRUE(fs::is_empty(dir));
-    EXPECT_NE(runCli("render " + shellQuote(in) + " -o " + shellQuote(dir / "no_such_dir" / "x.png"), &out), 0);
+    // An output folder that cannot be made (a file stands where it would be)
+    // is an error naming the output; a missing one is made (OutputFoldersAreMade).
+    { std::ofstream(dir / "a_file") << "x"; }
+    EXPECT_NE(runCli("render " + shellQuote(in) + " -o " + shellQuote(dir / "a_file" / "x.png"), &out), 0);
     EXPECT_NE(out.find("x.png"), std::string::npos) << out;
+    EXPECT_NE(out.find("cannot make the folder"), std::string::npos) << out;
+}
+
+// Every command makes its outputs' missing folders the same way (render's
+// images and mesh's meshes here; convert, simulate and whitewater in theirs).
+// An unquoted pattern expanded by the shell: the error says to quote it
+// instead of listing the paths back.
+TEST(Cli, AnExpandedPatternIsExplained) {
+    const fs::path dir = tempDir();
+    for (const char* name : {"f_1.xyz", "f_2.xyz", "f_3.xyz"}) std::ofstream(dir / name) << "0 0 0\n";
+    std::string out;
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "f_1.xyz") + " " + shellQuote(dir / "f_2.xyz") + " " +
+                         shellQuote(dir / "f_3.xyz") + " -o " + shellQuote(dir / "x.png"),
+                     &out),
+              2)
+        << out;
+    EXPECT_NE(out.find("the shell expanded an unquoted pattern; quote it"), std::string::npos) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+}
+
+TEST(Cli, OutputFoldersAreMade) {
+    const fs::path dir = tempDir();
+    const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
+    std::string out;
+    const fs::path image = dir / "new" / "deeper" / "x.png";
+    EXPECT_EQ(runCli("render " + shellQuote(in) + " -o " + shellQuote(image) + " --width 64 --height 36", &out), 0)
+        << out;
+    EXPECT_TRUE(fs::is_regular_file(image));
+    const fs::path mesh = dir / "meshes" / "m.ply";
+    EXPECT_EQ(runCli("mesh " + shellQuote(in) + " -o " + shellQuote(mesh), &out), 0) << out;
+    EXPECT_TRUE(fs::is_regular_file(mesh));
 }
 
 // Every malformed input: exit code 1, one line on stderr naming the file, and no
@@ -454,9 +489,9 @@ TEST(Cli, ViewWithoutADisplayFailsClearly) {
 }
 
 
-// ------------------------------------------------------------ issue 13 findings
+// ------------------------------------- hardening: usage errors, ranges, radius
 
-// Bad usage exits 2, as the README says (CLI11's own codes were 105/106).
+// Bad usage exits 2, as docs/usage.md#errors says (CLI11's own codes were 105/106).
 TEST(Cli, UsageErrorsExitTwo) {
     std::string out;
     EXPECT_EQ(runCli("", &out), 2) << out;
@@ -511,10 +546,10 @@ TEST(Cli, RenderSaysWhichRadiusAndHow) {
     EXPECT_NE(out.find("bulk number density"), std::string::npos) << out;
 }
 
-// Issue 17, item 2: a file with a smoothing length h and no radius renders as
-// the same file with the radius h / (2 x 1.2), byte for byte, particle by
-// particle (radii varying 0.6-1.4x across the set); --h-per-spacing changes
-// it; render and info say where the radius came from.
+// A file with a smoothing length h and no radius renders as the same file with
+// the radius h / (2 x 1.2), byte for byte, particle by particle (radii varying
+// 0.6-1.4x across the set); --h-per-spacing changes it; render and info say
+// where the radius came from.
 TEST(Cli, SmoothingLengthGivesEachParticleItsRadius) {
     auto set = meniscus::readParticles(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"));
     ASSERT_TRUE(set) << set.error().describe();
@@ -549,8 +584,8 @@ TEST(Cli, SmoothingLengthGivesEachParticleItsRadius) {
     EXPECT_NE(runCli("info " + shellQuote(dir / "h.ply") + " --h-per-spacing 0", &out), 0);
 }
 
-// Issue 18, item 6: --version says what the build has; a subcommand's option
-// given before the subcommand is a usage error saying where it goes, while
+// --version says what the build has; a subcommand's option given before the
+// subcommand is a usage error saying where it goes, while
 // --threads works on either side.
 TEST(Cli, VersionAndWhereOptionsGo) {
     std::string out;
@@ -595,7 +630,7 @@ TEST(Cli, HugeFrameIsRefusedWithTheFigure) {
     EXPECT_FALSE(fs::exists(dir / "h.png"));
 }
 
-// Regression (issue 13): a symlinked output was replaced by a regular file.
+// Regression: a symlinked output was replaced by a regular file.
 TEST(Cli, SymlinkedOutputIsWrittenThrough) {
     const fs::path dir = tempDir() / "cli_symlink";
     fs::remove_all(dir);
@@ -613,11 +648,11 @@ TEST(Cli, SymlinkedOutputIsWrittenThrough) {
     EXPECT_NE(out.find("through the link"), std::string::npos) << out;
 }
 
-// Issue 20, item 3: a build without MPI, started by mpirun on several
-// processes, says in one line that it is not an MPI build instead of
-// rendering the whole job once per process (the launcher's environment is
-// what it sees; OpenMPI's is faked here, so no mpirun is needed). An MPI build
-// would start MPI on that environment: its tests are cli_mpi_test's.
+// A build without MPI, started by mpirun on several processes, says in one line
+// that it is not an MPI build instead of rendering the whole job once per
+// process (the launcher's environment is what it sees; OpenMPI's is faked here,
+// so no mpirun is needed). An MPI build would start MPI on that environment:
+// its tests are cli_mpi_test's.
 TEST(Cli, ANonMpiBuildUnderMpirunSaysSo) {
 #ifdef MENISCUS_HAVE_MPI
     GTEST_SKIP() << "an MPI build (cli_mpi_test covers mpirun)";
@@ -635,4 +670,44 @@ TEST(Cli, ANonMpiBuildUnderMpirunSaysSo) {
     EXPECT_NE(out.find("not an MPI build"), std::string::npos) << out;
     EXPECT_FALSE(std::filesystem::exists(dir / "f.png"));
 #endif
+}
+
+// `render --help` is laid out for a newcomer: the title names every output (a
+// movie too), and the option groups come in the order people set them, the
+// input and camera first, the cluster last (apps/meniscus/help_format.h).
+TEST(Cli, RenderHelpGroupsInOrder) {
+    std::string out;
+    ASSERT_EQ(runCli("render --help", &out), 0) << out;
+    const std::string title = out.substr(0, out.find('\n'));
+    EXPECT_NE(title.find("MP4"), std::string::npos) << title;
+    EXPECT_NE(title.find("PNG"), std::string::npos) << title;
+    EXPECT_NE(title.find("EXR"), std::string::npos) << title;
+    std::size_t previous = 0;
+    std::string previousGroup = "the title";
+    for (const char* group : {"Input", "Camera", "Look", "Surface", "Extras", "Output", "Movie", "Performance", "Cluster"}) {
+        const std::size_t at = out.find("\n" + std::string(group) + ":\n");
+        ASSERT_NE(at, std::string::npos) << group << " missing:\n" << out;
+        EXPECT_GT(at, previous) << group << " comes before " << previousGroup << ":\n" << out;
+        previous = at;
+        previousGroup = group;
+    }
+    // The common options sit in their groups: the input under Input, --width under Camera, --threads under Performance.
+    const auto groupOf = [&out](const std::string& option) {
+        const std::size_t at = out.find("\n  " + option);
+        if (at == std::string::npos) return std::string("(not listed)");
+        const std::size_t head = out.rfind(":\n", at);
+        const std::size_t start = out.rfind('\n', head - 1) + 1;
+        return out.substr(start, head - start);
+    };
+    EXPECT_EQ(groupOf("input"), "Input");
+    EXPECT_EQ(groupOf("--width"), "Camera");
+    EXPECT_EQ(groupOf("--material"), "Look");
+    EXPECT_EQ(groupOf("--filter"), "Surface");
+    EXPECT_EQ(groupOf("--noise"), "Extras");
+    EXPECT_EQ(groupOf("-o,--output"), "Output");
+    EXPECT_EQ(groupOf("--fps"), "Movie");
+    EXPECT_EQ(groupOf("--threads"), "Performance");
+    EXPECT_EQ(groupOf("--shard"), "Cluster");
+    EXPECT_EQ(out.find("README"), std::string::npos) << "scene files are docs/usage.md#scene-files";
+    EXPECT_NE(out.find("docs/usage.md#scene-files"), std::string::npos);
 }

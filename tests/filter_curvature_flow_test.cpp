@@ -1,6 +1,6 @@
-// Screen-space curvature flow (SPEC §3.5, van der Laan et al. 2009): flattens
-// splatted particle bumps, keeps planes, bodies and +inf apart, stable at the
-// default time step, scale- and thread-count-invariant.
+// Screen-space curvature flow (docs/pipeline.md#curvature-flow, van der Laan et
+// al. 2009): flattens splatted particle bumps, keeps planes, bodies and +inf
+// apart, stable at the default time step, scale- and thread-count-invariant.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -53,7 +53,7 @@ TEST(CurvatureFlow, TiltedPlaneStaysPlane) {
     const Image<float> out = flow(d, cam, 0.01f);
     const double worst = test::maxRelativeChange(d, out);
     std::printf("plane: max relative change %.3g\n", worst);
-    // The spec's normal drops terms of order one pixel (the ray direction), so
+    // The normal behind D drops terms of order one pixel (the ray direction), so
     // a tilted perspective plane has a tiny non-zero H: 40 iterations move it
     // by ~2e-5 of its depth here. Tolerance 5e-5 relative (0.01 r at 2 m),
     // over the whole image including the border rows and columns.
@@ -131,10 +131,11 @@ TEST(CurvatureFlow, StableFor200IterationsAtDefaultAlpha) {
 }
 
 TEST(CurvatureFlow, UnstableAboveHalf) {
-    // SPEC: explicit Euler is stable for alpha <= 0.5; 0.55 amplifies the
-    // pixel-checkerboard mode by |1 - 4 alpha| = 1.2 per step. After 200 steps
-    // the face must be rougher than the raw splat (documents the bound; it
-    // saturates only where neighbours drift past the jump threshold).
+    // docs/pipeline.md#curvature-flow: explicit Euler is stable for alpha <=
+    // 0.5; 0.55 amplifies the pixel-checkerboard mode by |1 - 4 alpha| = 1.2
+    // per step. After 200 steps the face must be rougher than the raw splat
+    // (documents the bound; it saturates only where neighbours drift past the
+    // jump threshold).
     const auto sc = blockScene();
     const double raw = test::blockFaceRoughness(sc.depth, sc);
     const double bad = test::blockFaceRoughness(flow(sc.depth, sc.camera, sc.radius, 200, 0.55f), sc);

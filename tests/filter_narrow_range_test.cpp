@@ -1,6 +1,6 @@
-// Narrow-range filter (SPEC §3.5, Truong & Yuksel, I3D 2018): smooths splatted
-// particle bumps (2-D and separable), keeps planes, bodies, silhouettes and
-// +inf apart, scale- and thread-count-invariant.
+// Narrow-range filter (docs/pipeline.md#narrow-range-filter, Truong & Yuksel,
+// I3D 2018): smooths splatted particle bumps (2-D and separable), keeps planes,
+// bodies, silhouettes and +inf apart, scale- and thread-count-invariant.
 #include <cmath>
 #include <cstdio>
 #include <cstring>

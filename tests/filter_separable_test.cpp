@@ -1,6 +1,7 @@
-// Separable smoothing filters (SPEC §3.5): Gaussian, bilateral and binomial.
-// Every property is a typed test run for each of the three filters with its
-// default parameters; the weight tables are checked on their own.
+// Separable smoothing filters (docs/pipeline.md#smoothing): Gaussian, bilateral
+// and binomial. Every property is a typed test run for each of the three
+// filters with its default parameters; the weight tables are checked on their
+// own.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -1,11 +1,11 @@
-// Several fluids (SPEC §3.10; Cords & Staadt 2008, "Instant Liquids" §5;
-// src/shared/fluids.h, src/cpu/composite_fluids.cpp, the E/T split of
-// src/cpu/shading.cpp, the pipeline's per-fluid layers): the split is exact
-// (C over two backgrounds differs by T times their difference), a pixel with
-// one fluid is that fluid rendered alone, two touching fluids keep a sharp
-// border in depth and colour, an opaque fluid in front hides the one behind
-// exactly, a clear one shows it, fluid indices and materials swapped together
-// give the same picture, the fluid AOV and view, and the errors.
+// Several fluids (docs/pipeline.md#several-fluids; Cords & Staadt 2008,
+// "Instant Liquids" §5; src/shared/fluids.h, src/cpu/composite_fluids.cpp, the
+// E/T split of src/cpu/shading.cpp, the pipeline's per-fluid layers): the split
+// is exact (C over two backgrounds differs by T times their difference), a
+// pixel with one fluid is that fluid rendered alone, two touching fluids keep a
+// sharp border in depth and colour, an opaque fluid in front hides the one
+// behind exactly, a clear one shows it, fluid indices and materials swapped
+// together give the same picture, the fluid AOV and view, and the errors.
 #include <cmath>
 #include <cstdint>
 #include <limits>

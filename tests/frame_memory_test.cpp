@@ -27,7 +27,7 @@ TEST(FrameMemory, GrowsWithThePixelCount) {
     EXPECT_FALSE(checkFrameMemory(4000, 4000, 2 * need, false, false, 2).ok());
 }
 
-// Regression (issue 13): 16384x16384 was accepted, then took minutes and 9.5 GB.
+// Regression: 16384x16384 was accepted, then took minutes and 9.5 GB.
 TEST(FrameMemory, RefusesWithTheFigures) {
     const std::uint64_t gb = 1000000000;
     const Status st = checkFrameMemory(16384, 16384, 24 * gb);

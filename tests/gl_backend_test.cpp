@@ -270,9 +270,9 @@ TEST(Backends, NamesParseAndCpuIsTheDefault) {
     EXPECT_TRUE(note.empty());
 }
 
-// Issue 18, item 6: auto takes the GL backend on a GPU and the CPU backend,
-// with a note naming the rasteriser, when the only GL is a software one
-// (llvmpipe on CI), where the CPU backend is about twice as fast.
+// Auto takes the GL backend on a GPU and the CPU backend, with a note naming
+// the rasteriser, when the only GL is a software one (llvmpipe on CI), where
+// the CPU backend is about twice as fast.
 TEST(Backends, AutoPrefersTheCpuOverASoftwareGl) {
     auto gl = Renderer::create(BackendChoice::Gl);
     if (!gl) GTEST_SKIP() << "no GL context: " << gl.error().describe();

@@ -1,11 +1,11 @@
-// GL compositing of several fluids (SPEC §3.10; src/gl/composite_fluids.cpp,
-// shaders/composite_fluids.comp, and the E/T split in shaders/shade.comp)
-// against the CPU reference (src/cpu/composite_fluids.cpp,
-// src/cpu/shading.cpp): the composite of synthetic layers bit for bit, for
-// one to four layers (overlapping bodies in every depth order, equal depths,
-// layers hidden behind a scene wall); then the whole pipeline with two and
-// three fluids through the public Renderer on the real frame. Skips only
-// when no headless GL 4.3 context can be created at all.
+// GL compositing of several fluids (docs/pipeline.md#several-fluids;
+// src/gl/composite_fluids.cpp, shaders/composite_fluids.comp, and the E/T split
+// in shaders/shade.comp) against the CPU reference
+// (src/cpu/composite_fluids.cpp, src/cpu/shading.cpp): the composite of
+// synthetic layers bit for bit, for one to four layers (overlapping bodies in
+// every depth order, equal depths, layers hidden behind a scene wall); then the
+// whole pipeline with two and three fluids through the public Renderer on the
+// real frame. Skips only when no headless GL 4.3 context can be created at all.
 #include <cmath>
 #include <cstdint>
 #include <limits>

@@ -1,7 +1,8 @@
-// GL curvature flow (SPEC §3.5, src/gl/filter_curvature_flow.cpp) against the
-// CPU reference cpu::filterCurvatureFlow: a jittered block face-on, a ball of
-// particles, two bodies, a ball cut by the border, an empty image and the real
-// SPlisHSPlasH frame. Skips only when no headless GL 4.3 context exists.
+// GL curvature flow (docs/pipeline.md#curvature-flow,
+// src/gl/filter_curvature_flow.cpp) against the CPU reference
+// cpu::filterCurvatureFlow: a jittered block face-on, a ball of particles, two
+// bodies, a ball cut by the border, an empty image and the real SPlisHSPlasH
+// frame. Skips only when no headless GL 4.3 context exists.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -1,8 +1,9 @@
-// GL narrow-range filter (SPEC §3.5, src/gl/filter_narrow_range.cpp) against
-// the CPU reference cpu::filterNarrowRange, 2-D and separable: a jittered block
-// face-on, a ball of particles, two bodies, a ball cut by the border, an empty
-// image, small kernel caps and the real SPlisHSPlasH frame. Skips only when no
-// headless GL 4.3 context exists.
+// GL narrow-range filter (docs/pipeline.md#narrow-range-filter,
+// src/gl/filter_narrow_range.cpp) against the CPU reference
+// cpu::filterNarrowRange, 2-D and separable: a jittered block face-on, a ball
+// of particles, two bodies, a ball cut by the border, an empty image, small
+// kernel caps and the real SPlisHSPlasH frame. Skips only when no headless GL
+// 4.3 context exists.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

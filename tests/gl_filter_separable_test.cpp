@@ -1,9 +1,10 @@
-// GL separable smoothing filters (SPEC §3.5, src/gl/filter_separable.cpp) and
-// the thickness blur (SPEC §3.4) against the CPU references
-// cpu::filterGaussian / filterBilateral / filterBinomial and the blur of
-// cpu::splatDepthAndThickness: synthetic scenes, the real SPlisHSPlasH frame,
-// separate bodies, no-fluid images and fluid touching the image border.
-// Skips only when no headless GL 4.3 context can be created at all.
+// GL separable smoothing filters (docs/pipeline.md#smoothing,
+// src/gl/filter_separable.cpp) and the thickness blur
+// (docs/pipeline.md#thickness) against the CPU references cpu::filterGaussian /
+// filterBilateral / filterBinomial and the blur of cpu::splatDepthAndThickness:
+// synthetic scenes, the real SPlisHSPlasH frame, separate bodies, no-fluid
+// images and fluid touching the image border. Skips only when no headless GL
+// 4.3 context can be created at all.
 #include <algorithm>
 #include <chrono>
 #include <cmath>

@@ -1,4 +1,4 @@
-// GL hole filling (SPEC §3.4a, src/gl/hole_fill.cpp) against the CPU
+// GL hole filling (docs/pipeline.md#hole-filling, src/gl/hole_fill.cpp) against the CPU
 // reference cpu::fillHoles on the same inputs: the real frame's splat (radius
 // a little small: thousands of holes, slits, bays) with and without a scene
 // in front, and a plate with a hole. The rule's arithmetic is shared and

@@ -1,8 +1,8 @@
-// GL normals stage (SPEC §3.6, src/gl/normals.cpp) against the CPU reference
-// cpu::computeNormals: one particle, a ball, the real frame (raw and smoothed
-// depth), and the edge cases: no fluid, fluid touching the image border,
-// separate bodies at different depths, isolated pixels, an odd image size.
-// Skips only when no headless GL 4.3 context can be created at all.
+// GL normals stage (docs/pipeline.md#normals, src/gl/normals.cpp) against the
+// CPU reference cpu::computeNormals: one particle, a ball, the real frame (raw
+// and smoothed depth), and the edge cases: no fluid, fluid touching the image
+// border, separate bodies at different depths, isolated pixels, an odd image
+// size. Skips only when no headless GL 4.3 context can be created at all.
 #include <algorithm>
 #include <chrono>
 #include <cmath>

@@ -1,8 +1,8 @@
-// GL raycast stage (SPEC §3.5a, src/gl/raycast.cpp) against the CPU reference
-// cpu::raycastSurface: a lattice slab face on, the real frame from its
-// auto camera (the splat's start depth the same for both), a scene depth
-// cutting the rays, no field, and the whole pipeline on both backends.
-// Skips only when no headless GL 4.3 context can be created at all.
+// GL raycast stage (docs/pipeline.md#ray-cast-surface, src/gl/raycast.cpp)
+// against the CPU reference cpu::raycastSurface: a lattice slab face on, the
+// real frame from its auto camera (the splat's start depth the same for both),
+// a scene depth cutting the rays, no field, and the whole pipeline on both
+// backends. Skips only when no headless GL 4.3 context can be created at all.
 #include <cmath>
 #include <limits>
 #include <vector>

@@ -1,4 +1,4 @@
-// GL scene stage (SPEC §3.1, src/gl/scene.cpp) against the CPU reference
+// GL scene stage (docs/pipeline.md#scene, src/gl/scene.cpp) against the CPU reference
 // cpu::castScene: the studio of the real frame, a synthetic box seen from all
 // four sides and from above and near the horizon (far fade, sky), the
 // floor-only studio of a moving camera, the background switched off, the light direction (planes' lighting, the sun). Skips only when no headless GL 4.3 context can be

@@ -1,10 +1,10 @@
-// GL shading and compositing (SPEC §3.8, src/gl/shading.cpp) against the CPU
-// reference cpu::shadeAndComposite, on the real frame's CPU AOVs (scene layer,
-// smoothed depth, normals, thickness) uploaded as the inputs: water, lava and
-// every other preset, the background off, foam from a surface noise image,
-// white water from a velocity whitening map (with and without foam),
-// and the edge cases: no fluid, no scene, fluid hidden behind the scene,
-// missing normals / thickness.
+// GL shading and compositing (docs/pipeline.md#shading, src/gl/shading.cpp)
+// against the CPU reference cpu::shadeAndComposite, on the real frame's CPU
+// AOVs (scene layer, smoothed depth, normals, thickness) uploaded as the
+// inputs: water, lava and every other preset, the background off, foam from a
+// surface noise image, white water from a velocity whitening map (with and
+// without foam), and the edge cases: no fluid, no scene, fluid hidden behind
+// the scene, missing normals / thickness.
 // Skips only when no headless GL 4.3 context can be created at all.
 #include <algorithm>
 #include <chrono>
@@ -282,8 +282,9 @@ TEST_F(GlShading, NoSceneNoNormalsNoThicknessMatchCpu) {
 
 
 TEST_F(GlShading, FoamMatchesCpu) {
-    // Foam over the shaded fluid (SPEC §3.7) from a synthetic noise image:
-    // stripes of |N| from 0 to 0.5, so the cover runs from none to full.
+    // Foam over the shaded fluid (docs/pipeline.md#noise-and-foam) from a
+    // synthetic noise image: stripes of |N| from 0 to 0.5, so the cover runs
+    // from none to full.
     const RealAovs& a = real320();
     ASSERT_FALSE(a.aovs.depth.empty());
     Image<float> noise(a.camera.width, a.camera.height, 0.0f);
@@ -303,9 +304,10 @@ TEST_F(GlShading, FoamMatchesCpu) {
 }
 
 TEST_F(GlShading, WhiteWaterMatchesCpu) {
-    // White water over the shaded fluid (SPEC §3.7, Instant Liquids §4) from a
-    // synthetic whitening map: stripes from 0 to 1, so the cover runs from none
-    // to the full strength; alone and over the foam of FoamMatchesCpu.
+    // White water over the shaded fluid (docs/pipeline.md#noise-and-foam,
+    // Instant Liquids §4) from a synthetic whitening map: stripes from 0 to 1,
+    // so the cover runs from none to the full strength; alone and over the foam
+    // of FoamMatchesCpu.
     const RealAovs& a = real320();
     ASSERT_FALSE(a.aovs.depth.empty());
     Image<float> map(a.camera.width, a.camera.height, 0.0f), noise = map;

@@ -1,13 +1,13 @@
-// GL silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3; SPEC
-// §3.5; src/gl/silhouette.cpp and shaders/silhouette_*.comp) against the CPU
-// reference cpu::reduceSilhouettes: S and the faded colour bit for bit on a
-// synthetic depth of an odd size (a disc whose depth varies across it, so
-// the windows differ from pixel to pixel, a sheet 3 pixels wide, fluid
-// touching all four borders, single scattered pixels) under scrambled colour
-// and scene colour, for the fade from 0.5 and from 0, the paper's clip, a
-// window of one pixel's half-width and one capped at maxPx; images of
-// another size leave the colour and give S = 0; then the whole pipeline with
-// the reduction on through the public Renderer on the real frame (the
+// GL silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3;
+// docs/pipeline.md#silhouette-reduction; src/gl/silhouette.cpp and
+// shaders/silhouette_*.comp) against the CPU reference cpu::reduceSilhouettes: S
+// and the faded colour bit for bit on a synthetic depth of an odd size (a disc
+// whose depth varies across it, so the windows differ from pixel to pixel, a
+// sheet 3 pixels wide, fluid touching all four borders, single scattered pixels)
+// under scrambled colour and scene colour, for the fade from 0.5 and from 0, the
+// paper's clip, a window of one pixel's half-width and one capped at maxPx;
+// images of another size leave the colour and give S = 0; then the whole pipeline
+// with the reduction on through the public Renderer on the real frame (the
 // silhouette AOV and the depth the same bits, the colour within the
 // whole-pipeline tolerance), and fading over the scene colour's own slot
 // keeps the cached scene. Skips only when no headless GL 4.3 context can be

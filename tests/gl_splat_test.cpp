@@ -1,6 +1,7 @@
-// GL depth splat (SPEC §3.3, src/gl/splat.cpp) against the CPU reference
-// cpu::splatDepth: synthetic and real frames, with and without a scene depth.
-// Skips only when no headless GL 4.3 context can be created at all.
+// GL depth splat (docs/pipeline.md#depth-splat, src/gl/splat.cpp) against the
+// CPU reference cpu::splatDepth: synthetic and real frames, with and without a
+// scene depth. Skips only when no headless GL 4.3 context can be created at
+// all.
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -126,7 +127,7 @@ TEST_F(GlSplat, NoParticlesIsAllInfinity) {
     for (float z : gl->pixels) EXPECT_TRUE(std::isinf(z) && z > 0);
 }
 
-// ---- Thickness chords (SPEC §3.4): GL's fixed-point sums vs the CPU's.
+// ---- Thickness chords (docs/pipeline.md#thickness): GL's fixed-point sums vs the CPU's.
 
 namespace {
 struct GlDepthAndThickness {

@@ -1,14 +1,15 @@
-// GL spray drops (SPEC §3.2, §3.7; the NVIDIA SSFR patent's spray particles;
+// GL spray drops (docs/pipeline.md#classification,
+// docs/pipeline.md#noise-and-foam; the NVIDIA SSFR patent's spray particles;
 // src/gl/spray.cpp, spray_splat.comp and spray_resolve.comp) against the CPU
-// reference cpu::drawSpray: the cover and the colour bit for bit on a
-// smoothed slab seen from an angle, a nearer wall in the scene depth over part
-// of the image, ~2,000 drops above and inside the slab with scrambled
-// velocities (at rest, slow, and fast enough for long streaks), a drop near
-// the camera whose capsule takes the large-drop pass, and drops behind the
-// near plane or crossing it; then the whole pipeline with the spray on
-// through the public Renderer on the real frame, which has velocities and no
-// density (so the drops are classified by the SPH estimate, core/spray.cpp).
-// Skips only when no headless GL 4.3 context can be created at all.
+// reference cpu::drawSpray: the cover and the colour bit for bit on a smoothed
+// slab seen from an angle, a nearer wall in the scene depth over part of the
+// image, ~2,000 drops above and inside the slab with scrambled velocities (at
+// rest, slow, and fast enough for long streaks), a drop near the camera whose
+// capsule takes the large-drop pass, and drops behind the near plane or crossing
+// it; then the whole pipeline with the spray on through the public Renderer on
+// the real frame, which has velocities and no density (so the drops are
+// classified by the SPH estimate, core/spray.cpp). Skips only when no headless GL
+// 4.3 context can be created at all.
 #include <chrono>
 #include <cmath>
 #include <cstdint>

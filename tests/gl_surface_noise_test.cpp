@@ -1,10 +1,10 @@
-// GL surface noise (SPEC §3.7, src/gl/surface_noise.cpp; the patent US
-// 8,947,430, eqs. 14-17) against the CPU reference src/cpu/surface_noise.cpp:
-// the noise image N and the bumped normals bit for bit on a slab seen from an
-// angle (scrambled ids, turbulence amplitudes, a particle near the camera
-// whose sprite takes the large-sprite pass), and the whole pipeline with the
-// noise and foam on, through the public Renderer on the real frame.
-// Skips only when no headless GL 4.3 context can be created at all.
+// GL surface noise (docs/pipeline.md#noise-and-foam, src/gl/surface_noise.cpp;
+// the patent US 8,947,430, eqs. 14-17) against the CPU reference
+// src/cpu/surface_noise.cpp: the noise image N and the bumped normals bit for
+// bit on a slab seen from an angle (scrambled ids, turbulence amplitudes, a
+// particle near the camera whose sprite takes the large-sprite pass), and the
+// whole pipeline with the noise and foam on, through the public Renderer on the
+// real frame. Skips only when no headless GL 4.3 context can be created at all.
 #include <chrono>
 #include <cmath>
 #include <cstdint>

@@ -1,13 +1,13 @@
-// GL reduced-resolution processing (SPEC §3.9; src/gl/upsample.cpp and
-// shaders/upsample*.comp) against the CPU reference (src/cpu/upsample.cpp):
-// the reduced scene depth, the upsampled depth, normal, thickness, noise and
-// coverage, and the blended edges bit for bit on synthetic low images of odd
-// sizes (two bodies at different depths, a sheet, single pixels, fluid on the
-// borders, a wall in the scene hiding part of it), for d = 2 and 4; then the
-// whole pipeline at half resolution through the public Renderer on the real
-// frame (depth and normals the same bits, the colour within the
-// whole-pipeline tolerance). Skips only when no headless GL 4.3 context can be
-// created at all.
+// GL reduced-resolution processing (docs/pipeline.md#reduced-resolution;
+// src/gl/upsample.cpp and shaders/upsample*.comp) against the CPU reference
+// (src/cpu/upsample.cpp): the reduced scene depth, the upsampled depth, normal,
+// thickness, noise and coverage, and the blended edges bit for bit on synthetic
+// low images of odd sizes (two bodies at different depths, a sheet, single
+// pixels, fluid on the borders, a wall in the scene hiding part of it), for d =
+// 2 and 4; then the whole pipeline at half resolution through the public
+// Renderer on the real frame (depth and normals the same bits, the colour
+// within the whole-pipeline tolerance). Skips only when no headless GL 4.3
+// context can be created at all.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>

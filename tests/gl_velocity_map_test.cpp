@@ -1,10 +1,10 @@
-// GL velocity whitening map (SPEC §3.7; Cords & Staadt 2008, "Instant
-// Liquids" §4; src/gl/surface_noise.cpp's runWhitening, noise_splat.comp and
-// noise_resolve.comp in their whitening mode) against the CPU reference
-// cpu::splatWhitening: the map bit for bit on a slab seen from an angle with a
-// floating block over it (a jump in depth the culling must see), scrambled
-// whiteness from a spread of speeds, and a particle near the camera whose
-// sprite takes the large-sprite pass; then the whole pipeline with the
+// GL velocity whitening map (docs/pipeline.md#noise-and-foam; Cords & Staadt
+// 2008, "Instant Liquids" §4; src/gl/surface_noise.cpp's runWhitening,
+// noise_splat.comp and noise_resolve.comp in their whitening mode) against the
+// CPU reference cpu::splatWhitening: the map bit for bit on a slab seen from an
+// angle with a floating block over it (a jump in depth the culling must see),
+// scrambled whiteness from a spread of speeds, and a particle near the camera
+// whose sprite takes the large-sprite pass; then the whole pipeline with the
 // whitening on (and with the noise as well) through the public Renderer on
 // the real frame, which has velocities.
 // Skips only when no headless GL 4.3 context can be created at all.

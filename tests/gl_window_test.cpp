@@ -359,12 +359,11 @@ TEST_F(GlWindow, ViewSimulateShowsTheFramesSimulateRenders) {
     EXPECT_NE(out.find("missing.json"), std::string::npos) << out;
 }
 
-// The panels (issue 18, item 1): a scripted click on the radius slider
-// changes the picture, prints the `render` option that makes it, and the
-// picture is what `render` with that option writes; after an orbit, "save"
-// writes a scene file that `render` turns into the same picture; the
-// timeline's ">" shows the next frame; a dropped file is shown; the window's
-// own screenshot has the panels over the picture.
+// The panels: a scripted click on the radius slider changes the picture, prints
+// the `render` option that makes it, and the picture is what `render` with that
+// option writes; after an orbit, "save" writes a scene file that `render` turns
+// into the same picture; the timeline's ">" shows the next frame; a dropped
+// file is shown; the window's own screenshot has the panels over the picture.
 TEST_F(GlWindow, PanelsTuneTheLookAsRenderDoes) {
     const auto dir = tempDir();
     const std::string frame = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo").string();

@@ -1,10 +1,11 @@
-// Hole filling (SPEC §3.4a, src/cpu/hole_fill.cpp, src/shared/hole_fill.h)
-// and the thin-liquid thickness: holes closed in on every side are filled
-// (planes stay planes), bays, gaps between drops, gaps between layers, gaps
-// wider than the span and pixels behind the scene are not; the same bits for
-// any thread count; and the test: a sheet one particle thick at rest
-// spacing renders with full coverage and no pixel darker or greyer than its
-// neighbours beyond the bounds below, which it breaks without the two.
+// Hole filling (docs/pipeline.md#hole-filling, src/cpu/hole_fill.cpp,
+// src/shared/hole_fill.h) and the thin-liquid thickness: holes closed in on
+// every side are filled (planes stay planes), bays, gaps between drops, gaps
+// between layers, gaps wider than the span and pixels behind the scene are not;
+// the same bits for any thread count; and the case hole filling is for: a sheet
+// one particle thick at rest spacing renders with full coverage and no pixel
+// darker or greyer than its neighbours beyond the bounds below, which it breaks
+// without the two.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -191,7 +192,7 @@ TEST(ThinLiquid, TheThicknessIsAtLeastTheFloor) {
 
 namespace {
 
-// The sheet: one layer of particles at rest spacing 2 r in the plane
+// The sheet: one layer of particles at rest spacing 2 r in the plane
 // z = 0 (a 40 x 30 square lattice, jittered by 15 % of the spacing in x and y
 // as a simulation leaves it), seen face on and at 50 degrees, over the studio.
 struct SheetStats {

@@ -429,7 +429,7 @@ TEST_F(BgeoMalformed, RandomByteFlipsNeverCrash) {
     }
 }
 
-// Regression (issue 13): decompression bombs. A header's point count is
+// Regression: decompression bombs. A header's point count is
 // refused before anything is inflated when deflate (at most 1032:1) cannot
 // produce that many bytes from the file...
 TEST(BgeoBomb, PointCountBeyondWhatTheCompressedBytesCanHold) {

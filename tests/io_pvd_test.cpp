@@ -106,6 +106,7 @@ TEST(Pvd, RelativeAndAbsolutePathsAndNoTimesteps) {
     ASSERT_TRUE(c.ok()) << c.error().describe();
     EXPECT_EQ(c->files, (std::vector<fs::path>{"base/a/x_1.vtu", "/abs/y.vtu", "base/z.vtp"}));
     EXPECT_EQ(c->times, (std::vector<double>{0.0, 1.0, 2.0}));  // file order
+    EXPECT_FALSE(c->timed);
 }
 
 TEST(Pvd, LowestPartOfEachTimestep) {
@@ -157,6 +158,32 @@ TEST(Pvd, ErrorsNameThePvd) {
                      &out),
               0);
     EXPECT_NE(out.find("gone.pvd"), std::string::npos) << out;
+}
+
+// A movie's rate from the data: evenly spaced times give 1 / dt, anything
+// else none; a .pvd carries a rate only when it gives timesteps.
+TEST(Pvd, FrameRateOfEvenTimesteps) {
+    EXPECT_NEAR(*evenFrameRate(std::vector<double>{0.0, 0.04, 0.08, 0.12}), 25.0, 1e-9);
+    EXPECT_NEAR(*evenFrameRate(std::vector<double>{1.0, 1.0 + 1.0 / 15, 1.0 + 2.0 / 15}), 15.0, 1e-9);
+    EXPECT_FALSE(evenFrameRate(std::vector<double>{0.0}));
+    EXPECT_FALSE(evenFrameRate(std::vector<double>{0.0, 0.1, 0.3}));  // uneven
+    EXPECT_FALSE(evenFrameRate(std::vector<double>{0.2, 0.1, 0.0}));  // decreasing
+    EXPECT_FALSE(evenFrameRate(std::vector<double>{0.0, 0.0}));
+    const fs::path dir = tempDir();
+    const std::vector<fs::path> files = {dir / "a.xyz", dir / "b.xyz", dir / "c.xyz"};
+    for (const fs::path& f : files) writeText(f, "0 0 0\n");
+    ASSERT_TRUE(writePvd(dir / "timed.pvd", files, {0.0, 0.5, 1.0}).ok());
+    auto rate = frameRateOfInput(dir / "timed.pvd");
+    ASSERT_TRUE(rate.ok()) << rate.error().describe();
+    EXPECT_NEAR(rate->value(), 2.0, 1e-9);
+    writeText(dir / "untimed.pvd", "<VTKFile type=\"Collection\"><Collection><DataSet file=\"a.xyz\"/>"
+                                  "<DataSet file=\"b.xyz\"/></Collection></VTKFile>");
+    rate = frameRateOfInput(dir / "untimed.pvd");
+    ASSERT_TRUE(rate.ok()) << rate.error().describe();
+    EXPECT_FALSE(rate->has_value());
+    rate = frameRateOfInput(dir / "a.xyz");
+    ASSERT_TRUE(rate.ok());
+    EXPECT_FALSE(rate->has_value());
 }
 
 }  // namespace

@@ -32,8 +32,11 @@ using test::toBytes;
 
 // ---------------------------------------------------------------- helpers
 
-// The SPlisHSPlasH legacy binary layout (big-endian), see
-// /work/shared/testdata/splishsplash/README.md "vtk/*.vtk".
+// The SPlisHSPlasH legacy binary layout (VTK 4.1, BINARY, big-endian,
+// UNSTRUCTURED_GRID): POINTS N float, CELLS (one VTK_VERTEX per particle),
+// CELL_TYPES, then POINT_DATA: SCALARS id unsigned_int and a FIELD of velocity
+// (3 floats) and density (1 float), in the run's attribute order; each binary
+// block is followed by one newline.
 struct LegacyFrame {
     std::size_t n = 0;
     std::vector<float> positions;  // 3n

@@ -1,4 +1,4 @@
-// Tests of the CPU normals stage (SPEC §3.6).
+// Tests of the CPU normals stage (docs/pipeline.md#normals).
 #include <algorithm>
 #include <cmath>
 #include <cstring>

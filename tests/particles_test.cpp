@@ -96,8 +96,8 @@ TEST(Particles, RadiusIgnoresCoincidentPointsAndFallsBackWhenAlone) {
     EXPECT_GT(est.radius, 0.0f);
 }
 
-// Regression (issue 13): two points 1e-15 m apart made the grid's cell size
-// underflow to 0 and `cell *= 1.25` never ended.
+// Regression: two points 1e-15 m apart made the grid's cell size underflow to 0
+// and `cell *= 1.25` never ended.
 TEST(Particles, RadiusOfATinySetEnds) {
     const std::vector<glm::vec3> pts{{0, 0, 0}, {1e-15f, 0, 0}};
     const RadiusEstimate est = estimateRadius(pts);
@@ -106,8 +106,8 @@ TEST(Particles, RadiusOfATinySetEnds) {
     EXPECT_FALSE(checkRadius(est.radius).ok());  // and the pipeline refuses to render it
 }
 
-// Regression (issue 13): one particle at x = 1e6 beside a 49^3 block at 0.01 m
-// sized the grid to the whole bounds and turned the estimate into 0.05 m.
+// Regression: one particle at x = 1e6 beside a 49^3 block at 0.01 m sized the
+// grid to the whole bounds and turned the estimate into 0.05 m.
 TEST(Particles, RadiusIgnoresAFarOutlier) {
     auto pts = jitteredLattice(49, 49, 49, 0.01f, 0.0f, 0);
     const float alone = estimateRadius(pts).radius;
@@ -135,8 +135,8 @@ TEST(Particles, RadiusIsTheSameForAnyThreadCount) {
     EXPECT_EQ(one.bulkNumberDensity, two.bulkNumberDensity);
 }
 
-// Item 8 of issue 13: the default radius is within 10% of the radius each real
-// data set was simulated with (SPlisHSPlasH's particleRadius; docs/radius.md).
+// The default radius is within 10% of the radius each real data set was
+// simulated with (SPlisHSPlasH's particleRadius; docs/radius.md).
 TEST(Particles, DefaultRadiusOfEveryRealDataSetIsWithinTenPercent) {
     const std::pair<std::filesystem::path, float> sets[] = {
         {test::repoData("demo/ParticleData_Fluid_19.bgeo"), 0.025f},
@@ -179,8 +179,8 @@ TEST(Particles, DefaultRadiusReadsTheFilesOwnRadius) {
     EXPECT_EQ(defaultRadius(s).method, RadiusMethod::BulkDensity);
 }
 
-// Issue 17, item 2: a smoothing length h becomes each particle's radius
-// h / (2 k); a file's own radius wins; floats only; k must be positive.
+// A smoothing length h becomes each particle's radius h / (2 k); a file's own
+// radius wins; floats only; k must be positive.
 TEST(Particles, RadiusFromTheSmoothingLength) {
     ParticleSet s;
     s.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
@@ -228,8 +228,8 @@ TEST(Particles, RadiusFromTheSmoothingLength) {
     }
 }
 
-// Regression (issue 13): 1,000 points in [0, 1e30]^3 gave "too few particles"
-// and a camera error naming no file; now the data is named as the problem.
+// Regression: 1,000 points in [0, 1e30]^3 gave "too few particles" and a camera
+// error naming no file; now the data is named as the problem.
 TEST(Particles, CoordinatesBeyondTheRangeAreNamed) {
     std::vector<glm::vec3> pts{{0, 0, 0}, {1e30f, 5e29f, 0}};
     const Status st = checkCoordinates(pts, "big.xyz");
@@ -240,7 +240,7 @@ TEST(Particles, CoordinatesBeyondTheRangeAreNamed) {
     EXPECT_TRUE(checkCoordinates(pts, "ok.xyz").ok());
 }
 
-// Regression (issue 13): --radius 1e30 failed as "up vector is parallel to the view direction".
+// Regression: --radius 1e30 failed as "up vector is parallel to the view direction".
 TEST(Particles, RadiusRangeCheck) {
     for (float bad : {1e30f, 0.0f, -1.0f, 1e-20f, std::numeric_limits<float>::quiet_NaN(),
                       std::numeric_limits<float>::infinity()}) {

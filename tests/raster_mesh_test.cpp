@@ -36,7 +36,7 @@ double angleDeg(glm::dvec3 a, glm::dvec3 b) {
     return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI;
 }
 
-// View-space ray of pixel (x, y) in double (SPEC §2).
+// View-space ray of pixel (x, y) in double (docs/conventions.md#conventions).
 glm::dvec3 rayOf(const Camera& cam, int x, int y) {
     const double f = cam.focalPx();
     return {(x + 0.5 - 0.5 * cam.width) / f, -(y + 0.5 - 0.5 * cam.height) / f, -1.0};

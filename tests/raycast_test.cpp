@@ -1,9 +1,10 @@
-// The ray-cast SPH surface (SPEC §3.5a; RaycastParams, core/sph_field.h,
-// cpu/raycast.cpp, shared/sph_surface.h): the kernel and its gradient, the
-// field grid against a direct sum (outliers included), a flat face found
-// where an independent double-precision bisection puts the iso level, a lone
-// particle without a surface, the scene depth bounding the rays, the same
-// output for any thread count, and the Renderer and CLI around the stage.
+// The ray-cast SPH surface (docs/pipeline.md#ray-cast-surface; RaycastParams,
+// core/sph_field.h, cpu/raycast.cpp, shared/sph_surface.h): the kernel and its
+// gradient, the field grid against a direct sum (outliers included), a flat
+// face found where an independent double-precision bisection puts the iso
+// level, a lone particle without a surface, the scene depth bounding the rays,
+// the same output for any thread count, and the Renderer and CLI around the
+// stage.
 #include <algorithm>
 #include <cmath>
 #include <cstring>

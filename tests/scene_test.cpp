@@ -1,4 +1,4 @@
-// Scene stage (SPEC §3.1): the studio's floor depth against the analytic
+// Scene stage (docs/pipeline.md#scene): the studio's floor depth against the analytic
 // ray-plane depth, walls behind the fluid from every side, sky pixels, fluid
 // hidden behind a wall, a transparent background, the checker, thread and
 // scale invariance, the light direction lighting the planes and placing the
@@ -260,7 +260,7 @@ TEST(Scene, ScaleInvariant) {
     EXPECT_LE(mismatches, int(a.depth.size() / 200));
 }
 
-// The light direction lights the studio (SPEC §3.1: flat key + ambient per
+// The light direction lights the studio (docs/pipeline.md#scene: flat key + ambient per
 // plane) and places the sky's sun. A light straight up against one along the
 // x wall's normal: the floor goes from ambient + key (1.0) to ambient (0.45),
 // the x wall the other way, the z wall stays at ambient; each square's colour

@@ -1,4 +1,5 @@
-// Tests of the CPU shading and compositing stage (SPEC §3.8) and the material presets.
+// Tests of the CPU shading and compositing stage (docs/pipeline.md#shading) and the
+// material presets.
 #include <algorithm>
 #include <ctime>
 #include <cmath>
@@ -234,7 +235,7 @@ TEST(Shading, SkySunFollowsTheLight) {
 }
 
 // Below the horizon the liquid mirrors what it shows through itself, not the
-// sky's brown ground (issue 17: grazing crests drew brown lines): a face turned
+// sky's brown ground (with the ground, grazing crests drew brown lines): a face turned
 // down and grazing (n.v about 0.31, F about 0.17) so that reflect(-v, n) points
 // well below the horizon (world y about -0.59, no sun glow) shows
 // a = C_fluid + (S - C_fluid) exp(-k T) whatever its Fresnel weight, 1e-5. The

@@ -1,10 +1,10 @@
-// Silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3; SPEC §3.5;
-// src/cpu/silhouette.cpp): the silhouette map of a disc against a brute-force
-// count, a plane filling the image stays untouched, the fade and the clip,
-// nothing outside a convex contour changes at the default fade, the fade
-// continued past the contour (and a notch filled), the same bits for any thread count, and
-// through the Renderer the edges get fractional alpha (today's 0 or 1 is the
-// stair-step the issue names).
+// Silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3;
+// docs/pipeline.md#silhouette-reduction; src/cpu/silhouette.cpp): the
+// silhouette map of a disc against a brute-force count, a plane filling the
+// image stays untouched, the fade and the clip, nothing outside a convex
+// contour changes at the default fade, the fade continued past the contour (and
+// a notch filled), the same bits for any thread count, and through the Renderer
+// the edges get fractional alpha (without it, a stair-step of 0 or 1).
 #include <algorithm>
 #include <cmath>
 #include <cstring>

@@ -1,6 +1,6 @@
-// The simulator (src/sim/, include/meniscus/sim.h): kernels, neighbour
-// search, boundaries, the three methods, emitters/drains/lifetime, and the
-// physics checks of issue 15 that are cheap enough for every CI run.
+// The simulator (src/sim/, include/meniscus/sim.h): kernels, neighbour search,
+// boundaries, the three methods, emitters/drains/lifetime, and the physics
+// checks that are cheap enough for every CI run.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -463,10 +463,10 @@ TEST(SimPhysics, DfsphColumnStaysAtRest) {
     // The lattice settles onto the floor by about its gap (2r -> r): bounds in r = 0.01 m.
     std::printf("DFSPH column: max speed %.4f m/s, mean drift %.5f m, max drift %.5f m, density error %.5f, slope %.0f Pa/m\n",
                 c.maxSpeed, c.meanDrift, c.maxDrift, c.densityError, c.slope);
-    // Bounds as the solver stands (issue 15's notes): a settled column keeps
-    // moving at a few cm/s (mean), never like a flow (free fall from its
-    // height would be 2.4 m/s); its density stays within 0.3 % of rho0; the
-    // pressure grows downward at the hydrostatic rate within a factor of 2.
+    // Bounds as the solver stands: a settled column keeps moving at a few cm/s
+    // (mean), never like a flow (free fall from its height would be 2.4 m/s);
+    // its density stays within 0.3 % of rho0; the pressure grows downward at
+    // the hydrostatic rate within a factor of 2.
     EXPECT_LT(c.maxSpeed, 0.6) << "m/s";
     EXPECT_LT(c.meanDrift, 0.005) << "m over 0.5 s";
     EXPECT_LT(c.densityError, 0.003) << "mean |rho - rho0| / rho0 in the interior";

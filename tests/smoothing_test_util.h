@@ -1,5 +1,6 @@
-// Scenes and surface measures shared by the smoothing-filter tests (SPEC §3.5):
-// splatted particle blocks seen face-on, normals by back-projection, roughness.
+// Scenes and surface measures shared by the smoothing-filter tests
+// (docs/pipeline.md#smoothing): splatted particle blocks seen face-on, normals
+// by back-projection, roughness.
 #pragma once
 
 #include <algorithm>

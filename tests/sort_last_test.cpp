@@ -1,4 +1,4 @@
-// Sort-last rendering (issue 20; include/meniscus/sort_last.h): the splat's
+// Sort-last rendering (include/meniscus/sort_last.h): the splat's
 // partials of any split of the particles combine exactly (nearest depth,
 // wrapping sums of the fixed-point chords) into the whole's, so the root's
 // picture is bit-identical to the one-process render. Here K "processes" run

@@ -1,5 +1,5 @@
-// Depth splat (SPEC §3.3): exact ray-sphere depth, exact projected bounds,
-// scene occlusion, near clipping, thread-count independence.
+// Depth splat (docs/pipeline.md#depth-splat): exact ray-sphere depth, exact
+// projected bounds, scene occlusion, near clipping, thread-count independence.
 #include <cmath>
 #include <cstring>
 #include <limits>

@@ -1,7 +1,8 @@
-// Spray (SPEC §3.2; issue 16 item 3): the classification by density against
-// hand-made density fields, the SPH estimate without a density attribute, and
-// the drops drawn on the CPU (src/cpu/spray.cpp): hidden behind nearer fluid,
-// streaked along their velocity, the same bits in any order.
+// Spray (docs/pipeline.md#classification): the classification
+// by density against hand-made density fields, the SPH estimate without a
+// density attribute, and the drops drawn on the CPU (src/cpu/spray.cpp): hidden
+// behind nearer fluid, streaked along their velocity, the same bits in any
+// order.
 #include <algorithm>
 #include <cmath>
 #include <cstring>

@@ -1,9 +1,9 @@
-// The surface-noise stage on the CPU (src/cpu/surface_noise.cpp, SPEC §3.7;
-// the NVIDIA SSFR patent's eqs. 14-17): N is a deterministic function of the
-// particles' ids and positions, its pattern travels with a particle, only
-// particles at the surface count, it bumps the normals by its gradient, the
-// shading lays foam by its magnitude, and the renderer keeps the turbulence of
-// a sequence.
+// The surface-noise stage on the CPU (src/cpu/surface_noise.cpp,
+// docs/pipeline.md#noise-and-foam; the NVIDIA SSFR patent's eqs. 14-17): N is a
+// deterministic function of the particles' ids and positions, its pattern
+// travels with a particle, only particles at the surface count, it bumps the
+// normals by its gradient, the shading lays foam by its magnitude, and the
+// renderer keeps the turbulence of a sequence.
 #include <algorithm>
 #include <cmath>
 #include <cstring>

@@ -1,8 +1,9 @@
-// Thickness stage (SPEC §3.4): exact chords of one sphere, a block at rest
-// spacing reading its true depth, clipping by the scene and the near plane, the
-// blur keeping the mean, the one-pass depth+thickness matching the two calls,
-// thread and scale invariance, at full resolution and on the coarser grids
-// (resolutionDivisor 2 and 4). Speed is measured by build/bench, not here.
+// Thickness stage (docs/pipeline.md#thickness): exact chords of one sphere, a
+// block at rest spacing reading its true depth, clipping by the scene and the
+// near plane, the blur keeping the mean, the one-pass depth+thickness matching
+// the two calls, thread and scale invariance, at full resolution and on the
+// coarser grids (resolutionDivisor 2 and 4). Speed is measured by build/bench,
+// not here.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -1,13 +1,13 @@
-// Reduced-resolution processing (SPEC §3.9; src/shared/upsample.h,
-// src/cpu/upsample.cpp, core/fluid_scale.h): the low camera sees what the full
-// one sees at 1/d of the pixels; every full pixel belongs to exactly one low
-// pixel; the reduced scene depth is the farthest under each low pixel; a
-// tilted plane upsampled stays that plane (depth and normal); two bodies at
-// different depths and the background are never mixed; the contour is the
-// half-coverage line at full resolution (not d x d steps); the scene hides
-// what is behind it; edges are blended by the coverage; and the whole
-// pipeline at half resolution stays close to the full-resolution render of
-// the real frame, with every AOV at the image's size.
+// Reduced-resolution processing (docs/pipeline.md#reduced-resolution;
+// src/shared/upsample.h, src/cpu/upsample.cpp, core/fluid_scale.h): the low
+// camera sees what the full one sees at 1/d of the pixels; every full pixel
+// belongs to exactly one low pixel; the reduced scene depth is the farthest
+// under each low pixel; a tilted plane upsampled stays that plane (depth and
+// normal); two bodies at different depths and the background are never mixed;
+// the contour is the half-coverage line at full resolution (not d x d steps);
+// the scene hides what is behind it; edges are blended by the coverage; and the
+// whole pipeline at half resolution stays close to the full-resolution render
+// of the real frame, with every AOV at the image's size.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -1,8 +1,8 @@
-// The velocity whitening on the CPU (src/cpu/velocity_map.cpp, SPEC §3.7;
-// Instant Liquids §4): the map is the weighted mean whiteness of the
-// particles near the surface, so a uniform flow gives its own whiteness
-// everywhere, fast and slow parts keep theirs, deep particles do not count,
-// and the shading lays white water by it.
+// The velocity whitening on the CPU (src/cpu/velocity_map.cpp,
+// docs/pipeline.md#noise-and-foam; Instant Liquids §4): the map is the weighted
+// mean whiteness of the particles near the surface, so a uniform flow gives its
+// own whiteness everywhere, fast and slow parts keep theirs, deep particles do
+// not count, and the shading lays white water by it.
 #include <algorithm>
 #include <cmath>
 #include <cstring>

@@ -1,7 +1,7 @@
-// Movies (include/meniscus/video.h, issue 18 item 2): the writer's MP4 decoded
-// back with FFmpeg's own demuxer and decoder (frame count, size, pixels close
-// to what went in); the CLI's `render SEQUENCE -o out.mp4` against its PNGs;
-// errors leave no file.
+// Movies (include/meniscus/video.h): the writer's MP4 decoded back with
+// FFmpeg's own demuxer and decoder (frame count, size, pixels close to what
+// went in); the CLI's `render SEQUENCE -o out.mp4` against its PNGs; errors
+// leave no file.
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -230,6 +230,83 @@ TEST(Video, CliRendersASequenceWithGapsToAnMp4) {
     EXPECT_NE(out.find("even width and height"), std::string::npos) << out;
     EXPECT_EQ(test::runCommand(cli + "-o '" + (dir / "r.mp4").string() + "' --width 160 --resume", &out), 1);
     EXPECT_FALSE(fs::exists(dir / "odd.mp4"));
+    EXPECT_FALSE(fs::exists(dir / "r.mp4"));
+}
+
+// A movie plays at the rate its data carries: a .pvd's timesteps 1/15 s apart
+// give 15 fps (SPlisHSPlasH's own output rate), said in the log; --fps still
+// wins; frames without time play at the default, and the log says so.
+TEST(Video, TheMovieRateComesFromTheData) {
+    const fs::path dir = test::tempDir() / "video_rate";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path data = test::testData("splishsplash/partio");
+    std::vector<fs::path> files;
+    for (const char* n : {"1", "21", "61"}) {
+        files.push_back(dir / ("f_" + std::string(n) + ".bgeo"));
+        fs::copy_file(data / ("ParticleData_Fluid_" + std::string(n) + ".bgeo"), files.back());
+    }
+    ASSERT_TRUE(writePvd(dir / "run.pvd", files, {0.0, 1.0 / 15.0, 2.0 / 15.0}).ok());
+    const std::string cli = std::string(MENISCUS_CLI) + " render ";
+    const std::string look = " --width 160 --height 90 --backend cpu";
+    std::string out;
+    ASSERT_EQ(test::runCommand(cli + "'" + (dir / "run.pvd").string() + "' -o '" + (dir / "a.mp4").string() + "'" + look,
+                               &out),
+              0)
+        << out;
+    EXPECT_NE(out.find("plays at 15 fps (the rate of the input's timesteps"), std::string::npos) << out;
+    EXPECT_NEAR(decode(dir / "a.mp4").fps, 15.0, 1e-3);
+    ASSERT_EQ(test::runCommand(cli + "'" + (dir / "run.pvd").string() + "' -o '" + (dir / "b.mp4").string() +
+                                   "' --fps 24" + look,
+                               &out),
+              0)
+        << out;
+    EXPECT_NEAR(decode(dir / "b.mp4").fps, 24.0, 1e-6);
+    ASSERT_EQ(test::runCommand(cli + "'" + (dir / "f_*.bgeo").string() + "' -o '" + (dir / "c.mp4").string() + "'" + look,
+                               &out),
+              0)
+        << out;
+    EXPECT_NE(out.find("plays at 30 fps (the frames carry no time; --fps sets the rate)"), std::string::npos) << out;
+    EXPECT_NEAR(decode(dir / "c.mp4").fps, 30.0, 1e-6);
+}
+
+// simulate --render out.mp4 and render SCENE.json -o out.mp4: one movie of
+// the simulation's frames at its fps (the small scene: 0.1 s at 50 fps, 6
+// frames), the same frames either way; --duration shortens both.
+TEST(Video, SimulationsRenderToMovies) {
+    const fs::path dir = test::tempDir() / "video_sim";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path scene = test::writeSmallScene(dir);
+    const std::string size = " --width 64 --height 48 --backend cpu";
+    std::string out;
+    ASSERT_EQ(test::runCli("simulate " + test::shellQuote(scene) + " -o " + test::shellQuote(dir / "f/f_%04d.bgeo") +
+                               " --render " + test::shellQuote(dir / "movies/sim.mp4") + size,
+                           &out),
+              0)
+        << out;
+    EXPECT_NE(out.find("(6 frames, H.264, 50 fps)"), std::string::npos) << out;
+    const Decoded a = decode(dir / "movies/sim.mp4");
+    EXPECT_EQ(a.frames, 6);
+    EXPECT_NEAR(a.fps, 50.0, 1e-6);
+    ASSERT_EQ(test::runCli("render " + test::shellQuote(scene) + " -o " + test::shellQuote(dir / "ren.mp4") +
+                               " --duration 0.06" + size,
+                           &out),
+              0)
+        << out;
+    const Decoded b = decode(dir / "ren.mp4");
+    EXPECT_EQ(b.frames, 4);
+    EXPECT_NEAR(b.fps, 50.0, 1e-6);
+    ASSERT_EQ(b.rgba.size(), 4u);
+    // The same pictures, encoded in runs of 6 and 4 frames (x264's choices
+    // differ with the run): within the 3 steps a movie keeps of its PNGs.
+    for (int k = 0; k < 4; ++k) EXPECT_LT(meanAbsDiff(a.rgba[k], b.rgba[k]), 3.0) << "frame " << k;
+    // A movie is written whole: --resume refuses it before simulating.
+    EXPECT_EQ(test::runCli("simulate " + test::shellQuote(scene) + " -o " + test::shellQuote(dir / "g/g_%04d.bgeo") +
+                               " --render " + test::shellQuote(dir / "r.mp4") + " --resume" + size,
+                           &out),
+              1);
+    EXPECT_NE(out.find("--resume: a movie is written whole"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "r.mp4"));
 }
 

@@ -1,8 +1,7 @@
-// The processes one `render` runs on (issue 20): MPI's world when this build
-// has MPI and a launcher (mpirun, srun) started it, else this process alone.
-// Every collective here is trivial on one process, so the code that uses it
-// is the same for one process and for K, which is what keeps their pictures
-// the same.
+// The processes one `render` runs on: MPI's world when this build has MPI and a
+// launcher (mpirun, srun) started it, else this process alone. Every collective
+// here is trivial on one process, so the code that uses it is the same for one
+// process and for K, which is what keeps their pictures the same.
 #pragma once
 
 #include <cstdint>

@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "help_format.h"
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
@@ -113,164 +114,229 @@ void addSmoothingLengthOption(CLI::App* cmd, float& hPerSpacing) {
                     "A file with an SPH smoothing length (h, smoothing_length or hsml) and no radius: each particle's "
                     "radius is h / (2 K), K being h in particle spacings (PySPH's hdx, Chrono's d0_multiplier; about "
                     "1.7 for DualSPHysics' coefh 1)")
+        ->group(group::kInput)
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
 }
 
 void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption) {
     cmd->add_option("--width", o.width, "Image width in pixels")
+        ->group(group::kCamera)
         ->capture_default_str()
         ->check(CLI::Range(1, defaults::kMaxImageSizePx));
     cmd->add_option("--height", o.height, "Image height in pixels")
+        ->group(group::kCamera)
         ->capture_default_str()
         ->check(CLI::Range(1, defaults::kMaxImageSizePx));
-    cmd->add_option("--eye", o.eye, "Camera position x,y,z in metres (default: automatic three-quarter view)");
-    cmd->add_option("--target", o.target, "Point the camera looks at, x,y,z in metres");
+    cmd->add_option("--eye", o.eye, "Camera position x,y,z in metres (default: automatic three-quarter view)")
+        ->group(group::kCamera);
+    cmd->add_option("--target", o.target, "Point the camera looks at, x,y,z in metres")
+        ->group(group::kCamera);
     cmd->add_option("--up", o.up,
                     "The data's up axis x,y,z (0,0,1 for z-up data such as DualSPHysics'): the particles, --eye and "
                     "--target are turned so it points up in the picture, the studio's floor below")
+        ->group(group::kCamera)
         ->capture_default_str();
-    cmd->add_option("--fov", o.fov, "Vertical field of view in degrees")->capture_default_str();
+    cmd->add_option("--fov", o.fov, "Vertical field of view in degrees")
+        ->group(group::kCamera)
+        ->capture_default_str();
     cmd->add_option("--azimuth", o.azimuth,
                     "Automatic camera: the direction it looks from, degrees around the vertical (0: from +z, 90: "
                     "from +x)")
+        ->group(group::kCamera)
         ->capture_default_str()
         ->check(CLI::Range(-3600.0, 3600.0));
     cmd->add_option("--elevation", o.elevation, "Automatic camera: degrees above the horizon (-89 to 89)")
+        ->group(group::kCamera)
         ->capture_default_str()
         ->check(CLI::Range(-89.0, 89.0));
     cmd->add_option("--distance", o.distance,
                     "Automatic camera: metres from the target (default: as close as frames the particles)")
+        ->group(group::kCamera)
         ->check(CLI::NonNegativeNumber);
     if (radiusOption)
         cmd->add_option("--radius", o.radius,
-                        "Particle radius in metres (default: the file's radius attribute, else estimated from the "
+                        "Particle radius r in metres (default: the file's radius attribute, else estimated from the "
                         "bulk number density; docs/radius.md). Given, it also replaces a file's per-particle radii "
-                        "(radius, pscale or particle_radius), which are otherwise drawn particle by particle");
+                        "(radius, pscale or particle_radius), which are otherwise drawn particle by particle")
+            ->group(group::kInput);
     if (radiusOption) addSmoothingLengthOption(cmd, o.hPerSpacing);
     cmd->add_option("--view", o.view,
                     "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
                     "smoothing), normals, thickness, noise (surface noise N), foam (foam cover), whitening (velocity "
                     "whitening map), spray (the drops' cover), silhouette (the silhouette map)")
+        ->group(group::kOutput)
         ->capture_default_str();
-    cmd->add_option("--filter", o.filter, "Depth smoothing: " + filterNames())->capture_default_str();
+    cmd->add_option("--filter", o.filter, "Depth smoothing: " + filterNames())
+        ->group(group::kSurface)
+        ->capture_default_str();
     cmd->add_option("--iterations", o.iterations,
                     "Smoothing iterations (default: the filter's own, e.g. 1 for narrow-range, 40 for curvature-flow)")
+        ->group(group::kSurface)
         ->check(CLI::Range(0, 10000));
-    cmd->add_flag("--separable", o.separable, "narrow-range: the faster separable 1-D approximation");
+    cmd->add_flag("--separable", o.separable, "narrow-range: the faster separable 1-D approximation")
+        ->group(group::kSurface);
     cmd->add_option("--material", o.material,
                     "Fluid look: " + materialPresetNames() +
                         "; with several fluids one per fluid, comma-separated (e.g. water,lava: fluid 0 water, fluid 1 lava)")
+        ->group(group::kLook)
         ->capture_default_str();
     cmd->add_option("--fluid-color", o.fluidColor,
                     "Custom material, over the preset and for every fluid: the colour seen through thick liquid, "
-                    "linear RGB r,g,b in [0, 1]");
+                    "linear RGB r,g,b in [0, 1]")
+        ->group(group::kLook);
     cmd->add_option("--absorption", o.absorption,
-                    "Custom material: Beer-Lambert absorption per channel r,g,b, per metre (water: 6,2,1.3)");
+                    "Custom material: Beer-Lambert absorption per channel r,g,b, per metre (water: 6,2,1.3)")
+        ->group(group::kLook);
     cmd->add_option("--ior", o.ior, "Custom material: index of refraction (Fresnel F0; water 1.33)")
+        ->group(group::kLook)
         ->check(CLI::Range(1.0, 4.0));
     cmd->add_option("--refraction", o.refraction,
-                    "Custom material: background offset through the liquid, times the projected thickness")
+                    "Custom material: how far the background seen through the liquid is shifted, as a multiple of "
+                    "the liquid's thickness projected onto the image (no unit)")
+        ->group(group::kLook)
         ->check(CLI::Range(0.0, 10.0));
-    cmd->add_option("--specular", o.specular, "Custom material: highlight strength k_s")->check(CLI::Range(0.0, 10.0));
+    cmd->add_option("--specular", o.specular, "Custom material: highlight strength k_s")
+        ->group(group::kLook)
+        ->check(CLI::Range(0.0, 10.0));
     cmd->add_option("--shininess", o.shininess, "Custom material: Blinn-Phong exponent")
+        ->group(group::kLook)
         ->check(CLI::Range(0.0, 100000.0));
     cmd->add_option("--opacity", o.opacity, "Custom material: 0 transparent liquid .. 1 opaque (sand)")
+        ->group(group::kLook)
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--light", o.light,
-                    "Direction toward the key light x,y,z, world space (default -0.4,1,0.55: above, front left)");
+                    "Direction toward the key light x,y,z, world space (default -0.4,1,0.55: above, front left)")
+        ->group(group::kLook);
     cmd->add_option("--fluid-attribute", o.fluidAttribute,
                     "Several fluids: the integer particle attribute giving each particle's fluid, 0 to 3 (default: "
                     "the files' 'fluid' attribute, if any); each fluid is smoothed and shaded on its own, then "
-                    "composited front to back");
+                    "composited front to back")
+        ->group(group::kExtras);
     cmd->add_option("--background", o.background,
                     "studio (checker floor, two back walls, sky), floor (the checker floor alone, centred under the "
                     "particles, sky behind), none (transparent PNG background), or auto: studio for a still camera, "
                     "floor for one that moves (render --orbit, --turntable, --camera-path)")
+        ->group(group::kLook)
         ->capture_default_str();
     NoiseParams& q = o.noiseParams;
     cmd->add_flag("--noise", o.noise,
                   "Surface noise and foam: small waves that travel with the particles, foam where they are strong, "
-                  "rougher where velocities jump between frames (uses the files' id and velocity attributes)");
-    cmd->add_option("--noise-bump", q.bump, "Height of the noise's waves, in sprite radii (0 = no bumps, foam only)")
+                  "rougher where velocities jump between frames (uses the files' id and velocity attributes)")
+        ->group(group::kExtras);
+    cmd->add_option("--noise-bump", q.bump,
+                    "Height of the noise's waves, in sprite radii (a sprite is " + std::to_string(int(q.spriteRadii)) +
+                        " particle radii; 0 = no bumps, foam only)")
+        ->group(group::kExtras)
         ->capture_default_str();
     cmd->add_option("--noise-frequency", q.frequency, "Noise cycles per sprite radius (a sprite is "
                     + std::to_string(int(q.spriteRadii)) + " particle radii)")
+        ->group(group::kExtras)
         ->capture_default_str();
-    cmd->add_option("--noise-octaves", q.octaves, "Fractal octaves of the noise, 1 to 6")->capture_default_str();
+    cmd->add_option("--noise-octaves", q.octaves, "Fractal octaves of the noise, 1 to 6")
+        ->group(group::kExtras)
+        ->capture_default_str();
     cmd->add_option("--foam", q.foamGain, "Foam cover per unit of noise magnitude above the threshold (0 = no foam)")
+        ->group(group::kExtras)
         ->capture_default_str();
     cmd->add_option("--turbulence-tau", q.turbulence.tauMps,
-                    "Velocity change between frames, m/s, above which a particle's noise is rougher for a while")
+                    "Velocity change between frames, in m/s, above which a particle's noise is rougher for a while")
+        ->group(group::kExtras)
         ->capture_default_str();
     WhiteningParams& w = o.whitening;
     cmd->add_flag("--whiten", o.whiten,
-                  "Velocity whitening: fast water turns white (uses the files' velocity attribute)");
-    cmd->add_option("--whiten-threshold", w.thresholdMps, "Speed where whitening starts, m/s")->capture_default_str();
-    cmd->add_option("--whiten-ramp", w.rampMps, "Speed range over which whitening rises to full, m/s")
+                  "Velocity whitening: fast water turns white (uses the files' velocity attribute)")
+        ->group(group::kExtras);
+    cmd->add_option("--whiten-threshold", w.thresholdMps, "Speed where whitening starts, in m/s")
+        ->group(group::kExtras)
         ->capture_default_str();
-    cmd->add_option("--whiten-strength", w.strength, "White cover at full whitening, 0 to 1")->capture_default_str();
+    cmd->add_option("--whiten-ramp", w.rampMps, "Speed range over which whitening rises to full, in m/s")
+        ->group(group::kExtras)
+        ->capture_default_str();
+    cmd->add_option("--whiten-strength", w.strength, "White cover at full whitening, 0 to 1")
+        ->group(group::kExtras)
+        ->capture_default_str();
     SprayParams& sp = o.sprayParams;
     cmd->add_flag("--spray", o.spray,
                   "Spray: particles far below the rest density (the files' density attribute, else estimated from "
-                  "their neighbours) are drawn as small drops streaked along their velocity, not as surface");
+                  "their neighbours) are drawn as small drops streaked along their velocity, not as surface")
+        ->group(group::kExtras);
     cmd->add_option("--spray-density", sp.sprayDensity, "Fraction of the rest density below which a particle is spray")
+        ->group(group::kExtras)
         ->capture_default_str();
     cmd->add_option("--rest-density", sp.restDensityKgM3,
                     "Rest density of the density attribute, kg/m^3 (0 = the frame's median density)")
+        ->group(group::kExtras)
         ->capture_default_str();
-    cmd->add_option("--spray-size", sp.sizeRadii, "A drop's drawn radius, in particle radii")->capture_default_str();
-    cmd->add_option("--spray-streak", sp.streakSeconds, "Exposure over which a drop is streaked along its path, s")
+    cmd->add_option("--spray-size", sp.sizeRadii, "A drop's drawn radius, in particle radii")
+        ->group(group::kExtras)
+        ->capture_default_str();
+    cmd->add_option("--spray-streak", sp.streakSeconds,
+                    "Exposure over which a drop is streaked along its path, in seconds")
+        ->group(group::kExtras)
         ->capture_default_str();
     SilhouetteParams& sil = o.silhouetteParams;
     cmd->add_flag("--silhouette", o.silhouette,
                   "Silhouette reduction (Instant Liquids): near its contours, where less than all of a small window "
                   "around a pixel is liquid, the liquid fades into the scene behind it (softer, anti-aliased edges, no "
-                  "rim of badly smoothed normals)");
+                  "rim of badly smoothed normals)")
+        ->group(group::kExtras);
     cmd->add_option("--silhouette-radius", sil.radiusRadii, "The window's half-width, in particle radii")
+        ->group(group::kExtras)
         ->capture_default_str();
     cmd->add_option("--silhouette-fade", sil.fadeFrom,
                     "Liquid fraction of the window at which the fade reaches 0 (0.5: a straight edge's own pixels; "
                     "below 0.5 the fade continues onto the background pixels just outside the liquid, in its "
                     "colour; 1: clip, liquid only where the whole window is)")
+        ->group(group::kExtras)
         ->capture_default_str();
     AnisotropyParams& an = o.anisotropyParams;
     cmd->add_option("--anisotropy", o.anisotropy,
                     "Anisotropic kernels (Yu & Turk 2013), on or off: each particle is splatted as the ellipsoid of "
                     "its neighbours' spread (flat along a free surface, a sphere in the bulk, small when alone), "
                     "centred on its smoothed position; thin sheets close up and spray reads as droplets")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--anisotropy-radius", an.neighbourRadii, "The neighbourhood's radius, in particle radii")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--anisotropy-ratio", an.kr, "Largest ratio of an ellipsoid's longest axis to its shortest")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--anisotropy-isolated", an.kn,
                     "A particle with too few neighbours is a sphere of this many particle radii")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--anisotropy-neighbours", an.minNeighbours,
                     "Fewer neighbours than this within the radius: the particle counts as isolated")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--anisotropy-keep-surface", an.keepSurface,
                     "Move each flattened free-surface ellipsoid outward so the surface stays where the spheres put "
                     "it (true or false)")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--anisotropy-smoothing", an.smoothing,
                     "How far each ellipsoid's centre moves toward its neighbours' weighted mean, 0 to 1")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--fill-holes", o.fillHoles,
                     "Fill the gaps the splat leaves inside a sheet of liquid, up to this many particle radii wide, "
                     "before the smoothing: where liquid of one surface closes a gap in along the row, the column and "
                     "both diagonals (a gap open to a side, between drops or between layers, stays); 0 = off")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--min-thickness", o.minThickness,
                     "Thin liquid: every liquid pixel is shaded as at least this many particle radii thick, so a "
                     "sheet one particle thick or the rim of a drop is tinted, never the untinted background; 0 = the "
                     "thickness as splatted")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--fluid-scale", o.fluidScale,
                     "Reduced-resolution processing: 1, 0.5 or 0.25 of the width and height for the splat, smoothing, "
                     "normals and noise (about 4x or 16x fewer pixels); the surface is upsampled depth-aware and shaded "
                     "at full resolution")
+        ->group(group::kPerformance)
         ->capture_default_str();
 }
 
@@ -278,6 +344,7 @@ void addBackendOption(CLI::App* cmd, RenderOptions& o) {
     cmd->add_option("--backend", o.backend,
                     "Where the stages run: cpu, gl (OpenGL 4.3 through headless EGL) or auto (gl on a GPU; cpu, "
                     "with a one-line note, when there is no GL or only a software one such as Mesa's llvmpipe)")
+        ->group(group::kPerformance)
         ->capture_default_str();
 }
 
@@ -452,7 +519,8 @@ void addFluidInputOption(CLI::App* cmd, RenderOptions& o) {
     cmd->add_option("--fluid", o.moreFluids,
                     "Several fluids, one input per fluid (as SPlisHSPlasH writes one file per fluid model): another "
                     "file or sequence, frame for frame with the input, drawn as fluid 1 (then 2, 3 when repeated); "
-                    "the input is fluid 0. Give --material one preset per fluid");
+                    "the input is fluid 0. Give --material one preset per fluid")
+        ->group(group::kExtras);
     addSelectOption(cmd, o.select);
 }
 
@@ -464,7 +532,8 @@ void addSelectOption(CLI::App* cmd, std::string& select) {
                     "(or x, y, z for the position), VALUE a number in the file's units (metres, m/s, kg/m^3); a "
                     "vector needs a component (velocity.x, .y, .z) or |velocity| for its length. DualSPHysics' Type "
                     "takes fixed (0), moving (1), floating (2), bound (0-2) or fluid (3). Applied to every file as "
-                    "it is read, before --up; a frame left with no particles is an error");
+                    "it is read, before --up; a frame left with no particles is an error")
+        ->group(group::kInput);
 }
 
 Status Frames::setSelection(const std::string& text) {

@@ -66,33 +66,37 @@ struct RenderOptions {
     // auto: studio for a still camera, floor when the camera moves (runRender).
     std::string background = "auto";
     std::string backend = "auto";
-    // Surface noise and foam (SPEC §3.7): off unless --noise.
+    // Surface noise and foam (docs/pipeline.md#noise-and-foam): off unless --noise.
     bool noise = false;
     NoiseParams noiseParams;
-    // Velocity whitening (SPEC §3.7): off unless --whiten.
+    // Velocity whitening (docs/pipeline.md#noise-and-foam): off unless --whiten.
     bool whiten = false;
     WhiteningParams whitening;
-    // Spray drops (SPEC §3.2): off unless --spray.
+    // Spray drops (docs/pipeline.md#classification): off unless --spray.
     bool spray = false;
     SprayParams sprayParams;
-    // Silhouette reduction (SPEC §3.5): off unless --silhouette.
+    // Silhouette reduction (docs/pipeline.md#silhouette-reduction): off unless
+    // --silhouette.
     bool silhouette = false;
     SilhouetteParams silhouetteParams;
     // Anisotropic kernels (Yu & Turk 2013): --anisotropy on|off.
     std::string anisotropy = AnisotropyParams{}.enabled ? "on" : "off";
     AnisotropyParams anisotropyParams;
-    // Hole filling (SPEC §3.4a): the widest gap filled, radii (0: off); the thin-liquid floor, radii.
+    // Hole filling (docs/pipeline.md#hole-filling): the widest gap filled, radii (0: off); the
+    // thin-liquid floor, radii.
     float fillHoles = HoleFillParams{}.maxSpanRadii;
     float minThickness = ThicknessParams{}.minRadii;
-    // Reduced-resolution processing (SPEC §3.9): 1, 0.5 or 0.25.
+    // Reduced-resolution processing (docs/pipeline.md#reduced-resolution): 1,
+    // 0.5 or 0.25.
     float fluidScale = defaults::kFluidScale;
     // Diffuse particles (`meniscus whitewater`'s output) drawn as a layer:
     // a file, or a pattern filled with each input frame's number. Empty: none.
     std::string diffuse;
     std::string surface = "screen";  // screen (splat + smoothing), raycast (splat + SPH ray cast) or mesh
     RaycastParams raycastParams;     // --surface raycast (iso and support from --iso, --support)
-    // Several fluids (SPEC §3.10): the integer attribute holding each
-    // particle's fluid index (0 .. 3); empty: the files' own `fluid`, if any.
+    // Several fluids (docs/pipeline.md#several-fluids): the integer attribute
+    // holding each particle's fluid index (0 .. 3); empty: the files' own
+    // `fluid`, if any.
     std::string fluidAttribute;
     // Several fluids from one input per fluid (--fluid, repeatable): each a
     // file or sequence matching the input frame for frame, fluid 1, 2, ...
@@ -106,13 +110,15 @@ struct RenderOptions {
     // it (--on-error); leave frames whose outputs are complete (--resume).
     double fps = defaults::kVideoFps;
     int crf = defaults::kVideoCrf;
+    // A simulation scene as the input: seconds to simulate; < 0: the scene's.
+    double duration = -1.0;
     bool renumber = false;
     std::string onError = "stop";
     bool resume = false;
-    // Frame-parallel runs (issue 20): "I/N" renders only the I-th of N
+    // Frame-parallel runs: "I/N" renders only the I-th of N
     // contiguous shares of the frames (job arrays); empty: all of them.
     std::string shard;
-    // Under mpirun (issue 20): split the frames of a sequence over the
+    // Under mpirun: split the frames of a sequence over the
     // processes ("frames"), or the particles of each frame, composited
     // sort-last ("particles"); "auto": frames for a sequence, particles for
     // one frame.

@@ -12,6 +12,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "help_format.h"
 #include "label.h"
 #include "mesh.h"
 #include "meniscus/io.h"
@@ -26,12 +27,17 @@ CLI::App* addCompareCommand(CLI::App& app, RenderOptions& o) {
         "compare",
         "Render one frame with the screen-space path and with the mesh path (isosurface, rasterised) side by side "
         "in one PNG, each labelled with its time in milliseconds; the same table is printed on stdout");
-    cmd->add_option("input", o.input, "One particle file")->required();
-    cmd->add_option("-o,--output", o.output, "Output .png (two panels of --width x --height pixels)")->required();
+    cmd->add_option("input", o.input, "One particle file")
+        ->group(group::kInput)
+        ->required();
+    cmd->add_option("-o,--output", o.output, "Output .png (two panels of --width x --height pixels)")
+        ->group(group::kOutput)
+        ->required();
     addCameraOptions(cmd, o);
     addSelectOption(cmd, o.select);
     addBackendOption(cmd, o);
     addMesherOptions(cmd, o.mesher);
+    useGroupedHelp(cmd, renderHelpLayout());
     return cmd;
 }
 

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "common.h"
+#include "help_format.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "progress.h"
@@ -22,13 +23,6 @@ namespace {
 bool sameFile(const std::filesystem::path& a, const std::filesystem::path& b) {
     std::error_code ec;
     return std::filesystem::exists(b, ec) && std::filesystem::equivalent(a, b, ec);
-}
-
-// The output's folder is made, as simulate and whitewater make theirs (a
-// failure shows as the write's own error).
-void makeParent(const std::filesystem::path& file) {
-    std::error_code ec;
-    if (!file.parent_path().empty()) std::filesystem::create_directories(file.parent_path(), ec);
 }
 
 }  // namespace
@@ -43,16 +37,20 @@ CLI::App* addConvertCommand(CLI::App& app, ConvertOptions& o) {
         "for the rest");
     cmd->add_option("input", o.input,
                     "Particle file, directory, pattern (frame_%04d.bgeo, data_*.vtk) or collection (.pvd, .h5part)")
+        ->group(group::kInput)
         ->required();
     cmd->add_option("output", o.output,
                     "Output file; for a sequence a printf pattern (out_%04d.vtu), filled with each input frame's own "
                     "number")
+        ->group(group::kOutput)
         ->required();
     cmd->add_option("--pvd", o.pvd,
                     "Also write a ParaView collection (.pvd) listing the outputs, for opening the series in "
                     "ParaView as one: each output's time is its input's time when the input is a .pvd, else its "
-                    "frame number");
+                    "frame number")
+        ->group(group::kOutput);
     addSelectOption(cmd, o.select);
+    useGroupedHelp(cmd, {group::kInput, group::kOutput});
     return cmd;
 }
 
@@ -87,7 +85,7 @@ int runConvert(const ConvertOptions& o) {
         auto out = frames.outputName(o.output, i);
         if (!out) return fail(out.error().describe());
         if (sameFile(in, *out)) return fail(*out + ": is the input " + in.string() + "; give another output name");
-        makeParent(*out);
+        if (auto st = makeOutputFolders(*out); !st) return fail(st.error().describe());
         // A frame with no particles (a simulation before its emitter started) is written as an empty file.
         auto set = readParticles(in, ParticleFormat::Auto, true);
         if (!set) return fail(set.error().describe());
@@ -100,7 +98,7 @@ int runConvert(const ConvertOptions& o) {
     }
     if (!o.pvd.empty()) {
         times.resize(written.size());
-        makeParent(o.pvd);
+        if (auto st = makeOutputFolders(o.pvd); !st) return fail(st.error().describe());
         if (auto st = writePvd(o.pvd, written, times); !st) return fail(st.error().describe());
     }
     return 0;

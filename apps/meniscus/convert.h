@@ -1,6 +1,6 @@
 // `meniscus convert`: particle files from any format Meniscus reads to any it
-// writes (issue 19, item 5), attributes kept, so the tool also moves data
-// between SPlisHSPlasH, DualSPHysics, PySPH, Houdini and ParaView.
+// writes, attributes kept, so the tool also moves data between SPlisHSPlasH,
+// DualSPHysics, PySPH, Houdini and ParaView.
 #pragma once
 
 #include <string>

@@ -1,5 +1,5 @@
 // The viewer's frames, read on a worker thread ahead of the one on screen, so
-// that playing a sequence does not stall on the disk (issue 18, item 1).
+// that playing a sequence does not stall on the disk.
 #pragma once
 
 #include <condition_variable>

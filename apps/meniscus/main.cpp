@@ -15,6 +15,7 @@
 
 #include "common.h"
 #include "demo_data.h"
+#include "help_format.h"
 #include "meniscus/io.h"
 #include "meniscus/params.h"
 #include "meniscus/particles.h"
@@ -225,18 +226,23 @@ int main(int argc, char** argv) {
         "  meniscus whitewater out/ -o diffuse/diffuse_%04d.bgeo   spray, foam and bubbles from that sequence\n"
         "  meniscus convert 'PartFluid_*.vtk' out/f_%04d.bgeo      particle files to another format"};
     app.require_subcommand(1);
-    app.set_version_flag("--version", versionLine());
+    app.set_version_flag("--version", versionLine())->group(group::kHelp);
+    useGroupedHelp(&app, {group::kPerformance});
     int threads = 0;
     app.add_option("--threads", threads, "Worker threads (default: all cores); also after a subcommand")
+        ->group(group::kPerformance)
         ->check(CLI::NonNegativeNumber);
     app.fallthrough();  // --threads may follow the subcommand: meniscus mesh IN -o OUT --threads 1
 
     InfoOptions info;
     auto* infoCmd = app.add_subcommand("info", "Describe a particle file or sequence");
     infoCmd->add_option("input", info.input, "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo)")
+        ->group(group::kInput)
         ->required();
-    infoCmd->add_flag("--json", info.json, "Print one JSON object (count, bounds_min, bounds_max, attributes, radius_estimate)");
+    infoCmd->add_flag("--json", info.json, "Print one JSON object (count, bounds_min, bounds_max, attributes, radius_estimate)")
+        ->group(group::kOutput);
     addSmoothingLengthOption(infoCmd, info.hPerSpacing);
+    useGroupedHelp(infoCmd, {group::kInput, group::kOutput});
 
     RenderOptions render;
     auto* renderCmd = addRenderCommand(app, render);
@@ -246,9 +252,12 @@ int main(int argc, char** argv) {
     demo.radius = kDemoRadiusM;
     auto* demoCmd = app.add_subcommand(
         "demo", "Render the bundled SPlisHSPlasH dam-break frame (no input needed; --radius defaults to 0.025 m, the simulation's own)");
-    demoCmd->add_option("-o,--output", demo.output, "Output .png or .exr")->capture_default_str();
+    demoCmd->add_option("-o,--output", demo.output, "Output .png or .exr")
+        ->group(group::kOutput)
+        ->capture_default_str();
     addCameraOptions(demoCmd, demo);
     addBackendOption(demoCmd, demo);
+    useGroupedHelp(demoCmd, renderHelpLayout());
 
     ViewOptions view;
     auto* viewCmd = app.add_subcommand(
@@ -262,7 +271,8 @@ int main(int argc, char** argv) {
     auto* viewInput = viewCmd->add_option(
         "input", view.render.input,
         "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo), or a render scene file (.json, "
-        "README: Scene files); default: the demo frame");
+        "docs/usage.md#scene-files); default: the demo frame")
+        ->group(group::kInput);
     addCameraOptions(viewCmd, view.render);
     addSurfaceOptions(viewCmd, view.render);
     addFluidInputOption(viewCmd, view.render);
@@ -273,12 +283,15 @@ int main(int argc, char** argv) {
                         "camera is framed on the "
                         "scene's domain. --radius then sets the simulation's particle radius in metres (default: "
                         "the scene's)")
+        ->group(group::kInput)
         ->excludes(viewInput);
-    addSolverOption(viewCmd, view.simulate.solver)->needs("--simulate");
+    addSolverOption(viewCmd, view.simulate.solver)->needs("--simulate")->group(group::kInput);
     viewCmd->add_option("--screenshot", view.screenshot,
-                        "On exit, save the picture the window shows (without the panels) to this .png");
+                        "On exit, save the picture the window shows (without the panels) to this .png")
+        ->group(group::kOutput);
     viewCmd->add_option("--screenshot-window", view.screenshotWindow,
-                        "On exit, save the whole window, panels included, to this .png");
+                        "On exit, save the whole window, panels included, to this .png")
+        ->group(group::kOutput);
     // For tests and scripts: no interaction, just N frames rendered and shown.
     viewCmd->add_option("--frames", view.frames, "Render and show N frames, then exit")
         ->check(CLI::PositiveNumber)
@@ -287,6 +300,7 @@ int main(int argc, char** argv) {
                         "Replay input, one event per frame: drag:DX,DY;scroll:N;key:left|right|space|tab|h|c|q|"
                         "escape;drop:PATH;click:LABEL@F (a panel widget by its label, F the fraction of its width)")
         ->group("");
+    useGroupedHelp(viewCmd, renderHelpLayout());
 
     MeshOptions mesh;
     auto* meshCmd = addMeshCommand(app, mesh);
@@ -315,11 +329,24 @@ int main(int argc, char** argv) {
     if (!expanded) return fail(expanded.error().describe());
     std::vector<char*> args;
     for (std::string& w : *expanded) args.push_back(w.data());
-    // Bad usage exits 2, as the README says (CLI11's own codes are 100 and up).
+    // Bad usage exits 2, as docs/usage.md#errors says (CLI11's own codes are 100 and up).
     try {
         app.parse(int(args.size()), args.data());
     } catch (const CLI::ParseError& e) {
         const RenderOptions& scene = render.sceneFile.empty() ? view.render : render;
+        // Several existing files where one input goes: the shell expanded an
+        // unquoted pattern. Say so instead of listing the paths back.
+        if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
+            std::size_t files = 0;
+            std::error_code ec;
+            for (std::size_t i = 1; i < words.size(); ++i) files += std::filesystem::is_regular_file(words[i], ec);
+            if (files >= 2) {
+                std::cerr << "meniscus: error: " << files << " input files where one input goes: the shell expanded "
+                          << "an unquoted pattern; quote it, e.g. 'frames/*.bgeo' or frames/f_%04d.bgeo, and "
+                          << "meniscus reads the whole sequence in order\n";
+                return 2;
+            }
+        }
         if (scene.sceneFile.empty() || e.get_exit_code() == 0) return app.exit(e) == 0 ? 0 : 2;
         std::cerr << "meniscus: error: " << withSceneKey(e.what(), scene.sceneFile, scene.sceneKeys) << "\n";
         return 2;

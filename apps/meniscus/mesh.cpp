@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "common.h"
+#include "help_format.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "meniscus/surface.h"
@@ -16,18 +17,24 @@ namespace meniscus::app {
 
 void addMesherOptions(CLI::App* cmd, MesherOptions& o) {
     cmd->add_option("--cube-size", o.cubeSize, "Marching-cubes cube edge, in particle radii (0.05 to 8)")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--iso", o.iso,
                     "Iso level as a fraction of the field inside fluid at rest (a 2r lattice); 0.5 puts a flat "
                     "face 1 r beyond the outermost particle centres")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--field", o.field,
                     "sph: the SPH density, cubic spline of support 4 r (the surface refsurf ray-traces); thesis: "
                     "thesis eq. 4.16, f(d) = (d/(sqrt2 Rc))^4 - (d/(sqrt2 Rc))^2 + 1/4, Rc = 2.5 r")
+        ->group(group::kSurface)
         ->capture_default_str()
         ->check(CLI::IsMember({"sph", "thesis"}));
-    cmd->add_option("--support", o.support, "Field support (h or Rc) in particle radii, 1 to 16 (default: the field's)");
-    cmd->add_option("--block", o.block, "Block edge in cubes (4 to 256); blocks run in parallel")->capture_default_str();
+    cmd->add_option("--support", o.support, "Field support (h or Rc) in particle radii, 1 to 16 (default: the field's)")
+        ->group(group::kSurface);
+    cmd->add_option("--block", o.block, "Block edge in cubes (4 to 256); blocks run in parallel")
+        ->group(group::kSurface)
+        ->capture_default_str();
 }
 
 void addSurfaceOptions(CLI::App* cmd, RenderOptions& o) {
@@ -37,18 +44,22 @@ void addSurfaceOptions(CLI::App* cmd, RenderOptions& o) {
                     "surface at --iso with --support, exact normals, no smoothing; slower on the CPU); mesh: "
                     "extract the isosurface (as `meniscus mesh` does) and rasterise its triangles instead; the "
                     "thickness, scene and shading are the same")
+        ->group(group::kSurface)
         ->capture_default_str()
         ->check(CLI::IsMember({"screen", "raycast", "mesh"}));
     addMesherOptions(cmd, o.mesher);
     RaycastParams& rc = o.raycastParams;
     cmd->add_option("--raycast-step", rc.stepRadii, "--surface raycast: the march's step, in particle radii")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--raycast-steps", rc.maxSteps,
                     "--surface raycast: steps a ray takes before it gives up (no surface at that pixel)")
+        ->group(group::kSurface)
         ->capture_default_str();
     cmd->add_option("--raycast-cover", rc.coverRadii,
                     "--surface raycast: radius of the splatted spheres that start the rays, in particle radii (the "
                     "iso-surface reaches past the spheres of r between particles)")
+        ->group(group::kSurface)
         ->capture_default_str();
 }
 
@@ -70,18 +81,24 @@ CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
         "Extract the liquid's surface as a closed triangle mesh (binary PLY or OBJ, with vertex normals) for "
         "Blender, Houdini or ParaView: block-parallel surface-following marching cubes (thesis §4.2, Rosenberg & "
         "Birdwell 2008). The same mesh for any --threads");
-    cmd->add_option("input", o.input, "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo)")->required();
+    cmd->add_option("input", o.input, "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo)")
+        ->group(group::kInput)
+        ->required();
     cmd->add_option("-o,--output", o.output,
                     "Output .ply (binary, default) or .obj; for a sequence a pattern like mesh_%04d.ply")
+        ->group(group::kOutput)
         ->required();
     cmd->add_option("--radius", o.radius,
                     "Particle radius r in metres (default: the median of the file's radius attribute or smoothing "
                     "length, else estimated from the first frame)")
+        ->group(group::kInput)
         ->check(CLI::PositiveNumber);
     addSmoothingLengthOption(cmd, o.hPerSpacing);
     addSelectOption(cmd, o.select);
     addMesherOptions(cmd, o.mesher);
-    cmd->add_flag("--stats", o.stats, "Print the extraction's phases, sizes and peak memory for each frame");
+    cmd->add_flag("--stats", o.stats, "Print the extraction's phases, sizes and peak memory for each frame")
+        ->group(group::kOutput);
+    useGroupedHelp(cmd, {group::kInput, group::kSurface, group::kOutput, group::kPerformance});
     return cmd;
 }
 
@@ -121,6 +138,7 @@ int runMesh(const MeshOptions& o, int threads) {
         auto formatted = frames->outputName(o.output, i);
         if (!formatted) return fail(formatted.error().describe());
         const std::string out = *formatted;
+        if (auto st = makeOutputFolders(out); !st) return fail(st.error().describe());
         if (auto st = writeMesh(out, *mesh, *format); !st) return fail(st.error().describe());
         if (o.stats)
             std::fprintf(stderr,

@@ -1,5 +1,5 @@
 // `meniscus render`: frames in order through one Renderer into numbered images
-// or one movie. Choices where issue 18 is silent:
+// or one movie. Choices where the docs are silent:
 //  - --on-error skip: a frame that cannot be read, rendered or written is
 //    listed and left out (of a movie too); the run goes on, says which frames
 //    failed and why at the end, and exits 1. The default, stop, ends at the
@@ -31,7 +31,7 @@
 //  - --frames N renders a single input file as N frames (the turntable of a
 //    still); without camera motion that is N identical frames, a held shot.
 //    A sequence renders its own frames: --frames with one is an error.
-//  - Under mpirun (issue 20; cluster.h), --split frames gives process k of K
+//  - Under mpirun (cluster.h), --split frames gives process k of K
 //    the frames of --shard k/K; --split particles gives it the k-th of K
 //    contiguous index ranges of each frame's particles (after --select),
 //    or, for an input with %r, its share of the part files (one per rank of
@@ -64,6 +64,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cluster.h"
+#include "help_format.h"
 #include "mesh.h"
 #include "meniscus/io.h"
 #include "meniscus/particle_view.h"
@@ -131,6 +132,7 @@ public:
         Outputs out(o, frames);
         if (!isMp4(o.output) || !writer) return out;
 #ifdef MENISCUS_HAVE_FFMPEG
+        if (auto st = makeOutputFolders(o.output); !st) return st.error();
         auto movie = VideoWriter::open(o.output, s.camera.width, s.camera.height, VideoParams{o.fps, o.crf});
         if (!movie) return movie.error();
         out.movie_.emplace(std::move(*movie));
@@ -152,6 +154,7 @@ public:
 #endif
         auto n = name(i);
         if (!n) return n.error();
+        if (auto st = makeOutputFolders(*n); !st) return st;
         return writeImage(*n, aovs, withAlpha);
     }
 
@@ -331,7 +334,12 @@ int renderFrames(Cluster& cluster, const RenderOptions& o, const Frames& frames,
             cluster.abort(1);
         }
         if (!st) {
-            if (o.onError != "skip") return fail(st.error().describe());
+            if (o.onError != "skip") {
+                if (count <= 1) return fail(st.error().describe());
+                // Of a sequence: say how to go on past such frames.
+                return fail(st.error().describe() + " (frame " + std::to_string(i + 1) + " of " +
+                            std::to_string(count) + "; --on-error skip renders the others and lists the failed ones)");
+            }
             failed.emplace_back(i, st.error().describe());
             std::cerr << "meniscus: frame " << i + 1 << "/" << count << " skipped: " << st.error().describe() << "\n";
         } else {
@@ -388,6 +396,7 @@ int renderSimulation(Cluster& cluster, const RenderOptions& o, RenderSettings& s
                     " is a simulation scene, whose particles are all its fluid");
     so.scene = o.input;
     so.radius = o.radius;
+    so.duration = o.duration;
     auto scene = sceneFromOptions(so);
     if (!scene) return fail(scene.error().describe());
     auto made = sim::Simulator::create(*scene);
@@ -422,50 +431,66 @@ void addSequenceOptions(CLI::App* cmd, RenderOptions& o) {
     cmd->add_option("--fps", o.fps,
                     "Frames per second: an .mp4 output's frame rate, and a moving camera's clock (frame i at i / fps "
                     "seconds)")
+        ->group(group::kMovie)
         ->capture_default_str()
         ->check(CLI::Range(0.001, 1000.0));
     cmd->add_option("--crf", o.crf,
                     "An .mp4 output's quality: x264's constant rate factor, 0 (lossless) to 51 (worst); 18 looks "
                     "lossless")
+        ->group(group::kMovie)
         ->capture_default_str()
         ->check(CLI::Range(0, 51));
+    cmd->add_option("--duration", o.duration,
+                    "A simulation scene as the input: simulated time in seconds, a frame every 1/fps (default: the "
+                    "scene's), as simulate --duration")
+        ->group(group::kMovie)
+        ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--renumber", o.renumber,
-                  "Number the output images 0, 1, 2, ... in order instead of by the input files' own numbers");
+                  "Number the output images 0, 1, 2, ... in order instead of by the input files' own numbers")
+        ->group(group::kOutput);
     cmd->add_option("--on-error", o.onError,
                     "A frame that cannot be read, rendered or written: stop the run there (stop), or leave it out "
                     "and go on (skip), listing the failed frames at the end and exiting 1")
+        ->group(group::kOutput)
         ->capture_default_str()
         ->check(CLI::IsMember({"stop", "skip"}));
     cmd->add_flag("--resume", o.resume,
-                  "Leave frames whose output images already exist and are complete (after an interrupted run)");
+                  "Leave frames whose output images already exist and are complete (after an interrupted run)")
+        ->group(group::kOutput);
     cmd->add_option("--shard", o.shard,
                     "I/N: render only the I-th (from 0) of N contiguous shares of the frames, named as in the whole "
                     "run, for job arrays (Slurm: --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT); the N runs "
-                    "together write exactly the whole run's images");
+                    "together write exactly the whole run's images")
+        ->group(group::kCluster);
     cmd->add_option("--split", o.split,
                     "Under mpirun: give each process a share of the frames of a sequence (frames), or a share of "
                     "every frame's particles, splatted there and composited exactly on process 0 (particles; an "
                     "input with %r, e.g. fluid_r%r.vtu, gives each process its share of those part files); auto: "
                     "frames for a sequence, particles for one frame. The images are the one-process run's, byte for "
                     "byte")
+        ->group(group::kCluster)
         ->capture_default_str()
         ->check(CLI::IsMember({"auto", "frames", "particles"}));
     cmd->add_option("--orbit", o.orbit,
                     "Moving camera: turn about the vertical through the target at this many degrees per second of "
                     "sequence time (frame i at i / --fps seconds; positive: counter-clockwise seen from above), "
                     "keeping distance and elevation")
+        ->group(group::kMovie)
         ->check(CLI::Range(-36000.0, 36000.0));
     cmd->add_flag("--turntable", o.turntable,
                   "Moving camera: one whole turn about the vertical through the target over the sequence (frame i "
-                  "of N at 360 i / N degrees); for a single file give --frames");
+                  "of N at 360 i / N degrees); for a single file give --frames")
+        ->group(group::kMovie);
     cmd->add_option("--camera-path", o.cameraPath,
                     "Moving camera along key frames: a JSON file (or the JSON text itself) holding [{\"time\": s, "
                     "\"eye\": [x,y,z], \"target\": [x,y,z], \"fov\": degrees}, ...], times in seconds (frame i at "
                     "i / --fps), increasing; positions in metres, in the data's coordinates like --eye; fov optional "
-                    "(default --fov); smooth (Catmull-Rom) between keys, the first and last key held before and after");
+                    "(default --fov); smooth (Catmull-Rom) between keys, the first and last key held before and after")
+        ->group(group::kMovie);
     cmd->add_option("--frames", o.frames,
                     "Render a single input file as N frames, numbered 0 to N-1 (a turntable of one frame: "
                     "--turntable --frames 120); without a moving camera the same picture N times")
+        ->group(group::kMovie)
         ->check(CLI::Range(std::size_t(1), std::size_t(1000000)));
 }
 
@@ -494,7 +519,8 @@ std::vector<std::string> expandParts(const std::string& pattern) {
     return parts;
 }
 
-// The split of issue 20 for `count` frames on `processes` (--split).
+// The split over the processes (--split: frames or particles) for `count`
+// frames on `processes`.
 Result<std::string> splitMode(const RenderOptions& o, std::size_t count, bool parts) {
     if (o.split != "auto" && o.split != "frames" && o.split != "particles")
         return makeError("", "--split " + o.split + ": expected auto, frames or particles");
@@ -615,6 +641,10 @@ int runRenderOn(Cluster& cluster, const RenderOptions& options, const ParticleSe
                         "images (and join them with ffmpeg), or --split particles");
         o.shard = std::to_string(cluster.rank()) + "/" + std::to_string(cluster.size());
     }
+    if (o.duration >= 0.0 && !simulation)
+        return fail("--duration: sets how long a simulation scene runs; " +
+                    (o.input.empty() ? std::string("the demo frame") : o.input) +
+                    " is particle data, whose frames are its own");
     if (simulation) {
         if (cluster.size() > 1 && *split != "frames") return fail("--split particles: " + o.input + " is a simulation; split its frames");
         return renderSimulation(cluster, o, settings);
@@ -634,6 +664,19 @@ int runRenderOn(Cluster& cluster, const RenderOptions& options, const ParticleSe
         frames->repeat = o.frames;
     }
     const std::size_t count = frames->count();
+    // A movie plays at --fps when given, else at the rate its data carries (a
+    // .pvd's timesteps), else at the default, which the log says.
+    if (isMp4(o.output) && o.fps == defaults::kVideoFps && !embedded && o.frames == 0) {
+        auto rate = frameRateOfInput(o.input);
+        if (!rate) return fail(rate.error().describe());
+        const bool usable = *rate && **rate >= 0.001 && **rate <= 1000.0;
+        if (usable) o.fps = **rate;
+        if (cluster.root())
+            std::cerr << "meniscus: the movie plays at " << o.fps << " fps"
+                      << (usable ? " (the rate of the input's timesteps; --fps sets another)"
+                                 : " (the frames carry no time; --fps sets the rate)")
+                      << "\n";
+    }
     auto motion = motionFromOptions(o, count, o.fps);
     if (!motion) return fail(motion.error().describe());
     if (!isMp4(o.output))

@@ -3,21 +3,24 @@
 
 #include <CLI/CLI.hpp>
 
+#include "help_format.h"
 #include "mesh.h"
 #include "render.h"
 
 namespace meniscus::app {
 
 CLI::App* addRenderCommand(CLI::App& parent, RenderOptions& render) {
-    auto* renderCmd = parent.add_subcommand("render", "Render a particle file or sequence to PNG or EXR");
+    auto* renderCmd = parent.add_subcommand("render", "Render a particle file or sequence to PNG, EXR or an MP4 movie");
     renderCmd->add_option("input", render.input,
                           "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo), or a render scene "
-                          "file (.json with \"particles\", README: Scene files) whose settings the command line's "
-                          "own options override")
+                          "file (.json with \"particles\", docs/usage.md#scene-files) whose settings the command "
+                          "line's own options override")
+        ->group(group::kInput)
         ->required();
     renderCmd->add_option("-o,--output", render.output,
                           "Output .png (8-bit sRGB), .exr (float AOVs) or .mp4 (an H.264 movie of every frame, in "
                           "order); images of a sequence need a pattern like out_%04d.png")
+        ->group(group::kOutput)
         ->required();
     addSequenceOptions(renderCmd, render);
     addCameraOptions(renderCmd, render);
@@ -27,7 +30,9 @@ CLI::App* addRenderCommand(CLI::App& parent, RenderOptions& render) {
     renderCmd->add_option("--diffuse", render.diffuse,
                           "Draw diffuse particles (spray, foam; `meniscus whitewater` writes them) over the liquid as "
                           "drops with the --spray-size and --spray-streak look: a file, or a pattern like "
-                          "diffuse_%04d.bgeo filled with each input frame's number");
+                          "diffuse_%04d.bgeo filled with each input frame's number")
+        ->group(group::kExtras);
+    useGroupedHelp(renderCmd, renderHelpLayout());
     return renderCmd;
 }
 

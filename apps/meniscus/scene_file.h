@@ -1,9 +1,8 @@
-// Render scene files (issue 18, item 4): `meniscus render scene.json` reads
-// particles, camera, light, material, render settings and output from one
-// JSON file. Every key is one of `render`'s options, so each CLI option has
-// its scene-file twin and both are checked by the same code; the file's
-// settings become arguments, and options given on the command line as well
-// override them. Schema: README, "Scene files".
+// Render scene files: `meniscus render scene.json` reads particles, camera,
+// light, material, render settings and output from one JSON file. Every key is
+// one of `render`'s options, so each CLI option has its scene-file twin and
+// both are checked by the same code; the file's settings become arguments, and
+// options given on the command line as well override them. Schema: docs/usage.md#scene-files.
 #pragma once
 
 #include <string>

@@ -1,8 +1,7 @@
-// The viewer's settings as a render scene file, and back (issue 18, items 1
-// and 4). The look is held as `render`'s options: what the panels change is
-// written as option text and read back through the command line's own parser,
-// so the viewer shows exactly what `meniscus render` with the printed options
-// (or the saved file) writes.
+// The viewer's settings as a render scene file, and back. The look is held as
+// `render`'s options: what the panels change is written as option text and read
+// back through the command line's own parser, so the viewer shows exactly what
+// `meniscus render` with the printed options (or the saved file) writes.
 #pragma once
 
 #include <string>

@@ -1,19 +1,25 @@
 #include "simulate.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
+#include "help_format.h"
 #include "meniscus/io.h"
 #include "meniscus/particle_view.h"
 #include "meniscus/renderer.h"
 #include "progress.h"
+#ifdef MENISCUS_HAVE_FFMPEG
+#include "meniscus/video.h"
+#endif
 
 namespace meniscus::app {
 
@@ -25,14 +31,26 @@ struct FrameImages {
     std::string pattern;
     RenderSettings settings;
     Renderer renderer;
+#ifdef MENISCUS_HAVE_FFMPEG
+    // --render out.mp4: every frame into one movie at the simulation's fps.
+    std::optional<VideoWriter> movie;
+#endif
 };
 
 // Everything --render needs, checked before anything is simulated: the
 // pattern, the look, the camera and the backend.
 Result<FrameImages> openImages(const SimulateOptions& o, const sim::Scene& sc) {
-    if (o.render.find('%') == std::string::npos)
-        return makeError(o.render, "--render needs a frame number pattern, e.g. out/img_%04d.png");
-    if (!isPng(o.render) && !isExr(o.render)) return makeError(o.render, "--render images must end in .png or .exr");
+    const bool movie = isMp4(o.render);
+    if (!movie && o.render.find('%') == std::string::npos)
+        return makeError(o.render, "--render needs a frame number pattern, e.g. out/img_%04d.png, or a movie, out.mp4");
+    if (!movie && !isPng(o.render) && !isExr(o.render))
+        return makeError(o.render, "--render images must end in .png or .exr, a movie in .mp4");
+    if (movie && o.resume) return makeError(o.render, "--resume: a movie is written whole; render numbered images");
+#ifndef MENISCUS_HAVE_FFMPEG
+    if (movie)
+        return makeError(o.render, "this build has no movies (FFmpeg's libraries were not found when it was "
+                                   "configured); render numbered images (img_%04d.png)");
+#endif
     if (!o.image.fluidAttribute.empty())
         return makeError("", "--fluid-attribute: the simulator's particles are one fluid");
     RenderOptions look = o.image;
@@ -43,28 +61,55 @@ Result<FrameImages> openImages(const SimulateOptions& o, const sim::Scene& sc) {
     settings->colorOnly = !isExr(o.render);  // a PNG needs only the colour AOV
     auto renderer = makeRenderer(look);
     if (!renderer) return renderer.error();
-    return FrameImages{o.render, std::move(*settings), std::move(*renderer)};
+    FrameImages images{o.render, std::move(*settings), std::move(*renderer)};
+#ifdef MENISCUS_HAVE_FFMPEG
+    if (movie) {
+        if (auto st = makeOutputFolders(o.render); !st) return st.error();
+        const Camera& c = images.settings.camera;
+        auto writer = VideoWriter::open(o.render, c.width, c.height, VideoParams{sc.fps, o.image.crf});
+        if (!writer) return writer.error();
+        images.movie.emplace(std::move(*writer));
+    }
+#endif
+    return images;
 }
 
 // Frame k's image; returns its name.
 Result<std::string> writeFrameImage(FrameImages& images, const ParticleSet& set, long k) {
+    images.settings.frameIndex = k;  // the noise's turbulence compares consecutive frames
+#ifdef MENISCUS_HAVE_FFMPEG
+    if (images.movie) {
+        auto aovs = images.renderer.render(ParticleView::of(set), images.settings);
+        if (!aovs) return Error{images.pattern, aovs.error().message};
+        if (auto st = images.movie->add(encodeSrgb8(aovs->color)); !st) return st.error();
+        return images.pattern + " (frame " + std::to_string(images.movie->frames()) + ")";
+    }
+#endif
     auto name = formatFramePattern(images.pattern, k);
     if (!name) return name.error();
-    images.settings.frameIndex = k;  // the noise's turbulence compares consecutive frames
     auto aovs = images.renderer.render(ParticleView::of(set), images.settings);
     if (!aovs) return Error{*name, aovs.error().message};
     if (auto st = writeImage(*name, *aovs, !images.settings.scene.background); !st) return st.error();
     return *name;
 }
 
-// The folder of a pattern's frame 0, made if missing (an error later names the file).
+// The folder of a pattern's frame 0, made if missing.
 Status makeParentFolder(const std::string& pattern) {
     auto name = formatFramePattern(pattern, 0);
     if (!name) return name.error();
-    const std::filesystem::path parent = std::filesystem::path(*name).parent_path();
-    std::error_code ec;
-    if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-    return okStatus();
+    return makeOutputFolders(*name);
+}
+
+// The frames' times beside them, as a ParaView collection named after the
+// pattern (out/fluid_%04d.vtu -> out/fluid.pvd): ParaView opens the run as one
+// time series, and `render out/fluid.pvd -o movie.mp4` plays at the
+// simulation's rate.
+std::filesystem::path pvdBeside(const std::string& pattern) {
+    const std::filesystem::path p(pattern);
+    std::string stem = p.filename().string();
+    stem = stem.substr(0, std::min(stem.find('%'), stem.find('.')));
+    while (!stem.empty() && (stem.back() == '_' || stem.back() == '-' || stem.back() == ' ')) stem.pop_back();
+    return p.parent_path() / ((stem.empty() ? std::string("frames") : stem) + ".pvd");
 }
 
 }  // namespace
@@ -83,28 +128,47 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
         "Simulate a scene file (scenes/*.json; every field in docs/scenes.md) with the built-in SPH solver "
         "(DFSPH by default) and write a numbered particle sequence with id, velocity (m/s), density (kg/m^3) and "
         "pressure (Pa): frame k holds the particles at t = k / fps. The same frames for the same --threads");
-    cmd->add_option("scene", o.scene, "Scene file (.json)")->required();
+    cmd->add_option("scene", o.scene, "Scene file (.json)")
+        ->group(group::kInput)
+        ->required();
     cmd->add_option("-o,--output", o.output,
                     "Output pattern with a frame number: out/frame_%04d.bgeo (.bgeo, .bgeo.gz, .vtk, .vtu or .ply)")
+        ->group(group::kOutput)
         ->required();
-    cmd->add_option("--duration", o.duration, "Simulated time in seconds (default: the scene's)")->check(CLI::NonNegativeNumber);
-    cmd->add_option("--fps", o.fps, "Frames written per simulated second (default: the scene's)")->check(CLI::PositiveNumber);
-    cmd->add_option("--radius", o.radius, "Particle radius r in metres; spacing 2r, kernel support 4r (default: the scene's)")
+    cmd->add_option("--duration", o.duration, "Simulated time in seconds (default: the scene's)")
+        ->group(group::kSimulation)
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--fps", o.fps, "Frames written per simulated second (default: the scene's)")
+        ->group(group::kSimulation)
         ->check(CLI::PositiveNumber);
-    addSolverOption(cmd, o.solver);
+    cmd->add_option("--radius", o.radius, "Particle radius r in metres; spacing 2r, kernel support 4r (default: the scene's)")
+        ->group(group::kSimulation)
+        ->check(CLI::PositiveNumber);
+    addSolverOption(cmd, o.solver)->group(group::kSimulation);
     cmd->add_flag("--resume", o.resume,
-                  "Continue from the last frame already written under the output pattern (its particles and time)");
-    cmd->add_flag("--stats", o.stats, "Print each frame's steps, solver iterations and time per phase");
+                  "Continue from the last frame already written under the output pattern (its particles and time)")
+        ->group(group::kOutput);
+    cmd->add_flag("--stats", o.stats, "Print each frame's steps, solver iterations and time per phase")
+        ->group(group::kOutput);
     cmd->add_option("--render", o.render,
                     "Also render each frame, as it is written, to this pattern with the same frame number: "
-                    "out/img_%04d.png (8-bit sRGB) or .exr (float AOVs). One camera for the whole sequence, framed "
-                    "on the scene's domain (the tank); the particle radius is the simulation's");
-    // The look of those images: the render command's own options and defaults.
-    cmd->option_defaults()->group("Images (with --render)");
+                    "out/img_%04d.png (8-bit sRGB) or .exr (float AOVs), or into one movie, out.mp4 (H.264 at the "
+                    "simulation's frames per second). One camera for the whole sequence, framed "
+                    "on the scene's domain (the tank); the particle radius is the simulation's")
+        ->group(group::kOutput);
+    // The look of those images: the render command's own options and defaults,
+    // in render's groups marked "(with --render)".
+    const std::size_t imageOptions = cmd->get_options().size();
     addCameraOptions(cmd, o.image, false);
     o.image.backend = "cpu";  // the reference, on any machine; gl on request
     addBackendOption(cmd, o.image);
-    cmd->option_defaults()->group("Options");
+    const std::string withRender = " (with --render)";
+    suffixGroups(cmd, imageOptions, withRender);
+    HelpLayout layout = renderHelpLayout();
+    layout.groups = {group::kInput, group::kSimulation, group::kOutput, group::kPerformance};
+    for (const std::string& g : renderHelpLayout().groups)
+        if (g != group::kInput && g != group::kMovie && g != group::kCluster) layout.groups.push_back(g + withRender);
+    useGroupedHelp(cmd, std::move(layout));
     return cmd;
 }
 
@@ -177,7 +241,7 @@ int runSimulate(const SimulateOptions& o) {
         }
     }
     for (const std::string* pattern : {&o.output, &o.render})
-        if (!pattern->empty())
+        if (!pattern->empty() && !isMp4(*pattern))
             if (auto st = makeParentFolder(*pattern); !st) return fail(st.error().describe());
     std::cerr << "meniscus: " << sc.name << ": " << simulator.size() << " particles, r = " << sc.params.radius
               << " m, " << sim::solverName(sc.params.solver) << ", " << sc.duration << " s at " << sc.fps << " fps\n";
@@ -213,6 +277,25 @@ int runSimulate(const SimulateOptions& o) {
             std::cerr << "meniscus: wrote " << *name << imageNote << " (t = " << simulator.time() << " s, " << simulator.size()
                       << " particles, " << T.steps << " steps)\n";
     }
+#ifdef MENISCUS_HAVE_FFMPEG
+    if (images && images->movie) {
+        if (auto st = images->movie->finish(); !st) return fail(st.error().describe());
+        std::cerr << "meniscus: wrote " << o.render << " (" << images->movie->frames() << " frames, H.264, " << sc.fps
+                  << " fps)\n";
+    }
+#endif
+    std::vector<std::filesystem::path> written;
+    std::vector<double> times;
+    for (long k = 0; k <= frames; ++k) {
+        auto name = nameOf(k);
+        if (!name) return fail(name.error().describe());
+        written.emplace_back(*name);
+        times.push_back(double(k) / sc.fps);
+    }
+    const std::filesystem::path pvd = pvdBeside(o.output);
+    if (auto st = writePvd(pvd, written, times); !st) return fail(st.error().describe());
+    std::cerr << "meniscus: wrote " << pvd.string() << " (the frames' times, " << sc.fps
+              << " fps: a time series for ParaView, and render's movie rate)\n";
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::cerr << "meniscus: simulated " << simulator.time() << " s in " << wall << " s wall ("
               << simulator.totals().steps << " steps)\n";

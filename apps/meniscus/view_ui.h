@@ -1,8 +1,8 @@
-// The viewer's panels (issue 18, item 1), drawn with Dear ImGui over the
-// rendered picture: every stage's settings (as `render`'s options, so what is
-// tuned here is what `render` draws), the camera, the sequence's timeline,
-// per-stage times, scene files and a help overlay. Built only with GLFW and
-// libimgui-dev (MENISCUS_HAVE_IMGUI); the viewer works without it, panel-less.
+// The viewer's panels, drawn with Dear ImGui over the rendered picture: every
+// stage's settings (as `render`'s options, so what is tuned here is what
+// `render` draws), the camera, the sequence's timeline, per-stage times, scene
+// files and a help overlay. Built only with GLFW and libimgui-dev
+// (MENISCUS_HAVE_IMGUI); the viewer works without it, panel-less.
 #pragma once
 
 #include <cstddef>

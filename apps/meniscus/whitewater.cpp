@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "common.h"
+#include "help_format.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "meniscus/whitewater.h"
@@ -23,43 +24,73 @@ CLI::App* addWhitewaterCommand(CLI::App& app, WhitewaterOptions& o) {
         "as SPlisHSPlasH's FoamGenerator), written as their own sequence (attributes velocity, id, type: 0 foam, 1 "
         "spray, 2 bubble, lifetime) for `render --diffuse`. The same particles for any --threads");
     cmd->add_option("input", o.input, "Fluid sequence: directory or pattern (frame_%04d.bgeo, data_*.bgeo), with velocities")
+        ->group(group::kInput)
         ->required();
     cmd->add_option("-o,--output", o.output, "Output pattern, e.g. diffuse_%04d.bgeo (.bgeo, .bgeo.gz, .vtk, .vtu, .vtp, .ply)")
+        ->group(group::kOutput)
         ->required();
     cmd->add_option("--radius", o.radius, "Fluid particle radius r in metres (default: estimated from the first frame)")
+        ->group(group::kInput)
         ->check(CLI::PositiveNumber);
     addSelectOption(cmd, o.select);
     cmd->add_option("--fps", o.fps,
                     "Frames per second of the input (default: estimated from how far the particles of the first two "
                     "frames move along their velocities)")
+        ->group(group::kInput)
         ->check(CLI::PositiveNumber);
     cmd->add_option("--limits", o.limits,
                     "Potential limits TA_MIN,TA_MAX,WC_MIN,WC_MAX,KE_MIN,KE_MAX: trapped air (m/s), wave crest "
                     "(curvature, no unit), kinetic energy (J/kg). Default: automatic, 0.1 and 1 times the mean of "
                     "each frame's largest value (one more pass over the input)")
+        ->group(group::kGeneration)
         ->delimiter(',')
         ->expected(6);
     cmd->add_option("--scale", o.params.scale, "Diffuse particles made per second by a particle at full potential")
+        ->group(group::kGeneration)
         ->capture_default_str();
-    cmd->add_option("--trapped-air-rate", o.params.trappedAirRate, "k_ta: weight of the trapped-air potential")
+    cmd->add_option("--trapped-air-rate", o.params.trappedAirRate,
+                    "k_ta: weight of the trapped-air potential (a factor on --scale, no unit)")
+        ->group(group::kGeneration)
         ->capture_default_str();
-    cmd->add_option("--wave-crest-rate", o.params.waveCrestRate, "k_wc: weight of the wave-crest potential")
+    cmd->add_option("--wave-crest-rate", o.params.waveCrestRate,
+                    "k_wc: weight of the wave-crest potential (a factor on --scale, no unit)")
+        ->group(group::kGeneration)
         ->capture_default_str();
-    cmd->add_option("--lifetime", o.lifetime, "Foam lifetime MIN,MAX in seconds (default 2,5)")->delimiter(',')->expected(2);
-    cmd->add_option("--buoyancy", o.params.buoyancy, "Bubbles' buoyancy k_b, in multiples of -gravity")->capture_default_str();
-    cmd->add_option("--drag", o.params.drag, "Bubbles' drag k_d toward the fluid's velocity, 0 to 1")->capture_default_str();
-    cmd->add_option("--gravity", o.gravity, "Gravity X,Y,Z in m/s^2 (default 0,-9.81,0)")->delimiter(',')->expected(3);
+    cmd->add_option("--lifetime", o.lifetime, "Foam lifetime MIN,MAX in seconds (default 2,5)")
+        ->group(group::kMotion)
+        ->delimiter(',')
+        ->expected(2);
+    cmd->add_option("--buoyancy", o.params.buoyancy, "Bubbles' buoyancy k_b, in multiples of -gravity")
+        ->group(group::kMotion)
+        ->capture_default_str();
+    cmd->add_option("--drag", o.params.drag, "Bubbles' drag k_d toward the fluid's velocity, 0 to 1")
+        ->group(group::kMotion)
+        ->capture_default_str();
+    cmd->add_option("--gravity", o.gravity, "Gravity X,Y,Z in m/s^2 (default 0,-9.81,0)")
+        ->group(group::kMotion)
+        ->delimiter(',')
+        ->expected(3);
     cmd->add_option("--box", o.box,
                     "MINX,MINY,MINZ,MAXX,MAXY,MAXZ in metres (the container): diffuse particles leaving it dissolve. "
                     "Default: the fluid's region so far, grown by 4 r, open upward")
+        ->group(group::kMotion)
         ->delimiter(',')
         ->expected(6);
-    cmd->add_option("--spray-below", o.params.sprayBelow, "Fewer fluid neighbours than this within 4 r: spray")
+    cmd->add_option("--spray-below", o.params.sprayBelow,
+                    "Fewer fluid neighbours than this within 4 r (r: the particle radius): spray")
+        ->group(group::kClasses)
         ->capture_default_str();
     cmd->add_option("--bubble-above", o.params.bubbleAbove, "More fluid neighbours than this: bubble (between: foam)")
+        ->group(group::kClasses)
         ->capture_default_str();
-    cmd->add_option("--max-particles", o.params.maxParticles, "Most diffuse particles alive at once")->capture_default_str();
-    cmd->add_option("--seed", o.params.seed, "Seed of the random numbers")->capture_default_str();
+    cmd->add_option("--max-particles", o.params.maxParticles, "Most diffuse particles alive at once")
+        ->group(group::kGeneration)
+        ->capture_default_str();
+    cmd->add_option("--seed", o.params.seed, "Seed of the random numbers")
+        ->group(group::kGeneration)
+        ->capture_default_str();
+    useGroupedHelp(cmd, {group::kInput, group::kGeneration, group::kClasses, group::kMotion, group::kOutput,
+                         group::kPerformance});
     return cmd;
 }
 
@@ -149,10 +180,7 @@ int runWhitewater(WhitewaterOptions o) {
         if (!stats) return fail(Error{name, stats.error().message}.describe());
         auto out = frames->outputName(o.output, i);
         if (!out) return fail(out.error().describe());
-        // The output's folder, made if missing (an error later names the file).
-        std::error_code ec;
-        if (const std::filesystem::path parent = std::filesystem::path(*out).parent_path(); !parent.empty())
-            std::filesystem::create_directories(parent, ec);
+        if (auto st = makeOutputFolders(*out); !st) return fail(st.error().describe());
         if (auto st = writeParticles(*out, sim::toParticleSet(gen->particles())); !st) return fail(st.error().describe());
         if (tty && count > 1) progress.update(i + 1);
         else

@@ -1,4 +1,4 @@
-// Pinhole camera and the pixel conventions of SPEC §2.
+// Pinhole camera and the pixel conventions of docs/conventions.md#conventions.
 //  - right-handed world, metres, +y up; view space looks down -z;
 //  - focal length in pixels f = (H/2) / tan(fov/2), square pixels;
 //  - pixel (i, j): i column, j row, row 0 at the TOP, centre (i+1/2, j+1/2);

@@ -1,6 +1,6 @@
-// Camera motion through a rendered sequence (issue 18, item 3): key-framed
-// paths (eye, target and field of view at times) and turns about the vertical
-// (orbit, turntable). Pure geometry: no rendering, no file formats.
+// Camera motion through a rendered sequence: key-framed paths (eye, target and
+// field of view at times) and turns about the vertical (orbit, turntable). Pure
+// geometry: no rendering, no file formats.
 #pragma once
 
 #include <cstddef>

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -140,6 +142,7 @@ bool isSequenceSpec(const std::string& spec);
 struct PvdCollection {
     std::vector<std::filesystem::path> files;  // ascending timestep; relative ones joined to the .pvd's folder
     std::vector<double> times;                 // files[i]'s timestep (file order 0, 1, ... when none has one)
+    bool timed = false;                        // the file gave the timesteps (not the file order)
     std::vector<long long> parts;              // files[i]'s part (the lowest of its timestep; usually 0)
     std::vector<std::string> warnings;         // e.g. the datasets of further parts left out
 };
@@ -170,11 +173,26 @@ bool naturalLess(std::string_view a, std::string_view b);
 // own number if known) from a printf pattern such as out_%04d.png.
 Result<std::string> formatFramePattern(const std::string& pattern, long number);
 
+// The frame rate of a sequence's times t_0 < t_1 < ... (seconds): 1 / dt when
+// they are evenly spaced (every step within 0.1 % of the mean step), else none
+// (fewer than two times, uneven or non-increasing steps).
+std::optional<double> evenFrameRate(std::span<const double> times);
+// The frame rate the data of a sequence input carries, if any: a ParaView
+// collection's evenly spaced timesteps (a .pvd without timesteps carries
+// none, nor do numbered files). Errors name the file (a damaged .pvd).
+Result<std::optional<double>> frameRateOfInput(const std::filesystem::path& input);
+
 // ---------------------------------------------------------------- images
 
 // The 8-bit sRGB image writePng writes for linear RGBA in [0,1]: R, G, B by
 // the exact sRGB transfer function, alpha linear; clamped, rounded, NaN -> 0.
 Image<glm::u8vec4> encodeSrgb8(const Image<glm::vec4>& linearRgba);
+
+// The folders above an output file, made where missing: every command makes
+// its outputs' folders this one way (images, movies, meshes, particles), while
+// the writers themselves refuse a missing folder. An error names the file and
+// says which folder could not be made and why.
+Status makeOutputFolders(const std::filesystem::path& file);
 
 // Write-then-rename for a file written over time (a movie, frame by frame):
 // write to tmp(), then commit() renames it onto the path given to begin()

@@ -1,7 +1,7 @@
-// Sort-last compositing over MPI (issue 20): the SplatCompositor of
+// Sort-last compositing over MPI: the SplatCompositor of
 // include/meniscus/sort_last.h on an MPI communicator, for `mpirun meniscus
-// render` and for simulations that render in situ on their own
-// communicator. Built only when CMake finds MPI (target meniscus_mpi).
+// render` and for simulations that render in situ on their own communicator.
+// Built only when CMake finds MPI (target meniscus_mpi).
 #pragma once
 
 #include <cstdint>

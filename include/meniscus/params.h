@@ -17,7 +17,7 @@
 
 namespace meniscus {
 
-// The isosurface path's field (SPEC §4), declared before its default.
+// The isosurface path's field (docs/surface.md), declared before its default.
 // The scalar field whose level set is the surface. Both are normalised so that
 // 1 is the value inside fluid at rest (the interior of a simple cubic lattice
 // of spacing 2r, as SPlisHSPlasH and DualSPHysics sample a fluid); the iso
@@ -27,7 +27,8 @@ enum class SurfaceField {
     // d < Rc (a metaball falloff), summed over the particles.
     Thesis,
     // The SPH density with the cubic-spline kernel (Monaghan 1992) of support
-    // h = 4r: exactly the surface ../shared/tools/refsurf ray-traces.
+    // h = 4r: exactly the surface refsurf, the reference ray tracer of the
+    // true SPH surface (docs/quality.md), traces.
     Sph,
 };
 
@@ -77,9 +78,10 @@ inline constexpr int kVideoCrf = 18;
 // difference or average across it.
 inline constexpr float kDepthJumpRadii = 5.0f;
 
-// Reduced-resolution processing (SPEC §3.9): the fraction of the image's
-// width and height the splat, smoothing, normals and noise run at: 1 (full
-// resolution, the default), 0.5 or 0.25. Upsampled depth-aware for shading.
+// Reduced-resolution processing (docs/pipeline.md#reduced-resolution): the
+// fraction of the image's width and height the splat, smoothing, normals and
+// noise run at: 1 (full resolution, the default), 0.5 or 0.25. Upsampled
+// depth-aware for shading.
 inline constexpr float kFluidScale = 1.0f;
 
 // Kernel radii in pixels are capped here (cost bound for near fluid).
@@ -112,7 +114,7 @@ inline constexpr int kSimResortEvery = 50;             // steps between z-order 
 inline constexpr double kSimFps = 25.0;                // frames per simulated second written
 }  // namespace defaults
 
-// ---- Smoothing filters (SPEC §3.5) -------------------------------------------
+// ---- Smoothing filters (docs/pipeline.md#smoothing) -------------------------
 
 struct NoFilter {};
 
@@ -141,14 +143,16 @@ struct BinomialParams {
     int maxKernelPx = defaults::kMaxKernelPx;
 };
 
-// Screen-space curvature flow (van der Laan et al. 2009; SPEC §3.5).
+// Screen-space curvature flow (van der Laan et al. 2009;
+// docs/pipeline.md#curvature-flow).
 struct CurvatureFlowParams {
     int iterations = 40;
     float alpha = 0.4f;                      // time step dt = alpha * z / f (stable below 0.5)
     float jumpRadii = defaults::kDepthJumpRadii;
 };
 
-// Narrow-range filter (Truong & Yuksel, I3D 2018; SPEC §3.5).
+// Narrow-range filter (Truong & Yuksel, I3D 2018;
+// docs/pipeline.md#narrow-range-filter).
 struct NarrowRangeParams {
     int iterations = 1;                      // one: with the anisotropic kernels (the default) it scored best (docs/quality.md)
     float filterSizeRadii = 3.0f;            // world kernel radius, radii (sigma = radius / 3)
@@ -169,20 +173,20 @@ std::string filterNames();  // comma separated, for --help
 int filterIterations(const FilterParams& filter);  // 0 for none
 void setFilterIterations(FilterParams& filter, int iterations);
 
-// ---- Thickness (SPEC §3.4) ---------------------------------------------------
+// ---- Thickness (docs/pipeline.md#thickness) ---------------------------------
 
 struct ThicknessParams {
     float spacingM = 0.0f;                   // rest spacing s; 0 = 2 r (the radius is half the spacing)
     float blurSigmaRadii = 1.0f;             // Gaussian blur sigma, radii; 0 = no blur
     int resolutionDivisor = 1;               // thickness on a 1/n-resolution grid, then upsampled: 1 = full, 2 = half (4 allowed)
     int maxKernelPx = defaults::kMaxKernelPx;
-    // Thin liquid (issue 17): a fluid pixel is shaded as at least this thick,
+    // Thin liquid: a fluid pixel is shaded as at least this thick,
     // radii, so the rim of a drop or a sheet one particle thick is tinted as
     // liquid, never drawn as the untinted background. 0 = the thickness as splatted.
     float minRadii = 1.0f;
 };
 
-// ---- Hole filling (SPEC §3.4a; formulas in src/shared/hole_fill.h) -----------
+// ---- Hole filling (docs/pipeline.md#hole-filling; src/shared/hole_fill.h) ----
 
 // After the splat, before the smoothing: a pixel left uncovered inside a
 // sheet is filled when the liquid of one surface closes it in along the row,
@@ -205,7 +209,7 @@ struct HoleFillParams {
 // thickness floor too); empty when all are fine.
 std::string checkHoleFillParams(const HoleFillParams& p, const ThicknessParams& thickness);
 
-// ---- Turbulence, for the surface noise (SPEC §3.7) ---------------------------
+// ---- Turbulence, for the surface noise (docs/pipeline.md#noise-and-foam) ----
 
 // A particle whose velocity changed by more than tauMps between two
 // consecutive frames of a sequence (|v(t) - v(t-1)| > tau, the particles
@@ -219,7 +223,7 @@ struct TurbulenceParams {
     bool operator==(const TurbulenceParams&) const = default;
 };
 
-// ---- Surface noise and foam (SPEC §3.7) -------------------------------------
+// ---- Surface noise and foam (docs/pipeline.md#noise-and-foam) ---------------
 
 // The NVIDIA SSFR patent's surface noise (US 8,947,430, eqs. 14-17): every
 // particle near the surface splats a sprite of fractal Perlin noise (the
@@ -246,7 +250,7 @@ struct NoiseParams {
 // The first parameter out of range, as "field: what is allowed"; empty when all are fine.
 std::string checkNoiseParams(const NoiseParams& p);
 
-// ---- Velocity whitening (SPEC §3.7) -----------------------------------------
+// ---- Velocity whitening (docs/pipeline.md#noise-and-foam) -------------------
 
 // Instant Liquids' velocity map (Cords & Staadt 2008, §4): fast water is
 // aerated and looks whiter. Each particle near the surface splats its
@@ -268,7 +272,7 @@ struct WhiteningParams {
 // The first parameter out of range, as "field: what is allowed"; empty when all are fine.
 std::string checkWhiteningParams(const WhiteningParams& p);
 
-// ---- Spray (SPEC §3.2, §3.7) -------------------------------------------------
+// ---- Spray (docs/pipeline.md#classification, docs/pipeline.md#noise-and-foam) ----
 
 // The NVIDIA patent's spray: particles whose density is below sprayDensity
 // times the rest density have left the body of water. They are taken out of
@@ -310,7 +314,7 @@ std::string checkSprayParams(const SprayParams& p);
 // Computed once per frame on the host in O(N) (a hashed grid), threaded, the
 // result independent of the thread count. Off unless enabled.
 struct AnisotropyParams {
-    bool enabled = true;          // on by default since issue 17: sheets close, spray reads as droplets
+    bool enabled = true;          // on by default: sheets close, spray reads as droplets
     float neighbourRadii = 4.0f;  // R, the neighbourhood radius, particle radii (2 rest spacings)
     float kr = 4.0f;              // largest ratio of the longest axis to the shortest (Yu & Turk's kr)
     float kn = 0.5f;              // a particle with too few neighbours is a sphere of kn r (Yu & Turk's kn)
@@ -334,13 +338,14 @@ struct AnisotropyParams {
 // The first parameter out of range, as "field: what is allowed"; empty when all are fine.
 std::string checkAnisotropyParams(const AnisotropyParams& p);
 
-// ---- The SPH surface, ray cast (SPEC §3.5a) ---------------------------------
+// ---- The SPH surface, ray cast (docs/pipeline.md#ray-cast-surface) ----------
 
 // Instead of smoothing the splatted depth, every covered pixel's ray is
 // marched through the particles' SPH density (the cubic spline of support
 // supportRadii r, normalised so 1 = fluid at rest on a lattice of spacing 2r)
 // to the first point where it reaches `iso`: the surface the isosurface path
-// meshes and ../shared/tools/refsurf ray-traces, with its gradient as the
+// meshes and refsurf (the reference ray tracer of the true SPH surface,
+// docs/quality.md) traces, with its gradient as the
 // normal (ray casting of SPH data: Fraedrich, Auer & Westermann, IEEE TVCG
 // 16(6), 2010). The splat (spheres of coverRadii r, or the ellipsoids) gives
 // each ray its start and decides which pixels are tried; a ray that finds no
@@ -369,7 +374,7 @@ struct RaycastParams {
 // The first parameter out of range, as "field: what is allowed"; empty when all are fine.
 std::string checkRaycastParams(const RaycastParams& p);
 
-// ---- Silhouette reduction (SPEC §3.5; Instant Liquids §3) ------------------
+// ---- Silhouette reduction (docs/pipeline.md#silhouette-reduction; Instant Liquids §3) ----
 
 // Cords & Staadt's silhouette map: the binary fluid mask smoothed over a
 // window around each fluid pixel gives the fraction S of fluid near it, below
@@ -433,7 +438,7 @@ inline constexpr float kDiffuseFoamLiftRadii = 2.0f;
 
 // Checked by sim::checkWhitewaterParams (include/meniscus/whitewater.h).
 
-// ---- Scene (SPEC §3.1) ---------------------------------------------------------
+// ---- Scene (docs/pipeline.md#scene) -----------------------------------------
 
 struct SceneParams {
     bool background = true;                  // false: no floor/walls, transparent background
@@ -450,7 +455,7 @@ struct SceneParams {
     Bounds studioBounds;
 };
 
-// ---- Shading (SPEC §3.8) -----------------------------------------------------
+// ---- Shading (docs/pipeline.md#shading) -------------------------------------
 
 // One material = the parameters of the shading equation.
 struct Material {
@@ -474,7 +479,7 @@ struct ShadingParams {
     glm::vec3 lightDirWorld = glm::normalize(glm::vec3(-0.4f, 1.0f, 0.55f));  // toward the light
 };
 
-// ---- Isosurface extraction (SPEC §4, include/meniscus/surface.h) -----------
+// ---- Isosurface extraction (docs/surface.md, include/meniscus/surface.h) ----
 
 struct MeshParams {
     float radiusM = 0.0f;  // particle radius r, metres (> 0)

@@ -53,52 +53,55 @@ struct RenderSettings {
     View view = View::Final;
     FilterParams filter = NarrowRangeParams{};
     ThicknessParams thickness;
-    // Hole filling (SPEC §3.4a): on by default; the screen path only (the
-    // ray cast and the mesh decide their own coverage).
+    // Hole filling (docs/pipeline.md#hole-filling): on by default; the screen
+    // path only (the ray cast and the mesh decide their own coverage).
     HoleFillParams holeFill;
     SceneParams scene;
     ShadingParams shading;
-    // Several fluids (SPEC §3.10; Instant Liquids §5): when the particles
-    // carry a fluid index (ParticleView::fluid, 0 .. kMaxFluids - 1;
-    // another value is an error), fluid k is drawn with fluidMaterials[k]
-    // (shading.material when k is past the end), splatted, smoothed and
-    // shaded on its own and composited front to back with the others, so
-    // different bodies are never smoothed together and each absorbs with its
-    // own colour. Not on the mesh path (an error).
+    // Several fluids (docs/pipeline.md#several-fluids; Instant Liquids §5):
+    // when the particles carry a fluid index (ParticleView::fluid, 0 ..
+    // kMaxFluids - 1; another value is an error), fluid k is drawn with
+    // fluidMaterials[k] (shading.material when k is past the end), splatted,
+    // smoothed and shaded on its own and composited front to back with the
+    // others, so different bodies are never smoothed together and each absorbs
+    // with its own colour. Not on the mesh path (an error).
     // The fluid AOV is the nearest fluid's index; with several fluids the
     // noise, foam and whitening AOVs are the nearest fluid's own.
     std::vector<Material> fluidMaterials;
-    // Surface noise and foam (SPEC §3.7); off unless noise.enabled. The
-    // noise's pattern is seeded by the particles' `id` attribute (their index
-    // when absent); with ids and velocities and a frameIndex, particles whose
-    // velocity jumped since the previous frame get rougher noise for a while.
+    // Surface noise and foam (docs/pipeline.md#noise-and-foam); off unless
+    // noise.enabled. The noise's pattern is seeded by the particles' `id`
+    // attribute (their index when absent); with ids and velocities and a
+    // frameIndex, particles whose velocity jumped since the previous frame get
+    // rougher noise for a while.
     NoiseParams noise;
-    // Velocity whitening (SPEC §3.7, Instant Liquids §4): off unless
-    // whitening.enabled; reads the particles' `velocity` attribute (without
-    // it nothing is whitened).
+    // Velocity whitening (docs/pipeline.md#noise-and-foam, Instant Liquids §4):
+    // off unless whitening.enabled; reads the particles' `velocity` attribute
+    // (without it nothing is whitened).
     WhiteningParams whitening;
-    // Spray (SPEC §3.2): off unless spray.enabled. Particles below its density
-    // fraction (the `density` attribute, else estimated from neighbours) are
-    // drawn as drops instead of surface.
+    // Spray (docs/pipeline.md#classification): off unless spray.enabled.
+    // Particles below its density fraction (the `density` attribute, else
+    // estimated from neighbours) are drawn as drops instead of surface.
     SprayParams spray;
     // Diffuse particles drawn as drops over the surface with the spray's look
     // (its size, streak, opacity, colour), spray on or off: the whitewater of
     // `meniscus whitewater` (Ihmsen et al. 2012). Empty: none.
     DiffuseLayer diffuse;
-    // Silhouette reduction (SPEC §3.5; Instant Liquids §3): off unless
-    // silhouette.enabled; fades the liquid into the scene near its contours.
+    // Silhouette reduction (docs/pipeline.md#silhouette-reduction; Instant
+    // Liquids §3): off unless silhouette.enabled; fades the liquid into the
+    // scene near its contours.
     SilhouetteParams silhouette;
     // Anisotropic kernels (Yu & Turk 2013): off unless anisotropy.enabled.
     // The depth splat and the thickness draw each particle as the ellipsoid
     // of its neighbourhood, centred on its smoothed position (each fluid's
     // own, with several); the other stages use the smoothed positions too.
     AnisotropyParams anisotropy;
-    // The SPH surface, ray cast (SPEC §3.5a): off unless raycast.enabled.
-    // Each covered pixel's ray is marched to the particles' SPH iso-surface
-    // (the surface refsurf and the mesh path see), which takes the place of
-    // the smoothing filter (`filter` is not used) and of the depth normals;
-    // the splat draws spheres of raycast.coverRadii r (or the ellipsoids,
-    // that much larger) only to start and bound the rays. Not with `mesh`.
+    // The SPH surface, ray cast (docs/pipeline.md#ray-cast-surface): off unless
+    // raycast.enabled. Each covered pixel's ray is marched to the particles'
+    // SPH iso-surface (the surface refsurf and the mesh path see), which takes
+    // the place of the smoothing filter (`filter` is not used) and of the depth
+    // normals; the splat draws spheres of raycast.coverRadii r (or the
+    // ellipsoids, that much larger) only to start and bound the rays. Not with
+    // `mesh`.
     RaycastParams raycast;
     // The particles' own radii (ParticleView::radius, e.g. a file's radius or
     // pscale attribute; variable resolution): when present and this is set,
@@ -107,21 +110,21 @@ struct RenderSettings {
     // filters, normals and the other stages' kernels. An error when a radius
     // is not a positive number of metres in range (checkRadius).
     bool particleRadii = true;
-    // Reduced-resolution processing (SPEC §3.9; the NVIDIA patent; Instant
-    // Liquids §5): 1 (off), 0.5 or 0.25: the splat, smoothing, normals and
-    // noise run at that fraction of the width and height, and the surface is
-    // brought back to full resolution by depth-aware upsampling (never
-    // across a silhouette or a depth jump; edges blended into the scene)
-    // before the shading, which stays at full resolution. The raw-depth AOV
-    // is then the low splat, each full pixel taking its nearest low pixel.
-    // Not with `mesh` (an error). Any other value is an error.
+    // Reduced-resolution processing (docs/pipeline.md#reduced-resolution; the
+    // NVIDIA patent; Instant Liquids §5): 1 (off), 0.5 or 0.25: the splat,
+    // smoothing, normals and noise run at that fraction of the width and
+    // height, and the surface is brought back to full resolution by depth-aware
+    // upsampling (never across a silhouette or a depth jump; edges blended into
+    // the scene) before the shading, which stays at full resolution. The
+    // raw-depth AOV is then the low splat, each full pixel taking its nearest
+    // low pixel. Not with `mesh` (an error). Any other value is an error.
     float fluidScale = defaults::kFluidScale;
     // This frame's index in its sequence, for the turbulence of the noise: the
     // renderer remembers the velocities of the last frame it rendered, and
     // compares when this index is the next one (a redraw of the same index
     // keeps its result; any other jump starts afresh). -1: a lone frame.
     std::int64_t frameIndex = -1;
-    // The mesh path (issue 14): when set, the surface is this triangle mesh
+    // The mesh path: when set, the surface is this triangle mesh
     // (world space, metres; e.g. from the isosurface extraction) instead of
     // the smoothed particle depth: its triangles are rasterised into the depth
     // and normal AOVs in place of the smoothing and normals stages, and shaded
@@ -131,8 +134,8 @@ struct RenderSettings {
     // is out of range, a position or normal is not finite, or the normals are
     // not one per vertex.
     const TriangleMesh* mesh = nullptr;
-    // Sort-last rendering over several processes (issue 20;
-    // include/meniscus/sort_last.h): when set, each process renders its own
+    // Sort-last rendering over several processes
+    // (include/meniscus/sort_last.h): when set, each process renders its own
     // share of the particles with the same settings, the splat runs as the
     // stages depth-splat (this share's partial), composite (the compositor
     // combines the partials of all processes; its error ends the frame) and,

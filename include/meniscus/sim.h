@@ -1,4 +1,4 @@
-// The built-in SPH simulator (SPEC §5; thesis ch. 2-3; Instant Liquids §4):
+// The built-in SPH simulator (docs/simulation.md; thesis ch. 2-3; Instant Liquids §4):
 // liquid from a scene description alone. One file per method under src/sim/,
 // named after its paper; no rendering code. Units: SI throughout (metres,
 // seconds, kilograms, kg/m^3, m/s, m/s^2, Pa).

@@ -1,9 +1,9 @@
-// Sort-last rendering over several processes (issue 20): each process splats
-// its own share of the particles, the partial images are combined exactly
-// (nearest depth wins, thickness chords add), and the rest of the pipeline
-// runs once, on the root, on the combined image. The combination is exact and
-// order-independent (a min of floats and a wrapping sum of fixed-point
-// integers), so the picture does not depend on how the particles were split.
+// Sort-last rendering over several processes: each process splats its own share
+// of the particles, the partial images are combined exactly (nearest depth
+// wins, thickness chords add), and the rest of the pipeline runs once, on the
+// root, on the combined image. The combination is exact and order-independent
+// (a min of floats and a wrapping sum of fixed-point integers), so the picture
+// does not depend on how the particles were split.
 //
 // The library knows no transport: a SplatCompositor is handed in through
 // RenderSettings::compositor. The MPI one is meniscus_mpi's

@@ -1,4 +1,4 @@
-// The isosurface path (SPEC §4; thesis §4.2 after Rosenberg & Birdwell, I3D
+// The isosurface path (docs/surface.md; thesis §4.2 after Rosenberg & Birdwell, I3D
 // 2008): a closed, indexed triangle mesh of the liquid, extracted on the CPU
 // from the particles by block-parallel, surface-following marching cubes with a
 // per-block particle lookup cache. No rendering code: the mesh goes to a file

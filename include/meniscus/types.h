@@ -15,7 +15,7 @@ namespace meniscus {
 
 using ByteView = std::span<const std::uint8_t>;
 
-// A W×H image of T, row-major, row 0 is the TOP row (SPEC §2).
+// A W×H image of T, row-major, row 0 is the TOP row (docs/conventions.md#conventions).
 template <class T>
 struct Image {
     int width = 0;

@@ -1,4 +1,4 @@
-// `import meniscus`: the extension module meniscus._meniscus (issue 19, item 1).
+// `import meniscus`: the extension module meniscus._meniscus.
 // The package's __init__.py re-exports everything here; the stubs are
 // python/meniscus/__init__.pyi. Errors: ValueError for bad arguments and
 // arrays, OSError for files, RuntimeError when the pipeline fails while it

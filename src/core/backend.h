@@ -1,5 +1,5 @@
 // The backend interface the stage order calls (src/render/pipeline.cpp): one
-// method per stage of SPEC §3, reading and writing images named by opaque
+// method per stage of docs/pipeline.md, reading and writing images named by opaque
 // handles. The CPU reference (src/cpu/backend.cpp) and the GL backend
 // (src/gl/backend.cpp) implement it; each keeps its own storage per handle
 // (CPU: Image<T>; GL: GPU buffers), so the pipeline never touches pixels.
@@ -30,9 +30,10 @@
 namespace meniscus {
 
 // Opaque handles of the images one frame passes between stages.
-// The Low* slots and Coverage hold the reduced-resolution pass (SPEC §3.9);
-// FluidId and the layer slots after FirstLayer (layerSlot) the several
-// fluids (SPEC §3.10). None: no image (an output not wanted).
+// The Low* slots and Coverage hold the reduced-resolution pass
+// (docs/pipeline.md#reduced-resolution); FluidId and the layer slots after
+// FirstLayer (layerSlot) the several fluids (docs/pipeline.md#several-fluids).
+// None: no image (an output not wanted).
 enum class Slot {
     SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Noise, Whitening, Color, Spray, Silhouette,
     LowSceneDepth, LowThickness, LowDepth, LowNormal, LowNoise, Coverage, FluidId, FirstLayer,
@@ -71,37 +72,41 @@ struct FrameSettings {
     // of the spheres of `radius`; empty: spheres. The other stages keep the radius.
     std::span<const EllipsoidShape> shapes;
     FilterParams filter;
-    // The SPH surface, ray cast (SPEC §3.5a), when raycast.enabled: the
-    // particles' field (this frame only, the Renderer's) the raycast stage reads.
+    // The SPH surface, ray cast (docs/pipeline.md#ray-cast-surface), when
+    // raycast.enabled: the particles' field (this frame only, the Renderer's)
+    // the raycast stage reads.
     RaycastParams raycast;
     const SphField* field = nullptr;
     ThicknessParams thickness;
     HoleFillParams holeFill;
     ShadingParams shading;
-    // The surface noise (SPEC §3.7): when enabled, the noise stage runs and
-    // the shading tints foam. Per particle (this frame only, pointing into
-    // the Renderer's memory): the noise's third coordinate
+    // The surface noise (docs/pipeline.md#noise-and-foam): when enabled, the
+    // noise stage runs and the shading tints foam. Per particle (this frame
+    // only, pointing into the Renderer's memory): the noise's third coordinate
     // (shared::noiseIdCoordinate of the id) and the turbulence factor (empty: 1).
     NoiseParams noise;
     std::span<const float> noiseIdz;
     std::span<const float> noiseAmplitude;
-    // The velocity whitening (SPEC §3.7): when enabled, the whitening stage
-    // runs and the shading lays white by its map. Per particle (this frame
-    // only): its whiteness (shared::whitenessOfSpeed; empty: 0).
+    // The velocity whitening (docs/pipeline.md#noise-and-foam): when enabled,
+    // the whitening stage runs and the shading lays white by its map. Per
+    // particle (this frame only): its whiteness (shared::whitenessOfSpeed;
+    // empty: 0).
     WhiteningParams whitening;
     std::span<const float> whiteness;
-    // The spray (SPEC §3.2): when enabled, the drops below (taken out of the
-    // particles above, which are the body of water) are drawn after the
-    // shading. World positions and velocities (m/s; empty: round drops).
+    // The spray (docs/pipeline.md#classification): when enabled, the drops
+    // below (taken out of the particles above, which are the body of water) are
+    // drawn after the shading. World positions and velocities (m/s; empty:
+    // round drops).
     SprayParams spray;
-    // The silhouette reduction (SPEC §3.5; Instant Liquids §3), when enabled.
+    // The silhouette reduction (docs/pipeline.md#silhouette-reduction; Instant
+    // Liquids §3), when enabled.
     SilhouetteParams silhouette;
     std::span<const glm::vec3> sprayPositions;
     std::span<const glm::vec3> sprayVelocities;
     shared::Studio studio;
-    // Reduced-resolution processing (SPEC §3.9): the divisor d of the fluid
-    // scale (1: off), and the depth jump (metres) the upsampling does not
-    // blend across.
+    // Reduced-resolution processing (docs/pipeline.md#reduced-resolution): the
+    // divisor d of the fluid scale (1: off), and the depth jump (metres) the
+    // upsampling does not blend across.
     int fluidDivisor = 1;
     float upsampleJumpM = 0.0f;
     // The particles' views (attributes for the stages that read them; the
@@ -134,7 +139,7 @@ public:
     // Starts a frame: the particles and the settings every stage reads.
     virtual Status beginFrame(std::span<const glm::vec3> positions, const FrameSettings& settings) = 0;
 
-    // ---- The stages (SPEC §3.1-3.8), each the twin of one src/cpu/ function.
+    // ---- The stages (docs/pipeline.md), each the twin of one src/cpu/ function.
     // Scene colour (RGBA) and depth; may keep the previous cast when the camera
     // and the studio have not changed (cpu::castScene).
     virtual void castScene(Slot color, Slot depth) = 0;
@@ -151,9 +156,9 @@ public:
     virtual void resolveSplat(SplatPartial& partial, Slot depth, Slot thickness) = 0;
     // The chosen smoothing filter (cpu::smoothDepth); `none` copies.
     virtual void smooth(Slot in, Slot out) = 0;
-    // Hole filling (SPEC §3.4a, FrameSettings::holeFill): the uncovered
-    // pixels that liquid closes in get a depth and thickness, in place; never
-    // behind the scene (sceneDepth).
+    // Hole filling (docs/pipeline.md#hole-filling, FrameSettings::holeFill):
+    // the uncovered pixels that liquid closes in get a depth and thickness, in
+    // place; never behind the scene (sceneDepth).
     virtual void fillHoles(Slot sceneDepth, Slot depth, Slot thickness) = 0;
     // View-space normals of the smoothed depth (cpu::computeNormals).
     virtual void normals(Slot depth, Slot normal) = 0;
@@ -180,8 +185,9 @@ public:
     virtual void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
                        Slot whitening, Slot color, Slot emission = Slot::None, Slot transmit = Slot::None) = 0;
 
-    // ---- Several fluids (SPEC §3.10). The particles and material the stages
-    // after this call draw (one fluid of the frame), until the next call.
+    // ---- Several fluids (docs/pipeline.md#several-fluids). The particles and
+    // material the stages after this call draw (one fluid of the frame), until
+    // the next call.
     virtual void setFluid(std::span<const glm::vec3> positions, const FluidSettings& fluid) = 0;
     // Layers 0 .. fluids.size() - 1 (their layerSlot images; fluids[i] is
     // layer i's fluid index) composited front to back over the scene
@@ -198,9 +204,10 @@ public:
     // fluid `depth` and the scene, and their cover into `spray` (cpu::drawSpray).
     virtual void spray(Slot sceneDepth, Slot depth, Slot color, Slot spray) = 0;
 
-    // ---- Reduced-resolution processing (SPEC §3.9). The camera the stages
-    // after this call run at (the low camera, core/fluid_scale.h, then the
-    // full one again); the particles and the other settings stay.
+    // ---- Reduced-resolution processing (docs/pipeline.md#reduced-resolution).
+    // The camera the stages after this call run at (the low camera,
+    // core/fluid_scale.h, then the full one again); the particles and the other
+    // settings stay.
     virtual void setCamera(const Camera& camera) = 0;
     // The scene depth `fullSceneDepth` (full size) reduced to the current
     // camera's size, per pixel the farthest under it (cpu::reduceSceneDepth).

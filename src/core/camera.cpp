@@ -1,4 +1,5 @@
-// Camera math of SPEC §2 and the automatic three-quarter framing.
+// Camera math of docs/conventions.md#conventions and the automatic
+// three-quarter framing.
 #include "meniscus/camera.h"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
-// Reduced-resolution processing (SPEC §3.9): the divisor of a fluid scale,
-// the camera the low-resolution stages run on, and the nearest-pixel
-// upsampling of the raw splat AOV. The depth-aware upsampling itself is a
-// stage of the backends (cpu/upsample.h, gl/upsample.h; formulas in
+// Reduced-resolution processing (docs/pipeline.md#reduced-resolution): the
+// divisor of a fluid scale, the camera the low-resolution stages run on, and
+// the nearest-pixel upsampling of the raw splat AOV. The depth-aware upsampling
+// itself is a stage of the backends (cpu/upsample.h, gl/upsample.h; formulas in
 // shared/upsample.h).
 #pragma once
 

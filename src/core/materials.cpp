@@ -1,8 +1,9 @@
-// Material presets of the shading equation (SPEC §3.8: water, murky water,
-// milk, lava-like, sand-like opaque). Water is exactly the Material{} defaults
-// of params.h, so the defaults live in one place. Colours are linear RGB;
-// absorption in 1/m (Beer-Lambert), so with a dam-break tank of 1-2 m a value
-// of a few per metre separates shallow (clear) from deep (tinted) fluid.
+// Material presets of the shading equation (docs/pipeline.md#shading: water,
+// murky water, milk, lava-like, sand-like opaque). Water is exactly the
+// Material{} defaults of params.h, so the defaults live in one place. Colours
+// are linear RGB; absorption in 1/m (Beer-Lambert), so with a dam-break tank of
+// 1-2 m a value of a few per metre separates shallow (clear) from deep (tinted)
+// fluid.
 #include <array>
 
 #include "meniscus/params.h"

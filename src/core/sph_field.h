@@ -1,9 +1,9 @@
-// The particles as the raycast stage (SPEC §3.5a) reads them: a dense grid
-// with cells of at least the SPH support h, so a point's neighbours lie in
-// the 3x3x3 cells around its own, and the iso level in the field's raw units.
-// Built on the host once per frame (per fluid) and read by both backends (the
-// GL one uploads the grid's arrays), so both sum the same particles in the
-// same order.
+// The particles as the raycast stage (docs/pipeline.md#ray-cast-surface) reads
+// them: a dense grid with cells of at least the SPH support h, so a point's
+// neighbours lie in the 3x3x3 cells around its own, and the iso level in the
+// field's raw units. Built on the host once per frame (per fluid) and read by
+// both backends (the GL one uploads the grid's arrays), so both sum the same
+// particles in the same order.
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,7 @@
-// Which particles are spray (SPEC §3.2; the NVIDIA SSFR patent): those whose
-// density is below SprayParams::sprayDensity times the rest density. Used by
-// the Renderer to take them out of the surface and draw them as drops.
+// Which particles are spray (docs/pipeline.md#classification; the NVIDIA SSFR
+// patent): those whose density is below SprayParams::sprayDensity times the
+// rest density. Used by the Renderer to take them out of the surface and draw
+// them as drops.
 #pragma once
 
 #include <cstdint>

@@ -1,8 +1,9 @@
-// Which particles of a sequence are turbulent (SPEC §3.7, issue 16): the
-// surface noise of a particle whose velocity jumped between frames is drawn
-// rougher for a while. The renderer keeps one tracker per sequence and feeds
-// it each frame's ids and velocities; particles are matched by id, so the
-// order of the particles in the files does not matter.
+// Which particles of a sequence are turbulent
+// (docs/pipeline.md#noise-and-foam): the surface noise of a particle whose
+// velocity jumped between frames is drawn rougher for a while. The renderer
+// keeps one tracker per sequence and feeds it each frame's ids and velocities;
+// particles are matched by id, so the order of the particles in the files does
+// not matter.
 #pragma once
 
 #include <cstdint>

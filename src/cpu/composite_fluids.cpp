@@ -1,4 +1,5 @@
-// CPU compositing of several fluids, SPEC §3.10 (src/shared/fluids.h).
+// CPU compositing of several fluids, docs/pipeline.md#several-fluids
+// (src/shared/fluids.h).
 #include "cpu/composite_fluids.h"
 
 #include <algorithm>

@@ -1,6 +1,7 @@
-// CPU compositing of several fluids (SPEC §3.10; Cords & Staadt 2008,
-// "Instant Liquids" §5): the fluids, each splatted, smoothed and shaded on
-// its own, joined front to back per pixel. Formulas: src/shared/fluids.h.
+// CPU compositing of several fluids (docs/pipeline.md#several-fluids; Cords &
+// Staadt 2008, "Instant Liquids" §5): the fluids, each splatted, smoothed and
+// shaded on its own, joined front to back per pixel. Formulas:
+// src/shared/fluids.h.
 #pragma once
 
 #include <span>

@@ -1,8 +1,8 @@
-// Separable bilateral smoothing of the eye depth (SPEC §3.5): the bilateral
-// filter of the thesis seed (Janisz, §4.1.2.1, eqs. 4.1-4.3) -- weights
-// g_s(spatial offset) * g_t(z - z0), both Gaussian -- computed as two 1-D
-// passes, x then y, as in Pham & van Vliet, "Separable bilateral filtering for
-// fast video preprocessing" (ICME 2005); the y pass takes its range weights
+// Separable bilateral smoothing of the eye depth (docs/pipeline.md#smoothing):
+// the bilateral filter of the thesis (Janisz, §4.1.2.1, eqs. 4.1-4.3) --
+// weights g_s(spatial offset) * g_t(z - z0), both Gaussian -- computed as two
+// 1-D passes, x then y, as in Pham & van Vliet, "Separable bilateral filtering
+// for fast video preprocessing" (ICME 2005); the y pass takes its range weights
 // from the x-filtered depth. Not exact (the bilateral is not separable), but
 // the thesis finds the approximation good enough and it is O(m) per pixel
 // instead of O(m^2).

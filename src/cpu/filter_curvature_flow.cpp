@@ -1,6 +1,6 @@
 // Screen-space curvature flow: van der Laan, Green & Sainz, "Screen Space Fluid
 // Rendering with Curvature Flow", I3D 2009 (NVIDIA patent US 8,947,430, eqs.
-// 3-12), exactly as restated in SPEC §3.5.
+// 3-12), exactly as restated in docs/pipeline.md#curvature-flow.
 //
 // With Cx = Cy = C = 1/f (f = camera.focalPx(), pixels) and central pixel
 // differences z_x, z_y, z_xx, z_yy, z_xy of the eye depth z (metres):
@@ -38,7 +38,7 @@
 //    branch-free so the compiler can vectorise it, compiled twice (GCC
 //    target_clones: AVX2 and the SSE2 baseline, chosen at run time; the same
 //    IEEE operations, no FMA, so the same output on every x86-64 machine).
-//  - The spec's normal (−Cy z_x, −Cx z_y, Cx Cy z) drops the terms that carry
+//  - The normal behind D, (−Cy z_x, −Cx z_y, Cx Cy z), drops the terms that carry
 //    the pixel's ray direction, so a tilted plane has a tiny H ~ C·slope²: it
 //    drifts by ~1e-5 of its depth in 40 iterations (see the plane test).
 #include <algorithm>

@@ -1,8 +1,9 @@
 // Narrow-range filter: N. Truong and C. Yuksel, "A Narrow-Range Filter for
 // Screen-Space Fluid Rendering", Proc. ACM Comput. Graph. Interact. Tech. 1(1)
-// (I3D 2018), as restated in SPEC §3.5. The authors' demo shader
-// (github.com/ttnghia/RealTimeFluidRendering, Shaders/filter-narrow-range.fs.glsl)
-// was read for the details; this is an independent implementation.
+// (I3D 2018), as restated in docs/pipeline.md#narrow-range-filter. The authors'
+// demo shader (github.com/ttnghia/RealTimeFluidRendering,
+// Shaders/filter-narrow-range.fs.glsl) was read for the details; this is an
+// independent implementation.
 //
 // For a fluid pixel of eye depth z0 (metres) and threshold τ = lambda·r the
 // accepted range starts as [z0 − τ, z0 + τ]. Taps are visited from the centre

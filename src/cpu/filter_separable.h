@@ -1,6 +1,7 @@
-// Separable depth smoothing with a per-pixel kernel (SPEC §3.5), written once
-// for the Gaussian, bilateral and binomial filters: an x pass then a y pass,
-// each a 1-D weighted average around the centre pixel.
+// Separable depth smoothing with a per-pixel kernel
+// (docs/pipeline.md#smoothing), written once for the Gaussian, bilateral and
+// binomial filters: an x pass then a y pass, each a 1-D weighted average around
+// the centre pixel.
 //  - The kernel radius s = kernelWorldM * f / z0 is the world length projected
 //    at the centre depth z0 (constant width in world space, patent "System and
 //    method for rendering a particle-based fluid surface"), capped at maxKernelPx.

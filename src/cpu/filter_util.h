@@ -1,4 +1,4 @@
-// Small helpers shared by the smoothing filters (SPEC §3.5).
+// Small helpers shared by the smoothing filters (docs/pipeline.md#smoothing).
 #pragma once
 
 #include <algorithm>

@@ -1,9 +1,9 @@
-// CPU smoothing filters for the splatted eye depth (SPEC §3.5). Each filter is
-// its own file (filter_<name>.cpp) citing its paper. Common rules: +inf ("no
-// fluid") pixels stay +inf and never feed a neighbour; depth steps larger than
-// jumpRadii * r are never averaged across; every pixel size comes from the
-// camera (projected radius r * f / z); output is bit-identical for any thread
-// count.
+// CPU smoothing filters for the splatted eye depth
+// (docs/pipeline.md#smoothing). Each filter is its own file (filter_<name>.cpp)
+// citing its paper. Common rules: +inf ("no fluid") pixels stay +inf and never
+// feed a neighbour; depth steps larger than jumpRadii * r are never averaged
+// across; every pixel size comes from the camera (projected radius r * f / z);
+// output is bit-identical for any thread count.
 #pragma once
 
 #include "meniscus/camera.h"

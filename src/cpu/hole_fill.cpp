@@ -1,9 +1,10 @@
-// CPU hole filling, SPEC §3.4a (the rule and formulas: src/shared/hole_fill.h).
-// Per row in parallel; the nearest covered pixels along the row (two scans of
-// the row) and the column (two sweeps of blocks of columns) come without a
-// walk, so the row and the column turn most of the background away at once;
-// only pixels they close, one of them narrowly, walk the diagonals. Reads the splat as it came (a copy), so a filled
-// pixel never closes another and the order of the rows does not matter.
+// CPU hole filling, docs/pipeline.md#hole-filling (the rule and formulas:
+// src/shared/hole_fill.h). Per row in parallel; the nearest covered pixels
+// along the row (two scans of the row) and the column (two sweeps of blocks of
+// columns) come without a walk, so the row and the column turn most of the
+// background away at once; only pixels they close, one of them narrowly, walk
+// the diagonals. Reads the splat as it came (a copy), so a filled pixel never
+// closes another and the order of the rows does not matter.
 #include "cpu/hole_fill.h"
 
 #include <algorithm>

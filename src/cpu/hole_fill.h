@@ -1,6 +1,6 @@
-// CPU hole filling (SPEC §3.4a; issue 17 item 3): the pixels the splat left
-// uncovered inside a sheet get a depth and thickness before the smoothing.
-// Formulas and the rule: src/shared/hole_fill.h.
+// CPU hole filling (docs/pipeline.md#hole-filling): the pixels
+// the splat left uncovered inside a sheet get a depth and thickness before the
+// smoothing. Formulas and the rule: src/shared/hole_fill.h.
 #pragma once
 
 #include "meniscus/camera.h"

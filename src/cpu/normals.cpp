@@ -1,4 +1,4 @@
-// CPU normals stage, SPEC §3.6. After van der Laan, Green & Sainz 2009
+// CPU normals stage, docs/pipeline.md#normals. After van der Laan, Green & Sainz 2009
 // (US 8,947,430, eqs. 3-6) and Cords & Staadt 2008 ("Instant Liquids" §2.3,
 // perspective-correct normals): every fluid pixel is back-projected with its
 // smoothed eye depth to the view-space point P = z * ray(x+1/2, y+1/2), and

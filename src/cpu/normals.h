@@ -1,5 +1,5 @@
-// CPU normals stage (SPEC §3.6): view-space normals from the smoothed eye depth
-// by exact back-projection.
+// CPU normals stage (docs/pipeline.md#normals): view-space normals from the
+// smoothed eye depth by exact back-projection.
 #pragma once
 
 #include <glm/glm.hpp>

@@ -1,6 +1,5 @@
 // CPU triangle-mesh rasteriser: the mesh path's stand-in for smoothing +
-// normals (issue 14), the reference the GL backend's triangle draw is tested
-// against.
+// normals, the reference the GL backend's triangle draw is tested against.
 //
 // Method: half-space (edge-function) rasterisation, Pineda, "A Parallel
 // Algorithm for Polygon Rasterization", SIGGRAPH 1988: a pixel centre is inside

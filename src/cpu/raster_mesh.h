@@ -1,6 +1,6 @@
-// CPU triangle-mesh rasteriser (SPEC §1, the mesh path of issue 14): the eye
-// depth and view-space normal of the nearest triangle at every pixel centre, so
-// a mesh can take the place of smoothing + normals in the pipeline.
+// CPU triangle-mesh rasteriser (docs/conventions.md#data-flow, the mesh path):
+// the eye depth and view-space normal of the nearest triangle at every pixel
+// centre, so a mesh can take the place of smoothing + normals in the pipeline.
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,6 @@
-// The SPH surface, ray cast (SPEC §3.5a; RaycastParams in params.h): per
-// covered pixel, shared::sphRaycast over evaluateSphField from the splat's
-// depth. The GL twin is shaders/raycast.comp.
+// The SPH surface, ray cast (docs/pipeline.md#ray-cast-surface; RaycastParams
+// in params.h): per covered pixel, shared::sphRaycast over evaluateSphField
+// from the splat's depth. The GL twin is shaders/raycast.comp.
 #include "cpu/raycast.h"
 
 #include <algorithm>

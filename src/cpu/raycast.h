@@ -1,5 +1,5 @@
-// CPU raycast stage (SPEC §3.5a): the SPH surface found along each covered
-// pixel's ray, in place of the smoothing and the normals.
+// CPU raycast stage (docs/pipeline.md#ray-cast-surface): the SPH surface found
+// along each covered pixel's ray, in place of the smoothing and the normals.
 #pragma once
 
 #include <glm/glm.hpp>

@@ -1,4 +1,4 @@
-// CPU scene stage, SPEC §3.1: the default "studio" the fluid stands in — a
+// CPU scene stage, docs/pipeline.md#scene: the default "studio" the fluid stands in — a
 // checker floor and two back walls forming the inside corner of a box around
 // the particles, or the floor alone for a moving camera — ray-cast per pixel into colour and eye depth, with the
 // procedural sky (sky.cpp) wherever no plane is hit. Rendering the opaque scene

@@ -1,4 +1,4 @@
-// CPU scene stage (SPEC §3.1): the default studio (checker floor, two back
+// CPU scene stage (docs/pipeline.md#scene): the default studio (checker floor, two back
 // walls; shared::makeStudio builds it) ray-cast per pixel into colour and eye
 // depth, and the procedural sky that serves as background and environment map.
 #pragma once

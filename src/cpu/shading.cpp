@@ -1,6 +1,6 @@
-// CPU shading and compositing, SPEC §3.8. After van der Laan, Green & Sainz 2009
-// (US 8,947,430, eqs. 18-20) with the reflection/refraction of Cords & Staadt
-// 2008 ("Instant Liquids" §3):
+// CPU shading and compositing, docs/pipeline.md#shading. After van der Laan,
+// Green & Sainz 2009 (US 8,947,430, eqs. 18-20) with the reflection/refraction
+// of Cords & Staadt 2008 ("Instant Liquids" §3):
 //   a     = lerp(C_fluid, S(x + beta n_x, y - beta n_y), exp(-k_rgb T))   (eq. 18)
 //   C_out = a (1 - F) + b F + k_s (n·h)^alpha                              (eq. 20)
 // with b the sky (environment map) along reflect(-v, n) in world space and F
@@ -308,9 +308,9 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
         }
     }
     // 6. Foam over the liquid where the surface noise is strong, then white
-    // water where the surface is fast (SPEC §3.7; Instant Liquids §4), both
-    // lit like the opaque materials. A cover of 0 (that effect off) leaves
-    // the colour exactly as it was.
+    // water where the surface is fast (docs/pipeline.md#noise-and-foam; Instant
+    // Liquids §4), both lit like the opaque materials. A cover of 0 (that
+    // effect off) leaves the colour exactly as it was.
     if (S.noise || S.whitening) {
         for (int i = 0; i < n; ++i) {
             glm::vec3 c(B.cr[i], B.cg[i], B.cb[i]);

@@ -1,5 +1,6 @@
-// CPU shading and compositing (SPEC §3.8): refraction, Beer-Lambert absorption,
-// environment reflection, Schlick Fresnel, specular; composited over the scene.
+// CPU shading and compositing (docs/pipeline.md#shading): refraction,
+// Beer-Lambert absorption, environment reflection, Schlick Fresnel, specular;
+// composited over the scene.
 #pragma once
 
 #include "cpu/scene.h"
@@ -25,10 +26,10 @@ inline float schlickFresnel(float f0, float cosTheta) {
 // shaded fluid where depth is finite and in front of the scene (alpha 1). Where
 // the scene is transparent (no background), refraction samples the sky.
 // Bit-identical for any thread count.
-// With `noise` (the surface noise N, SPEC §3.7) and its parameters, foam of
-// cover shared::noiseFoamCover(N) is laid over the shaded fluid; with
-// `whitening` (the velocity whitening map) and its parameters, then white
-// water of cover strength * map.
+// With `noise` (the surface noise N, docs/pipeline.md#noise-and-foam) and its
+// parameters, foam of cover shared::noiseFoamCover(N) is laid over the shaded
+// fluid; with `whitening` (the velocity whitening map) and its parameters, then
+// white water of cover strength * map.
 // Several fluids (shared/fluids.h): where to put each fluid pixel's split of
 // its colour C = E + T S, E (rgb, a = 1) and T (rgb, a = 0); both W x H,
 // zero where this fluid is not drawn.

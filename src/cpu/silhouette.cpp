@@ -1,9 +1,9 @@
-// CPU silhouette reduction, SPEC §3.5 (Cords & Staadt 2008, "Instant
-// Liquids" §3: the binary depth map smoothed by the filter's kernel, the
-// liquid shown only where it reaches 1). Here the window is a square of
-// uniform weights, so its fluid count comes from a summed-area table in four
-// reads, and S = count / area is the same bits on the GL twin; the liquid
-// fades into the scene colour behind it where S < 1 rather than only
+// CPU silhouette reduction, docs/pipeline.md#silhouette-reduction (Cords &
+// Staadt 2008, "Instant Liquids" §3: the binary depth map smoothed by the
+// filter's kernel, the liquid shown only where it reaches 1). Here the window
+// is a square of uniform weights, so its fluid count comes from a summed-area
+// table in four reads, and S = count / area is the same bits on the GL twin;
+// the liquid fades into the scene colour behind it where S < 1 rather than only
 // clipping (SilhouetteParams::fadeFrom = 1 clips as the paper).
 #include "cpu/silhouette.h"
 

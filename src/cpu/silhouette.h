@@ -1,7 +1,7 @@
-// CPU silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3; SPEC
-// §3.5): the fluid mask's summed-area table, the fluid fraction S of each
-// fluid pixel's window, and the liquid faded by it into the scene behind.
-// Formulas: src/shared/silhouette.h.
+// CPU silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3;
+// docs/pipeline.md#silhouette-reduction): the fluid mask's summed-area table,
+// the fluid fraction S of each fluid pixel's window, and the liquid faded by it
+// into the scene behind. Formulas: src/shared/silhouette.h.
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,6 @@
-// Procedural sky gradient (SPEC §3.1); the formula lives in src/shared/sky.h
-// (written once for this backend and the GL shaders) and is inlined through
-// sky.h (skyColorRgb) so the shading stage can vectorise it.
+// Procedural sky gradient (docs/pipeline.md#scene); the formula lives in
+// src/shared/sky.h (written once for this backend and the GL shaders) and is
+// inlined through sky.h (skyColorRgb) so the shading stage can vectorise it.
 #include "cpu/sky.h"
 
 namespace meniscus::cpu {

@@ -1,5 +1,6 @@
-// The procedural sky (SPEC §3.1): background where no geometry is hit and the
-// environment map that the fluid reflects. Shared by the scene and shading stages.
+// The procedural sky (docs/pipeline.md#scene): background where no geometry is
+// hit and the environment map that the fluid reflects. Shared by the scene and
+// shading stages.
 #pragma once
 
 #include <glm/glm.hpp>

@@ -1,19 +1,20 @@
-// CPU depth splat, SPEC §3.3. Each particle is a sphere of radius r; every pixel
-// whose ray hits it gets the eye depth of the nearest intersection, and the
-// minimum over particles wins. This is the exact, perspective-correct version of
-// the point-sprite depth of van der Laan et al. 2009 (US 8,947,430) and Cords &
-// Staadt 2008 ("Instant Liquids", §2.1; its eq. 2 gives the projected radius —
-// here the exact projected bounding box is used instead).
+// CPU depth splat, docs/pipeline.md#depth-splat. Each particle is a sphere of
+// radius r; every pixel whose ray hits it gets the eye depth of the nearest
+// intersection, and the minimum over particles wins. This is the exact,
+// perspective-correct version of the point-sprite depth of van der Laan et al.
+// 2009 (US 8,947,430) and Cords & Staadt 2008 ("Instant Liquids", §2.1; its eq.
+// 2 gives the projected radius — here the exact projected bounding box is used
+// instead).
 //
 // Parallel scheme: particles are binned into fixed screen tiles, then each tile
 // is splatted by one task. A min is order-independent, so the result is the
 // same for any thread count. The same bins and tile pass also sum the chord
-// lengths of the thickness stage (SPEC §3.4, thickness.cpp), alone or in the
-// same pass as the depth, since both need the same ray-sphere intersection.
-// The chords are summed in fixed point (shared/splat_chords.h, the GL
-// splat's arithmetic): integer sums are exact and order-independent, so the
-// partial sums of several processes (sort-last, meniscus/sort_last.h) add up
-// to the whole's bits.
+// lengths of the thickness stage (docs/pipeline.md#thickness, thickness.cpp),
+// alone or in the same pass as the depth, since both need the same ray-sphere
+// intersection. The chords are summed in fixed point (shared/splat_chords.h,
+// the GL splat's arithmetic): integer sums are exact and order-independent, so
+// the partial sums of several processes (sort-last, meniscus/sort_last.h) add
+// up to the whole's bits.
 #include "splat.h"
 
 #include <algorithm>

@@ -1,4 +1,5 @@
-// CPU depth splat (SPEC §3.3): exact ray-sphere nearest hit per pixel.
+// CPU depth splat (docs/pipeline.md#depth-splat): exact ray-sphere nearest hit
+// per pixel.
 #pragma once
 
 #include <cstdint>
@@ -38,7 +39,8 @@ float raySphereEyeDepth(const glm::vec3& ray, const glm::vec3& centreView, float
 Image<float> splatDepth(const Camera& camera, std::span<const glm::vec3> positionsWorld, float radius,
                         const Image<float>* sceneDepth = nullptr, std::span<const EllipsoidShape> shapes = {});
 
-// ---- Shared by the depth and thickness splats (SPEC §3.3, §3.4) -------------
+// ---- Shared by the depth and thickness splats --------------------------------
+// (docs/pipeline.md#depth-splat, docs/pipeline.md#thickness)
 
 // Particles binned into fixed kSplatTilePx-square screen tiles: view-space
 // centres, exact projected rectangles, and per tile the indices of the spheres

@@ -1,12 +1,12 @@
-// CPU spray drops, SPEC §3.2/§3.7 (the NVIDIA SSFR patent draws the particles
-// that left the body of water as spray particles instead of surface). Each
-// drop is projected with its velocity (sprayDrop: a capsule along its path
-// over the exposure), binned into screen tiles, and its optical depth summed
-// per pixel in fixed point where it is in front of the fluid and the scene;
-// the cover 1 - exp(-sum) of lit drop colour is laid over the image. The sums
-// are exact, so the order of the drops does not matter (the GL twin adds them
-// with atomics): order-independent compositing is right here because all
-// drops share one colour.
+// CPU spray drops, docs/pipeline.md#classification, docs/pipeline.md#noise-and-foam
+// (the NVIDIA SSFR patent draws the particles that left the body of water as spray
+// particles instead of surface). Each drop is projected with its velocity
+// (sprayDrop: a capsule along its path over the exposure), binned into screen
+// tiles, and its optical depth summed per pixel in fixed point where it is in front
+// of the fluid and the scene; the cover 1 - exp(-sum) of lit drop colour is laid
+// over the image. The sums are exact, so the order of the drops does not matter
+// (the GL twin adds them with atomics): order-independent compositing is right here
+// because all drops share one colour.
 #include "cpu/spray.h"
 
 #include <algorithm>

@@ -1,6 +1,7 @@
-// CPU spray drops (SPEC §3.2, §3.7): the particles classified as spray drawn
-// as small lit, semi-transparent drops stretched along their velocity,
-// composited with depth over the shaded image. Formulas: src/shared/spray.h.
+// CPU spray drops (docs/pipeline.md#classification,
+// docs/pipeline.md#noise-and-foam): the particles classified as spray drawn as
+// small lit, semi-transparent drops stretched along their velocity, composited
+// with depth over the shaded image. Formulas: src/shared/spray.h.
 #pragma once
 
 #include <span>

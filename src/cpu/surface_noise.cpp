@@ -1,7 +1,7 @@
-// CPU surface noise, SPEC §3.7 (van der Laan, Green & Sainz, US 8,947,430,
-// eqs. 14-17): each particle whose front lies near the smoothed surface
-// splats a Gaussian sprite of fractal Perlin noise seeded by its id; the sum
-// N(x, y) bumps the normals and, in the shading, tints foam.
+// CPU surface noise, docs/pipeline.md#noise-and-foam (van der Laan, Green &
+// Sainz, US 8,947,430, eqs. 14-17): each particle whose front lies near the
+// smoothed surface splats a Gaussian sprite of fractal Perlin noise seeded by
+// its id; the sum N(x, y) bumps the normals and, in the shading, tints foam.
 //
 // Parallel scheme: the sprites of the particles whose weight counts (their
 // depth below the surface sampled at their projected centre), binned into

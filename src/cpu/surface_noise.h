@@ -1,6 +1,7 @@
-// CPU surface noise (SPEC §3.7; the NVIDIA SSFR patent, eqs. 14-17): the
-// noise image N(x, y) splatted by the particles near the smoothed surface, and
-// the normals bumped by its gradient. The formulas are src/shared/surface_noise.h's.
+// CPU surface noise (docs/pipeline.md#noise-and-foam; the NVIDIA SSFR patent,
+// eqs. 14-17): the noise image N(x, y) splatted by the particles near the
+// smoothed surface, and the normals bumped by its gradient. The formulas are
+// src/shared/surface_noise.h's.
 #pragma once
 
 #include <cstdint>

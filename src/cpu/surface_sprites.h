@@ -1,7 +1,8 @@
-// The sprites of the particles near the smoothed surface (SPEC §3.7), binned
-// into screen tiles: what the surface noise (surface_noise.cpp) and the
-// velocity whitening (velocity_map.cpp) splat. The culling and the sprite's
-// geometry are src/shared/surface_noise.h's, shared with the GL twin.
+// The sprites of the particles near the smoothed surface
+// (docs/pipeline.md#noise-and-foam), binned into screen tiles: what the surface
+// noise (surface_noise.cpp) and the velocity whitening (velocity_map.cpp)
+// splat. The culling and the sprite's geometry are
+// src/shared/surface_noise.h's, shared with the GL twin.
 #pragma once
 
 #include <cstdint>

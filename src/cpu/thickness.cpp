@@ -1,11 +1,11 @@
-// CPU thickness stage, SPEC §3.4. The fluid thickness seen through a pixel is
-// the summed length of its ray inside the particle spheres (van der Laan et
-// al. 2009, US 8,947,430 eq. 13 accumulate per-sprite thickness additively;
-// here the chord is exact ray-sphere instead of a sprite profile), clipped to
-// the part in front of the opaque scene and beyond the near plane. Spheres of
-// radius r at spacing s fill only 4/3 pi r^3 / s^3 of the space, so the sum is
-// scaled by w = s^3 / (4/3 pi r^3): a block at rest spacing then reads its true
-// depth on average.
+// CPU thickness stage, docs/pipeline.md#thickness. The fluid thickness seen
+// through a pixel is the summed length of its ray inside the particle spheres
+// (van der Laan et al. 2009, US 8,947,430 eq. 13 accumulate per-sprite
+// thickness additively; here the chord is exact ray-sphere instead of a sprite
+// profile), clipped to the part in front of the opaque scene and beyond the
+// near plane. Spheres of radius r at spacing s fill only 4/3 pi r^3 / s^3 of
+// the space, so the sum is scaled by w = s^3 / (4/3 pi r^3): a block at rest
+// spacing then reads its true depth on average.
 //
 // The chords come from the same tiled binning and tile pass as the depth splat
 // (splat.cpp), summed per pixel in fixed point (shared/splat_chords.h), so the
@@ -26,11 +26,12 @@
 // exp is evaluated per pixel. Kernel radii are capped at min(maxKernelPx, 255)
 // (shared::thicknessBlurCapPx).
 //
-// Lower resolution (SPEC §3.4 allows it; params.resolutionDivisor): the chords
-// through the centres of d x d pixel blocks, blurred on that grid, upsampled
-// bilinearly. The thickness only drives absorption and the refraction offset,
-// both low-frequency after the blur, while the chords and the blur are most
-// of this stage's time at full resolution.
+// Lower resolution (docs/pipeline.md#thickness allows it;
+// params.resolutionDivisor): the chords through the centres of d x d pixel
+// blocks, blurred on that grid, upsampled bilinearly. The thickness only drives
+// absorption and the refraction offset, both low-frequency after the blur,
+// while the chords and the blur are most of this stage's time at full
+// resolution.
 #include "cpu/thickness.h"
 
 #include <algorithm>

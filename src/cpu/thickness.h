@@ -1,6 +1,6 @@
-// CPU thickness stage (SPEC §3.4): the summed chord length of each pixel ray
-// inside the particle spheres in front of the scene, calibrated so a block at
-// rest spacing reads its true depth; optionally Gaussian-blurred.
+// CPU thickness stage (docs/pipeline.md#thickness): the summed chord length of
+// each pixel ray inside the particle spheres in front of the scene, calibrated
+// so a block at rest spacing reads its true depth; optionally Gaussian-blurred.
 #pragma once
 
 #include <span>

@@ -1,8 +1,8 @@
-// CPU reduced-resolution processing (SPEC §3.9; the NVIDIA patent; Cords &
-// Staadt 2008, "Instant Liquids" §5): the scene depth reduced to the low
-// camera for the low-resolution splat, the low-resolution surface brought
-// back to full resolution by depth-aware upsampling, and its edges blended
-// into the scene. Formulas: src/shared/upsample.h.
+// CPU reduced-resolution processing (docs/pipeline.md#reduced-resolution; the
+// NVIDIA patent; Cords & Staadt 2008, "Instant Liquids" §5): the scene depth
+// reduced to the low camera for the low-resolution splat, the low-resolution
+// surface brought back to full resolution by depth-aware upsampling, and its
+// edges blended into the scene. Formulas: src/shared/upsample.h.
 #pragma once
 
 #include <glm/glm.hpp>

@@ -1,11 +1,11 @@
-// CPU velocity whitening map, SPEC §3.7 (Cords & Staadt 2008, "Instant
-// Liquids" §4: "particle velocities are projected into screen-space ...
-// resulting in the velocity map"; the colour is shifted to white by it).
-// Instant Liquids draws the velocity of the nearest particle; here, so that
-// the map is smooth like the surface it tints, the particles near the surface
-// (the noise's sprites, surface_sprites.cpp) splat their whiteness with the
-// sprite's Gaussian and the map is the weighted mean. Fixed-point sums: the
-// same bits for any thread count, and as the GL twin's atomics.
+// CPU velocity whitening map, docs/pipeline.md#noise-and-foam (Cords & Staadt
+// 2008, "Instant Liquids" §4: "particle velocities are projected into
+// screen-space ... resulting in the velocity map"; the colour is shifted to
+// white by it). Instant Liquids draws the velocity of the nearest particle;
+// here, so that the map is smooth like the surface it tints, the particles near
+// the surface (the noise's sprites, surface_sprites.cpp) splat their whiteness
+// with the sprite's Gaussian and the map is the weighted mean. Fixed-point
+// sums: the same bits for any thread count, and as the GL twin's atomics.
 #include "cpu/velocity_map.h"
 
 #include <algorithm>

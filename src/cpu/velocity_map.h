@@ -1,6 +1,6 @@
-// CPU velocity whitening map (SPEC §3.7; Instant Liquids §4): the weighted
-// mean whiteness of the particles near the smoothed surface, per pixel. The
-// formulas are src/shared/velocity_map.h's.
+// CPU velocity whitening map (docs/pipeline.md#noise-and-foam; Instant Liquids
+// §4): the weighted mean whiteness of the particles near the smoothed surface,
+// per pixel. The formulas are src/shared/velocity_map.h's.
 #pragma once
 
 #include <span>

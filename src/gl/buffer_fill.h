@@ -2,7 +2,7 @@
 // instead of the driver's glClearBufferSubData / glCopyBufferSubData, which
 // NVIDIA's driver runs on a copy engine: on an H200 at 1920x1080 the splat's
 // two clears took 0.6 ms and the normals' clear 0.8 ms, against 0.05 ms for
-// the whole normals stage with a shader clear (README, "GL backend on a GPU").
+// the whole normals stage with a shader clear (docs/performance.md#gl-backend-on-a-gpu-nvidia-h200).
 // On llvmpipe the driver's own fill is a memset, faster than a shader pass, so
 // the backend picks per renderer (useShaderFills) and installs its programs
 // for the calls it makes (ScopedBufferFill); Buffer::fill and copyFrom/

@@ -1,4 +1,4 @@
-// GL compositing of several fluids (SPEC §3.10): the GPU twin of
+// GL compositing of several fluids (docs/pipeline.md#several-fluids): the GPU twin of
 // meniscus::cpu::compositeFluids (shaders/composite_fluids.comp). Needs a
 // current GL 4.3 context with 2 + 6 shared::kMaxFluids texture units for a
 // compute shader (32 on Mesa and NVIDIA).

@@ -1,5 +1,5 @@
-// Headless EGL context (issue 5). EGL handles are kept as void* in the header
-// so that no EGL/GL header leaks out of this file's translation unit.
+// Headless EGL context. EGL handles are kept as void* in the header so that no
+// EGL/GL header leaks out of this file's translation unit.
 #include "gl/context.h"
 
 #include <cstdio>

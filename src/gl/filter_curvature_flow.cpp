@@ -1,6 +1,6 @@
-// GL curvature flow, SPEC §3.5 (van der Laan, Green & Sainz, I3D 2009): the
-// CPU's double-buffered Jacobi iteration on padded buffers, one dispatch per
-// iteration (shaders/filter_curvature_flow.comp).
+// GL curvature flow, docs/pipeline.md#curvature-flow (van der Laan, Green &
+// Sainz, I3D 2009): the CPU's double-buffered Jacobi iteration on padded
+// buffers, one dispatch per iteration (shaders/filter_curvature_flow.comp).
 // llvmpipe notes (measured at 1280x720): SSBO loads and stores run one SIMD lane
 // at a time, texel fetches and image stores are vectorised, so the step reads
 // and writes the ping-pong buffers through R32F buffer textures; a pass over

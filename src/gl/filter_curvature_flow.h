@@ -1,6 +1,7 @@
-// GL screen-space curvature flow (SPEC §3.5; van der Laan, Green & Sainz, I3D
-// 2009): the GPU twin of meniscus::cpu::filterCurvatureFlow. Needs a current
-// GL 4.3 context on the calling thread.
+// GL screen-space curvature flow (docs/pipeline.md#curvature-flow; van der
+// Laan, Green & Sainz, I3D 2009): the GPU twin of
+// meniscus::cpu::filterCurvatureFlow. Needs a current GL 4.3 context on the
+// calling thread.
 #pragma once
 
 #include "gl/fluid_segments.h"

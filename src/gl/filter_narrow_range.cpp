@@ -1,9 +1,10 @@
-// GL narrow-range filter, SPEC §3.5 (Truong & Yuksel, I3D 2018): the CPU's
-// passes over −inf-padded ping-pong buffers (the image copied in row by row),
-// one indirect dispatch per pass over the row segments that hold fluid
-// (gl/fluid_segments.h; shaders/filter_narrow_range_2d.comp or _1d.comp; the
-// last pass writes the output, which starts as a copy of the input).
-// Tap tables, built on the host from src/shared/narrow_range.h as the CPU's:
+// GL narrow-range filter, docs/pipeline.md#narrow-range-filter (Truong &
+// Yuksel, I3D 2018): the CPU's passes over −inf-padded ping-pong buffers (the
+// image copied in row by row), one indirect dispatch per pass over the row
+// segments that hold fluid (gl/fluid_segments.h;
+// shaders/filter_narrow_range_2d.comp or _1d.comp; the last pass writes the
+// output, which starts as a copy of the input). Tap tables, built on the host
+// from src/shared/narrow_range.h as the CPU's:
 //  - 2-D: ONE list for the largest radius, sorted by (d², dy, dx); since d² is
 //    the first key, the list for any radius R is its prefix (the offsets with
 //    d² <= R²), so every pixel walks the same list, ring by ring (runs of

@@ -1,7 +1,7 @@
-// GL narrow-range filter (SPEC §3.5; Truong & Yuksel, "A Narrow-Range Filter
-// for Screen-Space Fluid Rendering", I3D 2018): the GPU twin of
-// meniscus::cpu::filterNarrowRange, 2-D and separable. Needs a current GL 4.3
-// context on the calling thread.
+// GL narrow-range filter (docs/pipeline.md#narrow-range-filter; Truong &
+// Yuksel, "A Narrow-Range Filter for Screen-Space Fluid Rendering", I3D 2018):
+// the GPU twin of meniscus::cpu::filterNarrowRange, 2-D and separable. Needs a
+// current GL 4.3 context on the calling thread.
 #pragma once
 
 #include "gl/fluid_segments.h"

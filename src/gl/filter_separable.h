@@ -1,7 +1,8 @@
-// GL separable depth smoothing (SPEC §3.5) and thickness blur (SPEC §3.4): the
-// GPU twins of cpu::filterGaussian / filterBilateral / filterBinomial
-// (src/cpu/filter_separable.h) and of the full-resolution blur inside
-// cpu::computeThickness. Needs a current GL 4.3 context on the calling thread.
+// GL separable depth smoothing (docs/pipeline.md#smoothing) and thickness blur
+// (docs/pipeline.md#thickness): the GPU twins of cpu::filterGaussian /
+// filterBilateral / filterBinomial (src/cpu/filter_separable.h) and of the
+// full-resolution blur inside cpu::computeThickness. Needs a current GL 4.3
+// context on the calling thread.
 #pragma once
 
 #include <optional>

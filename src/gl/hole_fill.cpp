@@ -1,7 +1,7 @@
-// GL hole filling, SPEC §3.4a: per pass shaders/hole_fill_sweep.comp (each
-// row's and column's steps to the nearest covered pixels), then
-// shaders/hole_fill.comp, one invocation per pixel, operation for operation
-// as src/cpu/hole_fill.cpp (the rule and the
+// GL hole filling, docs/pipeline.md#hole-filling: per pass
+// shaders/hole_fill_sweep.comp (each row's and column's steps to the nearest
+// covered pixels), then shaders/hole_fill.comp, one invocation per pixel,
+// operation for operation as src/cpu/hole_fill.cpp (the rule and the
 // formulas are src/shared/hole_fill.h), so both fill the same pixels with the
 // same bits. Reads the splat through buffer textures and writes whole new
 // images, which then take the slots' places (no copy back).

@@ -1,5 +1,6 @@
-// GL hole filling (SPEC §3.4a): the GPU twin of meniscus::cpu::fillHoles.
-// Needs a current GL 4.3 context on the calling thread.
+// GL hole filling (docs/pipeline.md#hole-filling): the GPU twin of
+// meniscus::cpu::fillHoles. Needs a current GL 4.3 context on the calling
+// thread.
 #pragma once
 
 #include "gl/gpu_image.h"

@@ -1,5 +1,6 @@
-// GL normals stage (SPEC §3.6): the GPU twin of meniscus::cpu::computeNormals.
-// Needs a current GL 4.3 context (gl::Context) on the calling thread.
+// GL normals stage (docs/pipeline.md#normals): the GPU twin of
+// meniscus::cpu::computeNormals. Needs a current GL 4.3 context (gl::Context)
+// on the calling thread.
 #pragma once
 
 #include "gl/gpu_image.h"

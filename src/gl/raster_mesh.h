@@ -1,6 +1,6 @@
-// GL mesh path (issue 14): the GPU twin of meniscus::cpu::rasteriseMesh, the
-// triangles drawn by GL's rasteriser with a depth test. Needs a current GL 4.3
-// context (gl::Context) on the calling thread.
+// GL mesh path: the GPU twin of meniscus::cpu::rasteriseMesh, the triangles
+// drawn by GL's rasteriser with a depth test. Needs a current GL 4.3 context
+// (gl::Context) on the calling thread.
 #pragma once
 
 #include "gl/gpu_image.h"

@@ -1,5 +1,5 @@
-// GL raycast stage (SPEC §3.5a): shaders/raycast.comp over the field's grid
-// (core/sph_field.h), uploaded per call.
+// GL raycast stage (docs/pipeline.md#ray-cast-surface): shaders/raycast.comp
+// over the field's grid (core/sph_field.h), uploaded per call.
 #include "gl/raycast.h"
 
 #include <algorithm>

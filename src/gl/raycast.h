@@ -1,5 +1,6 @@
-// GL raycast stage (SPEC §3.5a): the GPU twin of meniscus::cpu::raycastSurface.
-// Needs a current GL 4.3 context on the calling thread.
+// GL raycast stage (docs/pipeline.md#ray-cast-surface): the GPU twin of
+// meniscus::cpu::raycastSurface. Needs a current GL 4.3 context on the calling
+// thread.
 #pragma once
 
 #include "core/sph_field.h"

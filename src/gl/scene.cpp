@@ -1,10 +1,10 @@
-// GL scene stage, SPEC §3.1: the studio of src/cpu/scene.cpp (checker floor and
-// two back walls, after the compositing order of van der Laan et al. 2009,
-// US 8,947,430, and Instant Liquids, Cords & Staadt 2008, §3) ray-cast per
-// pixel by shaders/scene.comp, operation for operation as the CPU's castRow.
-// What the CPU computes once per image (reciprocals, per-plane lighting, the
-// sun) comes from the same shared::studioShading and is passed as uniforms, so
-// both see the same bits.
+// GL scene stage, docs/pipeline.md#scene: the studio of src/cpu/scene.cpp
+// (checker floor and two back walls, after the compositing order of van der
+// Laan et al. 2009, US 8,947,430, and Instant Liquids, Cords & Staadt 2008, §3)
+// ray-cast per pixel by shaders/scene.comp, operation for operation as the
+// CPU's castRow. What the CPU computes once per image (reciprocals, per-plane
+// lighting, the sun) comes from the same shared::studioShading and is passed as
+// uniforms, so both see the same bits.
 #include "gl/scene.h"
 
 #include "gl/shaders.h"

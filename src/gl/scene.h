@@ -1,4 +1,4 @@
-// GL scene stage (SPEC §3.1): the GPU twin of meniscus::cpu::castScene.
+// GL scene stage (docs/pipeline.md#scene): the GPU twin of meniscus::cpu::castScene.
 // Needs a current GL 4.3 context (gl::Context) on the calling thread.
 #pragma once
 

@@ -1,8 +1,9 @@
-// GL shading and compositing, SPEC §3.8: refraction, Beer-Lambert absorption,
-// environment reflection, Schlick Fresnel and Blinn-Phong specular after van
-// der Laan, Green & Sainz 2009 (US 8,947,430, eqs. 18-20) and Cords & Staadt
-// 2008 ("Instant Liquids" §3), composited over the scene layer by
-// shaders/shade.comp, operation for operation as src/cpu/shading.cpp.
+// GL shading and compositing, docs/pipeline.md#shading: refraction,
+// Beer-Lambert absorption, environment reflection, Schlick Fresnel and
+// Blinn-Phong specular after van der Laan, Green & Sainz 2009 (US 8,947,430,
+// eqs. 18-20) and Cords & Staadt 2008 ("Instant Liquids" §3), composited over
+// the scene layer by shaders/shade.comp, operation for operation as
+// src/cpu/shading.cpp.
 #include "gl/shading.h"
 
 #include <utility>

@@ -1,4 +1,4 @@
-// GL shading and compositing (SPEC §3.8): the GPU twin of
+// GL shading and compositing (docs/pipeline.md#shading): the GPU twin of
 // meniscus::cpu::shadeAndComposite. Needs a current GL 4.3 context
 // (gl::Context) on the calling thread.
 #pragma once
@@ -30,10 +30,11 @@ public:
     // alone). With `noise` (the surface noise N, P.size) and its parameters,
     // foam of cover shared::noiseFoamCover(N) is laid over the shaded fluid,
     // as cpu::shadeAndComposite's noise arguments; without (or of another
-    // size), no foam. Likewise `whitening` (the velocity whitening map, SPEC
-    // §3.7; Instant Liquids §4) and its parameters lay white water of cover
-    // strength * map over that, as cpu::shadeAndComposite's whitening
-    // arguments. Asynchronous: nothing waits for the GPU here.
+    // size), no foam. Likewise `whitening` (the velocity whitening map,
+    // docs/pipeline.md#noise-and-foam; Instant Liquids §4) and its parameters
+    // lay white water of cover strength * map over that, as
+    // cpu::shadeAndComposite's whitening arguments. Asynchronous: nothing waits
+    // for the GPU here.
     void run(const FrameParams& frame, const GpuImage& sceneColor, const GpuImage& sceneDepth, const GpuImage& depth,
              const GpuImage& normals, const GpuImage& thickness, GpuImage& color, const GpuImage* noise = nullptr,
              const NoiseParams* noiseParams = nullptr, const GpuImage* whitening = nullptr,

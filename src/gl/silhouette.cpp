@@ -1,14 +1,14 @@
-// GL silhouette reduction, SPEC §3.5 (Cords & Staadt 2008, "Instant Liquids"
-// §3: the binary depth map smoothed by a kernel, the liquid shown only where
-// it reaches 1): the twin of src/cpu/silhouette.cpp. The window's weights are
-// uniform, so its fluid count is four reads of a summed-area table of the
-// fluid mask, built in two passes of integer prefix sums (one invocation per
-// row, shaders/silhouette_rows.comp, then one per column,
-// silhouette_columns.comp: at most 16384 iterations each, under llvmpipe's
-// 65,535 loop cap, and exact in any order); then one pass per pixel gets S
-// and fades the colour (silhouette_resolve.comp) through the formulas of
-// src/shared/silhouette.h, the focal length and the window's world radius
-// computed here as the CPU does, so S and the colour are the CPU's bits.
+// GL silhouette reduction, docs/pipeline.md#silhouette-reduction (Cords &
+// Staadt 2008, "Instant Liquids" §3: the binary depth map smoothed by a kernel,
+// the liquid shown only where it reaches 1): the twin of
+// src/cpu/silhouette.cpp. The window's weights are uniform, so its fluid count
+// is four reads of a summed-area table of the fluid mask, built in two passes
+// of integer prefix sums (one invocation per row, shaders/silhouette_rows.comp,
+// then one per column, silhouette_columns.comp: at most 16384 iterations each,
+// under llvmpipe's 65,535 loop cap, and exact in any order); then one pass per
+// pixel gets S and fades the colour (silhouette_resolve.comp) through the
+// formulas of src/shared/silhouette.h, the focal length and the window's world
+// radius computed here as the CPU does, so S and the colour are the CPU's bits.
 #include "gl/silhouette.h"
 
 #include <cstdint>

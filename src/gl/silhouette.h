@@ -1,8 +1,8 @@
-// GL silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3; SPEC
-// §3.5): the GPU twin of cpu::reduceSilhouettes, the fluid mask's
-// summed-area table, each fluid pixel's fluid fraction S and the liquid faded
-// by it into the scene colour behind. Needs a current GL 4.3 context
-// (gl::Context) on the calling thread.
+// GL silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3;
+// docs/pipeline.md#silhouette-reduction): the GPU twin of
+// cpu::reduceSilhouettes, the fluid mask's summed-area table, each fluid
+// pixel's fluid fraction S and the liquid faded by it into the scene colour
+// behind. Needs a current GL 4.3 context (gl::Context) on the calling thread.
 #pragma once
 
 #include "gl/gpu_image.h"

@@ -1,9 +1,10 @@
-// GL depth splat and thickness chords, SPEC §3.3-3.4: a compute rasteriser,
-// one invocation per particle over its exact projected bounding box, with an
-// atomic min on the depth bits and a fixed-point atomic add for the chords
-// (shaders/splat.comp); the CPU reference's arithmetic operation for operation.
-// Spheres over 4096 pixels (near the camera) are listed and spread over many
-// invocations in a second, indirect dispatch (see splat.comp).
+// GL depth splat and thickness chords, docs/pipeline.md#depth-splat,
+// docs/pipeline.md#thickness: a compute rasteriser, one invocation per particle
+// over its exact projected bounding box, with an atomic min on the depth bits and
+// a fixed-point atomic add for the chords (shaders/splat.comp); the CPU
+// reference's arithmetic operation for operation. Spheres over 4096 pixels (near
+// the camera) are listed and spread over many invocations in a second, indirect
+// dispatch (see splat.comp).
 // Chosen over GL's own rasteriser because it measured faster on Mesa llvmpipe,
 // what CI runs. The rasteriser variant (point sprites or quads over the same
 // rectangles, the same ray test per fragment, blended into R32F attachments:

@@ -1,6 +1,7 @@
-// GL depth splat and thickness chords (SPEC §3.3, §3.4): the GPU twin of
-// cpu::splatBins. Needs a current GL 4.3 context (gl::Context) on the calling
-// thread and the frame's parameter block bound (gl::FrameParamsBlock).
+// GL depth splat and thickness chords (docs/pipeline.md#depth-splat,
+// docs/pipeline.md#thickness): the GPU twin of cpu::splatBins. Needs a current
+// GL 4.3 context (gl::Context) on the calling thread and the frame's parameter
+// block bound (gl::FrameParamsBlock).
 #pragma once
 
 #include <span>

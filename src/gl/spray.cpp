@@ -1,15 +1,16 @@
-// GL spray drops, SPEC §3.2/§3.7 (the NVIDIA SSFR patent, US 8,947,430,
-// draws the particles that left the body of water as spray particles instead
-// of surface): the twin of src/cpu/spray.cpp. Each drop is projected with its
+// GL spray drops, docs/pipeline.md#classification,
+// docs/pipeline.md#noise-and-foam (the NVIDIA SSFR patent, US 8,947,430, draws
+// the particles that left the body of water as spray particles instead of
+// surface): the twin of src/cpu/spray.cpp. Each drop is projected with its
 // velocity on the host by the CPU's code (shared::sprayDrop of the same
 // view-space floats: a few thousand drops, well under a millisecond) and
 // uploaded with its rectangle cut into chunks of pixels; on the GPU one
-// invocation per chunk adds the drop's fixed-point optical depth where it is
-// in front of the fluid and the scene (shaders/spray_splat.comp, atomicAdd:
-// exact in any order), so a drop at the camera or a long streak is spread
-// over many invocations and no invocation meets llvmpipe's loop cap; then one
-// pass per pixel turns the sums into cover and lays the lit drop colour over
-// the image in place (shaders/spray_resolve.comp). Formulas: src/shared/spray.h.
+// invocation per chunk adds the drop's fixed-point optical depth where it is in
+// front of the fluid and the scene (shaders/spray_splat.comp, atomicAdd: exact
+// in any order), so a drop at the camera or a long streak is spread over many
+// invocations and no invocation meets llvmpipe's loop cap; then one pass per
+// pixel turns the sums into cover and lays the lit drop colour over the image
+// in place (shaders/spray_resolve.comp). Formulas: src/shared/spray.h.
 #include "gl/spray.h"
 
 #include <algorithm>

@@ -1,7 +1,8 @@
-// GL spray drops (SPEC §3.2, §3.7): the GPU twin of cpu::drawSpray, the
+// GL spray drops (docs/pipeline.md#classification,
+// docs/pipeline.md#noise-and-foam): the GPU twin of cpu::drawSpray, the
 // particles classified as spray drawn as small lit, semi-transparent drops
-// stretched along their velocity, composited with depth over the shaded
-// image. Needs a current GL 4.3 context (gl::Context) on the calling thread.
+// stretched along their velocity, composited with depth over the shaded image.
+// Needs a current GL 4.3 context (gl::Context) on the calling thread.
 #pragma once
 
 #include <span>

@@ -1,8 +1,8 @@
-// GL surface noise, SPEC §3.7 (van der Laan, Green & Sainz, US 8,947,430,
-// eqs. 14-17): each particle whose front lies near the smoothed surface
-// splats a Gaussian sprite of fractal Perlin noise seeded by its id
-// (shaders/noise_splat.comp: the particles that count listed first, then one
-// invocation per listed sprite over its rectangle, fixed-point atomicAdd),
+// GL surface noise, docs/pipeline.md#noise-and-foam (van der Laan, Green &
+// Sainz, US 8,947,430, eqs. 14-17): each particle whose front lies near the
+// smoothed surface splats a Gaussian sprite of fractal Perlin noise seeded by
+// its id (shaders/noise_splat.comp: the particles that count listed first, then
+// one invocation per listed sprite over its rectangle, fixed-point atomicAdd),
 // then one pass over the fluid pixels turns the sums into N and bumps the
 // normals by its gradient (shaders/noise_resolve.comp). Both follow
 // src/cpu/surface_noise.cpp through the shared formulas of

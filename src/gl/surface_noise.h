@@ -1,8 +1,8 @@
-// GL surface noise (SPEC §3.7): the GPU twin of cpu::splatNoise and
-// cpu::bumpNormals, and of cpu::splatWhitening, the velocity whitening map
-// (Cords & Staadt 2008, "Instant Liquids" §4), which splats the same sprites.
-// Needs a current GL 4.3 context (gl::Context) on the calling thread and the
-// frame's parameter block bound (gl::FrameParamsBlock).
+// GL surface noise (docs/pipeline.md#noise-and-foam): the GPU twin of
+// cpu::splatNoise and cpu::bumpNormals, and of cpu::splatWhitening, the
+// velocity whitening map (Cords & Staadt 2008, "Instant Liquids" §4), which
+// splats the same sprites. Needs a current GL 4.3 context (gl::Context) on the
+// calling thread and the frame's parameter block bound (gl::FrameParamsBlock).
 #pragma once
 
 #include <span>

@@ -1,4 +1,4 @@
-// GL reduced-resolution thickness (SPEC §3.4): low-resolution chords
+// GL reduced-resolution thickness (docs/pipeline.md#thickness): low-resolution chords
 // (shaders/splat.comp with uDiv), the nearest raw depth per block and the
 // bilinear upsampling (shaders/thickness_lowres.comp), the blur between them
 // (shaders/filter_separable_thickness.comp) -- cpu lowResThickness step by step;

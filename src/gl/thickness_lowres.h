@@ -1,4 +1,4 @@
-// GL thickness at reduced resolution (SPEC §3.4; ThicknessParams::
+// GL thickness at reduced resolution (docs/pipeline.md#thickness; ThicknessParams::
 // resolutionDivisor 2 or 4): the GPU twin of the low-resolution path of
 // cpu::splatDepthAndThickness (lowResThickness in src/cpu/thickness.cpp).
 // Needs a current GL 4.3 context and the frame's parameter block bound.

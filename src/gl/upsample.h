@@ -1,8 +1,8 @@
-// GL reduced-resolution processing (SPEC §3.9): the GPU twins of
-// cpu::reduceSceneDepth, cpu::upsampleSurface and cpu::blendFluidEdges
-// (shaders/upsample_reduce.comp, upsample.comp, upsample_edges.comp; the
-// formulas in src/shared/upsample.h), bit for bit. Needs a current GL 4.3
-// context on the calling thread.
+// GL reduced-resolution processing (docs/pipeline.md#reduced-resolution): the
+// GPU twins of cpu::reduceSceneDepth, cpu::upsampleSurface and
+// cpu::blendFluidEdges (shaders/upsample_reduce.comp, upsample.comp,
+// upsample_edges.comp; the formulas in src/shared/upsample.h), bit for bit.
+// Needs a current GL 4.3 context on the calling thread.
 #pragma once
 
 #include "gl/gpu_image.h"

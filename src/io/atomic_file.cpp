@@ -72,6 +72,16 @@ Status PendingFile::commit() {
     return okStatus();
 }
 
+Status makeOutputFolders(const std::filesystem::path& file) {
+    const std::filesystem::path parent = file.parent_path();
+    if (parent.empty()) return okStatus();
+    std::error_code ec;
+    if (std::filesystem::is_directory(parent, ec)) return okStatus();
+    std::filesystem::create_directories(parent, ec);
+    if (ec) return makeError(file.string(), "cannot make the folder " + parent.string() + ": " + ec.message());
+    return okStatus();
+}
+
 Status writeAtomically(const std::filesystem::path& path,
                        const std::function<Status(const std::filesystem::path&)>& write) {
     auto pending = PendingFile::begin(path);

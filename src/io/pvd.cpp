@@ -20,6 +20,7 @@
 //    an error), whatever their order in the file.
 // Problems come back as an Error naming the .pvd, never as a crash.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -115,6 +116,7 @@ PvdCollection parsePvdDocument(ByteView data, const fs::path& baseDir) {
         return a.part < b.part;
     });
     PvdCollection out;
+    out.timed = withTime != 0;
     std::size_t otherParts = 0;
     for (std::size_t i = 0; i < entries.size(); ++i) {
         const Entry& d = entries[i];
@@ -167,6 +169,26 @@ Result<PvdCollection> readPvd(const fs::path& path) {
                                                  (fs::exists(f, ec) ? "is not a regular file" : "does not exist"));
     }
     return pvd;
+}
+
+std::optional<double> evenFrameRate(std::span<const double> times) {
+    if (times.size() < 2) return std::nullopt;
+    const double mean = (times.back() - times.front()) / double(times.size() - 1);
+    if (!(mean > 0.0) || !std::isfinite(mean)) return std::nullopt;
+    for (std::size_t i = 1; i < times.size(); ++i)
+        if (std::abs(times[i] - times[i - 1] - mean) > 1e-3 * mean) return std::nullopt;
+    return 1.0 / mean;
+}
+
+Result<std::optional<double>> frameRateOfInput(const fs::path& input) {
+    std::string ext = input.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::error_code ec;
+    if (ext != ".pvd" || !fs::is_regular_file(input, ec)) return std::optional<double>();
+    auto pvd = readPvd(input);
+    if (!pvd) return pvd.error();
+    if (!pvd->timed) return std::optional<double>();
+    return evenFrameRate(pvd->times);
 }
 
 Status writePvd(const fs::path& path, const std::vector<fs::path>& files, const std::vector<double>& times) {

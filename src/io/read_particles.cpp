@@ -1,5 +1,6 @@
 // Format dispatch and the checks every particle file gets, whatever its format:
-// non-finite positions dropped with a counted warning (SPEC §3.2), empty sets rejected.
+// non-finite positions dropped with a counted warning
+// (docs/pipeline.md#classification), empty sets rejected.
 #include <algorithm>
 #include <cctype>
 #include <fstream>

@@ -15,7 +15,8 @@ namespace {
 
 // Whether a GL backend's name ("gl (<GL_RENDERER>)") is a software
 // rasteriser: Mesa's llvmpipe, softpipe and swrast, Windows' WARP. On those
-// the CPU backend, written for the CPU, is about twice as fast (README).
+// the CPU backend, written for the CPU, is several times as fast
+// (docs/performance.md#gl-backend-on-mesa-llvmpipe-no-gpu).
 [[maybe_unused]] bool softwareGl(const std::string& name) {
     for (const char* s : {"llvmpipe", "softpipe", "swrast", "Software Rasterizer", "Basic Render Driver"})
         if (name.find(s) != std::string::npos) return true;

@@ -1,11 +1,13 @@
-// The stage order of the screen-space pipeline (SPEC §1), in one place:
+// The stage order of the screen-space pipeline (docs/conventions.md#data-flow),
+// in one place:
 //   scene -> depth splat + thickness (one pass) -> [hole filling] -> smoothing -> normals
 //         -> [surface noise: N and bumped normals] -> [velocity whitening map]
 //         -> shading (+ foam, + white water) -> [silhouette reduction] -> [spray drops],
-// with reduced resolution (RenderSettings::fluidScale < 1, SPEC §3.9) the splat,
-// smoothing, normals and noise on the low camera between the scene and an
-// upsample stage, and the fluid's edges blended into the scene after the shading;
-// with several fluids (SPEC §3.10), per fluid present the splat, smoothing,
+// with reduced resolution (RenderSettings::fluidScale < 1,
+// docs/pipeline.md#reduced-resolution) the splat, smoothing, normals and noise
+// on the low camera between the scene and an upsample stage, and the fluid's
+// edges blended into the scene after the shading; with several fluids
+// (docs/pipeline.md#several-fluids), per fluid present the splat, smoothing,
 // normals, [noise], [whitening] and shading into its own layer (at reduced
 // resolution with its own upsample and fluid-edges), then
 //   composite-fluids (front to back per pixel) -> [silhouette] -> [spray];
@@ -485,9 +487,10 @@ struct SpraySplit {
     }
 };
 
-// This frame's body of water grouped by fluid index (SPEC §3.10): one group
-// per fluid present, by index ascending, each with copies of its particles
-// and of their noise and whitening inputs.
+// This frame's body of water grouped by fluid index
+// (docs/pipeline.md#several-fluids): one group per fluid present, by index
+// ascending, each with copies of its particles and of their noise and whitening
+// inputs.
 struct FluidSplit {
     struct Group {
         int fluid = 0;
@@ -640,7 +643,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         sprayClassifyMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     }
     const ParticleView& particles = s.spray.enabled ? spray_->body.view : all;
-    // Several fluids (SPEC §3.10): grouped by their index.
+    // Several fluids (docs/pipeline.md#several-fluids): grouped by their index.
     if (!fluids_) fluids_ = std::make_unique<FluidSplit>();
     if (auto st = fluids_->split(particles); !st) return st;
     const std::vector<FluidSplit::Group>& groups = fluids_->groups;
@@ -793,10 +796,11 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     Backend& b = *backend_;
     if (auto st = b.beginFrame(positions, f); !st) return st.error();
 
-    // The stage order (SPEC §1), in one place. After each stage the backend
-    // says whether it failed (GL: a GL error, out of GPU memory, a lost
-    // context), and the frame stops there with an error naming the stage.
-    // Timing brackets only when asked for (on GL they wait for the GPU).
+    // The stage order (docs/conventions.md#data-flow), in one place. After each
+    // stage the backend says whether it failed (GL: a GL error, out of GPU
+    // memory, a lost context), and the frame stops there with an error naming
+    // the stage. Timing brackets only when asked for (on GL they wait for the
+    // GPU).
     auto stage = [&](const char* name, auto&& run) -> Status {
         if (timings) b.beginStage(name);
         run();
@@ -886,8 +890,9 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         });
     };
 
-    // Reduced resolution (SPEC §3.9): the low surface in the Low* slots
-    // (raw depth in `q.raw`), upsampled into the full-size `q`.
+    // Reduced resolution (docs/pipeline.md#reduced-resolution): the low surface
+    // in the Low* slots (raw depth in `q.raw`), upsampled into the full-size
+    // `q`.
     auto reducedSurface = [&](const std::string& tag, const SurfaceSlots& q) -> Status {
         b.setCamera(splatCamera);
         if (auto st = surface(tag, {Slot::LowSceneDepth, q.raw, Slot::LowThickness, Slot::LowDepth, Slot::LowNormal,
@@ -910,9 +915,10 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         b.setCamera(s.camera);
     }
     if (several) {
-        // Several fluids (SPEC §3.10): each drawn and shaded on its own into
-        // its layer's images (at reduced resolution: upsampled, shaded, its
-        // edges blended, E and T with them), then composited front to back.
+        // Several fluids (docs/pipeline.md#several-fluids): each drawn and
+        // shaded on its own into its layer's images (at reduced resolution:
+        // upsampled, shaded, its edges blended, E and T with them), then
+        // composited front to back.
         std::vector<int> fluidOfLayer;
         for (std::size_t l = 0; l < groups.size(); ++l) {
             FluidSplit::Group& g = fluids_->groups[l];

@@ -1,8 +1,8 @@
-// The ellipsoid splat's geometry (anisotropic kernels, Yu & Turk 2013; SPEC
-// §3.3), written once for C++ and GLSL like kernel_radius.h: the shapes taken
-// into view space, the exact projected bounds and the exact ray hit. Both
-// backends call these, so their depth and chords agree to the rounding of
-// sqrt and division.
+// The ellipsoid splat's geometry (anisotropic kernels, Yu & Turk 2013;
+// docs/pipeline.md#depth-splat), written once for C++ and GLSL like
+// kernel_radius.h: the shapes taken into view space, the exact projected bounds
+// and the exact ray hit. Both backends call these, so their depth and chords agree
+// to the rounding of sqrt and division.
 //
 // A particle's ellipsoid is E = {x : |M (x - c)| <= 1}: M is symmetric
 // (R diag(1/a_k) R^T for axes a_k along the columns of R), Q = M^-2 =

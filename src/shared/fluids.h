@@ -1,9 +1,9 @@
-// Several fluids (SPEC §3.10; Cords & Staadt 2008, "Instant Liquids" §5):
-// each fluid is splatted, smoothed and shaded on its own (so the contours of
-// different bodies are never smoothed together), then the fluids over each
-// pixel are composited front to back. Written once for C++ and GLSL like
-// upsample.h: src/cpu/shading.cpp and shaders/shade.comp split each fluid's
-// shaded colour into what it sends to the eye itself and what it lets
+// Several fluids (docs/pipeline.md#several-fluids; Cords & Staadt 2008,
+// "Instant Liquids" §5): each fluid is splatted, smoothed and shaded on its own
+// (so the contours of different bodies are never smoothed together), then the
+// fluids over each pixel are composited front to back. Written once for C++ and
+// GLSL like upsample.h: src/cpu/shading.cpp and shaders/shade.comp split each
+// fluid's shaded colour into what it sends to the eye itself and what it lets
 // through, src/cpu/composite_fluids.cpp and shaders/composite_fluids.comp
 // join the layers.
 //

@@ -1,5 +1,5 @@
-// The hole filling's formulas (SPEC §3.4a; issue 17 item 3), written once for
-// C++ and GLSL like silhouette.h: src/cpu/hole_fill.cpp and
+// The hole filling's formulas (docs/pipeline.md#hole-filling),
+// written once for C++ and GLSL like silhouette.h: src/cpu/hole_fill.cpp and
 // shaders/hole_fill.comp both use them, so they fill the same pixels with the
 // same bits.
 //

@@ -1,6 +1,6 @@
 // The kernel radius of a world-space length seen at a given eye depth, written
-// once for C++ and GLSL (STYLE.md: src/shared/ is compiled by C++ and included
-// by the GL shaders): the filters size their kernels with it on both backends
+// once for C++ and GLSL (src/shared/ is compiled by C++ and included by the GL
+// shaders): the filters size their kernels with it on both backends
 // (src/cpu/filter_util.h, shaders/filter_narrow_range.glsl). In GLSL the
 // division is `precise`, matching the CPU's IEEE arithmetic.
 #ifndef MENISCUS_SHARED_KERNEL_RADIUS_H

@@ -1,9 +1,9 @@
-// Weight tables of the separable filters (SPEC §3.5: Gaussian, bilateral,
-// binomial) and of the thickness blur (SPEC §3.4), written once for both
-// backends: the CPU filters read them directly (src/cpu/filter_separable.h),
-// the GL backend uploads them as they are (src/gl/filter_separable.cpp).
-// C++ only. Built once per filter call (a few hundred entries), so no exp or
-// factorial per pixel.
+// Weight tables of the separable filters (docs/pipeline.md#smoothing: Gaussian,
+// bilateral, binomial) and of the thickness blur (docs/pipeline.md#thickness),
+// written once for both backends: the CPU filters read them directly
+// (src/cpu/filter_separable.h), the GL backend uploads them as they are
+// (src/gl/filter_separable.cpp). C++ only. Built once per filter call (a few
+// hundred entries), so no exp or factorial per pixel.
 #pragma once
 
 #include <cstddef>

@@ -1,5 +1,6 @@
-// The narrow-range filter's taps and weights (SPEC §3.5; Truong & Yuksel, I3D
-// 2018), written once for both backends: the CPU's tap tables
+// The narrow-range filter's taps and weights
+// (docs/pipeline.md#narrow-range-filter; Truong & Yuksel, I3D 2018), written
+// once for both backends: the CPU's tap tables
 // (src/cpu/filter_narrow_range.cpp) and the GL backend's uploaded ones
 // (src/gl/filter_narrow_range.cpp) are built from these. C++ only.
 #pragma once

@@ -1,6 +1,6 @@
-// Gradient noise for the surface-noise stage (issue 16; the NVIDIA SSFR
-// patent's eqs. 14-17, SPEC §3.7), written once for C++ and GLSL (STYLE.md:
-// src/shared/ is compiled by C++ and included by the GL shaders), so the CPU
+// Gradient noise for the surface-noise stage (the NVIDIA SSFR patent's eqs.
+// 14-17, docs/pipeline.md#noise-and-foam), written once for C++ and GLSL
+// (src/shared/ is compiled by C++ and included by the GL shaders), so the CPU
 // reference and the GL twin draw the same pattern bit for bit: every
 // intermediate is `precise` in GLSL (no FMA contraction or reassociation),
 // matching the CPU's plain IEEE float arithmetic.

@@ -1,5 +1,5 @@
-// The mesh path's image-size limit (issue 14), written once for the CPU
-// rasteriser and the Renderer that checks its preconditions. C++ only.
+// The mesh path's image-size limit, written once for the CPU rasteriser and the
+// Renderer that checks its preconditions. C++ only.
 #pragma once
 
 namespace meniscus::shared {

@@ -1,6 +1,7 @@
-// Constants and host-side formulas of the shading stage (SPEC §3.8), written
-// once for C++ and GLSL (STYLE.md: src/shared/ is compiled by C++ and included
-// by the GL shaders): src/cpu/shading.cpp and shaders/shade.comp both use them.
+// Constants and host-side formulas of the shading stage
+// (docs/pipeline.md#shading), written once for C++ and GLSL (src/shared/ is
+// compiled by C++ and included by the GL shaders): src/cpu/shading.cpp and
+// shaders/shade.comp both use them.
 #ifndef MENISCUS_SHARED_SHADING_H
 #define MENISCUS_SHARED_SHADING_H
 

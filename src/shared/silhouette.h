@@ -1,9 +1,10 @@
 // The silhouette map's formulas (Cords & Staadt 2008, "Instant Liquids" §3;
-// SPEC §3.5), written once for C++ and GLSL like spray.h: the window of a
-// fluid pixel, its fluid fraction S from integer counts, the fade of S and
-// the blend of the liquid into what lies behind it. The counts come from a
-// summed-area table of the fluid mask (exact in 32-bit integers for any image
-// the renderer accepts), so both backends get the same S bit for bit.
+// docs/pipeline.md#silhouette-reduction), written once for C++ and GLSL like
+// spray.h: the window of a fluid pixel, its fluid fraction S from integer
+// counts, the fade of S and the blend of the liquid into what lies behind it.
+// The counts come from a summed-area table of the fluid mask (exact in 32-bit
+// integers for any image the renderer accepts), so both backends get the same S
+// bit for bit.
 #ifndef MENISCUS_SHARED_SILHOUETTE_H
 #define MENISCUS_SHARED_SILHOUETTE_H
 

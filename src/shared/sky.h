@@ -1,5 +1,5 @@
-// The procedural sky (SPEC §3.1), written once for C++ and GLSL (STYLE.md:
-// src/shared/ is compiled by C++ and included by the GL shaders): the
+// The procedural sky (docs/pipeline.md#scene), written once for C++ and GLSL
+// (src/shared/ is compiled by C++ and included by the GL shaders): the
 // background where no studio geometry is hit and the environment map the fluid
 // reflects. cpu::skyColorRgb (src/cpu/sky.h) and the GL scene and shading
 // shaders all call skyRadiance (its sun is the user's light direction), so the

@@ -1,7 +1,8 @@
-// The SPH surface of the raycast stage (SPEC §3.5a), written once for C++ and
-// GLSL like ellipsoid.h: the cubic-spline kernel and the march of one ray to
-// the iso level of the density. Both backends call these, so they take the
-// same steps and differ only by the rounding of sqrt and division.
+// The SPH surface of the raycast stage (docs/pipeline.md#ray-cast-surface),
+// written once for C++ and GLSL like ellipsoid.h: the cubic-spline kernel and
+// the march of one ray to the iso level of the density. Both backends call
+// these, so they take the same steps and differ only by the rounding of sqrt
+// and division.
 //
 // Field: F(x) = sum_j W(|x - x_j| / h), W the cubic spline of Monaghan 1992
 // (here unnormalised, W(0) = 1; the rest value F0 of a lattice of spacing 2r

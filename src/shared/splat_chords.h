@@ -1,7 +1,7 @@
-// The thickness chords' fixed point (SPEC §3.4; issue 20), written once for
-// C++ and GLSL: src/cpu/splat.cpp and shaders/splat.comp turn each clipped
-// chord into whole units with chordFixedUnits, add the units per pixel in
-// 32-bit wrapping integers, and src/cpu/thickness.cpp and
+// The thickness chords' fixed point (docs/pipeline.md#thickness; exact sums for sort-last rendering),
+// written once for C++ and GLSL: src/cpu/splat.cpp and shaders/splat.comp turn
+// each clipped chord into whole units with chordFixedUnits, add the units per
+// pixel in 32-bit wrapping integers, and src/cpu/thickness.cpp and
 // shaders/splat_resolve.comp turn a pixel's sum into metres with
 // chordSumToMetres (`precise` in GLSL: no FMA contraction or reassociation).
 //

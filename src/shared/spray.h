@@ -1,13 +1,14 @@
-// The spray drops' formulas (SPEC §3.2, §3.7; the NVIDIA SSFR patent's spray,
-// drawn as small particles rather than as part of the surface), written once
-// for C++ and GLSL like surface_noise.h (whose exp and fixed point it uses),
-// so the CPU reference (src/cpu/spray.cpp) and the GL twin draw the same bits.
-// A drop is a soft disc swept along its screen-space path over the exposure
-// (a capsule), its optical depth (1 - d^2)^2 opacity at distance d (in drop
-// radii) from the path, divided by the path's length in diameters so a fast
-// drop is a fainter streak, not a brighter one. Optical depths add (in fixed
-// point: exact in any order), and a pixel shows the drops' colour over
-// 1 - exp(-sum): order-independent, as drops of one colour need.
+// The spray drops' formulas (docs/pipeline.md#classification,
+// docs/pipeline.md#noise-and-foam; the NVIDIA SSFR patent's spray, drawn as small
+// particles rather than as part of the surface), written once for C++ and GLSL
+// like surface_noise.h (whose exp and fixed point it uses), so the CPU reference
+// (src/cpu/spray.cpp) and the GL twin draw the same bits. A drop is a soft disc
+// swept along its screen-space path over the exposure (a capsule), its optical
+// depth (1 - d^2)^2 opacity at distance d (in drop radii) from the path, divided
+// by the path's length in diameters so a fast drop is a fainter streak, not a
+// brighter one. Optical depths add (in fixed point: exact in any order), and a
+// pixel shows the drops' colour over 1 - exp(-sum): order-independent, as drops of
+// one colour need.
 #ifndef MENISCUS_SHARED_SPRAY_H
 #define MENISCUS_SHARED_SPRAY_H
 

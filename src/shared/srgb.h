@@ -1,5 +1,5 @@
 // The sRGB transfer function (IEC 61966-2-1), written once for C++ and GLSL
-// (STYLE.md: src/shared/ is compiled by C++ and included by the GL shaders):
+// (src/shared/ is compiled by C++ and included by the GL shaders):
 // the PNG writer (src/io/png_writer.cpp) and the viewer's present shader
 // (src/gl/shaders/present.frag) both encode with it, so a window shows the
 // 8-bit values a PNG of the same frame holds. C++ evaluates it in double, as

@@ -1,4 +1,4 @@
-// The studio of SPEC §3.1: a checker floor and two back walls forming the
+// The studio of docs/pipeline.md#scene: a checker floor and two back walls forming the
 // inside corner of a box around the particles, or the floor alone for a
 // moving camera. Every length comes from the
 // particles' box and radius (checker size, wall margins, corner shading,

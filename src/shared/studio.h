@@ -1,8 +1,8 @@
-// The default studio (SPEC §3.1) both backends ray-cast: its geometry, built
-// once per frame from the particles' box, the camera and the light, and the
-// lighting constants derived from it once per image. C++ only (the GL scene
-// stage uploads what studioShading computes); the per-pixel formulas both
-// backends evaluate are in studio_shade.h.
+// The default studio (docs/pipeline.md#scene) both backends ray-cast: its
+// geometry, built once per frame from the particles' box, the camera and the
+// light, and the lighting constants derived from it once per image. C++ only
+// (the GL scene stage uploads what studioShading computes); the per-pixel
+// formulas both backends evaluate are in studio_shade.h.
 #pragma once
 
 #include <glm/glm.hpp>

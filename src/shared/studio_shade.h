@@ -1,5 +1,5 @@
-// How the studio's planes look (SPEC §3.1), written once for C++ and GLSL
-// (STYLE.md: src/shared/ is compiled by C++ and included by the GL shaders):
+// How the studio's planes look (docs/pipeline.md#scene), written once for C++
+// and GLSL (src/shared/ is compiled by C++ and included by the GL shaders):
 // checker colours, the flat key + ambient lighting, the far fade into the sky,
 // the checker parity, the corner darkening and the floor-only studio's radius.
 // cpu::castScene (src/cpu/scene.cpp) and shaders/scene.comp both use these;

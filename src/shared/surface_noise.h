@@ -1,9 +1,10 @@
-// The surface-noise stage's formulas (SPEC §3.7, issue 16; the NVIDIA SSFR
-// patent US 8,947,430, eqs. 14-17), written once for C++ and GLSL (STYLE.md:
-// src/shared/ is compiled by C++ and included by the GL shaders), so the CPU
-// reference (src/cpu/surface_noise.cpp) and the GL twin (shaders/noise_splat.comp,
-// noise_resolve.comp) compute every contribution with the same operations
-// bit for bit (`precise` in GLSL: no FMA contraction or reassociation).
+// The surface-noise stage's formulas (docs/pipeline.md#noise-and-foam; the
+// NVIDIA SSFR patent US 8,947,430, eqs. 14-17), written once for C++ and GLSL
+// (src/shared/ is compiled by C++ and included by the GL shaders), so the CPU
+// reference (src/cpu/surface_noise.cpp) and the GL twin
+// (shaders/noise_splat.comp, noise_resolve.comp) compute every contribution
+// with the same operations bit for bit (`precise` in GLSL: no FMA contraction
+// or reassociation).
 //
 // Each particle near the surface splats a sprite of the patent's eq. 15,
 //   I(x, y) = A_i  exp(-|s|^2 / (2 sigma^2))  fractalNoise3(f s, id)  exp(-(delta_i / falloff)^2),

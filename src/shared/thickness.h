@@ -1,4 +1,4 @@
-// What the thickness stage (SPEC §3.4) of both backends derives from
+// What the thickness stage (docs/pipeline.md#thickness) of both backends derives from
 // ThicknessParams, written once: the calibration weight, the grid divisor and
 // the blur's kernel cap. C++ only (the GL backend passes the results to its
 // shaders through the frame block and uniforms).

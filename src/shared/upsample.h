@@ -1,9 +1,9 @@
-// Reduced-resolution processing (SPEC §3.9; the NVIDIA patent's "render the
-// fluid at lower resolution"; Cords & Staadt 2008, "Instant Liquids" §5 and
-// Table 1): the splat, smoothing, normals and noise run on a camera with
-// 1/d of the pixels per side (d = 2 or 4), and these formulas, written once
-// for C++ and GLSL like silhouette.h, bring the result back to full
-// resolution without mixing what must not be mixed:
+// Reduced-resolution processing (docs/pipeline.md#reduced-resolution; the
+// NVIDIA patent's "render the fluid at lower resolution"; Cords & Staadt 2008,
+// "Instant Liquids" §5 and Table 1): the splat, smoothing, normals and noise
+// run on a camera with 1/d of the pixels per side (d = 2 or 4), and these
+// formulas, written once for C++ and GLSL like silhouette.h, bring the result
+// back to full resolution without mixing what must not be mixed:
 //  - the geometry: the low image is the full one seen through the same
 //    pinhole with focal length f/d and ceil(W/d) x ceil(H/d) pixels, centred
 //    on the same axis. Low pixel i covers the d full columns from

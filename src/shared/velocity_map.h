@@ -1,6 +1,6 @@
-// The velocity whitening's formulas (SPEC §3.7; Cords & Staadt, "Instant
-// Liquids", §4: particle velocities projected to the screen as a velocity
-// map, the liquid's colour shifted toward white by it; the Chinese
+// The velocity whitening's formulas (docs/pipeline.md#noise-and-foam; Cords &
+// Staadt, "Instant Liquids", §4: particle velocities projected to the screen as
+// a velocity map, the liquid's colour shifted toward white by it; the Chinese
 // curvature-flow patent's step S5 weakens colour by particle speed), written
 // once for C++ and GLSL like surface_noise.h, whose sprites and culling it
 // shares: each surface particle splats its whiteness (its speed through a

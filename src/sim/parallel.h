@@ -8,7 +8,8 @@
 // rounds a*b+c once, so the two paths' frames differ in the last bits (each
 // path gives the same frames for any thread count). A Debian build is
 // baseline x86-64, so without this the simulator's loops would never use the
-// machine's vector units (measured: a step 5-15 % faster, README).
+// machine's vector units (measured: a step 5-15 % faster,
+// docs/performance.md#simulator).
 #pragma once
 
 #include <cstddef>

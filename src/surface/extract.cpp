@@ -1,4 +1,4 @@
-// The isosurface path's order (SPEC §4, thesis §4.2): grid and blocks, the
+// The isosurface path's order (docs/surface.md, thesis §4.2): grid and blocks, the
 // blocks in parallel (rounds while a surface crossing a seam hands seeds on;
 // each block sums its vertex normals), the weld into one indexed mesh with
 // normals. The one public entry point, extractSurface

@@ -1,4 +1,4 @@
-// The two scalar fields of the isosurface path (SPEC §4), as kernels of the
+// The two scalar fields of the isosurface path (docs/surface.md), as kernels of the
 // squared distance d2 from a particle, in raw units (the rest value F0 turns
 // them into the normalised field of include/meniscus/params.h: 1 = fluid at
 // rest). One function per field, used by the block marcher and by the direct
@@ -40,7 +40,8 @@ struct Field {
 };
 
 // The field for the parameters (support and iso resolved, F0 summed over the
-// lattice as ../shared/tools/refsurf does).
+// lattice as refsurf, the reference ray tracer of the true SPH surface,
+// does; docs/quality.md).
 Field makeField(const MeshParams& params);
 
 }  // namespace meniscus::surface

@@ -1,7 +1,8 @@
 #version 430 core
-// Several fluids (SPEC §3.10; Instant Liquids §5): the fluids, each shaded
-// on its own, composited front to back per pixel (shared/fluids.h). The GL
-// twin of cpu::compositeFluids, operation for operation.
+// Several fluids (docs/pipeline.md#several-fluids; Instant Liquids §5): the
+// fluids, each shaded on its own, composited front to back per pixel
+// (shared/fluids.h). The GL twin of cpu::compositeFluids, operation for
+// operation.
 #extension GL_GOOGLE_include_directive : require
 #include "fluids.h"
 

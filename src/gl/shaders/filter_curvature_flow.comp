@@ -2,13 +2,13 @@
 #extension GL_GOOGLE_include_directive : require
 // One Jacobi step of screen-space curvature flow: van der Laan, Green & Sainz,
 // "Screen Space Fluid Rendering with Curvature Flow", I3D 2009 (NVIDIA patent
-// US 8,947,430, eqs. 3-12), as restated in SPEC §3.5 -- the GPU twin of
-// flowSpan in src/cpu/filter_curvature_flow.cpp, which documents the formula
-// (D = C²G with G = z_x² + z_y² + (Cz)², analytic ∂D, z ← z − Δt·H,
-// Δt = alpha·z/f) and the discontinuity rules. Every operation follows the CPU
-// in the same order and is `precise` (no FMA contraction or reassociation).
-// Buffers are (W + 2) x (H + 2) with a +inf frame (set by the host), so the
-// stencil needs no bounds tests.
+// US 8,947,430, eqs. 3-12), as restated in docs/pipeline.md#curvature-flow --
+// the GPU twin of flowSpan in src/cpu/filter_curvature_flow.cpp, which
+// documents the formula (D = C²G with G = z_x² + z_y² + (Cz)², analytic ∂D,
+// z ← z − Δt·H, Δt = alpha·z/f) and the discontinuity rules. Every operation
+// follows the CPU in the same order and is `precise` (no FMA contraction or
+// reassociation). Buffers are (W + 2) x (H + 2) with a +inf frame (set by the
+// host), so the stencil needs no bounds tests.
 // Work: only the 8-pixel row segments that hold fluid (fluid_segments.glsl):
 // the fluid set never changes, and every other pixel stays +inf in both
 // buffers and in the output.

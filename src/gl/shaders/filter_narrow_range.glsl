@@ -1,18 +1,18 @@
 // One pass of the narrow-range filter: N. Truong and C. Yuksel, "A Narrow-Range
 // Filter for Screen-Space Fluid Rendering", Proc. ACM Comput. Graph. Interact.
-// Tech. 1(1) (I3D 2018), as restated in SPEC §3.5 -- the GPU twin of filterN
-// and pass() in src/cpu/filter_narrow_range.cpp, which documents the procedure
-// (mirror tap pairs centre outward, front taps drop the pair, behind taps count
-// as z0 + mu·r, inside taps widen the range, Gaussian σ = R/3) and its choices.
-// Every operation follows the CPU in the same order and is `precise` (no FMA
-// contraction or reassociation); the Gaussian weights are the CPU's (computed
-// in double on the host), so the two agree to the last bit in practice.
-// Buffers: depth padded by uPad >= any kernel radius with −inf (taps outside
-// the image are "in front"). Reads and writes go through buffer textures /
-// image buffers: llvmpipe vectorises those, SSBO accesses run lane by lane.
-// Work: only the 8-pixel row segments that hold fluid (fluid_segments.glsl).
-// Pixels outside them keep their value, which both ping-pong buffers and the
-// output already hold.
+// Tech. 1(1) (I3D 2018), as restated in docs/pipeline.md#narrow-range-filter --
+// the GPU twin of filterN and pass() in src/cpu/filter_narrow_range.cpp, which
+// documents the procedure (mirror tap pairs centre outward, front taps drop the
+// pair, behind taps count as z0 + mu·r, inside taps widen the range,
+// Gaussian σ = R/3) and its choices. Every operation follows the CPU in the
+// same order and is `precise` (no FMA contraction or reassociation); the
+// Gaussian weights are the CPU's (computed in double on the host), so the two
+// agree to the last bit in practice. Buffers: depth padded by uPad >= any
+// kernel radius with −inf (taps outside the image are "in front"). Reads and
+// writes go through buffer textures / image buffers: llvmpipe vectorises those,
+// SSBO accesses run lane by lane. Work: only the 8-pixel row segments that hold
+// fluid (fluid_segments.glsl). Pixels outside them keep their value, which both
+// ping-pong buffers and the output already hold.
 // Included by filter_narrow_range_2d.comp and _1d.comp, which set kTwoD: two
 // programs, as llvmpipe would run the unused kernel's code masked as well.
 #include "frame_params.h"

@@ -1,11 +1,12 @@
-// One 1-D pass (x or y) of the separable depth filters (SPEC §3.5), the GPU
-// twin of cpu::detail::filterLine (src/cpu/filter_separable.h): per centre
-// pixel the kernel radius s = kernelPxDepth / z0 (a world length projected at
-// the centre depth, capped), weights from the CPU's own normalised tables
-// blended between integer radii, taps that are +inf or further than jumpM from
-// z0 dropped and the rest renormalised. Included by filter_separable.comp
-// (Gaussian, binomial: no range weight) and filter_separable_bilateral.comp
-// (MENISCUS_BILATERAL: the CPU's RangeGaussian).
+// One 1-D pass (x or y) of the separable depth filters
+// (docs/pipeline.md#smoothing), the GPU twin of cpu::detail::filterLine
+// (src/cpu/filter_separable.h): per centre pixel the kernel radius
+// s = kernelPxDepth / z0 (a world length projected at the centre depth,
+// capped), weights from the CPU's own normalised tables blended between integer
+// radii, taps that are +inf or further than jumpM from z0 dropped and the rest
+// renormalised. Included by filter_separable.comp (Gaussian, binomial: no range
+// weight) and filter_separable_bilateral.comp (MENISCUS_BILATERAL: the CPU's
+// RangeGaussian).
 // Parity: the CPU sums the taps -m .. m (m = n + 1) in groups of kLanes = 4,
 // one accumulator per lane, and adds the lanes in order at the end; here a
 // group is a vec4 (its weights one texel of the table, laid out per radius in

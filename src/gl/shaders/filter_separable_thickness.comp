@@ -1,12 +1,12 @@
 #version 430 core
 #extension GL_GOOGLE_include_directive : require
-// One 1-D pass (x or y) of the thickness blur (SPEC §3.4; thesis §4.1.3), the
-// GPU twin of blurLine in src/cpu/thickness.cpp at full resolution: a Gaussian
-// whose sigma is constant in world space, projected with the raw fluid depth
-// of the centre pixel. Kernel radius R = ceil(3 sigma_px) in whole pixels
-// (capped), weights from the CPU's table row R (sigma = R / 3). Pixels with no
-// fluid in the raw depth (R = 0) are copied; taps off the image are left out
-// and the remaining weights renormalised.
+// One 1-D pass (x or y) of the thickness blur (docs/pipeline.md#thickness;
+// thesis §4.1.3), the GPU twin of blurLine in src/cpu/thickness.cpp at full
+// resolution: a Gaussian whose sigma is constant in world space, projected with
+// the raw fluid depth of the centre pixel. Kernel radius R = ceil(3 sigma_px)
+// in whole pixels (capped), weights from the CPU's table row R (sigma = R / 3).
+// Pixels with no fluid in the raw depth (R = 0) are copied; taps off the image
+// are left out and the remaining weights renormalised.
 // Parity: the CPU sums the taps -R .. R in groups of 4, one accumulator per
 // lane, added as (l0 + l1) + (l2 + l3); here a group is a vec4 (its weights
 // one texel of the table) with the same pairing, and all arithmetic is

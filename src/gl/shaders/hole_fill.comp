@@ -1,10 +1,10 @@
 #version 430 core
 #extension GL_GOOGLE_include_directive : require
-// Hole filling (SPEC §3.4a) on the GPU: the GL twin of src/cpu/hole_fill.cpp.
-// An uncovered pixel that liquid of one surface closes in along its row, its
-// column and both diagonals (nearest covered pixels within uMaxPx steps each
-// way, on one surface: at most uJumpRadii r apart in depth plus a slanted
-// sheet's climb; on three of the lines at most
+// Hole filling (docs/pipeline.md#hole-filling) on the GPU: the GL twin of
+// src/cpu/hole_fill.cpp. An uncovered pixel that liquid of one surface closes
+// in along its row, its column and both diagonals (nearest covered pixels
+// within uMaxPx steps each way, on one surface: at most uJumpRadii r apart in
+// depth plus a slanted sheet's climb; on three of the lines at most
 // uSpanRadii r apart) takes the
 // four lines' mean interpolated depth, and the larger of its thickness and
 // theirs; never behind the scene. The rule and every formula are

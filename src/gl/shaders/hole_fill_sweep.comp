@@ -1,12 +1,12 @@
 #version 430 core
 #extension GL_GOOGLE_include_directive : require
-// Hole filling (SPEC §3.4a), first step on the GPU: per row (uAxis 0) or per
-// column (uAxis 1), one invocation sweeps the line both ways and stores for
-// every pixel the steps to the nearest covered pixel before it and after it
-// on that line (0 on a covered pixel; 255: none within 254 steps, or the
-// image's edge first), packed as before | after << 8. hole_fill.comp reads
-// them for its row and column lines instead of walking: the same ends as the
-// CPU's scans and sweeps (src/cpu/hole_fill.cpp), so the same fill.
+// Hole filling (docs/pipeline.md#hole-filling), first step on the GPU: per row
+// (uAxis 0) or per column (uAxis 1), one invocation sweeps the line both ways
+// and stores for every pixel the steps to the nearest covered pixel before it
+// and after it on that line (0 on a covered pixel; 255: none within 254 steps,
+// or the image's edge first), packed as before | after << 8. hole_fill.comp
+// reads them for its row and column lines instead of walking: the same ends as
+// the CPU's scans and sweeps (src/cpu/hole_fill.cpp), so the same fill.
 #include "frame_params.h"
 
 layout(local_size_x = 64) in;

@@ -1,17 +1,18 @@
 #version 430 core
-// Surface noise (SPEC §3.7; van der Laan, Green & Sainz, US 8,947,430, eqs.
-// 16-17) on the GPU, per fluid pixel after noise_splat.comp: the fixed-point
-// sums become N (cpu::splatNoise's output; the host fills 0 beforehand, what
-// the pixels without fluid keep), and the normals are bumped in place by N's gradient exactly as
-// cpu::bumpNormals (src/cpu/surface_noise.cpp), through the formulas of
+// Surface noise (docs/pipeline.md#noise-and-foam; van der Laan, Green & Sainz,
+// US 8,947,430, eqs. 16-17) on the GPU, per fluid pixel after noise_splat.comp:
+// the fixed-point sums become N (cpu::splatNoise's output; the host fills 0
+// beforehand, what the pixels without fluid keep), and the normals are bumped
+// in place by N's gradient exactly as cpu::bumpNormals
+// (src/cpu/surface_noise.cpp), through the formulas of
 // src/shared/surface_noise.h. The neighbours' N are read from their sums
 // (noiseFromFixed of the same int), as only a neighbour of the same surface
 // (fluid, its depth within the jump) counts. Work: only the 8-pixel row
-// segments with fluid (fluid_segments.glsl, listed from the depth).
-// With uWhitening (the velocity whitening map, SPEC §3.7; Cords & Staadt 2008,
-// "Instant Liquids" §4) the sums are the whitening's two (2*W*H) and each
-// fluid pixel gets their ratio, whiteningFromFixed, as cpu::splatWhitening;
-// no normals are touched.
+// segments with fluid (fluid_segments.glsl, listed from the depth). With
+// uWhitening (the velocity whitening map, docs/pipeline.md#noise-and-foam;
+// Cords & Staadt 2008, "Instant Liquids" §4) the sums are the whitening's two
+// (2*W*H) and each fluid pixel gets their ratio, whiteningFromFixed, as
+// cpu::splatWhitening; no normals are touched.
 #extension GL_GOOGLE_include_directive : require
 #include "frame_params.h"
 #include "surface_noise.h"

@@ -1,15 +1,16 @@
 #version 430 core
-// Surface noise (SPEC §3.7; van der Laan, Green & Sainz, US 8,947,430, eqs.
-// 14-17) and the velocity whitening map (SPEC §3.7; Cords & Staadt 2008,
-// "Instant Liquids" §4) on the GPU, the scatter: the GL twin of the sprites of
-// cpu::splatNoise and cpu::splatWhitening, one shader for both payloads
-// (uWhitening) as both splat the same sprites. The culling of
-// src/cpu/surface_sprites.cpp (in front of the near plane, a non-empty sprite,
-// its centre on the image, a weight of at least kNoiseMinWeight against the
-// smoothed depth at the centre) and each pixel's fixed-point contribution, all
-// by src/shared/surface_noise.h (and velocity_map.h), added with atomicAdd
-// (32-bit wrap-around, the CPU's uint sums): exact, so the order the GPU runs
-// the particles in does not matter. Three passes (uPass):
+// Surface noise (docs/pipeline.md#noise-and-foam; van der Laan, Green & Sainz,
+// US 8,947,430, eqs. 14-17) and the velocity whitening map
+// (docs/pipeline.md#noise-and-foam; Cords & Staadt 2008, "Instant Liquids" §4)
+// on the GPU, the scatter: the GL twin of the sprites of cpu::splatNoise and
+// cpu::splatWhitening, one shader for both payloads (uWhitening) as both splat
+// the same sprites. The culling of src/cpu/surface_sprites.cpp (in front of the
+// near plane, a non-empty sprite, its centre on the image, a weight of at least
+// kNoiseMinWeight against the smoothed depth at the centre) and each pixel's
+// fixed-point contribution, all by src/shared/surface_noise.h (and
+// velocity_map.h), added with atomicAdd (32-bit wrap-around, the CPU's uint
+// sums): exact, so the order the GPU runs the particles in does not matter.
+// Three passes (uPass):
 //  0. One invocation per particle: the culling alone, listing the particles
 //     that count (typically a third: those near the surface), with the
 //     indirect dispatches of passes 1 and 2. Splatting here would leave the
@@ -25,9 +26,10 @@
 //     work groups per listed sprite).
 // Passes 1 and 2 recompute a listed particle's sprite and weight from its
 // index: the same operations on the same inputs, so the same bits.
-// Sums, row-major, row 0 = the TOP row (SPEC §2), zeroed beforehand: the
-// noise's W*H; the whitening's 2*W*H, sum(w g whiteness) in [0, W*H) and
-// sum(w g) in [W*H, 2*W*H). noise_resolve.comp turns them into N or the map.
+// Sums, row-major, row 0 = the TOP row (docs/conventions.md#conventions),
+// zeroed beforehand: the noise's W*H; the whitening's 2*W*H, sum(w g whiteness)
+// in [0, W*H) and sum(w g) in [W*H, 2*W*H). noise_resolve.comp turns them into
+// N or the map.
 #extension GL_GOOGLE_include_directive : require
 #include "frame_params.h"
 #include "surface_noise.h"

@@ -1,14 +1,14 @@
 #version 430 core
 #extension GL_GOOGLE_include_directive : require
-// Normals stage (SPEC §3.6) on the GPU: the GL twin of src/cpu/normals.cpp.
-// After van der Laan, Green & Sainz 2009 (US 8,947,430, eqs. 3-6) and Cords &
-// Staadt 2008 ("Instant Liquids" §2.3, perspective-correct normals): every
-// fluid pixel is back-projected with its smoothed eye depth to the view-space
-// point P = z * ray(x+1/2, y+1/2), and n = normalize(dP/dx × dP/dy), with the
-// exact inverse projection; per axis the central difference, or at a
-// discontinuity (|dz| > jump, neighbour +inf or outside the image) the
-// one-sided difference with the smaller |dz|, or with neither the screen axis
-// made perpendicular to the view ray.
+// Normals stage (docs/pipeline.md#normals) on the GPU: the GL twin of
+// src/cpu/normals.cpp. After van der Laan, Green & Sainz 2009 (US 8,947,430,
+// eqs. 3-6) and Cords & Staadt 2008 ("Instant Liquids" §2.3,
+// perspective-correct normals): every fluid pixel is back-projected with its
+// smoothed eye depth to the view-space point P = z * ray(x+1/2, y+1/2), and
+// n = normalize(dP/dx × dP/dy), with the exact inverse projection; per axis the
+// central difference, or at a discontinuity (|dz| > jump, neighbour +inf or
+// outside the image) the one-sided difference with the smaller |dz|, or with
+// neither the screen axis made perpendicular to the view ray.
 // Every operation follows the CPU's normalAt / axisTangent in the same order,
 // `precise` (no FMA contraction or reassociation), so the two agree to the
 // rounding of division and sqrt.

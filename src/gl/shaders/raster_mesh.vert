@@ -3,11 +3,11 @@
 // Mesh path (src/gl/raster_mesh.cpp): the GL twin of src/cpu/raster_mesh.cpp's
 // vertex transform. World position and normal to view space with the camera
 // axes of the frame block; the clip position is made so that the viewport
-// transform gives the SPEC §2 pixel coordinates themselves (x = W/2 + f x/w,
-// y = H/2 - f y/w, row 0 at the top: the image is drawn upside down in GL's
-// bottom-up framebuffer, so its rows are the image's and the driver's fill
-// rule, top-left in framebuffer rows on llvmpipe, is the CPU's top-left in
-// image rows), w = eye depth.
+// transform gives the docs/conventions.md#conventions pixel coordinates
+// themselves (x = W/2 + f x/w, y = H/2 - f y/w, row 0 at the top: the image is
+// drawn upside down in GL's bottom-up framebuffer, so its rows are the image's
+// and the driver's fill rule, top-left in framebuffer rows on llvmpipe, is the
+// CPU's top-left in image rows), w = eye depth.
 // z is 0: no GL near/far clip; the near plane is the clip distance, in view
 // space as on the CPU. The eye depth and the normal go to the fragment shader
 // interpolated perspective-correctly (GL's default).

@@ -1,10 +1,10 @@
 #version 430 core
 #extension GL_GOOGLE_include_directive : require
-// The SPH surface, ray cast (SPEC §3.5a) on the GPU: the GL twin of
-// src/cpu/raycast.cpp. One invocation per pixel: where the splat's depth is
-// finite, shared::sphRaycast marches the pixel's ray through the particles'
-// density (Fraedrich, Auer & Westermann 2010) from that depth to the iso
-// level, summing the field over core/sph_field.h's grid exactly as
+// The SPH surface, ray cast (docs/pipeline.md#ray-cast-surface) on the GPU: the
+// GL twin of src/cpu/raycast.cpp. One invocation per pixel: where the splat's
+// depth is finite, shared::sphRaycast marches the pixel's ray through the
+// particles' density (Fraedrich, Auer & Westermann 2010) from that depth to the
+// iso level, summing the field over core/sph_field.h's grid exactly as
 // evaluateSphField does (cells z, then y, each row of three cells one range
 // of the sorted points, points in order), every operation `precise`, so the
 // two agree to the rounding of sqrt and division.

@@ -1,12 +1,13 @@
 #version 430 core
 #extension GL_GOOGLE_include_directive : require
-// Scene stage (SPEC §3.1) on the GPU: the GL twin of src/cpu/scene.cpp. The
-// default studio (checker floor, two back walls forming the inside corner of a
-// box around the particles, or the floor alone) ray-cast per pixel into colour and eye depth, with
-// the procedural sky (src/shared/sky.h) wherever no plane is hit. Rendering
-// the opaque scene first and splatting fluid against its depth is the
-// compositing order of van der Laan et al. 2009 (US 8,947,430) and Instant
-// Liquids (Cords & Staadt 2008, §3).
+// Scene stage (docs/pipeline.md#scene) on the GPU: the GL twin of
+// src/cpu/scene.cpp. The default studio (checker floor, two back walls forming
+// the inside corner of a box around the particles, or the floor alone) ray-cast
+// per pixel into colour and eye depth, with the procedural sky
+// (src/shared/sky.h) wherever no plane is hit. Rendering the opaque scene first
+// and splatting fluid against its depth is the compositing order of van der
+// Laan et al. 2009 (US 8,947,430) and Instant Liquids (Cords & Staadt 2008,
+// §3).
 // Every operation follows castRow in the same order, `precise` (no FMA
 // contraction or reassociation), so the two agree to the rounding of division
 // and sqrt. Camera from the frame block P; the studio from plain uniforms

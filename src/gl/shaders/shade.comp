@@ -1,6 +1,6 @@
 #version 430 core
 #extension GL_GOOGLE_include_directive : require
-// Shading and compositing (SPEC §3.8) on the GPU: the GL twin of
+// Shading and compositing (docs/pipeline.md#shading) on the GPU: the GL twin of
 // src/cpu/shading.cpp. After van der Laan, Green & Sainz 2009 (US 8,947,430,
 // eqs. 18-20) with the reflection/refraction of Cords & Staadt 2008 ("Instant
 // Liquids" §3):
@@ -11,11 +11,12 @@
 // Schlick's Fresnel term, beta = refraction * T * f / z pixels, the background
 // sampled bilinearly with premultiplied alpha and the sky filling what the
 // scene leaves transparent; opaque materials mix toward a Lambert-lit fluid
-// colour and fade the mirror reflection. With the surface noise on (SPEC
-// §3.7, the patent's foam tint by |N|), foam of cover noiseFoamCover(N) is laid
-// over the result (src/shared/surface_noise.h), as the CPU's step 6; with the
-// velocity whitening on (SPEC §3.7, Instant Liquids §4), then white water of
-// cover strength * map, lit the same way, as the CPU's step 7.
+// colour and fade the mirror reflection. With the surface noise on (
+// docs/pipeline.md#noise-and-foam, the patent's foam tint by |N|), foam of cover
+// noiseFoamCover(N) is laid over the result (src/shared/surface_noise.h), as the
+// CPU's step 6; with the velocity whitening on (docs/pipeline.md#noise-and-foam,
+// Instant Liquids §4), then white water of cover strength * map, lit the same way,
+// as the CPU's step 7.
 // Every operation follows the CPU's shadeBatch in the same order, `precise`
 // (no FMA contraction or reassociation). The one deliberate difference: exp
 // and log are the driver's built-ins where the CPU uses Cephes polynomials
@@ -165,13 +166,15 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out
         precise float spec = P.specular * exp(P.shininess * log(max(nh, 1e-30)));
         c = c + vec3(spec);
     }
-    // 6. Foam over the liquid where the surface noise is strong (SPEC §3.7).
+    // 6. Foam over the liquid where the surface noise is strong
+    // (docs/pipeline.md#noise-and-foam).
     float foam = 0.0;
     if (uFoam != 0) {
         foam = noiseFoamCover(texelFetch(noise, k).x, uFoamThreshold, uFoamGain);
         c = noiseWithFoam(c, foam, nl, uFoamColor, kOpaqueAmbient);
     }
-    // 7. White water where the surface is fast (SPEC §3.7, Instant Liquids §4).
+    // 7. White water where the surface is fast (docs/pipeline.md#noise-and-foam,
+    // Instant Liquids §4).
     precise float white = 0.0;
     if (uWhite != 0) {
         white = uWhiteStrength * texelFetch(whitening, k).x;

@@ -1,10 +1,11 @@
 #version 430 core
-// Silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3; SPEC
-// §3.5) on the GPU, second pass after silhouette_rows.comp: the column prefix
-// sums that complete the summed-area table, one invocation per column 1..W,
-// as the column loop of cpu::fluidSummedArea (entry (x, y) += entry (x, y - 1)
-// down the column). A column is at most 16384 rows, under llvmpipe's loop
-// cap; neighbouring invocations touch neighbouring entries. Integers: exact.
+// Silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3;
+// docs/pipeline.md#silhouette-reduction) on the GPU, second pass after
+// silhouette_rows.comp: the column prefix sums that complete the summed-area
+// table, one invocation per column 1..W, as the column loop of
+// cpu::fluidSummedArea (entry (x, y) += entry (x, y - 1) down the column). A
+// column is at most 16384 rows, under llvmpipe's loop cap; neighbouring
+// invocations touch neighbouring entries. Integers: exact.
 
 layout(local_size_x = 16) in;
 

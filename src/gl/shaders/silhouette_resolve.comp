@@ -1,9 +1,9 @@
 #version 430 core
 // Silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3: the
 // binary depth map smoothed over a window, the liquid shown only where it
-// reaches 1; SPEC §3.5) on the GPU, per pixel after the summed-area table
-// (silhouette_rows.comp, silhouette_columns.comp): the GL twin of the
-// per-pixel loop of cpu::reduceSilhouettes. A fluid pixel's window
+// reaches 1; docs/pipeline.md#silhouette-reduction) on the GPU, per pixel after
+// the summed-area table (silhouette_rows.comp, silhouette_columns.comp): the GL
+// twin of the per-pixel loop of cpu::reduceSilhouettes. A fluid pixel's window
 // (silhouetteWindow), its fluid count from the table's four corners, S =
 // count / area (silhouetteFraction) and, where its alpha (silhouetteAlpha)
 // is under 1, the colour faded in place into the scene colour behind it

@@ -1,11 +1,12 @@
 #version 430 core
-// Silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3; SPEC
-// §3.5) on the GPU, first pass: the row prefix sums of the fluid mask into
-// the summed-area table, one invocation per image row, as the row loop of
-// cpu::fluidSummedArea. Entry (x + 1, y + 1) of the (W + 1) x (H + 1) table
-// gets the fluid pixels of row y in [0, x]; column 0 gets 0 (row 0 is the
-// host's fill). A row is at most kMaxImageSizePx = 16384 pixels, under
-// llvmpipe's 65,535 loop iterations. Integers: exact in any order.
+// Silhouette reduction (Cords & Staadt 2008, "Instant Liquids" §3;
+// docs/pipeline.md#silhouette-reduction) on the GPU, first pass: the row prefix
+// sums of the fluid mask into the summed-area table, one invocation per image
+// row, as the row loop of cpu::fluidSummedArea. Entry (x + 1, y + 1) of the
+// (W + 1) x (H + 1) table gets the fluid pixels of row y in [0, x]; column 0
+// gets 0 (row 0 is the host's fill). A row is at most kMaxImageSizePx = 16384
+// pixels, under llvmpipe's 65,535 loop iterations. Integers: exact in any
+// order.
 
 layout(local_size_x = 16) in;
 

@@ -1,8 +1,8 @@
 #version 430 core
-// Depth splat and thickness chords (SPEC §3.3, §3.4) on the GPU: the exact
-// ray-sphere nearest hit of src/cpu/splat.cpp (van der Laan et al. 2009; Cords
-// & Staadt 2008 §2.1), one invocation per particle over its exact projected
-// bounding box.
+// Depth splat and thickness chords (docs/pipeline.md#depth-splat,
+// docs/pipeline.md#thickness) on the GPU: the exact ray-sphere nearest hit of
+// src/cpu/splat.cpp (van der Laan et al. 2009; Cords & Staadt 2008 §2.1), one
+// invocation per particle over its exact projected bounding box.
 //  - Depth: the minimum kept with atomicMin on the float bits (positive IEEE
 //    floats order like their unsigned bit patterns), so it is exact and
 //    order-independent. Every operation follows the CPU code, in the same order
@@ -29,10 +29,10 @@
 //    and lists the others; pass 1 (an indirect dispatch: kBigGroups work
 //    groups per listed sphere) spreads each listed rectangle over
 //    kBigGroups x 64 invocations. The atomics make the split invisible.
-// Depth buffer: W*H uints, row-major, row 0 = the TOP row (SPEC §2), set
-// beforehand to +inf; it keeps the nearest hit in front of the scene (+inf:
-// no fluid). Chord sums: set to 0 beforehand, turned into metres by
-// splat_resolve.comp.
+// Depth buffer: W*H uints, row-major, row 0 = the TOP row
+// (docs/conventions.md#conventions), set beforehand to +inf; it keeps the
+// nearest hit in front of the scene (+inf: no fluid). Chord sums: set to 0
+// beforehand, turned into metres by splat_resolve.comp.
 #extension GL_GOOGLE_include_directive : require
 #include "frame_params.h"
 #include "splat_chords.h"

@@ -1,7 +1,8 @@
 #version 430 core
-// After the splat (SPEC §3.4; splat.comp), one invocation per pixel: the
-// fixed-point chord sums become thickness in metres, times the calibration
-// weight w (shared::thicknessWeight), by shared/splat_chords.h as on the CPU.
+// After the splat (docs/pipeline.md#thickness; splat.comp), one invocation per
+// pixel: the fixed-point chord sums become thickness in metres, times the
+// calibration weight w (shared::thicknessWeight), by shared/splat_chords.h as
+// on the CPU.
 #extension GL_GOOGLE_include_directive : require
 #include "frame_params.h"
 #include "splat_chords.h"

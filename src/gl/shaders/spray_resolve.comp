@@ -1,11 +1,12 @@
 #version 430 core
-// Spray drops (SPEC §3.2, §3.7; the NVIDIA SSFR patent, US 8,947,430, draws
-// the particles that left the body of water as spray particles) on the GPU,
-// per pixel after spray_splat.comp: the GL twin of the compositing loop of
-// cpu::drawSpray. Where a pixel's fixed-point optical depth is positive, its
-// cover is 1 - exp(-sum) (sprayCover) and the lit drop colour is laid over the
-// colour in place (sprayOver; alpha over as the CPU's, `precise`); elsewhere
-// the colour is left as it is and the cover is 0. Formulas: src/shared/spray.h.
+// Spray drops (docs/pipeline.md#classification, docs/pipeline.md#noise-and-foam;
+// the NVIDIA SSFR patent, US 8,947,430, draws the particles that left the body
+// of water as spray particles) on the GPU, per pixel after spray_splat.comp: the
+// GL twin of the compositing loop of cpu::drawSpray. Where a pixel's fixed-point
+// optical depth is positive, its cover is 1 - exp(-sum) (sprayCover) and the lit
+// drop colour is laid over the colour in place (sprayOver; alpha over as the
+// CPU's, `precise`); elsewhere the colour is left as it is and the cover is 0.
+// Formulas: src/shared/spray.h.
 #extension GL_GOOGLE_include_directive : require
 #include "shading.h"
 #include "spray.h"

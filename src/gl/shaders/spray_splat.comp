@@ -1,20 +1,21 @@
 #version 430 core
-// Spray drops (SPEC §3.2, §3.7; the NVIDIA SSFR patent, US 8,947,430, draws
-// the particles that left the body of water as spray particles) on the GPU,
-// the scatter: the GL twin of cpu::drawSpray's per-pixel sums. The drops come
-// projected from the host (shared::sprayDrop, the CPU's code), culled to those
-// with pixels on screen; each pixel of a drop's rectangle in front of the
-// fluid and the scene gets its fixed-point optical depth (sprayContribution,
-// src/shared/spray.h) by atomicAdd (32-bit wrap-around, the CPU's uint sums):
-// exact, so the order the GPU runs the drops in does not matter.
+// Spray drops (docs/pipeline.md#classification, docs/pipeline.md#noise-and-foam;
+// the NVIDIA SSFR patent, US 8,947,430, draws the particles that left the body
+// of water as spray particles) on the GPU, the scatter: the GL twin of
+// cpu::drawSpray's per-pixel sums. The drops come projected from the host
+// (shared::sprayDrop, the CPU's code), culled to those with pixels on screen;
+// each pixel of a drop's rectangle in front of the fluid and the scene gets its
+// fixed-point optical depth (sprayContribution, src/shared/spray.h) by atomicAdd
+// (32-bit wrap-around, the CPU's uint sums): exact, so the order the GPU runs
+// the drops in does not matter.
 // The work comes cut into items of uChunk pixels of one drop's rectangle
 // (row-major), one item per invocation: the lanes of a SIMD vector walk about
 // the same number of pixels however unlike their drops are (specks, long
 // streaks, a drop at the camera: one invocation per drop, as noise_splat.comp's
 // pass 1, ran 3-4x slower on llvmpipe with streaks), and no invocation walks
 // past llvmpipe's cap of 65,535 loop iterations (it silently stops there).
-// Sums: W*H, row-major, row 0 = the TOP row (SPEC §2), zeroed beforehand;
-// spray_resolve.comp turns them into cover.
+// Sums: W*H, row-major, row 0 = the TOP row (docs/conventions.md#conventions),
+// zeroed beforehand; spray_resolve.comp turns them into cover.
 #extension GL_GOOGLE_include_directive : require
 #include "spray.h"
 

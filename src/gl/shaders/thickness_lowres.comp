@@ -1,5 +1,5 @@
 #version 430 core
-// Reduced-resolution thickness (SPEC §3.4 allows it; ThicknessParams::
+// Reduced-resolution thickness (docs/pipeline.md#thickness allows it; ThicknessParams::
 // resolutionDivisor), the GPU twin of lowResThickness in src/cpu/thickness.cpp
 // around the low-resolution chords (splat.comp, uDiv > 1) and their blur
 // (filter_separable_thickness.comp on the low grid):

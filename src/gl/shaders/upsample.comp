@@ -1,9 +1,9 @@
 #version 430 core
-// Reduced-resolution processing (SPEC §3.9): the low-resolution surface at
-// full resolution by depth-aware upsampling, per full pixel its four nearest
-// low pixels (shared/upsample.h). The GL twin of cpu::upsampleSurface, the
-// same operations in the same order (`precise` in the header), so the same
-// bits. Every output pixel is written.
+// Reduced-resolution processing (docs/pipeline.md#reduced-resolution): the
+// low-resolution surface at full resolution by depth-aware upsampling, per full
+// pixel its four nearest low pixels (shared/upsample.h). The GL twin of
+// cpu::upsampleSurface, the same operations in the same order (`precise` in the
+// header), so the same bits. Every output pixel is written.
 #extension GL_GOOGLE_include_directive : require
 #include "upsample.h"
 

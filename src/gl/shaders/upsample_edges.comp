@@ -1,8 +1,8 @@
 #version 430 core
-// Reduced-resolution processing (SPEC §3.9): each fluid pixel whose
-// upsampling coverage c is under 1 blended into the scene colour behind it by
-// c (shared/upsample.h: upsampleEdgeBlend), in place. The GL twin of
-// cpu::blendFluidEdges.
+// Reduced-resolution processing (docs/pipeline.md#reduced-resolution): each
+// fluid pixel whose upsampling coverage c is under 1 blended into the scene
+// colour behind it by c (shared/upsample.h: upsampleEdgeBlend), in place. The
+// GL twin of cpu::blendFluidEdges.
 #extension GL_GOOGLE_include_directive : require
 #include "fluids.h"
 #include "upsample.h"

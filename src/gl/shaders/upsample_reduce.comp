@@ -1,7 +1,7 @@
 #version 430 core
-// Reduced-resolution processing (SPEC §3.9): the full scene depth reduced to
-// the low camera, per low pixel the farthest depth of the full pixels it
-// covers (shared/upsample.h: lowPixelSpan). The GL twin of
+// Reduced-resolution processing (docs/pipeline.md#reduced-resolution): the full
+// scene depth reduced to the low camera, per low pixel the farthest depth of
+// the full pixels it covers (shared/upsample.h: lowPixelSpan). The GL twin of
 // cpu::reduceSceneDepth; max of exact values, so the same bits.
 #extension GL_GOOGLE_include_directive : require
 #include "upsample.h"
