@@ -25,12 +25,14 @@ if [ ${#readers[@]} -eq 0 ]; then
 fi
 
 # Only the reader code is needed: no GL, tests or bench.
-cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER="$clangxx" -DCMAKE_BUILD_TYPE=Debug \
+source scripts/timing.sh
+# shellcheck disable=SC2046  # the generator is one or two words, or none
+cmake -S . -B build-fuzz $(generator_args build-fuzz) -DCMAKE_CXX_COMPILER="$clangxx" -DCMAKE_BUILD_TYPE=Debug \
       -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DMENISCUS_FUZZ=ON -DMENISCUS_GL=OFF \
       -DMENISCUS_BUILD_TESTS=OFF -DMENISCUS_BUILD_BENCH=OFF >/dev/null
 targets=()
 for r in "${readers[@]}"; do targets+=("fuzz_$r"); done
-cmake --build build-fuzz -j"$jobs" --target "${targets[@]}"
+timed "fuzz.sh: the build" cmake --build build-fuzz -j"$jobs" --target "${targets[@]}"
 
 source tests/sanitizers/env.sh
 # One reader: the inputs libFuzzer adds go to build-fuzz/corpus/<reader> (the
@@ -54,4 +56,4 @@ fuzz_one() {
 }
 export -f fuzz_one
 export seconds
-printf '%s\n' "${readers[@]}" | xargs -P "$jobs" -I{} bash -c 'fuzz_one {}'
+timed "fuzz.sh: the runs" bash -c 'printf "%s\n" "$@" | xargs -P "$0" -I{} bash -c "fuzz_one {}"' "$jobs" "${readers[@]}"

@@ -13,7 +13,9 @@ jobs=$(nproc 2>/dev/null || echo 2)
 # The environment the sanitizers read (the tests' own child processes, such as
 # the CLI, inherit it): tests/sanitizers/env.sh.
 source tests/sanitizers/env.sh
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
+source scripts/timing.sh
+# shellcheck disable=SC2046  # the generator is one or two words, or none
+cmake -S . -B build-asan $(generator_args build-asan) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
       -DMENISCUS_SANITIZE=ON -DMENISCUS_BUILD_BENCH=OFF -DMENISCUS_MPI=OFF >/dev/null
-cmake --build build-asan -j"$jobs"
-ctest --test-dir build-asan --output-on-failure -j"$jobs"
+timed "test_sanitizers.sh: the build" cmake --build build-asan -j"$jobs"
+timed "test_sanitizers.sh: the tests" ctest --test-dir build-asan --output-on-failure -j"$jobs"

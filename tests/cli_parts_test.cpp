@@ -16,6 +16,7 @@
 #include "frame_prefetch.h"
 #include "scene_save.h"
 #include "test_util.h"
+#include "view_ui.h"
 
 using namespace meniscus;
 using namespace meniscus::app;
@@ -185,4 +186,15 @@ TEST(FramePrefetch, AFrameThatCannotBeReadIsAnErrorNotACrash) {
     const FramePrefetch::Loaded bad = prefetch.wait(1);
     EXPECT_FALSE(bad.set);
     EXPECT_NE(bad.error.find("f_0002.bgeo"), std::string::npos) << bad.error;
+}
+
+// The viewer's timeline counts as the files do: SPlisHSPlasH's frames are
+// numbered from 1, so the third file of a sequence reads "3 (3 of 60)", and a
+// file with no number shows its place alone.
+TEST(ViewerTimeline, NumbersFramesAsTheFilesDo) {
+    EXPECT_EQ(timelineLabel(2, 60, 3), "3 (3 of 60)");
+    EXPECT_EQ(timelineLabel(0, 5, 21), "21 (1 of 5)");
+    EXPECT_EQ(timelineLabel(4, 5, -1), "5 of 5");
+    EXPECT_EQ(timelineLabel(0, 2, 0), "0 (1 of 2)");
+    EXPECT_EQ(timelineLabel(1, 3, frameNumberOf("out/ParticleData_Fluid_21.bgeo")), "21 (2 of 3)");
 }

@@ -12,6 +12,7 @@
 #include "meniscus/io.h"
 #include "meniscus/sim.h"
 #include <cstdio>
+#include "shared/sph_kernels.h"
 #include "sim/boundary_density_maps.h"
 #include "sim/colliders.h"
 #include "sim/kernels.h"
@@ -110,6 +111,26 @@ TEST(SimKernels, GradientsAreTheDerivatives) {
     // The gradient is odd: grad W(-d) = -grad W(d) (what makes the forces pairwise).
     const glm::vec3 d(0.01f, -0.005f, 0.007f);
     EXPECT_EQ(cubic.gradW(-d, glm::length(d)), -cubic.gradW(d, glm::length(d)));
+}
+
+// One cubic spline: the simulator's is sigma times shared::sphKernel (and its
+// gradient sigma / h^2 times sphKernelGradient), the functions the renderer's
+// ray cast, the mesher and the radius estimate evaluate, bit for bit.
+TEST(SimKernels, TheCubicSplineIsTheSharedOne) {
+    const float h = 0.04f, invH = 1.0f / h;
+    const CubicSpline cubic(h);
+    const float sigma = shared::sphKernelSigma(h);
+    EXPECT_EQ(sigma, 8.0f / (3.14159265358979323846f * h * h * h));
+    for (float r : {0.0f, 0.003f, 0.5f * h, std::nextafter(0.5f * h, h), 0.031f, std::nextafter(h, 0.0f)}) {
+        EXPECT_EQ(cubic.W(r), sigma * shared::sphKernel(r * invH)) << r;
+        if (r > 0.0f) {
+            EXPECT_EQ(cubic.gradFactor(r), sigma / (h * h) * shared::sphKernelGradient(r * invH)) << r;
+        }
+    }
+    EXPECT_EQ(cubic.W(h), 0.0f);
+    EXPECT_EQ(cubic.gradFactor(h), 0.0f);
+    EXPECT_EQ(shared::sphKernel(0.0f), 1.0f);
+    EXPECT_EQ(shared::sphKernel(0.5), 0.25);  // the double instance, as the radius estimate uses it
 }
 
 // The neighbour build evaluates the kernels four distances at once; the

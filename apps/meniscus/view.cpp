@@ -463,6 +463,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
                     model.camera = settings.camera;
                     model.frame = index;
                     model.frameCount = count;
+                    model.frameNumber = input && index < input->files.size() ? frameNumberOf(input->files[index]) : -1;
                     const UiRequests req = ui->frame(model, panels);
                     if (req.lookChanged) {
                         applyLook(model.look);

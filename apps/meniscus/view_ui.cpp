@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <string>
 
 #if MENISCUS_HAVE_IMGUI
 #define GLFW_INCLUDE_NONE
@@ -21,6 +22,11 @@
 #include "meniscus/params.h"
 
 namespace meniscus::app {
+
+std::string timelineLabel(std::size_t index, std::size_t count, long number) {
+    const std::string where = std::to_string(index + 1) + " of " + std::to_string(count);
+    return number >= 0 ? std::to_string(number) + " (" + where + ")" : where;
+}
 
 #if MENISCUS_HAVE_IMGUI
 namespace {
@@ -170,7 +176,11 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
         if (header("Sequence", true)) {
             int frame = int(m.frame);
             if (m.frameCount > 1) {
-                if (ImGui::SliderInt("frame", &frame, 0, int(m.frameCount) - 1)) req.seek = frame;
+                // The slider moves through the frames in order; its text is the
+                // file's own number (as the files count, often from 1) and the
+                // position: "21 (3 of 60)". No '%' in it, so ImGui shows it as it is.
+                const std::string text = timelineLabel(m.frame, m.frameCount, m.frameNumber);
+                if (ImGui::SliderInt("frame", &frame, 0, int(m.frameCount) - 1, text.c_str())) req.seek = frame;
                 note("frame");
                 if (button("<")) req.seek = long((m.frame + m.frameCount - 1) % m.frameCount);
                 ImGui::SameLine();

@@ -27,6 +27,9 @@ struct UiModel {
     Camera camera;           // the view; the panels edit its fov
     // The sequence: frame index of count, playback.
     std::size_t frame = 0, frameCount = 1;
+    // The shown frame's own number, as its file name says (ParticleData_Fluid_21
+    // -> 21; -1 when the name has none): the timeline counts as the files do.
+    long frameNumber = -1;
     bool playing = false, loop = true;
     float speed = 1.0f;      // times look.fps frames per second
     // Statistics of the last drawn frame.
@@ -81,5 +84,9 @@ private:
     bool scripted_ = false, scriptedDown_ = false;
     glm::vec2 scriptedAt_{0.0f};
 };
+
+// The timeline's text for frame `index` of `count` whose file carries the
+// number `number` (-1: none): "21 (3 of 60)", or "3 of 60".
+std::string timelineLabel(std::size_t index, std::size_t count, long number);
 
 }  // namespace meniscus::app

@@ -14,6 +14,8 @@
 #include <glm/glm.hpp>
 #include <tbb/parallel_sort.h>
 
+#include "shared/sph_kernels.h"
+
 namespace meniscus::detail {
 
 // Hashed uniform grid: points sorted by cell, and an open-addressing table
@@ -154,14 +156,11 @@ private:
     std::vector<std::int32_t> table_;
 };
 
-// Normalised cubic spline kernel with support radius H (Monaghan 1992, in the
-// form SPlisHSPlasH uses): integrates to 1 over the ball of radius H.
+// The normalised cubic spline with support radius H (shared/sph_kernels.h),
+// in double: integrates to 1 over the ball of radius H.
 inline double cubicKernel(double dist, double H) {
     const double q = dist / H;
-    const double norm = 8.0 / (3.14159265358979323846 * H * H * H);
-    if (q <= 0.5) return norm * (6.0 * (q * q * q - q * q) + 1.0);
-    if (q <= 1.0) return norm * 2.0 * (1.0 - q) * (1.0 - q) * (1.0 - q);
-    return 0.0;
+    return q < 1.0 ? shared::sphKernelSigma(H) * shared::sphKernel(q) : 0.0;
 }
 
 }  // namespace meniscus::detail

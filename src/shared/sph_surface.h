@@ -5,7 +5,7 @@
 // and division.
 //
 // Field: F(x) = sum_j W(|x - x_j| / h), W the cubic spline of Monaghan 1992
-// (here unnormalised, W(0) = 1; the rest value F0 of a lattice of spacing 2r
+// (sph_kernels.h; here unnormalised, W(0) = 1; the rest value F0 of a lattice of spacing 2r
 // turns it into a fraction of the rest density, shared::sphRestField), and
 // its gradient up to the positive factor 1/h^2: grad F ~ sum_j G(q) (x - x_j),
 // G(q) = W'(q) / q (finite at q = 0), which only the normal's direction uses.
@@ -30,6 +30,8 @@
 // sphLastInCell, declared before this header is included.
 #ifndef MENISCUS_SHARED_SPH_SURFACE_H
 #define MENISCUS_SHARED_SPH_SURFACE_H
+
+#include "sph_kernels.h"
 
 #ifdef __cplusplus
 #include <algorithm>
@@ -66,21 +68,7 @@ using std::sqrt;
 #define MENISCUS_SPH_INF uintBitsToFloat(0x7f800000u)
 #endif
 
-// W(q), q = d / h in [0, 1): 6 q^2 (q - 1) + 1 up to q = 1/2, 2 (1 - q)^3 beyond.
-MENISCUS_SPH_INLINE float sphKernel(float q) {
-    MENISCUS_SPH_EXACT float a = 1.0f - q;
-    MENISCUS_SPH_EXACT float inner = 6.0f * q * q * (q - 1.0f) + 1.0f;
-    MENISCUS_SPH_EXACT float outer = 2.0f * a * a * a;
-    return q <= 0.5f ? inner : outer;
-}
-
-// G(q) = W'(q) / q: 18 q - 12 up to q = 1/2, -6 (1 - q)^2 / q beyond.
-MENISCUS_SPH_INLINE float sphKernelGradient(float q) {
-    MENISCUS_SPH_EXACT float a = 1.0f - q;
-    MENISCUS_SPH_EXACT float inner = 18.0f * q - 12.0f;
-    MENISCUS_SPH_EXACT float outer = -6.0f * a * a / (q > 0.5f ? q : 1.0f);
-    return q <= 0.5f ? inner : outer;
-}
+// W(q) and G(q) = W'(q) / q: sphKernel and sphKernelGradient (sph_kernels.h).
 
 // The point at eye depth t of the ray from `origin` along `dir`.
 MENISCUS_SPH_INLINE vec3 sphRayPoint(vec3 origin, vec3 dir, float t) {

@@ -1,6 +1,8 @@
 // SPH smoothing kernels, all with compact support h (the neighbour radius).
 //  - CubicSpline: Monaghan 1992, in the normalisation of Koschier et al.'s SPH
-//    tutorial (Eurographics 2019) and SPlisHSPlasH; DFSPH uses it.
+//    tutorial (Eurographics 2019) and SPlisHSPlasH, from shared/sph_kernels.h
+//    (the renderer and the mesher evaluate the same functions); DFSPH and PBF
+//    use it.
 //  - Poly6, Spiky (gradient), Viscosity (Laplacian): Muller, Charypar & Gross
 //    2003, §3.5 and §4; the SPH solver uses them.
 // Each kernel integrates to 1 over its support (tests/sim_kernels_test.cpp).
@@ -10,49 +12,47 @@
 
 #include <glm/glm.hpp>
 
+#include "shared/sph_kernels.h"
 #include "sim/packed.h"
 
 namespace meniscus::sim {
 
 inline constexpr float kPi = 3.14159265358979323846f;
 
+// The cubic spline of shared/sph_kernels.h at support h: W(r) = sigma w(r/h),
+// grad W(d) = sigma / h^2 g(r/h) d.
 class CubicSpline {
 public:
-    explicit CubicSpline(float h) : h_(h), invH_(1.0f / h), k_(8.0f / (kPi * h * h * h)), l_(48.0f / (kPi * h * h * h)) {}
+    explicit CubicSpline(float h)
+        : h_(h), invH_(1.0f / h), k_(shared::sphKernelSigma(h)), g_(shared::sphKernelSigma(h) / (h * h)) {}
     float support() const { return h_; }
     float W(float r) const {
         const float q = r * invH_;
-        if (q >= 1.0f) return 0.0f;
-        if (q <= 0.5f) return k_ * (6.0f * q * q * q - 6.0f * q * q + 1.0f);
-        const float a = 1.0f - q;
-        return k_ * 2.0f * a * a * a;
+        return q < 1.0f ? k_ * shared::sphKernel(q) : 0.0f;
     }
     // grad W of the offset d = x_i - x_j (|d| = r) is gradFactor(r) * d.
     float gradFactor(float r) const {
         const float q = r * invH_;
         if (q >= 1.0f || r < 1e-9f * h_) return 0.0f;
-        const float toQ = invH_ / r;
-        if (q <= 0.5f) return (l_ * q * (3.0f * q - 2.0f)) * toQ;
-        const float a = 1.0f - q;
-        return (-l_ * a * a) * toQ;
+        return g_ * shared::sphKernelGradient(q);
     }
     glm::vec3 gradW(const glm::vec3& d, float r) const { return gradFactor(r) * d; }
     // W and gradFactor of four distances at once (the neighbour build's),
-    // the same arithmetic as the two above lane by lane: equal bit for bit.
+    // shared::sphKernel and sphKernelGradient lane by lane, the same
+    // operations in the same order as the two above: equal bit for bit.
     void evaluate4(F4 r, F4& w, F4& g) const {
-        const F4 q = r * splat(invH_), a = splat(1.0f) - q, q6 = splat(6.0f) * q;
-        const F4 inside = less(q, splat(1.0f)), inner = lessEq(q, splat(0.5f));
-        const F4 wIn = splat(k_) * (((q6 * q) * q - q6 * q) + splat(1.0f));
-        const F4 wOut = ((splat(k_ * 2.0f) * a) * a) * a;
-        w = select(inside, select(inner, wIn, wOut), zero4());
-        const F4 toQ = splat(invH_) / r;
-        const F4 gIn = ((splat(l_) * q) * (splat(3.0f) * q - splat(2.0f))) * toQ;
-        const F4 gOut = ((splat(-l_) * a) * a) * toQ;
-        g = select(both(inside, lessEq(splat(1e-9f * h_), r)), select(inner, gIn, gOut), zero4());
+        const F4 q = r * splat(invH_), a = splat(1.0f) - q, one = splat(1.0f);
+        const F4 inside = less(q, one), inner = lessEq(q, splat(0.5f));
+        const F4 wIn = ((splat(6.0f) * q) * q) * (q - one) + one;
+        const F4 wOut = ((splat(2.0f) * a) * a) * a;
+        w = select(inside, splat(k_) * select(inner, wIn, wOut), zero4());
+        const F4 gIn = splat(18.0f) * q - splat(12.0f);
+        const F4 gOut = ((splat(-6.0f) * a) * a) / select(inner, one, q);
+        g = select(both(inside, lessEq(splat(1e-9f * h_), r)), splat(g_) * select(inner, gIn, gOut), zero4());
     }
 
 private:
-    float h_, invH_, k_, l_;
+    float h_, invH_, k_, g_;
 };
 
 class MullerKernels {

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "meniscus/params.h"
+#include "shared/sph_kernels.h"
 
 namespace meniscus::surface {
 
@@ -30,11 +31,10 @@ struct Field {
         const float v = 0.5f * d2 * invSupport2 - 0.5f;
         return d2 < support2 ? v * v : 0.0f;
     }
-    // Cubic spline (Monaghan 1992) over sigma = 8/(pi h^3), q = d/h.
+    // The cubic spline w(q), q = d/h (shared/sph_kernels.h; sigma = 8/(pi h^3)
+    // is left to F0). Branch-free: evaluated everywhere, selected inside h.
     float sphKernel(float d2) const {
-        const float q = std::sqrt(d2) * invSupport;
-        const float a = 1.0f - q;
-        const float w = q <= 0.5f ? 6.0f * q * q * (q - 1.0f) + 1.0f : 2.0f * a * a * a;
+        const float w = shared::sphKernel(std::sqrt(d2) * invSupport);
         return d2 < support2 ? w : 0.0f;
     }
 };
