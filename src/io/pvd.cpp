@@ -20,7 +20,6 @@
 //    an error), whatever their order in the file.
 // Problems come back as an Error naming the .pvd, never as a crash.
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -181,10 +180,8 @@ std::optional<double> evenFrameRate(std::span<const double> times) {
 }
 
 Result<std::optional<double>> frameRateOfInput(const fs::path& input) {
-    std::string ext = input.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     std::error_code ec;
-    if (ext != ".pvd" || !fs::is_regular_file(input, ec)) return std::optional<double>();
+    if (!isPvdName(input.filename().string()) || !fs::is_regular_file(input, ec)) return std::optional<double>();
     auto pvd = readPvd(input);
     if (!pvd) return pvd.error();
     if (!pvd->timed) return std::optional<double>();
