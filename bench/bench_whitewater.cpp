@@ -18,6 +18,7 @@
 #include <tbb/info.h>
 
 #include "meniscus/io.h"
+#include "meniscus/options.h"
 #include "meniscus/particles.h"
 #include "meniscus/whitewater.h"
 
@@ -63,7 +64,12 @@ int main(int argc, char** argv) {
         }
         frames.push_back(std::move(*set));
     }
-    if (radius == 0.0f) radius = defaultRadius(frames[0]).radius;
+    const auto resolved = resolveRadius(radius, [&] { return defaultRadius(frames[0]); });
+    if (!resolved) {
+        std::fprintf(stderr, "bench_whitewater: %s\n", resolved.error().describe().c_str());
+        return 1;
+    }
+    radius = *resolved;
 
     std::vector<double> measure, potentials, advect, generate, total;
     std::size_t alive = 0, made = 0;

@@ -31,6 +31,18 @@ function(check module dir)
         set(bad "${bad}\n  ${rel}: ${line}  (${module} may include: ${allowed_${module}})")
       endif()
     endforeach()
+    # A name without a folder is a file beside this one: no reaching into
+    # another module through an include path (the Python module once
+    # included the CLI's headers so).
+    file(STRINGS ${f} local REGEX "^[ \t]*#[ \t]*include[ \t]*\"[^/\"]+\"")
+    get_filename_component(here ${f} DIRECTORY)
+    foreach(line ${local})
+      string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*\"([^/\"]+)\".*" "\\1" name "${line}")
+      if(NOT EXISTS ${here}/${name})
+        file(RELATIVE_PATH rel ${ROOT} ${f})
+        set(bad "${bad}\n  ${rel}: ${line}  (not a file beside it)")
+      endif()
+    endforeach()
   endforeach()
   set(bad "${bad}" PARENT_SCOPE)
 endfunction()

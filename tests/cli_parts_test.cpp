@@ -22,9 +22,9 @@ using namespace meniscus;
 using namespace meniscus::app;
 using namespace meniscus::test;
 
-// Every option of addCameraOptions has a text (a new flag must be added to scene_save.cpp's flagOf).
+// Every option of the library's tables has a text, the flags true or false.
 TEST(SceneSave, EveryOptionHasItsText) {
-    const RenderOptions options;  // named: GCC 12 warns (falsely) of an uninitialised string in a temporary
+    const RenderJob options;  // named: GCC 12 warns (falsely) of an uninitialised string in a temporary
     const auto texts = optionTexts(options);
     ASSERT_GT(texts.size(), 40u);
     std::set<std::string> names;
@@ -36,14 +36,14 @@ TEST(SceneSave, EveryOptionHasItsText) {
         EXPECT_TRUE(names.count(name)) << name;
 }
 
-// The panels' values go through the command line's parser: what it accepts is
-// kept (as the text reads), what it refuses is an error naming the option.
+// The panels' values are checked as the command line checks them: what it
+// accepts is kept as it is, what it refuses is an error naming the option.
 TEST(SceneSave, ReparsedIsWhatTheCommandLineReads) {
-    RenderOptions o;
+    RenderJob o;
     o.iterations = 3;
     o.noise = true;
     o.opacity = 0.123456789f;
-    o.fluidColor = "0.1,0.2,0.3";
+    o.fluidColor = glm::vec3(0.1f, 0.2f, 0.3f);
     o.anisotropy = "off";
     o.filter = "bilateral";
     auto r = reparsed(o);
@@ -51,13 +51,13 @@ TEST(SceneSave, ReparsedIsWhatTheCommandLineReads) {
     EXPECT_EQ(r->iterations, 3);
     EXPECT_TRUE(r->noise);
     EXPECT_FALSE(r->whiten);
-    EXPECT_EQ(r->opacity, 0.123457f);  // the text's six digits, as `render --opacity 0.123457` gets
-    EXPECT_EQ(r->fluidColor, "0.1,0.2,0.3");
+    EXPECT_EQ(r->opacity, 0.123456789f);  // typed: nothing goes through text
+    EXPECT_EQ(r->fluidColor, glm::vec3(0.1f, 0.2f, 0.3f));
     EXPECT_EQ(r->anisotropy, "off");
     EXPECT_EQ(r->filter, "bilateral");
     EXPECT_TRUE(std::isnan(r->ior));  // not given: still the preset's
 
-    RenderOptions bad;
+    RenderJob bad;
     bad.opacity = 2.0f;
     auto refused = reparsed(bad);
     ASSERT_FALSE(refused);
@@ -65,7 +65,7 @@ TEST(SceneSave, ReparsedIsWhatTheCommandLineReads) {
 }
 
 TEST(SceneSave, ChangedOptionsAreCommandLineWords) {
-    RenderOptions a, b;
+    RenderJob a, b;
     b.iterations = 3;
     b.noise = true;
     b.material = "milk";
@@ -82,9 +82,9 @@ TEST(SceneSave, ASavedSceneReadsBackAsTheSameOptions) {
     std::filesystem::create_directories(dir / "data");
     std::filesystem::copy_file(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"), dir / "data" / "f.bgeo");
     const std::string frame = (dir / "data" / "f.bgeo").string();
-    RenderOptions o;
+    RenderJob o;
     o.input = frame;
-    o.up = "0,0,1";
+    o.up = {0.0f, 0.0f, 1.0f};
     o.iterations = 2;
     o.spray = true;
     o.material = "milk";
@@ -118,9 +118,8 @@ TEST(SceneSave, ASavedSceneReadsBackAsTheSameOptions) {
     EXPECT_EQ(back->height, 200);
     EXPECT_EQ(back->fov, 35.0f);
     // z-up data: the renderer's (x, y, z) is the data's (x, -z, y).
-    float e[3], t[3];
-    ASSERT_EQ(std::sscanf(back->eye.c_str(), "%f,%f,%f", &e[0], &e[1], &e[2]), 3) << back->eye;
-    ASSERT_EQ(std::sscanf(back->target.c_str(), "%f,%f,%f", &t[0], &t[1], &t[2]), 3) << back->target;
+    ASSERT_TRUE(back->eye && back->target);
+    const glm::vec3 e = *back->eye, t = *back->target;
     EXPECT_NEAR(e[0], 1.0f, 1e-5f);
     EXPECT_NEAR(e[1], -3.0f, 1e-5f);
     EXPECT_NEAR(e[2], 2.0f, 1e-5f);
@@ -137,7 +136,7 @@ TEST(SceneSave, ASavedSceneReadsBackAsTheSameOptions) {
     std::ifstream again(path);
     EXPECT_EQ(nlohmann::json::parse(again)["particles"], "/nonexistent_top/f.bgeo");
 
-    const RenderOptions options;  // named, as above
+    const RenderJob options;  // named, as above
     EXPECT_FALSE(saveSceneFile((dir / "demo.json").string(), options, cam)) << "the demo frame has no file";
     EXPECT_FALSE(std::filesystem::exists(dir / "demo.json"));
 }

@@ -14,6 +14,10 @@
 #include "meniscus/particles.h"
 #include "test_util.h"
 
+#if MENISCUS_TEST_HDF5
+#include <hdf5.h>
+#endif
+
 namespace meniscus {
 namespace {
 
@@ -380,6 +384,67 @@ TEST(Hdf5Cli, InfoReadsTheFormats) {
     ASSERT_NE(test::runCli("info " + test::shellQuote(data("bad_step_without_x.h5part")), &out), 0);
     EXPECT_NE(out.find("bad_step_without_x.h5part/Step#0"), std::string::npos) << out;
 }
+
+
+#if MENISCUS_TEST_HDF5
+namespace {
+// An H5Part file of `times.size()` steps of two particles, each step's time
+// in a double attribute named `key` (ParaView's "TimeValue", or "time").
+void writeTimedH5Part(const fs::path& path, const std::vector<double>& times, const char* key) {
+    const hid_t file = H5Fcreate(path.string().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    for (std::size_t k = 0; k < times.size(); ++k) {
+        const std::string name = "Step#" + std::to_string(k);
+        const hid_t group = H5Gcreate2(file, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        const hid_t scalar = H5Screate(H5S_SCALAR);
+        const hid_t attr = H5Acreate2(group, key, H5T_NATIVE_DOUBLE, scalar, H5P_DEFAULT, H5P_DEFAULT);
+        H5Awrite(attr, H5T_NATIVE_DOUBLE, &times[k]);
+        H5Aclose(attr);
+        H5Sclose(scalar);
+        const hsize_t n = 2;
+        const hid_t space = H5Screate_simple(1, &n, nullptr);
+        for (const char* axis : {"x", "y", "z"}) {
+            const double v[2] = {0.0, 0.1 * double(k)};
+            const hid_t d = H5Dcreate2(group, axis, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+            H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v);
+            H5Dclose(d);
+        }
+        H5Sclose(space);
+        H5Gclose(group);
+    }
+    H5Fclose(file);
+}
+}  // namespace
+
+// A movie of an H5Part file plays at the rate of its steps' times, as
+// ParaView reads them (each step's TimeValue); uneven or missing times give none.
+TEST(H5Part, StepTimesGiveTheFrameRate) {
+    REQUIRE_HDF5();
+    const fs::path dir = test::tempDir();
+    writeTimedH5Part(dir / "even.h5part", {0.0, 1.0 / 15, 2.0 / 15, 3.0 / 15}, "TimeValue");
+    auto times = h5partStepTimes(dir / "even.h5part");
+    ASSERT_TRUE(times.ok()) << times.error().describe();
+    ASSERT_EQ(times->size(), 4u);
+    EXPECT_DOUBLE_EQ((*times)[1], 1.0 / 15);
+    auto rate = frameRateOfInput(dir / "even.h5part");
+    ASSERT_TRUE(rate.ok()) << rate.error().describe();
+    ASSERT_TRUE(rate->has_value());
+    EXPECT_NEAR(**rate, 15.0, 1e-9);
+    writeTimedH5Part(dir / "lower.h5", {2.0, 2.04, 2.08}, "time");
+    rate = frameRateOfInput(dir / "lower.h5");
+    ASSERT_TRUE(rate.ok() && rate->has_value());
+    EXPECT_NEAR(**rate, 25.0, 1e-9);
+    // steps.h5part's times (0, 0.01, 0.02, 0.1) are uneven: no rate, the default said in the log.
+    rate = frameRateOfInput(data("steps.h5part"));
+    ASSERT_TRUE(rate.ok());
+    EXPECT_FALSE(rate->has_value());
+    // A step without a time: none at all.
+    writeTimedH5Part(dir / "untimed.h5part", {0.0, 0.1}, "TimeStep_not_a_time");
+    times = h5partStepTimes(dir / "untimed.h5part");
+    ASSERT_TRUE(times.ok());
+    EXPECT_TRUE(times->empty());
+}
+#endif
 
 }  // namespace
 }  // namespace meniscus

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -14,6 +15,7 @@
 #include <glm/glm.hpp>
 
 #include "meniscus/camera_path.h"
+#include "meniscus/options.h"
 #include "meniscus/params.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
@@ -34,77 +36,22 @@ bool isPng(const std::string& path);
 bool isExr(const std::string& path);
 bool isMp4(const std::string& path);
 
-// How the isosurface path meshes (mesh, and render/compare with --surface mesh).
-struct MesherOptions {
-    float cubeSize = defaults::kCubeSizeRadii;
-    float iso = defaults::kSurfaceIso;
-    std::string field = "sph";
-    float support = 0.0f;  // radii; 0 = the field's default
-    int block = defaults::kBlockCubes;
-};
-
-struct RenderOptions {
+// A render job: the look, camera and surface the library's table
+// declares (meniscus::RenderOptions, include/meniscus/options.h), and the
+// command's own about inputs, outputs, sequences and movies.
+struct RenderJob : meniscus::RenderOptions {
     std::string input;
     std::string output;
-    int width = defaults::kWidth;
-    int height = defaults::kHeight;
-    std::string eye, target, up = "0,1,0";
-    float fov = defaults::kFovYDegrees;
-    // The automatic camera's view direction and distance (0: fitted to the particles).
-    float azimuth = defaults::kAutoAzimuthDegrees, elevation = defaults::kAutoElevationDegrees, distance = 0.0f;
-    float radius = 0.0f;  // 0 = estimate
-    float hPerSpacing = defaults::kHPerSpacing;  // a file's smoothing length h, in particle spacings
-    std::string view = "final";
-    std::string filter = defaults::kFilterName;
-    int iterations = -1;  // -1 = the filter's default
-    bool separable = false;
-    std::string material = defaults::kMaterialName;
-    // Custom material values over the preset(s), for every fluid; empty / NaN: the preset's.
-    std::string fluidColor, absorption;  // "r,g,b": linear RGB; Beer-Lambert k per channel, 1/m
-    float ior = NAN, refraction = NAN, specular = NAN, shininess = NAN, opacity = NAN;
-    std::string light;  // "x,y,z": toward the key light, world space; empty: the default
-    // auto: studio for a still camera, floor when the camera moves (runRender).
-    std::string background = "auto";
     std::string backend = "auto";
-    // Surface noise and foam (docs/pipeline.md#noise-and-foam): off unless --noise.
-    bool noise = false;
-    NoiseParams noiseParams;
-    // Velocity whitening (docs/pipeline.md#noise-and-foam): off unless --whiten.
-    bool whiten = false;
-    WhiteningParams whitening;
-    // Spray drops (docs/pipeline.md#classification): off unless --spray.
-    bool spray = false;
-    SprayParams sprayParams;
-    // Silhouette reduction (docs/pipeline.md#silhouette-reduction): off unless
-    // --silhouette.
-    bool silhouette = false;
-    SilhouetteParams silhouetteParams;
-    // Anisotropic kernels (Yu & Turk 2013): --anisotropy on|off.
-    std::string anisotropy = AnisotropyParams{}.enabled ? "on" : "off";
-    AnisotropyParams anisotropyParams;
-    // Hole filling (docs/pipeline.md#hole-filling): the widest gap filled, radii (0: off); the
-    // thin-liquid floor, radii.
-    float fillHoles = HoleFillParams{}.maxSpanRadii;
-    float minThickness = ThicknessParams{}.minRadii;
-    // Reduced-resolution processing (docs/pipeline.md#reduced-resolution): 1,
-    // 0.5 or 0.25.
-    float fluidScale = defaults::kFluidScale;
     // Diffuse particles (`meniscus whitewater`'s output) drawn as a layer:
     // a file, or a pattern filled with each input frame's number. Empty: none.
     std::string diffuse;
-    std::string surface = "screen";  // screen (splat + smoothing), raycast (splat + SPH ray cast) or mesh
-    RaycastParams raycastParams;     // --surface raycast (iso and support from --iso, --support)
-    // Several fluids (docs/pipeline.md#several-fluids): the integer attribute
-    // holding each particle's fluid index (0 .. 3); empty: the files' own
-    // `fluid`, if any.
-    std::string fluidAttribute;
     // Several fluids from one input per fluid (--fluid, repeatable): each a
     // file or sequence matching the input frame for frame, fluid 1, 2, ...
     std::vector<std::string> moreFluids;
     // Only the particles that match (--select, parseSelection), e.g.
     // "Type==fluid"; empty: all of them.
     std::string select;
-    MesherOptions mesher;
     // Long runs (render): an .mp4 output's frame rate and quality; output
     // frames numbered 0, 1, ... (--renumber); on a frame's error stop or skip
     // it (--on-error); leave frames whose outputs are complete (--resume).
@@ -139,10 +86,13 @@ struct RenderOptions {
 // Size, camera, radius and look (--width ... --background) on `cmd`; without
 // --radius when `radiusOption` is false (simulate: the images use the
 // simulation's own radius, which its --radius sets).
-void addCameraOptions(CLI::App* cmd, RenderOptions& o, bool radiusOption = true);
+void addCameraOptions(CLI::App* cmd, RenderJob& o, bool radiusOption = true);
+// --surface screen|raycast|mesh, the mesher's options and the ray cast's
+// (render, compare and Python's settings).
+void addSurfaceOptions(CLI::App* cmd, RenderJob& o);
 // --fluid-attribute's alternative, --fluid (one more input per fluid), and
 // --select (addSelectOption), the options on what each input frame holds, on `cmd`.
-void addFluidInputOption(CLI::App* cmd, RenderOptions& o);
+void addFluidInputOption(CLI::App* cmd, RenderJob& o);
 // --select EXPR on `cmd` (render, view, mesh, compare, whitewater): which particles of each
 // file are drawn (parseSelection, include/meniscus/particles.h).
 void addSelectOption(CLI::App* cmd, std::string& select);
@@ -152,30 +102,32 @@ void addSelectOption(CLI::App* cmd, std::string& select);
 // are offset by fluid * 2^40 so the fluids' ids stay apart.
 void appendFluid(ParticleSet& set, const ParticleSet& more, int fluid);
 // --backend on `cmd`.
-void addBackendOption(CLI::App* cmd, RenderOptions& o);
+void addBackendOption(CLI::App* cmd, RenderJob& o);
 
-// The pipeline settings named by the options (camera and radius come later).
-Result<RenderSettings> settingsFromOptions(const RenderOptions& o);
+// The pipeline settings named by the options (camera and radius come later):
+// the library's renderSettings, and what only the command knows (--fluid,
+// --diffuse).
+Result<RenderSettings> settingsFromOptions(const RenderJob& o);
+
+// The table's options (renderOptionTable; the mesher's with `mesher`) on
+// `cmd`, each in its group with its help, unit, default and checks, bound to
+// `o`; only those `keep` says.
+void addTableOptions(CLI::App* cmd, meniscus::RenderOptions& o,
+                     const std::function<bool(const RenderOptionSpec&)>& keep);
+void addMesherTableOptions(CLI::App* cmd, MesherOptions& o);
+// One option of a table bound to `ref` (its own struct's field).
+void addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, const std::string& help,
+                    const OptionRef& ref, const OptionLimits& limits, bool flag, const std::string& defaultText);
 
 // A rendered frame to `path`: .exr with every AOV, else PNG of the colour
 // (with alpha when `withAlpha`); a temporary name renamed, so never partial.
 Status writeImage(const std::string& path, const Aovs& aovs, bool withAlpha);
 
-// The frames to render: the files an input names, or the one embedded frame.
-// The turn that takes a data set's up axis to +y, the renderer's up (the
-// studio's floor, the sky, the automatic camera): Rodrigues' rotation about
-// up x y, exact for the axes (z-up: (x, y, z) -> (x, z, -y)).
-struct UpRotation {
-    bool identity = true;
-    glm::vec3 axis{1.0f, 0.0f, 0.0f};  // unit
-    float c = 1.0f, s = 0.0f;          // cos, sin of the angle
-    glm::vec3 apply(const glm::vec3& v) const;
-    // Positions and the velocity attribute of `set` (other attributes are not directions).
-    void apply(ParticleSet& set) const;
-};
-// --up X,Y,Z: an error unless three finite numbers, not all zero.
-Result<UpRotation> upRotation(const std::string& up);
+// The turn of `up` applied to the positions and the velocity attribute of
+// `set` (other attributes are not directions).
+void applyUp(const UpRotation& up, ParticleSet& set);
 
+// The frames to render: the files an input names, or the one embedded frame.
 struct Frames {
     std::vector<std::filesystem::path> files;  // empty for the embedded frame
     const ParticleSet* embedded = nullptr;
@@ -187,7 +139,7 @@ struct Frames {
     // Opens the sequences of --fluid (an error naming the one whose frame
     // count differs from the input's, or when --fluid-attribute is given too)
     // and takes --select (setSelection).
-    Status addFluids(const RenderOptions& o);
+    Status addFluids(const RenderJob& o);
 
     // Only the particles matching this are kept of each file as it is read
     // (the input's and each --fluid's, before --up turns them; applySelection),
@@ -240,14 +192,11 @@ void printSmoothingLengthNote(const std::string& attribute, float hPerSpacing);
 Status useFluidAttribute(ParticleSet& set, const std::string& name);
 
 // The renderer on --backend; Auto falling back to the CPU says why on stderr.
-Result<Renderer> makeRenderer(const RenderOptions& o);
+Result<Renderer> makeRenderer(const RenderJob& o);
 
 // --camera-path's keys (readCameraPath) turned by --up into the renderer's
 // coordinates, as --eye and --target are; empty without --camera-path.
-Result<std::vector<CameraKey>> cameraPathFromOptions(const RenderOptions& o);
-
-// "x,y,z": three finite numbers, or nothing.
-std::optional<glm::vec3> parseVec3(const std::string& text);
+Result<std::vector<CameraKey>> cameraPathFromOptions(const RenderJob& o);
 
 // The camera for a whole sequence (fixForSequence; the Python module's
 // render): the user's (--eye and --target in the data's frame, turned by
@@ -255,23 +204,19 @@ std::optional<glm::vec3> parseVec3(const std::string& text);
 // particles of a few frames: first, last, three between). The sampled
 // particles left outside the automatic frame are counted in *outsideCount,
 // or said on stderr without it.
-Result<Camera> chooseCamera(const RenderOptions& o, std::span<const glm::vec3> samplePoints, float radius,
+Result<Camera> chooseCamera(const RenderJob& o, std::span<const glm::vec3> samplePoints, float radius,
                             std::size_t* outsideCount = nullptr);
-// The positions of one frame fixForSequence samples for the automatic camera
-// (an even stride, at most defaults::kSequenceFramePoints).
-void sampleFramePoints(std::span<const glm::vec3> positions, std::vector<glm::vec3>& samples);
-
 // Fixes radius, camera (the options', the camera path's first key, or
 // auto-framed on a few frames) and the studio in `settings` once for the
 // whole sequence, so an animation does not flicker; returns the first frame, already read. With --on-error skip the
 // first frame that loads (its index in *firstIndex) and the frames that load.
-Result<ParticleSet> fixForSequence(const RenderOptions& o, const Frames& frames, RenderSettings& settings,
+Result<ParticleSet> fixForSequence(const RenderJob& o, const Frames& frames, RenderSettings& settings,
                                    std::size_t* firstIndex = nullptr);
 
 // The same for a simulation whose particles never leave `box` (its domain,
 // the tank): radius `radiusM`, the camera the options' or auto-framed on the
 // box's eight corners, the studio around the box. Every frame, the first
 // (which an emitter may leave empty) included, is seen by the same camera.
-Status fixForBox(const RenderOptions& o, const Bounds& box, float radiusM, RenderSettings& settings);
+Status fixForBox(const RenderJob& o, const Bounds& box, float radiusM, RenderSettings& settings);
 
 }  // namespace meniscus::app

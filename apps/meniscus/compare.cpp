@@ -20,7 +20,7 @@
 
 namespace meniscus::app {
 
-CLI::App* addCompareCommand(CLI::App& app, RenderOptions& o) {
+CLI::App* addCompareCommand(CLI::App& app, RenderJob& o) {
     o.width = 640;
     o.height = 360;
     auto* cmd = app.add_subcommand(
@@ -36,7 +36,7 @@ CLI::App* addCompareCommand(CLI::App& app, RenderOptions& o) {
     addCameraOptions(cmd, o);
     addSelectOption(cmd, o.select);
     addBackendOption(cmd, o);
-    addMesherOptions(cmd, o.mesher);
+    addMesherTableOptions(cmd, o.mesher);
     useGroupedHelp(cmd, renderHelpLayout());
     return cmd;
 }
@@ -67,7 +67,7 @@ void caption(Image<glm::vec4>& image, int x0, int width, const std::string& top,
 
 }  // namespace
 
-int runCompare(const RenderOptions& o) {
+int runCompare(const RenderJob& o) {
     if (!isPng(o.output)) return fail(o.output + ": output must end in .png");
     if (!o.fluidAttribute.empty())
         return fail("--fluid-attribute: compare draws one fluid (the mesh path has no fluids of its own)");

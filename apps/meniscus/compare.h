@@ -11,7 +11,7 @@ class App;
 
 namespace meniscus::app {
 
-CLI::App* addCompareCommand(CLI::App& app, RenderOptions& o);
-int runCompare(const RenderOptions& o);
+CLI::App* addCompareCommand(CLI::App& app, RenderJob& o);
+int runCompare(const RenderJob& o);
 
 }  // namespace meniscus::app

@@ -14,7 +14,6 @@
 #include <tbb/global_control.h>
 
 #include "common.h"
-#include "demo_data.h"
 #include "help_format.h"
 #include "meniscus/io.h"
 #include "meniscus/params.h"
@@ -244,10 +243,10 @@ int main(int argc, char** argv) {
     addSmoothingLengthOption(infoCmd, info.hPerSpacing);
     useGroupedHelp(infoCmd, {group::kInput, group::kOutput});
 
-    RenderOptions render;
+    RenderJob render;
     auto* renderCmd = addRenderCommand(app, render);
 
-    RenderOptions demo;
+    RenderJob demo;
     demo.output = "demo.png";
     demo.radius = kDemoRadiusM;
     auto* demoCmd = app.add_subcommand(
@@ -304,7 +303,7 @@ int main(int argc, char** argv) {
 
     MeshOptions mesh;
     auto* meshCmd = addMeshCommand(app, mesh);
-    RenderOptions compare;
+    RenderJob compare;
     auto* compareCmd = addCompareCommand(app, compare);
     SimulateOptions simulate;
     auto* simulateCmd = addSimulateCommand(app, simulate);
@@ -333,7 +332,7 @@ int main(int argc, char** argv) {
     try {
         app.parse(int(args.size()), args.data());
     } catch (const CLI::ParseError& e) {
-        const RenderOptions& scene = render.sceneFile.empty() ? view.render : render;
+        const RenderJob& scene = render.sceneFile.empty() ? view.render : render;
         // Several existing files where one input goes: the shell expanded an
         // unquoted pattern. Say so instead of listing the paths back.
         if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {

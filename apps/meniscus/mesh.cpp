@@ -15,66 +15,6 @@
 
 namespace meniscus::app {
 
-void addMesherOptions(CLI::App* cmd, MesherOptions& o) {
-    cmd->add_option("--cube-size", o.cubeSize, "Marching-cubes cube edge, in particle radii (0.05 to 8)")
-        ->group(group::kSurface)
-        ->capture_default_str();
-    cmd->add_option("--iso", o.iso,
-                    "Iso level as a fraction of the field inside fluid at rest (a 2r lattice); 0.5 puts a flat "
-                    "face 1 r beyond the outermost particle centres")
-        ->group(group::kSurface)
-        ->capture_default_str();
-    cmd->add_option("--field", o.field,
-                    "sph: the SPH density, cubic spline of support 4 r (the surface refsurf ray-traces); thesis: "
-                    "thesis eq. 4.16, f(d) = (d/(sqrt2 Rc))^4 - (d/(sqrt2 Rc))^2 + 1/4, Rc = 2.5 r")
-        ->group(group::kSurface)
-        ->capture_default_str()
-        ->check(CLI::IsMember({"sph", "thesis"}));
-    cmd->add_option("--support", o.support, "Field support (h or Rc) in particle radii, 1 to 16 (default: the field's)")
-        ->group(group::kSurface);
-    cmd->add_option("--block", o.block, "Block edge in cubes (4 to 256); blocks run in parallel")
-        ->group(group::kSurface)
-        ->capture_default_str();
-}
-
-void addSurfaceOptions(CLI::App* cmd, RenderOptions& o) {
-    cmd->add_option("--surface", o.surface,
-                    "screen: splat the particles as spheres and smooth the depth (the screen-space path); raycast: "
-                    "splat them, then march each covered pixel's ray to the SPH iso-surface (the --field sph "
-                    "surface at --iso with --support, exact normals, no smoothing; slower on the CPU); mesh: "
-                    "extract the isosurface (as `meniscus mesh` does) and rasterise its triangles instead; the "
-                    "thickness, scene and shading are the same")
-        ->group(group::kSurface)
-        ->capture_default_str()
-        ->check(CLI::IsMember({"screen", "raycast", "mesh"}));
-    addMesherOptions(cmd, o.mesher);
-    RaycastParams& rc = o.raycastParams;
-    cmd->add_option("--raycast-step", rc.stepRadii, "--surface raycast: the march's step, in particle radii")
-        ->group(group::kSurface)
-        ->capture_default_str();
-    cmd->add_option("--raycast-steps", rc.maxSteps,
-                    "--surface raycast: steps a ray takes before it gives up (no surface at that pixel)")
-        ->group(group::kSurface)
-        ->capture_default_str();
-    cmd->add_option("--raycast-cover", rc.coverRadii,
-                    "--surface raycast: radius of the splatted spheres that start the rays, in particle radii (the "
-                    "iso-surface reaches past the spheres of r between particles)")
-        ->group(group::kSurface)
-        ->capture_default_str();
-}
-
-MeshParams mesherParams(const MesherOptions& o, float radiusM, int threads) {
-    MeshParams p;
-    p.radiusM = radiusM;
-    surfaceFieldFromName(o.field, &p.field);
-    p.cubeSizeRadii = o.cubeSize;
-    p.iso = o.iso;
-    p.supportRadii = o.support;
-    p.blockCubes = o.block;
-    p.threads = threads;
-    return p;
-}
-
 CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
     auto* cmd = app.add_subcommand(
         "mesh",
@@ -95,7 +35,7 @@ CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
         ->check(CLI::PositiveNumber);
     addSmoothingLengthOption(cmd, o.hPerSpacing);
     addSelectOption(cmd, o.select);
-    addMesherOptions(cmd, o.mesher);
+    addMesherTableOptions(cmd, o.mesher);
     cmd->add_flag("--stats", o.stats, "Print the extraction's phases, sizes and peak memory for each frame")
         ->group(group::kOutput);
     useGroupedHelp(cmd, {group::kInput, group::kSurface, group::kOutput, group::kPerformance});
@@ -111,6 +51,9 @@ int runMesh(const MeshOptions& o, int threads) {
     const std::size_t count = frames->count();
     if (auto st = frames->checkOutput(o.output, "mesh_%04d.ply"); !st) return fail(st.error().describe());
 
+    MesherOptions mesher = o.mesher;
+    for (const MesherOptionSpec& spec : mesherOptionTable())
+        if (auto st = checkOption(spec, mesher); !st) return fail(st.error().describe());
     MeshParams params = mesherParams(o.mesher, 0.0f, threads);
 
     const bool tty = ::isatty(STDERR_FILENO) == 1;
@@ -124,13 +67,14 @@ int runMesh(const MeshOptions& o, int threads) {
         if (auto st = checkCoordinates(set->positions, name); !st) return fail(st.error().describe());
         if (i == 0) {
             // One radius for the whole sequence, so the surface does not breathe.
-            params.radiusM = o.radius;
-            if (params.radiusM == 0.0f) {
-                const RadiusEstimate est = defaultRadius(*set);
-                params.radiusM = est.radius;
-                std::cerr << "meniscus: " << (est.fallback ? "warning: " : "") << "radius " << est.describe() << "\n";
+            std::string note;
+            const auto radius = resolveRadius(o.radius, [&] { return defaultRadius(*set); }, &note);
+            if (!note.empty()) {
+                std::cerr << "meniscus: " << note << "\n";
                 if (!smoothingLength.empty()) printSmoothingLengthNote(smoothingLength, frames->hPerSpacing);
             }
+            if (!radius) return fail(Error{name, radius.error().message}.describe());
+            params.radiusM = *radius;
         }
         MeshStats stats;
         auto mesh = extractSurface(ParticleView::of(*set), params, &stats);

@@ -24,12 +24,6 @@ struct MeshOptions {
     bool stats = false;
 };
 
-// --cube-size, --iso, --field, --support, --block on `cmd`.
-void addMesherOptions(CLI::App* cmd, MesherOptions& o);
-// --surface screen|mesh and the mesher's options, for render and compare.
-void addSurfaceOptions(CLI::App* cmd, RenderOptions& o);
-// The mesher's parameters for particles of radius `radiusM`.
-MeshParams mesherParams(const MesherOptions& o, float radiusM, int threads);
 
 // Adds the subcommand and its options to `app`.
 CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o);

@@ -128,7 +128,7 @@ bool outputComplete(const std::string& path) {
 class Outputs {
 public:
     // `writer`: this process writes (one that only splats for another does not).
-    static Result<Outputs> open(const RenderOptions& o, const RenderSettings& s, const Frames& frames, bool writer) {
+    static Result<Outputs> open(const RenderJob& o, const RenderSettings& s, const Frames& frames, bool writer) {
         Outputs out(o, frames);
         if (!isMp4(o.output) || !writer) return out;
 #ifdef MENISCUS_HAVE_FFMPEG
@@ -173,8 +173,8 @@ public:
     }
 
 private:
-    Outputs(const RenderOptions& o, const Frames& frames) : o_(o), frames_(frames) {}
-    const RenderOptions& o_;
+    Outputs(const RenderJob& o, const Frames& frames) : o_(o), frames_(frames) {}
+    const RenderJob& o_;
     const Frames& frames_;
 #ifdef MENISCUS_HAVE_FFMPEG
     std::optional<VideoWriter> movie_;
@@ -183,7 +183,7 @@ private:
 
 // One frame: its particles (`set`, already read for the first), the mesh or
 // the diffuse layer when asked for, the render, the output.
-Status renderFrame(const RenderOptions& o, const Frames& frames, std::size_t i, Result<ParticleSet> set,
+Status renderFrame(const RenderJob& o, const Frames& frames, std::size_t i, Result<ParticleSet> set,
                    Renderer& renderer, RenderSettings& settings, Outputs& outputs) {
     if (!set) return set.error();
     printWarnings(*set);
@@ -210,7 +210,7 @@ Status renderFrame(const RenderOptions& o, const Frames& frames, std::size_t i, 
         auto read = readParticles(path, ParticleFormat::Auto, true);  // a frame may have none yet
         if (!read) return read.error();
         diffuse = std::move(*read);
-        frames.up.apply(diffuse);
+        applyUp(frames.up, diffuse);
         settings.diffuse = layerOf(diffuse, diffuseVelocity);
     }
     settings.frameIndex = std::int64_t(i);  // the noise's turbulence compares consecutive frames
@@ -225,7 +225,7 @@ Status renderFrame(const RenderOptions& o, const Frames& frames, std::size_t i, 
 // The camera's motion over `count` frames at `fps` (--orbit, --turntable,
 // --camera-path), shared by files and simulations; errors name the scene
 // file's key when the option came from one.
-Result<CameraMotion> motionFromOptions(const RenderOptions& o, std::size_t count, double fps) {
+Result<CameraMotion> motionFromOptions(const RenderJob& o, std::size_t count, double fps) {
     const auto failure = [&](const std::string& message) {
         return makeError("", withSceneKey(message, o.sceneFile, o.sceneKeys));
     };
@@ -252,7 +252,7 @@ Result<IndexRange> shareOf(const std::string& shard, std::size_t count) {
 // Frames 0 .. frames.count() - 1, their particles from `next` (called once
 // per frame, in order), rendered through `motion` from the camera in
 // `settings` to o.output. Returns the exit code.
-int renderFrames(Cluster& cluster, const RenderOptions& o, const Frames& frames, const CameraMotion& motion,
+int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, const CameraMotion& motion,
                  RenderSettings& settings, const std::function<Result<ParticleSet>(std::size_t)>& next) {
     const std::size_t count = frames.count();
     // Composited sort-last: every process reads and splats each frame, the root writes it.
@@ -386,9 +386,9 @@ int renderFrames(Cluster& cluster, const RenderOptions& o, const Frames& frames,
 // 1/fps simulated seconds, the scene's fps), framed once on the scene's
 // domain as `simulate --render` frames its images; the particle radius is
 // the simulation's (--radius sets it).
-int renderSimulation(Cluster& cluster, const RenderOptions& o, RenderSettings& settings) {
+int renderSimulation(Cluster& cluster, const RenderJob& o, RenderSettings& settings) {
     if (auto up = upRotation(o.up); !up || !up->identity)
-        return fail("--up " + o.up + ": a simulation's up is +y (gravity along -y); --up turns files");
+        return fail("--up " + vec3Text(o.up) + ": a simulation's up is +y (gravity along -y); --up turns files");
     if (o.frames > 0) return fail("--frames: " + o.input + " is a simulation, whose frames are its own");
     SimulateOptions so;
     if (!o.select.empty())
@@ -407,7 +407,7 @@ int renderSimulation(Cluster& cluster, const RenderOptions& o, RenderSettings& s
     frames.repeat = std::size_t(std::floor(scene->duration * scene->fps + 1e-9)) + 1;
     frames.renumber = true;
     // The movie and a moving camera keep the simulation's time: --fps is the scene's unless given otherwise.
-    RenderOptions timed = o;
+    RenderJob timed = o;
     if (o.fps == defaults::kVideoFps) timed.fps = scene->fps;
     auto motion = motionFromOptions(o, frames.count(), timed.fps);
     if (!motion) return fail(motion.error().describe());
@@ -427,7 +427,7 @@ int renderSimulation(Cluster& cluster, const RenderOptions& o, RenderSettings& s
 
 }  // namespace
 
-void addSequenceOptions(CLI::App* cmd, RenderOptions& o) {
+void addSequenceOptions(CLI::App* cmd, RenderJob& o) {
     cmd->add_option("--fps", o.fps,
                     "Frames per second: an .mp4 output's frame rate, and a moving camera's clock (frame i at i / fps "
                     "seconds)")
@@ -521,7 +521,7 @@ std::vector<std::string> expandParts(const std::string& pattern) {
 
 // The split over the processes (--split: frames or particles) for `count`
 // frames on `processes`.
-Result<std::string> splitMode(const RenderOptions& o, std::size_t count, bool parts) {
+Result<std::string> splitMode(const RenderJob& o, std::size_t count, bool parts) {
     if (o.split != "auto" && o.split != "frames" && o.split != "particles")
         return makeError("", "--split " + o.split + ": expected auto, frames or particles");
     if (parts) {
@@ -536,7 +536,7 @@ Result<std::string> splitMode(const RenderOptions& o, std::size_t count, bool pa
 // share of the parts, joined in part order; the radius is estimated on part
 // 0, the camera framed on samples of every part, the studio built around all
 // of them, the same on one process as on K.
-int renderParts(Cluster& cluster, const RenderOptions& o, RenderSettings& settings) {
+int renderParts(Cluster& cluster, const RenderJob& o, RenderSettings& settings) {
     if (o.input.find('%') != o.input.rfind('%') && std::regex_search(o.input, std::regex("%[^r0-9]|%0[0-9]+[^0-9r]")))
         return fail(o.input + ": a %r pattern names the part files of one frame; a sequence of parts is not supported "
                               "(render each frame's parts on their own)");
@@ -595,7 +595,7 @@ int renderParts(Cluster& cluster, const RenderOptions& o, RenderSettings& settin
     if (!cluster.allOk(ok)) return 1;
     if (auto st = cluster.allGather(samples); !st) return fail(st.error().describe());
     box = cluster.allBounds(box);
-    if (o.eye.empty() && o.cameraPath.empty()) {
+    if (!o.eye && o.cameraPath.empty()) {
         auto camera = chooseCamera(o, samples, settings.radiusM);
         if (!camera) return fail(camera.error().describe());
         settings.camera = *camera;
@@ -611,8 +611,8 @@ int renderParts(Cluster& cluster, const RenderOptions& o, RenderSettings& settin
                         [&](std::size_t) -> Result<ParticleSet> { return std::move(set); });
 }
 
-int runRenderOn(Cluster& cluster, const RenderOptions& options, const ParticleSet* embedded) {
-    RenderOptions o = options;
+int runRenderOn(Cluster& cluster, const RenderJob& options, const ParticleSet* embedded) {
+    RenderJob o = options;
     if (!isPng(o.output) && !isExr(o.output) && !isMp4(o.output))
         return fail(o.output + ": output must end in .png, .exr or .mp4");
     if (o.resume && isMp4(o.output)) return fail("--resume: a movie is written whole; resume numbered images");
@@ -712,7 +712,7 @@ int runRenderOn(Cluster& cluster, const RenderOptions& options, const ParticleSe
 
 }  // namespace
 
-int runRender(const RenderOptions& o, const ParticleSet* embedded) {
+int runRender(const RenderJob& o, const ParticleSet* embedded) {
     auto cluster = Cluster::start();
     if (!cluster) return fail(cluster.error().describe());
     const int code = runRenderOn(**cluster, o, embedded);

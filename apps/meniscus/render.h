@@ -13,8 +13,8 @@ class App;
 namespace meniscus::app {
 
 // -o's movie options (--fps, --crf) and the long-run options on `cmd`.
-void addSequenceOptions(CLI::App* cmd, RenderOptions& o);
+void addSequenceOptions(CLI::App* cmd, RenderJob& o);
 // Renders o.input (or `embedded`, the demo frame) to o.output. Returns the exit code.
-int runRender(const RenderOptions& o, const ParticleSet* embedded);
+int runRender(const RenderJob& o, const ParticleSet* embedded);
 
 }  // namespace meniscus::app

@@ -9,7 +9,7 @@
 
 namespace meniscus::app {
 
-CLI::App* addRenderCommand(CLI::App& parent, RenderOptions& render) {
+CLI::App* addRenderCommand(CLI::App& parent, RenderJob& render) {
     auto* renderCmd = parent.add_subcommand("render", "Render a particle file or sequence to PNG, EXR or an MP4 movie");
     renderCmd->add_option("input", render.input,
                           "Particle file, directory, or pattern (frame_%04d.ply, data_*.bgeo), or a render scene "

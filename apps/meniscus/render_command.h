@@ -12,6 +12,6 @@ class App;
 namespace meniscus::app {
 
 // Adds the `render` subcommand with every option, bound to `o`, to `parent`.
-CLI::App* addRenderCommand(CLI::App& parent, RenderOptions& o);
+CLI::App* addRenderCommand(CLI::App& parent, RenderJob& o);
 
 }  // namespace meniscus::app

@@ -12,6 +12,7 @@
 #include "meniscus/io.h"
 #include "mesh.h"
 #include "render_command.h"
+#include "meniscus/options.h"
 #include "scene_file.h"
 
 namespace meniscus::app {
@@ -20,41 +21,16 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// CLI11 keeps no text for a flag's bool; these are addCameraOptions's flags.
-// (SceneSave.EveryOptionHasItsText fails when a new flag is missing here.)
-bool* flagOf(RenderOptions& o, const std::string& name) {
-    if (name == "--separable") return &o.separable;
-    if (name == "--noise") return &o.noise;
-    if (name == "--whiten") return &o.whiten;
-    if (name == "--spray") return &o.spray;
-    if (name == "--silhouette") return &o.silhouette;
-    return nullptr;
-}
-
 // Written from the camera, not from the options.
 bool cameraOption(const std::string& name) {
     return name == "--eye" || name == "--target" || name == "--fov" || name == "--azimuth" ||
            name == "--elevation" || name == "--distance" || name == "--width" || name == "--height";
 }
 
-// Text of each option of `o` (flags "true"/"false"; "?" for a flag flagOf does not know).
-std::vector<std::pair<std::string, std::string>> texts(RenderOptions& o) {
-    CLI::App app;
-    addCameraOptions(&app, o);
-    addSurfaceOptions(&app, o);
-    std::vector<std::pair<std::string, std::string>> out;
-    for (CLI::Option* opt : app.get_options()) {
-        const std::string name = opt->get_name();
-        if (name.rfind("--", 0) != 0 || name == "--help") continue;
-        if (opt->get_expected_max() == 0) {
-            const bool* flag = flagOf(o, name);
-            out.emplace_back(name, flag ? (*flag ? "true" : "false") : "?");
-            continue;
-        }
-        opt->capture_default_str();
-        out.emplace_back(name, opt->get_default_str());
-    }
-    return out;
+// The flags' names (a flag set false is absent from a command line).
+bool isFlag(const std::string& name) {
+    const RenderOptionSpec* s = findRenderOption(name.substr(2));
+    return s && s->flag;
 }
 
 // "3", "0.25" as a JSON number; anything else ("on", "0.2,0.5,0.9") as the string.
@@ -82,61 +58,39 @@ json vec3Json(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
 
 }  // namespace
 
-std::vector<std::pair<std::string, std::string>> optionTexts(const RenderOptions& o) {
-    RenderOptions copy = o;
-    return texts(copy);
-}
-
-Result<RenderOptions> reparsed(const RenderOptions& o) {
-    RenderOptions out = o;
-    CLI::App app;
-    app.allow_extras(false);
-    addCameraOptions(&app, out);
-    addSurfaceOptions(&app, out);
-    // An option at its default text is left as it is (the default, e.g.
-    // --iterations -1, need not be a value the option accepts).
-    const RenderOptions fresh;  // named: GCC 12 warns (falsely) of a temporary's string as uninitialised
-    const auto defaults = optionTexts(fresh);
-    const auto mine = optionTexts(o);
-    std::vector<std::string> words;
-    for (std::size_t i = 0; i < mine.size(); ++i) {
-        const auto& [name, text] = mine[i];
-        if (bool* flag = flagOf(out, name)) {
-            *flag = false;  // given again below when on
-            if (text == "true") words.push_back(name);
-        } else if (i >= defaults.size() || text != defaults[i].second) {
-            words.push_back(name + "=" + text);
-        }
-    }
-    std::vector<std::string> reversed(words.rbegin(), words.rend());  // CLI11 takes them last first
-    try {
-        app.parse(reversed);
-    } catch (const CLI::ParseError& e) {
-        return makeError("", e.what());
-    }
+std::vector<std::pair<std::string, std::string>> optionTexts(const RenderJob& o) {
+    RenderJob copy = o;
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const RenderOptionSpec& s : renderOptionTable()) out.emplace_back("--" + s.name, optionText(s.field(copy), s.flag));
+    for (const MesherOptionSpec& s : mesherOptionTable())
+        out.emplace_back("--" + s.name, optionText(s.field(copy.mesher), s.flag));
     return out;
 }
 
-std::vector<std::string> changedOptions(const RenderOptions& before, const RenderOptions& after) {
+Result<RenderJob> reparsed(const RenderJob& o) {
+    if (auto st = checkRenderOptions(o); !st) return st.error();
+    return o;
+}
+
+std::vector<std::string> changedOptions(const RenderJob& before, const RenderJob& after) {
     const auto a = optionTexts(before), b = optionTexts(after);
     std::vector<std::string> out;
     for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
         if (a[i].second == b[i].second) continue;
-        if (b[i].second == "true") out.push_back(b[i].first);
-        else if (b[i].second == "false") out.push_back(b[i].first + "=false");
+        if (isFlag(b[i].first) && b[i].second == "true") out.push_back(b[i].first);
+        else if (isFlag(b[i].first)) out.push_back(b[i].first + "=false");
         else out.push_back(b[i].first + " " + (b[i].second.empty() ? "''" : b[i].second));
     }
     return out;
 }
 
-Result<std::string> sceneFileText(const RenderOptions& o, const Camera& camera, const std::string& sceneFile) {
+Result<std::string> sceneFileText(const RenderJob& o, const Camera& camera, const std::string& sceneFile) {
     if (o.input.empty())
         return makeError(sceneFile, "the demo frame has no file a scene could name; open a particle file first");
     const fs::path folder = fs::path(sceneFile).parent_path().empty() ? fs::path(".") : fs::path(sceneFile).parent_path();
     auto up = upRotation(o.up);
     if (!up) return up.error();
-    UpRotation back = *up;  // the camera is in the renderer's frame; the file's eye and target in the data's
-    back.s = -back.s;
+    const UpRotation back = up->inverse();  // the camera is in the renderer's frame; the file's eye and target in the data's
     json scene;
     scene["particles"] = relativeTo(o.input, folder);
     if (!o.moreFluids.empty()) {
@@ -148,7 +102,7 @@ Result<std::string> sceneFileText(const RenderOptions& o, const Camera& camera, 
                        {"target", vec3Json(back.apply(camera.target))},
                        {"fov", camera.fovYDegrees}};
     json render = {{"width", camera.width}, {"height", camera.height}};
-    const RenderOptions fresh;  // named: GCC 12 warns (falsely) of a temporary's string as uninitialised
+    const RenderJob fresh;  // named: GCC 12 warns (falsely) of a temporary's string as uninitialised
     const auto defaults = optionTexts(fresh);
     const auto mine = optionTexts(o);
     for (std::size_t i = 0; i < mine.size() && i < defaults.size(); ++i) {
@@ -161,7 +115,7 @@ Result<std::string> sceneFileText(const RenderOptions& o, const Camera& camera, 
     return scene.dump(2) + "\n";
 }
 
-Status saveSceneFile(const std::string& path, const RenderOptions& o, const Camera& camera) {
+Status saveSceneFile(const std::string& path, const RenderJob& o, const Camera& camera) {
     auto text = sceneFileText(o, camera, path);
     if (!text) return text.error();
     auto pending = PendingFile::begin(path);
@@ -174,9 +128,9 @@ Status saveSceneFile(const std::string& path, const RenderOptions& o, const Came
     return pending->commit();
 }
 
-Result<RenderOptions> loadSceneFile(const std::string& path) {
+Result<RenderJob> loadSceneFile(const std::string& path) {
     CLI::App parent;
-    RenderOptions o;
+    RenderJob o;
     CLI::App* render = addRenderCommand(parent, o);
     auto args = sceneFileArgs(path, *render);
     if (!args) return args.error();

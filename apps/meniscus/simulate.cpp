@@ -53,7 +53,7 @@ Result<FrameImages> openImages(const SimulateOptions& o, const sim::Scene& sc) {
 #endif
     if (!o.image.fluidAttribute.empty())
         return makeError("", "--fluid-attribute: the simulator's particles are one fluid");
-    RenderOptions look = o.image;
+    RenderJob look = o.image;
     look.radius = sc.params.radius;  // the simulation's particles, exactly
     auto settings = settingsFromOptions(look);
     if (!settings) return settings.error();
@@ -193,7 +193,7 @@ Bounds domainBounds(const sim::Scene& scene) {
 
 int runSimulate(const SimulateOptions& o) {
     if (auto up = upRotation(o.image.up); !up || !up->identity)
-        return fail("--up " + o.image.up + ": the simulator's up is +y (gravity along -y); --up turns files for render");
+        return fail("--up " + vec3Text(o.image.up) + ": the simulator's up is +y (gravity along -y); --up turns files for render");
     auto scene = sceneFromOptions(o);
     if (!scene) return fail(scene.error().describe());
     sim::Scene& sc = *scene;

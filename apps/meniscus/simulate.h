@@ -26,7 +26,7 @@ struct SimulateOptions {
     bool resume = false;
     bool stats = false;
     std::string render;   // image pattern (out/img_%04d.png or .exr); empty: no images
-    RenderOptions image;  // the images' size, camera, look and backend; radius unused (the simulation's)
+    RenderJob image;  // the images' size, camera, look and backend; radius unused (the simulation's)
 };
 
 CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o);

@@ -110,7 +110,7 @@ Result<std::vector<ScriptEvent>> parseInputScript(const std::string& script) {
     return events;
 }
 
-std::string title(const RenderOptions& o, std::size_t count, std::size_t index, const Frames* frames) {
+std::string title(const RenderJob& o, std::size_t count, std::size_t index, const Frames* frames) {
     std::string t = "meniscus view: " + (o.input.empty() ? std::string("demo") : o.input);
     if (count > 1 && frames)
         t += " (" + std::to_string(index + 1) + "/" + std::to_string(count) + ": " +
@@ -126,7 +126,7 @@ std::string liveTitle(const ViewOptions& o, const sim::Scene& scene, const LiveS
 
 // The frames of o.input (the demo frame when empty) with its fluids and up
 // axis: what can fail about an input before a window is worth opening.
-Result<Frames> openSequence(const RenderOptions& o, const ParticleSet* embedded) {
+Result<Frames> openSequence(const RenderJob& o, const ParticleSet* embedded) {
     auto opened = openFrames(o.input, o.input.empty() ? embedded : nullptr, o.hPerSpacing);
     if (!opened) return opened.error();
     if (auto st = opened->addFluids(o); !st) return st.error();
@@ -143,8 +143,8 @@ struct Opened {
     std::shared_ptr<const ParticleSet> first;
     std::size_t firstIndex = 0;
 };
-Result<Opened> frameInput(const RenderOptions& o, Frames frames, glm::ivec2 size, RenderSettings& settings) {
-    RenderOptions sized = o;
+Result<Opened> frameInput(const RenderJob& o, Frames frames, glm::ivec2 size, RenderSettings& settings) {
+    RenderJob sized = o;
     if (size.x > 0 && size.y > 0) {
         sized.width = size.x;
         sized.height = size.y;
@@ -158,10 +158,9 @@ Result<Opened> frameInput(const RenderOptions& o, Frames frames, glm::ivec2 size
 
 // "--eye x,y,z --target x,y,z --fov f" of `camera` in the data's frame (o.up), every digit a float has,
 // so `render` with them draws the same picture.
-std::string cameraOptions(const Camera& camera, const std::string& upText) {
-    auto up = upRotation(upText);
-    UpRotation back = up ? *up : UpRotation{};
-    back.s = -back.s;  // the inverse turn: renderer -> data
+std::string cameraOptions(const Camera& camera, const glm::vec3& upAxis) {
+    auto up = upRotation(upAxis);
+    const UpRotation back = up ? up->inverse() : UpRotation{};  // renderer -> data
     const glm::vec3 e = back.apply(camera.eye), t = back.apply(camera.target);
     char line[256];
     std::snprintf(line, sizeof line, "--eye %.9g,%.9g,%.9g --target %.9g,%.9g,%.9g --fov %.9g", e.x, e.y, e.z, t.x,
@@ -219,12 +218,12 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     std::shared_ptr<const ParticleSet> current;  // what is on screen
     std::unique_ptr<FramePrefetch> prefetch;     // the input's frames, read ahead (after the window: joined first)
     std::size_t index = 0;
-    RenderOptions look = o.render;  // the look as options, as the panels change it
+    RenderJob look = o.render;  // the look as options, as the panels change it
     float estimatedRadius = 0.0f;   // the radius fixed for the input (look.radius 0: this one)
     Camera homeCamera;              // the camera the input opened with (reset camera)
     // Shows o.input (or the one a drop or a scene file names; `frames` when
     // already opened): an error leaves what is shown.
-    const auto open = [&](const RenderOptions& next, std::optional<Frames> frames) -> Status {
+    const auto open = [&](const RenderJob& next, std::optional<Frames> frames) -> Status {
         auto s = settingsFromOptions(next);
         if (!s) return s.error();
         if (!frames) {
@@ -249,7 +248,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     };
     if (scene) {
         // Framed once on the domain, as `simulate --render` frames its images.
-        RenderOptions sized = o.render;
+        RenderJob sized = o.render;
         const glm::ivec2 fb = win.framebufferSize();
         if (fb.x > 0 && fb.y > 0) {
             sized.width = fb.x;
@@ -303,7 +302,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         win.setTitle(title(look, prefetch->frames().count(), index, &prefetch->frames()));
     };
     // The panels' look, checked and read back as `render` reads its options.
-    const auto applyLook = [&](const RenderOptions& next) {
+    const auto applyLook = [&](const RenderJob& next) {
         auto re = reparsed(next);
         auto s = re ? settingsFromOptions(*re) : Result<RenderSettings>(re.error());
         if (!s) {
@@ -324,12 +323,12 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
 
     // A scene file brings its settings; any other path is a new input shown with the same look.
     const auto openPath = [&](const std::string& path) {
-        auto next = isJsonFile(path) ? loadSceneFile(path) : Result<RenderOptions>(look);
+        auto next = isJsonFile(path) ? loadSceneFile(path) : Result<RenderJob>(look);
         if (next && !isJsonFile(path)) {
             next->input = path;
             next->moreFluids.clear();
-            next->eye.clear();
-            next->target.clear();
+            next->eye.reset();
+            next->target.reset();
         }
         const Status st = next ? open(*next, std::nullopt) : Status(next.error());
         model.message = st ? "showing " + path : st.error().describe();

@@ -10,7 +10,7 @@
 namespace meniscus::app {
 
 struct ViewOptions {
-    RenderOptions render;    // input (empty: the embedded demo frame), size, camera, look; output/backend unused
+    RenderJob render;    // input (empty: the embedded demo frame), size, camera, look; output/backend unused
     std::string screenshot;  // when set: the picture the window shows on exit (without the panels), saved as PNG
     std::string screenshotWindow;  // when set: the whole window on exit, panels included, saved as PNG
     int frames = 0;          // > 0: render and show this many frames, then exit (no interaction needed)

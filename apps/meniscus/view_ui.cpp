@@ -46,14 +46,11 @@ std::vector<std::string> splitList(const std::string& list) {  // "a, b, c" -> {
     return out;
 }
 
-bool parse3(const std::string& text, float* v) {
-    return std::sscanf(text.c_str(), "%f,%f,%f", &v[0], &v[1], &v[2]) == 3;
+// A vector option's three floats, shown as the default's when unset.
+void get3(const std::optional<glm::vec3>& v, float* out) {
+    if (v) out[0] = v->x, out[1] = v->y, out[2] = v->z;
 }
-std::string format3(const float* v) {
-    char t[96];
-    std::snprintf(t, sizeof t, "%.4g,%.4g,%.4g", double(v[0]), double(v[1]), double(v[2]));
-    return t;
-}
+glm::vec3 vec3Of(const float* v) { return {v[0], v[1], v[2]}; }
 
 // The help overlay's lines: key, what it does.
 constexpr const char* kHelp[][2] = {
@@ -113,7 +110,7 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
     }
     ImGui::NewFrame();
     UiRequests req;
-    RenderOptions& o = m.look;
+    RenderJob& o = m.look;
     // Every widget is recorded by its label, for scripted input.
     std::map<std::string, Widget> drawn;  // this frame's widgets
     const auto note = [&](const std::string& label) {
@@ -240,22 +237,22 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
             Material preset;
             materialPreset(o.material.substr(0, o.material.find(',')), &preset);
             float color[3] = {preset.fluidColor.r, preset.fluidColor.g, preset.fluidColor.b};
-            if (!o.fluidColor.empty()) parse3(o.fluidColor, color);
+            get3(o.fluidColor, color);
             if (changed(ImGui::ColorEdit3("fluid colour", color, ImGuiColorEditFlags_Float), "fluid colour"))
-                o.fluidColor = format3(color);
+                o.fluidColor = vec3Of(color);
             float absorb[3] = {preset.absorptionPerM.r, preset.absorptionPerM.g, preset.absorptionPerM.b};
-            if (!o.absorption.empty()) parse3(o.absorption, absorb);
+            get3(o.absorption, absorb);
             if (changed(ImGui::DragFloat3("absorption (1/m)", absorb, 0.05f, 0.0f, 1000.0f, "%.3g"),
                         "absorption (1/m)"))
-                o.absorption = format3(absorb);
+                o.absorption = vec3Of(absorb);
             materialValue("IOR", o.ior, preset.ior, 1.0f, 2.5f);
             materialValue("refraction", o.refraction, preset.refraction, 0.0f, 4.0f);
             materialValue("specular", o.specular, preset.specular, 0.0f, 4.0f);
             materialValue("shininess", o.shininess, preset.shininess, 1.0f, 4000.0f, true);
             materialValue("opacity", o.opacity, preset.opacity, 0.0f, 1.0f);
             if (button("preset values")) {
-                o.fluidColor.clear();
-                o.absorption.clear();
+                o.fluidColor.reset();
+                o.absorption.reset();
                 o.ior = o.refraction = o.specular = o.shininess = o.opacity = NAN;
                 req.lookChanged = true;
             }
@@ -275,9 +272,9 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
             combo("background", o.background, {"auto", "studio", "floor", "none"});
             const glm::vec3 l = ShadingParams{}.lightDirWorld;
             float light[3] = {l.x, l.y, l.z};
-            if (!o.light.empty()) parse3(o.light, light);
+            get3(o.light, light);
             if (changed(ImGui::DragFloat3("light (toward)", light, 0.02f, -1.0f, 1.0f, "%.2f"), "light (toward)"))
-                o.light = format3(light);
+                o.light = vec3Of(light);
         }
         if (header("Noise and foam")) {
             check("noise", o.noise);

@@ -22,7 +22,7 @@ namespace meniscus::app {
 
 // What the panels show and edit; the viewer owns it and acts on UiRequests.
 struct UiModel {
-    RenderOptions look;      // every look option, edited in place by the panels
+    RenderJob look;      // every look option, edited in place by the panels
     float radiusM = 0.0f;    // the radius in use (look.radius is 0 while estimated)
     Camera camera;           // the view; the panels edit its fov
     // The sequence: frame index of count, playback.

@@ -130,12 +130,11 @@ int runWhitewater(WhitewaterOptions o) {
     auto first = load(0);
     if (!first) return fail(first.error().describe());
     printWarnings(*first);
-    float radius = o.radius;
-    if (radius == 0.0f) {
-        const RadiusEstimate est = defaultRadius(*first);
-        radius = est.radius;
-        std::cerr << "meniscus: " << (est.fallback ? "warning: " : "") << "radius " << est.describe() << "\n";
-    }
+    std::string note;
+    const auto resolved = resolveRadius(o.radius, [&] { return defaultRadius(*first); }, &note);
+    if (!note.empty()) std::cerr << "meniscus: " << note << "\n";
+    if (!resolved) return fail(Error{frames->files[0].string(), resolved.error().message}.describe());
+    const float radius = *resolved;
     double dt = o.fps > 0.0 ? 1.0 / o.fps : 0.0;
     if (dt == 0.0) {
         if (count < 2) return fail("whitewater: one frame has no time between frames; give --fps");

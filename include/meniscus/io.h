@@ -63,6 +63,10 @@ bool particleFormatAvailable(ParticleFormat format);
 // The steps of an H5Part file in step order ("Step#0", "Step#1", ...; empty
 // for an HDF5 file that is not H5Part). Errors name the file.
 Result<std::vector<std::string>> listH5PartSteps(const std::filesystem::path& path);
+// The simulation time of each step of an H5Part file, in step order: the
+// steps' "TimeValue" attribute (ParaView's H5Part reader reads it; "time" or
+// "Time" when a writer named it so), seconds. Empty when a step has none.
+Result<std::vector<double>> h5partStepTimes(const std::filesystem::path& path);
 // The particle arrays of a PySPH .hdf5 / .npz (or the bodies of a plain
 // .npz), in the file's order, with their particle counts (0: none stored).
 struct ParticleArrayInfo {
@@ -74,6 +78,14 @@ Result<std::vector<ParticleArrayInfo>> listParticleArrays(const std::filesystem:
 // Format from the file name (.bgeo, .bgeo.gz, .vtk, .vtu, .ply, .csv, .xyz,
 // .txt, .h5part, .h5, .hdf5, .npz); Auto when unknown.
 ParticleFormat formatFromName(std::string_view name);
+
+// The bundled demo frame: SPlisHSPlasH's dam break, r = 0.025 m, frame 21
+// (t = 1.33 s), gzip BGEO (data/demo/), embedded in the library at build time.
+inline constexpr const char* kDemoFrameName = "demo:dambreak_r0.025/ParticleData_Fluid_21.bgeo";
+// The particle radius the simulation used (its scene file), so the demo shows the
+// closed surface the simulation meant rather than the smaller spacing estimate.
+inline constexpr float kDemoRadiusM = 0.025f;
+std::span<const std::uint8_t> demoFrameBytes();
 
 // Parse with the given (or detected) format, then: drop particles with
 // non-finite positions (all attributes alike; the count goes into `warnings`),
@@ -178,8 +190,9 @@ Result<std::string> formatFramePattern(const std::string& pattern, long number);
 // (fewer than two times, uneven or non-increasing steps).
 std::optional<double> evenFrameRate(std::span<const double> times);
 // The frame rate the data of a sequence input carries, if any: a ParaView
-// collection's evenly spaced timesteps (a .pvd without timesteps carries
-// none, nor do numbered files). Errors name the file (a damaged .pvd).
+// collection's evenly spaced timesteps, or an H5Part file's evenly spaced
+// step times (h5partStepTimes; a .pvd without timesteps, an H5Part file
+// without times and numbered files carry none). Errors name the file.
 Result<std::optional<double>> frameRateOfInput(const std::filesystem::path& input);
 
 // ---------------------------------------------------------------- images

@@ -54,7 +54,7 @@ __all__ = [
 ]
 
 
-def render(particles, radius=None, *, width=1280, height=720, camera=None, filter=None, backend="auto",
+def render(particles, radius=None, *, width=None, height=None, camera=None, filter=None, backend="auto",
            aovs=False, velocity=None, density=None, id=None, fluid=None, color=None, radii=None, studio=None,
            frame=0, **settings):
     """Render one frame of particles; returns the 8-bit sRGB image, H x W x 4 uint8.
@@ -64,7 +64,7 @@ def render(particles, radius=None, *, width=1280, height=720, camera=None, filte
     density, id, fluid, color and radius arrays are used as the CLI uses a
     file's).
     radius: the particle radius in metres; None estimates it as the CLI does.
-    width, height: pixels. camera: None (the CLI's automatic view) or a dict
+    width, height: pixels (None: the library's default, 1280 x 720). camera: None (the CLI's automatic view) or a dict
     {'eye': (x, y, z), 'target': (x, y, z), 'fov': 40, 'near': .., 'far': ..}
     (auto_camera() returns one). filter: the smoothing filter by its CLI
     name ('narrow-range', 'curvature-flow', 'bilateral', ...; None: the
@@ -81,7 +81,8 @@ def render(particles, radius=None, *, width=1280, height=720, camera=None, filte
     """
     if filter is not None:
         settings["filter"] = filter
-    r = Renderer(width, height, backend, **settings)
+    size = {k: v for k, v in (("width", width), ("height", height)) if v is not None}
+    r = Renderer(backend=backend, **size, **settings)
     return r.render(particles, radius=radius, camera=camera, aovs=aovs, velocity=velocity, density=density,
                     id=id, fluid=fluid, color=color, radii=radii, studio=studio, frame=frame)
 

@@ -73,14 +73,14 @@ class Renderer:
                frame: int | None = ...) -> Tuple[npt.NDArray[np.uint8], dict[str, npt.NDArray[np.float32]]]: ...
 
 @overload
-def render(particles: Particles, radius: float | None = ..., *, width: int = ..., height: int = ...,
+def render(particles: Particles, radius: float | None = ..., *, width: int | None = ..., height: int | None = ...,
            camera: Camera | None = ..., filter: str | None = ..., backend: str = ..., aovs: Literal[False] = ...,
            velocity: npt.ArrayLike | None = ..., density: npt.ArrayLike | None = ...,
            id: npt.ArrayLike | None = ..., fluid: npt.ArrayLike | None = ..., color: npt.ArrayLike | None = ...,
            radii: npt.ArrayLike | None = ..., studio: Box | None = ..., frame: int | None = ...,
            **settings: Setting) -> npt.NDArray[np.uint8]: ...
 @overload
-def render(particles: Particles, radius: float | None = ..., *, width: int = ..., height: int = ...,
+def render(particles: Particles, radius: float | None = ..., *, width: int | None = ..., height: int | None = ...,
            camera: Camera | None = ..., filter: str | None = ..., backend: str = ..., aovs: Literal[True],
            velocity: npt.ArrayLike | None = ..., density: npt.ArrayLike | None = ...,
            id: npt.ArrayLike | None = ..., fluid: npt.ArrayLike | None = ..., color: npt.ArrayLike | None = ...,

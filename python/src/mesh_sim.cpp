@@ -9,6 +9,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include "arrays.h"
+#include "meniscus/options.h"
 #include "meniscus/sim.h"
 #include "meniscus/surface.h"
 #include "module.h"
@@ -22,23 +23,26 @@ namespace {
 pb::tuple mesh(pb::object particles, pb::object radius, const std::string& field, float cubeSize, float iso,
                pb::object support, int block, int threads, bool normals, float hPerSpacing) {
     const Particles p = particlesArg(particles, {}, hPerSpacing);
-    MeshParams params;
-    if (!surfaceFieldFromName(field, &params.field)) throwValue("field '" + field + "': expected sph or thesis");
-    params.cubeSizeRadii = cubeSize;
-    params.iso = iso;
-    params.supportRadii = support.is_none() ? 0.0f : support.cast<float>();
-    params.blockCubes = block;
-    params.threads = threads;
-    if (!radius.is_none()) {
-        params.radiusM = radius.cast<float>();
-        if (auto st = checkRadius(params.radiusM); !st) throwValue("radius: " + st.error().message);
-    }
+    // The mesher's options, set and checked through their table as `meniscus mesh`'s are.
+    MesherOptions o;
+    const auto set = [&](const char* name, const OptionValue& v) {
+        if (auto st = setOption(*findMesherOption(name), o, v); !st) throwValue(st.error().describe());
+    };
+    set("field", field);
+    set("cube-size", double(cubeSize));
+    set("iso", double(iso));
+    if (!support.is_none()) set("support", double(support.cast<float>()));
+    set("block", std::int64_t(block));
+    const float given = radius.is_none() ? 0.0f : radius.cast<float>();
+    if (!radius.is_none())
+        if (auto st = checkRadius(given); !st) throwValue("radius: " + st.error().message);
     Result<TriangleMesh> made = makeError("", "");
     {
         pb::gil_scoped_release unlocked;
         const std::span<const glm::vec3> points(reinterpret_cast<const glm::vec3*>(p.position.data), p.size());
-        if (params.radiusM == 0.0f) params.radiusM = defaultRadiusOf(p, points).radius;  // as `meniscus mesh`
-        made = extractSurface(p.view(), params);
+        const auto r = resolveRadius(given, [&] { return defaultRadiusOf(p, points); });  // as `meniscus mesh`
+        if (!r) made = r.error();
+        else made = extractSurface(p.view(), mesherParams(o, *r, threads));
     }
     if (!made) throwValue(made.error().describe());
     TriangleMesh& m = *made;
@@ -130,9 +134,9 @@ private:
 
 void bindMeshSim(pb::module_& m) {
     m.def("mesh", &mesh, pb::arg("particles"), pb::kw_only(), pb::arg("radius") = pb::none(),
-          pb::arg("field") = "sph", pb::arg("cube_size") = defaults::kCubeSizeRadii,
-          pb::arg("iso") = defaults::kSurfaceIso, pb::arg("support") = pb::none(),
-          pb::arg("block") = defaults::kBlockCubes, pb::arg("threads") = 0, pb::arg("normals") = true,
+          pb::arg("field") = MesherOptions{}.field, pb::arg("cube_size") = MesherOptions{}.cubeSize,
+          pb::arg("iso") = MesherOptions{}.iso, pb::arg("support") = pb::none(),
+          pb::arg("block") = MesherOptions{}.block, pb::arg("threads") = 0, pb::arg("normals") = true,
           pb::arg("h_per_spacing") = defaults::kHPerSpacing,
           R"(The liquid's surface as a closed triangle mesh (as `meniscus mesh` writes it).
 

@@ -6,7 +6,6 @@
 #include <pybind11/stl/filesystem.h>
 
 #include "arrays.h"
-#include "demo_data.h"  // the CLI's embedded demo frame (meniscus_app)
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "module.h"

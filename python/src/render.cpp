@@ -1,30 +1,26 @@
 // Rendering: Renderer (the render() of __init__.py is one frame of a fresh
 // one), auto_camera(), settings().
 //
-// Settings are `meniscus render`'s own options under their Python names
-// (--noise-bump: noise_bump): each keyword becomes the option's argument and
-// goes through the CLI's parser and settingsFromOptions (apps/meniscus,
-// linked as meniscus_app), so names, defaults, checks and the resulting
-// RenderSettings are the CLI's and a render matches its PNG byte for byte.
-// The camera for one frame is the CLI's own (app::chooseCamera on the points
-// fixForSequence samples of a single file), the radius the same
-// defaultRadius.
+// Settings are the library's render options (include/meniscus/options.h)
+// under their Python names (--noise-bump: noise_bump): each keyword's value
+// is set, typed, through the option table (setRenderOption) and the options
+// become RenderSettings through the library's renderSettings, as the CLI's
+// do, so names, defaults, checks and settings are the CLI's and a render
+// matches its PNG byte for byte. The camera for one frame is the library's
+// chooseCamera on the points sampled of it, the radius the same
+// resolveRadius.
 #include <algorithm>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <sstream>
 #include <thread>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "arrays.h"
-#include "common.h"  // meniscus_app: RenderOptions, addCameraOptions, settingsFromOptions, upRotation
-#include "mesh.h"    // meniscus_app: addSurfaceOptions, mesherParams
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
+#include "meniscus/options.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
 #include "meniscus/surface.h"
@@ -34,125 +30,83 @@ namespace meniscus::py {
 
 namespace {
 
-using app::RenderOptions;
-
 // ---------------------------------------------------------------- options
 
-// The options a keyword may name: `render`'s look, camera and surface
-// options. Left out: fluid_attribute (a file's attribute: give fluid= the
-// array) and the ones about sequences and outputs, which main.cpp adds.
-const char* const kNotSettings[] = {"help", "fluid_attribute"};
-
-// `render`'s options bound to `o` (what main.cpp's render command adds, less
-// the sequence and file options).
-std::unique_ptr<CLI::App> optionTable(RenderOptions& o) {
-    auto cmd = std::make_unique<CLI::App>("meniscus.render settings");
-    app::addCameraOptions(cmd.get(), o, true);
-    app::addSurfaceOptions(cmd.get(), o);
-    return cmd;
-}
-
-std::string pythonName(const std::string& option) {  // "--noise-bump" -> "noise_bump"
-    std::string n = option.substr(option.rfind("--") == 0 ? 2 : 0);
-    std::replace(n.begin(), n.end(), '-', '_');
-    return n;
-}
-
-struct Setting {
-    std::string option;  // "--noise-bump"
-    bool flag = false;   // takes no value (--noise)
-    std::string help, defaultText;
-};
-
-// Python name -> option, built once.
-const std::map<std::string, Setting>& settingTable() {
-    static const std::map<std::string, Setting> table = [] {
-        RenderOptions o;
-        auto cmd = optionTable(o);
-        std::map<std::string, Setting> t;
-        for (const CLI::Option* opt : cmd->get_options()) {
-            if (opt->get_lnames().empty()) continue;
-            const std::string name = pythonName(opt->get_lnames().front());
-            if (std::find(std::begin(kNotSettings), std::end(kNotSettings), name) != std::end(kNotSettings)) continue;
-            t[name] = Setting{"--" + opt->get_lnames().front(), opt->get_expected_max() == 0, opt->get_description(),
-                              opt->get_default_str()};
-        }
-        return t;
-    }();
-    return table;
-}
+// Options that are not keywords: fluid_attribute names a file's attribute
+// (give fluid= the array itself).
+bool isSetting(const std::string& optionName) { return optionName != "fluid-attribute"; }
 
 std::string settingNames() {
     std::string s;
-    for (const auto& [name, setting] : settingTable()) s += (s.empty() ? "" : ", ") + name;
+    for (const RenderOptionSpec& spec : renderOptionTable())
+        if (isSetting(spec.name)) s += (s.empty() ? "" : ", ") + keywordName(spec.name);
+    for (const MesherOptionSpec& spec : mesherOptionTable()) s += ", " + keywordName(spec.name);
     return s;
 }
 
-// One value as the option's text, as a scene file's value becomes it:
-// numbers in the shortest form that reads back as the same double, True/False
-// as on/off, a list joined with commas (eye=(1, 2, 3): "1,2,3").
-std::string valueText(pb::handle v, const std::string& name, bool inList = false) {
-    if (pb::isinstance<pb::bool_>(v) || pb::isinstance(v, pb::module_::import("numpy").attr("bool_")))
-        return v.cast<bool>() ? "on" : "off";
+bool isBool(pb::handle v) {
+    return pb::isinstance<pb::bool_>(v) || pb::isinstance(v, pb::module_::import("numpy").attr("bool_"));
+}
+
+// A Python value as an option's typed value: True/False, a whole number, a
+// number, a text, three numbers (a tuple, list or array: eye=(1, 2, 3)), or
+// texts joined by commas (material=('water', 'lava')).
+OptionValue optionValue(pb::handle v, const std::string& name) {
+    if (isBool(v)) return v.cast<bool>();
     if (pb::isinstance<pb::str>(v)) return v.cast<std::string>();
-    if (pb::hasattr(v, "__index__")) return pb::str(pb::int_(pb::reinterpret_borrow<pb::object>(v)));
-    if (pb::hasattr(v, "__float__")) return pb::repr(pb::float_(pb::reinterpret_borrow<pb::object>(v)));
-    if (!inList && (pb::isinstance<pb::list>(v) || pb::isinstance<pb::tuple>(v) || pb::isinstance<pb::array>(v))) {
-        std::string joined;
-        for (pb::handle e : pb::iter(pb::isinstance<pb::array>(v) ? v.attr("tolist")() : pb::reinterpret_borrow<pb::object>(v)))
-            joined += (joined.empty() ? "" : ",") + valueText(e, name, true);
-        return joined;
+    if (pb::hasattr(v, "__index__")) return std::int64_t(pb::int_(pb::reinterpret_borrow<pb::object>(v)));
+    if (pb::hasattr(v, "__float__")) return double(pb::float_(pb::reinterpret_borrow<pb::object>(v)));
+    if (pb::isinstance<pb::list>(v) || pb::isinstance<pb::tuple>(v) || pb::isinstance<pb::array>(v)) {
+        const pb::list items(pb::isinstance<pb::array>(v) ? v.attr("tolist")() : pb::reinterpret_borrow<pb::object>(v));
+        bool texts = items.size() > 0;
+        for (pb::handle e : items) texts = texts && pb::isinstance<pb::str>(e);
+        if (texts) {
+            std::string joined;
+            for (pb::handle e : items) joined += (joined.empty() ? "" : ",") + e.cast<std::string>();
+            return joined;
+        }
+        if (items.size() == 3) {
+            glm::vec3 out;
+            for (int k = 0; k < 3; ++k) {
+                if (isBool(items[k]) || !pb::hasattr(items[k], "__float__"))
+                    throwValue(name + ": expected three numbers (x, y, z)");
+                out[k] = float(double(pb::float_(pb::reinterpret_borrow<pb::object>(items[k]))));
+            }
+            return out;
+        }
+        throwValue(name + ": expected three numbers (x, y, z) or a list of names");
     }
     throw pb::type_error(name + ": expected a number, a string, True/False or a list of numbers, got " +
                          std::string(pb::str(v.get_type().attr("__name__"))));
 }
 
-// Option -> its word on the command line ("--width=320", "--noise"); a
-// flag set False is absent.
-using Args = std::map<std::string, std::string>;
-
-void addSetting(Args& args, const std::string& name, pb::handle value, const char* where) {
-    const auto& table = settingTable();
-    const auto it = table.find(name);
+// One keyword onto `o`: None puts the option back to its default.
+void applySetting(RenderOptions& o, const std::string& name, pb::handle value, const char* where) {
     if (name == "fluid_attribute")
         throw pb::type_error(std::string(where) + ": fluid_attribute names a file's attribute; pass the array "
                                                   "itself, fluid=frame['" + "name']");
-    if (it == table.end())
+    const RenderOptionSpec* spec = findRenderOption(name);
+    const MesherOptionSpec* mspec = spec ? nullptr : findMesherOption(name);
+    if ((!spec && !mspec) || name.find('-') != std::string::npos)
         throw pb::type_error(std::string(where) + ": unexpected keyword argument '" + name +
                              "' (not a setting); the settings (meniscus.settings() describes them) are: " +
                              settingNames());
     if (value.is_none()) {
-        args.erase(it->second.option);
+        RenderOptions fresh;
+        const auto reset = [](const OptionRef& to, const OptionRef& from) {
+            std::visit([&](auto* p) { *p = *std::get<decltype(p)>(from); }, to);
+        };
+        if (spec) reset(spec->field(o), spec->field(fresh));
+        else reset(mspec->field(o.mesher), mspec->field(fresh.mesher));
         return;
     }
-    if (it->second.flag) {
-        if (!pb::isinstance<pb::bool_>(value) && !pb::isinstance(value, pb::module_::import("numpy").attr("bool_")))
-            throwValue(name + ": expected True or False");
-        if (value.cast<bool>()) args[it->second.option] = it->second.option;
-        else args.erase(it->second.option);
-        return;
-    }
-    // "--name=value": a value starting with '-' (eye=(-1, 2, 3)) stays a value.
-    args[it->second.option] = it->second.option + "=" + valueText(value, name);
+    const OptionValue v = optionValue(value, name);
+    const Status st = spec ? setOption(*spec, o, v) : setOption(*mspec, o.mesher, v);
+    if (!st) throwValue(st.error().describe());
 }
 
-Args argsOf(const pb::dict& kw, const char* where) {
-    Args args;
-    for (auto [k, v] : kw) addSetting(args, k.cast<std::string>(), v, where);
-    return args;
-}
-
-RenderOptions parseOptions(const Args& args) {
-    RenderOptions o;
-    auto cmd = optionTable(o);
-    std::vector<std::string> words;
-    for (const auto& [option, word] : args) words.push_back(word);
-    std::reverse(words.begin(), words.end());  // CLI11 takes them last first
-    try {
-        cmd->parse(words);
-    } catch (const CLI::ParseError& e) {
-        throwValue(e.what());
-    }
+RenderOptions optionsOf(const pb::dict& kw, const char* where, RenderOptions o = {}) {
+    for (auto [k, v] : kw) applySetting(o, k.cast<std::string>(), v, where);
     return o;
 }
 
@@ -163,7 +117,7 @@ RenderOptions parseOptions(const Args& args) {
 const char* const kCameraOptions[] = {"eye", "target", "fov", "azimuth", "elevation", "distance"};
 
 struct CameraArg {
-    Args args;
+    pb::dict options;  // a Python object: made, copied and destroyed only with the GIL held
     std::optional<float> nearM, farM;
 };
 
@@ -183,18 +137,18 @@ CameraArg cameraArg(pb::handle camera) {
         if (std::find(std::begin(kCameraOptions), std::end(kCameraOptions), key) == std::end(kCameraOptions))
             throwValue("camera: unknown key '" + key + "' (expected eye, target, fov, near, far, or for the automatic "
                        "camera azimuth, elevation, distance)");
-        addSetting(c.args, key, v, "camera");
+        c.options[pb::str(key)] = v;
     }
     return c;
 }
 
-// The CLI's camera for one frame (app::chooseCamera, the points sampled as
-// fixForSequence samples a single file), with the near and far planes given.
-Result<Camera> chooseCamera(const RenderOptions& o, std::span<const glm::vec3> points, float radius,
-                            const CameraArg& extra, std::size_t* outside) {
+// The camera for one frame (the library's chooseCamera on the points sampled
+// as the CLI samples a single file), with the near and far planes given.
+Result<Camera> frameCamera(const RenderOptions& o, std::span<const glm::vec3> points, float radius,
+                           const CameraArg& extra, std::size_t* outside) {
     std::vector<glm::vec3> samples;
-    if (o.eye.empty()) app::sampleFramePoints(points, samples);
-    auto cam = app::chooseCamera(o, samples, radius, outside);
+    if (!o.eye) sampleFramePoints(points, samples);
+    auto cam = chooseCamera(o, samples, radius, outside);
     if (!cam) return makeError("", "camera: " + cam.error().message);
     if (extra.nearM) cam->nearM = *extra.nearM;
     if (extra.farM) cam->farM = *extra.farM;
@@ -215,7 +169,7 @@ struct Frame {
 };
 
 Status prepareFrame(const RenderOptions& o, const Particles& p, const CameraArg& extra, Frame& f) {
-    auto up = app::upRotation(o.up);
+    auto up = upRotation(o.up);
     if (!up) return up.error();
     f.view = p.view();
     std::span<const glm::vec3> points(reinterpret_cast<const glm::vec3*>(p.position.data), p.size());
@@ -230,16 +184,13 @@ Status prepareFrame(const RenderOptions& o, const Particles& p, const CameraArg&
             f.view.velocity = StridedView<glm::vec3>(std::span<const glm::vec3>(f.turnedVelocity));
         }
     }
-    f.radius = o.radius;
-    if (f.radius == 0.0f) {
-        const RadiusEstimate est = defaultRadiusOf(p, points);
-        f.radius = est.radius;
-        if (est.fallback) f.warnings.push_back("radius " + est.describe());
-        if (auto st = checkRadius(f.radius); !st)
-            return makeError("", "the estimated " + st.error().message + "; pass radius=");
-    }
+    std::string note;
+    const auto radius = resolveRadius(o.radius, [&] { return defaultRadiusOf(p, points); }, &note);
+    if (!radius) return radius.error();
+    f.radius = *radius;
+    if (note.rfind("warning: ", 0) == 0) f.warnings.push_back(note.substr(9));  // a fallback's line
     std::size_t outside = 0;
-    auto cam = chooseCamera(o, points, f.radius, extra, &outside);
+    auto cam = frameCamera(o, points, f.radius, extra, &outside);
     if (!cam) return cam.error();
     f.camera = *cam;
     if (outside > 0)
@@ -295,11 +246,10 @@ void checkParticleValues(const Particles& p, bool ownRadii) {
 class PyRenderer {
 public:
     PyRenderer(int width, int height, const std::string& backend, const pb::kwargs& settings) {
-        base_ = argsOf(settings, "Renderer()");
-        addSetting(base_, "width", pb::int_(width), "Renderer()");
-        addSetting(base_, "height", pb::int_(height), "Renderer()");
-        const RenderOptions o = parseOptions(base_);  // errors now, not at the first frame
-        if (auto s = app::settingsFromOptions(o); !s) throwValue(s.error().describe());
+        base_ = optionsOf(settings, "Renderer()");
+        applySetting(base_, "width", pb::int_(width), "Renderer()");
+        applySetting(base_, "height", pb::int_(height), "Renderer()");
+        if (auto s = renderSettings(base_); !s) throwValue(s.error().describe());  // errors now, not at the first frame
         if (!backendFromName(backend, &choice_))
             throwValue("backend '" + backend + "': expected one of " + backendNames());
         Result<Renderer> made = makeError("", "");
@@ -319,17 +269,15 @@ public:
         if (name_ != "cpu" && std::this_thread::get_id() != owner_)
             throwRuntime("a GL Renderer is bound to the thread that made it (its GL context is current there); "
                          "make one Renderer per thread");
-        Args args = base_;
         const CameraArg cam = cameraArg(camera);
-        for (const auto& [option, word] : cam.args) args[option] = word;
+        RenderOptions o = optionsOf(cam.options, "camera", base_);
         if (!radius.is_none()) {
             const float r = radius.cast<float>();
             if (auto st = checkRadius(r); !st) throwValue("radius: " + st.error().message);
-            addSetting(args, "radius", radius, "render()");
+            applySetting(o, "radius", radius, "render()");
         }
         const std::optional<Bounds> fixedStudio = studioArg(studio);
-        const RenderOptions o = parseOptions(args);
-        auto parsed = app::settingsFromOptions(o);
+        auto parsed = renderSettings(o);
         if (!parsed) throwValue(parsed.error().describe());
         RenderSettings s = std::move(*parsed);
         const Particles p = particlesArg(particles, {pb::reinterpret_borrow<pb::object>(velocity),
@@ -365,7 +313,7 @@ public:
                     fixedStudio ? *fixedStudio : computeBounds(std::span<const glm::vec3>(points, p.size()));
                 TriangleMesh mesh;
                 if (o.surface == "mesh") {
-                    auto made = extractSurface(f.view, app::mesherParams(o.mesher, s.radiusM, 0));
+                    auto made = extractSurface(f.view, mesherParams(o.mesher, s.radiusM, 0));
                     if (!made) out = made.error();
                     else mesh = std::move(*made), s.mesh = &mesh;
                 }
@@ -392,7 +340,7 @@ public:
     const std::string& note() const { return note_; }
 
 private:
-    Args base_;
+    RenderOptions base_;
     BackendChoice choice_ = BackendChoice::Auto;
     std::optional<Renderer> renderer_;
     std::string name_, note_;
@@ -402,24 +350,23 @@ private:
 };
 
 pb::dict autoCamera(pb::object particles, pb::object radius, int width, int height, const pb::kwargs& settings) {
-    Args args = argsOf(settings, "auto_camera()");
-    addSetting(args, "width", pb::int_(width), "auto_camera()");
-    addSetting(args, "height", pb::int_(height), "auto_camera()");
-    if (!radius.is_none()) addSetting(args, "radius", radius, "auto_camera()");
-    const RenderOptions o = parseOptions(args);
-    if (auto s = app::settingsFromOptions(o); !s) throwValue(s.error().describe());
+    RenderOptions o = optionsOf(settings, "auto_camera()");
+    applySetting(o, "width", pb::int_(width), "auto_camera()");
+    applySetting(o, "height", pb::int_(height), "auto_camera()");
+    if (!radius.is_none()) applySetting(o, "radius", radius, "auto_camera()");
+    if (auto s = renderSettings(o); !s) throwValue(s.error().describe());
     const Particles p = particlesArg(particles, {}, o.hPerSpacing);
     Frame f;
     Status st = okStatus();
+    const CameraArg none;  // made (a Python dict) while the GIL is held
     {
         pb::gil_scoped_release unlocked;
-        st = prepareFrame(o, p, CameraArg{}, f);
+        st = prepareFrame(o, p, none, f);
     }
     if (!st) throwValue(st.error().describe());
     warnAll(f.warnings);
     // In the data's coordinates, as camera= takes them: the up turn undone.
-    app::UpRotation back = *app::upRotation(o.up);
-    back.s = -back.s;
+    const UpRotation back = upRotation(o.up)->inverse();
     const glm::vec3 eye = back.apply(f.camera.eye), target = back.apply(f.camera.target);
     pb::dict d;
     d["eye"] = pb::make_tuple(eye.x, eye.y, eye.z);
@@ -432,13 +379,18 @@ pb::dict autoCamera(pb::object particles, pb::object radius, int width, int heig
 
 pb::dict settingsInfo() {
     pb::dict d;
-    for (const auto& [name, s] : settingTable()) {
+    const auto put = [&](const auto& spec) {
         pb::dict e;
-        e["option"] = s.option;
-        e["default"] = s.flag ? std::string("False") : s.defaultText;
-        e["help"] = s.help;
-        d[pb::str(name)] = e;
-    }
+        e["option"] = "--" + spec.name;
+        e["default"] = spec.flag ? std::string("False") : defaultText(spec);
+        e["unit"] = spec.unit;
+        e["group"] = optionGroupTitle(spec.group);
+        e["help"] = spec.help;
+        d[pb::str(keywordName(spec.name))] = e;
+    };
+    for (const RenderOptionSpec& spec : renderOptionTable())
+        if (isSetting(spec.name)) put(spec);
+    for (const MesherOptionSpec& spec : mesherOptionTable()) put(spec);
     return d;
 }
 
@@ -508,7 +460,8 @@ as render() (azimuth, elevation, distance, fov, up, ... matter here).)");
           R"(The settings render() and Renderer take, by Python name.
 
 Returns {name: {'option': the CLI option, 'default': its default as text,
-'help': what it does}}. They are `meniscus render`'s options, so a render
+'unit': its unit ('' for none), 'group': where --help lists it, 'help':
+what it does}}. They are `meniscus render`'s options, so a render
 scene file's keys and the CLI's documentation apply.)");
 }
 

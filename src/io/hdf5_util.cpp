@@ -2,6 +2,7 @@
 // entry points for HDF5 particle files (io.h): parseHdf5, the H5Part step and
 // PySPH array listings, reading a file from the disk. Without HDF5 in the
 // build (MENISCUS_HAVE_HDF5 unset) each of them says so.
+#include <cmath>
 #include <algorithm>
 #include <cstring>
 #include <limits>
@@ -372,6 +373,31 @@ Result<std::vector<std::string>> listH5PartSteps(const std::filesystem::path& pa
     }
 }
 
+Result<std::vector<double>> h5partStepTimes(const std::filesystem::path& path) {
+    const std::string name = path.string();
+    try {
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(path, ec)) return makeError(name, "no such file");
+        h5::Lock lock;
+        const h5::File file = h5::openFile(name);
+        std::vector<double> times;
+        for (const auto& step : h5partSteps(file.file.get())) {
+            h5::Handle group = h5::openGroup(file.file.get(), step.first, "");
+            // ParaView's H5Part reader reads "TimeValue"; other writers say "time" or "Time".
+            double t = NAN;
+            for (const char* key : {"TimeValue", "time", "Time"})
+                if (std::isnan(t)) t = h5::numberAttribute(group.get(), key, NAN);
+            if (std::isnan(t)) return std::vector<double>{};  // one step without a time: none
+            times.push_back(t);
+        }
+        return times;
+    } catch (const io_util::ParseFailure& f) {
+        return makeError(name, f.message);
+    } catch (const std::exception& e) {
+        return makeError(name, std::string("cannot read HDF5 data: ") + e.what());
+    }
+}
+
 Result<std::vector<ParticleArrayInfo>> io_util::listHdf5ParticleArrays(const std::filesystem::path& path) {
     const std::string name = path.string();
     try {
@@ -416,6 +442,10 @@ Result<ParticleSet> io_util::readHdf5File(const std::filesystem::path&, const st
 }
 
 Result<std::vector<std::string>> listH5PartSteps(const std::filesystem::path& path) {
+    return makeError(path.string(), kNoHdf5);
+}
+
+Result<std::vector<double>> h5partStepTimes(const std::filesystem::path& path) {
     return makeError(path.string(), kNoHdf5);
 }
 

@@ -29,6 +29,7 @@
 #include <tinyxml2.h>
 
 #include "io/atomic_file.h"
+#include "io/containers.h"
 #include "io/io_util.h"
 #include "meniscus/io.h"
 
@@ -181,7 +182,13 @@ std::optional<double> evenFrameRate(std::span<const double> times) {
 
 Result<std::optional<double>> frameRateOfInput(const fs::path& input) {
     std::error_code ec;
-    if (!isPvdName(input.filename().string()) || !fs::is_regular_file(input, ec)) return std::optional<double>();
+    if (!fs::is_regular_file(input, ec)) return std::optional<double>();
+    if (io_util::isHdf5Name(input.filename().string())) {
+        auto times = h5partStepTimes(input);
+        if (!times) return times.error();
+        return evenFrameRate(*times);
+    }
+    if (!isPvdName(input.filename().string())) return std::optional<double>();
     auto pvd = readPvd(input);
     if (!pvd) return pvd.error();
     if (!pvd->timed) return std::optional<double>();

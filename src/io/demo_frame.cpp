@@ -1,7 +1,7 @@
-// The bundled demo frame, embedded in the executable at build time with the
-// assembler's .incbin (CMake passes the path), so `meniscus demo` needs no
-// file next to the binary.
-#include "demo_data.h"
+// The bundled demo frame, embedded in the library at build time with the
+// assembler's .incbin (CMake passes the path), so `meniscus demo` and
+// Python's meniscus.demo() need no file next to the binary.
+#include "meniscus/io.h"
 
 __asm__(".pushsection .rodata\n"
         ".balign 16\n"
@@ -15,6 +15,10 @@ __asm__(".pushsection .rodata\n"
 extern "C" const std::uint8_t meniscus_demo_begin[];
 extern "C" const std::uint8_t meniscus_demo_end[];
 
+namespace meniscus {
+
 std::span<const std::uint8_t> demoFrameBytes() {
     return {meniscus_demo_begin, std::size_t(meniscus_demo_end - meniscus_demo_begin)};
 }
+
+}  // namespace meniscus

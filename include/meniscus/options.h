@@ -1,0 +1,237 @@
+// The options a user sets to render, declared once: every face (the CLI's
+// options and its --help, Python's keywords and meniscus.settings(), render
+// scene files' keys, the viewer's saved scenes, docs/cli.md) is made from the
+// tables here, and `renderSettings` turns the typed values into the
+// pipeline's RenderSettings. Defaults are the structs' initialisers, which
+// take them from params.h.
+//
+// An option's name is its command-line spelling without the dashes
+// ("noise-bump"); Python and scene files spell it with underscores
+// ("noise_bump"), and findOption accepts either.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "meniscus/camera.h"
+#include "meniscus/params.h"
+#include "meniscus/particles.h"
+#include "meniscus/renderer.h"
+#include "meniscus/result.h"
+#include "meniscus/surface.h"
+
+namespace meniscus {
+
+// Where an option is listed (--help, docs/cli.md), in the order people set things.
+enum class OptionGroup { Input, Camera, Look, Surface, Extras, Output, Movie, Performance, Cluster };
+// "Input", "Camera", ... (the help's group titles).
+const char* optionGroupTitle(OptionGroup group);
+
+// How the isosurface path meshes (mesh, and render with --surface mesh; the
+// ray cast takes iso and support from here too).
+struct MesherOptions {
+    float cubeSize = defaults::kCubeSizeRadii;
+    float iso = defaults::kSurfaceIso;
+    std::string field = "sph";
+    float support = 0.0f;  // radii; 0 = the field's default
+    int block = defaults::kBlockCubes;
+};
+
+// The look, camera and surface of a render: what `render`, `view` and
+// `simulate --render` take on the command line, Python's render() as
+// keywords and a render scene file as keys (renderOptionTable). Unset
+// (std::nullopt, NaN, -1, 0 where said) means "the default's own".
+struct RenderOptions {
+    int width = defaults::kWidth;
+    int height = defaults::kHeight;
+    std::optional<glm::vec3> eye, target;  // metres, in the data's coordinates; unset: the automatic camera
+    glm::vec3 up{0.0f, 1.0f, 0.0f};         // the data's up axis (turned to +y)
+    float fov = defaults::kFovYDegrees;
+    // The automatic camera's view direction and distance (0: fitted to the particles).
+    float azimuth = defaults::kAutoAzimuthDegrees, elevation = defaults::kAutoElevationDegrees, distance = 0.0f;
+    float radius = 0.0f;                         // metres; 0 = the file's radii, else estimated (resolveRadius)
+    float hPerSpacing = defaults::kHPerSpacing;  // a file's smoothing length h, in particle spacings
+    std::string view = "final";
+    std::string filter = defaults::kFilterName;
+    int iterations = -1;  // -1 = the filter's default
+    bool separable = false;
+    std::string material = defaults::kMaterialName;  // a preset, or one per fluid, comma-separated
+    // Custom material values over the preset(s), for every fluid; unset / NaN: the preset's.
+    std::optional<glm::vec3> fluidColor;  // linear RGB
+    std::optional<glm::vec3> absorption;  // Beer-Lambert k per channel, 1/m
+    float ior = NAN, refraction = NAN, specular = NAN, shininess = NAN, opacity = NAN;
+    std::optional<glm::vec3> light;  // toward the key light, world space; unset: ShadingParams' default
+    // auto: studio for a still camera, floor when the camera moves (the caller decides).
+    std::string background = "auto";
+    // Surface noise and foam (docs/pipeline.md#noise-and-foam): off unless noise.
+    bool noise = false;
+    NoiseParams noiseParams;
+    // Velocity whitening (docs/pipeline.md#noise-and-foam): off unless whiten.
+    bool whiten = false;
+    WhiteningParams whitening;
+    // Spray drops (docs/pipeline.md#classification): off unless spray.
+    bool spray = false;
+    SprayParams sprayParams;
+    // Silhouette reduction (docs/pipeline.md#silhouette-reduction): off unless silhouette.
+    bool silhouette = false;
+    SilhouetteParams silhouetteParams;
+    // Anisotropic kernels (Yu & Turk 2013): on or off.
+    std::string anisotropy = AnisotropyParams{}.enabled ? "on" : "off";
+    AnisotropyParams anisotropyParams;
+    // Hole filling (docs/pipeline.md#hole-filling): the widest gap filled,
+    // radii (0: off); the thin-liquid floor, radii.
+    float fillHoles = HoleFillParams{}.maxSpanRadii;
+    float minThickness = ThicknessParams{}.minRadii;
+    // Reduced-resolution processing (docs/pipeline.md#reduced-resolution): 1, 0.5 or 0.25.
+    float fluidScale = defaults::kFluidScale;
+    std::string surface = "screen";  // screen (splat + smoothing), raycast (splat + SPH ray cast) or mesh
+    RaycastParams raycastParams;     // surface raycast (iso and support from mesher)
+    MesherOptions mesher;
+    // Several fluids (docs/pipeline.md#several-fluids): the integer attribute
+    // holding each particle's fluid index; empty: the files' own `fluid`, if any.
+    std::string fluidAttribute;
+};
+
+// ---------------------------------------------------------------- the table
+
+// Where an option's value lands in its options struct.
+using OptionRef = std::variant<bool*, int*, float*, std::string*, std::optional<glm::vec3>*, glm::vec3*>;
+
+// A value given by a face that has types (Python, JSON): a whole number, a
+// number, true/false, a text, or three numbers.
+using OptionValue = std::variant<bool, std::int64_t, double, std::string, glm::vec3>;
+
+// What values an option accepts.
+struct OptionLimits {
+    double min = NAN, max = NAN;       // a number's range (each of a vector's), inclusive; NaN: unbounded
+    bool positive = false;             // > 0
+    double unset = NAN;                // a number meaning "not given" (--iterations -1): always accepted
+    std::vector<std::string> choices;  // a text's accepted values; empty: any text
+};
+
+// One option: everything its faces need.
+template <class Options>
+struct OptionSpec {
+    std::string name;   // "noise-bump"
+    OptionGroup group;
+    std::string unit;   // "m", "radii", "m/s", "degrees", "px", "1/m", "kg/m^3", "s"; "" for none
+    std::string help;   // one line (the unit said in it)
+    OptionRef (*field)(Options&);
+    OptionLimits limits;
+    // A bool given as a bare flag (--noise) rather than on/off; a value
+    // without a default worth printing (a sentinel such as --iterations -1).
+    bool flag = false, noDefault = false;
+};
+
+using RenderOptionSpec = OptionSpec<RenderOptions>;
+using MesherOptionSpec = OptionSpec<MesherOptions>;
+
+// `render`'s look, camera and surface options, in the order --help lists
+// them inside a group. The mesher's options (mesherOptionTable) are not in
+// it; render adds both.
+std::span<const RenderOptionSpec> renderOptionTable();
+// The mesher's: cube-size, iso, field, support, block.
+std::span<const MesherOptionSpec> mesherOptionTable();
+
+// "noise_bump" or "noise-bump" -> the table's entry; nullptr when none.
+const RenderOptionSpec* findRenderOption(std::string_view name);
+const MesherOptionSpec* findMesherOption(std::string_view name);
+// "noise_bump" (Python's and scene files' spelling of "noise-bump").
+std::string keywordName(std::string_view optionName);
+
+// The value's text as the command line writes it ("0.25", "on", "0,0,1";
+// "" for an unset vector; "true"/"false" for a flag).
+std::string optionText(const OptionRef& ref, bool flag);
+// The default's text as --help shows it; "" when the spec has noDefault.
+template <class Options>
+std::string defaultText(const OptionSpec<Options>& spec) {
+    if (spec.noDefault) return {};
+    Options fresh;
+    return optionText(spec.field(fresh), spec.flag);
+}
+
+// An error naming --NAME unless `ref` holds a value `spec`'s range and
+// choices accept (an unset value always passes).
+Status checkOptionValue(const std::string& name, const OptionRef& ref, const OptionLimits& limits);
+template <class Options>
+Status checkOption(const OptionSpec<Options>& spec, Options& o) {
+    return checkOptionValue(spec.name, spec.field(o), spec.limits);
+}
+
+// Sets one option from a typed value (a number where a number is wanted, a
+// bool for a flag or for on/off, three numbers for a vector, a text for a
+// text); an error naming the option when the type, range or choice is wrong.
+// `o` is unchanged on an error.
+Status setOptionValue(const std::string& name, const OptionRef& ref, const OptionValue& value,
+                      const OptionLimits& limits);
+template <class Options>
+Status setOption(const OptionSpec<Options>& spec, Options& o, const OptionValue& value) {
+    return setOptionValue(spec.name, spec.field(o), value, spec.limits);
+}
+// By name, over both tables (render's, then the mesher's inside o.mesher);
+// an error listing the names when there is no such option.
+Status setRenderOption(RenderOptions& o, std::string_view name, const OptionValue& value);
+
+// "x,y,z" as the command line writes it ("0,0,1").
+std::string vec3Text(const glm::vec3& v);
+// "x,y,z": three finite numbers, or nothing.
+std::optional<glm::vec3> parseVec3(const std::string& text);
+
+// ---------------------------------------------------------------- policies
+
+// Every option in its range (the tables' checks, as the CLI applies them);
+// the first error names the option.
+Status checkRenderOptions(const RenderOptions& o);
+
+// The pipeline settings the options name; camera, radius and studio come
+// later (chooseCamera, resolveRadius). An error names the option at fault.
+// `diffuse`: a diffuse layer will be drawn (so view spray needs no spray).
+Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse = false);
+
+// The mesher's parameters for particles of radius `radiusM`.
+MeshParams mesherParams(const MesherOptions& o, float radiusM, int threads);
+
+// The turn that takes a data set's up axis to +y, the renderer's up (the
+// studio's floor, the sky, the automatic camera): Rodrigues' rotation about
+// up x y, exact for the axes (z-up: (x, y, z) -> (x, z, -y)).
+struct UpRotation {
+    bool identity = true;
+    glm::vec3 axis{1.0f, 0.0f, 0.0f};  // unit
+    float c = 1.0f, s = 0.0f;          // cos, sin of the angle
+    glm::vec3 apply(const glm::vec3& v) const;
+    // The turn back (the renderer's coordinates to the data's).
+    UpRotation inverse() const;
+};
+// An error unless `up` is a finite vector, not zero.
+Result<UpRotation> upRotation(const glm::vec3& up);
+
+// The radius policy, said once: the option's radius when given (> 0), else
+// the particles' own (their radius attribute, or a smoothing length turned
+// into one), else estimated from the bulk number density (defaultRadius).
+// `estimate` computes the last two; *note gets the line saying where the
+// radius came from ("" for a given one). An error when the result is out of
+// range (checkRadius), naming the option or saying to set it.
+Result<float> resolveRadius(float optionRadius, const std::function<RadiusEstimate()>& estimate,
+                            std::string* note = nullptr);
+
+// The positions of one frame sampled for the automatic camera (an even
+// stride, at most defaults::kSequenceFramePoints) appended to `samples`.
+void sampleFramePoints(std::span<const glm::vec3> positions, std::vector<glm::vec3>& samples);
+
+// The camera the options name: eye and target (in the data's coordinates,
+// turned by up), or auto-framed on `samplePoints` (in the renderer's) from
+// azimuth, elevation and distance. The sampled particles left outside the
+// automatic frame are counted in *outsideCount.
+Result<Camera> chooseCamera(const RenderOptions& o, std::span<const glm::vec3> samplePoints, float radius,
+                            std::size_t* outsideCount = nullptr);
+
+}  // namespace meniscus

@@ -1,0 +1,715 @@
+// The option tables and the policies made from them (include/meniscus/options.h).
+#include "meniscus/options.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+#include "meniscus/particles.h"
+
+namespace meniscus {
+
+namespace {
+
+using R = RenderOptions;
+using G = OptionGroup;
+
+// Builders for the table rows (a row reads: name, group, unit, help, field).
+RenderOptionSpec row(std::string name, G group, std::string unit, std::string help, OptionRef (*field)(R&)) {
+    RenderOptionSpec s;
+    s.name = std::move(name);
+    s.group = group;
+    s.unit = std::move(unit);
+    s.help = std::move(help);
+    s.field = field;
+    return s;
+}
+RenderOptionSpec ranged(RenderOptionSpec s, double lo, double hi) {
+    s.limits.min = lo, s.limits.max = hi;
+    return s;
+}
+RenderOptionSpec oneOf(RenderOptionSpec s, std::vector<std::string> choices) {
+    s.limits.choices = std::move(choices);
+    return s;
+}
+RenderOptionSpec positive(RenderOptionSpec s) {
+    s.limits.min = 0.0, s.limits.max = std::numeric_limits<double>::infinity(), s.limits.positive = true;
+    return s;
+}
+RenderOptionSpec flagRow(RenderOptionSpec s) {
+    s.flag = true;
+    return s;
+}
+RenderOptionSpec noDefault(RenderOptionSpec s) {
+    s.noDefault = true;
+    return s;
+}
+
+std::vector<std::string> splitNames(const std::string& list) {  // "a, b, c"
+    std::vector<std::string> out;
+    std::string item;
+    std::istringstream in(list);
+    while (std::getline(in, item, ',')) {
+        item.erase(0, item.find_first_not_of(' '));
+        item.erase(item.find_last_not_of(' ') + 1);
+        if (!item.empty()) out.push_back(item);
+    }
+    return out;
+}
+
+std::vector<RenderOptionSpec> makeRenderTable() {
+    const NoiseParams noise;
+    const std::string sprite = std::to_string(int(noise.spriteRadii));
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    std::vector<RenderOptionSpec> t;
+    // Camera.
+    t.push_back(ranged(row("width", G::Camera, "px", "Image width in pixels", [](R& o) -> OptionRef { return &o.width; }),
+                       1, defaults::kMaxImageSizePx));
+    t.push_back(ranged(row("height", G::Camera, "px", "Image height in pixels", [](R& o) -> OptionRef { return &o.height; }),
+                       1, defaults::kMaxImageSizePx));
+    t.push_back(row("eye", G::Camera, "m", "Camera position x,y,z in metres (default: automatic three-quarter view)",
+                    [](R& o) -> OptionRef { return &o.eye; }));
+    t.push_back(row("target", G::Camera, "m", "Point the camera looks at, x,y,z in metres",
+                    [](R& o) -> OptionRef { return &o.target; }));
+    t.push_back(row("up", G::Camera, "",
+                    "The data's up axis x,y,z (0,0,1 for z-up data such as DualSPHysics'): the particles, --eye and "
+                    "--target are turned so it points up in the picture, the studio's floor below",
+                    [](R& o) -> OptionRef { return &o.up; }));
+    t.push_back(row("fov", G::Camera, "degrees", "Vertical field of view in degrees",
+                    [](R& o) -> OptionRef { return &o.fov; }));
+    t.push_back(ranged(row("azimuth", G::Camera, "degrees",
+                           "Automatic camera: the direction it looks from, degrees around the vertical (0: from +z, "
+                           "90: from +x)",
+                           [](R& o) -> OptionRef { return &o.azimuth; }),
+                       -3600.0, 3600.0));
+    t.push_back(ranged(row("elevation", G::Camera, "degrees", "Automatic camera: degrees above the horizon (-89 to 89)",
+                           [](R& o) -> OptionRef { return &o.elevation; }),
+                       -89.0, 89.0));
+    t.push_back(noDefault(ranged(row("distance", G::Camera, "m",
+                                     "Automatic camera: metres from the target (default: as close as frames the "
+                                     "particles)",
+                                     [](R& o) -> OptionRef { return &o.distance; }),
+                                 0.0, inf)));
+    // Input.
+    t.push_back(noDefault(row("radius", G::Input, "m",
+                              "Particle radius r in metres (default: the file's radius attribute, else estimated from "
+                              "the bulk number density; docs/radius.md). Given, it also replaces a file's per-particle "
+                              "radii (radius, pscale or particle_radius), which are otherwise drawn particle by particle",
+                              [](R& o) -> OptionRef { return &o.radius; })));
+    t.push_back(positive(row("h-per-spacing", G::Input, "spacings",
+                           "A file with an SPH smoothing length (h, smoothing_length or hsml) and no radius: each "
+                           "particle's radius is h / (2 K), K being h in particle spacings (PySPH's hdx, Chrono's "
+                           "d0_multiplier; about 1.7 for DualSPHysics' coefh 1)",
+                           [](R& o) -> OptionRef { return &o.hPerSpacing; })));
+    // Output.
+    t.push_back(oneOf(row("view", G::Output, "",
+                          "What the image shows: final (shaded liquid), depth (smoothed eye depth), raw-depth (before "
+                          "smoothing), normals, thickness, noise (surface noise N), foam (foam cover), whitening "
+                          "(velocity whitening map), spray (the drops' cover), silhouette (the silhouette map)",
+                          [](R& o) -> OptionRef { return &o.view; }),
+                      splitNames(viewNames())));
+    // Surface.
+    t.push_back(oneOf(row("filter", G::Surface, "", "Depth smoothing: " + filterNames(),
+                          [](R& o) -> OptionRef { return &o.filter; }),
+                      splitNames(filterNames())));
+    t.push_back(noDefault(ranged(row("iterations", G::Surface, "",
+                                     "Smoothing iterations (default: the filter's own, e.g. 1 for narrow-range, 40 for "
+                                     "curvature-flow)",
+                                     [](R& o) -> OptionRef { return &o.iterations; }),
+                                 0, 10000)));
+    t.back().limits.unset = -1;  // the filter's own count
+    t.push_back(flagRow(row("separable", G::Surface, "", "narrow-range: the faster separable 1-D approximation",
+                            [](R& o) -> OptionRef { return &o.separable; })));
+    // Look.
+    t.push_back(row("material", G::Look, "",
+                    "Fluid look: " + materialPresetNames() +
+                        "; with several fluids one per fluid, comma-separated (e.g. water,lava: fluid 0 water, fluid 1 "
+                        "lava)",
+                    [](R& o) -> OptionRef { return &o.material; }));
+    t.push_back(ranged(row("fluid-color", G::Look, "",
+                           "Custom material, over the preset and for every fluid: the colour seen through thick "
+                           "liquid, linear RGB r,g,b in [0, 1]",
+                           [](R& o) -> OptionRef { return &o.fluidColor; }),
+                       0.0, 1.0));
+    t.push_back(ranged(row("absorption", G::Look, "1/m",
+                           "Custom material: Beer-Lambert absorption per channel r,g,b, per metre (water: 6,2,1.3)",
+                           [](R& o) -> OptionRef { return &o.absorption; }),
+                       0.0, inf));
+    t.push_back(ranged(row("ior", G::Look, "", "Custom material: index of refraction (Fresnel F0; water 1.33)",
+                           [](R& o) -> OptionRef { return &o.ior; }),
+                       1.0, 4.0));
+    t.push_back(ranged(row("refraction", G::Look, "",
+                           "Custom material: how far the background seen through the liquid is shifted, as a multiple "
+                           "of the liquid's thickness projected onto the image (no unit)",
+                           [](R& o) -> OptionRef { return &o.refraction; }),
+                       0.0, 10.0));
+    t.push_back(ranged(row("specular", G::Look, "", "Custom material: highlight strength k_s",
+                           [](R& o) -> OptionRef { return &o.specular; }),
+                       0.0, 10.0));
+    t.push_back(ranged(row("shininess", G::Look, "", "Custom material: Blinn-Phong exponent",
+                           [](R& o) -> OptionRef { return &o.shininess; }),
+                       0.0, 100000.0));
+    t.push_back(ranged(row("opacity", G::Look, "", "Custom material: 0 transparent liquid .. 1 opaque (sand)",
+                           [](R& o) -> OptionRef { return &o.opacity; }),
+                       0.0, 1.0));
+    t.push_back(row("light", G::Look, "",
+                    "Direction toward the key light x,y,z, world space (default -0.4,1,0.55: above, front left)",
+                    [](R& o) -> OptionRef { return &o.light; }));
+    // Extras.
+    t.push_back(row("fluid-attribute", G::Extras, "",
+                    "Several fluids: the integer particle attribute giving each particle's fluid, 0 to 3 (default: "
+                    "the files' 'fluid' attribute, if any); each fluid is smoothed and shaded on its own, then "
+                    "composited front to back",
+                    [](R& o) -> OptionRef { return &o.fluidAttribute; }));
+    t.push_back(oneOf(row("background", G::Look, "",
+                          "studio (checker floor, two back walls, sky), floor (the checker floor alone, centred under "
+                          "the particles, sky behind), none (transparent PNG background), or auto: studio for a still "
+                          "camera, floor for one that moves (render --orbit, --turntable, --camera-path)",
+                          [](R& o) -> OptionRef { return &o.background; }),
+                      {"auto", "studio", "floor", "none"}));
+    t.push_back(flagRow(row("noise", G::Extras, "",
+                            "Surface noise and foam: small waves that travel with the particles, foam where they are "
+                            "strong, rougher where velocities jump between frames (uses the files' id and velocity "
+                            "attributes)",
+                            [](R& o) -> OptionRef { return &o.noise; })));
+    t.push_back(row("noise-bump", G::Extras, "sprite radii",
+                    "Height of the noise's waves, in sprite radii (a sprite is " + sprite +
+                        " particle radii; 0 = no bumps, foam only)",
+                    [](R& o) -> OptionRef { return &o.noiseParams.bump; }));
+    t.push_back(row("noise-frequency", G::Extras, "1/sprite radius",
+                    "Noise cycles per sprite radius (a sprite is " + sprite + " particle radii)",
+                    [](R& o) -> OptionRef { return &o.noiseParams.frequency; }));
+    t.push_back(row("noise-octaves", G::Extras, "", "Fractal octaves of the noise, 1 to 6",
+                    [](R& o) -> OptionRef { return &o.noiseParams.octaves; }));
+    t.push_back(row("foam", G::Extras, "", "Foam cover per unit of noise magnitude above the threshold (0 = no foam)",
+                    [](R& o) -> OptionRef { return &o.noiseParams.foamGain; }));
+    t.push_back(row("turbulence-tau", G::Extras, "m/s",
+                    "Velocity change between frames, in m/s, above which a particle's noise is rougher for a while",
+                    [](R& o) -> OptionRef { return &o.noiseParams.turbulence.tauMps; }));
+    t.push_back(flagRow(row("whiten", G::Extras, "",
+                            "Velocity whitening: fast water turns white (uses the files' velocity attribute)",
+                            [](R& o) -> OptionRef { return &o.whiten; })));
+    t.push_back(row("whiten-threshold", G::Extras, "m/s", "Speed where whitening starts, in m/s",
+                    [](R& o) -> OptionRef { return &o.whitening.thresholdMps; }));
+    t.push_back(row("whiten-ramp", G::Extras, "m/s", "Speed range over which whitening rises to full, in m/s",
+                    [](R& o) -> OptionRef { return &o.whitening.rampMps; }));
+    t.push_back(row("whiten-strength", G::Extras, "", "White cover at full whitening, 0 to 1",
+                    [](R& o) -> OptionRef { return &o.whitening.strength; }));
+    t.push_back(flagRow(row("spray", G::Extras, "",
+                            "Spray: particles far below the rest density (the files' density attribute, else "
+                            "estimated from their neighbours) are drawn as small drops streaked along their velocity, "
+                            "not as surface",
+                            [](R& o) -> OptionRef { return &o.spray; })));
+    t.push_back(row("spray-density", G::Extras, "", "Fraction of the rest density below which a particle is spray",
+                    [](R& o) -> OptionRef { return &o.sprayParams.sprayDensity; }));
+    t.push_back(row("rest-density", G::Extras, "kg/m^3",
+                    "Rest density of the density attribute, kg/m^3 (0 = the frame's median density)",
+                    [](R& o) -> OptionRef { return &o.sprayParams.restDensityKgM3; }));
+    t.push_back(row("spray-size", G::Extras, "radii", "A drop's drawn radius, in particle radii",
+                    [](R& o) -> OptionRef { return &o.sprayParams.sizeRadii; }));
+    t.push_back(row("spray-streak", G::Extras, "s", "Exposure over which a drop is streaked along its path, in seconds",
+                    [](R& o) -> OptionRef { return &o.sprayParams.streakSeconds; }));
+    t.push_back(flagRow(row("silhouette", G::Extras, "",
+                            "Silhouette reduction (Instant Liquids): near its contours, where less than all of a small "
+                            "window around a pixel is liquid, the liquid fades into the scene behind it (softer, "
+                            "anti-aliased edges, no rim of badly smoothed normals)",
+                            [](R& o) -> OptionRef { return &o.silhouette; })));
+    t.push_back(row("silhouette-radius", G::Extras, "radii", "The window's half-width, in particle radii",
+                    [](R& o) -> OptionRef { return &o.silhouetteParams.radiusRadii; }));
+    t.push_back(row("silhouette-fade", G::Extras, "",
+                    "Liquid fraction of the window at which the fade reaches 0 (0.5: a straight edge's own pixels; "
+                    "below 0.5 the fade continues onto the background pixels just outside the liquid, in its colour; "
+                    "1: clip, liquid only where the whole window is)",
+                    [](R& o) -> OptionRef { return &o.silhouetteParams.fadeFrom; }));
+    // Surface: anisotropy, hole filling, thin liquid.
+    t.push_back(oneOf(row("anisotropy", G::Surface, "",
+                          "Anisotropic kernels (Yu & Turk 2013), on or off: each particle is splatted as the ellipsoid "
+                          "of its neighbours' spread (flat along a free surface, a sphere in the bulk, small when "
+                          "alone), centred on its smoothed position; thin sheets close up and spray reads as droplets",
+                          [](R& o) -> OptionRef { return &o.anisotropy; }),
+                      {"on", "off"}));
+    t.push_back(row("anisotropy-radius", G::Surface, "radii", "The neighbourhood's radius, in particle radii",
+                    [](R& o) -> OptionRef { return &o.anisotropyParams.neighbourRadii; }));
+    t.push_back(row("anisotropy-ratio", G::Surface, "", "Largest ratio of an ellipsoid's longest axis to its shortest",
+                    [](R& o) -> OptionRef { return &o.anisotropyParams.kr; }));
+    t.push_back(row("anisotropy-isolated", G::Surface, "radii",
+                    "A particle with too few neighbours is a sphere of this many particle radii",
+                    [](R& o) -> OptionRef { return &o.anisotropyParams.kn; }));
+    t.push_back(row("anisotropy-neighbours", G::Surface, "",
+                    "Fewer neighbours than this within the radius: the particle counts as isolated",
+                    [](R& o) -> OptionRef { return &o.anisotropyParams.minNeighbours; }));
+    t.push_back(row("anisotropy-keep-surface", G::Surface, "",
+                    "Move each flattened free-surface ellipsoid outward so the surface stays where the spheres put it "
+                    "(true or false)",
+                    [](R& o) -> OptionRef { return &o.anisotropyParams.keepSurface; }));
+    t.push_back(row("anisotropy-smoothing", G::Surface, "",
+                    "How far each ellipsoid's centre moves toward its neighbours' weighted mean, 0 to 1",
+                    [](R& o) -> OptionRef { return &o.anisotropyParams.smoothing; }));
+    t.push_back(row("fill-holes", G::Surface, "radii",
+                    "Fill the gaps the splat leaves inside a sheet of liquid, up to this many particle radii wide, "
+                    "before the smoothing: where liquid of one surface closes a gap in along the row, the column and "
+                    "both diagonals (a gap open to a side, between drops or between layers, stays); 0 = off",
+                    [](R& o) -> OptionRef { return &o.fillHoles; }));
+    t.push_back(row("min-thickness", G::Surface, "radii",
+                    "Thin liquid: every liquid pixel is shaded as at least this many particle radii thick, so a sheet "
+                    "one particle thick or the rim of a drop is tinted, never the untinted background; 0 = the "
+                    "thickness as splatted",
+                    [](R& o) -> OptionRef { return &o.minThickness; }));
+    t.push_back(row("fluid-scale", G::Performance, "",
+                    "Reduced-resolution processing: 1, 0.5 or 0.25 of the width and height for the splat, smoothing, "
+                    "normals and noise (about 4x or 16x fewer pixels); the surface is upsampled depth-aware and shaded "
+                    "at full resolution",
+                    [](R& o) -> OptionRef { return &o.fluidScale; }));
+    t.push_back(oneOf(row("surface", G::Surface, "",
+                          "screen: splat the particles as spheres and smooth the depth (the screen-space path); "
+                          "raycast: splat them, then march each covered pixel's ray to the SPH iso-surface (the --field "
+                          "sph surface at --iso with --support, exact normals, no smoothing; slower on the CPU); mesh: "
+                          "extract the isosurface (as `meniscus mesh` does) and rasterise its triangles instead; the "
+                          "thickness, scene and shading are the same",
+                          [](R& o) -> OptionRef { return &o.surface; }),
+                      {"screen", "raycast", "mesh"}));
+    t.push_back(row("raycast-step", G::Surface, "radii", "--surface raycast: the march's step, in particle radii",
+                    [](R& o) -> OptionRef { return &o.raycastParams.stepRadii; }));
+    t.push_back(row("raycast-steps", G::Surface, "",
+                    "--surface raycast: steps a ray takes before it gives up (no surface at that pixel)",
+                    [](R& o) -> OptionRef { return &o.raycastParams.maxSteps; }));
+    t.push_back(row("raycast-cover", G::Surface, "radii",
+                    "--surface raycast: radius of the splatted spheres that start the rays, in particle radii (the "
+                    "iso-surface reaches past the spheres of r between particles)",
+                    [](R& o) -> OptionRef { return &o.raycastParams.coverRadii; }));
+    return t;
+}
+
+std::vector<MesherOptionSpec> makeMesherTable() {
+    using M = MesherOptions;
+    const auto mrow = [](std::string name, std::string unit, std::string help, OptionRef (*field)(M&)) {
+        MesherOptionSpec s;
+        s.name = std::move(name);
+        s.group = G::Surface;
+        s.unit = std::move(unit);
+        s.help = std::move(help);
+        s.field = field;
+        return s;
+    };
+    std::vector<MesherOptionSpec> t;
+    t.push_back(mrow("cube-size", "radii", "Marching-cubes cube edge, in particle radii (0.05 to 8)",
+                     [](M& o) -> OptionRef { return &o.cubeSize; }));
+    t.push_back(mrow("iso", "",
+                     "Iso level as a fraction of the field inside fluid at rest (a 2r lattice); 0.5 puts a flat face 1 "
+                     "r beyond the outermost particle centres",
+                     [](M& o) -> OptionRef { return &o.iso; }));
+    t.push_back(mrow("field", "",
+                     "sph: the SPH density, cubic spline of support 4 r (the surface refsurf ray-traces); thesis: "
+                     "thesis eq. 4.16, f(d) = (d/(sqrt2 Rc))^4 - (d/(sqrt2 Rc))^2 + 1/4, Rc = 2.5 r",
+                     [](M& o) -> OptionRef { return &o.field; }));
+    t.back().limits.choices = {"sph", "thesis"};
+    t.push_back(mrow("support", "radii", "Field support (h or Rc) in particle radii, 1 to 16 (default: the field's)",
+                     [](M& o) -> OptionRef { return &o.support; }));
+    t.back().noDefault = true;
+    t.push_back(mrow("block", "cubes", "Block edge in cubes (4 to 256); blocks run in parallel",
+                     [](M& o) -> OptionRef { return &o.block; }));
+    return t;
+}
+
+std::string numberText(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+
+std::string spelling(std::string_view name) {  // "noise_bump" -> "noise-bump"
+    std::string s(name);
+    std::replace(s.begin(), s.end(), '_', '-');
+    return s;
+}
+
+bool inRange(double v, double lo, double hi) {
+    return !(v < lo) && !(v > hi) && !std::isnan(v);  // NaN bounds are open
+}
+
+std::string rangeText(double lo, double hi) {
+    if (std::isnan(hi) || std::isinf(hi)) return lo == 0.0 ? "not negative" : "at least " + numberText(lo);
+    return "in [" + numberText(lo) + ", " + numberText(hi) + "]";
+}
+
+}  // namespace
+
+const char* optionGroupTitle(OptionGroup group) {
+    switch (group) {
+    case OptionGroup::Input: return "Input";
+    case OptionGroup::Camera: return "Camera";
+    case OptionGroup::Look: return "Look";
+    case OptionGroup::Surface: return "Surface";
+    case OptionGroup::Extras: return "Extras";
+    case OptionGroup::Output: return "Output";
+    case OptionGroup::Movie: return "Movie";
+    case OptionGroup::Performance: return "Performance";
+    case OptionGroup::Cluster: return "Cluster";
+    }
+    return "";
+}
+
+std::span<const RenderOptionSpec> renderOptionTable() {
+    static const std::vector<RenderOptionSpec> table = makeRenderTable();
+    return table;
+}
+
+std::span<const MesherOptionSpec> mesherOptionTable() {
+    static const std::vector<MesherOptionSpec> table = makeMesherTable();
+    return table;
+}
+
+const RenderOptionSpec* findRenderOption(std::string_view name) {
+    const std::string n = spelling(name);
+    for (const RenderOptionSpec& s : renderOptionTable())
+        if (s.name == n) return &s;
+    return nullptr;
+}
+
+const MesherOptionSpec* findMesherOption(std::string_view name) {
+    const std::string n = spelling(name);
+    for (const MesherOptionSpec& s : mesherOptionTable())
+        if (s.name == n) return &s;
+    return nullptr;
+}
+
+std::string vec3Text(const glm::vec3& v) {
+    return numberText(v.x) + "," + numberText(v.y) + "," + numberText(v.z);
+}
+
+std::string keywordName(std::string_view optionName) {
+    std::string s(optionName);
+    std::replace(s.begin(), s.end(), '-', '_');
+    return s;
+}
+
+std::string optionText(const OptionRef& ref, bool flag) {
+    return std::visit(
+        [&](auto* p) -> std::string {
+            using T = std::remove_pointer_t<decltype(p)>;
+            if constexpr (std::is_same_v<T, bool>) return *p ? "true" : "false";
+            else if constexpr (std::is_same_v<T, int>) return std::to_string(*p);
+            else if constexpr (std::is_same_v<T, float>) return std::isnan(*p) ? std::string() : numberText(*p);
+            else if constexpr (std::is_same_v<T, std::string>) return *p;
+            else if constexpr (std::is_same_v<T, glm::vec3>) return vec3Text(*p);
+            else return *p ? vec3Text(**p) : std::string();
+        },
+        ref);
+    (void)flag;
+}
+
+std::optional<glm::vec3> parseVec3(const std::string& text) {
+    std::istringstream in(text);
+    glm::vec3 v;
+    char c1 = 0, c2 = 0;
+    if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',') return std::nullopt;
+    in >> std::ws;
+    if (!in.eof() || !std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return std::nullopt;
+    return v;
+}
+
+Status checkOptionValue(const std::string& name, const OptionRef& ref, const OptionLimits& limits) {
+    const std::string option = "--" + name;
+    const double lo = limits.min, hi = limits.max;
+    const std::vector<std::string>& choices = limits.choices;
+    const auto bad = [&](const std::string& text, const std::string& why) {
+        return makeError("", option + " " + text + ": " + why);
+    };
+    return std::visit(
+        [&](auto* p) -> Status {
+            using T = std::remove_pointer_t<decltype(p)>;
+            if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float>) {
+                if constexpr (std::is_same_v<T, float>)
+                    if (std::isnan(*p)) return okStatus();  // unset: the preset's
+                if (double(*p) == limits.unset) return okStatus();
+                if (limits.positive && !(*p > 0)) return bad(numberText(double(*p)), "expected a positive number");
+                if ((!std::isnan(lo) || !std::isnan(hi)) && !inRange(double(*p), std::isnan(lo) ? -HUGE_VAL : lo,
+                                                                     std::isnan(hi) ? HUGE_VAL : hi))
+                    return bad(numberText(double(*p)), "expected a number " + rangeText(lo, hi));
+            } else if constexpr (std::is_same_v<T, std::string>) {
+                if (!choices.empty() && std::find(choices.begin(), choices.end(), *p) == choices.end()) {
+                    if (choices.size() == 2) return bad(*p, "expected " + choices[0] + " or " + choices[1]);
+                    std::string list;
+                    for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
+                    return bad(*p, "expected one of " + list);
+                }
+            } else if constexpr (std::is_same_v<T, std::optional<glm::vec3>>) {
+                if (*p && !std::isnan(lo))
+                    for (int k = 0; k < 3; ++k)
+                        if (!inRange((**p)[k], lo, std::isnan(hi) ? HUGE_VAL : hi))
+                            return bad(vec3Text(**p), "each of x,y,z " + rangeText(lo, hi));
+            }
+            return okStatus();
+        },
+        ref);
+}
+
+Status setOptionValue(const std::string& name, const OptionRef& ref, const OptionValue& value,
+                      const OptionLimits& limits) {
+    const std::string option = "--" + name;
+    const std::vector<std::string>& choices = limits.choices;
+    const auto wrong = [&](const char* expected) { return makeError("", option + ": expected " + std::string(expected)); };
+    const bool isBool = std::holds_alternative<bool>(value);
+    const bool isNumber = std::holds_alternative<std::int64_t>(value) || std::holds_alternative<double>(value);
+    const double number = std::holds_alternative<std::int64_t>(value) ? double(std::get<std::int64_t>(value))
+                          : std::holds_alternative<double>(value)     ? std::get<double>(value)
+                                                                      : 0.0;
+    // Set on a copy, checked, then stored: `o` keeps its value on an error.
+    return std::visit(
+        [&](auto* p) -> Status {
+            using T = std::remove_pointer_t<decltype(p)>;
+            T v = *p;
+            if constexpr (std::is_same_v<T, bool>) {
+                if (!isBool) return wrong("true or false");
+                v = std::get<bool>(value);
+            } else if constexpr (std::is_same_v<T, int>) {
+                if (!std::holds_alternative<std::int64_t>(value) &&
+                    !(std::holds_alternative<double>(value) && number == std::floor(number)))
+                    return wrong("a whole number");
+                if (!(std::fabs(number) < 2e9)) return wrong("a whole number in range");
+                v = int(number);
+            } else if constexpr (std::is_same_v<T, float>) {
+                if (!isNumber || !std::isfinite(number)) return wrong("a number");
+                v = float(number);
+            } else if constexpr (std::is_same_v<T, std::string>) {
+                // on/off options (anisotropy) take True/False too.
+                if (isBool && choices.size() == 2 && choices[0] == "on") v = std::get<bool>(value) ? "on" : "off";
+                else if (std::holds_alternative<std::string>(value)) v = std::get<std::string>(value);
+                else return wrong("a text");
+            } else {
+                if (!std::holds_alternative<glm::vec3>(value)) return wrong("three numbers x,y,z");
+                const glm::vec3 g = std::get<glm::vec3>(value);
+                if (!std::isfinite(g.x) || !std::isfinite(g.y) || !std::isfinite(g.z))
+                    return wrong("three finite numbers x,y,z");
+                v = g;
+            }
+            if (auto st = checkOptionValue(name, OptionRef(&v), limits); !st) return st;
+            *p = std::move(v);
+            return okStatus();
+        },
+        ref);
+}
+
+Status setRenderOption(RenderOptions& o, std::string_view name, const OptionValue& value) {
+    if (const RenderOptionSpec* s = findRenderOption(name)) return setOption(*s, o, value);
+    if (const MesherOptionSpec* s = findMesherOption(name)) return setOption(*s, o.mesher, value);
+    std::string names;
+    for (const RenderOptionSpec& s : renderOptionTable()) names += (names.empty() ? "" : ", ") + keywordName(s.name);
+    for (const MesherOptionSpec& s : mesherOptionTable()) names += ", " + keywordName(s.name);
+    return makeError("", "unknown option '" + std::string(name) + "' (the options are: " + names + ")");
+}
+
+Status checkRenderOptions(const RenderOptions& o) {
+    RenderOptions copy = o;
+    for (const RenderOptionSpec& s : renderOptionTable())
+        if (auto st = checkOption(s, copy); !st) return st;
+    for (const MesherOptionSpec& s : mesherOptionTable())
+        if (auto st = checkOption(s, copy.mesher); !st) return st;
+    return okStatus();
+}
+
+Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
+    if (auto st = checkRenderOptions(o); !st) return st.error();
+    RenderSettings s;
+    if (!viewFromName(o.view, &s.view)) return makeError("", "--view " + o.view + ": expected one of " + viewNames());
+    if (!filterFromName(o.filter, &s.filter))
+        return makeError("", "--filter " + o.filter + ": expected one of " + filterNames());
+    if (o.iterations >= 0) setFilterIterations(s.filter, o.iterations);
+    if (o.separable) {
+        auto* nr = std::get_if<NarrowRangeParams>(&s.filter);
+        if (!nr) return makeError("", "--separable applies to --filter narrow-range only");
+        nr->separable = true;
+    }
+    // One preset, or one per fluid (comma-separated: fluid 0's, fluid 1's, ...).
+    std::vector<std::string> names;
+    for (std::size_t at = 0;;) {
+        const std::size_t comma = o.material.find(',', at);
+        names.push_back(o.material.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
+        if (comma == std::string::npos) break;
+        at = comma + 1;
+    }
+    if (names.size() > std::size_t(kMaxFluids))
+        return makeError("", "--material: " + std::to_string(names.size()) + " materials for at most " +
+                                 std::to_string(kMaxFluids) + " fluids");
+    for (const std::string& n : names) {
+        Material m;
+        if (!materialPreset(n, &m))
+            return makeError("", "--material " + n + ": expected one of " + materialPresetNames());
+        if (o.fluidColor) m.fluidColor = *o.fluidColor;
+        if (o.absorption) m.absorptionPerM = *o.absorption;
+        if (!std::isnan(o.ior)) m.ior = o.ior;
+        if (!std::isnan(o.refraction)) m.refraction = o.refraction;
+        if (!std::isnan(o.specular)) m.specular = o.specular;
+        if (!std::isnan(o.shininess)) m.shininess = o.shininess;
+        if (!std::isnan(o.opacity)) m.opacity = o.opacity;
+        s.fluidMaterials.push_back(m);
+    }
+    s.shading.material = s.fluidMaterials.front();
+    if (o.light) {
+        if (!(glm::length(*o.light) > 0.0f)) return makeError("", "--light " + vec3Text(*o.light) + ": not zero");
+        s.shading.lightDirWorld = *o.light;
+    }
+    s.scene.background = o.background != "none";
+    s.scene.walls = o.background != "floor";  // auto: walls unless the caller sees the camera move
+    s.noise = o.noiseParams;
+    s.noise.enabled = o.noise;
+    if (o.noise)
+        if (std::string bad = checkNoiseParams(s.noise); !bad.empty()) return makeError("", "--noise: " + bad);
+    if ((s.view == View::Noise || s.view == View::Foam) && !o.noise)
+        return makeError("", "--view " + o.view + " shows the surface noise: add --noise");
+    s.whitening = o.whitening;
+    s.whitening.enabled = o.whiten;
+    if (o.whiten)
+        if (std::string bad = checkWhiteningParams(s.whitening); !bad.empty()) return makeError("", "--whiten: " + bad);
+    if (s.view == View::Whitening && !o.whiten)
+        return makeError("", "--view whitening shows the velocity whitening: add --whiten");
+    s.spray = o.sprayParams;
+    s.spray.enabled = o.spray;
+    if (o.spray)
+        if (std::string bad = checkSprayParams(s.spray); !bad.empty()) return makeError("", "--spray: " + bad);
+    if (s.view == View::Spray && !o.spray && !diffuse)
+        return makeError("", "--view spray shows the spray drops: add --spray (or --diffuse)");
+    s.silhouette = o.silhouetteParams;
+    s.silhouette.enabled = o.silhouette;
+    if (o.silhouette)
+        if (std::string bad = checkSilhouetteParams(s.silhouette); !bad.empty()) return makeError("", "--silhouette: " + bad);
+    if (s.view == View::Silhouette && !o.silhouette)
+        return makeError("", "--view silhouette shows the silhouette map: add --silhouette");
+    s.particleRadii = o.radius == 0.0f;  // an explicit radius replaces the file's own radii
+    s.anisotropy = o.anisotropyParams;
+    s.anisotropy.enabled = o.anisotropy == "on";
+    if (s.anisotropy.enabled)
+        if (std::string bad = checkAnisotropyParams(s.anisotropy); !bad.empty())
+            return makeError("", "--anisotropy: " + bad);
+    s.holeFill.enabled = o.fillHoles > 0.0f;
+    if (s.holeFill.enabled) s.holeFill.maxSpanRadii = o.fillHoles;
+    s.thickness.minRadii = o.minThickness;
+    if (std::string bad = checkHoleFillParams(s.holeFill, s.thickness); !bad.empty())
+        return makeError("", std::string(bad.rfind("thickness", 0) == 0 ? "--min-thickness: " : "--fill-holes: ") +
+                                 bad);
+    s.raycast = o.raycastParams;
+    s.raycast.enabled = o.surface == "raycast";
+    if (s.raycast.enabled) {
+        if (o.mesher.field != "sph")
+            return makeError("", "--surface raycast: the ray cast finds the SPH surface: --field " + o.mesher.field +
+                                     " is for --surface mesh");
+        s.raycast.iso = o.mesher.iso;
+        if (o.mesher.support > 0.0f) s.raycast.supportRadii = o.mesher.support;
+        if (std::string bad = checkRaycastParams(s.raycast); !bad.empty())
+            return makeError("", "--surface raycast: " + bad);
+    }
+    if (o.fluidScale != 1.0f && o.fluidScale != 0.5f && o.fluidScale != 0.25f)
+        return makeError("", "--fluid-scale: expected 1, 0.5 or 0.25");
+    if (o.fluidScale != 1.0f && o.surface == "mesh")
+        return makeError("", "--fluid-scale applies to the screen-space surface, not --surface mesh");
+    s.fluidScale = o.fluidScale;
+    if (!o.fluidAttribute.empty() && o.surface == "mesh")
+        return makeError("", "--fluid-attribute, --fluid: several fluids are drawn by the screen-space surface, not "
+                             "--surface mesh");
+    if (!(o.radius >= 0.0f)) return makeError("", "--radius must be a positive number of metres");
+    if (o.radius != 0.0f)
+        if (auto st = checkRadius(o.radius); !st) return makeError("", "--radius: " + st.error().message);
+    return s;
+}
+
+MeshParams mesherParams(const MesherOptions& o, float radiusM, int threads) {
+    MeshParams p;
+    p.radiusM = radiusM;
+    surfaceFieldFromName(o.field, &p.field);
+    p.cubeSizeRadii = o.cubeSize;
+    p.iso = o.iso;
+    p.supportRadii = o.support;
+    p.blockCubes = o.block;
+    p.threads = threads;
+    return p;
+}
+
+glm::vec3 UpRotation::apply(const glm::vec3& v) const {
+    if (identity) return v;
+    // v c + (k x v) s + k (k . v)(1 - c)
+    return v * c + glm::cross(axis, v) * s + axis * (glm::dot(axis, v) * (1.0f - c));
+}
+
+UpRotation UpRotation::inverse() const {
+    UpRotation back = *this;
+    back.s = -back.s;
+    return back;
+}
+
+Result<UpRotation> upRotation(const glm::vec3& u) {
+    if (!std::isfinite(u.x) || !std::isfinite(u.y) || !std::isfinite(u.z) || glm::length(u) == 0.0f)
+        return makeError("", "--up " + vec3Text(u) + ": expected the up axis as three numbers x,y,z, not all zero");
+    const glm::vec3 n = glm::normalize(u), y(0.0f, 1.0f, 0.0f);
+    UpRotation r;
+    const glm::vec3 a = glm::cross(n, y);
+    const float s = glm::length(a);
+    if (s == 0.0f) {
+        if (n.y > 0.0f) return r;  // already up
+        r.identity = false;        // upside down: half a turn about x
+        r.axis = {1.0f, 0.0f, 0.0f};
+        r.c = -1.0f;
+        r.s = 0.0f;
+        return r;
+    }
+    r.identity = false;
+    r.axis = a / s;
+    r.c = glm::dot(n, y);
+    r.s = s;
+    return r;
+}
+
+Result<float> resolveRadius(float optionRadius, const std::function<RadiusEstimate()>& estimate, std::string* note) {
+    if (note) note->clear();
+    if (optionRadius != 0.0f) {
+        if (!(optionRadius > 0.0f)) return makeError("", "--radius must be a positive number of metres");
+        if (auto st = checkRadius(optionRadius); !st) return makeError("", "--radius: " + st.error().message);
+        return optionRadius;
+    }
+    const RadiusEstimate est = estimate();
+    if (note) *note = std::string(est.fallback ? "warning: " : "") + "radius " + est.describe();
+    if (auto st = checkRadius(est.radius); !st)
+        return makeError("", "the estimated " + st.error().message + "; set --radius");
+    return est.radius;
+}
+
+void sampleFramePoints(std::span<const glm::vec3> positions, std::vector<glm::vec3>& samples) {
+    const std::size_t stride = std::max<std::size_t>(1, positions.size() / defaults::kSequenceFramePoints);
+    for (std::size_t i = 0; i < positions.size(); i += stride) samples.push_back(positions[i]);
+}
+
+Result<Camera> chooseCamera(const RenderOptions& o, std::span<const glm::vec3> samplePoints, float radius,
+                            std::size_t* outsideCount) {
+    Camera cam;
+    cam.width = o.width;
+    cam.height = o.height;
+    cam.fovYDegrees = o.fov;
+    cam.nearM = defaults::kNearM;
+    cam.farM = defaults::kFarM;
+    if (o.eye.has_value() != o.target.has_value()) return makeError("", "give both --eye and --target, or neither");
+    if (o.eye) {
+        auto up = upRotation(o.up);
+        if (!up) return up.error();
+        // In the data's coordinates, like the particles, which are turned to y up.
+        cam.eye = up->apply(*o.eye);
+        cam.target = up->apply(*o.target);
+        cam.up = {0.0f, 1.0f, 0.0f};
+    } else {
+        std::size_t outside = 0;
+        cam = autoFrameCamera(samplePoints, radius, cam, &outside, o.azimuth, o.elevation);
+        if (o.distance > 0.0f) {
+            // Along the same direction; the clip range follows the new distance.
+            const float fitted = glm::length(cam.eye - cam.target);
+            cam.eye = cam.target + (cam.eye - cam.target) * (o.distance / fitted);
+            cam.nearM = std::min(cam.nearM, 1e-3f * o.distance);
+            cam.farM = std::max(cam.farM, cam.farM * o.distance / fitted);
+            outside = 0;  // counted for the fitted distance
+        }
+        if (outsideCount) *outsideCount = outside;
+    }
+    if (auto st = validateCamera(cam); !st) return st.error();
+    return cam;
+}
+
+}  // namespace meniscus
