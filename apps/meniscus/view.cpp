@@ -43,6 +43,15 @@ int runView(const ViewOptions&, const ParticleSet*) {
 
 namespace {
 
+// Columns [left, left + width) of `image`: the picture beside the panels.
+Image<glm::u8vec4> cropColumns(const Image<glm::u8vec4>& image, int left, int width) {
+    if (left == 0 && width == image.width) return image;
+    Image<glm::u8vec4> out(width, image.height);
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < width; ++x) out.at(x, y) = image.at(left + x, y);
+    return out;
+}
+
 constexpr float kDegreesPerDragUnit = 0.3f;  // orbit per screen unit the cursor moves with the button held
 constexpr float kZoomPerWheelStep = 0.9f;    // camera distance factor per wheel step away from the user
 constexpr double kLiveSpeed = 1.0;  // --simulate: at most real time (simulated s per wall-clock s), so a fast scene plays
@@ -207,14 +216,31 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     }
 
     // The window first: without a display nothing else is worth doing.
-    auto window = Window::create(o.render.width, o.render.height,
+    // Wider than --width by the panels, which the picture is drawn beside.
+    auto window = Window::create(o.render.width + (viewerHasPanels() ? kViewerPanelWidth : 0), o.render.height,
                                  scene ? "meniscus view: " + o.simulate.scene : title(o.render, 1, 0, nullptr));
     if (!window)
         return fail(window.error().describe() +
                     "; meniscus view needs a display (`meniscus render` writes images without one)");
     Window& win = **window;
 
-    // The camera is framed for the framebuffer's real size (HiDPI screens differ).
+    // The picture's area: the framebuffer (its real size: HiDPI screens
+    // differ) less the panels on the left while they are shown. `left` is
+    // where it starts; before the panels exist, their width in screen units.
+    bool panels = true;
+    std::unique_ptr<ViewerUi> ui;
+    struct Area {
+        int left = 0;
+        glm::ivec2 size{0};
+    };
+    const auto pictureArea = [&]() -> Area {
+        const glm::ivec2 fb = win.framebufferSize();
+        const int panel = !panels || !viewerHasPanels() ? 0 : ui ? ui->panelWidthPx() : kViewerPanelWidth;
+        if (fb.x - panel < 16) return {0, fb};  // too narrow beside them: the whole window, under the panels
+        return {panel, {fb.x - panel, fb.y}};
+    };
+
+    // The camera is framed for the picture's real size.
     std::shared_ptr<const ParticleSet> current;  // what is on screen
     std::unique_ptr<FramePrefetch> prefetch;     // the input's frames, read ahead (after the window: joined first)
     std::size_t index = 0;
@@ -231,7 +257,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
             if (!opened) return opened.error();
             frames = std::move(*opened);
         }
-        auto opened = frameInput(next, std::move(*frames), win.framebufferSize(), *s);
+        auto opened = frameInput(next, std::move(*frames), pictureArea().size, *s);
         if (!opened) return opened.error();
         prefetch.reset();
         current = opened->first;
@@ -249,7 +275,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     if (scene) {
         // Framed once on the domain, as `simulate --render` frames its images.
         RenderJob sized = o.render;
-        const glm::ivec2 fb = win.framebufferSize();
+        const glm::ivec2 fb = pictureArea().size;
         if (fb.x > 0 && fb.y > 0) {
             sized.width = fb.x;
             sized.height = fb.y;
@@ -266,7 +292,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     auto made = Renderer::createOnCurrentGlContext();  // after the window, so destroyed before it
     if (!made) return fail(made.error().describe());
     Renderer renderer = std::move(*made);
-    std::unique_ptr<ViewerUi> ui = ViewerUi::create(win);  // null in a build without Dear ImGui
+    ui = ViewerUi::create(win);  // null in a build without Dear ImGui
     std::cerr << "meniscus: viewing on " << renderer.backendName() << ": drag to orbit, scroll to zoom, "
               << (count0 > 1 ? "left/right for frames, space to play, " : "")
               << (ui ? "Tab for the panels, H for help, " : "") << "Esc or Q to quit\n";
@@ -285,7 +311,6 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     UiModel model;
     model.backend = renderer.backendName();
     model.scenePath = o.render.sceneFile.empty() ? "scene.json" : o.render.sceneFile;
-    bool panels = true;
     int uiFrames = kUiSettleFrames;
 
     // A frame of the input on screen (waiting for the reader); an error leaves the one shown.
@@ -432,7 +457,9 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
             stale = true;
         }
         if (copyCamera) copyTheCamera();
-        const glm::ivec2 size = win.framebufferSize();
+        const glm::ivec2 full = win.framebufferSize();
+        const Area area = pictureArea();
+        const glm::ivec2 size = area.size;
         if (size.x > 0 && size.y > 0) {  // 0 x 0 while minimised: nothing to draw
             if (size.x != settings.camera.width || size.y != settings.camera.height) {
                 settings.camera.width = size.x;
@@ -455,14 +482,17 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
                 in.damaged = true;
             }
             if (in.damaged || (ui && uiFrames > 0)) {
-                if (auto st = renderer.present(size.x, size.y); !st) return fail(st.error().describe());
+                if (auto st = renderer.present(full.x, full.y, area.left); !st) return fail(st.error().describe());
                 if (ui) {
                     model.look = look;
                     model.radiusM = settings.radiusM;
                     model.camera = settings.camera;
                     model.frame = index;
                     model.frameCount = count;
-                    model.frameNumber = input && index < input->files.size() ? frameNumberOf(input->files[index]) : -1;
+                    // The frames shown are the reader's (the input's were moved into it).
+                    const std::vector<std::filesystem::path>* shown = prefetch ? &prefetch->frames().files : nullptr;
+                    model.frameNumber =
+                        shown && index < shown->size() ? frameNumberOf((*shown)[prefetch->frames().source(index)]) : -1;
                     const UiRequests req = ui->frame(model, panels);
                     if (req.lookChanged) {
                         applyLook(model.look);
@@ -514,13 +544,15 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
 
     // The back buffer is undefined after a swap: draw the last frame again and read that.
     const glm::ivec2 size = win.framebufferSize();
-    if (!o.screenshot.empty()) {
-        if (auto st = renderer.present(size.x, size.y); !st) return fail(st.error().describe());
-        if (auto st = writePng(o.screenshot, win.readPixels(), false); !st) return fail(st.error().describe());
+    const Area area = pictureArea();
+    if (!o.screenshot.empty()) {  // the picture alone, beside the panels
+        if (auto st = renderer.present(size.x, size.y, area.left); !st) return fail(st.error().describe());
+        if (auto st = writePng(o.screenshot, cropColumns(win.readPixels(), area.left, area.size.x), false); !st)
+            return fail(st.error().describe());
         std::cerr << "meniscus: wrote " << o.screenshot << "\n";
     }
     if (!o.screenshotWindow.empty()) {
-        if (auto st = renderer.present(size.x, size.y); !st) return fail(st.error().describe());
+        if (auto st = renderer.present(size.x, size.y, area.left); !st) return fail(st.error().describe());
         if (ui) ui->frame(model, panels);
         if (auto st = writePng(o.screenshotWindow, win.readPixels(), false); !st) return fail(st.error().describe());
         std::cerr << "meniscus: wrote " << o.screenshotWindow << "\n";

@@ -1,7 +1,7 @@
-// The viewer's panels with Dear ImGui (view_ui.h). Every widget edits a
-// `render` option in UiModel::look; the viewer reparses the options after a
-// change (scene_save.h), so a slider can only reach values the command line
-// can name.
+// The viewer's panels with Dear ImGui (view_ui.h). The option widgets are
+// made from the library's option table (each row's PanelWidget: header,
+// range, when shown) and edit UiModel::look, which the viewer checks as the
+// command line does after a change (scene_save.h).
 #include "view_ui.h"
 
 #include <algorithm>
@@ -19,9 +19,16 @@
 
 #endif
 
+#include "meniscus/options.h"
 #include "meniscus/params.h"
 
 namespace meniscus::app {
+
+#if MENISCUS_HAVE_IMGUI
+bool viewerHasPanels() { return true; }
+#else
+bool viewerHasPanels() { return false; }
+#endif
 
 std::string timelineLabel(std::size_t index, std::size_t count, long number) {
     const std::string where = std::to_string(index + 1) + " of " + std::to_string(count);
@@ -31,26 +38,44 @@ std::string timelineLabel(std::size_t index, std::size_t count, long number) {
 #if MENISCUS_HAVE_IMGUI
 namespace {
 
-constexpr float kPanelWidth = 330.0f;  // screen units; the picture shows beside and under it
 constexpr int kSettleFrames = 3;       // a new window's widgets have their places after this many frames
 
-std::vector<std::string> splitList(const std::string& list) {  // "a, b, c" -> {a, b, c}
-    std::vector<std::string> out;
-    std::stringstream in(list);
-    std::string item;
-    while (std::getline(in, item, ',')) {
-        item.erase(0, item.find_first_not_of(' '));
-        item.erase(item.find_last_not_of(' ') + 1);
-        if (!item.empty()) out.push_back(item);
-    }
-    return out;
-}
 
-// A vector option's three floats, shown as the default's when unset.
-void get3(const std::optional<glm::vec3>& v, float* out) {
-    if (v) out[0] = v->x, out[1] = v->y, out[2] = v->z;
+// The headers of the option widgets, in order (each option's header is its
+// table row's PanelWidget::panel).
+const char* const kPanels[] = {"Surface",        "Material",  "Anisotropy", "Scene and light",
+                               "Noise and foam", "Whitening", "Spray",      "Silhouette"};
+
+// What an option left at "not given" amounts to, shown on its widget: the
+// filter's own iterations; the first preset's material values; the light's
+// default direction; the radius in use.
+Material firstPreset(const meniscus::RenderOptions& o) {
+    Material preset;
+    materialPreset(o.material.substr(0, o.material.find(',')), &preset);
+    return preset;
 }
-glm::vec3 vec3Of(const float* v) { return {v[0], v[1], v[2]}; }
+int unsetInt(const std::string& name, const meniscus::RenderOptions& o) {
+    if (name != "iterations") return 0;
+    FilterParams filter;
+    filterFromName(o.filter, &filter);
+    return filterIterations(filter);
+}
+float unsetFloat(const std::string& name, const meniscus::RenderOptions& o, const UiModel& m) {
+    const Material p = firstPreset(o);
+    if (name == "radius") return m.radiusM;
+    if (name == "ior") return p.ior;
+    if (name == "refraction") return p.refraction;
+    if (name == "specular") return p.specular;
+    if (name == "shininess") return p.shininess;
+    if (name == "opacity") return p.opacity;
+    return 0.0f;
+}
+glm::vec3 unsetVec3(const std::string& name, const meniscus::RenderOptions& o) {
+    if (name == "fluid-color") return firstPreset(o).fluidColor;
+    if (name == "absorption") return firstPreset(o).absorptionPerM;
+    if (name == "light") return ShadingParams{}.lightDirWorld;
+    return glm::vec3(0.0f);
+}
 
 // The help overlay's lines: key, what it does.
 constexpr const char* kHelp[][2] = {
@@ -158,16 +183,12 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
         return pressed;
     };
     const auto check = [&](const char* label, bool& v) { return changed(ImGui::Checkbox(label, &v), label); };
-    // A custom material value: the preset's until edited (NaN in the options).
-    const auto materialValue = [&](const char* label, float& v, float preset, float lo, float hi, bool log = false) {
-        float shown = std::isnan(v) ? preset : v;
-        if (slider(label, shown, lo, hi, "%.3g", log)) v = shown;
-    };
 
     if (visible) {
         ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Once);
-        ImGui::SetNextWindowSize(ImVec2(kPanelWidth, ImGui::GetIO().DisplaySize.y), ImGuiCond_Once);
+        ImGui::SetNextWindowSize(ImVec2(float(kViewerPanelWidth), ImGui::GetIO().DisplaySize.y), ImGuiCond_Once);
         ImGui::Begin("meniscus", nullptr, ImGuiWindowFlags_NoCollapse);
+        panelWidthPx_ = int(std::lround(ImGui::GetWindowWidth() * ImGui::GetIO().DisplayFramebufferScale.x));
         ImGui::PushItemWidth(-150.0f);
 
         if (header("Sequence", true)) {
@@ -210,98 +231,72 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
             ImGui::SameLine();
             if (button("load")) req.load = true;
         }
-        if (header("Surface", true)) {
-            combo("surface", o.surface, {"screen", "raycast"});
-            combo("view", o.view, splitList(viewNames()));
-            combo("filter", o.filter, splitList(filterNames()));
-            FilterParams filter;
-            filterFromName(o.filter, &filter);
-            int iterations = o.iterations >= 0 ? o.iterations : filterIterations(filter);
-            if (sliderInt("iterations", iterations, 0, 100)) o.iterations = iterations;
-            check("separable", o.separable);
-            float radius = o.radius > 0.0f ? o.radius : m.radiusM;
-            const float r0 = std::max(m.radiusM, 1e-6f);
-            if (slider("radius (m)", radius, 0.25f * r0, 4.0f * r0, "%.4g", true)) o.radius = radius;
-            slider("fill holes (radii)", o.fillHoles, 0.0f, 16.0f);
-            slider("min thickness (radii)", o.minThickness, 0.0f, 4.0f);
-            if (o.surface == "raycast") {
-                slider("iso level", o.mesher.iso, 0.05f, 0.95f);
-                slider("raycast step (radii)", o.raycastParams.stepRadii, 0.05f, 2.0f);
-                slider("raycast cover (radii)", o.raycastParams.coverRadii, 1.0f, 4.0f);
-            }
-            std::string scale = o.fluidScale == 1.0f ? "1" : o.fluidScale == 0.5f ? "0.5" : "0.25";
-            if (combo("fluid scale", scale, {"1", "0.5", "0.25"})) o.fluidScale = std::stof(scale);
-        }
-        if (header("Material", true)) {
-            combo("preset", o.material, splitList(materialPresetNames()));
-            Material preset;
-            materialPreset(o.material.substr(0, o.material.find(',')), &preset);
-            float color[3] = {preset.fluidColor.r, preset.fluidColor.g, preset.fluidColor.b};
-            get3(o.fluidColor, color);
-            if (changed(ImGui::ColorEdit3("fluid colour", color, ImGuiColorEditFlags_Float), "fluid colour"))
-                o.fluidColor = vec3Of(color);
-            float absorb[3] = {preset.absorptionPerM.r, preset.absorptionPerM.g, preset.absorptionPerM.b};
-            get3(o.absorption, absorb);
-            if (changed(ImGui::DragFloat3("absorption (1/m)", absorb, 0.05f, 0.0f, 1000.0f, "%.3g"),
-                        "absorption (1/m)"))
-                o.absorption = vec3Of(absorb);
-            materialValue("IOR", o.ior, preset.ior, 1.0f, 2.5f);
-            materialValue("refraction", o.refraction, preset.refraction, 0.0f, 4.0f);
-            materialValue("specular", o.specular, preset.specular, 0.0f, 4.0f);
-            materialValue("shininess", o.shininess, preset.shininess, 1.0f, 4000.0f, true);
-            materialValue("opacity", o.opacity, preset.opacity, 0.0f, 1.0f);
-            if (button("preset values")) {
+        // Every option with a widget in the table (include/meniscus/options.h),
+        // under its header, in the table's order.
+        const auto shownNow = [&](const PanelWidget& w) {
+            if (w.shownWith.empty()) return true;
+            const std::size_t eq = w.shownWith.find('=');
+            const RenderOptionSpec* other = findRenderOption(w.shownWith.substr(0, eq));
+            return other && optionText(other->field(o), other->flag) == w.shownWith.substr(eq + 1);
+        };
+        const auto widget = [&](const std::string& name, const std::string& unit, const PanelWidget& w,
+                                const OptionLimits& limits, const OptionRef& ref) {
+            if (!shownNow(w)) return;
+            const std::string labelText = widgetLabel(name, unit);
+            const char* label = labelText.c_str();
+            std::visit(
+                [&](auto* p) {
+                    using T = std::remove_pointer_t<decltype(p)>;
+                    if constexpr (std::is_same_v<T, bool>) {
+                        check(label, *p);
+                    } else if constexpr (std::is_same_v<T, std::string>) {
+                        if (limits.choices == std::vector<std::string>{"on", "off"}) {
+                            bool on = *p == "on";
+                            if (check(label, on)) *p = on ? "on" : "off";
+                        } else {
+                            combo(label, *p, w.choices.empty() ? limits.choices : w.choices);
+                        }
+                    } else if constexpr (std::is_same_v<T, int>) {
+                        int shown = *p == limits.unset ? unsetInt(name, o) : *p;
+                        if (sliderInt(label, shown, int(w.lo), int(w.hi))) *p = shown;
+                    } else if constexpr (std::is_same_v<T, float>) {
+                        if (!w.choices.empty()) {
+                            std::string text = optionText(p, false);
+                            if (combo(label, text, w.choices)) *p = std::stof(text);
+                            return;
+                        }
+                        const float inUse = std::max(m.radiusM, 1e-6f);  // `relative`: the radius in use
+                        float shown = std::isnan(*p) || (w.relative && *p == 0.0f) ? unsetFloat(name, o, m) : *p;
+                        const float scale = w.relative ? inUse : 1.0f;
+                        if (slider(label, shown, w.lo * scale, w.hi * scale, w.relative ? "%.4g" : "%.3g", w.log))
+                            *p = shown;
+                    } else if constexpr (std::is_same_v<T, std::optional<glm::vec3>>) {
+                        float v[3];
+                        const glm::vec3 shown = *p ? **p : unsetVec3(name, o);
+                        v[0] = shown.x, v[1] = shown.y, v[2] = shown.z;
+                        const bool edited =
+                            w.colour ? ImGui::ColorEdit3(label, v, ImGuiColorEditFlags_Float)
+                                     : ImGui::DragFloat3(label, v, 0.01f * std::min(w.hi - w.lo, 5.0f), w.lo, w.hi,
+                                                         "%.3g");
+                        if (changed(edited, label)) *p = glm::vec3(v[0], v[1], v[2]);
+                    }
+                },
+                ref);
+        };
+        for (const char* panel : kPanels) {
+            const std::string title = panel;
+            if (!header(panel, title == "Surface" || title == "Material")) continue;
+            for (const RenderOptionSpec& spec : renderOptionTable())
+                if (spec.widget.panel == title) widget(spec.name, spec.unit, spec.widget, spec.limits, spec.field(o));
+            for (const MesherOptionSpec& spec : mesherOptionTable())
+                if (spec.widget.panel == title)
+                    widget(spec.name, spec.unit, spec.widget, spec.limits, spec.field(o.mesher));
+            if (title == "Material" && button("preset values")) {
                 o.fluidColor.reset();
                 o.absorption.reset();
                 o.ior = o.refraction = o.specular = o.shininess = o.opacity = NAN;
                 req.lookChanged = true;
             }
-        }
-        if (header("Anisotropy")) {
-            bool on = o.anisotropy == "on";
-            if (check("anisotropic kernels", on)) o.anisotropy = on ? "on" : "off";
-            AnisotropyParams& a = o.anisotropyParams;
-            slider("neighbourhood (radii)", a.neighbourRadii, 1.0f, 8.0f);
-            slider("max axis ratio", a.kr, 1.0f, 16.0f);
-            slider("isolated size (radii)", a.kn, 0.05f, 1.0f);
-            sliderInt("min neighbours", a.minNeighbours, 1, 50);
-            check("keep surface", a.keepSurface);
-            slider("centre smoothing", a.smoothing, 0.0f, 1.0f);
-        }
-        if (header("Scene and light")) {
-            combo("background", o.background, {"auto", "studio", "floor", "none"});
-            const glm::vec3 l = ShadingParams{}.lightDirWorld;
-            float light[3] = {l.x, l.y, l.z};
-            get3(o.light, light);
-            if (changed(ImGui::DragFloat3("light (toward)", light, 0.02f, -1.0f, 1.0f, "%.2f"), "light (toward)"))
-                o.light = vec3Of(light);
-        }
-        if (header("Noise and foam")) {
-            check("noise", o.noise);
-            NoiseParams& q = o.noiseParams;
-            slider("bump (sprite radii)", q.bump, 0.0f, 1.0f);
-            slider("frequency (per radius)", q.frequency, 0.05f, 4.0f, "%.3g", true);
-            sliderInt("octaves", q.octaves, 1, 6);
-            slider("foam", q.foamGain, 0.0f, 8.0f);
-            slider("turbulence tau (m/s)", q.turbulence.tauMps, 0.01f, 10.0f, "%.3g", true);
-        }
-        if (header("Whitening")) {
-            check("whiten", o.whiten);
-            slider("threshold (m/s)", o.whitening.thresholdMps, 0.0f, 10.0f);
-            slider("ramp (m/s)", o.whitening.rampMps, 0.01f, 10.0f);
-            slider("strength", o.whitening.strength, 0.0f, 1.0f);
-        }
-        if (header("Spray")) {
-            check("spray", o.spray);
-            slider("spray density (of rest)", o.sprayParams.sprayDensity, 0.0f, 1.0f);
-            slider("rest density (kg/m^3)", o.sprayParams.restDensityKgM3, 0.0f, 3000.0f);
-            slider("drop size (radii)", o.sprayParams.sizeRadii, 0.05f, 2.0f);
-            slider("streak (s)", o.sprayParams.streakSeconds, 0.0f, 0.2f);
-        }
-        if (header("Silhouette")) {
-            check("silhouette", o.silhouette);
-            slider("window (radii)", o.silhouetteParams.radiusRadii, 0.5f, 8.0f);
-            slider("fade from", o.silhouetteParams.fadeFrom, 0.0f, 1.0f);
         }
         if (header("Timings", true)) {
             ImGui::Text("%s", m.backend.c_str());

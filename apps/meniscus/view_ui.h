@@ -20,6 +20,12 @@
 
 namespace meniscus::app {
 
+// The panels' width, screen units: the viewer's window is this much wider
+// than --width, and the picture is drawn beside the panels, not under them.
+inline constexpr int kViewerPanelWidth = 330;
+// Whether this build has the panels (Dear ImGui).
+bool viewerHasPanels();
+
 // What the panels show and edit; the viewer owns it and acts on UiRequests.
 struct UiModel {
     RenderJob look;      // every look option, edited in place by the panels
@@ -74,6 +80,10 @@ public:
     // draws them into the current framebuffer.
     UiRequests frame(UiModel& model, bool visible);
 
+    // The panels' width in framebuffer pixels as last drawn (the user may
+    // widen them); where the picture starts.
+    int panelWidthPx() const { return panelWidthPx_; }
+
 private:
     ViewerUi() = default;
     struct Widget {
@@ -82,6 +92,7 @@ private:
     };
     std::map<std::string, Widget> widgets_;  // by label (a combo's items as "combo/item"), of the last frame
     bool scripted_ = false, scriptedDown_ = false;
+    int panelWidthPx_ = kViewerPanelWidth;
     glm::vec2 scriptedAt_{0.0f};
 };
 

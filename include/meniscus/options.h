@@ -118,6 +118,19 @@ struct OptionLimits {
     std::vector<std::string> choices;  // a text's accepted values; empty: any text
 };
 
+// How the viewer's panels show an option (apps/meniscus/view_ui.cpp): under
+// which header, a number's slider range, and when it is shown. A bool is a
+// checkbox, a text with two choices on/off a checkbox too, a text or number
+// with choices a combo, a number a slider, three numbers a drag (a colour
+// picker for a colour).
+struct PanelWidget {
+    std::string panel;                 // the header it is under; "" : not in the panels
+    float lo = 0.0f, hi = 0.0f;        // a slider's range (times the value in use when `relative`)
+    bool log = false, relative = false, colour = false;
+    std::vector<std::string> choices;  // a combo's items when they differ from the option's
+    std::string shownWith;             // "surface=raycast": only while that option has that value
+};
+
 // One option: everything its faces need.
 template <class Options>
 struct OptionSpec {
@@ -127,6 +140,7 @@ struct OptionSpec {
     std::string help;   // one line (the unit said in it)
     OptionRef (*field)(Options&);
     OptionLimits limits;
+    PanelWidget widget;
     // A bool given as a bare flag (--noise) rather than on/off; a value
     // without a default worth printing (a sentinel such as --iterations -1).
     bool flag = false, noDefault = false;
@@ -147,6 +161,8 @@ const RenderOptionSpec* findRenderOption(std::string_view name);
 const MesherOptionSpec* findMesherOption(std::string_view name);
 // "noise_bump" (Python's and scene files' spelling of "noise-bump").
 std::string keywordName(std::string_view optionName);
+// A widget's label: "noise bump (sprite radii)", "radius (m)".
+std::string widgetLabel(const std::string& optionName, const std::string& unit);
 
 // The value's text as the command line writes it ("0.25", "on", "0,0,1";
 // "" for an unset vector; "true"/"false" for a flag).

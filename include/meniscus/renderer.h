@@ -238,11 +238,13 @@ public:
                 std::vector<StageTime>* timings = nullptr);
 
     // Draws the colour of the last draw() into the default framebuffer of the
-    // current GL context, framebufferWidth x framebufferHeight pixels (the
-    // camera's size), encoded to 8-bit sRGB exactly as the PNG writer does.
-    // Only a renderer made by createOnCurrentGlContext() can; others return an
-    // error. Does not swap the window's buffers.
-    Status present(int framebufferWidth, int framebufferHeight);
+    // current GL context (framebufferWidth x framebufferHeight pixels), its
+    // top-left pixel `left` pixels from the framebuffer's left edge at the
+    // top (the viewer leaves its panel's width free), one pixel per pixel,
+    // encoded to 8-bit sRGB exactly as the PNG writer does; what it does not
+    // cover is black. Only a renderer made by createOnCurrentGlContext() can;
+    // others return an error. Does not swap the window's buffers.
+    Status present(int framebufferWidth, int framebufferHeight, int left = 0);
 
 private:
     explicit Renderer(std::unique_ptr<Backend> backend);

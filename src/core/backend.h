@@ -252,7 +252,7 @@ public:
     // context (framebufferWidth x framebufferHeight pixels), 8-bit sRGB as the
     // PNG writer encodes. Only a GL backend made on a window's context can; the
     // others return an error.
-    virtual Status present(Slot color, int framebufferWidth, int framebufferHeight) = 0;
+    virtual Status present(Slot color, int framebufferWidth, int framebufferHeight, int left) = 0;
 };
 
 // The CPU reference backend (always available).

@@ -227,7 +227,7 @@ public:
         if (int(slot) == sceneColorSlot_) sceneColorSlot_ = -1;  // the slot no longer names the cached cast
         colors_[int(slot)] = std::move(image);
     }
-    Status present(Slot, int, int) override {
+    Status present(Slot, int, int, int) override {
         return makeError("", "the CPU backend cannot draw into a window (the viewer needs the GL backend)");
     }
 

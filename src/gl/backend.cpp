@@ -421,7 +421,7 @@ public:
         forget(slot);
         img(slot).upload(image);
     }
-    Status present(Slot color, int framebufferWidth, int framebufferHeight) override {
+    Status present(Slot color, int framebufferWidth, int framebufferHeight, int left) override {
         const auto fills = bufferFills();
         if (ctx_) return makeError("", "a headless GL backend has no window to draw into");
         if (!presenter_) {  // compiled on first use: headless backends never need it
@@ -429,7 +429,7 @@ public:
             if (!p) return p.error();
             presenter_ = std::move(*p);
         }
-        presenter_->draw(img(color), framebufferWidth, framebufferHeight);
+        presenter_->draw(img(color), framebufferWidth, framebufferHeight, left);
         return okStatus();
     }
 

@@ -18,7 +18,7 @@ Result<Presenter> Presenter::create() {
     return p;
 }
 
-void Presenter::draw(const GpuImage& color, int framebufferWidth, int framebufferHeight) {
+void Presenter::draw(const GpuImage& color, int framebufferWidth, int framebufferHeight, int left) {
     const bool rgba = color.channels == 4 && color.buffer.id() != 0;
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, framebufferWidth, framebufferHeight);
@@ -28,7 +28,7 @@ void Presenter::draw(const GpuImage& color, int framebufferWidth, int framebuffe
     // The stages' last writes to the colour buffer reach the fragment shader.
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glUseProgram(program_.id());
-    glUniform3i(0, rgba ? color.width : 0, rgba ? color.height : 0, framebufferHeight);
+    glUniform4i(0, rgba ? color.width : 0, rgba ? color.height : 0, framebufferHeight, left);
     if (rgba) color.bind(0);
     else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, empty_.id());
     glBindVertexArray(vertexArray_.id());

@@ -16,10 +16,11 @@ public:
 
     // Fills the default framebuffer (framebufferWidth x framebufferHeight
     // pixels) with `color` (W x H x 4 linear RGBA, row 0 = top), the image's
-    // top-left pixel at the window's top-left; what the image does not cover is
-    // black. One pixel per pixel, no scaling: the viewer renders at the
-    // framebuffer's size. Does not swap buffers.
-    void draw(const GpuImage& color, int framebufferWidth, int framebufferHeight);
+    // top-left pixel `left` pixels right of the window's top-left; what the
+    // image does not cover is black. One pixel per pixel, no scaling: the
+    // viewer renders at the size of the area it shows the picture in. Does
+    // not swap buffers.
+    void draw(const GpuImage& color, int framebufferWidth, int framebufferHeight, int left);
 
 private:
     Program program_;

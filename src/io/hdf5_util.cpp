@@ -356,16 +356,18 @@ Result<ParticleSet> io_util::readHdf5File(const std::filesystem::path& path, con
     });
 }
 
-Result<std::vector<std::string>> listH5PartSteps(const std::filesystem::path& path) {
+namespace {
+
+// `read` of the open H5Part file at `path`, its errors naming the file.
+template <class T, class F>
+Result<T> withH5PartFile(const std::filesystem::path& path, F&& read) {
     const std::string name = path.string();
     try {
         std::error_code ec;
         if (!std::filesystem::is_regular_file(path, ec)) return makeError(name, "no such file");
         h5::Lock lock;
         const h5::File file = h5::openFile(name);
-        std::vector<std::string> steps;
-        for (auto& s : h5partSteps(file.file.get())) steps.push_back(std::move(s.first));
-        return steps;
+        return read(file.file.get());
     } catch (const io_util::ParseFailure& f) {
         return makeError(name, f.message);
     } catch (const std::exception& e) {
@@ -373,16 +375,21 @@ Result<std::vector<std::string>> listH5PartSteps(const std::filesystem::path& pa
     }
 }
 
+}  // namespace
+
+Result<std::vector<std::string>> listH5PartSteps(const std::filesystem::path& path) {
+    return withH5PartFile<std::vector<std::string>>(path, [](hid_t file) {
+        std::vector<std::string> steps;
+        for (auto& s : h5partSteps(file)) steps.push_back(std::move(s.first));
+        return steps;
+    });
+}
+
 Result<std::vector<double>> h5partStepTimes(const std::filesystem::path& path) {
-    const std::string name = path.string();
-    try {
-        std::error_code ec;
-        if (!std::filesystem::is_regular_file(path, ec)) return makeError(name, "no such file");
-        h5::Lock lock;
-        const h5::File file = h5::openFile(name);
+    return withH5PartFile<std::vector<double>>(path, [](hid_t file) {
         std::vector<double> times;
-        for (const auto& step : h5partSteps(file.file.get())) {
-            h5::Handle group = h5::openGroup(file.file.get(), step.first, "");
+        for (const auto& step : h5partSteps(file)) {
+            h5::Handle group = h5::openGroup(file, step.first, "");
             // ParaView's H5Part reader reads "TimeValue"; other writers say "time" or "Time".
             double t = NAN;
             for (const char* key : {"TimeValue", "time", "Time"})
@@ -391,11 +398,7 @@ Result<std::vector<double>> h5partStepTimes(const std::filesystem::path& path) {
             times.push_back(t);
         }
         return times;
-    } catch (const io_util::ParseFailure& f) {
-        return makeError(name, f.message);
-    } catch (const std::exception& e) {
-        return makeError(name, std::string("cannot read HDF5 data: ") + e.what());
-    }
+    });
 }
 
 Result<std::vector<ParticleArrayInfo>> io_util::listHdf5ParticleArrays(const std::filesystem::path& path) {

@@ -2,6 +2,7 @@
 #include "meniscus/options.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <limits>
 #include <sstream>
@@ -31,6 +32,11 @@ RenderOptionSpec ranged(RenderOptionSpec s, double lo, double hi) {
 }
 RenderOptionSpec oneOf(RenderOptionSpec s, std::vector<std::string> choices) {
     s.limits.choices = std::move(choices);
+    return s;
+}
+RenderOptionSpec shown(RenderOptionSpec s, const char* panel, float lo = 0.0f, float hi = 0.0f, bool log = false) {
+    s.widget.panel = panel;
+    s.widget.lo = lo, s.widget.hi = hi, s.widget.log = log;
     return s;
 }
 RenderOptionSpec positive(RenderOptionSpec s) {
@@ -278,6 +284,72 @@ std::vector<RenderOptionSpec> makeRenderTable() {
                     "--surface raycast: radius of the splatted spheres that start the rays, in particle radii (the "
                     "iso-surface reaches past the spheres of r between particles)",
                     [](R& o) -> OptionRef { return &o.raycastParams.coverRadii; }));
+    // The viewer's panels: header, slider range (log for wide ones).
+    struct Widget {
+        const char* name;
+        const char* panel;
+        float lo = 0.0f, hi = 0.0f;
+        bool log = false;
+    };
+    const Widget widgets[] = {
+        {"radius", "Surface", 0.25f, 4.0f, true},  // times the radius in use
+        {"view", "Surface"},
+        {"filter", "Surface"},
+        {"iterations", "Surface", 0.0f, 100.0f},
+        {"separable", "Surface"},
+        {"fill-holes", "Surface", 0.0f, 16.0f},
+        {"min-thickness", "Surface", 0.0f, 4.0f},
+        {"fluid-scale", "Surface"},
+        {"surface", "Surface"},
+        {"raycast-step", "Surface", 0.05f, 2.0f},
+        {"raycast-cover", "Surface", 1.0f, 4.0f},
+        {"material", "Material"},
+        {"fluid-color", "Material", 0.0f, 1.0f},
+        {"absorption", "Material", 0.0f, 1000.0f},
+        {"ior", "Material", 1.0f, 2.5f},
+        {"refraction", "Material", 0.0f, 4.0f},
+        {"specular", "Material", 0.0f, 4.0f},
+        {"shininess", "Material", 1.0f, 4000.0f, true},
+        {"opacity", "Material", 0.0f, 1.0f},
+        {"anisotropy", "Anisotropy"},
+        {"anisotropy-radius", "Anisotropy", 1.0f, 8.0f},
+        {"anisotropy-ratio", "Anisotropy", 1.0f, 16.0f},
+        {"anisotropy-isolated", "Anisotropy", 0.05f, 1.0f},
+        {"anisotropy-neighbours", "Anisotropy", 1.0f, 50.0f},
+        {"anisotropy-keep-surface", "Anisotropy"},
+        {"anisotropy-smoothing", "Anisotropy", 0.0f, 1.0f},
+        {"background", "Scene and light"},
+        {"light", "Scene and light", -1.0f, 1.0f},
+        {"noise", "Noise and foam"},
+        {"noise-bump", "Noise and foam", 0.0f, 1.0f},
+        {"noise-frequency", "Noise and foam", 0.05f, 4.0f, true},
+        {"noise-octaves", "Noise and foam", 1.0f, 6.0f},
+        {"foam", "Noise and foam", 0.0f, 8.0f},
+        {"turbulence-tau", "Noise and foam", 0.01f, 10.0f, true},
+        {"whiten", "Whitening"},
+        {"whiten-threshold", "Whitening", 0.0f, 10.0f},
+        {"whiten-ramp", "Whitening", 0.01f, 10.0f},
+        {"whiten-strength", "Whitening", 0.0f, 1.0f},
+        {"spray", "Spray"},
+        {"spray-density", "Spray", 0.0f, 1.0f},
+        {"rest-density", "Spray", 0.0f, 3000.0f},
+        {"spray-size", "Spray", 0.05f, 2.0f},
+        {"spray-streak", "Spray", 0.0f, 0.2f},
+        {"silhouette", "Silhouette"},
+        {"silhouette-radius", "Silhouette", 0.5f, 8.0f},
+        {"silhouette-fade", "Silhouette", 0.0f, 1.0f},
+    };
+    for (const Widget& w : widgets)
+        for (RenderOptionSpec& spec : t)
+            if (spec.name == w.name) spec = shown(std::move(spec), w.panel, w.lo, w.hi, w.log);
+    for (RenderOptionSpec& spec : t) {
+        if (spec.name == "radius") spec.widget.relative = true;
+        if (spec.name == "fluid-color") spec.widget.colour = true;
+        if (spec.name.rfind("raycast-", 0) == 0) spec.widget.shownWith = "surface=raycast";
+        if (spec.name == "surface") spec.widget.choices = {"screen", "raycast"};  // the viewer draws no mesh
+        if (spec.name == "fluid-scale") spec.widget.choices = {"1", "0.5", "0.25"};
+        if (spec.name == "material") spec.widget.choices = splitNames(materialPresetNames());
+    }
     return t;
 }
 
@@ -299,6 +371,7 @@ std::vector<MesherOptionSpec> makeMesherTable() {
                      "Iso level as a fraction of the field inside fluid at rest (a 2r lattice); 0.5 puts a flat face 1 "
                      "r beyond the outermost particle centres",
                      [](M& o) -> OptionRef { return &o.iso; }));
+    t.back().widget = {"Surface", 0.05f, 0.95f, false, false, false, {}, "surface=raycast"};  // the ray cast's level
     t.push_back(mrow("field", "",
                      "sph: the SPH density, cubic spline of support 4 r (the surface refsurf ray-traces); thesis: "
                      "thesis eq. 4.16, f(d) = (d/(sqrt2 Rc))^4 - (d/(sqrt2 Rc))^2 + 1/4, Rc = 2.5 r",
@@ -375,8 +448,22 @@ const MesherOptionSpec* findMesherOption(std::string_view name) {
     return nullptr;
 }
 
+// The shortest text that reads back as the same float (so a value printed by
+// the viewer and given to `render` is the value the viewer drew with).
+std::string floatText(float v) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
+}
+
 std::string vec3Text(const glm::vec3& v) {
-    return numberText(v.x) + "," + numberText(v.y) + "," + numberText(v.z);
+    return floatText(v.x) + "," + floatText(v.y) + "," + floatText(v.z);
+}
+
+std::string widgetLabel(const std::string& optionName, const std::string& unit) {
+    std::string label = optionName;
+    std::replace(label.begin(), label.end(), '-', ' ');
+    return unit.empty() ? label : label + " (" + unit + ")";
 }
 
 std::string keywordName(std::string_view optionName) {
@@ -391,7 +478,7 @@ std::string optionText(const OptionRef& ref, bool flag) {
             using T = std::remove_pointer_t<decltype(p)>;
             if constexpr (std::is_same_v<T, bool>) return *p ? "true" : "false";
             else if constexpr (std::is_same_v<T, int>) return std::to_string(*p);
-            else if constexpr (std::is_same_v<T, float>) return std::isnan(*p) ? std::string() : numberText(*p);
+            else if constexpr (std::is_same_v<T, float>) return std::isnan(*p) ? std::string() : floatText(*p);
             else if constexpr (std::is_same_v<T, std::string>) return *p;
             else if constexpr (std::is_same_v<T, glm::vec3>) return vec3Text(*p);
             else return *p ? vec3Text(**p) : std::string();

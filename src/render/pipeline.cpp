@@ -1033,9 +1033,9 @@ Status Renderer::draw(const ParticleView& particles, const RenderSettings& s, st
     });
 }
 
-Status Renderer::present(int framebufferWidth, int framebufferHeight) {
+Status Renderer::present(int framebufferWidth, int framebufferHeight, int left) {
     return guarded("presenting", [&]() -> Status {
-        return backend_->present(Slot::Color, framebufferWidth, framebufferHeight);
+        return backend_->present(Slot::Color, framebufferWidth, framebufferHeight, left);
     });
 }
 

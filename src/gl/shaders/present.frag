@@ -10,17 +10,18 @@
 
 layout(std430, binding = 0) readonly buffer Color { vec4 color[]; };  // W*H linear RGBA
 
-// x, y = the image's width and height; z = the framebuffer's height.
-layout(location = 0) uniform ivec3 uSize;
+// x, y = the image's width and height; z = the framebuffer's height; w = the
+// image's left edge in the framebuffer, pixels.
+layout(location = 0) uniform ivec4 uSize;
 
 layout(location = 0) out vec4 fragColor;
 
 float level(float linear) { return floor(srgbEncode(linear) * 255.0 + 0.5) / 255.0; }
 
 void main() {
-    const int x = int(gl_FragCoord.x);
-    const int y = uSize.z - 1 - int(gl_FragCoord.y);  // the image's top-left at the window's top-left
-    if (x >= uSize.x || y < 0 || y >= uSize.y) {
+    const int x = int(gl_FragCoord.x) - uSize.w;
+    const int y = uSize.z - 1 - int(gl_FragCoord.y);  // the image's top-left at (left, top) of the window
+    if (x < 0 || x >= uSize.x || y < 0 || y >= uSize.y) {
         fragColor = vec4(0.0, 0.0, 0.0, 1.0);  // outside the image (a resize not rendered yet)
         return;
     }
