@@ -44,6 +44,8 @@ TEST(OptionTable, RowsLandInTheirFields) {
     EXPECT_EQ(o.mesher.cubeSize, 1.5f);
     ASSERT_TRUE(setRenderOption(o, "up", glm::vec3(0, 0, 1)));
     EXPECT_EQ(o.up, glm::vec3(0, 0, 1));
+    ASSERT_TRUE(setRenderOption(o, "light", std::string("1,2,3")));  // the text a hand-written file may hold
+    EXPECT_EQ(o.light, std::optional<glm::vec3>(glm::vec3(1, 2, 3)));
     ASSERT_TRUE(setRenderOption(o, "eye", glm::vec3(1, 2, 3)));
     ASSERT_TRUE(o.eye.has_value());
     EXPECT_EQ(*o.eye, glm::vec3(1, 2, 3));

@@ -43,8 +43,7 @@ namespace {
 // `view` takes the same files (checked as `render`'s): the settings it has no
 // option for (output, fps, ...) are left out.
 Result<std::vector<std::string>> withSceneFile(const std::vector<std::string>& words, CLI::App& render,
-                                               CLI::App& sub, std::string* sceneFile,
-                                               std::vector<std::pair<std::string, std::string>>* keys) {
+                                               CLI::App& sub, RenderJob& job) {
     const auto r = std::find(words.begin(), words.end(), sub.get_name());
     if (r == words.end()) return words;
     // The input word: a .json that is not the value of an option (--simulate s.json, --camera-path p.json).
@@ -56,8 +55,13 @@ Result<std::vector<std::string>> withSceneFile(const std::vector<std::string>& w
     if (scene == words.end()) return words;
     auto parsed = sceneFileArgs(*scene, render);
     if (!parsed) return parsed.error();
-    *sceneFile = *scene;
-    *keys = parsed->keyOfOption;
+    job.sceneFile = *scene;
+    job.sceneKeys = parsed->keyOfOption;
+    // The table's settings typed onto the options now; the command line's own, parsed after, win.
+    if (auto st = applyTypedSettings(*parsed, job, *scene,
+                                     [&](const std::string& option) { return sub.get_option_no_throw("--" + option); });
+        !st)
+        return st.error();
     std::vector<std::string> given;  // options on the command line (-o as --output)
     for (auto w = r + 1; w != words.end(); ++w)
         if (w->size() > 1 && (*w)[0] == '-') given.push_back(*w == "-o" ? "--output" : w->substr(0, w->find('=')));
@@ -321,10 +325,10 @@ int main(int argc, char** argv) {
     }
     // `render scene.json`: the file's settings become arguments, the command line's own win.
     std::vector<std::string> words(argv, argv + argc);
-    auto expanded = withSceneFile(words, *renderCmd, *renderCmd, &render.sceneFile, &render.sceneKeys);
+    auto expanded = withSceneFile(words, *renderCmd, *renderCmd, render);
     if (!expanded) return fail(expanded.error().describe());
     if (render.sceneFile.empty())
-        expanded = withSceneFile(*expanded, *renderCmd, *viewCmd, &view.render.sceneFile, &view.render.sceneKeys);
+        expanded = withSceneFile(*expanded, *renderCmd, *viewCmd, view.render);
     if (!expanded) return fail(expanded.error().describe());
     std::vector<char*> args;
     for (std::string& w : *expanded) args.push_back(w.data());

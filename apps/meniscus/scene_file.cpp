@@ -1,6 +1,7 @@
 // Render scene files: JSON keys to `render`'s arguments (scene_file.h).
 #include "scene_file.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <filesystem>
@@ -14,6 +15,16 @@ namespace meniscus::app {
 namespace {
 
 using nlohmann::json;
+
+// A list of three numbers as a vec3.
+bool readVec3(const json& v, glm::vec3& out) {
+    if (!v.is_array() || v.size() != 3) return false;
+    for (std::size_t i = 0; i < 3; ++i) {
+        if (!v[i].is_number()) return false;
+        out[int(i)] = v[i].get<float>();
+    }
+    return true;
+}
 
 // "fill_holes" or "fill-holes" -> "--fill-holes".
 std::string optionName(const std::string& key) {
@@ -48,6 +59,14 @@ public:
         if (!opt || name == "--help" || name == "--output")
             return fail(key, "unknown key (a scene file's keys are `meniscus render`'s options, e.g. width, filter, "
                              "anisotropy; grouped under camera, render, material and light or at the top level)");
+        const std::string option = name.substr(2);
+        if (findRenderOption(option) || findMesherOption(option)) {  // the table's: typed
+            auto value = typedValue(v);
+            if (!value) return fail(key, value.error().message);
+            out_.typed.push_back({key, option, std::move(*value)});
+            out_.keyOfOption.emplace_back(name, key);
+            return okStatus();
+        }
         const bool flag = opt->get_expected_max() == 0;  // takes no value
         std::vector<std::string> group{name};
         if (flag) {
@@ -97,6 +116,24 @@ public:
         return okStatus();
     }
 
+    // A JSON value as an option's typed value: true/false, a whole number, a
+    // number, a text, three numbers, or texts joined by commas (a material
+    // per fluid).
+    static Result<OptionValue> typedValue(const json& v) {
+        if (v.is_boolean()) return OptionValue(v.get<bool>());
+        if (v.is_number_integer()) return OptionValue(v.get<std::int64_t>());
+        if (v.is_number()) return OptionValue(v.get<double>());
+        if (v.is_string()) return OptionValue(v.get<std::string>());
+        if (v.is_array() && !v.empty() && std::all_of(v.begin(), v.end(), [](const json& e) { return e.is_string(); })) {
+            std::string joined;
+            for (const json& e : v) joined += (joined.empty() ? "" : ",") + e.get<std::string>();
+            return OptionValue(joined);
+        }
+        glm::vec3 three;
+        if (readVec3(v, three)) return OptionValue(three);
+        return makeError("", "expected a number, a string, true/false, a list of three numbers or of names");
+    }
+
     static bool pathOption(const std::string& name) {
         return name == "--diffuse" || name == "--fluid" || name == "--camera-path";
     }
@@ -125,15 +162,6 @@ Result<json> readJson(const std::string& path) {
     }
 }
 
-// A list of three numbers as a vec3.
-bool readVec3(const json& v, glm::vec3& out) {
-    if (!v.is_array() || v.size() != 3) return false;
-    for (std::size_t i = 0; i < 3; ++i) {
-        if (!v[i].is_number()) return false;
-        out[int(i)] = v[i].get<float>();
-    }
-    return true;
-}
 
 }  // namespace
 
@@ -236,6 +264,15 @@ Result<SceneArgs> sceneFileArgs(const std::string& path, CLI::App& render) {
         if (!st) return st.error();
     }
     return std::move(c.out());
+}
+
+Status applyTypedSettings(const SceneArgs& args, meniscus::RenderOptions& o, const std::string& file,
+                          const std::function<bool(const std::string& option)>& accepts) {
+    for (const SceneArgs::Typed& t : args.typed) {
+        if (!accepts(t.option)) continue;
+        if (auto st = setRenderOption(o, t.option, t.value); !st) return makeError(file, t.key + ": " + st.error().message);
+    }
+    return okStatus();
 }
 
 std::string withSceneKey(const std::string& message, const std::string& sceneFile,

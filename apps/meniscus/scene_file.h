@@ -1,14 +1,18 @@
 // Render scene files: `meniscus render scene.json` reads particles, camera,
 // light, material, render settings and output from one JSON file. Every key is
 // one of `render`'s options, so each CLI option has its scene-file twin and
-// both are checked by the same code; the file's settings become arguments, and
-// options given on the command line as well override them. Schema: docs/usage.md#scene-files.
+// both are checked by the same code. The options of the library's table are
+// set typed from the JSON values (no text in between); the command's own
+// (output, fps, ...) become arguments; options given on the command line as
+// well override both. Schema: docs/usage.md#scene-files.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "meniscus/camera_path.h"
+#include "meniscus/options.h"
 #include "meniscus/result.h"
 
 namespace CLI {
@@ -24,8 +28,16 @@ namespace meniscus::app {
 bool isJsonFile(const std::string& path);
 
 struct SceneArgs {
-    // `render`'s arguments, one group per setting: {INPUT}, {"--output", OUT},
-    // {"--width", "320"}, {"--noise"}, ... (a group's first word names it).
+    // The settings of the library's option table (include/meniscus/options.h),
+    // typed from the JSON as they are: {"render.width", "width", 320}.
+    struct Typed {
+        std::string key;     // its path in the file, for errors
+        std::string option;  // the table's name
+        OptionValue value;
+    };
+    std::vector<Typed> typed;
+    // The rest, `render`'s own arguments, one group per setting: {INPUT},
+    // {"--output", OUT}, {"--fps", "15"}, ... (a group's first word names it).
     std::vector<std::vector<std::string>> groups;
     // For each option set by the file, its key ("camera.eye"), so later errors
     // about the option can name the key.
@@ -36,6 +48,11 @@ struct SceneArgs {
 // declares): an error naming the file and the key for an unknown key, a value
 // of the wrong kind, or JSON that does not parse.
 Result<SceneArgs> sceneFileArgs(const std::string& path, CLI::App& render);
+
+// The typed settings of `args` set on `o` (those `accepts` takes: a
+// subcommand's own options); an error naming `file` and the key.
+Status applyTypedSettings(const SceneArgs& args, meniscus::RenderOptions& o, const std::string& file,
+                          const std::function<bool(const std::string& option)>& accepts);
 
 // --camera-path's value: a JSON array of keys, {"time": seconds, "eye":
 // [x, y, z], "target": [x, y, z], "fov": degrees} (fov optional: `defaultFov`;

@@ -33,15 +33,20 @@ bool isFlag(const std::string& name) {
     return s && s->flag;
 }
 
-// "3", "0.25" as a JSON number; anything else ("on", "0.2,0.5,0.9") as the string.
-json valueJson(const std::string& text) {
-    if (text == "true") return true;
-    char* end = nullptr;
-    const long long n = std::strtoll(text.c_str(), &end, 10);
-    if (!text.empty() && end == text.c_str() + text.size()) return n;  // an integer stays one (--iterations 2)
-    const double v = std::strtod(text.c_str(), &end);
-    if (!text.empty() && end == text.c_str() + text.size() && std::isfinite(v)) return v;
-    return text;
+// An option's value as JSON of its own type: true/false, a whole number, a
+// number (in the shortest text that reads back as the same float), a text,
+// [x, y, z] (null when unset).
+json typedJson(const OptionRef& ref) {
+    return std::visit(
+        [&](auto* p) -> json {
+            using T = std::remove_pointer_t<decltype(p)>;
+            if constexpr (std::is_same_v<T, float>) return std::strtod(optionText(ref, false).c_str(), nullptr);
+            else if constexpr (std::is_same_v<T, glm::vec3>) return json::array({p->x, p->y, p->z});
+            else if constexpr (std::is_same_v<T, std::optional<glm::vec3>>)
+                return *p ? json::array({(*p)->x, (*p)->y, (*p)->z}) : json(nullptr);
+            else return *p;
+        },
+        ref);
 }
 
 // `path` relative to `folder` when the two share more than the root (a
@@ -102,14 +107,14 @@ Result<std::string> sceneFileText(const RenderJob& o, const Camera& camera, cons
                        {"target", vec3Json(back.apply(camera.target))},
                        {"fov", camera.fovYDegrees}};
     json render = {{"width", camera.width}, {"height", camera.height}};
-    const RenderJob fresh;  // named: GCC 12 warns (falsely) of a temporary's string as uninitialised
-    const auto defaults = optionTexts(fresh);
-    const auto mine = optionTexts(o);
-    for (std::size_t i = 0; i < mine.size() && i < defaults.size(); ++i) {
-        const auto& [name, text] = mine[i];
-        if (cameraOption(name) || text == defaults[i].second) continue;
-        render[name.substr(2)] = valueJson(text);
-    }
+    // Every option of the tables that is not at its default, typed.
+    RenderJob mine = o, fresh;
+    const auto put = [&](const std::string& name, const OptionRef& value, const OptionRef& initial) {
+        if (cameraOption("--" + name) || optionText(value, false) == optionText(initial, false)) return;
+        render[name] = typedJson(value);
+    };
+    for (const RenderOptionSpec& s : renderOptionTable()) put(s.name, s.field(mine), s.field(fresh));
+    for (const MesherOptionSpec& s : mesherOptionTable()) put(s.name, s.field(mine.mesher), s.field(fresh.mesher));
     if (!o.select.empty()) render["select"] = o.select;  // an input option, not a look one: not in optionTexts
     scene["render"] = render;
     return scene.dump(2) + "\n";
@@ -134,6 +139,7 @@ Result<RenderJob> loadSceneFile(const std::string& path) {
     CLI::App* render = addRenderCommand(parent, o);
     auto args = sceneFileArgs(path, *render);
     if (!args) return args.error();
+    if (auto st = applyTypedSettings(*args, o, path, [](const std::string&) { return true; }); !st) return st.error();
     std::vector<std::string> words{"render"};
     bool output = false;
     for (const auto& group : args->groups) {

@@ -566,8 +566,12 @@ Status setOptionValue(const std::string& name, const OptionRef& ref, const Optio
                 else if (std::holds_alternative<std::string>(value)) v = std::get<std::string>(value);
                 else return wrong("a text");
             } else {
-                if (!std::holds_alternative<glm::vec3>(value)) return wrong("three numbers x,y,z");
-                const glm::vec3 g = std::get<glm::vec3>(value);
+                // Three numbers, or their text "x,y,z" (as the command line and a hand-written file say them).
+                std::optional<glm::vec3> read;
+                if (std::holds_alternative<glm::vec3>(value)) read = std::get<glm::vec3>(value);
+                else if (std::holds_alternative<std::string>(value)) read = parseVec3(std::get<std::string>(value));
+                if (!read) return wrong("three numbers x,y,z");
+                const glm::vec3 g = *read;
                 if (!std::isfinite(g.x) || !std::isfinite(g.y) || !std::isfinite(g.z))
                     return wrong("three finite numbers x,y,z");
                 v = g;
