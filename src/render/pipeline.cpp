@@ -20,8 +20,10 @@
 // With the spray on, the particles classified as spray (core/spray.h) are
 // taken out before the splat and drawn by the last stage, which also draws
 // the diffuse layer (RenderSettings::diffuse, the whitewater) when given.
-// Each stage is one method of the backend (src/core/backend.h): one function
-// in src/cpu/ on the CPU, one shader stage in src/gl/ on the GL backend.
+// Each stage is declared in render/stages.cpp (what it reads and writes, when
+// it runs, the check of its parameters) and runs as one method of the backend
+// (src/core/backend.h): one function in src/cpu/ on the CPU, one shader stage
+// in src/gl/ on the GL backend.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -40,6 +42,7 @@
 #include "core/turbulence.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
+#include "render/stages.h"
 #include "shared/raster_mesh.h"
 #include "shared/studio.h"
 #include "shared/surface_noise.h"
@@ -335,10 +338,6 @@ Status checkMesh(const TriangleMesh& m) {
 static_assert(defaults::kMaxImageSizePx <= shared::kRasterMaxSidePx,
               "the mesh path needs a check of the image size against shared::kRasterMaxSidePx");
 
-// Whether the spray stage runs: it draws the spray's drops, the diffuse
-// layer's, or both.
-bool drawsDrops(const RenderSettings& s) { return s.spray.enabled || !s.diffuse.empty(); }
-
 // The particles [begin, begin + count) of a view, every attribute with them.
 ParticleView sliceView(const ParticleView& v, std::size_t begin, std::size_t count) {
     auto slice = [&](auto view) {
@@ -592,39 +591,10 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     if (auto st = all.validate(); !st) return st;
     if (s.mesh)
         if (auto st = checkMesh(*s.mesh); !st) return st;
+    // Each stage's parameters, and what the view needs of them (render/stages.cpp).
+    if (auto st = checkStages(s); !st) return st;
     const int divisor = fluidDivisor(s.fluidScale);
-    if (divisor == 0)
-        return makeError("", "RenderSettings::fluidScale: expected 1, 0.5 or 0.25, got " + std::to_string(s.fluidScale));
-    if (std::string bad = checkHoleFillParams(s.holeFill, s.thickness); !bad.empty())
-        return makeError("", "RenderSettings::" + bad);
-    if (s.raycast.enabled) {
-        if (std::string bad = checkRaycastParams(s.raycast); !bad.empty())
-            return makeError("", "RenderSettings::raycast." + bad);
-        if (s.mesh) return makeError("", "RenderSettings::raycast: the ray cast is for the particle surface, not the mesh path");
-    }
-    if (divisor > 1 && s.mesh)
-        return makeError("", "RenderSettings::fluidScale: reduced resolution is for the particle surface, not the mesh path");
-    if ((s.view == View::Noise || s.view == View::Foam) && !s.noise.enabled)
-        return makeError("", "the noise and foam views need the surface noise on (RenderSettings::noise.enabled)");
-    if (s.view == View::Whitening && !s.whitening.enabled)
-        return makeError("", "the whitening view needs the velocity whitening on (RenderSettings::whitening.enabled)");
-    if (s.whitening.enabled)
-        if (std::string bad = checkWhiteningParams(s.whitening); !bad.empty())
-            return makeError("", "RenderSettings::whitening." + bad);
-    if (s.view == View::Silhouette && !s.silhouette.enabled)
-        return makeError("", "the silhouette view needs the silhouette reduction on (RenderSettings::silhouette.enabled)");
-    if (s.silhouette.enabled)
-        if (std::string bad = checkSilhouetteParams(s.silhouette); !bad.empty())
-            return makeError("", "RenderSettings::silhouette." + bad);
     const bool drops = drawsDrops(s);
-    if (s.view == View::Spray && !drops)
-        return makeError("", "the spray view needs the spray on (RenderSettings::spray.enabled) or a diffuse layer");
-    if (!s.diffuse.velocities.empty() && s.diffuse.velocities.size() != s.diffuse.positions.size())
-        return makeError("", "RenderSettings::diffuse: velocities must be empty or one per position");
-    if (!s.diffuse.kind.empty() && s.diffuse.kind.size() != s.diffuse.positions.size())
-        return makeError("", "RenderSettings::diffuse: kind must be empty or one per position");
-    if (drops)
-        if (std::string bad = checkSprayParams(s.spray); !bad.empty()) return makeError("", "RenderSettings::spray." + bad);
     if (s.compositor)
         if (auto st = checkSortLast(s, all); !st) return st;
     // The studio is built around every particle, spray included.
@@ -662,9 +632,6 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         if (k >= 0 && std::size_t(k) < s.fluidMaterials.size()) sh.material = s.fluidMaterials[std::size_t(k)];
         return sh;
     };
-    if (s.noise.enabled)
-        if (std::string bad = checkNoiseParams(s.noise); !bad.empty())
-            return makeError("", "RenderSettings::noise." + bad);
     // The backends read positions as one contiguous array: the caller's own
     // when the view is one, else gathered here (a strided view).
     std::span<const glm::vec3> positions;
@@ -681,9 +648,6 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     anisotropyMs_ = -1.0;
     const bool anisotropic = s.anisotropy.enabled;
     const bool ownRadii = s.particleRadii && particles.radius.present();
-    if (anisotropic)
-        if (std::string bad = checkAnisotropyParams(s.anisotropy); !bad.empty())
-            return makeError("", "RenderSettings::anisotropy." + bad);
     if (ownRadii)
         for (std::size_t i = 0; i < particles.size(); ++i)
             if (const Status st = checkRadius(particles.radius[i]); !st)
