@@ -77,7 +77,9 @@ bool isPng(const std::string& path) { return fs::path(path).extension() == ".png
 bool isMp4(const std::string& path) { return fs::path(path).extension() == ".mp4"; }
 
 void addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, const std::string& help,
-                    const OptionRef& ref, const OptionLimits& limits, bool flag, const std::string& defaultText) {
+                    const OptionRef& ref, const OptionLimits& limits, bool flag, bool noDefault) {
+    // The default shown is the bound value's (a command may set its own, e.g. simulate's --backend cpu).
+    const std::string defaultText = noDefault ? std::string() : optionText(ref, flag);
     const std::string option = "--" + name;
     CLI::Option* opt = std::visit(
         [&](auto* p) -> CLI::Option* {
@@ -85,8 +87,9 @@ void addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, c
             if constexpr (std::is_same_v<T, bool>) {
                 if (flag) return cmd->add_flag(option, *p, help);
                 return cmd->add_option(option, *p, help);
-            } else if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float> || std::is_same_v<T, std::string>) {
-                return cmd->add_option(option, *p, help);
+            } else if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float> || std::is_same_v<T, double> ||
+                                 std::is_same_v<T, std::string> || std::is_same_v<T, std::vector<std::string>>) {
+                return cmd->add_option(option, *p, help);  // a list: the option repeated
             } else {
                 // Three numbers "x,y,z", checked as the library checks them.
                 return cmd->add_option_function<std::string>(
@@ -124,7 +127,7 @@ void addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, c
     std::visit(
         [&](auto* p) {
             using T = std::remove_pointer_t<decltype(p)>;
-            if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float>) {
+            if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float> || std::is_same_v<T, double>) {
                 if (limits.positive) opt->check(CLI::PositiveNumber);
                 else if (limits.min == 0.0 && std::isinf(limits.max)) opt->check(CLI::NonNegativeNumber);
                 else if (!std::isnan(limits.min) && !std::isnan(limits.max)) {
@@ -139,17 +142,24 @@ void addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, c
 void addTableOptions(CLI::App* cmd, meniscus::RenderOptions& o,
                      const std::function<bool(const RenderOptionSpec&)>& keep) {
     for (const RenderOptionSpec& s : renderOptionTable())
-        if (keep(s)) addTableOption(cmd, s.name, s.group, s.help, s.field(o), s.limits, s.flag, defaultText(s));
+        if (keep(s)) addTableOption(cmd, s.name, s.group, s.help, s.field(o), s.limits, s.flag, s.noDefault);
+}
+
+void addJobTableOptions(CLI::App* cmd, JobOptions& o, const std::vector<std::string>& names) {
+    for (const std::string& name : names) {
+        const JobOptionSpec& s = *findJobOption(name);
+        addTableOption(cmd, s.name, s.group, s.help, s.field(o), s.limits, s.flag, s.noDefault);
+    }
 }
 
 void addMesherTableOptions(CLI::App* cmd, MesherOptions& o) {
     for (const MesherOptionSpec& s : mesherOptionTable())
-        addTableOption(cmd, s.name, s.group, s.help, s.field(o), s.limits, s.flag, defaultText(s));
+        addTableOption(cmd, s.name, s.group, s.help, s.field(o), s.limits, s.flag, s.noDefault);
 }
 
 void addSmoothingLengthOption(CLI::App* cmd, float& hPerSpacing) {
     const RenderOptionSpec& s = *findRenderOption("h-per-spacing");
-    addTableOption(cmd, s.name, s.group, s.help, &hPerSpacing, s.limits, s.flag, defaultText(s));
+    addTableOption(cmd, s.name, s.group, s.help, &hPerSpacing, s.limits, s.flag, s.noDefault);
 }
 
 namespace {
@@ -169,13 +179,7 @@ void addSurfaceOptions(CLI::App* cmd, RenderJob& o) {
     addTableOptions(cmd, o, [](const RenderOptionSpec& s) { return s.name.rfind("raycast-", 0) == 0; });
 }
 
-void addBackendOption(CLI::App* cmd, RenderJob& o) {
-    cmd->add_option("--backend", o.backend,
-                    "Where the stages run: cpu, gl (OpenGL 4.3 through headless EGL) or auto (gl on a GPU; cpu, "
-                    "with a one-line note, when there is no GL or only a software one such as Mesa's llvmpipe)")
-        ->group(group::kPerformance)
-        ->capture_default_str();
-}
+void addBackendOption(CLI::App* cmd, RenderJob& o) { addJobTableOptions(cmd, o, {"backend"}); }
 
 Result<RenderSettings> settingsFromOptions(const RenderJob& o) {
     if (!o.moreFluids.empty() && o.surface == "mesh")
@@ -231,25 +235,11 @@ Status useFluidAttribute(ParticleSet& set, const std::string& name) {
     return okStatus();
 }
 
-void addFluidInputOption(CLI::App* cmd, RenderJob& o) {
-    cmd->add_option("--fluid", o.moreFluids,
-                    "Several fluids, one input per fluid (as SPlisHSPlasH writes one file per fluid model): another "
-                    "file or sequence, frame for frame with the input, drawn as fluid 1 (then 2, 3 when repeated); "
-                    "the input is fluid 0. Give --material one preset per fluid")
-        ->group(group::kExtras);
-    addSelectOption(cmd, o.select);
-}
+void addFluidInputOption(CLI::App* cmd, RenderJob& o) { addJobTableOptions(cmd, o, {"fluid", "select"}); }
 
 void addSelectOption(CLI::App* cmd, std::string& select) {
-    cmd->add_option("--select", select,
-                    "Use only the particles that match, e.g. 'Type==fluid' (DualSPHysics: drops the boundary "
-                    "particles) or 'density>900 && velocity.y<0': ATTR OP VALUE, OP one of == != < <= > >=, "
-                    "clauses joined by && (all must hold). ATTR is a particle attribute as `meniscus info` lists it "
-                    "(or x, y, z for the position), VALUE a number in the file's units (metres, m/s, kg/m^3); a "
-                    "vector needs a component (velocity.x, .y, .z) or |velocity| for its length. DualSPHysics' Type "
-                    "takes fixed (0), moving (1), floating (2), bound (0-2) or fluid (3). Applied to every file as "
-                    "it is read, before --up; a frame left with no particles is an error")
-        ->group(group::kInput);
+    const JobOptionSpec& s = *findJobOption("select");
+    addTableOption(cmd, s.name, s.group, s.help, &select, s.limits, s.flag, s.noDefault);
 }
 
 Status Frames::setSelection(const std::string& text) {

@@ -36,48 +36,13 @@ bool isPng(const std::string& path);
 bool isExr(const std::string& path);
 bool isMp4(const std::string& path);
 
-// A render job: the look, camera and surface the library's table
-// declares (meniscus::RenderOptions, include/meniscus/options.h), and the
-// command's own about inputs, outputs, sequences and movies.
-struct RenderJob : meniscus::RenderOptions {
+// A render job: the look, camera and surface (meniscus::RenderOptions) and
+// the job's backend, inputs, movie, moving camera and shares
+// (meniscus::JobOptions), both declared by the library's tables
+// (include/meniscus/options.h), and the input and output.
+struct RenderJob : meniscus::RenderOptions, meniscus::JobOptions {
     std::string input;
     std::string output;
-    std::string backend = "auto";
-    // Diffuse particles (`meniscus whitewater`'s output) drawn as a layer:
-    // a file, or a pattern filled with each input frame's number. Empty: none.
-    std::string diffuse;
-    // Several fluids from one input per fluid (--fluid, repeatable): each a
-    // file or sequence matching the input frame for frame, fluid 1, 2, ...
-    std::vector<std::string> moreFluids;
-    // Only the particles that match (--select, parseSelection), e.g.
-    // "Type==fluid"; empty: all of them.
-    std::string select;
-    // Long runs (render): an .mp4 output's frame rate and quality; output
-    // frames numbered 0, 1, ... (--renumber); on a frame's error stop or skip
-    // it (--on-error); leave frames whose outputs are complete (--resume).
-    double fps = defaults::kVideoFps;
-    int crf = defaults::kVideoCrf;
-    // A simulation scene as the input: seconds to simulate; < 0: the scene's.
-    double duration = -1.0;
-    bool renumber = false;
-    std::string onError = "stop";
-    bool resume = false;
-    // Frame-parallel runs: "I/N" renders only the I-th of N
-    // contiguous shares of the frames (job arrays); empty: all of them.
-    std::string shard;
-    // Under mpirun: split the frames of a sequence over the
-    // processes ("frames"), or the particles of each frame, composited
-    // sort-last ("particles"); "auto": frames for a sequence, particles for
-    // one frame.
-    std::string split = "auto";
-    // Camera motion (render): turn about +y through the target, degrees per
-    // second of sequence time; one whole turn over the sequence; a key-framed
-    // path (--camera-path: a JSON file or the JSON array itself); a single
-    // input file rendered as this many frames (0: as many as the input has).
-    double orbit = 0.0;
-    bool turntable = false;
-    std::string cameraPath;
-    std::size_t frames = 0;
     // A render scene file's name and, per option it set, its key (errors name the key).
     std::string sceneFile;
     std::vector<std::pair<std::string, std::string>> sceneKeys;
@@ -115,9 +80,11 @@ Result<RenderSettings> settingsFromOptions(const RenderJob& o);
 void addTableOptions(CLI::App* cmd, meniscus::RenderOptions& o,
                      const std::function<bool(const RenderOptionSpec&)>& keep);
 void addMesherTableOptions(CLI::App* cmd, MesherOptions& o);
+// The job table's options of these names on `cmd`, in this order.
+void addJobTableOptions(CLI::App* cmd, JobOptions& o, const std::vector<std::string>& names);
 // One option of a table bound to `ref` (its own struct's field).
 void addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, const std::string& help,
-                    const OptionRef& ref, const OptionLimits& limits, bool flag, const std::string& defaultText);
+                    const OptionRef& ref, const OptionLimits& limits, bool flag, bool noDefault);
 
 // A rendered frame to `path`: .exr with every AOV, else PNG of the colour
 // (with alpha when `withAlpha`); a temporary name renamed, so never partial.

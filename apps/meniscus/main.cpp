@@ -58,7 +58,7 @@ Result<std::vector<std::string>> withSceneFile(const std::vector<std::string>& w
     job.sceneFile = *scene;
     job.sceneKeys = parsed->keyOfOption;
     // The table's settings typed onto the options now; the command line's own, parsed after, win.
-    if (auto st = applyTypedSettings(*parsed, job, *scene,
+    if (auto st = applyTypedSettings(*parsed, job, job, *scene,
                                      [&](const std::string& option) { return sub.get_option_no_throw("--" + option); });
         !st)
         return st.error();

@@ -428,70 +428,8 @@ int renderSimulation(Cluster& cluster, const RenderJob& o, RenderSettings& setti
 }  // namespace
 
 void addSequenceOptions(CLI::App* cmd, RenderJob& o) {
-    cmd->add_option("--fps", o.fps,
-                    "Frames per second: an .mp4 output's frame rate, and a moving camera's clock (frame i at i / fps "
-                    "seconds)")
-        ->group(group::kMovie)
-        ->capture_default_str()
-        ->check(CLI::Range(0.001, 1000.0));
-    cmd->add_option("--crf", o.crf,
-                    "An .mp4 output's quality: x264's constant rate factor, 0 (lossless) to 51 (worst); 18 looks "
-                    "lossless")
-        ->group(group::kMovie)
-        ->capture_default_str()
-        ->check(CLI::Range(0, 51));
-    cmd->add_option("--duration", o.duration,
-                    "A simulation scene as the input: simulated time in seconds, a frame every 1/fps (default: the "
-                    "scene's), as simulate --duration")
-        ->group(group::kMovie)
-        ->check(CLI::NonNegativeNumber);
-    cmd->add_flag("--renumber", o.renumber,
-                  "Number the output images 0, 1, 2, ... in order instead of by the input files' own numbers")
-        ->group(group::kOutput);
-    cmd->add_option("--on-error", o.onError,
-                    "A frame that cannot be read, rendered or written: stop the run there (stop), or leave it out "
-                    "and go on (skip), listing the failed frames at the end and exiting 1")
-        ->group(group::kOutput)
-        ->capture_default_str()
-        ->check(CLI::IsMember({"stop", "skip"}));
-    cmd->add_flag("--resume", o.resume,
-                  "Leave frames whose output images already exist and are complete (after an interrupted run)")
-        ->group(group::kOutput);
-    cmd->add_option("--shard", o.shard,
-                    "I/N: render only the I-th (from 0) of N contiguous shares of the frames, named as in the whole "
-                    "run, for job arrays (Slurm: --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT); the N runs "
-                    "together write exactly the whole run's images")
-        ->group(group::kCluster);
-    cmd->add_option("--split", o.split,
-                    "Under mpirun: give each process a share of the frames of a sequence (frames), or a share of "
-                    "every frame's particles, splatted there and composited exactly on process 0 (particles; an "
-                    "input with %r, e.g. fluid_r%r.vtu, gives each process its share of those part files); auto: "
-                    "frames for a sequence, particles for one frame. The images are the one-process run's, byte for "
-                    "byte")
-        ->group(group::kCluster)
-        ->capture_default_str()
-        ->check(CLI::IsMember({"auto", "frames", "particles"}));
-    cmd->add_option("--orbit", o.orbit,
-                    "Moving camera: turn about the vertical through the target at this many degrees per second of "
-                    "sequence time (frame i at i / --fps seconds; positive: counter-clockwise seen from above), "
-                    "keeping distance and elevation")
-        ->group(group::kMovie)
-        ->check(CLI::Range(-36000.0, 36000.0));
-    cmd->add_flag("--turntable", o.turntable,
-                  "Moving camera: one whole turn about the vertical through the target over the sequence (frame i "
-                  "of N at 360 i / N degrees); for a single file give --frames")
-        ->group(group::kMovie);
-    cmd->add_option("--camera-path", o.cameraPath,
-                    "Moving camera along key frames: a JSON file (or the JSON text itself) holding [{\"time\": s, "
-                    "\"eye\": [x,y,z], \"target\": [x,y,z], \"fov\": degrees}, ...], times in seconds (frame i at "
-                    "i / --fps), increasing; positions in metres, in the data's coordinates like --eye; fov optional "
-                    "(default --fov); smooth (Catmull-Rom) between keys, the first and last key held before and after")
-        ->group(group::kMovie);
-    cmd->add_option("--frames", o.frames,
-                    "Render a single input file as N frames, numbered 0 to N-1 (a turntable of one frame: "
-                    "--turntable --frames 120); without a moving camera the same picture N times")
-        ->group(group::kMovie)
-        ->check(CLI::Range(std::size_t(1), std::size_t(1000000)));
+    addJobTableOptions(cmd, o, {"fps", "crf", "duration", "renumber", "on-error", "resume", "shard", "split", "orbit",
+                                "turntable", "camera-path", "frames"});
 }
 
 namespace {

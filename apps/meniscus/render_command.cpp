@@ -27,11 +27,7 @@ CLI::App* addRenderCommand(CLI::App& parent, RenderJob& render) {
     addBackendOption(renderCmd, render);
     addSurfaceOptions(renderCmd, render);
     addFluidInputOption(renderCmd, render);
-    renderCmd->add_option("--diffuse", render.diffuse,
-                          "Draw diffuse particles (spray, foam; `meniscus whitewater` writes them) over the liquid as "
-                          "drops with the --spray-size and --spray-streak look: a file, or a pattern like "
-                          "diffuse_%04d.bgeo filled with each input frame's number")
-        ->group(group::kExtras);
+    addJobTableOptions(renderCmd, render, {"diffuse"});
     useGroupedHelp(renderCmd, renderHelpLayout());
     return renderCmd;
 }

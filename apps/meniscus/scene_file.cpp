@@ -34,12 +34,6 @@ std::string optionName(const std::string& key) {
     return name;
 }
 
-std::string numberText(const json& v) {
-    if (v.is_number_integer()) return std::to_string(v.get<std::int64_t>());
-    if (v.is_number_unsigned()) return std::to_string(v.get<std::uint64_t>());
-    return v.dump();  // the shortest text that reads back as the same double
-}
-
 class Converter {
 public:
     Converter(std::string file, CLI::App& render) : file_(std::move(file)), render_(render) {}
@@ -60,47 +54,38 @@ public:
             return fail(key, "unknown key (a scene file's keys are `meniscus render`'s options, e.g. width, filter, "
                              "anisotropy; grouped under camera, render, material and light or at the top level)");
         const std::string option = name.substr(2);
-        if (findRenderOption(option) || findMesherOption(option)) {  // the table's: typed
-            auto value = typedValue(v);
-            if (!value) return fail(key, value.error().message);
-            out_.typed.push_back({key, option, std::move(*value)});
-            out_.keyOfOption.emplace_back(name, key);
-            return okStatus();
+        const JobOptionSpec* job = findJobOption(option);
+        if (!findRenderOption(option) && !findMesherOption(option) && !job)
+            return fail(key, "not a setting of a scene file");
+        // The tables' options: typed. A path is the file's folder's; a list of
+        // objects (camera.path's keys) is the option's JSON text.
+        Result<OptionValue> value = makeError("", "");
+        if (v.is_array() && !v.empty() && v.front().is_object()) value = OptionValue(v.dump());
+        else value = typedValue(v);
+        if (!value) return fail(key, value.error().message);
+        if (job && job->path) {
+            if (auto* one = std::get_if<std::string>(&*value); one && !one->empty() && one->front() != '[')
+                *one = path(*one);
+            if (auto* list = std::get_if<std::vector<std::string>>(&*value))
+                for (std::string& p : *list) p = path(p);
         }
-        const bool flag = opt->get_expected_max() == 0;  // takes no value
-        std::vector<std::string> group{name};
-        if (flag) {
-            if (!v.is_boolean()) return fail(key, "expected true or false");
-            if (v.get<bool>()) push(key, std::move(group));
-            return okStatus();
-        }
-        if (v.is_boolean()) {
-            group.push_back(v.get<bool>() ? "on" : "off");
-        } else if (v.is_number()) {
-            group.push_back(numberText(v));
-        } else if (v.is_string()) {
-            group.push_back(pathOption(name) ? path(v.get<std::string>()) : v.get<std::string>());
-        } else if (v.is_array() && !v.empty() && v.front().is_object()) {
-            group.push_back(v.dump());  // a list of objects (camera.path's keys): the option reads it as JSON
-        } else if (v.is_array() && !v.empty()) {
-            bool numbers = true, strings = true;
-            for (const json& e : v) {
-                numbers = numbers && e.is_number();
-                strings = strings && e.is_string();
-            }
-            if (!numbers && !strings) return fail(key, "expected a list of numbers or of strings");
-            if (strings && opt->get_expected_max() > 1) {  // a repeatable option: once per value
-                for (const json& e : v) push(key, {name, pathOption(name) ? path(e.get<std::string>()) : e.get<std::string>()});
-                return okStatus();
-            }
-            std::string joined;
-            for (const json& e : v) joined += (joined.empty() ? "" : ",") + (numbers ? numberText(e) : e.get<std::string>());
-            group.push_back(joined);
-        } else {
-            return fail(key, "expected a number, a string, true/false or a list");
-        }
-        push(key, std::move(group));
+        out_.typed.push_back({key, option, std::move(*value)});
+        out_.keyOfOption.emplace_back(name, key);
         return okStatus();
+    }
+
+    // A JSON value as an option's typed value: true/false, a whole number, a
+    // number, a text, three numbers, or a list of texts.
+    static Result<OptionValue> typedValue(const json& v) {
+        if (v.is_boolean()) return OptionValue(v.get<bool>());
+        if (v.is_number_integer()) return OptionValue(v.get<std::int64_t>());
+        if (v.is_number()) return OptionValue(v.get<double>());
+        if (v.is_string()) return OptionValue(v.get<std::string>());
+        if (v.is_array() && !v.empty() && std::all_of(v.begin(), v.end(), [](const json& e) { return e.is_string(); }))
+            return OptionValue(v.get<std::vector<std::string>>());
+        glm::vec3 three;
+        if (readVec3(v, three)) return OptionValue(three);
+        return makeError("", "expected a number, a string, true/false, a list of three numbers or of names");
     }
 
     // Every key of a section ("camera", "render") or of the top level: the
@@ -114,28 +99,6 @@ public:
             if (auto st = add(prefix + "." + k, name, v); !st) return st;
         }
         return okStatus();
-    }
-
-    // A JSON value as an option's typed value: true/false, a whole number, a
-    // number, a text, three numbers, or texts joined by commas (a material
-    // per fluid).
-    static Result<OptionValue> typedValue(const json& v) {
-        if (v.is_boolean()) return OptionValue(v.get<bool>());
-        if (v.is_number_integer()) return OptionValue(v.get<std::int64_t>());
-        if (v.is_number()) return OptionValue(v.get<double>());
-        if (v.is_string()) return OptionValue(v.get<std::string>());
-        if (v.is_array() && !v.empty() && std::all_of(v.begin(), v.end(), [](const json& e) { return e.is_string(); })) {
-            std::string joined;
-            for (const json& e : v) joined += (joined.empty() ? "" : ",") + e.get<std::string>();
-            return OptionValue(joined);
-        }
-        glm::vec3 three;
-        if (readVec3(v, three)) return OptionValue(three);
-        return makeError("", "expected a number, a string, true/false, a list of three numbers or of names");
-    }
-
-    static bool pathOption(const std::string& name) {
-        return name == "--diffuse" || name == "--fluid" || name == "--camera-path";
     }
 
     void push(const std::string& key, std::vector<std::string> group) {
@@ -266,11 +229,13 @@ Result<SceneArgs> sceneFileArgs(const std::string& path, CLI::App& render) {
     return std::move(c.out());
 }
 
-Status applyTypedSettings(const SceneArgs& args, meniscus::RenderOptions& o, const std::string& file,
+Status applyTypedSettings(const SceneArgs& args, meniscus::RenderOptions& o, JobOptions& job, const std::string& file,
                           const std::function<bool(const std::string& option)>& accepts) {
     for (const SceneArgs::Typed& t : args.typed) {
         if (!accepts(t.option)) continue;
-        if (auto st = setRenderOption(o, t.option, t.value); !st) return makeError(file, t.key + ": " + st.error().message);
+        const Status st = findJobOption(t.option) ? setJobOption(job, t.option, t.value)
+                                                  : setRenderOption(o, t.option, t.value);
+        if (!st) return makeError(file, t.key + ": " + st.error().message);
     }
     return okStatus();
 }

@@ -28,16 +28,16 @@ namespace meniscus::app {
 bool isJsonFile(const std::string& path);
 
 struct SceneArgs {
-    // The settings of the library's option table (include/meniscus/options.h),
-    // typed from the JSON as they are: {"render.width", "width", 320}.
+    // The settings of the library's option tables (include/meniscus/options.h),
+    // typed from the JSON as they are: {"render.width", "width", 320}; paths
+    // made the file's folder's.
     struct Typed {
         std::string key;     // its path in the file, for errors
         std::string option;  // the table's name
         OptionValue value;
     };
     std::vector<Typed> typed;
-    // The rest, `render`'s own arguments, one group per setting: {INPUT},
-    // {"--output", OUT}, {"--fps", "15"}, ... (a group's first word names it).
+    // The input and output as `render`'s arguments: {INPUT}, {"--output", OUT}.
     std::vector<std::vector<std::string>> groups;
     // For each option set by the file, its key ("camera.eye"), so later errors
     // about the option can name the key.
@@ -49,9 +49,9 @@ struct SceneArgs {
 // of the wrong kind, or JSON that does not parse.
 Result<SceneArgs> sceneFileArgs(const std::string& path, CLI::App& render);
 
-// The typed settings of `args` set on `o` (those `accepts` takes: a
-// subcommand's own options); an error naming `file` and the key.
-Status applyTypedSettings(const SceneArgs& args, meniscus::RenderOptions& o, const std::string& file,
+// The typed settings of `args` set on `o` and `job` (those `accepts` takes:
+// a subcommand's own options); an error naming `file` and the key.
+Status applyTypedSettings(const SceneArgs& args, meniscus::RenderOptions& o, JobOptions& job, const std::string& file,
                           const std::function<bool(const std::string& option)>& accepts);
 
 // --camera-path's value: a JSON array of keys, {"time": seconds, "eye":

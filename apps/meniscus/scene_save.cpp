@@ -139,7 +139,7 @@ Result<RenderJob> loadSceneFile(const std::string& path) {
     CLI::App* render = addRenderCommand(parent, o);
     auto args = sceneFileArgs(path, *render);
     if (!args) return args.error();
-    if (auto st = applyTypedSettings(*args, o, path, [](const std::string&) { return true; }); !st) return st.error();
+    if (auto st = applyTypedSettings(*args, o, o, path, [](const std::string&) { return true; }); !st) return st.error();
     std::vector<std::string> words{"render"};
     bool output = false;
     for (const auto& group : args->groups) {

@@ -101,14 +101,47 @@ struct RenderOptions {
     std::string fluidAttribute;
 };
 
+// What a render job reads and writes besides the look (render's and view's
+// own options, scene files' keys): the backend, more inputs, the movie, the
+// moving camera, the cluster's shares (jobOptionTable). The input and the
+// output are the command's positional and -o.
+struct JobOptions {
+    std::string backend = "auto";  // cpu, gl or auto
+    // Diffuse particles (`meniscus whitewater`'s output) drawn as a layer:
+    // a file, or a pattern filled with each input frame's number. Empty: none.
+    std::string diffuse;
+    // Several fluids from one input per fluid: each a file or sequence
+    // matching the input frame for frame, fluid 1, 2, ...
+    std::vector<std::string> moreFluids;
+    // Only the particles that match (parseSelection), e.g. "Type==fluid"; empty: all.
+    std::string select;
+    // An .mp4 output's frame rate and quality, and a moving camera's clock.
+    double fps = defaults::kVideoFps;
+    int crf = defaults::kVideoCrf;
+    double duration = -1.0;  // a simulation scene as the input: seconds to simulate; < 0: the scene's
+    bool renumber = false;   // output frames numbered 0, 1, ...
+    std::string onError = "stop";  // a frame's error: stop or skip
+    bool resume = false;     // leave frames whose outputs are complete
+    std::string shard;       // "I/N": only the I-th of N contiguous shares of the frames; empty: all
+    std::string split = "auto";  // under mpirun: frames, particles, or auto
+    // Camera motion: degrees per second about +y through the target; one whole
+    // turn over the sequence; a key-framed path (a JSON file or the JSON text);
+    // a single input file rendered as this many frames (0: as many as the input has).
+    double orbit = 0.0;
+    bool turntable = false;
+    std::string cameraPath;
+    int frames = 0;
+};
+
 // ---------------------------------------------------------------- the table
 
 // Where an option's value lands in its options struct.
-using OptionRef = std::variant<bool*, int*, float*, std::string*, std::optional<glm::vec3>*, glm::vec3*>;
+using OptionRef = std::variant<bool*, int*, float*, double*, std::string*, std::vector<std::string>*,
+                               std::optional<glm::vec3>*, glm::vec3*>;
 
 // A value given by a face that has types (Python, JSON): a whole number, a
-// number, true/false, a text, or three numbers.
-using OptionValue = std::variant<bool, std::int64_t, double, std::string, glm::vec3>;
+// number, true/false, a text, three numbers, or a list of texts.
+using OptionValue = std::variant<bool, std::int64_t, double, std::string, glm::vec3, std::vector<std::string>>;
 
 // What values an option accepts.
 struct OptionLimits {
@@ -142,12 +175,14 @@ struct OptionSpec {
     OptionLimits limits;
     PanelWidget widget;
     // A bool given as a bare flag (--noise) rather than on/off; a value
-    // without a default worth printing (a sentinel such as --iterations -1).
-    bool flag = false, noDefault = false;
+    // without a default worth printing (a sentinel such as --iterations -1);
+    // a path (a scene file's is relative to the file's folder).
+    bool flag = false, noDefault = false, path = false;
 };
 
 using RenderOptionSpec = OptionSpec<RenderOptions>;
 using MesherOptionSpec = OptionSpec<MesherOptions>;
+using JobOptionSpec = OptionSpec<JobOptions>;
 
 // `render`'s look, camera and surface options, in the order --help lists
 // them inside a group. The mesher's options (mesherOptionTable) are not in
@@ -155,10 +190,14 @@ using MesherOptionSpec = OptionSpec<MesherOptions>;
 std::span<const RenderOptionSpec> renderOptionTable();
 // The mesher's: cube-size, iso, field, support, block.
 std::span<const MesherOptionSpec> mesherOptionTable();
+// The job's: backend, diffuse, fluid, select, fps, crf, duration, renumber,
+// on-error, resume, shard, split, orbit, turntable, camera-path, frames.
+std::span<const JobOptionSpec> jobOptionTable();
 
 // "noise_bump" or "noise-bump" -> the table's entry; nullptr when none.
 const RenderOptionSpec* findRenderOption(std::string_view name);
 const MesherOptionSpec* findMesherOption(std::string_view name);
+const JobOptionSpec* findJobOption(std::string_view name);
 // "noise_bump" (Python's and scene files' spelling of "noise-bump").
 std::string keywordName(std::string_view optionName);
 // A widget's label: "noise bump (sprite radii)", "radius (m)".
@@ -196,6 +235,8 @@ Status setOption(const OptionSpec<Options>& spec, Options& o, const OptionValue&
 // By name, over both tables (render's, then the mesher's inside o.mesher);
 // an error listing the names when there is no such option.
 Status setRenderOption(RenderOptions& o, std::string_view name, const OptionValue& value);
+// By name in the job's table.
+Status setJobOption(JobOptions& o, std::string_view name, const OptionValue& value);
 
 // "x,y,z" as the command line writes it ("0,0,1").
 std::string vec3Text(const glm::vec3& v);

@@ -385,6 +385,118 @@ std::vector<MesherOptionSpec> makeMesherTable() {
     return t;
 }
 
+std::vector<JobOptionSpec> makeJobTable() {
+    using J = JobOptions;
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    const auto jrow = [](std::string name, G group, std::string unit, std::string help, OptionRef (*field)(J&)) {
+        JobOptionSpec s;
+        s.name = std::move(name);
+        s.group = group;
+        s.unit = std::move(unit);
+        s.help = std::move(help);
+        s.field = field;
+        return s;
+    };
+    std::vector<JobOptionSpec> t;
+    t.push_back(jrow("backend", G::Performance, "",
+                     "Where the stages run: cpu, gl (OpenGL 4.3 through headless EGL) or auto (gl on a GPU; cpu, "
+                     "with a one-line note, when there is no GL or only a software one such as Mesa's llvmpipe)",
+                     [](J& o) -> OptionRef { return &o.backend; }));
+    t.back().limits.choices = {"cpu", "gl", "auto"};
+    t.push_back(jrow("fluid", G::Extras, "",
+                     "Several fluids, one input per fluid (as SPlisHSPlasH writes one file per fluid model): another "
+                     "file or sequence, frame for frame with the input, drawn as fluid 1 (then 2, 3 when repeated); "
+                     "the input is fluid 0. Give --material one preset per fluid",
+                     [](J& o) -> OptionRef { return &o.moreFluids; }));
+    t.back().path = true;
+    t.push_back(jrow("select", G::Input, "",
+                     "Use only the particles that match, e.g. 'Type==fluid' (DualSPHysics: drops the boundary "
+                     "particles) or 'density>900 && velocity.y<0': ATTR OP VALUE, OP one of == != < <= > >=, "
+                     "clauses joined by && (all must hold). ATTR is a particle attribute as `meniscus info` lists it "
+                     "(or x, y, z for the position), VALUE a number in the file's units (metres, m/s, kg/m^3); a "
+                     "vector needs a component (velocity.x, .y, .z) or |velocity| for its length. DualSPHysics' Type "
+                     "takes fixed (0), moving (1), floating (2), bound (0-2) or fluid (3). Applied to every file as "
+                     "it is read, before --up; a frame left with no particles is an error",
+                     [](J& o) -> OptionRef { return &o.select; }));
+    t.push_back(jrow("diffuse", G::Extras, "",
+                     "Draw diffuse particles (spray, foam; `meniscus whitewater` writes them) over the liquid as drops "
+                     "with the --spray-size and --spray-streak look: a file, or a pattern like diffuse_%04d.bgeo "
+                     "filled with each input frame's number",
+                     [](J& o) -> OptionRef { return &o.diffuse; }));
+    t.back().path = true;
+    t.push_back(jrow("fps", G::Movie, "1/s",
+                     "Frames per second: an .mp4 output's frame rate, and a moving camera's clock (frame i at i / fps "
+                     "seconds)",
+                     [](J& o) -> OptionRef { return &o.fps; }));
+    t.back().limits.min = 0.001, t.back().limits.max = 1000.0;
+    t.push_back(jrow("crf", G::Movie, "",
+                     "An .mp4 output's quality: x264's constant rate factor, 0 (lossless) to 51 (worst); 18 looks "
+                     "lossless",
+                     [](J& o) -> OptionRef { return &o.crf; }));
+    t.back().limits.min = 0, t.back().limits.max = 51;
+    t.push_back(jrow("duration", G::Movie, "s",
+                     "A simulation scene as the input: simulated time in seconds, a frame every 1/fps (default: the "
+                     "scene's), as simulate --duration",
+                     [](J& o) -> OptionRef { return &o.duration; }));
+    t.back().limits.min = 0.0, t.back().limits.max = inf, t.back().limits.unset = -1.0, t.back().noDefault = true;
+    t.push_back(jrow("renumber", G::Output, "",
+                     "Number the output images 0, 1, 2, ... in order instead of by the input files' own numbers",
+                     [](J& o) -> OptionRef { return &o.renumber; }));
+    t.back().flag = true;
+    t.push_back(jrow("on-error", G::Output, "",
+                     "A frame that cannot be read, rendered or written: stop the run there (stop), or leave it out "
+                     "and go on (skip), listing the failed frames at the end and exiting 1",
+                     [](J& o) -> OptionRef { return &o.onError; }));
+    t.back().limits.choices = {"stop", "skip"};
+    t.push_back(jrow("resume", G::Output, "",
+                     "Leave frames whose output images already exist and are complete (after an interrupted run)",
+                     [](J& o) -> OptionRef { return &o.resume; }));
+    t.back().flag = true;
+    t.push_back(jrow("shard", G::Cluster, "",
+                     "I/N: render only the I-th (from 0) of N contiguous shares of the frames, named as in the whole "
+                     "run, for job arrays (Slurm: --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT); the N runs "
+                     "together write exactly the whole run's images",
+                     [](J& o) -> OptionRef { return &o.shard; }));
+    t.push_back(jrow("split", G::Cluster, "",
+                     "Under mpirun: give each process a share of the frames of a sequence (frames), or a share of "
+                     "every frame's particles, splatted there and composited exactly on process 0 (particles; an "
+                     "input with %r, e.g. fluid_r%r.vtu, gives each process its share of those part files); auto: "
+                     "frames for a sequence, particles for one frame. The images are the one-process run's, byte for "
+                     "byte",
+                     [](J& o) -> OptionRef { return &o.split; }));
+    t.back().limits.choices = {"auto", "frames", "particles"};
+    t.push_back(jrow("orbit", G::Movie, "degrees/s",
+                     "Moving camera: turn about the vertical through the target at this many degrees per second of "
+                     "sequence time (frame i at i / --fps seconds; positive: counter-clockwise seen from above), "
+                     "keeping distance and elevation",
+                     [](J& o) -> OptionRef { return &o.orbit; }));
+    t.back().limits.min = -36000.0, t.back().limits.max = 36000.0, t.back().noDefault = true;
+    t.push_back(jrow("turntable", G::Movie, "",
+                     "Moving camera: one whole turn about the vertical through the target over the sequence (frame i "
+                     "of N at 360 i / N degrees); for a single file give --frames",
+                     [](J& o) -> OptionRef { return &o.turntable; }));
+    t.back().flag = true;
+    t.push_back(jrow("camera-path", G::Movie, "",
+                     "Moving camera along key frames: a JSON file (or the JSON text itself) holding [{\"time\": s, "
+                     "\"eye\": [x,y,z], \"target\": [x,y,z], \"fov\": degrees}, ...], times in seconds (frame i at "
+                     "i / --fps), increasing; positions in metres, in the data's coordinates like --eye; fov optional "
+                     "(default --fov); smooth (Catmull-Rom) between keys, the first and last key held before and after",
+                     [](J& o) -> OptionRef { return &o.cameraPath; }));
+    t.back().path = true;
+    t.push_back(jrow("frames", G::Movie, "",
+                     "Render a single input file as N frames, numbered 0 to N-1 (a turntable of one frame: "
+                     "--turntable --frames 120); without a moving camera the same picture N times",
+                     [](J& o) -> OptionRef { return &o.frames; }));
+    t.back().limits.min = 1, t.back().limits.max = 1000000, t.back().limits.unset = 0, t.back().noDefault = true;
+    return t;
+}
+
+std::string doubleText(double v) {  // the shortest text that reads back as the same double
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
+}
+
 std::string numberText(double v) {
     std::ostringstream s;
     s << v;
@@ -434,6 +546,18 @@ std::span<const MesherOptionSpec> mesherOptionTable() {
     return table;
 }
 
+std::span<const JobOptionSpec> jobOptionTable() {
+    static const std::vector<JobOptionSpec> table = makeJobTable();
+    return table;
+}
+
+const JobOptionSpec* findJobOption(std::string_view name) {
+    const std::string n = spelling(name);
+    for (const JobOptionSpec& s : jobOptionTable())
+        if (s.name == n) return &s;
+    return nullptr;
+}
+
 const RenderOptionSpec* findRenderOption(std::string_view name) {
     const std::string n = spelling(name);
     for (const RenderOptionSpec& s : renderOptionTable())
@@ -479,7 +603,13 @@ std::string optionText(const OptionRef& ref, bool flag) {
             if constexpr (std::is_same_v<T, bool>) return *p ? "true" : "false";
             else if constexpr (std::is_same_v<T, int>) return std::to_string(*p);
             else if constexpr (std::is_same_v<T, float>) return std::isnan(*p) ? std::string() : floatText(*p);
+            else if constexpr (std::is_same_v<T, double>) return doubleText(*p);
             else if constexpr (std::is_same_v<T, std::string>) return *p;
+            else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+                std::string joined;
+                for (const std::string& e : *p) joined += (joined.empty() ? "" : ",") + e;
+                return joined;
+            }
             else if constexpr (std::is_same_v<T, glm::vec3>) return vec3Text(*p);
             else return *p ? vec3Text(**p) : std::string();
         },
@@ -507,8 +637,8 @@ Status checkOptionValue(const std::string& name, const OptionRef& ref, const Opt
     return std::visit(
         [&](auto* p) -> Status {
             using T = std::remove_pointer_t<decltype(p)>;
-            if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float>) {
-                if constexpr (std::is_same_v<T, float>)
+            if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float> || std::is_same_v<T, double>) {
+                if constexpr (!std::is_same_v<T, int>)
                     if (std::isnan(*p)) return okStatus();  // unset: the preset's
                 if (double(*p) == limits.unset) return okStatus();
                 if (limits.positive && !(*p > 0)) return bad(numberText(double(*p)), "expected a positive number");
@@ -560,11 +690,21 @@ Status setOptionValue(const std::string& name, const OptionRef& ref, const Optio
             } else if constexpr (std::is_same_v<T, float>) {
                 if (!isNumber || !std::isfinite(number)) return wrong("a number");
                 v = float(number);
+            } else if constexpr (std::is_same_v<T, double>) {
+                if (!isNumber || !std::isfinite(number)) return wrong("a number");
+                v = number;
             } else if constexpr (std::is_same_v<T, std::string>) {
-                // on/off options (anisotropy) take True/False too.
+                // on/off options (anisotropy) take True/False too; a list is one text per fluid (material).
                 if (isBool && choices.size() == 2 && choices[0] == "on") v = std::get<bool>(value) ? "on" : "off";
                 else if (std::holds_alternative<std::string>(value)) v = std::get<std::string>(value);
-                else return wrong("a text");
+                else if (const auto* list = std::get_if<std::vector<std::string>>(&value); list && !list->empty()) {
+                    v.clear();
+                    for (const std::string& e : *list) v += (v.empty() ? "" : ",") + e;
+                } else return wrong("a text");
+            } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+                if (const auto* list = std::get_if<std::vector<std::string>>(&value)) v = *list;
+                else if (const auto* one = std::get_if<std::string>(&value)) v = {*one};
+                else return wrong("a text or a list of texts");
             } else {
                 // Three numbers, or their text "x,y,z" (as the command line and a hand-written file say them).
                 std::optional<glm::vec3> read;
@@ -581,6 +721,11 @@ Status setOptionValue(const std::string& name, const OptionRef& ref, const Optio
             return okStatus();
         },
         ref);
+}
+
+Status setJobOption(JobOptions& o, std::string_view name, const OptionValue& value) {
+    if (const JobOptionSpec* s = findJobOption(name)) return setOption(*s, o, value);
+    return makeError("", "unknown option '" + std::string(name) + "'");
 }
 
 Status setRenderOption(RenderOptions& o, std::string_view name, const OptionValue& value) {
