@@ -21,7 +21,9 @@ TEST(OptionTable, EveryRowIsCompleteAndNamedOnce) {
         ASSERT_NE(s.field, nullptr) << s.name;
         // Each default is one its own checks accept (a sentinel needs noDefault or no limits).
         EXPECT_TRUE(checkOption(s, o)) << s.name;
-        if (s.flag) EXPECT_TRUE(std::holds_alternative<bool*>(s.field(o))) << s.name;
+        if (s.flag) {
+            EXPECT_TRUE(std::holds_alternative<bool*>(s.field(o))) << s.name;
+        }
     }
     MesherOptions m;
     for (const MesherOptionSpec& s : mesherOptionTable()) {
@@ -159,4 +161,24 @@ TEST(UpRotation, TurnsTheUpAxisToYAndBack) {
     EXPECT_NEAR(back.z, 1.0f, 1e-6f);
     EXPECT_FALSE(upRotation({0, 0, 0}));
     EXPECT_TRUE(upRotation({0, 1, 0})->identity);
+}
+
+// The job's table: lists, doubles and the "not given" values, as the scene files and the CLI set them.
+TEST(OptionTable, TheJobsOptions) {
+    JobOptions o;
+    ASSERT_TRUE(setJobOption(o, "fluid", std::vector<std::string>{"oil_%04d.bgeo", "air_%04d.bgeo"}));
+    EXPECT_EQ(o.moreFluids.size(), 2u);
+    ASSERT_TRUE(setJobOption(o, "fluid", std::string("one.bgeo")));  // one text: a list of one
+    EXPECT_EQ(o.moreFluids, std::vector<std::string>{"one.bgeo"});
+    ASSERT_TRUE(setJobOption(o, "fps", std::int64_t(15)));
+    EXPECT_EQ(o.fps, 15.0);
+    EXPECT_FALSE(setJobOption(o, "fps", 0.0)) << "out of [0.001, 1000]";
+    EXPECT_FALSE(setJobOption(o, "on-error", std::string("retry")));
+    EXPECT_FALSE(setJobOption(o, "frames", std::int64_t(-3)));
+    JobOptions fresh;
+    for (const JobOptionSpec& s : jobOptionTable()) EXPECT_TRUE(checkOption(s, fresh)) << s.name << ": its default";
+    EXPECT_TRUE(findJobOption("camera_path")->path);
+    EXPECT_FALSE(findJobOption("fps")->path);
+    EXPECT_EQ(defaultText(*findJobOption("split")), "auto");
+    EXPECT_EQ(defaultText(*findJobOption("frames")), "") << "0 is not given: no default shown";
 }

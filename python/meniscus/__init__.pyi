@@ -37,6 +37,8 @@ class AutoCamera(TypedDict):
 class SettingInfo(TypedDict):
     option: str
     default: str
+    unit: str
+    group: str
     help: str
 
 # Settings: `meniscus render`'s options by their Python names (settings()).

@@ -156,6 +156,9 @@ class RenderTest(unittest.TestCase):
             self.assertNotIn("--", str(e.exception))  # Python names, not CLI options
         s = meniscus.settings()
         self.assertEqual(s["noise_bump"]["option"], "--noise-bump")
+        self.assertEqual(s["width"]["unit"], "px")  # from the library's option table, as --help
+        self.assertEqual(s["width"]["group"], "Camera")
+        self.assertEqual(s["width"]["default"], "1280")
         self.assertNotIn("fluid_attribute", list(s))
         self.assertIn("h_per_spacing", list(s))
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include "meniscus/particles.h"
 
@@ -17,8 +18,10 @@ using R = RenderOptions;
 using G = OptionGroup;
 
 // Builders for the table rows (a row reads: name, group, unit, help, field).
-RenderOptionSpec row(std::string name, G group, std::string unit, std::string help, OptionRef (*field)(R&)) {
-    RenderOptionSpec s;
+template <class O = RenderOptions>
+OptionSpec<O> row(std::string name, G group, std::string unit, std::string help,
+                  std::type_identity_t<OptionRef (*)(O&)> field) {
+    OptionSpec<O> s;
     s.name = std::move(name);
     s.group = group;
     s.unit = std::move(unit);
@@ -355,32 +358,23 @@ std::vector<RenderOptionSpec> makeRenderTable() {
 
 std::vector<MesherOptionSpec> makeMesherTable() {
     using M = MesherOptions;
-    const auto mrow = [](std::string name, std::string unit, std::string help, OptionRef (*field)(M&)) {
-        MesherOptionSpec s;
-        s.name = std::move(name);
-        s.group = G::Surface;
-        s.unit = std::move(unit);
-        s.help = std::move(help);
-        s.field = field;
-        return s;
-    };
     std::vector<MesherOptionSpec> t;
-    t.push_back(mrow("cube-size", "radii", "Marching-cubes cube edge, in particle radii (0.05 to 8)",
+    t.push_back(row<M>("cube-size", G::Surface, "radii", "Marching-cubes cube edge, in particle radii (0.05 to 8)",
                      [](M& o) -> OptionRef { return &o.cubeSize; }));
-    t.push_back(mrow("iso", "",
+    t.push_back(row<M>("iso", G::Surface, "",
                      "Iso level as a fraction of the field inside fluid at rest (a 2r lattice); 0.5 puts a flat face 1 "
                      "r beyond the outermost particle centres",
                      [](M& o) -> OptionRef { return &o.iso; }));
     t.back().widget = {"Surface", 0.05f, 0.95f, false, false, false, {}, "surface=raycast"};  // the ray cast's level
-    t.push_back(mrow("field", "",
+    t.push_back(row<M>("field", G::Surface, "",
                      "sph: the SPH density, cubic spline of support 4 r (the surface refsurf ray-traces); thesis: "
                      "thesis eq. 4.16, f(d) = (d/(sqrt2 Rc))^4 - (d/(sqrt2 Rc))^2 + 1/4, Rc = 2.5 r",
                      [](M& o) -> OptionRef { return &o.field; }));
     t.back().limits.choices = {"sph", "thesis"};
-    t.push_back(mrow("support", "radii", "Field support (h or Rc) in particle radii, 1 to 16 (default: the field's)",
+    t.push_back(row<M>("support", G::Surface, "radii", "Field support (h or Rc) in particle radii, 1 to 16 (default: the field's)",
                      [](M& o) -> OptionRef { return &o.support; }));
     t.back().noDefault = true;
-    t.push_back(mrow("block", "cubes", "Block edge in cubes (4 to 256); blocks run in parallel",
+    t.push_back(row<M>("block", G::Surface, "cubes", "Block edge in cubes (4 to 256); blocks run in parallel",
                      [](M& o) -> OptionRef { return &o.block; }));
     return t;
 }
@@ -388,28 +382,19 @@ std::vector<MesherOptionSpec> makeMesherTable() {
 std::vector<JobOptionSpec> makeJobTable() {
     using J = JobOptions;
     constexpr double inf = std::numeric_limits<double>::infinity();
-    const auto jrow = [](std::string name, G group, std::string unit, std::string help, OptionRef (*field)(J&)) {
-        JobOptionSpec s;
-        s.name = std::move(name);
-        s.group = group;
-        s.unit = std::move(unit);
-        s.help = std::move(help);
-        s.field = field;
-        return s;
-    };
     std::vector<JobOptionSpec> t;
-    t.push_back(jrow("backend", G::Performance, "",
+    t.push_back(row<J>("backend", G::Performance, "",
                      "Where the stages run: cpu, gl (OpenGL 4.3 through headless EGL) or auto (gl on a GPU; cpu, "
                      "with a one-line note, when there is no GL or only a software one such as Mesa's llvmpipe)",
                      [](J& o) -> OptionRef { return &o.backend; }));
     t.back().limits.choices = {"cpu", "gl", "auto"};
-    t.push_back(jrow("fluid", G::Extras, "",
+    t.push_back(row<J>("fluid", G::Extras, "",
                      "Several fluids, one input per fluid (as SPlisHSPlasH writes one file per fluid model): another "
                      "file or sequence, frame for frame with the input, drawn as fluid 1 (then 2, 3 when repeated); "
                      "the input is fluid 0. Give --material one preset per fluid",
                      [](J& o) -> OptionRef { return &o.moreFluids; }));
     t.back().path = true;
-    t.push_back(jrow("select", G::Input, "",
+    t.push_back(row<J>("select", G::Input, "",
                      "Use only the particles that match, e.g. 'Type==fluid' (DualSPHysics: drops the boundary "
                      "particles) or 'density>900 && velocity.y<0': ATTR OP VALUE, OP one of == != < <= > >=, "
                      "clauses joined by && (all must hold). ATTR is a particle attribute as `meniscus info` lists it "
@@ -418,46 +403,46 @@ std::vector<JobOptionSpec> makeJobTable() {
                      "takes fixed (0), moving (1), floating (2), bound (0-2) or fluid (3). Applied to every file as "
                      "it is read, before --up; a frame left with no particles is an error",
                      [](J& o) -> OptionRef { return &o.select; }));
-    t.push_back(jrow("diffuse", G::Extras, "",
+    t.push_back(row<J>("diffuse", G::Extras, "",
                      "Draw diffuse particles (spray, foam; `meniscus whitewater` writes them) over the liquid as drops "
                      "with the --spray-size and --spray-streak look: a file, or a pattern like diffuse_%04d.bgeo "
                      "filled with each input frame's number",
                      [](J& o) -> OptionRef { return &o.diffuse; }));
     t.back().path = true;
-    t.push_back(jrow("fps", G::Movie, "1/s",
+    t.push_back(row<J>("fps", G::Movie, "1/s",
                      "Frames per second: an .mp4 output's frame rate, and a moving camera's clock (frame i at i / fps "
                      "seconds)",
                      [](J& o) -> OptionRef { return &o.fps; }));
     t.back().limits.min = 0.001, t.back().limits.max = 1000.0;
-    t.push_back(jrow("crf", G::Movie, "",
+    t.push_back(row<J>("crf", G::Movie, "",
                      "An .mp4 output's quality: x264's constant rate factor, 0 (lossless) to 51 (worst); 18 looks "
                      "lossless",
                      [](J& o) -> OptionRef { return &o.crf; }));
     t.back().limits.min = 0, t.back().limits.max = 51;
-    t.push_back(jrow("duration", G::Movie, "s",
+    t.push_back(row<J>("duration", G::Movie, "s",
                      "A simulation scene as the input: simulated time in seconds, a frame every 1/fps (default: the "
                      "scene's), as simulate --duration",
                      [](J& o) -> OptionRef { return &o.duration; }));
     t.back().limits.min = 0.0, t.back().limits.max = inf, t.back().limits.unset = -1.0, t.back().noDefault = true;
-    t.push_back(jrow("renumber", G::Output, "",
+    t.push_back(row<J>("renumber", G::Output, "",
                      "Number the output images 0, 1, 2, ... in order instead of by the input files' own numbers",
                      [](J& o) -> OptionRef { return &o.renumber; }));
     t.back().flag = true;
-    t.push_back(jrow("on-error", G::Output, "",
+    t.push_back(row<J>("on-error", G::Output, "",
                      "A frame that cannot be read, rendered or written: stop the run there (stop), or leave it out "
                      "and go on (skip), listing the failed frames at the end and exiting 1",
                      [](J& o) -> OptionRef { return &o.onError; }));
     t.back().limits.choices = {"stop", "skip"};
-    t.push_back(jrow("resume", G::Output, "",
+    t.push_back(row<J>("resume", G::Output, "",
                      "Leave frames whose output images already exist and are complete (after an interrupted run)",
                      [](J& o) -> OptionRef { return &o.resume; }));
     t.back().flag = true;
-    t.push_back(jrow("shard", G::Cluster, "",
+    t.push_back(row<J>("shard", G::Cluster, "",
                      "I/N: render only the I-th (from 0) of N contiguous shares of the frames, named as in the whole "
                      "run, for job arrays (Slurm: --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT); the N runs "
                      "together write exactly the whole run's images",
                      [](J& o) -> OptionRef { return &o.shard; }));
-    t.push_back(jrow("split", G::Cluster, "",
+    t.push_back(row<J>("split", G::Cluster, "",
                      "Under mpirun: give each process a share of the frames of a sequence (frames), or a share of "
                      "every frame's particles, splatted there and composited exactly on process 0 (particles; an "
                      "input with %r, e.g. fluid_r%r.vtu, gives each process its share of those part files); auto: "
@@ -465,25 +450,25 @@ std::vector<JobOptionSpec> makeJobTable() {
                      "byte",
                      [](J& o) -> OptionRef { return &o.split; }));
     t.back().limits.choices = {"auto", "frames", "particles"};
-    t.push_back(jrow("orbit", G::Movie, "degrees/s",
+    t.push_back(row<J>("orbit", G::Movie, "degrees/s",
                      "Moving camera: turn about the vertical through the target at this many degrees per second of "
                      "sequence time (frame i at i / --fps seconds; positive: counter-clockwise seen from above), "
                      "keeping distance and elevation",
                      [](J& o) -> OptionRef { return &o.orbit; }));
     t.back().limits.min = -36000.0, t.back().limits.max = 36000.0, t.back().noDefault = true;
-    t.push_back(jrow("turntable", G::Movie, "",
+    t.push_back(row<J>("turntable", G::Movie, "",
                      "Moving camera: one whole turn about the vertical through the target over the sequence (frame i "
                      "of N at 360 i / N degrees); for a single file give --frames",
                      [](J& o) -> OptionRef { return &o.turntable; }));
     t.back().flag = true;
-    t.push_back(jrow("camera-path", G::Movie, "",
+    t.push_back(row<J>("camera-path", G::Movie, "",
                      "Moving camera along key frames: a JSON file (or the JSON text itself) holding [{\"time\": s, "
                      "\"eye\": [x,y,z], \"target\": [x,y,z], \"fov\": degrees}, ...], times in seconds (frame i at "
                      "i / --fps), increasing; positions in metres, in the data's coordinates like --eye; fov optional "
                      "(default --fov); smooth (Catmull-Rom) between keys, the first and last key held before and after",
                      [](J& o) -> OptionRef { return &o.cameraPath; }));
     t.back().path = true;
-    t.push_back(jrow("frames", G::Movie, "",
+    t.push_back(row<J>("frames", G::Movie, "",
                      "Render a single input file as N frames, numbered 0 to N-1 (a turntable of one frame: "
                      "--turntable --frames 120); without a moving camera the same picture N times",
                      [](J& o) -> OptionRef { return &o.frames; }));
