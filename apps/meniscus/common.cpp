@@ -79,7 +79,7 @@ bool isMp4(const std::string& path) { return fs::path(path).extension() == ".mp4
 void addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, const std::string& help,
                     const OptionRef& ref, const OptionLimits& limits, bool flag, bool noDefault) {
     // The default shown is the bound value's (a command may set its own, e.g. simulate's --backend cpu).
-    const std::string defaultText = noDefault ? std::string() : optionText(ref, flag);
+    const std::string defaultText = noDefault ? std::string() : optionText(ref);
     const std::string option = "--" + name;
     CLI::Option* opt = std::visit(
         [&](auto* p) -> CLI::Option* {
@@ -139,27 +139,35 @@ void addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, c
         ref);
 }
 
+namespace {
+// A table's row on `cmd`, bound to `ref` (its own options' field, or another struct's).
+template <class O>
+void addRow(CLI::App* cmd, const OptionSpec<O>& s, const OptionRef& ref) {
+    addTableOption(cmd, s.name, s.group, s.help, ref, s.limits, s.flag, s.noDefault);
+}
+}  // namespace
+
 void addTableOptions(CLI::App* cmd, meniscus::RenderOptions& o,
                      const std::function<bool(const RenderOptionSpec&)>& keep) {
     for (const RenderOptionSpec& s : renderOptionTable())
-        if (keep(s)) addTableOption(cmd, s.name, s.group, s.help, s.field(o), s.limits, s.flag, s.noDefault);
+        if (keep(s)) addRow(cmd, s, s.field(o));
 }
 
 void addJobTableOptions(CLI::App* cmd, JobOptions& o, const std::vector<std::string>& names) {
     for (const std::string& name : names) {
         const JobOptionSpec& s = *findJobOption(name);
-        addTableOption(cmd, s.name, s.group, s.help, s.field(o), s.limits, s.flag, s.noDefault);
+        addRow(cmd, s, s.field(o));
     }
 }
 
 void addMesherTableOptions(CLI::App* cmd, MesherOptions& o) {
     for (const MesherOptionSpec& s : mesherOptionTable())
-        addTableOption(cmd, s.name, s.group, s.help, s.field(o), s.limits, s.flag, s.noDefault);
+        addRow(cmd, s, s.field(o));
 }
 
 void addSmoothingLengthOption(CLI::App* cmd, float& hPerSpacing) {
     const RenderOptionSpec& s = *findRenderOption("h-per-spacing");
-    addTableOption(cmd, s.name, s.group, s.help, &hPerSpacing, s.limits, s.flag, s.noDefault);
+    addRow(cmd, s, &hPerSpacing);
 }
 
 namespace {
@@ -239,7 +247,7 @@ void addFluidInputOption(CLI::App* cmd, RenderJob& o) { addJobTableOptions(cmd, 
 
 void addSelectOption(CLI::App* cmd, std::string& select) {
     const JobOptionSpec& s = *findJobOption("select");
-    addTableOption(cmd, s.name, s.group, s.help, &select, s.limits, s.flag, s.noDefault);
+    addRow(cmd, s, &select);
 }
 
 Status Frames::setSelection(const std::string& text) {

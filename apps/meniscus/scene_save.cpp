@@ -40,7 +40,7 @@ json typedJson(const OptionRef& ref) {
     return std::visit(
         [&](auto* p) -> json {
             using T = std::remove_pointer_t<decltype(p)>;
-            if constexpr (std::is_same_v<T, float>) return std::strtod(optionText(ref, false).c_str(), nullptr);
+            if constexpr (std::is_same_v<T, float>) return std::strtod(optionText(ref).c_str(), nullptr);
             else if constexpr (std::is_same_v<T, glm::vec3>) return json::array({p->x, p->y, p->z});
             else if constexpr (std::is_same_v<T, std::optional<glm::vec3>>)
                 return *p ? json::array({(*p)->x, (*p)->y, (*p)->z}) : json(nullptr);
@@ -66,9 +66,9 @@ json vec3Json(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
 std::vector<std::pair<std::string, std::string>> optionTexts(const RenderJob& o) {
     RenderJob copy = o;
     std::vector<std::pair<std::string, std::string>> out;
-    for (const RenderOptionSpec& s : renderOptionTable()) out.emplace_back("--" + s.name, optionText(s.field(copy), s.flag));
+    for (const RenderOptionSpec& s : renderOptionTable()) out.emplace_back("--" + s.name, optionText(s.field(copy)));
     for (const MesherOptionSpec& s : mesherOptionTable())
-        out.emplace_back("--" + s.name, optionText(s.field(copy.mesher), s.flag));
+        out.emplace_back("--" + s.name, optionText(s.field(copy.mesher)));
     return out;
 }
 
@@ -110,7 +110,7 @@ Result<std::string> sceneFileText(const RenderJob& o, const Camera& camera, cons
     // Every option of the tables that is not at its default, typed.
     RenderJob mine = o, fresh;
     const auto put = [&](const std::string& name, const OptionRef& value, const OptionRef& initial) {
-        if (cameraOption("--" + name) || optionText(value, false) == optionText(initial, false)) return;
+        if (cameraOption("--" + name) || optionText(value) == optionText(initial)) return;
         render[name] = typedJson(value);
     };
     for (const RenderOptionSpec& s : renderOptionTable()) put(s.name, s.field(mine), s.field(fresh));

@@ -237,7 +237,7 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
             if (w.shownWith.empty()) return true;
             const std::size_t eq = w.shownWith.find('=');
             const RenderOptionSpec* other = findRenderOption(w.shownWith.substr(0, eq));
-            return other && optionText(other->field(o), other->flag) == w.shownWith.substr(eq + 1);
+            return other && optionText(other->field(o)) == w.shownWith.substr(eq + 1);
         };
         const auto widget = [&](const std::string& name, const std::string& unit, const PanelWidget& w,
                                 const OptionLimits& limits, const OptionRef& ref) {
@@ -261,7 +261,7 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
                         if (sliderInt(label, shown, int(w.lo), int(w.hi))) *p = shown;
                     } else if constexpr (std::is_same_v<T, float>) {
                         if (!w.choices.empty()) {
-                            std::string text = optionText(p, false);
+                            std::string text = optionText(p);
                             if (combo(label, text, w.choices)) *p = std::stof(text);
                             return;
                         }

@@ -205,13 +205,13 @@ std::string widgetLabel(const std::string& optionName, const std::string& unit);
 
 // The value's text as the command line writes it ("0.25", "on", "0,0,1";
 // "" for an unset vector; "true"/"false" for a flag).
-std::string optionText(const OptionRef& ref, bool flag);
+std::string optionText(const OptionRef& ref);
 // The default's text as --help shows it; "" when the spec has noDefault.
 template <class Options>
 std::string defaultText(const OptionSpec<Options>& spec) {
     if (spec.noDefault) return {};
     Options fresh;
-    return optionText(spec.field(fresh), spec.flag);
+    return optionText(spec.field(fresh));
 }
 
 // An error naming --NAME unless `ref` holds a value `spec`'s range and

@@ -495,6 +495,15 @@ std::string spelling(std::string_view name) {  // "noise_bump" -> "noise-bump"
     return s;
 }
 
+// The row of `table` named `name` ('-' or '_' alike); nullptr when none.
+template <class O>
+const OptionSpec<O>* findIn(std::span<const OptionSpec<O>> table, std::string_view name) {
+    const std::string n = spelling(name);
+    for (const OptionSpec<O>& s : table)
+        if (s.name == n) return &s;
+    return nullptr;
+}
+
 bool inRange(double v, double lo, double hi) {
     return !(v < lo) && !(v > hi) && !std::isnan(v);  // NaN bounds are open
 }
@@ -536,26 +545,10 @@ std::span<const JobOptionSpec> jobOptionTable() {
     return table;
 }
 
-const JobOptionSpec* findJobOption(std::string_view name) {
-    const std::string n = spelling(name);
-    for (const JobOptionSpec& s : jobOptionTable())
-        if (s.name == n) return &s;
-    return nullptr;
-}
+const JobOptionSpec* findJobOption(std::string_view name) { return findIn(jobOptionTable(), name); }
 
-const RenderOptionSpec* findRenderOption(std::string_view name) {
-    const std::string n = spelling(name);
-    for (const RenderOptionSpec& s : renderOptionTable())
-        if (s.name == n) return &s;
-    return nullptr;
-}
-
-const MesherOptionSpec* findMesherOption(std::string_view name) {
-    const std::string n = spelling(name);
-    for (const MesherOptionSpec& s : mesherOptionTable())
-        if (s.name == n) return &s;
-    return nullptr;
-}
+const RenderOptionSpec* findRenderOption(std::string_view name) { return findIn(renderOptionTable(), name); }
+const MesherOptionSpec* findMesherOption(std::string_view name) { return findIn(mesherOptionTable(), name); }
 
 // The shortest text that reads back as the same float (so a value printed by
 // the viewer and given to `render` is the value the viewer drew with).
@@ -581,7 +574,7 @@ std::string keywordName(std::string_view optionName) {
     return s;
 }
 
-std::string optionText(const OptionRef& ref, bool flag) {
+std::string optionText(const OptionRef& ref) {
     return std::visit(
         [&](auto* p) -> std::string {
             using T = std::remove_pointer_t<decltype(p)>;
@@ -599,7 +592,6 @@ std::string optionText(const OptionRef& ref, bool flag) {
             else return *p ? vec3Text(**p) : std::string();
         },
         ref);
-    (void)flag;
 }
 
 std::optional<glm::vec3> parseVec3(const std::string& text) {
