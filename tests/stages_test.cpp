@@ -61,7 +61,7 @@ TEST(StageList, WhatRunsIsDeclaredInItsOrder) {
             const std::string name = declaredName(t.stage);
             const std::size_t at = declaredAt(name);
             ASSERT_LT(at, frameStages().size()) << "case " << c << ": " << name << " runs but is not declared";
-            EXPECT_TRUE(frameStages()[at].runs(cases[c])) << "case " << c << ": " << name << " ran; its runs() says no";
+            EXPECT_TRUE(frameStages()[at].runs(StageWhen{cases[c]})) << "case " << c << ": " << name << " ran; its runs() says no";
             EXPECT_GE(at, last) << "case " << c << ": " << name << " ran out of the declared order";
             last = at;
         }

@@ -760,131 +760,24 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     Backend& b = *backend_;
     if (auto st = b.beginFrame(positions, f); !st) return st.error();
 
-    // The stage order (docs/conventions.md#data-flow), in one place. After each
-    // stage the backend says whether it failed (GL: a GL error, out of GPU
-    // memory, a lost context), and the frame stops there with an error naming
-    // the stage. Timing brackets only when asked for (on GL they wait for the
-    // GPU).
-    auto stage = [&](const char* name, auto&& run) -> Status {
-        if (timings) b.beginStage(name);
-        run();
-        if (timings) b.endStage();
-        return b.stageStatus(name);
-    };
-    // The images one surface is drawn into: the full image's, the low one's
-    // of reduced resolution, or one fluid's layer.
-    struct SurfaceSlots {
-        Slot sceneDepth, raw, thickness, depth, normal, noise, whitening = Slot::Whitening;
-    };
+    // The stages, in the order of their list (render/stages.cpp), scope by
+    // scope: the scene; each surface (the one fluid, or each fluid's layer)
+    // at the splat's resolution, then at full resolution; then the passes
+    // over the whole picture. After each stage the backend says whether it
+    // failed (GL: a GL error, out of GPU memory, a lost context), and the
+    // frame stops there with an error naming the stage. Timing brackets only
+    // when asked for (on GL they wait for the GPU).
+    const StageWhen when{s, several};
+    const bool timed = timings != nullptr;
+    StageRun r{b, s, f, divisor > 1 ? reducedCamera(s.camera, divisor) : s.camera, {}, {}, {}, false, {}};
+    if (auto st = runScope(StageScope::Frame, when, r, timed); !st) return st;
     const SurfaceSlots full{Slot::SceneDepth, Slot::RawDepth, Slot::Thickness, Slot::Depth, Slot::Normal, Slot::Noise};
-    // Sort-last (RenderSettings::compositor): set on a process other than
-    // the root once its partial is composited; the frame ends there.
-    bool handedOver = false;
-    // The depth splat and thickness into q.raw and q.thickness: one stage,
-    // or with a compositor three: this share's partial, its combination with
-    // the other processes' (exact: min and integer sums), and on the root the
-    // thickness resolved from the combination (weight, blur, upsampling on
-    // the combined depth), which is then the partial of all the particles.
-    SplatPartial partial;
-    const Camera splatCamera = divisor > 1 ? reducedCamera(s.camera, divisor) : s.camera;
-    auto splat = [&](const std::string& tag, const SurfaceSlots& q) -> Status {
-        if (!s.compositor)
-            return stage((tag + "depth-splat+thickness").c_str(), [&] { b.splat(q.sceneDepth, q.raw, q.thickness); });
-        if (auto st = stage((tag + "depth-splat").c_str(), [&] { b.splatPartial(q.sceneDepth, partial); }); !st)
-            return st;
-        Status composited = okStatus();
-        if (auto st = stage((tag + "composite").c_str(), [&] { composited = s.compositor->composite(partial); }); !st)
-            return st;
-        if (!composited)
-            return makeError(composited.error().file, "composite (RenderSettings::compositor): " +
-                                                          composited.error().message);
-        if (!s.compositor->root()) {
-            handedOver = true;
-            return okStatus();
-        }
-        // A compositor's combination has the partials' sizes; anything else
-        // (processes with different settings) would be read out of bounds.
-        const int d = shared::thicknessDivisor(f.thickness.resolutionDivisor);
-        const int W = splatCamera.width, H = splatCamera.height, w = (W + d - 1) / d, h = (H + d - 1) / d;
-        auto size = [](int x, int y) { return std::to_string(x) + "x" + std::to_string(y); };
-        if (partial.depth.width != W || partial.depth.height != H || partial.chords.width != w ||
-            partial.chords.height != h)
-            return makeError("", "composite (RenderSettings::compositor): the combined partial's depth is " +
-                                     size(partial.depth.width, partial.depth.height) + " and its chords " +
-                                     size(partial.chords.width, partial.chords.height) + ", expected " + size(W, H) +
-                                     " and " + size(w, h) + ": every process must render with the same camera and "
-                                     "settings");
-        return stage((tag + "thickness").c_str(), [&] { b.resolveSplat(partial, q.raw, q.thickness); });
-    };
-    // The depth splat and thickness, the hole filling, the smoothing and
-    // normals (on the mesh path the triangles' depth and normals instead,
-    // with the ray cast its own; thickness and raw depth stay the
-    // particles') and the noise; stage names prefixed by `tag`.
-    auto surface = [&](const std::string& tag, const SurfaceSlots& q) -> Status {
-        if (auto st = splat(tag, q); !st || handedOver) return st;
-        if (s.mesh) {
-            if (auto st = stage((tag + "rasterise").c_str(), [&] { b.rasterise(q.sceneDepth, q.depth, q.normal); }); !st)
-                return st;
-        } else if (raycast) {
-            if (auto st = stage((tag + "raycast").c_str(), [&] { b.raycast(q.sceneDepth, q.raw, q.depth, q.normal); });
-                !st)
-                return st;
-        } else {
-            if (s.holeFill.enabled)
-                if (auto st = stage((tag + "fill-holes").c_str(), [&] { b.fillHoles(q.sceneDepth, q.raw, q.thickness); });
-                    !st)
-                    return st;
-            if (auto st = stage((tag + "smooth").c_str(), [&] { b.smooth(q.raw, q.depth); }); !st) return st;
-            if (auto st = stage((tag + "normals").c_str(), [&] { b.normals(q.depth, q.normal); }); !st) return st;
-        }
-        if (s.noise.enabled)
-            if (auto st = stage((tag + "noise").c_str(), [&] { b.noise(q.depth, q.normal, q.noise); }); !st) return st;
-        return okStatus();
-    };
-    // The whitening and the shading of a full-size surface into `color`
-    // (with several fluids also its emission and transmittance).
-    auto shadeSurface = [&](const std::string& tag, const SurfaceSlots& q, Slot color, Slot emission = Slot::None,
-                            Slot transmit = Slot::None) -> Status {
-        if (s.whitening.enabled)
-            if (auto st = stage((tag + "whitening").c_str(), [&] { b.whitening(q.depth, q.whitening); }); !st)
-                return st;
-        return stage((tag + "shade").c_str(), [&] {
-            b.shade(Slot::SceneColor, Slot::SceneDepth, q.depth, q.normal, q.thickness, q.noise, q.whitening, color,
-                    emission, transmit);
-        });
-    };
-
-    // Reduced resolution (docs/pipeline.md#reduced-resolution): the low surface
-    // in the Low* slots (raw depth in `q.raw`), upsampled into the full-size
-    // `q`.
-    auto reducedSurface = [&](const std::string& tag, const SurfaceSlots& q) -> Status {
-        b.setCamera(splatCamera);
-        if (auto st = surface(tag, {Slot::LowSceneDepth, q.raw, Slot::LowThickness, Slot::LowDepth, Slot::LowNormal,
-                                    Slot::LowNoise});
-            !st || handedOver)
-            return st;
-        b.setCamera(s.camera);
-        return stage((tag + "upsample").c_str(), [&] {
-            b.upsample(Slot::LowDepth, Slot::LowNormal, Slot::LowThickness, Slot::LowNoise, Slot::SceneDepth, q.depth,
-                       q.normal, q.thickness, q.noise, Slot::Coverage);
-        });
-    };
-
-    if (auto st = stage("scene", [&] { b.castScene(Slot::SceneColor, Slot::SceneDepth); }); !st) return st;
-    if (divisor > 1) {  // (the scene depth at the low camera's size: reduced on the low camera)
-        b.setCamera(reducedCamera(s.camera, divisor));
-        if (auto st = stage("reduce-scene-depth", [&] { b.reduceSceneDepth(Slot::SceneDepth, Slot::LowSceneDepth); });
-            !st)
-            return st;
-        b.setCamera(s.camera);
-    }
-    if (several) {
-        // Several fluids (docs/pipeline.md#several-fluids): each drawn and
-        // shaded on its own into its layer's images (at reduced resolution:
-        // upsampled, shaded, its edges blended, E and T with them), then
-        // composited front to back.
-        std::vector<int> fluidOfLayer;
-        for (std::size_t l = 0; l < groups.size(); ++l) {
+    for (std::size_t l = 0; l < (several ? groups.size() : 1); ++l) {
+        if (several) {
+            // Several fluids (docs/pipeline.md#several-fluids): each drawn and
+            // shaded on its own into its layer's images (at reduced resolution:
+            // upsampled, shaded, its edges blended, E and T with them), then
+            // composited front to back.
             FluidSplit::Group& g = fluids_->groups[l];
             auto layer = [l](LayerImage what) { return layerSlot(int(l), what); };
             const std::span<const float> none;
@@ -897,49 +790,30 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
                 shaped ? std::span<const EllipsoidShape>(ellipsoids_[l].shapes) : std::span<const EllipsoidShape>();
             b.setFluid(centres, {g.particles.view, shapes, raycast ? &fields_[l] : nullptr, shadingOf(g.fluid), g.idz,
                                  g.amplitude, g.whiteness});
-            const std::string tag = "fluid " + std::to_string(g.fluid) + ": ";
-            const SurfaceSlots q{Slot::SceneDepth,         layer(LayerImage::RawDepth), layer(LayerImage::Thickness),
-                                 layer(LayerImage::Depth), layer(LayerImage::Normal),   layer(LayerImage::Noise),
-                                 layer(LayerImage::Whitening)};
-            if (auto st = divisor > 1 ? reducedSurface(tag, q) : surface(tag, q); !st) return st;
-            if (auto st = shadeSurface(tag, q, layer(LayerImage::Color), layer(LayerImage::Emission),
-                                       layer(LayerImage::Transmit));
-                !st)
-                return st;
-            if (divisor > 1)
-                if (auto st = stage((tag + "fluid-edges").c_str(), [&] {
-                        b.blendFluidEdges(Slot::SceneColor, q.depth, Slot::Coverage, layer(LayerImage::Color),
-                                          layer(LayerImage::Emission), layer(LayerImage::Transmit));
-                    });
-                    !st)
-                    return st;
-            fluidOfLayer.push_back(g.fluid);
+            r.tag = "fluid " + std::to_string(g.fluid) + ": ";
+            r.q = {Slot::SceneDepth,          layer(LayerImage::RawDepth), layer(LayerImage::Thickness),
+                   layer(LayerImage::Depth),  layer(LayerImage::Normal),   layer(LayerImage::Noise),
+                   layer(LayerImage::Whitening), layer(LayerImage::Color), layer(LayerImage::Emission),
+                   layer(LayerImage::Transmit)};
+            r.fluidOfLayer.push_back(g.fluid);
+        } else {
+            r.q = full;
         }
-        if (auto st = stage("composite-fluids", [&] {
-                b.compositeFluids(fluidOfLayer, Slot::SceneColor, Slot::SceneDepth, Slot::Color, Slot::Depth,
-                                  Slot::Normal, Slot::Thickness, Slot::FluidId);
-            });
-            !st)
-            return st;
-    } else if (divisor > 1) {
-        // Reduced resolution: the surface on the low camera, upsampled to the
-        // full one, shaded there, and its edges blended into the scene.
-        if (auto st = reducedSurface("", full); !st || handedOver) return st;
-        if (auto st = shadeSurface("", full, Slot::Color); !st) return st;
-        if (auto st = stage("fluid-edges",
-                            [&] { b.blendFluidEdges(Slot::SceneColor, Slot::Depth, Slot::Coverage, Slot::Color); });
-            !st)
-            return st;
-    } else {
-        if (auto st = surface("", full); !st || handedOver) return st;
-        if (auto st = shadeSurface("", full, Slot::Color); !st) return st;
+        const SurfaceSlots q = r.q;
+        if (divisor > 1) {
+            // Reduced resolution (docs/pipeline.md#reduced-resolution): the
+            // surface on the low camera in the Low* slots (raw depth in q.raw),
+            // upsampled into the full-size q.
+            b.setCamera(r.splatCamera);
+            r.q = {Slot::LowSceneDepth, q.raw, Slot::LowThickness, Slot::LowDepth, Slot::LowNormal, Slot::LowNoise};
+        }
+        if (auto st = runScope(StageScope::Surface, when, r, timed); !st || r.handedOver) return st;
+        if (divisor > 1) b.setCamera(s.camera);
+        r.q = q;
+        if (auto st = runScope(StageScope::Layer, when, r, timed); !st) return st;
     }
-    if (s.silhouette.enabled)
-        if (auto st = stage("silhouette", [&] { b.silhouette(Slot::SceneColor, Slot::Depth, Slot::Color, Slot::Silhouette); });
-            !st)
-            return st;
-    if (!drops) return okStatus();
-    return stage("spray", [&] { b.spray(Slot::SceneDepth, Slot::Depth, Slot::Color, Slot::Spray); });
+    r.tag.clear();
+    return runScope(StageScope::Finish, when, r, timed);
 }
 
 Drawn Renderer::drawn(const RenderSettings& s) const {

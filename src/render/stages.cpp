@@ -1,10 +1,12 @@
-// The stage list (stages.h): each stage's declaration and the check of its
-// parameters, said here once; runStages in pipeline.cpp runs them in this order.
+// The stage list (stages.h): each stage's declaration, the check of its
+// parameters and its call, said here once; runStages in pipeline.cpp runs
+// each scope through runScope, so the order is this list's.
 #include "render/stages.h"
 
 #include <string>
 
 #include "core/fluid_scale.h"
+#include "shared/thickness.h"
 
 namespace meniscus {
 
@@ -18,10 +20,10 @@ Status settingError(const char* what, const std::string& bad) {
     return makeError("", std::string("RenderSettings::") + what + bad);
 }
 
-bool always(const RenderSettings&) { return true; }
-bool reduced(const RenderSettings& s) { return s.fluidScale != 1.0f; }
-bool screenPath(const RenderSettings& s) { return !s.mesh && !s.raycast.enabled; }
-bool sortLast(const RenderSettings& s) { return s.compositor != nullptr; }
+bool always(const StageWhen&) { return true; }
+bool reduced(const StageWhen& w) { return w.settings.fluidScale != 1.0f; }
+bool screenPath(const StageWhen& w) { return !w.settings.mesh && !w.settings.raycast.enabled; }
+bool sortLast(const StageWhen& w) { return w.settings.compositor != nullptr; }
 
 Status checkReduced(const RenderSettings& s) {
     const int divisor = fluidDivisor(s.fluidScale);
@@ -81,46 +83,182 @@ Status checkAnisotropy(const RenderSettings& s) {
     return settingError("anisotropy.", checkAnisotropyParams(s.anisotropy));
 }
 
-// The list. A check sees the settings whether or not its stage runs (a view
-// may ask for a stage that is off: the check says which setting to turn on).
+// ---------------------------------------------------------------- the calls
+
+// Each stage's call: one Backend method on the surface's images.
+Status runScene(StageRun& r) {
+    r.backend.castScene(Slot::SceneColor, Slot::SceneDepth);
+    return okStatus();
+}
+
+// The scene depth at the low camera's size, reduced on the low camera.
+Status runReduceSceneDepth(StageRun& r) {
+    r.backend.setCamera(r.splatCamera);
+    r.backend.reduceSceneDepth(Slot::SceneDepth, Slot::LowSceneDepth);
+    r.backend.setCamera(r.settings.camera);
+    return okStatus();
+}
+
+Status runSplat(StageRun& r) {
+    r.backend.splat(r.q.sceneDepth, r.q.raw, r.q.thickness);
+    return okStatus();
+}
+
+Status runSplatPartial(StageRun& r) {
+    r.backend.splatPartial(r.q.sceneDepth, r.partial);
+    return okStatus();
+}
+
+// Every process's partial combined (exact: min and integer sums); a process
+// other than the root hands its share over and its frame ends here.
+Status runComposite(StageRun& r) {
+    const Status composited = r.settings.compositor->composite(r.partial);
+    if (!composited)
+        return makeError(composited.error().file, "composite (RenderSettings::compositor): " + composited.error().message);
+    if (!r.settings.compositor->root()) r.handedOver = true;
+    return okStatus();
+}
+
+// On the root, the thickness resolved from the combination (weight, blur,
+// upsampling on the combined depth), which is then the partial of all the
+// particles. The combination has the partials' sizes; anything else
+// (processes with different settings) would be read out of bounds.
+Status runResolveSplat(StageRun& r) {
+    const int d = shared::thicknessDivisor(r.frame.thickness.resolutionDivisor);
+    const int W = r.splatCamera.width, H = r.splatCamera.height, w = (W + d - 1) / d, h = (H + d - 1) / d;
+    const SplatPartial& p = r.partial;
+    auto size = [](int x, int y) { return std::to_string(x) + "x" + std::to_string(y); };
+    if (p.depth.width != W || p.depth.height != H || p.chords.width != w || p.chords.height != h)
+        return makeError("", "composite (RenderSettings::compositor): the combined partial's depth is " +
+                                 size(p.depth.width, p.depth.height) + " and its chords " +
+                                 size(p.chords.width, p.chords.height) + ", expected " + size(W, H) + " and " +
+                                 size(w, h) + ": every process must render with the same camera and settings");
+    r.backend.resolveSplat(r.partial, r.q.raw, r.q.thickness);
+    return okStatus();
+}
+
+Status runFillHoles(StageRun& r) {
+    r.backend.fillHoles(r.q.sceneDepth, r.q.raw, r.q.thickness);
+    return okStatus();
+}
+
+Status runSmooth(StageRun& r) {
+    r.backend.smooth(r.q.raw, r.q.depth);
+    return okStatus();
+}
+
+Status runNormals(StageRun& r) {
+    r.backend.normals(r.q.depth, r.q.normal);
+    return okStatus();
+}
+
+Status runRasterise(StageRun& r) {
+    r.backend.rasterise(r.q.sceneDepth, r.q.depth, r.q.normal);
+    return okStatus();
+}
+
+Status runRaycast(StageRun& r) {
+    r.backend.raycast(r.q.sceneDepth, r.q.raw, r.q.depth, r.q.normal);
+    return okStatus();
+}
+
+Status runNoise(StageRun& r) {
+    r.backend.noise(r.q.depth, r.q.normal, r.q.noise);
+    return okStatus();
+}
+
+// The low surface (the Low* slots) upsampled into the full-size surface.
+Status runUpsample(StageRun& r) {
+    r.backend.upsample(Slot::LowDepth, Slot::LowNormal, Slot::LowThickness, Slot::LowNoise, Slot::SceneDepth,
+                       r.q.depth, r.q.normal, r.q.thickness, r.q.noise, Slot::Coverage);
+    return okStatus();
+}
+
+Status runWhitening(StageRun& r) {
+    r.backend.whitening(r.q.depth, r.q.whitening);
+    return okStatus();
+}
+
+Status runShade(StageRun& r) {
+    const SurfaceSlots& q = r.q;
+    r.backend.shade(Slot::SceneColor, Slot::SceneDepth, q.depth, q.normal, q.thickness, q.noise, q.whitening, q.color,
+                    q.emission, q.transmit);
+    return okStatus();
+}
+
+Status runFluidEdges(StageRun& r) {
+    r.backend.blendFluidEdges(Slot::SceneColor, r.q.depth, Slot::Coverage, r.q.color, r.q.emission, r.q.transmit);
+    return okStatus();
+}
+
+Status runCompositeFluids(StageRun& r) {
+    r.backend.compositeFluids(r.fluidOfLayer, Slot::SceneColor, Slot::SceneDepth, Slot::Color, Slot::Depth,
+                              Slot::Normal, Slot::Thickness, Slot::FluidId);
+    return okStatus();
+}
+
+Status runSilhouette(StageRun& r) {
+    r.backend.silhouette(Slot::SceneColor, Slot::Depth, Slot::Color, Slot::Silhouette);
+    return okStatus();
+}
+
+Status runSpray(StageRun& r) {
+    r.backend.spray(Slot::SceneDepth, Slot::Depth, Slot::Color, Slot::Spray);
+    return okStatus();
+}
+
+// ---------------------------------------------------------------- the list
+
+// A check sees the settings whether or not its stage runs (a view may ask
+// for a stage that is off: the check says which setting to turn on).
+using S = StageScope;
 const StageDecl kStages[] = {
     // Host work, before the images: the spray's split, the ray cast's field, the kernels.
-    {"spray-classify", "particles (density, velocity)", "the body's particles, the drops", drawsDrops, checkSpray},
-    {"sph-field", "particles", "the SPH density grid of the ray cast", [](const RenderSettings& s) { return s.raycast.enabled; },
-     checkRaycast},
-    {"anisotropy", "particles", "one ellipsoid and centre per particle",
-     [](const RenderSettings& s) { return s.anisotropy.enabled; }, checkAnisotropy},
-    // The images.
-    {"scene", "camera, studio, light", "SceneColor, SceneDepth", always, nullptr},
-    {"reduce-scene-depth", "SceneDepth", "LowSceneDepth", reduced, checkReduced},
-    {"depth-splat+thickness", "SceneDepth, particles", "RawDepth, Thickness", always, checkSplat},
+    {"spray-classify", S::Host, "particles (density, velocity)", "the body's particles, the drops",
+     [](const StageWhen& w) { return drawsDrops(w.settings); }, checkSpray, nullptr},
+    {"sph-field", S::Host, "particles", "the SPH density grid of the ray cast",
+     [](const StageWhen& w) { return w.settings.raycast.enabled; }, checkRaycast, nullptr},
+    {"anisotropy", S::Host, "particles", "one ellipsoid and centre per particle",
+     [](const StageWhen& w) { return w.settings.anisotropy.enabled; }, checkAnisotropy, nullptr},
+    // The images: the scene, once.
+    {"scene", S::Frame, "camera, studio, light", "SceneColor, SceneDepth", always, nullptr, runScene},
+    {"reduce-scene-depth", S::Frame, "SceneDepth", "LowSceneDepth", reduced, checkReduced, runReduceSceneDepth},
+    // Each surface (the one fluid, or each fluid's layer), at the splat's resolution.
+    {"depth-splat+thickness", S::Surface, "SceneDepth, particles", "RawDepth, Thickness",
+     [](const StageWhen& w) { return !sortLast(w); }, checkSplat, runSplat},
     // The same over several processes (RenderSettings::compositor): this share's splat, the
     // exact combination of every share's, the thickness resolved from it on the root.
-    {"depth-splat", "SceneDepth, this share's particles", "the partial", sortLast, nullptr},
-    {"composite", "every process's partial", "the combined partial", sortLast, nullptr},
-    {"thickness", "the combined partial", "RawDepth, Thickness", sortLast, nullptr},
-    {"fill-holes", "SceneDepth, RawDepth, Thickness", "RawDepth, Thickness",
-     [](const RenderSettings& s) { return screenPath(s) && s.holeFill.enabled; }, nullptr},
-    {"smooth", "RawDepth", "Depth", screenPath, nullptr},
-    {"normals", "Depth", "Normal", screenPath, nullptr},
-    {"rasterise", "SceneDepth, the mesh", "Depth, Normal", [](const RenderSettings& s) { return s.mesh != nullptr; },
-     nullptr},
-    {"raycast", "SceneDepth, RawDepth, the field", "Depth, Normal",
-     [](const RenderSettings& s) { return s.raycast.enabled; }, nullptr},
-    {"noise", "Depth, Normal, particles (id, velocity)", "Noise, Normal",
-     [](const RenderSettings& s) { return s.noise.enabled; }, checkNoise},
-    {"upsample", "the Low images, SceneDepth", "Depth, Normal, Thickness, Noise, Coverage", reduced, nullptr},
-    {"whitening", "Depth, particles (velocity)", "Whitening", [](const RenderSettings& s) { return s.whitening.enabled; },
-     checkWhitening},
-    {"shade", "SceneColor, SceneDepth, Depth, Normal, Thickness, Noise, Whitening", "Color", always, nullptr},
-    {"fluid-edges", "SceneColor, Depth, Coverage, Color", "Color", reduced, nullptr},
-    // With several fluids in the particles (runs: may run; the particles decide).
-    {"composite-fluids", "each fluid's layer", "Color, Depth, Normal, Thickness, FluidId", always, nullptr},
-    {"silhouette", "SceneColor, Depth, Color", "Color, Silhouette", [](const RenderSettings& s) { return s.silhouette.enabled; },
-     checkSilhouette},
-    {"spray", "SceneDepth, Depth, Color, the drops", "Color, Spray", drawsDrops, nullptr},
+    {"depth-splat", S::Surface, "SceneDepth, this share's particles", "the partial", sortLast, nullptr,
+     runSplatPartial},
+    {"composite", S::Surface, "every process's partial", "the combined partial", sortLast, nullptr, runComposite},
+    {"thickness", S::Surface, "the combined partial", "RawDepth, Thickness", sortLast, nullptr, runResolveSplat},
+    {"fill-holes", S::Surface, "SceneDepth, RawDepth, Thickness", "RawDepth, Thickness",
+     [](const StageWhen& w) { return screenPath(w) && w.settings.holeFill.enabled; }, nullptr, runFillHoles},
+    {"smooth", S::Surface, "RawDepth", "Depth", screenPath, nullptr, runSmooth},
+    {"normals", S::Surface, "Depth", "Normal", screenPath, nullptr, runNormals},
+    {"rasterise", S::Surface, "SceneDepth, the mesh", "Depth, Normal",
+     [](const StageWhen& w) { return w.settings.mesh != nullptr; }, nullptr, runRasterise},
+    {"raycast", S::Surface, "SceneDepth, RawDepth, the field", "Depth, Normal",
+     [](const StageWhen& w) { return w.settings.raycast.enabled; }, nullptr, runRaycast},
+    {"noise", S::Surface, "Depth, Normal, particles (id, velocity)", "Noise, Normal",
+     [](const StageWhen& w) { return w.settings.noise.enabled; }, checkNoise, runNoise},
+    // Each surface at full resolution.
+    {"upsample", S::Layer, "the Low images, SceneDepth", "Depth, Normal, Thickness, Noise, Coverage", reduced,
+     nullptr, runUpsample},
+    {"whitening", S::Layer, "Depth, particles (velocity)", "Whitening",
+     [](const StageWhen& w) { return w.settings.whitening.enabled; }, checkWhitening, runWhitening},
+    {"shade", S::Layer, "SceneColor, SceneDepth, Depth, Normal, Thickness, Noise, Whitening",
+     "Color (a layer's: its Color, Emission, Transmit)", always, nullptr, runShade},
+    {"fluid-edges", S::Layer, "SceneColor, Depth, Coverage, Color", "Color", reduced, nullptr, runFluidEdges},
+    // Once, over the picture.
+    {"composite-fluids", S::Finish, "each fluid's layer", "Color, Depth, Normal, Thickness, FluidId",
+     [](const StageWhen& w) { return w.severalFluids; }, nullptr, runCompositeFluids},
+    {"silhouette", S::Finish, "SceneColor, Depth, Color", "Color, Silhouette",
+     [](const StageWhen& w) { return w.settings.silhouette.enabled; }, checkSilhouette, runSilhouette},
+    {"spray", S::Finish, "SceneDepth, Depth, Color, the drops", "Color, Spray",
+     [](const StageWhen& w) { return drawsDrops(w.settings); }, nullptr, runSpray},
     // After the stages, render() reads the images it returns back to the host.
-    {"readback", "Color and the AOVs", "the host's Aovs", always, nullptr},
+    {"readback", S::Readback, "Color and the AOVs", "the host's Aovs", always, nullptr, nullptr},
 };
 
 }  // namespace
@@ -131,6 +269,21 @@ Status checkStages(const RenderSettings& s) {
     for (const StageDecl& stage : kStages)
         if (stage.check)
             if (auto st = stage.check(s); !st) return st;
+    return okStatus();
+}
+
+Status runScope(StageScope scope, const StageWhen& when, StageRun& r, bool timed) {
+    for (const StageDecl& stage : kStages) {
+        if (stage.scope != scope || !stage.run || !stage.runs(when)) continue;
+        const std::string name = r.tag + stage.name;
+        if (timed) r.backend.beginStage(name.c_str());
+        const Status ran = stage.run(r);
+        if (timed) r.backend.endStage();
+        // The backend's failure first (a GL error, out of GPU memory, a lost context).
+        if (auto st = r.backend.stageStatus(name.c_str()); !st) return st;
+        if (!ran) return ran;
+        if (r.handedOver) return okStatus();
+    }
     return okStatus();
 }
 

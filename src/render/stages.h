@@ -1,28 +1,75 @@
 // The stages of a frame, declared once (docs/pipeline.md has each one's
 // math): its name (the timing line and the error that names a failed stage),
-// the images it reads and writes, when it runs, and the check of its
-// parameters. Renderer::runStages checks a frame's settings through this
-// list before anything runs, and runs the stages in their order
-// (docs/conventions.md#data-flow); each runs as one Backend method, a
-// function of src/cpu/ and a shader pass of src/gl/.
+// where in the frame it runs (its scope), the images it reads and writes,
+// when it runs, the check of its parameters, and its call. Renderer::runStages
+// checks a frame's settings through this list before anything runs, then runs
+// each scope's stages in the list's order (docs/conventions.md#data-flow):
+// the order is this list and nothing else. Each stage's call is one Backend
+// method, a function of src/cpu/ and a shader pass of src/gl/.
 #pragma once
 
 #include <span>
+#include <string>
+#include <vector>
 
+#include "core/backend.h"
+#include "meniscus/camera.h"
 #include "meniscus/renderer.h"
 #include "meniscus/result.h"
+#include "meniscus/sort_last.h"
 
 namespace meniscus {
 
+// Where in a frame a stage runs.
+enum class StageScope {
+    Host,     // on the host before the images, in the Renderer (the particles' own work)
+    Frame,    // once, before the surfaces (the scene)
+    Surface,  // per surface (the one fluid, or each fluid's layer), at the splat's resolution
+    Layer,    // per surface, at full resolution: its upsampling and shading
+    Finish,   // once, after every surface (the layers composited, the passes over the picture)
+    Readback  // the images render() returns, read back to the host
+};
+
+// What decides whether a stage runs: the settings, and what the particles
+// add (several fluids).
+struct StageWhen {
+    const RenderSettings& settings;
+    bool severalFluids = false;
+};
+
+// The images one surface is drawn into: the full image's, the low one's of
+// reduced resolution, or one fluid's layer; and where its shading goes.
+struct SurfaceSlots {
+    Slot sceneDepth, raw, thickness, depth, normal, noise, whitening = Slot::Whitening;
+    Slot color = Slot::Color, emission = Slot::None, transmit = Slot::None;
+};
+
+// What a stage's call reads: the backend, the frame's settings, the surface
+// being drawn, and what passes between the sort-last stages and the layers.
+struct StageRun {
+    Backend& backend;
+    const RenderSettings& settings;
+    const FrameSettings& frame;
+    Camera splatCamera;          // the surface's camera (the low one at reduced resolution)
+    SurfaceSlots q;              // the surface the Surface and Layer stages draw
+    std::string tag;             // the timing lines' prefix: "fluid 1: " for a layer, else ""
+    SplatPartial partial;        // sort-last: this share's splat, then the combination
+    bool handedOver = false;     // sort-last, not the root: the frame ended after the composite
+    std::vector<int> fluidOfLayer;  // each layer's fluid index, in drawing order
+};
+
 struct StageDecl {
     const char* name;    // "silhouette"; per fluid prefixed "fluid 1: "
+    StageScope scope;
     const char* reads;   // the images (Slot names) and inputs it reads
     const char* writes;  // the images it writes
-    // Whether it runs for these settings (the particles may add conditions:
-    // several fluids, a compositor).
-    bool (*runs)(const RenderSettings&);
+    // Whether it runs.
+    bool (*runs)(const StageWhen&);
     // Its parameters and what the chosen view needs of it; nullptr: nothing to check.
     Status (*check)(const RenderSettings&);
+    // Its call (Frame, Surface, Layer and Finish stages): an error stops the
+    // frame; nullptr for the Host and Readback stages, which the Renderer runs.
+    Status (*run)(StageRun&);
 };
 
 // Every stage, host stages (before the images) first, in the order they run.
@@ -30,6 +77,12 @@ std::span<const StageDecl> frameStages();
 
 // The checks of every stage that runs for `s`, in order: the first error.
 Status checkStages(const RenderSettings& s);
+
+// Runs the stages of `scope` that run for `when`, in the list's order: each
+// bracketed by the backend's timing when `timed`, its failure (the call's
+// error, or the backend's: a GL error, out of memory) named by its stage.
+// Stops early once r.handedOver.
+Status runScope(StageScope scope, const StageWhen& when, StageRun& r, bool timed);
 
 // Whether the spray stage runs: it draws the spray's drops, the diffuse
 // layer's, or both.
