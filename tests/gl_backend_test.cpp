@@ -15,6 +15,7 @@
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
+#include "render/stages.h"
 #include "test_util.h"
 
 using namespace meniscus;
@@ -309,4 +310,18 @@ TEST_F(GlBackend, CliBackendsWriteTheSameImage) {
     EXPECT_NE(runCommand(cliPath() + " render " + in + " -o " + (dir / "x.png").string() + " --backend vulkan", &out), 0);
     EXPECT_NE(out.find("cpu, gl, auto"), std::string::npos) << out;
     EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+}
+
+// Every stage with a CPU driver has its GL twin's driver, which can make its
+// programs on a GL context (the stage list's prepareStages).
+TEST(GlStageDrivers, EveryImageStageHasItsGlDriver) {
+    for (const StageDecl& s : frameStages()) {
+        if (!s.cpu) {
+            EXPECT_EQ(s.gl, nullptr) << s.name;
+            continue;
+        }
+        ASSERT_NE(s.gl, nullptr) << s.name << " has a CPU driver and no GL one";
+        EXPECT_NE(s.gl->run, nullptr) << s.name;
+        EXPECT_NE(s.gl->prepare, nullptr) << s.name << ": its GL programs are made before the first frame";
+    }
 }

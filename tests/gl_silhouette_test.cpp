@@ -28,6 +28,7 @@
 #include "core/backend.h"
 #include "cpu/silhouette.h"
 #include "gl/backend.h"
+#include "render/stages.h"
 #include "gl/gpu_image.h"
 #include "gl/silhouette.h"
 #include "gl_test_util.h"
@@ -293,15 +294,16 @@ TEST_F(GlSilhouette, FadingTheSceneSlotKeepsTheCachedScene) {
     const Image<glm::vec4> other(96, 64, glm::vec4(1.0f, 0.0f, 1.0f, 1.0f));
     for (Backend* b : {gl->get(), cpu.get()}) {
         ASSERT_TRUE(b->beginFrame(block, fs).ok()) << b->name();
-        b->castScene(Slot::SceneColor, Slot::SceneDepth);
+        ASSERT_TRUE(runStage(*b, "scene", {}).ok()) << b->name();
         const Image<glm::vec4> clean = b->readColor(Slot::SceneColor);
-        b->splat(Slot::SceneDepth, Slot::RawDepth, Slot::Thickness);
+        ASSERT_TRUE(runStage(*b, "depth-splat+thickness", {}).ok()) << b->name();
         b->writeColor(Slot::Color, other);
-        b->silhouette(Slot::Color, Slot::RawDepth, Slot::SceneColor, Slot::Silhouette);
-        EXPECT_TRUE(b->stageStatus("silhouette").ok()) << b->name();
+        StageIo io;  // the scene colour as the colour faded, another colour as the scene
+        io.at.sceneColor = Slot::Color, io.at.depth = Slot::RawDepth, io.at.color = Slot::SceneColor;
+        EXPECT_TRUE(runStage(*b, "silhouette", io).ok()) << b->name();
         EXPECT_GT(partialPixels(b->readScalar(Slot::Silhouette)), 50) << b->name();
         EXPECT_GT(differingBits(clean, b->readColor(Slot::SceneColor)), 50) << b->name();
-        b->castScene(Slot::SceneColor, Slot::SceneDepth);
+        ASSERT_TRUE(runStage(*b, "scene", {}).ok()) << b->name();
         EXPECT_EQ(differingBits(clean, b->readColor(Slot::SceneColor)), 0) << b->name();
     }
 }

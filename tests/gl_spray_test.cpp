@@ -27,6 +27,7 @@
 #include "cpu/splat.h"
 #include "cpu/spray.h"
 #include "gl/backend.h"
+#include "render/stages.h"
 #include "gl/gpu_image.h"
 #include "gl/spray.h"
 #include "gl_test_util.h"
@@ -333,14 +334,15 @@ TEST_F(GlSpray, PaintingOverTheSceneSlotKeepsTheCachedScene) {
     const std::unique_ptr<Backend> cpu = makeCpuBackend();
     for (Backend* b : {gl->get(), cpu.get()}) {
         ASSERT_TRUE(b->beginFrame({}, fs).ok()) << b->name();
-        b->castScene(Slot::SceneColor, Slot::SceneDepth);
+        ASSERT_TRUE(runStage(*b, "scene", {}).ok()) << b->name();
         const Image<glm::vec4> clean = b->readColor(Slot::SceneColor);
-        b->splat(Slot::SceneDepth, Slot::RawDepth, Slot::Thickness);  // no particles: no fluid anywhere
-        b->spray(Slot::SceneDepth, Slot::RawDepth, Slot::SceneColor, Slot::Spray);
-        EXPECT_TRUE(b->stageStatus("spray").ok()) << b->name();
+        ASSERT_TRUE(runStage(*b, "depth-splat+thickness", {}).ok()) << b->name();  // no particles: no fluid anywhere
+        StageIo io;  // drawn over the scene colour itself
+        io.at.depth = Slot::RawDepth, io.at.color = Slot::SceneColor;
+        EXPECT_TRUE(runStage(*b, "spray", io).ok()) << b->name();
         EXPECT_GT(coveredPixels(b->readScalar(Slot::Spray)), 200) << b->name();
         EXPECT_GT(differingBits(clean, b->readColor(Slot::SceneColor)), 200) << b->name();
-        b->castScene(Slot::SceneColor, Slot::SceneDepth);
+        ASSERT_TRUE(runStage(*b, "scene", {}).ok()) << b->name();
         EXPECT_EQ(differingBits(clean, b->readColor(Slot::SceneColor)), 0) << b->name();
     }
 }

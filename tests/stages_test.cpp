@@ -86,3 +86,42 @@ TEST(StageList, ChecksAreWhatTheRenderRefuses) {
     ASSERT_FALSE(checkStages(s));
     EXPECT_NE(checkStages(s).error().message.find("fluidScale"), std::string::npos);
 }
+
+// A stage that draws has its CPU driver (the GL one: gl_backend_test), or is
+// the host's work alone (the compositor's combination); the host's own
+// stages and the read-back have none.
+TEST(StageList, EveryImageStageHasItsCpuDriver) {
+    for (const StageDecl& s : frameStages()) {
+        if (s.scope == StageScope::Host || s.scope == StageScope::Readback) {
+            EXPECT_EQ(s.cpu, nullptr) << s.name;
+            EXPECT_EQ(s.run, nullptr) << s.name;
+            continue;
+        }
+        if (!s.cpu) {
+            EXPECT_NE(s.run, nullptr) << s.name << " has neither a driver nor host work";
+            continue;
+        }
+        EXPECT_NE(s.cpu->run, nullptr) << s.name;
+    }
+}
+
+// runStage runs one stage by name (as a test of a stage on its own does),
+// and refuses a name that is not in the list.
+TEST(StageList, RunStageByName) {
+    const ParticleSet& set = smallFrame21();
+    const RenderSettings s = autoFramedSettings(set, 48, 32);
+    const std::unique_ptr<Backend> cpu = makeCpuBackend();
+    FrameSettings f;
+    f.camera = s.camera;
+    f.radius = s.radiusM;
+    ASSERT_TRUE(cpu->beginFrame(set.positions, f));
+    ASSERT_TRUE(runStage(*cpu, "scene", {}));
+    ASSERT_TRUE(runStage(*cpu, "depth-splat+thickness", {}));
+    const Image<float> raw = cpu->readScalar(Slot::RawDepth);
+    int covered = 0;
+    for (float z : raw.pixels) covered += std::isfinite(z) && z > 0.0f;
+    EXPECT_GT(covered, 100);
+    const Status unknown = runStage(*cpu, "no-such-stage", {});
+    ASSERT_FALSE(unknown);
+    EXPECT_NE(unknown.error().message.find("no-such-stage"), std::string::npos);
+}

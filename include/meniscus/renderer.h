@@ -256,6 +256,7 @@ private:
     // What the last runStages drew, for reading it back.
     Drawn drawn(const RenderSettings& settings) const;
     std::unique_ptr<Backend> backend_;
+    bool prepared_ = false;  // the stages' drivers made ready on backend_ (render/stages.h prepareStages)
     std::vector<glm::vec3> gathered_;  // positions of a strided view, made contiguous for the backend
     std::vector<float> noiseIdz_, noiseAmplitude_, whiteness_;
     std::unique_ptr<TurbulenceTracker> turbulence_;

@@ -1,8 +1,9 @@
-// The backend interface the stage order calls (src/render/pipeline.cpp): one
-// method per stage of docs/pipeline.md, reading and writing images named by opaque
-// handles. The CPU reference (src/cpu/backend.cpp) and the GL backend
-// (src/gl/backend.cpp) implement it; each keeps its own storage per handle
-// (CPU: Image<T>; GL: GPU buffers), so the pipeline never touches pixels.
+// The backend interface the stage list runs on (src/render/stages.cpp): the
+// frame, images named by opaque handles, and each stage's driver per kind of
+// backend (StageDriver), defined in the stage's own file. The CPU reference
+// (src/cpu/cpu_backend.h) and the GL backend (src/gl/gl_backend.h) implement
+// it; each keeps its own storage per handle (CPU: Image<T>; GL: GPU
+// buffers), so the pipeline never touches pixels.
 // No GL header is included here or by anything outside src/gl/.
 #pragma once
 
@@ -129,6 +130,48 @@ struct FrameSettings {
     std::optional<ParticleRange> splatRange;
 };
 
+class Backend;
+
+enum class BackendKind { Cpu, Gl };
+
+// The images one stage call reads and writes, by their role. The stage list
+// (src/render/stages.cpp) points them at the surface being drawn: the full
+// image's, the low one's of reduced resolution, or one fluid's layer; a test
+// may point them anywhere. emission and transmit: the colour's split
+// C = E + T S of several fluids (shared/fluids.h), Slot::None without.
+struct StageSlots {
+    Slot sceneColor = Slot::SceneColor, sceneDepth = Slot::SceneDepth;
+    Slot raw = Slot::RawDepth, thickness = Slot::Thickness, depth = Slot::Depth, normal = Slot::Normal;
+    Slot noise = Slot::Noise, whitening = Slot::Whitening;
+    Slot color = Slot::Color, emission = Slot::None, transmit = Slot::None;
+    Slot silhouette = Slot::Silhouette, spray = Slot::Spray, coverage = Slot::Coverage, fluidId = Slot::FluidId;
+};
+
+// One stage call: its images, and what passes between stages besides images.
+struct StageIo {
+    StageSlots at;
+    // Sort-last (FrameSettings::compositor): this process's depth and
+    // fixed-point chords (depth-splat), then the combination resolved into
+    // the depth and thickness (thickness; the depth may be moved out).
+    SplatPartial* partial = nullptr;
+    // composite-fluids: layer i's fluid index (its layerSlot images).
+    std::span<const int> fluids;
+};
+
+// A stage's driver on one kind of backend, defined in the stage's own file
+// (src/cpu/<stage>.cpp, src/gl/<stage>.cpp) and named by the stage's row in
+// the list, so no central interface grows a method per stage.
+struct StageDriver {
+    // Makes what the stage needs once per backend (GL: its shader programs);
+    // an error says what failed. nullptr: nothing to make.
+    Status (*prepare)(Backend&);
+    // Runs the stage on the current frame (beginFrame's particles and settings).
+    void (*run)(Backend&, const StageIo&);
+};
+
+// The backend the stages run on: the frame's particles and settings, the
+// images kept per slot (CPU: Image<T>; GL: GPU buffers), timing, read-back
+// and display. The stages themselves are drivers (StageDriver) of each kind.
 class Backend {
 public:
     virtual ~Backend() = default;
@@ -139,89 +182,20 @@ public:
     // Starts a frame: the particles and the settings every stage reads.
     virtual Status beginFrame(std::span<const glm::vec3> positions, const FrameSettings& settings) = 0;
 
-    // ---- The stages (docs/pipeline.md), each the twin of one src/cpu/ function.
-    // Scene colour (RGBA) and depth; may keep the previous cast when the camera
-    // and the studio have not changed (cpu::castScene).
-    virtual void castScene(Slot color, Slot depth) = 0;
-    // Depth splat and thickness (chords, calibration, blur) in one pass
-    // (cpu::splatDepthAndThickness), in front of the scene depth.
-    virtual void splat(Slot sceneDepth, Slot depth, Slot thickness) = 0;
-    // The same stage in halves, for sort-last rendering (FrameSettings::
-    // compositor): this process's depth and fixed-point chords into `partial`
-    // on the host (cpu::splatPartial; GL reads them back), then a (combined)
-    // partial resolved into the depth and thickness slots
-    // (cpu::resolveThickness; GL uploads it; the depth may be moved out of
-    // `partial`). splat() = the two in a row, to the bit.
-    virtual void splatPartial(Slot sceneDepth, SplatPartial& partial) = 0;
-    virtual void resolveSplat(SplatPartial& partial, Slot depth, Slot thickness) = 0;
-    // The chosen smoothing filter (cpu::smoothDepth); `none` copies.
-    virtual void smooth(Slot in, Slot out) = 0;
-    // Hole filling (docs/pipeline.md#hole-filling, FrameSettings::holeFill):
-    // the uncovered pixels that liquid closes in get a depth and thickness, in
-    // place; never behind the scene (sceneDepth).
-    virtual void fillHoles(Slot sceneDepth, Slot depth, Slot thickness) = 0;
-    // View-space normals of the smoothed depth (cpu::computeNormals).
-    virtual void normals(Slot depth, Slot normal) = 0;
-    // The raycast's stand-in for smooth + normals (cpu::raycastSurface): the
-    // eye depth and view-space normals of FrameSettings::field's iso-surface
-    // along the rays of the pixels the splat `raw` covers, from its depth,
-    // never behind the scene depth.
-    virtual void raycast(Slot sceneDepth, Slot raw, Slot depth, Slot normal) = 0;
-    // The mesh path's stand-in for smooth + normals (cpu::rasteriseMesh): eye
-    // depth and view-space normals of the nearest triangle of
-    // FrameSettings::mesh per pixel, in front of the scene depth.
-    virtual void rasterise(Slot sceneDepth, Slot depth, Slot normal) = 0;
-    // The surface noise N (cpu::splatNoise) of the particles near the surface
-    // `depth`, and the normals bumped by its gradient in place (cpu::bumpNormals).
-    virtual void noise(Slot depth, Slot normal, Slot noise) = 0;
-    // The velocity whitening map of the particles near the surface `depth`
-    // (cpu::splatWhitening).
-    virtual void whitening(Slot depth, Slot whitening) = 0;
-    // Shading and compositing over the scene (cpu::shadeAndComposite), with
-    // foam from the noise slot when FrameSettings::noise is enabled and white
-    // water from the whitening slot when FrameSettings::whitening is.
-    // With `emission` and `transmit` (not Slot::None), also the colour's split
-    // C = E + T S of several fluids (cpu::LayerSplit, shared/fluids.h).
-    virtual void shade(Slot sceneColor, Slot sceneDepth, Slot depth, Slot normal, Slot thickness, Slot noise,
-                       Slot whitening, Slot color, Slot emission = Slot::None, Slot transmit = Slot::None) = 0;
+    // Which kind it is: the stage list (src/render/stages.cpp) runs each
+    // stage through this kind's driver.
+    virtual BackendKind kind() const = 0;
 
     // ---- Several fluids (docs/pipeline.md#several-fluids). The particles and
     // material the stages after this call draw (one fluid of the frame), until
     // the next call.
     virtual void setFluid(std::span<const glm::vec3> positions, const FluidSettings& fluid) = 0;
-    // Layers 0 .. fluids.size() - 1 (their layerSlot images; fluids[i] is
-    // layer i's fluid index) composited front to back over the scene
-    // (cpu::compositeFluids): the colour, the nearest fluid's depth and
-    // normal, the summed thickness and the nearest fluid's index.
-    virtual void compositeFluids(std::span<const int> fluids, Slot sceneColor, Slot sceneDepth, Slot color,
-                                 Slot depth, Slot normal, Slot thickness, Slot fluidId) = 0;
-
-    // The liquid faded into the scene colour where its silhouette map S < 1,
-    // in place on the colour slot, and S into `silhouette` (cpu::reduceSilhouettes).
-    virtual void silhouette(Slot sceneColor, Slot depth, Slot color, Slot silhouette) = 0;
-
-    // The spray drops laid over the colour slot in place, hidden behind the
-    // fluid `depth` and the scene, and their cover into `spray` (cpu::drawSpray).
-    virtual void spray(Slot sceneDepth, Slot depth, Slot color, Slot spray) = 0;
 
     // ---- Reduced-resolution processing (docs/pipeline.md#reduced-resolution).
     // The camera the stages after this call run at (the low camera,
     // core/fluid_scale.h, then the full one again); the particles and the other
     // settings stay.
     virtual void setCamera(const Camera& camera) = 0;
-    // The scene depth `fullSceneDepth` (full size) reduced to the current
-    // camera's size, per pixel the farthest under it (cpu::reduceSceneDepth).
-    virtual void reduceSceneDepth(Slot fullSceneDepth, Slot lowSceneDepth) = 0;
-    // The low surface at the current (full) camera's size by depth-aware
-    // upsampling (cpu::upsampleSurface), hidden behind `sceneDepth`; the noise
-    // only when FrameSettings::noise is enabled; the coverage for blendFluidEdges.
-    virtual void upsample(Slot lowDepth, Slot lowNormal, Slot lowThickness, Slot lowNoise, Slot sceneDepth, Slot depth,
-                          Slot normal, Slot thickness, Slot noise, Slot coverage) = 0;
-    // The fluid pixels of `depth` with coverage under 1 blended into the scene
-    // colour, in place on `color` (cpu::blendFluidEdges).
-    // With `emission` and `transmit` (several fluids), their split of it too.
-    virtual void blendFluidEdges(Slot sceneColor, Slot depth, Slot coverage, Slot color, Slot emission = Slot::None,
-                                 Slot transmit = Slot::None) = 0;
 
     // Whether the stage just run (or the read-back) failed: OK, or an error
     // naming `stage` and what went wrong (GL: a GL error, GPU memory, a lost

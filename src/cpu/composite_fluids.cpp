@@ -1,6 +1,7 @@
 // CPU compositing of several fluids, docs/pipeline.md#several-fluids
 // (src/shared/fluids.h).
 #include "cpu/composite_fluids.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <cmath>
@@ -63,5 +64,33 @@ Composited compositeFluids(std::span<const FluidLayerImages> layers, const Image
     });
     return out;
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+// Layers 0 .. io.fluids.size() - 1 composited front to back over the scene.
+void runCompositeFluids(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    std::vector<FluidLayerImages> layers;
+    for (std::size_t i = 0; i < io.fluids.size(); ++i) {
+        const int l = int(i);
+        layers.push_back({io.fluids[i], &c.scalar(layerSlot(l, LayerImage::Depth)),
+                          &c.vec3(layerSlot(l, LayerImage::Normal)), &c.scalar(layerSlot(l, LayerImage::Thickness)),
+                          &c.color(layerSlot(l, LayerImage::Color)), &c.color(layerSlot(l, LayerImage::Emission)),
+                          &c.color(layerSlot(l, LayerImage::Transmit))});
+    }
+    Composited out = compositeFluids(layers, c.color(io.at.sceneColor), &c.scalar(io.at.sceneDepth));
+    c.colorOut(io.at.color) = std::move(out.color);
+    c.scalarOut(io.at.depth) = std::move(out.depth);
+    c.vec3(io.at.normal) = std::move(out.normal);
+    c.scalarOut(io.at.thickness) = std::move(out.thickness);
+    c.scalarOut(io.at.fluidId) = std::move(out.fluid);
+}
+
+}  // namespace
+
+extern const StageDriver kCompositeFluidsStage = {nullptr, runCompositeFluids};
 
 }  // namespace meniscus::cpu

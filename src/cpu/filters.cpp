@@ -1,5 +1,6 @@
 // Filter dispatch: picks the smoothing filter named by the FilterParams variant.
 #include "cpu/filters.h"
+#include "cpu/cpu_backend.h"
 
 #include <type_traits>
 
@@ -19,5 +20,20 @@ Image<float> smoothDepth(const Image<float>& depth, const Camera& camera, float 
         },
         params);
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+void runSmooth(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    c.scalarOut(io.at.depth) = smoothDepth(c.scalar(io.at.raw), s.camera, s.radius, s.filter);
+}
+
+}  // namespace
+
+extern const StageDriver kSmoothStage = {nullptr, runSmooth};
 
 }  // namespace meniscus::cpu

@@ -6,6 +6,7 @@
 // the diagonals. Reads the splat as it came (a copy), so a filled pixel never
 // closes another and the order of the rows does not matter.
 #include "cpu/hole_fill.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <atomic>
@@ -147,5 +148,21 @@ std::size_t fillHoles(const Camera& camera, float radius, const HoleFillParams& 
     }
     return filled;
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+void runFillHoles(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    fillHoles(s.camera, s.radius, s.holeFill, &c.scalar(io.at.sceneDepth), c.scalarOut(io.at.raw),
+              c.scalarOut(io.at.thickness));
+}
+
+}  // namespace
+
+extern const StageDriver kFillHolesStage = {nullptr, runFillHoles};
 
 }  // namespace meniscus::cpu

@@ -24,6 +24,7 @@
 //    between the first and last fluid pixel of a row are computed too and
 //    written as (0,0,0); outside that span the zero-filled output is kept.
 #include "cpu/normals.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <cmath>
@@ -147,5 +148,20 @@ Image<glm::vec3> computeNormals(const Image<float>& depth, const Camera& camera,
     });
     return out;
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+void runNormals(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    c.vec3(io.at.normal) = computeNormals(c.scalar(io.at.depth), s.camera, s.radius, defaults::kDepthJumpRadii);
+}
+
+}  // namespace
+
+extern const StageDriver kNormalsStage = {nullptr, runNormals};
 
 }  // namespace meniscus::cpu

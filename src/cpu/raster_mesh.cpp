@@ -27,6 +27,7 @@
 // indices only and the triangles go in batches of at most kMaxBinEntries bin
 // entries, so memory is bounded whatever the mesh.
 #include "cpu/raster_mesh.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <cmath>
@@ -442,5 +443,23 @@ MeshRaster rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const I
         });
     return out;
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+void runRasterise(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    static const TriangleMesh kNoMesh;  // no mesh: no fluid
+    auto r = rasteriseMesh(s.camera, s.mesh ? *s.mesh : kNoMesh, &c.scalar(io.at.sceneDepth));
+    c.scalarOut(io.at.depth) = std::move(r.depth);
+    c.vec3(io.at.normal) = std::move(r.normal);
+}
+
+}  // namespace
+
+extern const StageDriver kRasteriseStage = {nullptr, runRasterise};
 
 }  // namespace meniscus::cpu

@@ -2,6 +2,7 @@
 // in params.h): per covered pixel, shared::sphRaycast over evaluateSphField
 // from the splat's depth. The GL twin is shaders/raycast.comp.
 #include "cpu/raycast.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <cmath>
@@ -41,5 +42,24 @@ RaycastImages raycastSurface(const Camera& camera, const SphField& field, const 
     });
     return out;
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+void runRaycast(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    static const SphField kNoField;  // no field: no surface
+    auto r = raycastSurface(s.camera, s.field ? *s.field : kNoField, s.raycast, s.radius, c.scalar(io.at.raw),
+                            &c.scalar(io.at.sceneDepth));
+    c.scalarOut(io.at.depth) = std::move(r.depth);
+    c.vec3(io.at.normal) = std::move(r.normal);
+}
+
+}  // namespace
+
+extern const StageDriver kRaycastStage = {nullptr, runRaycast};
 
 }  // namespace meniscus::cpu

@@ -9,6 +9,7 @@
 // The studio itself (shared::makeStudio), its colours, lighting and per-pixel
 // formulas (src/shared/studio_shade.h) are shared with the GL twin.
 #include "cpu/scene.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <cmath>
@@ -149,5 +150,16 @@ SceneLayer castScene(const Camera& camera, const shared::Studio& studio) {
     else forEachRow(H, [&](int y) { castRow<false>(c, y, W, &out.depth.at(0, y), &out.color.at(0, y)); });
     return out;
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+void runScene(Backend& b, const StageIo& io) { CpuBackend::of(b).castScene(io.at.sceneColor, io.at.sceneDepth); }
+
+}  // namespace
+
+extern const StageDriver kSceneStage = {nullptr, runScene};
 
 }  // namespace meniscus::cpu

@@ -31,6 +31,7 @@
 //    within 1.1e-5 of the libm / per-pixel version (the s^64 sun glow and the
 //    (n.h)^120 highlight amplify ulp differences).
 #include "cpu/shading.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <bit>
@@ -467,5 +468,30 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
     });
     return out;
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+void runShade(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    const StageSlots& at = io.at;
+    SceneLayer copy;
+    const SceneLayer& scene = c.sceneLayer(at.sceneColor, at.sceneDepth, &copy);
+    const bool split = at.emission != Slot::None;
+    LayerSplit layer;
+    if (split) layer = {&c.colorOut(at.emission), &c.colorOut(at.transmit)};
+    c.colorOut(at.color) = shadeAndComposite(s.camera, scene, c.scalar(at.depth), c.vec3(at.normal),
+                                             c.scalar(at.thickness), s.shading,
+                                             s.noise.enabled ? &c.scalar(at.noise) : nullptr, &s.noise,
+                                             s.whitening.enabled ? &c.scalar(at.whitening) : nullptr, &s.whitening,
+                                             split ? &layer : nullptr, s.thickness.minRadii, s.radius);
+}
+
+}  // namespace
+
+extern const StageDriver kShadeStage = {nullptr, runShade};
 
 }  // namespace meniscus::cpu

@@ -6,6 +6,7 @@
 // the liquid fades into the scene colour behind it where S < 1 rather than only
 // clipping (SilhouetteParams::fadeFrom = 1 clips as the paper).
 #include "cpu/silhouette.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <limits>
@@ -115,5 +116,24 @@ Image<float> reduceSilhouettes(const Camera& camera, const Image<float>& depth, 
     });
     return s;
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+// Faded in place on the colour (a copy of the scene when the slot names the
+// cached scene: the cache is never faded).
+void runSilhouette(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    Image<glm::vec4>& color = c.colorToPaint(io.at.color);
+    c.scalarOut(io.at.silhouette) =
+        reduceSilhouettes(s.camera, c.scalar(io.at.depth), c.color(io.at.sceneColor), s.radius, s.silhouette, color);
+}
+
+}  // namespace
+
+extern const StageDriver kSilhouetteStage = {nullptr, runSilhouette};
 
 }  // namespace meniscus::cpu

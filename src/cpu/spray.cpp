@@ -8,6 +8,7 @@
 // (the GL twin adds them with atomics): order-independent compositing is right here
 // because all drops share one colour.
 #include "cpu/spray.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -82,5 +83,25 @@ Image<float> drawSpray(const Camera& camera, std::span<const glm::vec3> position
     });
     return cover;
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+// Drawn over the colour in place (a copy of the scene when the slot names the
+// cached scene: the cache is never painted over).
+void runSpray(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    Image<glm::vec4>& color = c.colorToPaint(io.at.color);
+    c.scalarOut(io.at.spray) = drawSpray(s.camera, s.sprayPositions, s.sprayVelocities, s.radius,
+                                         c.scalar(io.at.depth), &c.scalar(io.at.sceneDepth), s.spray,
+                                         s.shading.lightDirWorld, color);
+}
+
+}  // namespace
+
+extern const StageDriver kSprayStage = {nullptr, runSpray};
 
 }  // namespace meniscus::cpu

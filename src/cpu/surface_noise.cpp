@@ -9,6 +9,7 @@
 // not depend on the order or the thread count, and the GL twin, adding with
 // atomics in any order, gets the same bits.
 #include "cpu/surface_noise.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <cmath>
@@ -126,5 +127,23 @@ void bumpNormals(const Camera& camera, float radius, const Image<float>& depth, 
         }
     });
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+// The noise N of the particles near the surface, and the normals bumped by its gradient in place.
+void runNoise(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    c.scalarOut(io.at.noise) = splatNoise(s.camera, c.positions(), s.radius, c.scalar(io.at.depth), s.noiseIdz,
+                                          s.noiseAmplitude, s.noise);
+    bumpNormals(s.camera, s.radius, c.scalar(io.at.depth), c.scalar(io.at.noise), s.noise, c.vec3(io.at.normal));
+}
+
+}  // namespace
+
+extern const StageDriver kNoiseStage = {nullptr, runNoise};
 
 }  // namespace meniscus::cpu

@@ -33,6 +33,7 @@
 // while the chords and the blur are most of this stage's time at full
 // resolution.
 #include "cpu/thickness.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <cmath>
@@ -289,5 +290,46 @@ DepthAndThickness splatDepthAndThickness(const Camera& camera, std::span<const g
     Image<float> thickness = resolveThickness(camera, partial, radius, params);
     return {std::move(partial.depth), std::move(thickness)};
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+void runSplat(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    auto dt = splatDepthAndThickness(s.camera, c.positions(), s.radius, s.thickness, &c.scalar(io.at.sceneDepth),
+                                     s.shapes);
+    c.scalarOut(io.at.raw) = std::move(dt.depth);
+    c.scalarOut(io.at.thickness) = std::move(dt.thickness);
+}
+
+// Sort-last: this process's share of the whole frame (FrameSettings::splatRange) into *io.partial.
+void runSplatPartial(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    std::span<const glm::vec3> positions = c.positions();
+    std::span<const EllipsoidShape> shapes = s.shapes;
+    if (const auto& r = s.splatRange) {
+        positions = positions.subspan(r->begin, r->end - r->begin);
+        if (!shapes.empty()) shapes = shapes.subspan(r->begin, r->end - r->begin);
+    }
+    *io.partial = splatPartial(s.camera, positions, s.radius, s.thickness, &c.scalar(io.at.sceneDepth), shapes);
+}
+
+// Sort-last: the combined partial resolved into the raw depth and thickness.
+void runResolveSplat(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    c.scalarOut(io.at.thickness) = resolveThickness(s.camera, *io.partial, s.radius, s.thickness);
+    c.scalarOut(io.at.raw) = std::move(io.partial->depth);
+}
+
+}  // namespace
+
+extern const StageDriver kSplatStage = {nullptr, runSplat};
+extern const StageDriver kSplatPartialStage = {nullptr, runSplatPartial};
+extern const StageDriver kResolveSplatStage = {nullptr, runResolveSplat};
 
 }  // namespace meniscus::cpu

@@ -1,5 +1,6 @@
 // CPU reduced-resolution processing: see upsample.h and src/shared/upsample.h.
 #include "cpu/upsample.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <limits>
@@ -112,5 +113,46 @@ void blendFluidEdges(const Image<float>& depth, const Image<float>& coverage, co
         }
     });
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+// The scene depth reduced to the current (low) camera's size.
+void runReduceSceneDepth(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    c.scalarOut(Slot::LowSceneDepth) =
+        reduceSceneDepth(c.scalar(io.at.sceneDepth), s.camera.width, s.camera.height, s.fluidDivisor);
+}
+
+// The low surface (the Low* slots) upsampled into the surface's full-size images.
+void runUpsample(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    const bool noise = s.noise.enabled;
+    Upsampled up = upsampleSurface(c.scalar(Slot::LowDepth), c.vec3(Slot::LowNormal), c.scalar(Slot::LowThickness),
+                                   noise ? &c.scalar(Slot::LowNoise) : nullptr, &c.scalar(io.at.sceneDepth),
+                                   s.camera.width, s.camera.height, s.fluidDivisor, s.upsampleJumpM);
+    c.scalarOut(io.at.depth) = std::move(up.depth);
+    c.vec3(io.at.normal) = std::move(up.normal);
+    c.scalarOut(io.at.thickness) = std::move(up.thickness);
+    if (noise) c.scalarOut(io.at.noise) = std::move(up.noise);
+    c.scalarOut(io.at.coverage) = std::move(up.coverage);
+}
+
+void runFluidEdges(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const bool split = io.at.emission != Slot::None;
+    blendFluidEdges(c.scalar(io.at.depth), c.scalar(io.at.coverage), c.color(io.at.sceneColor), c.colorOut(io.at.color),
+                    split ? &c.colorOut(io.at.emission) : nullptr, split ? &c.colorOut(io.at.transmit) : nullptr);
+}
+
+}  // namespace
+
+extern const StageDriver kReduceSceneDepthStage = {nullptr, runReduceSceneDepth};
+extern const StageDriver kUpsampleStage = {nullptr, runUpsample};
+extern const StageDriver kFluidEdgesStage = {nullptr, runFluidEdges};
 
 }  // namespace meniscus::cpu

@@ -7,6 +7,7 @@
 // with the sprite's Gaussian and the map is the weighted mean. Fixed-point
 // sums: the same bits for any thread count, and as the GL twin's atomics.
 #include "cpu/velocity_map.h"
+#include "cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -54,5 +55,21 @@ Image<float> splatWhitening(const Camera& camera, std::span<const glm::vec3> pos
     });
     return out;
 }
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+void runWhitening(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    c.scalarOut(io.at.whitening) =
+        splatWhitening(s.camera, c.positions(), s.radius, c.scalar(io.at.depth), s.whiteness, s.whitening);
+}
+
+}  // namespace
+
+extern const StageDriver kWhiteningStage = {nullptr, runWhitening};
 
 }  // namespace meniscus::cpu

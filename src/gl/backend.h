@@ -10,7 +10,8 @@
 namespace meniscus::gl {
 
 // Creates a headless GL 4.3 context (current on the calling thread from then
-// on) and compiles every stage's shaders; an error says what failed.
+// on) and the backend on it; an error says what failed. The stages' programs
+// are compiled by their drivers (the stage list's prepareStages).
 Result<std::unique_ptr<Backend>> makeGlBackend();
 
 // The same on the GL context already current on the calling thread (a

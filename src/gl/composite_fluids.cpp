@@ -1,5 +1,6 @@
 // See composite_fluids.h.
 #include "gl/composite_fluids.h"
+#include "gl/gl_backend.h"
 
 #include <algorithm>
 #include <string>
@@ -88,5 +89,34 @@ void FluidCompositor::run(std::span<const FluidLayerGpu> layers, const GpuImage&
     }
     glUseProgram(0);
 }
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+Status prepareCompositeFluids(Backend& b) { return GlBackend::of(b).prepare<FluidCompositor>(); }
+
+// Layers 0 .. io.fluids.size() - 1 composited front to back over the scene.
+void runCompositeFluids(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    for (Slot out : {at.color, at.depth, at.normal, at.thickness, at.fluidId}) g.forget(out);
+    std::vector<FluidLayerGpu> layers;
+    for (std::size_t i = 0; i < io.fluids.size(); ++i) {
+        const int l = int(i);
+        layers.push_back({io.fluids[i], &g.img(layerSlot(l, LayerImage::Depth)),
+                          &g.img(layerSlot(l, LayerImage::Normal)), &g.img(layerSlot(l, LayerImage::Thickness)),
+                          &g.img(layerSlot(l, LayerImage::Color)), &g.img(layerSlot(l, LayerImage::Emission)),
+                          &g.img(layerSlot(l, LayerImage::Transmit))});
+    }
+    g.pass<FluidCompositor>().run(layers, g.img(at.sceneColor), g.img(at.sceneDepth), g.img(at.color),
+                                  g.img(at.depth), g.img(at.normal), g.img(at.thickness), g.img(at.fluidId));
+}
+
+}  // namespace
+
+extern const StageDriver kCompositeFluidsStage = {prepareCompositeFluids, runCompositeFluids};
 
 }  // namespace meniscus::gl

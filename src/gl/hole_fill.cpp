@@ -6,6 +6,7 @@
 // same bits. Reads the splat through buffer textures and writes whole new
 // images, which then take the slots' places (no copy back).
 #include "gl/hole_fill.h"
+#include "gl/gl_backend.h"
 
 #include <utility>
 
@@ -96,5 +97,25 @@ void HoleFill::run(const FrameParams& frame, const HoleFillParams& params, const
         if (hasT) std::swap(thickness, thicknessOut_);
     }
 }
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+Status prepareFillHoles(Backend& b) { return GlBackend::of(b).prepare<HoleFill>(); }
+
+void runFillHoles(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    g.forget(at.raw);
+    g.forget(at.thickness);
+    g.pass<HoleFill>().run(g.params(), g.frame().holeFill, &g.img(at.sceneDepth), g.img(at.raw), g.img(at.thickness));
+}
+
+}  // namespace
+
+extern const StageDriver kFillHolesStage = {prepareFillHoles, runFillHoles};
 
 }  // namespace meniscus::gl

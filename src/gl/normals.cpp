@@ -3,6 +3,7 @@
 // 3-6; Cords & Staadt 2008, "Instant Liquids" §2.3) by shaders/normals.comp,
 // operation for operation as src/cpu/normals.cpp.
 #include "gl/normals.h"
+#include "gl/gl_backend.h"
 
 #include "gl/shaders.h"
 
@@ -47,5 +48,24 @@ void Normals::run(const FrameParams& frame, const GpuImage& depth, GpuImage& nor
     glBindTexture(GL_TEXTURE_BUFFER, 0);
     glUseProgram(0);
 }
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+Status prepareNormals(Backend& b) { return GlBackend::of(b).prepare<Normals>(); }
+
+void runNormals(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    g.forget(at.normal);
+    g.pass<Normals>().run(g.params(), g.img(at.depth), g.img(at.normal));
+}
+
+}  // namespace
+
+extern const StageDriver kNormalsStage = {prepareNormals, runNormals};
 
 }  // namespace meniscus::gl

@@ -7,6 +7,7 @@
 // CPU's top-left in image rows), the clipping (the near plane as a clip
 // distance) and the perspective-correct interpolation.
 #include "gl/raster_mesh.h"
+#include "gl/gl_backend.h"
 
 #include <cstdint>
 #include <limits>
@@ -132,5 +133,28 @@ void MeshRasteriser::run(const FrameParams& frame, const TriangleMesh& mesh, con
     glBindTexture(GL_TEXTURE_2D, 0);
     glUseProgram(0);
 }
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+Status prepareRasterise(Backend& b) { return GlBackend::of(b).prepare<MeshRasteriser>(); }
+
+void runRasterise(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    g.forget(at.depth);
+    g.forget(at.normal);
+    static const TriangleMesh kNoMesh;  // no mesh: no fluid
+    const FrameSettings& s = g.frame();
+    g.pass<MeshRasteriser>().run(g.params(), s.mesh ? *s.mesh : kNoMesh, &g.img(at.sceneDepth), g.img(at.depth),
+                                 g.img(at.normal));
+}
+
+}  // namespace
+
+extern const StageDriver kRasteriseStage = {prepareRasterise, runRasterise};
 
 }  // namespace meniscus::gl

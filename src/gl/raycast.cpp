@@ -1,6 +1,7 @@
 // GL raycast stage (docs/pipeline.md#ray-cast-surface): shaders/raycast.comp
 // over the field's grid (core/sph_field.h), uploaded per call.
 #include "gl/raycast.h"
+#include "gl/gl_backend.h"
 
 #include <algorithm>
 
@@ -61,5 +62,27 @@ void Raycast::run(const FrameParams& frame, const SphField* field, const Raycast
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
 }
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+Status prepareRaycast(Backend& b) { return GlBackend::of(b).prepare<Raycast>(); }
+
+void runRaycast(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    g.forget(at.depth);
+    g.forget(at.normal);
+    const FrameSettings& s = g.frame();
+    g.pass<Raycast>().run(g.params(), s.field, s.raycast, g.img(at.raw), &g.img(at.sceneDepth), g.img(at.depth),
+                          g.img(at.normal));
+}
+
+}  // namespace
+
+extern const StageDriver kRaycastStage = {prepareRaycast, runRaycast};
 
 }  // namespace meniscus::gl

@@ -6,6 +6,7 @@
 // lighting, the sun) comes from the same shared::studioShading and is passed as
 // uniforms, so both see the same bits.
 #include "gl/scene.h"
+#include "gl/gl_backend.h"
 
 #include "gl/shaders.h"
 
@@ -52,5 +53,26 @@ void SceneCaster::run(const FrameParams& frame, const shared::Studio& studio, Gp
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
 }
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+Status prepareScene(Backend& b) { return GlBackend::of(b).prepare<SceneCaster>(); }
+
+// Cast again only when the camera, the studio or the slots changed.
+void runScene(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    if (g.sceneCached(at.sceneColor, at.sceneDepth)) return;
+    g.pass<SceneCaster>().run(g.params(), g.frame().studio, g.img(at.sceneColor), g.img(at.sceneDepth));
+    g.sceneCast(at.sceneColor, at.sceneDepth);
+}
+
+}  // namespace
+
+extern const StageDriver kSceneStage = {prepareScene, runScene};
 
 }  // namespace meniscus::gl

@@ -5,6 +5,7 @@
 // the scene layer by shaders/shade.comp, operation for operation as
 // src/cpu/shading.cpp.
 #include "gl/shading.h"
+#include "gl/gl_backend.h"
 
 #include <utility>
 
@@ -123,5 +124,31 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
 }
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+Status prepareShade(Backend& b) { return GlBackend::of(b).prepare<Shading>(); }
+
+// Foam only with the noise on (its slot then holds this frame's N), white
+// water only with the whitening on (likewise its map).
+void runShade(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    g.forget(at.color);
+    const FrameSettings& s = g.frame();
+    const bool split = at.emission != Slot::None;
+    g.pass<Shading>().run(g.params(), g.img(at.sceneColor), g.img(at.sceneDepth), g.img(at.depth), g.img(at.normal),
+                          g.img(at.thickness), g.img(at.color), s.noise.enabled ? &g.img(at.noise) : nullptr,
+                          &s.noise, s.whitening.enabled ? &g.img(at.whitening) : nullptr, &s.whitening,
+                          split ? &g.img(at.emission) : nullptr, split ? &g.img(at.transmit) : nullptr);
+}
+
+}  // namespace
+
+extern const StageDriver kShadeStage = {prepareShade, runShade};
 
 }  // namespace meniscus::gl

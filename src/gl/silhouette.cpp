@@ -10,6 +10,7 @@
 // formulas of src/shared/silhouette.h, the focal length and the window's world
 // radius computed here as the CPU does, so S and the colour are the CPU's bits.
 #include "gl/silhouette.h"
+#include "gl/gl_backend.h"
 
 #include <cstdint>
 
@@ -118,5 +119,30 @@ void SilhouetteReduction::run(const Camera& camera, const GpuImage& depth, const
     }
     glUseProgram(0);
 }
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+Status prepareSilhouette(Backend& b) { return GlBackend::of(b).prepare<SilhouetteReduction>(); }
+
+// Faded in place: a colour slot that held the cached scene no longer does
+// (the next cast redraws it), as the CPU copies its cached scene out before
+// fading, never the scene itself.
+void runSilhouette(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    g.forget(at.color);
+    g.forget(at.silhouette);
+    const FrameSettings& s = g.frame();
+    g.pass<SilhouetteReduction>().run(s.camera, g.img(at.depth), g.img(at.sceneColor), s.radius, s.silhouette,
+                                      g.img(at.color), g.img(at.silhouette));
+}
+
+}  // namespace
+
+extern const StageDriver kSilhouetteStage = {prepareSilhouette, runSilhouette};
 
 }  // namespace meniscus::gl

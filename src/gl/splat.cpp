@@ -17,6 +17,10 @@
 // before any shading, and runs the vertex stage of an instanced draw once per
 // instance.
 #include "gl/splat.h"
+#include "shared/thickness.h"
+#include "gl/thickness_lowres.h"
+#include "gl/filter_separable.h"
+#include "gl/gl_backend.h"
 
 #include <algorithm>
 #include <vector>
@@ -183,5 +187,83 @@ Result<Image<float>> splatDepth(const Camera& camera, std::span<const glm::vec3>
     s->run(frame, sceneDepth ? &scene : nullptr, depth, nullptr);
     return depth.download<float>();
 }
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+Status prepareSplat(Backend& b) {
+    GlBackend& g = GlBackend::of(b);
+    if (auto st = g.prepare<SeparableFilters>(); !st) return st;
+    return g.prepare<LowResThickness>();
+}
+
+// The depth splat and the thickness (chords, calibration, blur); the
+// thickness grid 1, 2 or 4 pixels per block side.
+void runSplat(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    g.forget(at.raw);
+    g.forget(at.thickness);
+    const FrameParams& fp = g.params();
+    Splat& splat = g.particles();
+    const int d = shared::thicknessDivisor(fp.thicknessResolutionDivisor);
+    if (d == 1) {
+        splat.run(fp, &g.img(at.sceneDepth), g.img(at.raw), &g.img(at.thickness));
+        g.pass<SeparableFilters>().blurThickness(fp, g.img(at.raw), g.img(at.thickness));
+    } else {
+        splat.run(fp, &g.img(at.sceneDepth), g.img(at.raw), nullptr);
+        g.pass<LowResThickness>().run(fp, splat, g.pass<SeparableFilters>(), &g.img(at.sceneDepth), g.img(at.raw), d,
+                                      g.img(at.thickness));
+    }
+}
+
+// Sort-last: the splat's depth and fixed-point sums read back for the compositor.
+void runSplatPartial(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    const FrameParams& fp = g.params();
+    Splat& splat = g.particles();
+    const int d = shared::thicknessDivisor(fp.thicknessResolutionDivisor);
+    if (d == 1) {
+        splat.runPartial(fp, &g.img(at.sceneDepth), g.partialDepth(), g.partialChords());
+    } else {
+        splat.run(fp, &g.img(at.sceneDepth), g.partialDepth(), nullptr);
+        g.pass<LowResThickness>().chords(fp, splat, &g.img(at.sceneDepth), d, g.partialChords());
+    }
+    io.partial->depth = g.download<float>(g.partialDepth());
+    io.partial->chords = g.download<std::uint32_t>(g.partialChords());
+}
+
+// Sort-last: the combination uploaded and resolved as runSplat does.
+void runResolveSplat(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    g.forget(at.raw);
+    g.forget(at.thickness);
+    const FrameParams& fp = g.params();
+    Splat& splat = g.particles();
+    g.img(at.raw).upload(io.partial->depth);
+    const int d = shared::thicknessDivisor(fp.thicknessResolutionDivisor);
+    if (d == 1) {
+        g.img(at.thickness).upload(io.partial->chords);  // resolved in place, as runSplat leaves it
+        splat.resolveChords(fp, g.img(at.thickness));
+        g.pass<SeparableFilters>().blurThickness(fp, g.img(at.raw), g.img(at.thickness));
+    } else {
+        g.partialChords().upload(io.partial->chords);
+        g.pass<LowResThickness>().resolve(fp, splat, g.pass<SeparableFilters>(), g.img(at.raw), d, g.partialChords(),
+                                          g.img(at.thickness));
+    }
+}
+
+}  // namespace
+
+extern const StageDriver kSplatStage = {prepareSplat, runSplat};
+extern const StageDriver kSplatPartialStage = {prepareSplat, runSplatPartial};
+extern const StageDriver kResolveSplatStage = {prepareSplat, runResolveSplat};
 
 }  // namespace meniscus::gl

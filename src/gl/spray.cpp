@@ -12,6 +12,7 @@
 // pixel turns the sums into cover and lays the lit drop colour over the image
 // in place (shaders/spray_resolve.comp). Formulas: src/shared/spray.h.
 #include "gl/spray.h"
+#include "gl/gl_backend.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -156,5 +157,31 @@ void SprayDrops::run(const Camera& camera, std::span<const glm::vec3> positionsW
     }
     glUseProgram(0);
 }
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+Status prepareSpray(Backend& b) { return GlBackend::of(b).prepare<SprayDrops>(); }
+
+// Drawn over the colour in place: a colour slot that held the cached scene
+// no longer does (the next cast redraws it), as the CPU copies its cached
+// scene out before painting, never over it.
+void runSpray(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    g.forget(at.color);
+    g.forget(at.spray);
+    const FrameSettings& s = g.frame();
+    g.pass<SprayDrops>().run(s.camera, s.sprayPositions, s.sprayVelocities, s.radius, s.spray,
+                             s.shading.lightDirWorld, g.img(at.depth), &g.img(at.sceneDepth), g.img(at.color),
+                             g.img(at.spray));
+}
+
+}  // namespace
+
+extern const StageDriver kSprayStage = {prepareSpray, runSpray};
 
 }  // namespace meniscus::gl

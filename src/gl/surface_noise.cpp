@@ -15,6 +15,7 @@
 // it runs the same shaders in their whitening mode: two sums per pixel,
 // sum(w g whiteness) and sum(w g), and their ratio at the resolve.
 #include "gl/surface_noise.h"
+#include "gl/gl_backend.h"
 
 #include <algorithm>
 
@@ -195,5 +196,42 @@ void SurfaceNoise::runWhitening(const FrameParams& frame, const Camera& camera, 
     scatter(frame, camera, positions, count, depth, 2, sc);
     resolve(nullptr, map, true, 0.0f, 0.0f, 0.0f);
 }
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+Status prepareSurfaceNoise(Backend& b) { return GlBackend::of(b).prepare<SurfaceNoise>(); }
+
+// The noise N of the particles near the surface, and the normals bumped by its gradient in place.
+void runNoise(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    g.forget(at.normal);
+    g.forget(at.noise);
+    const FrameSettings& s = g.frame();
+    Splat& particles = g.particles();
+    g.pass<SurfaceNoise>().run(g.params(), s.camera, s.noise, particles.particleBuffer(), particles.particleCount(),
+                               s.noiseIdz, s.noiseAmplitude, g.img(at.depth), g.img(at.normal), g.img(at.noise));
+}
+
+void runWhitening(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    g.forget(at.whitening);
+    const FrameSettings& s = g.frame();
+    Splat& particles = g.particles();
+    g.pass<SurfaceNoise>().runWhitening(g.params(), s.camera, s.whitening, particles.particleBuffer(),
+                                        particles.particleCount(), s.whiteness, g.img(at.depth),
+                                        g.img(at.whitening));
+}
+
+}  // namespace
+
+extern const StageDriver kNoiseStage = {prepareSurfaceNoise, runNoise};
+extern const StageDriver kWhiteningStage = {prepareSurfaceNoise, runWhitening};
 
 }  // namespace meniscus::gl

@@ -1,5 +1,6 @@
 // See upsample.h.
 #include "gl/upsample.h"
+#include "gl/gl_backend.h"
 
 #include <utility>
 
@@ -139,5 +140,53 @@ void Upsampling::blendEdges(const GpuImage& depth, const GpuImage& coverage, con
     unbindTextures(3);
     glUseProgram(0);
 }
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+Status prepareUpsampling(Backend& b) { return GlBackend::of(b).prepare<Upsampling>(); }
+
+// The scene depth reduced to the current (low) camera's size.
+void runReduceSceneDepth(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    g.forget(Slot::LowSceneDepth);
+    const FrameSettings& s = g.frame();
+    g.pass<Upsampling>().reduceSceneDepth(g.img(at.sceneDepth), s.camera.width, s.camera.height, s.fluidDivisor,
+                                          g.img(Slot::LowSceneDepth));
+}
+
+// The low surface (the Low* slots) upsampled into the surface's full-size images.
+void runUpsample(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    for (Slot out : {at.depth, at.normal, at.thickness, at.noise, at.coverage}) g.forget(out);
+    const FrameSettings& s = g.frame();
+    const bool noise = s.noise.enabled;
+    g.pass<Upsampling>().upsample(g.img(Slot::LowDepth), g.img(Slot::LowNormal), g.img(Slot::LowThickness),
+                                  noise ? &g.img(Slot::LowNoise) : nullptr, &g.img(at.sceneDepth), s.camera.width,
+                                  s.camera.height, s.fluidDivisor, s.upsampleJumpM, g.img(at.depth),
+                                  g.img(at.normal), g.img(at.thickness), noise ? &g.img(at.noise) : nullptr,
+                                  g.img(at.coverage));
+}
+
+void runFluidEdges(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    const StageSlots& at = io.at;
+    const bool split = at.emission != Slot::None;
+    g.pass<Upsampling>().blendEdges(g.img(at.depth), g.img(at.coverage), g.img(at.sceneColor), g.img(at.color),
+                                    split ? &g.img(at.emission) : nullptr, split ? &g.img(at.transmit) : nullptr);
+}
+
+}  // namespace
+
+extern const StageDriver kReduceSceneDepthStage = {prepareUpsampling, runReduceSceneDepth};
+extern const StageDriver kUpsampleStage = {prepareUpsampling, runUpsample};
+extern const StageDriver kFluidEdgesStage = {prepareUpsampling, runFluidEdges};
 
 }  // namespace meniscus::gl

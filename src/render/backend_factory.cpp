@@ -2,6 +2,7 @@
 // when CMake found libepoxy and EGL (MENISCUS_HAVE_GL); src/gl/backend.h
 // includes no GL header, so nothing GL leaks into the core.
 #include "core/backend.h"
+#include "render/stages.h"
 
 #if MENISCUS_HAVE_GL
 #include "gl/backend.h"
@@ -24,9 +25,18 @@ namespace {
 }
 }  // namespace
 
+namespace {
+// A GL backend with every stage's programs compiled: an error when one fails.
+[[maybe_unused]] Result<std::unique_ptr<Backend>> prepared(Result<std::unique_ptr<Backend>> b) {
+    if (!b) return b;
+    if (auto st = prepareStages(**b); !st) return st.error();
+    return b;
+}
+}  // namespace
+
 Result<std::unique_ptr<Backend>> makeGlBackendOnCurrentContext() {
 #if MENISCUS_HAVE_GL
-    return gl::makeGlBackendOnCurrentContext();
+    return prepared(gl::makeGlBackendOnCurrentContext());
 #else
     return makeError("", kNoGl);
 #endif
@@ -36,7 +46,7 @@ Result<std::unique_ptr<Backend>> makeBackend(BackendChoice choice, std::string* 
     if (choice == BackendChoice::Cpu) return makeCpuBackend();
     std::string why;
 #if MENISCUS_HAVE_GL
-    auto gl = gl::makeGlBackend();
+    auto gl = prepared(gl::makeGlBackend());
     if (gl && choice == BackendChoice::Auto && softwareGl((*gl)->name())) {
         if (note)
             *note = "the only GL here is a software rasteriser, " + (*gl)->name() +

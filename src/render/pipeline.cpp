@@ -758,6 +758,11 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         }
     }
     Backend& b = *backend_;
+    // The stages' drivers made ready once per backend (GL: their programs).
+    if (!prepared_) {
+        if (auto st = prepareStages(b); !st) return st;
+        prepared_ = true;
+    }
     if (auto st = b.beginFrame(positions, f); !st) return st.error();
 
     // The stages, in the order of their list (render/stages.cpp), scope by
@@ -771,8 +776,8 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     const bool timed = timings != nullptr;
     StageRun r{b, s, f, divisor > 1 ? reducedCamera(s.camera, divisor) : s.camera, {}, {}, {}, false, {}};
     if (auto st = runScope(StageScope::Frame, when, r, timed); !st) return st;
-    const SurfaceSlots full{Slot::SceneDepth, Slot::RawDepth, Slot::Thickness, Slot::Depth, Slot::Normal, Slot::Noise};
     for (std::size_t l = 0; l < (several ? groups.size() : 1); ++l) {
+        StageSlots q;  // the full image's
         if (several) {
             // Several fluids (docs/pipeline.md#several-fluids): each drawn and
             // shaded on its own into its layer's images (at reduced resolution:
@@ -791,28 +796,29 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
             b.setFluid(centres, {g.particles.view, shapes, raycast ? &fields_[l] : nullptr, shadingOf(g.fluid), g.idz,
                                  g.amplitude, g.whiteness});
             r.tag = "fluid " + std::to_string(g.fluid) + ": ";
-            r.q = {Slot::SceneDepth,          layer(LayerImage::RawDepth), layer(LayerImage::Thickness),
-                   layer(LayerImage::Depth),  layer(LayerImage::Normal),   layer(LayerImage::Noise),
-                   layer(LayerImage::Whitening), layer(LayerImage::Color), layer(LayerImage::Emission),
-                   layer(LayerImage::Transmit)};
+            q.raw = layer(LayerImage::RawDepth), q.thickness = layer(LayerImage::Thickness);
+            q.depth = layer(LayerImage::Depth), q.normal = layer(LayerImage::Normal);
+            q.noise = layer(LayerImage::Noise), q.whitening = layer(LayerImage::Whitening);
+            q.color = layer(LayerImage::Color), q.emission = layer(LayerImage::Emission);
+            q.transmit = layer(LayerImage::Transmit);
             r.fluidOfLayer.push_back(g.fluid);
-        } else {
-            r.q = full;
         }
-        const SurfaceSlots q = r.q;
+        r.io.at = q;
         if (divisor > 1) {
             // Reduced resolution (docs/pipeline.md#reduced-resolution): the
             // surface on the low camera in the Low* slots (raw depth in q.raw),
             // upsampled into the full-size q.
             b.setCamera(r.splatCamera);
-            r.q = {Slot::LowSceneDepth, q.raw, Slot::LowThickness, Slot::LowDepth, Slot::LowNormal, Slot::LowNoise};
+            r.io.at.sceneDepth = Slot::LowSceneDepth, r.io.at.thickness = Slot::LowThickness;
+            r.io.at.depth = Slot::LowDepth, r.io.at.normal = Slot::LowNormal, r.io.at.noise = Slot::LowNoise;
         }
         if (auto st = runScope(StageScope::Surface, when, r, timed); !st || r.handedOver) return st;
         if (divisor > 1) b.setCamera(s.camera);
-        r.q = q;
+        r.io.at = q;
         if (auto st = runScope(StageScope::Layer, when, r, timed); !st) return st;
     }
     r.tag.clear();
+    r.io.at = StageSlots{};
     return runScope(StageScope::Finish, when, r, timed);
 }
 

@@ -12,6 +12,25 @@ namespace meniscus {
 
 bool drawsDrops(const RenderSettings& s) { return s.spray.enabled || !s.diffuse.empty(); }
 
+// The stages' drivers, each defined in its stage's own file.
+#define MENISCUS_STAGE_DRIVERS(X)                                                                          \
+    X(kSceneStage) X(kReduceSceneDepthStage) X(kSplatStage) X(kSplatPartialStage) X(kResolveSplatStage)     \
+    X(kFillHolesStage) X(kSmoothStage) X(kNormalsStage) X(kRasteriseStage) X(kRaycastStage) X(kNoiseStage) \
+    X(kUpsampleStage) X(kWhiteningStage) X(kShadeStage) X(kFluidEdgesStage) X(kCompositeFluidsStage)        \
+    X(kSilhouetteStage) X(kSprayStage)
+#define MENISCUS_DECLARE_DRIVER(name) extern const StageDriver name;
+namespace cpu {
+MENISCUS_STAGE_DRIVERS(MENISCUS_DECLARE_DRIVER)
+}  // namespace cpu
+#if MENISCUS_HAVE_GL
+namespace gl {
+MENISCUS_STAGE_DRIVERS(MENISCUS_DECLARE_DRIVER)
+}  // namespace gl
+#define DRIVERS(name) &cpu::name, &gl::name
+#else
+#define DRIVERS(name) &cpu::name, nullptr  // a build without GL
+#endif
+
 namespace {
 
 // "RenderSettings::<what>.<bad>" when a params check returned `bad`.
@@ -83,29 +102,13 @@ Status checkAnisotropy(const RenderSettings& s) {
     return settingError("anisotropy.", checkAnisotropyParams(s.anisotropy));
 }
 
-// ---------------------------------------------------------------- the calls
-
-// Each stage's call: one Backend method on the surface's images.
-Status runScene(StageRun& r) {
-    r.backend.castScene(Slot::SceneColor, Slot::SceneDepth);
-    return okStatus();
-}
+// ---------------------------------------------------------------- the host's side
 
 // The scene depth at the low camera's size, reduced on the low camera.
 Status runReduceSceneDepth(StageRun& r) {
     r.backend.setCamera(r.splatCamera);
-    r.backend.reduceSceneDepth(Slot::SceneDepth, Slot::LowSceneDepth);
+    r.drive();
     r.backend.setCamera(r.settings.camera);
-    return okStatus();
-}
-
-Status runSplat(StageRun& r) {
-    r.backend.splat(r.q.sceneDepth, r.q.raw, r.q.thickness);
-    return okStatus();
-}
-
-Status runSplatPartial(StageRun& r) {
-    r.backend.splatPartial(r.q.sceneDepth, r.partial);
     return okStatus();
 }
 
@@ -133,77 +136,7 @@ Status runResolveSplat(StageRun& r) {
                                  size(p.depth.width, p.depth.height) + " and its chords " +
                                  size(p.chords.width, p.chords.height) + ", expected " + size(W, H) + " and " +
                                  size(w, h) + ": every process must render with the same camera and settings");
-    r.backend.resolveSplat(r.partial, r.q.raw, r.q.thickness);
-    return okStatus();
-}
-
-Status runFillHoles(StageRun& r) {
-    r.backend.fillHoles(r.q.sceneDepth, r.q.raw, r.q.thickness);
-    return okStatus();
-}
-
-Status runSmooth(StageRun& r) {
-    r.backend.smooth(r.q.raw, r.q.depth);
-    return okStatus();
-}
-
-Status runNormals(StageRun& r) {
-    r.backend.normals(r.q.depth, r.q.normal);
-    return okStatus();
-}
-
-Status runRasterise(StageRun& r) {
-    r.backend.rasterise(r.q.sceneDepth, r.q.depth, r.q.normal);
-    return okStatus();
-}
-
-Status runRaycast(StageRun& r) {
-    r.backend.raycast(r.q.sceneDepth, r.q.raw, r.q.depth, r.q.normal);
-    return okStatus();
-}
-
-Status runNoise(StageRun& r) {
-    r.backend.noise(r.q.depth, r.q.normal, r.q.noise);
-    return okStatus();
-}
-
-// The low surface (the Low* slots) upsampled into the full-size surface.
-Status runUpsample(StageRun& r) {
-    r.backend.upsample(Slot::LowDepth, Slot::LowNormal, Slot::LowThickness, Slot::LowNoise, Slot::SceneDepth,
-                       r.q.depth, r.q.normal, r.q.thickness, r.q.noise, Slot::Coverage);
-    return okStatus();
-}
-
-Status runWhitening(StageRun& r) {
-    r.backend.whitening(r.q.depth, r.q.whitening);
-    return okStatus();
-}
-
-Status runShade(StageRun& r) {
-    const SurfaceSlots& q = r.q;
-    r.backend.shade(Slot::SceneColor, Slot::SceneDepth, q.depth, q.normal, q.thickness, q.noise, q.whitening, q.color,
-                    q.emission, q.transmit);
-    return okStatus();
-}
-
-Status runFluidEdges(StageRun& r) {
-    r.backend.blendFluidEdges(Slot::SceneColor, r.q.depth, Slot::Coverage, r.q.color, r.q.emission, r.q.transmit);
-    return okStatus();
-}
-
-Status runCompositeFluids(StageRun& r) {
-    r.backend.compositeFluids(r.fluidOfLayer, Slot::SceneColor, Slot::SceneDepth, Slot::Color, Slot::Depth,
-                              Slot::Normal, Slot::Thickness, Slot::FluidId);
-    return okStatus();
-}
-
-Status runSilhouette(StageRun& r) {
-    r.backend.silhouette(Slot::SceneColor, Slot::Depth, Slot::Color, Slot::Silhouette);
-    return okStatus();
-}
-
-Status runSpray(StageRun& r) {
-    r.backend.spray(Slot::SceneDepth, Slot::Depth, Slot::Color, Slot::Spray);
+    r.drive();
     return okStatus();
 }
 
@@ -215,50 +148,53 @@ using S = StageScope;
 const StageDecl kStages[] = {
     // Host work, before the images: the spray's split, the ray cast's field, the kernels.
     {"spray-classify", S::Host, "particles (density, velocity)", "the body's particles, the drops",
-     [](const StageWhen& w) { return drawsDrops(w.settings); }, checkSpray, nullptr},
+     [](const StageWhen& w) { return drawsDrops(w.settings); }, checkSpray, nullptr, nullptr},
     {"sph-field", S::Host, "particles", "the SPH density grid of the ray cast",
-     [](const StageWhen& w) { return w.settings.raycast.enabled; }, checkRaycast, nullptr},
+     [](const StageWhen& w) { return w.settings.raycast.enabled; }, checkRaycast, nullptr, nullptr},
     {"anisotropy", S::Host, "particles", "one ellipsoid and centre per particle",
-     [](const StageWhen& w) { return w.settings.anisotropy.enabled; }, checkAnisotropy, nullptr},
+     [](const StageWhen& w) { return w.settings.anisotropy.enabled; }, checkAnisotropy, nullptr, nullptr},
     // The images: the scene, once.
-    {"scene", S::Frame, "camera, studio, light", "SceneColor, SceneDepth", always, nullptr, runScene},
-    {"reduce-scene-depth", S::Frame, "SceneDepth", "LowSceneDepth", reduced, checkReduced, runReduceSceneDepth},
+    {"scene", S::Frame, "camera, studio, light", "SceneColor, SceneDepth", always, nullptr, DRIVERS(kSceneStage)},
+    {"reduce-scene-depth", S::Frame, "SceneDepth", "LowSceneDepth", reduced, checkReduced,
+     DRIVERS(kReduceSceneDepthStage), runReduceSceneDepth},
     // Each surface (the one fluid, or each fluid's layer), at the splat's resolution.
     {"depth-splat+thickness", S::Surface, "SceneDepth, particles", "RawDepth, Thickness",
-     [](const StageWhen& w) { return !sortLast(w); }, checkSplat, runSplat},
+     [](const StageWhen& w) { return !sortLast(w); }, checkSplat, DRIVERS(kSplatStage)},
     // The same over several processes (RenderSettings::compositor): this share's splat, the
     // exact combination of every share's, the thickness resolved from it on the root.
     {"depth-splat", S::Surface, "SceneDepth, this share's particles", "the partial", sortLast, nullptr,
-     runSplatPartial},
-    {"composite", S::Surface, "every process's partial", "the combined partial", sortLast, nullptr, runComposite},
-    {"thickness", S::Surface, "the combined partial", "RawDepth, Thickness", sortLast, nullptr, runResolveSplat},
+     DRIVERS(kSplatPartialStage)},
+    {"composite", S::Surface, "every process's partial", "the combined partial", sortLast, nullptr, nullptr,
+     nullptr, runComposite},
+    {"thickness", S::Surface, "the combined partial", "RawDepth, Thickness", sortLast, nullptr,
+     DRIVERS(kResolveSplatStage), runResolveSplat},
     {"fill-holes", S::Surface, "SceneDepth, RawDepth, Thickness", "RawDepth, Thickness",
-     [](const StageWhen& w) { return screenPath(w) && w.settings.holeFill.enabled; }, nullptr, runFillHoles},
-    {"smooth", S::Surface, "RawDepth", "Depth", screenPath, nullptr, runSmooth},
-    {"normals", S::Surface, "Depth", "Normal", screenPath, nullptr, runNormals},
+     [](const StageWhen& w) { return screenPath(w) && w.settings.holeFill.enabled; }, nullptr, DRIVERS(kFillHolesStage)},
+    {"smooth", S::Surface, "RawDepth", "Depth", screenPath, nullptr, DRIVERS(kSmoothStage)},
+    {"normals", S::Surface, "Depth", "Normal", screenPath, nullptr, DRIVERS(kNormalsStage)},
     {"rasterise", S::Surface, "SceneDepth, the mesh", "Depth, Normal",
-     [](const StageWhen& w) { return w.settings.mesh != nullptr; }, nullptr, runRasterise},
+     [](const StageWhen& w) { return w.settings.mesh != nullptr; }, nullptr, DRIVERS(kRasteriseStage)},
     {"raycast", S::Surface, "SceneDepth, RawDepth, the field", "Depth, Normal",
-     [](const StageWhen& w) { return w.settings.raycast.enabled; }, nullptr, runRaycast},
+     [](const StageWhen& w) { return w.settings.raycast.enabled; }, nullptr, DRIVERS(kRaycastStage)},
     {"noise", S::Surface, "Depth, Normal, particles (id, velocity)", "Noise, Normal",
-     [](const StageWhen& w) { return w.settings.noise.enabled; }, checkNoise, runNoise},
+     [](const StageWhen& w) { return w.settings.noise.enabled; }, checkNoise, DRIVERS(kNoiseStage)},
     // Each surface at full resolution.
     {"upsample", S::Layer, "the Low images, SceneDepth", "Depth, Normal, Thickness, Noise, Coverage", reduced,
-     nullptr, runUpsample},
+     nullptr, DRIVERS(kUpsampleStage)},
     {"whitening", S::Layer, "Depth, particles (velocity)", "Whitening",
-     [](const StageWhen& w) { return w.settings.whitening.enabled; }, checkWhitening, runWhitening},
+     [](const StageWhen& w) { return w.settings.whitening.enabled; }, checkWhitening, DRIVERS(kWhiteningStage)},
     {"shade", S::Layer, "SceneColor, SceneDepth, Depth, Normal, Thickness, Noise, Whitening",
-     "Color (a layer's: its Color, Emission, Transmit)", always, nullptr, runShade},
-    {"fluid-edges", S::Layer, "SceneColor, Depth, Coverage, Color", "Color", reduced, nullptr, runFluidEdges},
+     "Color (a layer's: its Color, Emission, Transmit)", always, nullptr, DRIVERS(kShadeStage)},
+    {"fluid-edges", S::Layer, "SceneColor, Depth, Coverage, Color", "Color", reduced, nullptr, DRIVERS(kFluidEdgesStage)},
     // Once, over the picture.
     {"composite-fluids", S::Finish, "each fluid's layer", "Color, Depth, Normal, Thickness, FluidId",
-     [](const StageWhen& w) { return w.severalFluids; }, nullptr, runCompositeFluids},
+     [](const StageWhen& w) { return w.severalFluids; }, nullptr, DRIVERS(kCompositeFluidsStage)},
     {"silhouette", S::Finish, "SceneColor, Depth, Color", "Color, Silhouette",
-     [](const StageWhen& w) { return w.settings.silhouette.enabled; }, checkSilhouette, runSilhouette},
+     [](const StageWhen& w) { return w.settings.silhouette.enabled; }, checkSilhouette, DRIVERS(kSilhouetteStage)},
     {"spray", S::Finish, "SceneDepth, Depth, Color, the drops", "Color, Spray",
-     [](const StageWhen& w) { return drawsDrops(w.settings); }, nullptr, runSpray},
+     [](const StageWhen& w) { return drawsDrops(w.settings); }, nullptr, DRIVERS(kSprayStage)},
     // After the stages, render() reads the images it returns back to the host.
-    {"readback", S::Readback, "Color and the AOVs", "the host's Aovs", always, nullptr, nullptr},
+    {"readback", S::Readback, "Color and the AOVs", "the host's Aovs", always, nullptr, nullptr, nullptr},
 };
 
 }  // namespace
@@ -272,12 +208,48 @@ Status checkStages(const RenderSettings& s) {
     return okStatus();
 }
 
+void StageRun::drive() {
+    const StageDriver* driver = backend.kind() == BackendKind::Cpu ? stage->cpu : stage->gl;
+    driver->run(backend, io);
+}
+
+Status prepareStages(Backend& b) {
+    for (const StageDecl& stage : kStages) {
+        const StageDriver* driver = b.kind() == BackendKind::Cpu ? stage.cpu : stage.gl;
+        if (driver && driver->prepare)
+            if (auto st = driver->prepare(b); !st)
+                return makeError(st.error().file, std::string("preparing the stage ") + stage.name + ": " +
+                                                      st.error().message);
+    }
+    return okStatus();
+}
+
+Status runStage(Backend& b, std::string_view name, const StageIo& io) {
+    for (const StageDecl& stage : kStages) {
+        if (stage.name != name) continue;
+        const StageDriver* driver = b.kind() == BackendKind::Cpu ? stage.cpu : stage.gl;
+        if (!driver) return makeError("", "the stage " + std::string(name) + " has no driver on " + b.name());
+        if (driver->prepare)
+            if (auto st = driver->prepare(b); !st) return st;
+        driver->run(b, io);
+        return b.stageStatus(stage.name);
+    }
+    return makeError("", "no stage is named " + std::string(name));
+}
+
 Status runScope(StageScope scope, const StageWhen& when, StageRun& r, bool timed) {
     for (const StageDecl& stage : kStages) {
-        if (stage.scope != scope || !stage.run || !stage.runs(when)) continue;
+        if (stage.scope != scope || !stage.runs(when)) continue;
+        if (!stage.run && !(r.backend.kind() == BackendKind::Cpu ? stage.cpu : stage.gl))
+            return makeError("", std::string("the stage ") + stage.name + " has no driver on " + r.backend.name());
         const std::string name = r.tag + stage.name;
+        r.stage = &stage;
+        r.io.partial = &r.partial;
+        r.io.fluids = r.fluidOfLayer;
         if (timed) r.backend.beginStage(name.c_str());
-        const Status ran = stage.run(r);
+        Status ran = okStatus();
+        if (stage.run) ran = stage.run(r);
+        else r.drive();
         if (timed) r.backend.endStage();
         // The backend's failure first (a GL error, out of GPU memory, a lost context).
         if (auto st = r.backend.stageStatus(name.c_str()); !st) return st;

@@ -10,6 +10,7 @@
 
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/backend.h"
@@ -37,25 +38,22 @@ struct StageWhen {
     bool severalFluids = false;
 };
 
-// The images one surface is drawn into: the full image's, the low one's of
-// reduced resolution, or one fluid's layer; and where its shading goes.
-struct SurfaceSlots {
-    Slot sceneDepth, raw, thickness, depth, normal, noise, whitening = Slot::Whitening;
-    Slot color = Slot::Color, emission = Slot::None, transmit = Slot::None;
-};
-
 // What a stage's call reads: the backend, the frame's settings, the surface
-// being drawn, and what passes between the sort-last stages and the layers.
+// being drawn (io.at), and what passes between the sort-last stages and the
+// layers.
 struct StageRun {
     Backend& backend;
     const RenderSettings& settings;
     const FrameSettings& frame;
     Camera splatCamera;          // the surface's camera (the low one at reduced resolution)
-    SurfaceSlots q;              // the surface the Surface and Layer stages draw
+    StageIo io;                  // the surface's images; the partial, the layers' fluids
     std::string tag;             // the timing lines' prefix: "fluid 1: " for a layer, else ""
     SplatPartial partial;        // sort-last: this share's splat, then the combination
     bool handedOver = false;     // sort-last, not the root: the frame ended after the composite
     std::vector<int> fluidOfLayer;  // each layer's fluid index, in drawing order
+    const struct StageDecl* stage = nullptr;  // the stage running (drive() runs its driver)
+    // Runs the running stage's driver for this backend on io.
+    void drive();
 };
 
 struct StageDecl {
@@ -67,9 +65,15 @@ struct StageDecl {
     bool (*runs)(const StageWhen&);
     // Its parameters and what the chosen view needs of it; nullptr: nothing to check.
     Status (*check)(const RenderSettings&);
-    // Its call (Frame, Surface, Layer and Finish stages): an error stops the
-    // frame; nullptr for the Host and Readback stages, which the Renderer runs.
-    Status (*run)(StageRun&);
+    // Its drivers, one per kind of backend (defined in src/cpu/<stage>.cpp
+    // and src/gl/<stage>.cpp); nullptr for the Host and Readback stages,
+    // which the Renderer runs, and for work on the host alone.
+    const StageDriver* cpu;
+    const StageDriver* gl;
+    // Host work around the driver (the renderer's side of the stage: a
+    // camera change, the compositor); nullptr: the driver alone. It calls
+    // r.drive() where the driver runs; an error stops the frame.
+    Status (*run)(StageRun&) = nullptr;
 };
 
 // Every stage, host stages (before the images) first, in the order they run.
@@ -77,6 +81,15 @@ std::span<const StageDecl> frameStages();
 
 // The checks of every stage that runs for `s`, in order: the first error.
 Status checkStages(const RenderSettings& s);
+
+// Makes every stage's driver ready on `b` (GL: compiles the stages'
+// programs); the first error. Done once per backend, before its first frame
+// (again is cheap: each driver's objects are made once).
+Status prepareStages(Backend& b);
+
+// Runs one stage's driver by name on `b`, on the images `io` names (a test
+// of a stage on its own); an error when no stage has that name.
+Status runStage(Backend& b, std::string_view name, const StageIo& io);
 
 // Runs the stages of `scope` that run for `when`, in the list's order: each
 // bracketed by the backend's timing when `timed`, its failure (the call's
