@@ -479,6 +479,49 @@ struct ShadingParams {
     glm::vec3 lightDirWorld = glm::normalize(glm::vec3(-0.4f, 1.0f, 0.55f));  // toward the light
 };
 
+// ---- The stages' parameters, together ------------------------------------
+
+// One member per screen-space stage that has parameters: RenderSettings
+// carries them and each backend's frame receives them whole (one
+// assignment), so a new stage's parameters are one member here and travel to
+// its drivers with nothing written on the way.
+struct StageParams {
+    // The smoothing filter (docs/pipeline.md#smoothing).
+    FilterParams filter = NarrowRangeParams{};
+    ThicknessParams thickness;
+    // Hole filling (docs/pipeline.md#hole-filling): on by default; the screen
+    // path only (the ray cast and the mesh decide their own coverage).
+    HoleFillParams holeFill;
+    // The material, light and look of the shading (docs/pipeline.md#shading).
+    ShadingParams shading;
+    // Surface noise and foam (docs/pipeline.md#noise-and-foam); off unless
+    // noise.enabled. The noise's pattern is seeded by the particles' `id`
+    // attribute (their index when absent); with ids and velocities and a
+    // frameIndex, particles whose velocity jumped since the previous frame get
+    // rougher noise for a while.
+    NoiseParams noise;
+    // Velocity whitening (docs/pipeline.md#noise-and-foam, Instant Liquids §4):
+    // off unless whitening.enabled; reads the particles' `velocity` attribute
+    // (without it nothing is whitened).
+    WhiteningParams whitening;
+    // Spray (docs/pipeline.md#classification): off unless spray.enabled.
+    // Particles below its density fraction (the `density` attribute, else
+    // estimated from neighbours) are drawn as drops instead of surface.
+    SprayParams spray;
+    // Silhouette reduction (docs/pipeline.md#silhouette-reduction; Instant
+    // Liquids §3): off unless silhouette.enabled; fades the liquid into the
+    // scene near its contours.
+    SilhouetteParams silhouette;
+    // The SPH surface, ray cast (docs/pipeline.md#ray-cast-surface): off unless
+    // raycast.enabled. Each covered pixel's ray is marched to the particles'
+    // SPH iso-surface (the surface refsurf and the mesh path see), which takes
+    // the place of the smoothing filter (`filter` is not used) and of the depth
+    // normals; the splat draws spheres of raycast.coverRadii r (or the
+    // ellipsoids, that much larger) only to start and bound the rays. Not with
+    // `mesh`.
+    RaycastParams raycast;
+};
+
 // ---- Isosurface extraction (docs/surface.md, include/meniscus/surface.h) ----
 
 struct MeshParams {

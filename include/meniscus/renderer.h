@@ -47,17 +47,14 @@ std::string viewNames();
 // The most fluids a frame may hold: fluid indices 0 .. kMaxFluids - 1.
 inline constexpr int kMaxFluids = 4;
 
-struct RenderSettings {
+// The stages' own parameters (StageParams, params.h: the filter, thickness,
+// hole filling, shading, noise, whitening, spray, silhouette, ray cast) and
+// what the whole frame needs besides.
+struct RenderSettings : StageParams {
     Camera camera;           // must be valid (see validateCamera / autoFrameCamera)
     float radiusM = 0.0f;    // particle radius in metres, > 0
     View view = View::Final;
-    FilterParams filter = NarrowRangeParams{};
-    ThicknessParams thickness;
-    // Hole filling (docs/pipeline.md#hole-filling): on by default; the screen
-    // path only (the ray cast and the mesh decide their own coverage).
-    HoleFillParams holeFill;
     SceneParams scene;
-    ShadingParams shading;
     // Several fluids (docs/pipeline.md#several-fluids; Instant Liquids §5):
     // when the particles carry a fluid index (ParticleView::fluid, 0 ..
     // kMaxFluids - 1; another value is an error), fluid k is drawn with
@@ -68,41 +65,15 @@ struct RenderSettings {
     // The fluid AOV is the nearest fluid's index; with several fluids the
     // noise, foam and whitening AOVs are the nearest fluid's own.
     std::vector<Material> fluidMaterials;
-    // Surface noise and foam (docs/pipeline.md#noise-and-foam); off unless
-    // noise.enabled. The noise's pattern is seeded by the particles' `id`
-    // attribute (their index when absent); with ids and velocities and a
-    // frameIndex, particles whose velocity jumped since the previous frame get
-    // rougher noise for a while.
-    NoiseParams noise;
-    // Velocity whitening (docs/pipeline.md#noise-and-foam, Instant Liquids §4):
-    // off unless whitening.enabled; reads the particles' `velocity` attribute
-    // (without it nothing is whitened).
-    WhiteningParams whitening;
-    // Spray (docs/pipeline.md#classification): off unless spray.enabled.
-    // Particles below its density fraction (the `density` attribute, else
-    // estimated from neighbours) are drawn as drops instead of surface.
-    SprayParams spray;
     // Diffuse particles drawn as drops over the surface with the spray's look
     // (its size, streak, opacity, colour), spray on or off: the whitewater of
     // `meniscus whitewater` (Ihmsen et al. 2012). Empty: none.
     DiffuseLayer diffuse;
-    // Silhouette reduction (docs/pipeline.md#silhouette-reduction; Instant
-    // Liquids §3): off unless silhouette.enabled; fades the liquid into the
-    // scene near its contours.
-    SilhouetteParams silhouette;
     // Anisotropic kernels (Yu & Turk 2013): off unless anisotropy.enabled.
     // The depth splat and the thickness draw each particle as the ellipsoid
     // of its neighbourhood, centred on its smoothed position (each fluid's
     // own, with several); the other stages use the smoothed positions too.
     AnisotropyParams anisotropy;
-    // The SPH surface, ray cast (docs/pipeline.md#ray-cast-surface): off unless
-    // raycast.enabled. Each covered pixel's ray is marched to the particles'
-    // SPH iso-surface (the surface refsurf and the mesh path see), which takes
-    // the place of the smoothing filter (`filter` is not used) and of the depth
-    // normals; the splat draws spheres of raycast.coverRadii r (or the
-    // ellipsoids, that much larger) only to start and bound the rays. Not with
-    // `mesh`.
-    RaycastParams raycast;
     // The particles' own radii (ParticleView::radius, e.g. a file's radius or
     // pscale attribute; variable resolution): when present and this is set,
     // the splat and the thickness draw each particle at its own radius (and

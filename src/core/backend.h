@@ -64,44 +64,32 @@ struct FluidSettings {
     std::span<const float> whiteness;
 };
 
-// Everything the stages read besides images, resolved once per frame.
-struct FrameSettings {
+// Everything the stages read besides images, resolved once per frame: the
+// stages' parameters (StageParams, from RenderSettings whole; the shading is
+// the current fluid's) and the frame's own inputs.
+struct FrameSettings : StageParams {
     Camera camera;
     float radius = 0.0f;
     // Anisotropic kernels (core/anisotropy.h): one ellipsoid per position of
     // beginFrame (this frame only), splatted for depth and thickness instead
     // of the spheres of `radius`; empty: spheres. The other stages keep the radius.
     std::span<const EllipsoidShape> shapes;
-    FilterParams filter;
     // The SPH surface, ray cast (docs/pipeline.md#ray-cast-surface), when
     // raycast.enabled: the particles' field (this frame only, the Renderer's)
     // the raycast stage reads.
-    RaycastParams raycast;
     const SphField* field = nullptr;
-    ThicknessParams thickness;
-    HoleFillParams holeFill;
-    ShadingParams shading;
-    // The surface noise (docs/pipeline.md#noise-and-foam): when enabled, the
-    // noise stage runs and the shading tints foam. Per particle (this frame
-    // only, pointing into the Renderer's memory): the noise's third coordinate
-    // (shared::noiseIdCoordinate of the id) and the turbulence factor (empty: 1).
-    NoiseParams noise;
+    // The surface noise (docs/pipeline.md#noise-and-foam), per particle (this
+    // frame only, pointing into the Renderer's memory): the noise's third
+    // coordinate (shared::noiseIdCoordinate of the id) and the turbulence
+    // factor (empty: 1).
     std::span<const float> noiseIdz;
     std::span<const float> noiseAmplitude;
-    // The velocity whitening (docs/pipeline.md#noise-and-foam): when enabled,
-    // the whitening stage runs and the shading lays white by its map. Per
-    // particle (this frame only): its whiteness (shared::whitenessOfSpeed;
-    // empty: 0).
-    WhiteningParams whitening;
+    // The velocity whitening (docs/pipeline.md#noise-and-foam), per particle
+    // (this frame only): its whiteness (shared::whitenessOfSpeed; empty: 0).
     std::span<const float> whiteness;
-    // The spray (docs/pipeline.md#classification): when enabled, the drops
-    // below (taken out of the particles above, which are the body of water) are
-    // drawn after the shading. World positions and velocities (m/s; empty:
-    // round drops).
-    SprayParams spray;
-    // The silhouette reduction (docs/pipeline.md#silhouette-reduction; Instant
-    // Liquids §3), when enabled.
-    SilhouetteParams silhouette;
+    // The spray's drops (docs/pipeline.md#classification), taken out of the
+    // particles above, which are the body of water: world positions and
+    // velocities (m/s; empty: round drops).
     std::span<const glm::vec3> sprayPositions;
     std::span<const glm::vec3> sprayVelocities;
     shared::Studio studio;

@@ -691,13 +691,10 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     }
     const bool shaped = anisotropic || ownRadii || raycast;
     FrameSettings f;
+    static_cast<StageParams&>(f) = s;  // every stage's parameters, whole
     f.camera = s.camera;
     f.radius = s.radiusM;
     if (shaped && !several) f.shapes = ellipsoids_[0].shapes;
-    f.filter = s.filter;
-    f.thickness = s.thickness;
-    f.holeFill = s.holeFill;
-    f.raycast = s.raycast;
     if (raycast) {
         if (!several) f.field = &fields_[0];
         // The larger shapes' chords, calibrated as spheres of coverRadii r at
@@ -708,13 +705,11 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     f.shading = shadingOf(groups.size() == 1 ? groups[0].fluid : -1);
     f.particles = particles;
     f.mesh = s.mesh;
-    f.noise = s.noise;
     if (s.noise.enabled) {
         prepareNoise(particles, s);
         f.noiseIdz = noiseIdz_;
         f.noiseAmplitude = noiseAmplitude_;
     }
-    f.whitening = s.whitening;
     if (s.whitening.enabled) {
         whiteness_.assign(particles.size(), 0.0f);
         if (particles.velocity.present())
@@ -723,8 +718,6 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
                                                          s.whitening.rampMps);
         f.whiteness = whiteness_;
     }
-    f.spray = s.spray;
-    f.silhouette = s.silhouette;
     if (drops) {
         f.sprayPositions = spray_->dropPositions;
         f.sprayVelocities = spray_->dropVelocities;
