@@ -74,16 +74,11 @@ MENISCUS_CF_INLINE float curvatureFlowStep(float z, float zl, float zr, float zu
                                          MENISCUS_CF_AND(curvatureFlowNear(zdl, z, thr), curvatureFlowNear(zdr, z, thr)));
     const bool vxy = MENISCUS_CF_AND(MENISCUS_CF_AND(vx, vy), corners);
     // Differences are computed unconditionally, then selected (branch-free).
-    MENISCUS_CF_EXACT float dx = 0.5f * (zr - zl);
-    MENISCUS_CF_EXACT float dxx = zr + zl - 2.0f * z;
-    MENISCUS_CF_EXACT float dy = 0.5f * (zd - zu);
-    MENISCUS_CF_EXACT float dyy = zd + zu - 2.0f * z;
-    MENISCUS_CF_EXACT float dxy = 0.25f * ((zdr - zdl) - (zur - zul));
-    MENISCUS_CF_EXACT float px = vx ? dx : 0.0f;
-    MENISCUS_CF_EXACT float pxx = vx ? dxx : 0.0f;
-    MENISCUS_CF_EXACT float py = vy ? dy : 0.0f;
-    MENISCUS_CF_EXACT float pyy = vy ? dyy : 0.0f;
-    MENISCUS_CF_EXACT float pxy = vxy ? dxy : 0.0f;
+    MENISCUS_CF_EXACT float px = vx ? 0.5f * (zr - zl) : 0.0f;
+    MENISCUS_CF_EXACT float pxx = vx ? (zr + zl - 2.0f * z) : 0.0f;
+    MENISCUS_CF_EXACT float py = vy ? 0.5f * (zd - zu) : 0.0f;
+    MENISCUS_CF_EXACT float pyy = vy ? (zd + zu - 2.0f * z) : 0.0f;
+    MENISCUS_CF_EXACT float pxy = vxy ? 0.25f * ((zdr - zdl) - (zur - zul)) : 0.0f;
     MENISCUS_CF_EXACT float w = C * z;
     MENISCUS_CF_EXACT float G = px * px + py * py + w * w;
     MENISCUS_CF_EXACT float Gx = 2.0f * (px * pxx + py * pxy + C * w * px);

@@ -36,10 +36,16 @@ using std::sqrt;
 #define MENISCUS_NRM_INLINE inline
 #define MENISCUS_NRM_EXACT const
 #define MENISCUS_NRM_INF std::numeric_limits<float>::infinity()
+// Both tests evaluated, `&` and `|` on bools: GCC then selects instead of
+// branching (`&&` and `||` leave it branches or mixed masks).
+#define MENISCUS_NRM_AND(a, b) ((a) & (b))
+#define MENISCUS_NRM_OR(a, b) ((a) | (b))
 #else
 #define MENISCUS_NRM_INLINE
 #define MENISCUS_NRM_EXACT precise
 #define MENISCUS_NRM_INF uintBitsToFloat(0x7f800000u)
+#define MENISCUS_NRM_AND(a, b) ((a) && (b))
+#define MENISCUS_NRM_OR(a, b) ((a) || (b))
 #endif
 
 // The view ray's x (resp. y) per unit depth through the centre of column x
@@ -74,8 +80,8 @@ MENISCUS_NRM_INLINE vec3 normalsAxisTangent(vec3 p, float z, vec3 m, float zm, v
     // Smooth surface: central difference. A crease (the two sides disagree):
     // the flatter side. One usable side: that one.
     MENISCUS_NRM_EXACT float crease = abs(dzp - dzm);
-    const bool central = okm && okp && crease <= jump;
-    const bool plus = okp && (!okm || abs(dzp) < abs(dzm));
+    const bool central = MENISCUS_NRM_AND(MENISCUS_NRM_AND(okm, okp), crease <= jump);
+    const bool plus = MENISCUS_NRM_AND(okp, MENISCUS_NRM_OR(!okm, abs(dzp) < abs(dzm)));
     MENISCUS_NRM_EXACT vec3 qm = q - m;
     MENISCUS_NRM_EXACT vec3 qp = q - p;
     MENISCUS_NRM_EXACT vec3 pm = p - m;
@@ -113,7 +119,7 @@ MENISCUS_NRM_INLINE vec3 normalsAt(float z, float zl, float zr, float zu, float 
     MENISCUS_NRM_EXACT vec3 nn = vec3(n.x * invN, n.y * invN, n.z * invN);
     MENISCUS_NRM_EXACT vec3 unit = normalsSelect(ok, nn, -u);
     MENISCUS_NRM_EXACT float nu = unit.x * u.x + unit.y * u.y + unit.z * u.z;
-    const bool flip = ok && nu > 0.0f;  // toward the eye
+    const bool flip = MENISCUS_NRM_AND(ok, nu > 0.0f);  // toward the eye
     MENISCUS_NRM_EXACT vec3 facing = normalsSelect(flip, -unit, unit);
     return normalsSelect(z < MENISCUS_NRM_INF, facing, vec3(0.0f));
 }
@@ -124,5 +130,7 @@ MENISCUS_NRM_INLINE vec3 normalsAt(float z, float zl, float zr, float zu, float 
 #undef MENISCUS_NRM_INLINE
 #undef MENISCUS_NRM_EXACT
 #undef MENISCUS_NRM_INF
+#undef MENISCUS_NRM_AND
+#undef MENISCUS_NRM_OR
 
 #endif  // MENISCUS_SHARED_NORMALS_H
