@@ -247,10 +247,12 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
             }
             const FloatV rx = shared::splatRayX(float(kDiv * (bx0 + x)) + lanesF, halfW, invF);
             const FloatV len = sqrtV(shared::splatRayLength2(rx, FloatV{} + ry));
-            storeV(ux + j, rx / len);
-            storeV(uy + j, ry / len);
-            storeV(uz + j, -1.0f / len);
-            storeV(invLen + j, 1.0f / len);
+            FloatV vx, vy, vz, vInvLen;
+            shared::splatUnitRay(rx, FloatV{} + ry, len, vx, vy, vz, vInvLen);
+            storeV(ux + j, vx);
+            storeV(uy + j, vy);
+            storeV(uz + j, vz);
+            storeV(invLen + j, vInvLen);
             FloatV zScene = FloatV{} + kInf;
             if (scene && kDiv == 1) {
                 std::memcpy(&zScene, scene + std::size_t(by0 + y) * W + (bx0 + x), sizeof(float) * n);

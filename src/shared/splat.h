@@ -130,6 +130,20 @@ MENISCUS_SPLAT_INLINE MENISCUS_SPLAT_REAL splatRayLength2(MENISCUS_SPLAT_REAL rx
     return l2;
 }
 
+// The unit ray u = (rx, ry, -1) / len (len: the square root of
+// splatRayLength2) and 1 / len.
+MENISCUS_SPLAT_TEMPLATE
+MENISCUS_SPLAT_INLINE void splatUnitRay(MENISCUS_SPLAT_REAL rx, MENISCUS_SPLAT_REAL ry, MENISCUS_SPLAT_REAL len,
+                                        MENISCUS_SPLAT_OUT(MENISCUS_SPLAT_REAL) ux,
+                                        MENISCUS_SPLAT_OUT(MENISCUS_SPLAT_REAL) uy,
+                                        MENISCUS_SPLAT_OUT(MENISCUS_SPLAT_REAL) uz,
+                                        MENISCUS_SPLAT_OUT(MENISCUS_SPLAT_REAL) invLen) {
+    ux = rx / len;
+    uy = ry / len;
+    uz = -1.0f / len;
+    invLen = 1.0f / len;
+}
+
 // The ray from the eye along the unit direction u = (ux, uy, uz) against the
 // sphere of view-space centre c and squared radius r2: the ray parameter b of
 // the closest approach (u . c) and h2 = r2 - |c - b u|^2, the squared

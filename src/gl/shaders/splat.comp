@@ -132,7 +132,9 @@ void splatPixel(vec3 c, Shape sh, int x, int y) {
     precise float centreY = float(d * y) + 0.5 * float(d), centreX = float(d * x) + 0.5 * float(d);
     const float ry = splatRayY(centreY, halfH, invF), rx = splatRayX(centreX, halfW, invF);
     precise float len = sqrt(splatRayLength2(rx, ry));
-    precise vec3 u = vec3(rx / len, ry / len, -1.0 / len);
+    precise vec3 u;
+    precise float invLen;
+    splatUnitRay(rx, ry, len, u.x, u.y, u.z, invLen);
     precise float b, h2;
     if (uEllipsoids != 0)
         rayEllipsoid(u.x, u.y, u.z, sh.m, sh.e, b, h2);
@@ -150,7 +152,6 @@ void splatPixel(vec3 c, Shape sh, int x, int y) {
         if (chord > 0.0) atomicAdd(chordFixed[k], chordToFixed(chord, r));
     }
     if (d != 1) return;  // chords only
-    precise float invLen = 1.0 / len;
     const float z = splatHitDepth(b, h, invLen);
     // Nearest hit only: one nearer than the near plane is clipped, not
     // replaced by the exit (zNear > 0 also rejects hits behind the eye); one
