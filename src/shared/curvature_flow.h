@@ -70,8 +70,9 @@ MENISCUS_CF_INLINE float curvatureFlowStep(float z, float zl, float zr, float zu
                                            float zdl, float zdr, float C, float thr, float alpha) {
     const bool vx = MENISCUS_CF_AND(curvatureFlowNear(zl, z, thr), curvatureFlowNear(zr, z, thr));
     const bool vy = MENISCUS_CF_AND(curvatureFlowNear(zu, z, thr), curvatureFlowNear(zd, z, thr));
-    const bool corners = MENISCUS_CF_AND(MENISCUS_CF_AND(curvatureFlowNear(zul, z, thr), curvatureFlowNear(zur, z, thr)),
-                                         MENISCUS_CF_AND(curvatureFlowNear(zdl, z, thr), curvatureFlowNear(zdr, z, thr)));
+    const bool up = MENISCUS_CF_AND(curvatureFlowNear(zul, z, thr), curvatureFlowNear(zur, z, thr));
+    const bool down = MENISCUS_CF_AND(curvatureFlowNear(zdl, z, thr), curvatureFlowNear(zdr, z, thr));
+    const bool corners = MENISCUS_CF_AND(up, down);
     const bool vxy = MENISCUS_CF_AND(MENISCUS_CF_AND(vx, vy), corners);
     // Differences are computed unconditionally, then selected (branch-free).
     MENISCUS_CF_EXACT float px = vx ? 0.5f * (zr - zl) : 0.0f;

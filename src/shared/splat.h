@@ -95,8 +95,10 @@ MENISCUS_SPLAT_INLINE ivec4 splatRectFromSlopes(vec4 slopes, int W, int H, float
     MENISCUS_SPLAT_EXACT float x1 = floor(xhi - 0.5f + eps);
     MENISCUS_SPLAT_EXACT float y0 = ceil(ylo - 0.5f - eps);
     MENISCUS_SPLAT_EXACT float y1 = floor(yhi - 0.5f + eps);
-    return ivec4(max(0, int(clamp(x0, -1.0f, float(W) + 1.0f))), max(0, int(clamp(y0, -1.0f, float(H) + 1.0f))),
-                 min(W, int(clamp(x1, -1.0f, float(W) + 1.0f)) + 1), min(H, int(clamp(y1, -1.0f, float(H) + 1.0f)) + 1));
+    return ivec4(max(0, int(clamp(x0, -1.0f, float(W) + 1.0f))),
+                 max(0, int(clamp(y0, -1.0f, float(H) + 1.0f))),
+                 min(W, int(clamp(x1, -1.0f, float(W) + 1.0f)) + 1),
+                 min(H, int(clamp(y1, -1.0f, float(H) + 1.0f)) + 1));
 }
 
 // At reduced resolution (one output pixel per d x d block, its centre at
