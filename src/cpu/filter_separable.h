@@ -1,15 +1,10 @@
 // Separable depth smoothing with a per-pixel kernel
 // (docs/pipeline.md#smoothing), written once for the Gaussian, bilateral and
 // binomial filters: an x pass then a y pass, each a 1-D weighted average around
-// the centre pixel.
-//  - The kernel radius s = kernelWorldM * f / z0 is the world length projected
-//    at the centre depth z0 (constant width in world space, patent "System and
-//    method for rendering a particle-based fluid surface"), capped at maxKernelPx.
-//  - Weights come from precomputed tables (shared::KernelTable), one normalised row per integer
-//    radius n; a real radius s = n + t uses (1-t) row(n) + t row(n+1). Rounding
-//    s instead would make the smoothing jump where ceil(s) changes, which shows
-//    up as contour lines in the normals of sloped fluid; blending keeps the
-//    output continuous in depth (and so in scale).
+// the centre pixel. The formulas (the kernel radius projected at the centre
+// depth, the weights blended between the tables' integer radii, the bilateral
+// range weight, the renormalised result) are src/shared/separable_filter.h,
+// which the GL twin calls too; the weight tables are shared::KernelTable.
 //  - Taps that are +inf or further than jumpM from z0 get weight 0 and the rest
 //    are renormalised, so separate bodies never blend and silhouettes are not
 //    pulled toward the background. A +inf centre stays +inf (a NaN one, not a
@@ -32,6 +27,7 @@
 #include "cpu/filter_util.h"
 #include "meniscus/types.h"
 #include "shared/kernel_table.h"
+#include "shared/separable_filter.h"
 
 namespace meniscus::cpu {
 
@@ -59,27 +55,22 @@ struct NoRangeWeight {
 };
 
 // Gaussian range weight exp(-dz^2 / (2 sigma^2)) on the depth difference
-// (bilateral, thesis eq. 4.3), kLanes at a time as 2^-x with x = dz^2 / (2
-// sigma^2 ln 2): 2^-trunc(x) from the exponent bits times 2^-frac(x) =
-// 2^-1/2 exp((1/2 - frac(x)) ln 2), a degree-5 Taylor series on |arg| <= 0.35
-// (relative error < 3e-6). A table lookup would need a scalar gather per lane.
+// (bilateral, thesis eq. 4.3), kLanes at a time as 2^-x (the series:
+// shared::separableRangeWeight): 2^-trunc(x) from the exponent bits. A table
+// lookup would need a scalar gather per lane.
 class RangeGaussian {
 public:
     explicit RangeGaussian(float sigmaM);
     detail::FloatV operator()(detail::FloatV dz) const {
         using detail::FloatV;
         using detail::IntV;
-        FloatV x = dz * dz * scale_;
-        // Cap at 2^-60 (dz > 9 sigma, e.g. excluded far taps): weights and their
-        // products must stay clear of denormals, which are very slow on x86.
-        x = x < 60.0f ? x : FloatV{} + 60.0f;
+        FloatV x = shared::separableRangeExponent(dz, scale_);
+        x = x < shared::kSeparableRangeCap ? x : FloatV{} + shared::kSeparableRangeCap;
         const IntV i = __builtin_convertvector(x, IntV);  // x >= 0: truncation = floor
-        const FloatV y = (__builtin_convertvector(i, FloatV) - x + 0.5f) * 0.69314718f;
-        const FloatV p = 1.0f + y * (1.0f + y * (0.5f + y * (1.0f / 6 + y * (1.0f / 24 + y * (1.0f / 120)))));
         const IntV bits = (127 - i) << 23;
         FloatV pow2;
         std::memcpy(&pow2, &bits, sizeof pow2);
-        return 0.70710678f * p * pow2;
+        return shared::separableRangeWeight(x, __builtin_convertvector(i, FloatV), pow2);
     }
     float operator()(float dz) const { return (*this)(detail::FloatV{} + dz)[0]; }
 
@@ -116,14 +107,13 @@ void filterLine(const float* in, float* out, int len, const KernelTable& table, 
             out[i] = INFINITY;
             continue;
         }
-        float s = std::min(maxS, kernelPxDepth / z0);
-        if (!(s > 0.0f)) s = 0.0f;
+        const float s = shared::separableKernelPx(kernelPxDepth, z0, maxS);
         const int n = int(s);
-        const float t = s - float(n);
+        const float t = shared::separableBlend(s, n);
         const float* a = table.row(n);
         const float* d = table.diff(n);
         const float* line = in + i;
-        const FloatV z0V = FloatV{} + z0, tV = FloatV{} + t;
+        const FloatV z0V = FloatV{} + z0;
         FloatV sw{}, sd{};
         // Taps -m .. m rounded up to whole groups of kLanes; the extra taps have
         // weight 0 in the zero-padded table rows.
@@ -131,18 +121,12 @@ void filterLine(const float* in, float* out, int len, const KernelTable& table, 
         for (int k = -m; k <= m; k += kLanes) {
             const FloatV dz = loadV(line + k) - z0V;
             const IntV ok = selectV(absMask, dz) <= jumpV;  // |dz| <= jump
-            const FloatV w = selectV(ok, (loadV(a + k) + tV * loadV(d + k)) * range(dz));
+            const FloatV w = selectV(ok, shared::separableSpatialWeight(loadV(a + k), loadV(d + k), t) * range(dz));
             sw += w;
             sd += w * dz;
         }
         // The centre tap always counts with a positive weight, so the sum is > 0.
-        // Averaging the differences dz (not z) keeps precision far from the eye.
-        float sumW = 0.0f, sumD = 0.0f;
-        for (int l = 0; l < kLanes; ++l) {
-            sumW += sw[l];
-            sumD += sd[l];
-        }
-        out[i] = z0 + sumD / sumW;
+        out[i] = shared::separableResult(z0, sw, sd);
     }
 }
 

@@ -14,7 +14,9 @@
 // intersection. The chords are summed in fixed point (shared/splat_chords.h,
 // the GL splat's arithmetic): integer sums are exact and order-independent, so
 // the partial sums of several processes (sort-last, meniscus/sort_last.h) add
-// up to the whole's bits.
+// up to the whole's bits. The formulas (view-space centre, projected bounds,
+// pixel rays, ray-sphere hit, its eye depth and clipped chord) are
+// src/shared/splat.h, the GL twin's too.
 #include "splat.h"
 
 #include <algorithm>
@@ -26,6 +28,7 @@
 
 #include "cpu/filter_separable.h"  // detail::FloatV and its helpers
 #include "shared/ellipsoid.h"
+#include "shared/splat.h"
 #include "shared/splat_chords.h"
 #include "shared/thickness.h"
 
@@ -38,40 +41,20 @@ constexpr int kTile = kSplatTilePx;
 
 namespace {
 
-// The pixels whose centres lie within the image-plane slopes [sx.x, sx.y] x
-// [sy.x, sy.y] (x / depth, y / depth, +y up), clipped to the image.
-PixelRect rectFromSlopes(const Camera& camera, float f, glm::vec2 sx, glm::vec2 sy) {
-    const float cx = 0.5f * float(camera.width), cy = 0.5f * float(camera.height);
-    // Pixel centres are at +0.5: pixel i is inside when i + 0.5 is in [lo, hi].
-    const float xlo = cx + f * sx.x, xhi = cx + f * sx.y;
-    const float ylo = cy - f * sy.y, yhi = cy - f * sy.x;  // +y view is up, rows go down
-    auto clampI = [](float v, int hi) { return int(std::clamp(v, -1.0f, float(hi) + 1.0f)); };
-    // A hundredth of a pixel of slack against rounding in the slopes (float
-    // error here is ~1e-3 px at 16k pixels); the exact ray test decides coverage.
-    constexpr float eps = 0.01f;
-    PixelRect rect;
-    rect.x0 = std::max(0, clampI(std::ceil(xlo - 0.5f - eps), camera.width));
-    rect.x1 = std::min(camera.width, clampI(std::floor(xhi - 0.5f + eps), camera.width) + 1);
-    rect.y0 = std::max(0, clampI(std::ceil(ylo - 0.5f - eps), camera.height));
-    rect.y1 = std::min(camera.height, clampI(std::floor(yhi - 0.5f + eps), camera.height) + 1);
-    return rect;
+// The pixels whose centres lie within the image-plane slopes (xlo, xhi, ylo,
+// yhi), clipped to the image (shared::splatRectFromSlopes).
+PixelRect rectFromSlopes(const Camera& camera, float f, const glm::vec4& slopes) {
+    const glm::ivec4 r = shared::splatRectFromSlopes(slopes, camera.width, camera.height, f);
+    return {r.x, r.y, r.z, r.w};
 }
 
 // projectedSphereBounds with the focal length given (it costs a tan).
 PixelRect sphereBounds(const Camera& camera, float f, const glm::vec3& c, float r) {
-    const float depth = -c.z;  // eye depth of the centre
-    PixelRect full{0, 0, camera.width, camera.height};
-    if (depth + r <= 0.0f) return {};      // wholly behind the eye
-    if (depth - r <= 0.0f) return full;    // reaches the eye plane: unbounded projection
-    // Tangent lines from the eye to the sphere's cross-section in the xz (resp.
-    // yz) plane bound the projection exactly: the image-plane slope bounds are
-    // (a*depth ± r*sqrt(a² + depth² - r²)) / (depth² - r²) for a = c.x or c.y.
-    const float den = depth * depth - r * r;
-    auto slopes = [&](float a) {
-        const float root = r * std::sqrt(std::max(a * a + den, 0.0f));
-        return glm::vec2((a * depth - root) / den, (a * depth + root) / den);
-    };
-    return rectFromSlopes(camera, f, slopes(c.x), slopes(c.y));
+    glm::vec4 s;
+    const int kind = shared::splatSphereSlopes(c, r, s);
+    if (kind == 0) return {};                                   // wholly behind the eye
+    if (kind == 1) return {0, 0, camera.width, camera.height};  // unbounded projection
+    return rectFromSlopes(camera, f, s);
 }
 
 // The same for the ellipsoid of view-space centre c and outer form q (shared/ellipsoid.h).
@@ -80,7 +63,7 @@ PixelRect ellipsoidBounds(const Camera& camera, float f, const glm::vec3& c, con
     const int kind = shared::ellipsoidSlopes(c, q, s);
     if (kind == 0) return {};
     if (kind == 1) return {0, 0, camera.width, camera.height};
-    return rectFromSlopes(camera, f, {s.x, s.y}, {s.z, s.w});
+    return rectFromSlopes(camera, f, s);
 }
 
 }  // namespace
@@ -90,15 +73,12 @@ PixelRect projectedSphereBounds(const Camera& camera, const glm::vec3& c, float 
 }
 
 float raySphereEyeDepth(const glm::vec3& ray, const glm::vec3& c, float r) {
-    // Along the unit direction u = ray/|ray|: closest approach b = u·c, squared
-    // miss distance |c - b u|² (computed from the vector, not c·c - b², to keep
-    // precision for small spheres far away). Since ray.z = -1, the eye depth of
-    // the point t*u is t/|ray|.
+    // Along the unit direction u = ray/|ray| (shared::raySphere). Since
+    // ray.z = -1, the eye depth of the point t*u is t/|ray|.
     const float len = std::sqrt(glm::dot(ray, ray));
     const glm::vec3 u = ray / len;
-    const float b = glm::dot(u, c);
-    const glm::vec3 off = c - b * u;
-    const float h2 = r * r - glm::dot(off, off);
+    float b, h2;
+    shared::raySphere(u.x, u.y, u.z, c, r * r, b, h2);
     if (h2 < 0.0f) return kInf;
     const float t = b - std::sqrt(h2);
     if (t <= 0.0f) return kInf;  // nearest hit behind the eye
@@ -122,8 +102,7 @@ SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> position
     const bool ellipsoids = !shapes.empty();
     if (ellipsoids) bins.ellipsoids.resize(n);
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-        const glm::vec3 d = positionsWorld[i] - eye;
-        const glm::vec3 c = {glm::dot(d, right), glm::dot(d, up), glm::dot(d, back)};
+        const glm::vec3 c = shared::splatViewCentre(positionsWorld[i], eye, right, up, back);
         bins.centres[i] = c;
         if (!ellipsoids) {
             bins.rects[i] = sphereBounds(camera, f, c, radius);
@@ -208,17 +187,6 @@ inline void storeU(std::uint32_t* p, UintV v) { std::memcpy(p, &v, sizeof v); }
 constexpr int kStride = kTile + kLanes;
 constexpr int kTileN = kTile * kStride;
 
-// Smallest i with kDiv (i + 1/2) > x0 - 1/2, and one past the largest i with
-// kDiv (i + 1/2) < x1 + 1/2 (numerators shifted to stay positive for floor).
-template <int kDiv>
-int lowBegin(int x0) {
-    return (2 * x0 - 1 - kDiv + 2 * kDiv * 4) / (2 * kDiv) - 4 + 1;
-}
-template <int kDiv>
-int lowEnd(int x1) {
-    return (2 * x1 + 1 - kDiv + 2 * kDiv - 1) / (2 * kDiv);
-}
-
 // One tile of the splat, kLanes pixels of a row at a time in GCC/Clang vector
 // types (the projected spheres are only a few pixels wide, so vectorising
 // across a row of one sphere is the only way to fill the lanes). Per-pixel ray
@@ -268,7 +236,7 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
     const FloatV lanesF = FloatV{0.5f, 1.5f, 2.5f, 3.5f} * float(kDiv);
     const float* scene = sceneDepth ? sceneDepth->pixels.data() : nullptr;
     for (int y = 0; y < kTile / kDiv; ++y) {
-        const float ry = -(float(kDiv * (by0 + y)) + 0.5f * float(kDiv) - halfH) * invF;
+        const float ry = shared::splatRayY(float(kDiv * (by0 + y)) + 0.5f * float(kDiv), halfH, invF);
         for (int x = 0; x < kStride; x += kLanes) {
             const int j = y * kStride + x;
             const int n = std::min(kLanes, bx1 - bx0 - x);  // pixels of the image in this group
@@ -277,12 +245,14 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
                 storeU(chord + j, UintV{});
                 continue;
             }
-            const FloatV rx = ((float(kDiv * (bx0 + x)) + lanesF) - halfW) * invF;
-            const FloatV len = sqrtV((rx * rx + ry * ry) + 1.0f);
-            storeV(ux + j, rx / len);
-            storeV(uy + j, ry / len);
-            storeV(uz + j, -1.0f / len);
-            storeV(invLen + j, 1.0f / len);
+            const FloatV rx = shared::splatRayX(float(kDiv * (bx0 + x)) + lanesF, halfW, invF);
+            const FloatV len = sqrtV(shared::splatRayLength2(rx, FloatV{} + ry));
+            FloatV vx, vy, vz, vInvLen;
+            shared::splatUnitRay(rx, FloatV{} + ry, len, vx, vy, vz, vInvLen);
+            storeV(ux + j, vx);
+            storeV(uy + j, vy);
+            storeV(uz + j, vz);
+            storeV(invLen + j, vInvLen);
             FloatV zScene = FloatV{} + kInf;
             if (scene && kDiv == 1) {
                 std::memcpy(&zScene, scene + std::size_t(by0 + y) * W + (bx0 + x), sizeof(float) * n);
@@ -311,14 +281,15 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
         const std::uint32_t i = bins.items[k];
         const PixelRect& rect = bins.rects[i];
         const glm::vec3 c = bins.centres[i];
-        const FloatV cx = FloatV{} + c.x, cy = FloatV{} + c.y, cz = FloatV{} + c.z, r2V = FloatV{} + r2;
         const ViewEllipsoid* ell = kEllipsoid ? &bins.ellipsoids[i] : nullptr;
         // The rectangle [x0, x1) holds the full pixels whose centres lie in the
         // projection (or is cut by the image border), so the projection lies in
         // (x0 - 1/2, x1 + 1/2): the low-resolution centres kDiv (i + 1/2) inside
-        // that are i in [lowBegin(x0), lowEnd(x1)).
-        const int rx0 = kDiv == 1 ? rect.x0 : lowBegin<kDiv>(rect.x0), rx1 = kDiv == 1 ? rect.x1 : lowEnd<kDiv>(rect.x1);
-        const int ry0 = kDiv == 1 ? rect.y0 : lowBegin<kDiv>(rect.y0), ry1 = kDiv == 1 ? rect.y1 : lowEnd<kDiv>(rect.y1);
+        // that are i in [splatLowBegin(x0), splatLowEnd(x1)).
+        const int rx0 = kDiv == 1 ? rect.x0 : shared::splatLowBegin(rect.x0, kDiv);
+        const int rx1 = kDiv == 1 ? rect.x1 : shared::splatLowEnd(rect.x1, kDiv);
+        const int ry0 = kDiv == 1 ? rect.y0 : shared::splatLowBegin(rect.y0, kDiv);
+        const int ry1 = kDiv == 1 ? rect.y1 : shared::splatLowEnd(rect.y1, kDiv);
         const int x0 = std::max(rx0, bx0) - bx0, x1 = std::min(rx1, bx1) - bx0;
         const int y0 = std::max(ry0, by0) - by0, y1 = std::min(ry1, by1) - by0;
         for (int y = y0; y < y1; ++y) {
@@ -332,26 +303,21 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
                 if constexpr (kEllipsoid) {
                     shared::rayEllipsoid(vx, vy, vz, ell->m, ell->e, b, h2);
                 } else {
-                    // As raySphereEyeDepth: closest approach b along u, squared miss
-                    // distance from the offset vector (precision for small, far spheres).
-                    b = vx * cx + vy * cy + vz * cz;
-                    const FloatV ox = cx - b * vx, oy = cy - b * vy, oz = cz - b * vz;
-                    h2 = r2V - (ox * ox + oy * oy + oz * oz);
+                    shared::raySphere(vx, vy, vz, c, r2, b, h2);
                 }
                 const IntV hit = in & (h2 >= zero);
                 const FloatV h = sqrtV(blendV(hit, h2, zero));
-                const FloatV t0 = b - h;
                 if constexpr (kDepth) {
                     // Nearest hit only; a hit nearer than the near plane is clipped,
                     // not replaced by the exit (zNear > 0 also rejects hits behind the eye).
-                    const FloatV zHit = t0 * detail::loadV(invLen + j);
+                    const FloatV zHit = shared::splatHitDepth(b, h, detail::loadV(invLen + j));
                     const FloatV zb = detail::loadV(zBest + j);
                     const FloatV z = blendV(hit & (zHit >= zNearV), zHit, inf);
                     storeV(zBest + j, blendV(z < zb, z, zb));
                 }
                 if constexpr (kChord) {
-                    const FloatV t1 = b + h, tf = detail::loadV(tFar + j), tn = detail::loadV(tNear + j);
-                    const FloatV len = blendV(tf < t1, tf, t1) - blendV(t0 < tn, tn, t0);
+                    const FloatV tf = detail::loadV(tFar + j), tn = detail::loadV(tNear + j);
+                    const FloatV len = shared::splatChord(b, h, tn, tf);
                     // GL's `if (chord > 0.0) atomicAdd(sum, chordToFixed(chord, r))`:
                     // lanes without a chord convert 0 + 1/2, which truncates to 0.
                     // The units are below 2^31 (clamped), so the signed conversion

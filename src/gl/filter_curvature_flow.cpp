@@ -1,6 +1,7 @@
 // GL curvature flow, docs/pipeline.md#curvature-flow (van der Laan, Green &
 // Sainz, I3D 2009): the CPU's double-buffered Jacobi iteration on padded
-// buffers, one dispatch per iteration (shaders/filter_curvature_flow.comp).
+// buffers, one dispatch per iteration (shaders/filter_curvature_flow.comp; the
+// step's formula is src/shared/curvature_flow.h, the CPU's).
 // llvmpipe notes (measured at 1280x720): SSBO loads and stores run one SIMD lane
 // at a time, texel fetches and image stores are vectorised, so the step reads
 // and writes the ping-pong buffers through R32F buffer textures; a pass over

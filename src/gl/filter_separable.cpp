@@ -4,10 +4,11 @@
 // bilateral (the thesis, Janisz §4.1.2.1; Pham & van Vliet, ICME 2005) and
 // binomial (Cords & Staadt, "Instant Liquids", JGT 2008, §2.2) depth smoothing,
 // and the Gaussian thickness blur (thesis §4.1.3), as compute passes
-// (shaders/filter_separable*). Every weight comes from the shared::KernelTable
-// the CPU uses, uploaded as is, and the kernel sizes are computed here from the
-// frame parameters with the CPU's expressions, so GPU and CPU differ only by
-// the rounding of one division.
+// (shaders/filter_separable*; the depth filters' formulas are
+// src/shared/separable_filter.h, the CPU's). Every weight comes from the
+// shared::KernelTable the CPU uses, uploaded as is, and the kernel sizes are
+// computed here from the frame parameters with the CPU's expressions, so GPU
+// and CPU differ only by the rounding of one division.
 #include "gl/filter_separable.h"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 // GL normals stage, docs/pipeline.md#normals: perspective-correct normals from
 // the smoothed eye depth (van der Laan, Green & Sainz 2009, US 8,947,430, eqs.
 // 3-6; Cords & Staadt 2008, "Instant Liquids" §2.3) by shaders/normals.comp,
-// operation for operation as src/cpu/normals.cpp.
+// with the formulas of src/cpu/normals.cpp (src/shared/normals.h).
 #include "gl/normals.h"
 #include "gl/gl_backend.h"
 

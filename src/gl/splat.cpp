@@ -2,7 +2,7 @@
 // docs/pipeline.md#thickness: a compute rasteriser, one invocation per particle
 // over its exact projected bounding box, with an atomic min on the depth bits and
 // a fixed-point atomic add for the chords (shaders/splat.comp); the CPU
-// reference's arithmetic operation for operation. Spheres over 4096 pixels (near
+// reference's formulas (src/shared/splat.h, ellipsoid.h, splat_chords.h). Spheres over 4096 pixels (near
 // the camera) are listed and spread over many invocations in a second, indirect
 // dispatch (see splat.comp).
 // Chosen over GL's own rasteriser because it measured faster on Mesa llvmpipe,

@@ -3,16 +3,17 @@
 // One Jacobi step of screen-space curvature flow: van der Laan, Green & Sainz,
 // "Screen Space Fluid Rendering with Curvature Flow", I3D 2009 (NVIDIA patent
 // US 8,947,430, eqs. 3-12), as restated in docs/pipeline.md#curvature-flow --
-// the GPU twin of flowSpan in src/cpu/filter_curvature_flow.cpp, which
-// documents the formula (D = C²G with G = z_x² + z_y² + (Cz)², analytic ∂D,
-// z ← z − Δt·H, Δt = alpha·z/f) and the discontinuity rules. Every operation
-// follows the CPU in the same order and is `precise` (no FMA contraction or
-// reassociation). Buffers are (W + 2) x (H + 2) with a +inf frame (set by the
-// host), so the stencil needs no bounds tests.
+// the GPU twin of flowSpan in src/cpu/filter_curvature_flow.cpp. The step
+// (D = C²G with G = z_x² + z_y² + (Cz)², analytic ∂D, z ← z − Δt·H,
+// Δt = alpha·z/f) and the discontinuity rules are src/shared/curvature_flow.h,
+// the CPU's, `precise` here (no FMA contraction or reassociation). Buffers
+// are (W + 2) x (H + 2) with a +inf frame (set by the host), so the stencil
+// needs no bounds tests.
 // Work: only the 8-pixel row segments that hold fluid (fluid_segments.glsl):
 // the fluid set never changes, and every other pixel stays +inf in both
 // buffers and in the output.
 #include "frame_params.h"
+#include "curvature_flow.h"
 
 layout(local_size_x = 64) in;
 
@@ -33,7 +34,6 @@ void main() {
     const float kInf = uintBitsToFloat(0x7f800000u);
     const float C = P.up.w;  // 1/f, rounded on the CPU as there
     precise float thr = P.filterJumpRadii * P.radius;
-    precise float halfAlpha = 0.5 * P.cfAlpha;
     for (int r = 0; r < uSegmentRounds; ++r) {
         int x, y;
         const int on = segmentPixel(r, W, x, y);
@@ -50,24 +50,7 @@ void main() {
         if (z < kInf) {
             const float zl = c.x, zr = c.z, zu = u.y, zd = d.y;
             const float zul = u.x, zur = u.z, zdl = d.x, zdr = d.z;
-            // |a − z| <= thr is false for +inf neighbours.
-            precise float el = abs(zl - z), er = abs(zr - z), eu = abs(zu - z), ed = abs(zd - z);
-            precise float eul = abs(zul - z), eur = abs(zur - z), edl = abs(zdl - z), edr = abs(zdr - z);
-            const bool vx = el <= thr && er <= thr;
-            const bool vy = eu <= thr && ed <= thr;
-            const bool vxy = vx && vy && eul <= thr && eur <= thr && edl <= thr && edr <= thr;
-            precise float px = vx ? 0.5 * (zr - zl) : 0.0;
-            precise float pxx = vx ? (zr + zl - 2.0 * z) : 0.0;
-            precise float py = vy ? 0.5 * (zd - zu) : 0.0;
-            precise float pyy = vy ? (zd + zu - 2.0 * z) : 0.0;
-            precise float pxy = vxy ? 0.25 * ((zdr - zdl) - (zur - zul)) : 0.0;
-            precise float w = C * z;
-            precise float G = px * px + py * py + w * w;
-            precise float Gx = 2.0 * (px * pxx + py * pxy + C * w * px);
-            precise float Gy = 2.0 * (px * pxy + py * pyy + C * w * py);
-            precise float num = 0.5 * (px * Gx + py * Gy) - (pxx + pyy) * G;  // 2H = num / G^{3/2}
-            precise float zNew = z - halfAlpha * w * num / (G * sqrt(G));
-            result = zNew;
+            result = curvatureFlowStep(z, zl, zr, zu, zd, zul, zur, zdl, zdr, C, thr, P.cfAlpha);
         }
         imageStore(dst, uFinal != 0 ? y * W + x : k + PW + 1, vec4(result));
     }

@@ -4,8 +4,9 @@
 // s = kernelPxDepth / z0 (a world length projected at the centre depth,
 // capped), weights from the CPU's own normalised tables blended between integer
 // radii, taps that are +inf or further than jumpM from z0 dropped and the rest
-// renormalised. Included by filter_separable.comp (Gaussian, binomial: no range
-// weight) and filter_separable_bilateral.comp (MENISCUS_BILATERAL: the CPU's
+// renormalised; those formulas are src/shared/separable_filter.h, the CPU's.
+// Included by filter_separable.comp (Gaussian, binomial: no range weight) and
+// filter_separable_bilateral.comp (MENISCUS_BILATERAL: the CPU's
 // RangeGaussian).
 // Parity: the CPU sums the taps -m .. m (m = n + 1) in groups of kLanes = 4,
 // one accumulator per lane, and adds the lanes in order at the end; here a
@@ -17,6 +18,8 @@
 // Work: one invocation per pixel of a row segment of 64, kRows rows per
 // invocation (llvmpipe pays per work group); the lanes of a work group read
 // neighbouring pixels of one row for every tap, in both passes.
+#include "separable_filter.h"
+
 layout(local_size_x = 64) in;
 
 layout(binding = 0) uniform samplerBuffer uSrc;    // R32F view of the source image
@@ -42,19 +45,15 @@ const int kRows = 16;  // pixels per invocation
 
 #ifdef MENISCUS_BILATERAL
 // RangeGaussian::operator() of the CPU, four taps at a time: exp(-dz^2 / (2
-// sigma^2)) as 2^-x, the integer part from the exponent bits, the fraction by
-// a degree-5 Taylor series; the same constants (float literals that round to
-// the CPU's 1.0f / 6 etc.) and the same order. Only the weights of included
-// taps (|dz| <= jump, finite) are used.
+// sigma^2)) as 2^-x, the integer part from the exponent bits, the rest by
+// shared::separableRangeWeight. Only the weights of included taps (|dz| <=
+// jump, finite) are used.
 vec4 rangeWeight(vec4 dz) {
-    precise vec4 x = dz * dz * uRangeScale;
-    x = mix(vec4(60.0), x, lessThan(x, vec4(60.0)));  // x < 60 ? x : 60 (NaN -> 60)
-    const ivec4 i = ivec4(x);                           // x >= 0: truncation = floor
-    precise vec4 y = (vec4(i) - x + 0.5) * 0.69314718;
-    precise vec4 p = 1.0 + y * (1.0 + y * (0.5 + y * (0.166666672 + y * (0.0416666679 + y * 0.00833333377))));
+    precise vec4 x = separableRangeExponent(dz, uRangeScale);
+    x = mix(vec4(kSeparableRangeCap), x, lessThan(x, vec4(kSeparableRangeCap)));  // x < 60 ? x : 60 (NaN -> 60)
+    const ivec4 i = ivec4(x);                                                      // x >= 0: truncation = floor
     const vec4 pow2 = intBitsToFloat((127 - i) << 23);
-    precise vec4 w = 0.70710678 * p * pow2;
-    return w;
+    return separableRangeWeight(x, vec4(i), pow2);
 }
 #endif
 
@@ -79,9 +78,9 @@ void accumulate(const bool checked, int idx, int pos, int len, int step, float z
         precise vec4 dz = v - z0;
         const bvec4 ok = lessThanEqual(abs(dz), vec4(uJumpM));  // false for +inf / NaN taps
 #ifdef MENISCUS_BILATERAL
-        precise vec4 w = (a + t * d) * rangeWeight(dz);
+        precise vec4 w = separableSpatialWeight(a, d, t) * rangeWeight(dz);
 #else
-        precise vec4 w = a + t * d;
+        precise vec4 w = separableSpatialWeight(a, d, t);
 #endif
         precise vec4 wdz = w * dz;
         sw += mix(vec4(0.0), w, ok);
@@ -107,11 +106,9 @@ void main() {
                 dst[idx] = kInf;
                 continue;
             }
-            precise float q = uKernelPxDepth / z0;
-            float s = q < maxS ? q : maxS;  // std::min(maxS, q), NaN -> maxS as there
-            if (!(s > 0.0)) s = 0.0;
+            const float s = separableKernelPx(uKernelPxDepth, z0, maxS);
             const int n = int(s);
-            precise float t = s - float(n);
+            const float t = separableBlend(s, n);
             const int m = n + 1;
             const int tableBase = 2 * n * uGroups;
             precise vec4 sw = vec4(0.0), sd = vec4(0.0);
@@ -120,11 +117,7 @@ void main() {
                 accumulate(false, idx, pos, len, step, z0, m, t, tableBase, sw, sd);
             else
                 accumulate(true, idx, pos, len, step, z0, m, t, tableBase, sw, sd);
-            // Lanes in the CPU's order (its 0.0f + sw[0] is sw[0] exactly).
-            precise float sumW = ((sw.x + sw.y) + sw.z) + sw.w;
-            precise float sumD = ((sd.x + sd.y) + sd.z) + sd.w;
-            precise float outZ = z0 + sumD / sumW;
-            dst[idx] = outZ;
+            dst[idx] = separableResult(z0, sw, sd);
         }
     }
 }

@@ -22,6 +22,7 @@ layout(std430, binding = 1) writeonly buffer Dst { float dst[]; };
 layout(std430, binding = 3) readonly buffer RawDepth { float rawDepth[]; };
 layout(binding = 2) uniform isamplerBuffer uSegments;  // fluid segments of the raw depth
 #include "fluid_segments.glsl"
+#include "kernel_radius.h"
 
 layout(location = 0) uniform ivec2 uSize;      // W, H
 layout(location = 1) uniform int uAxis;        // 0: x pass, 1: y pass
@@ -30,16 +31,10 @@ layout(location = 3) uniform int uMaxRadius;   // min(255, maxKernelPx) >= 1
 layout(location = 4) uniform int uGroups;      // groups of 4 taps stored per radius
 
 
-// ceil(kPxDepth / z) in [0, maxR]; 0 for +inf, NaN or non-positive depth (the
-// CPU's vectorised projectedRadiusPx).
-int kernelRadius(float z) {
-    precise float px = uKPxDepth / z;
-    if (!(px > 0.0)) px = 0.0;
-    const float maxR = float(uMaxRadius);
-    px = px < maxR ? px : maxR;
-    const int i = int(px);
-    return float(i) < px ? i + 1 : i;
-}
+// ceil(kPxDepth / z) in [0, maxR]; 0 for +inf, NaN or non-positive depth:
+// shared/kernel_radius.h (the CPU's projectedRadiusPx, vectorised there) of
+// the world length kPxDepth / f at focal length 1 (exact: x * 1 = x).
+int kernelRadius(float z) { return projectedRadiusPx(uKPxDepth, 1.0, z, uMaxRadius); }
 
 // sum_k src * weight over the groups of taps; `checked`: some tap may be off
 // the image (constant per call, so each call compiles without or with the test).

@@ -5,9 +5,10 @@
 // invocation per particle over its exact projected bounding box.
 //  - Depth: the minimum kept with atomicMin on the float bits (positive IEEE
 //    floats order like their unsigned bit patterns), so it is exact and
-//    order-independent. Every operation follows the CPU code, in the same order
-//    and marked `precise` (no FMA contraction or reassociation), so the two
-//    agree to rounding of sqrt/division only.
+//    order-independent. The formulas (view-space centre, projected bounds,
+//    pixel rays, ray-sphere hit, its depth and clipped chord) are
+//    src/shared/splat.h, the CPU's, `precise` here (no FMA contraction or
+//    reassociation), so the two agree to rounding of sqrt/division only.
 //  - Thickness (uThickness != 0): the chord of the pixel ray inside the sphere,
 //    clipped to eye depths [near, scene), summed with atomicAdd in fixed point
 //    (GL 4.3 has no float atomics; shared/splat_chords.h, the CPU's formula):
@@ -37,6 +38,7 @@
 #include "frame_params.h"
 #include "splat_chords.h"
 #include "ellipsoid.h"
+#include "splat.h"
 
 layout(local_size_x = 64) in;
 
@@ -71,35 +73,14 @@ layout(std430, binding = 4) buffer Big {
 const int kMaxPixels = 4096;      // largest rectangle one invocation walks in pass 0
 const uint kMaxGroups = 65535u;   // the minimum GL_MAX_COMPUTE_WORK_GROUP_COUNT
 
-// The CPU's rectFromSlopes: the pixels whose centres lie within the
-// image-plane slopes (sx, sy), clipped to the image, as [x0, x1) x [y0, y1).
-ivec4 rectFromSlopes(vec2 sx, vec2 sy) {
-    const int W = P.size.x, H = P.size.y;
-    const float f = P.right.w;
-    precise float cx = 0.5 * float(W), cy = 0.5 * float(H);
-    precise float xlo = cx + f * sx.x, xhi = cx + f * sx.y;
-    precise float ylo = cy - f * sy.y, yhi = cy - f * sy.x;  // +y view is up, rows go down
-    const float eps = 0.01;  // the CPU's slack; the exact ray test decides coverage
-    ivec4 rect;
-    rect.x = max(0, int(clamp(ceil(xlo - 0.5 - eps), -1.0, float(W) + 1.0)));
-    rect.z = min(W, int(clamp(floor(xhi - 0.5 + eps), -1.0, float(W) + 1.0)) + 1);
-    rect.y = max(0, int(clamp(ceil(ylo - 0.5 - eps), -1.0, float(H) + 1.0)));
-    rect.w = min(H, int(clamp(floor(yhi - 0.5 + eps), -1.0, float(H) + 1.0)) + 1);
-    return rect;
-}
-
 // The CPU's sphereBounds: exact projected rectangle [x0, x1) x [y0, y1) of the
 // sphere (view centre c, radius r), clipped to the image; empty: x0 >= x1.
 ivec4 sphereBounds(vec3 c, float r) {
-    precise float depth = -c.z;
-    if (depth + r <= 0.0) return ivec4(0);
-    if (depth - r <= 0.0) return ivec4(0, 0, P.size.x, P.size.y);
-    precise float den = depth * depth - r * r;
-    precise float rootX = r * sqrt(max(c.x * c.x + den, 0.0));
-    precise float rootY = r * sqrt(max(c.y * c.y + den, 0.0));
-    precise vec2 sx = vec2((c.x * depth - rootX) / den, (c.x * depth + rootX) / den);
-    precise vec2 sy = vec2((c.y * depth - rootY) / den, (c.y * depth + rootY) / den);
-    return rectFromSlopes(sx, sy);
+    vec4 s;
+    const int kind = splatSphereSlopes(c, r, s);
+    if (kind == 0) return ivec4(0);
+    if (kind == 1) return ivec4(0, 0, P.size.x, P.size.y);
+    return splatRectFromSlopes(s, P.size.x, P.size.y, P.right.w);
 }
 
 // The CPU's ellipsoidBounds (view centre c, view-space outer form q).
@@ -108,7 +89,7 @@ ivec4 ellipsoidBounds(vec3 c, mat3 q) {
     const int kind = ellipsoidSlopes(c, q, s);
     if (kind == 0) return ivec4(0);
     if (kind == 1) return ivec4(0, 0, P.size.x, P.size.y);
-    return rectFromSlopes(s.xy, s.zw);
+    return splatRectFromSlopes(s, P.size.x, P.size.y, P.right.w);
 }
 
 // Particle i's shape in view space as binParticles takes it: m, e = m c and
@@ -132,13 +113,10 @@ Shape viewShape(uint i, vec3 c) {
     return s;
 }
 
-// The view-space centre of particle i (Camera::toView with glm::dot's order: (x + y) + z).
+// The view-space centre of particle i (Camera::toView).
 vec3 viewCentre(uint i) {
-    precise vec3 d = vec3(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]) - P.eye.xyz;
-    precise vec3 c = vec3(d.x * P.right.x + d.y * P.right.y + d.z * P.right.z,
-                          d.x * P.up.x + d.y * P.up.y + d.z * P.up.z,
-                          d.x * P.back.x + d.y * P.back.y + d.z * P.back.z);
-    return c;
+    const vec3 p = vec3(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]);
+    return splatViewCentre(p, P.eye.xyz, P.right.xyz, P.up.xyz, P.back.xyz);
 }
 
 // Pixel (x, y) against the sphere of view centre c (or the ellipsoid sh):
@@ -149,36 +127,32 @@ void splatPixel(vec3 c, Shape sh, int x, int y) {
     const float invF = P.up.w, zNear = P.eye.w, r = P.radius;
     precise float halfW = 0.5 * float(P.size.x), halfH = 0.5 * float(P.size.y);
     precise float r2 = r * r;
-    // raySphereEyeDepth along the unit ray u: closest approach b, squared
-    // miss distance from the offset vector (precision for small, far spheres).
-    // Pixel (or block) centres: d x + d / 2 (x + 1/2 at full resolution).
-    precise float ry = -((float(d * y) + 0.5 * float(d)) - halfH) * invF;
-    precise float rx = ((float(d * x) + 0.5 * float(d)) - halfW) * invF;
-    precise float len = sqrt((rx * rx + ry * ry) + 1.0);
-    precise vec3 u = vec3(rx / len, ry / len, -1.0 / len);
+    // The CPU's rays: pixel (or block) centres d x + d / 2 (x + 1/2 at full
+    // resolution), along the unit ray u.
+    precise float centreY = float(d * y) + 0.5 * float(d), centreX = float(d * x) + 0.5 * float(d);
+    const float ry = splatRayY(centreY, halfH, invF), rx = splatRayX(centreX, halfW, invF);
+    precise float len = sqrt(splatRayLength2(rx, ry));
+    precise vec3 u;
+    precise float invLen;
+    splatUnitRay(rx, ry, len, u.x, u.y, u.z, invLen);
     precise float b, h2;
-    if (uEllipsoids != 0) {
+    if (uEllipsoids != 0)
         rayEllipsoid(u.x, u.y, u.z, sh.m, sh.e, b, h2);
-    } else {
-        b = u.x * c.x + u.y * c.y + u.z * c.z;
-        precise vec3 o = c - b * u;
-        h2 = r2 - (o.x * o.x + o.y * o.y + o.z * o.z);
-    }
+    else
+        raySphere(u.x, u.y, u.z, c, r2, b, h2);
     if (!(h2 >= 0.0)) return;
     precise float h = sqrt(h2);
-    precise float t0 = b - h;
     const uint k = uint(y * outW + x);
     const float zScene = uHasScene != 0 ? texelFetch(sceneDepth, int(k)).x : 1.0 / 0.0;
     if (uThickness != 0) {
         // The CPU's clip: [max(t0, near len), min(t1, scene len)) along the ray.
-        precise float t1 = b + h;
         precise float tn = P.eye.w * len;
         precise float tf = zScene * len;
-        precise float chord = (tf < t1 ? tf : t1) - (t0 < tn ? tn : t0);
+        const float chord = splatChord(b, h, tn, tf);
         if (chord > 0.0) atomicAdd(chordFixed[k], chordToFixed(chord, r));
     }
     if (d != 1) return;  // chords only
-    precise float z = t0 * (1.0 / len);
+    const float z = splatHitDepth(b, h, invLen);
     // Nearest hit only: one nearer than the near plane is clipped, not
     // replaced by the exit (zNear > 0 also rejects hits behind the eye); one
     // at or behind the scene is hidden (so is any, when the scene depth is
@@ -194,13 +168,13 @@ void splatPixel(vec3 c, Shape sh, int x, int y) {
 
 // The output pixels the sphere of view centre c covers: its rectangle, or at
 // reduced resolution the blocks i with d (i + 1/2) in (x0 - 1/2, x1 + 1/2)
-// (cpu lowBegin / lowEnd; numerators shifted to stay positive).
+// (splatLowBegin / splatLowEnd).
 ivec4 outputRect(vec3 c, Shape sh) {
     const ivec4 rect = uEllipsoids != 0 ? ellipsoidBounds(c, sh.q) : sphereBounds(c, P.radius);
     const int d = uDiv;
     if (d == 1) return rect;
-    const ivec2 lo = (2 * rect.xy - 1 - d + 8 * d) / (2 * d) - 3;
-    const ivec2 hi = (2 * rect.zw + 1 - d + 2 * d - 1) / (2 * d);
+    const ivec2 lo = ivec2(splatLowBegin(rect.x, d), splatLowBegin(rect.y, d));
+    const ivec2 hi = ivec2(splatLowEnd(rect.z, d), splatLowEnd(rect.w, d));
     return ivec4(lo, min(hi, (P.size.xy + d - 1) / d));
 }
 
