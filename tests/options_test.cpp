@@ -213,7 +213,8 @@ TEST(OptionTable, TheOtherCommandsTablesAreComplete) {
     for (const char* name : {"duration", "fps", "radius", "solver", "resume", "stats", "render"})
         EXPECT_NE(findIn(simulateOptionTable(), name), nullptr) << name;
     for (const char* name : {"radius", "fps", "limits", "scale", "trapped-air-rate", "wave-crest-rate", "lifetime",
-                             "buoyancy", "drag", "gravity", "box", "spray-below", "bubble-above", "max-particles", "seed"})
+                             "buoyancy", "drag", "gravity", "box", "spray-below", "bubble-above", "max-particles",
+                             "seed"})
         EXPECT_NE(findIn(whitewaterOptionTable(), name), nullptr) << name;
     EXPECT_NE(findIn(meshOptionTable(), "stats"), nullptr);
     EXPECT_EQ(std::string(optionGroupTitle(findIn(whitewaterOptionTable(), "drag")->group)), "Motion");
@@ -272,7 +273,9 @@ TEST(OptionTable, TheOtherCommandsOptionsSetTypedAndRefused) {
     EXPECT_EQ(scene.fps, sim::Scene{}.fps) << "not given: the scene's";
 
     WhitewaterOptions w;
-    const auto set = [&](const char* name, const OptionValue& v) { return setOptionIn(whitewaterOptionTable(), w, name, v); };
+    const auto set = [&](const char* name, const OptionValue& v) {
+        return setOptionIn(whitewaterOptionTable(), w, name, v);
+    };
     ASSERT_TRUE(set("lifetime", std::vector<double>{1.0, 3.0}));
     ASSERT_TRUE(set("gravity", glm::vec3(0.0f, 0.0f, -9.81f)));  // three numbers, as Python passes them
     ASSERT_TRUE(set("box", std::string("0,0,0,1,2,3")));          // the command line's text

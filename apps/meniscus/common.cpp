@@ -137,6 +137,8 @@ CLI::Option* addTableOption(CLI::App* cmd, const std::string& name, OptionGroup 
                 else if (limits.min == 0.0 && std::isinf(limits.max)) opt->check(CLI::NonNegativeNumber);
                 else if (!std::isnan(limits.min) && !std::isnan(limits.max)) {
                     if constexpr (std::is_same_v<T, int>) opt->check(CLI::Range(int(limits.min), int(limits.max)));
+                    else if constexpr (std::is_same_v<T, std::uint64_t>)
+                        opt->check(CLI::Range(std::uint64_t(limits.min), std::uint64_t(limits.max)));
                     else opt->check(CLI::Range(limits.min, limits.max));
                 }
             }

@@ -86,7 +86,8 @@ public:
             const SimulateOptionSpec& spec = *findIn(simulateOptionTable(), name);
             OptionLimits given = spec.limits;
             given.unset = NAN, given.emptyUnset = false;
-            if (auto st = setOptionValue(spec.name, spec.field(o), value, given); !st) throwValue(st.error().describe());
+            if (auto st = setOptionValue(spec.name, spec.field(o), value, given); !st)
+                throwValue(st.error().describe());
         };
         set("duration", duration, duration.is_none() ? 0.0 : duration.cast<double>());
         set("fps", fps, fps.is_none() ? 0.0 : fps.cast<double>());

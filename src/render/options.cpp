@@ -507,7 +507,8 @@ std::vector<SimulateOptionSpec> makeSimulateTable() {
     using S = SimulateOptions;
     constexpr double inf = std::numeric_limits<double>::infinity();
     std::vector<SimulateOptionSpec> t;
-    t.push_back(noDefault(ranged(row<S>("duration", G::Simulation, "s", "Simulated time in seconds (default: the scene's)",
+    t.push_back(noDefault(ranged(row<S>("duration", G::Simulation, "s",
+                                        "Simulated time in seconds (default: the scene's)",
                                         [](S& o) -> OptionRef { return &o.duration; }),
                                  0.0, inf)));
     t.back().limits.unset = -1.0;  // the scene's
