@@ -7,6 +7,7 @@
 
 #include "meniscus/options.h"
 #include "meniscus/particles.h"
+#include "meniscus/sim.h"
 
 using namespace meniscus;
 
@@ -181,4 +182,131 @@ TEST(OptionTable, TheJobsOptions) {
     EXPECT_FALSE(findJobOption("fps")->path);
     EXPECT_EQ(defaultText(*findJobOption("split")), "auto");
     EXPECT_EQ(defaultText(*findJobOption("frames")), "") << "0 is not given: no default shown";
+}
+
+// The other commands' tables (mesh, simulate, whitewater): every row complete,
+// its default one its checks accept, printed unless it is the input's own.
+template <class O>
+void expectCompleteTable(std::span<const OptionSpec<O>> table, const char* which) {
+    const std::set<std::string> units = {"", "m", "s", "1/s", "m/s^2"};
+    std::set<std::string> names;
+    O o;
+    for (const OptionSpec<O>& s : table) {
+        EXPECT_TRUE(names.insert(s.name).second) << which << ": " << s.name << " twice";
+        EXPECT_FALSE(s.help.empty()) << which << ": " << s.name;
+        EXPECT_NE(std::string(optionGroupTitle(s.group)), "") << which << ": " << s.name;
+        EXPECT_TRUE(units.count(s.unit)) << which << ": " << s.name << " unit '" << s.unit << "'";
+        EXPECT_EQ(s.name.find('_'), std::string::npos) << s.name;
+        ASSERT_NE(s.field, nullptr) << s.name;
+        EXPECT_TRUE(checkOption(s, o)) << which << ": " << s.name << ": its default";
+        if (s.flag) EXPECT_TRUE(std::holds_alternative<bool*>(s.field(o))) << s.name;
+        // A default the help prints is not repeated in the help line.
+        const std::string d = defaultText(s);
+        if (!d.empty() && !s.flag) EXPECT_EQ(s.help.find("default " + d), std::string::npos) << s.name;
+    }
+}
+
+TEST(OptionTable, TheOtherCommandsTablesAreComplete) {
+    expectCompleteTable(meshOptionTable(), "mesh");
+    expectCompleteTable(simulateOptionTable(), "simulate");
+    expectCompleteTable(whitewaterOptionTable(), "whitewater");
+    for (const char* name : {"duration", "fps", "radius", "solver", "resume", "stats", "render"})
+        EXPECT_NE(findIn(simulateOptionTable(), name), nullptr) << name;
+    for (const char* name : {"radius", "fps", "limits", "scale", "trapped-air-rate", "wave-crest-rate", "lifetime",
+                             "buoyancy", "drag", "gravity", "box", "spray-below", "bubble-above", "max-particles",
+                             "seed"})
+        EXPECT_NE(findIn(whitewaterOptionTable(), name), nullptr) << name;
+    EXPECT_NE(findIn(meshOptionTable(), "stats"), nullptr);
+    EXPECT_EQ(std::string(optionGroupTitle(findIn(whitewaterOptionTable(), "drag")->group)), "Motion");
+    EXPECT_EQ(std::string(optionGroupTitle(findIn(whitewaterOptionTable(), "spray-below")->group)), "Classes");
+    EXPECT_EQ(std::string(optionGroupTitle(findIn(whitewaterOptionTable(), "seed")->group)), "Generation");
+    EXPECT_EQ(std::string(optionGroupTitle(findIn(simulateOptionTable(), "solver")->group)), "Simulation");
+}
+
+// Defaults are the parameters' initialisers, printed as the CLI writes them.
+TEST(OptionTable, TheOtherCommandsDefaultsArePrinted) {
+    const auto whitewater = [](const char* name) { return defaultText(*findIn(whitewaterOptionTable(), name)); };
+    const WhitewaterParams p;
+    EXPECT_EQ(whitewater("lifetime"), "2,5");
+    EXPECT_EQ(whitewater("gravity"), "0,-9.81,0");
+    EXPECT_EQ(whitewater("seed"), std::to_string(p.seed));
+    EXPECT_EQ(whitewater("max-particles"), std::to_string(p.maxParticles));
+    EXPECT_EQ(whitewater("drag"), "0.8");
+    EXPECT_EQ(whitewater("limits"), "") << "automatic";
+    EXPECT_EQ(whitewater("radius"), "") << "estimated";
+    EXPECT_EQ(defaultText(*findIn(simulateOptionTable(), "duration")), "") << "the scene's";
+    EXPECT_EQ(defaultText(*findIn(simulateOptionTable(), "solver")), "") << "the scene's";
+    // The options' defaults make the generator's own defaults.
+    auto made = whitewaterParams(WhitewaterOptions{});
+    ASSERT_TRUE(made) << made.error().message;
+    EXPECT_EQ(made->scale, p.scale);
+    EXPECT_EQ(made->lifetimeMinS, p.lifetimeMinS);
+    EXPECT_EQ(made->lifetimeMaxS, p.lifetimeMaxS);
+    EXPECT_EQ(made->gravity, p.gravity);
+    EXPECT_EQ(made->maxParticles, p.maxParticles);
+    EXPECT_EQ(made->trappedAirMax, 0.0f) << "automatic limits";
+    EXPECT_TRUE(made->box.empty());
+}
+
+TEST(OptionTable, TheOtherCommandsOptionsSetTypedAndRefused) {
+    const auto refused = [](const Status& st, const char* option, const char* says) {
+        ASSERT_FALSE(st) << option;
+        EXPECT_NE(st.error().message.find(option), std::string::npos) << st.error().message;
+        EXPECT_NE(st.error().message.find(says), std::string::npos) << st.error().message;
+    };
+    SimulateOptions s;
+    ASSERT_TRUE(setOptionIn(simulateOptionTable(), s, "duration", 2.5));
+    EXPECT_EQ(s.duration, 2.5);
+    ASSERT_TRUE(setOptionIn(simulateOptionTable(), s, "solver", std::string("pbf")));
+    ASSERT_TRUE(setOptionIn(simulateOptionTable(), s, "radius", 0.02));
+    ASSERT_TRUE(setOptionIn(simulateOptionTable(), s, "stats", true));
+    refused(setOptionIn(simulateOptionTable(), s, "solver", std::string("lbm")), "--solver", "dfsph");
+    refused(setOptionIn(simulateOptionTable(), s, "fps", -3.0), "--fps", "positive");
+    refused(setOptionIn(simulateOptionTable(), s, "duration", -2.0), "--duration", "not negative");
+    refused(setOptionIn(simulateOptionTable(), s, "frames", 2.0), "frames", "duration");  // lists the names
+    EXPECT_EQ(s.solver, "pbf") << "unchanged on an error";
+    sim::Scene scene;
+    ASSERT_TRUE(applySimulateOptions(s, scene));
+    EXPECT_EQ(scene.duration, 2.5);
+    EXPECT_EQ(scene.params.solver, sim::Solver::Pbf);
+    EXPECT_EQ(scene.params.radius, 0.02f);
+    EXPECT_EQ(scene.fps, sim::Scene{}.fps) << "not given: the scene's";
+
+    WhitewaterOptions w;
+    const auto set = [&](const char* name, const OptionValue& v) {
+        return setOptionIn(whitewaterOptionTable(), w, name, v);
+    };
+    ASSERT_TRUE(set("lifetime", std::vector<double>{1.0, 3.0}));
+    ASSERT_TRUE(set("gravity", glm::vec3(0.0f, 0.0f, -9.81f)));  // three numbers, as Python passes them
+    ASSERT_TRUE(set("box", std::string("0,0,0,1,2,3")));          // the command line's text
+    ASSERT_TRUE(set("max_particles", std::int64_t(1000)));
+    ASSERT_TRUE(set("seed", std::int64_t(7)));
+    refused(set("limits", std::vector<double>{1, 2, 3}), "--limits", "6 numbers");
+    refused(set("drag", 2.0), "--drag", "in [0, 1]");
+    refused(set("seed", std::int64_t(-1)), "--seed", "not negative");
+    refused(set("max-particles", std::int64_t(0)), "--max-particles", "in [1, 1e+09]");
+    refused(set("lifetime", std::vector<double>{-1.0, 2.0}), "--lifetime", "each number");
+    auto made = whitewaterParams(w);
+    ASSERT_TRUE(made) << made.error().message;
+    EXPECT_EQ(made->lifetimeMaxS, 3.0f);
+    EXPECT_EQ(made->gravity, glm::vec3(0.0f, 0.0f, -9.81f));
+    EXPECT_EQ(made->box.max, glm::vec3(1, 2, 3));
+    EXPECT_EQ(made->maxParticles, 1000u);
+    EXPECT_EQ(made->seed, 7u);
+    // What only the whole set can say: the library's errors, naming the option.
+    const auto errorOf = [](const Result<WhitewaterParams>& r) { return r ? okStatus() : Status(r.error()); };
+    WhitewaterOptions bad = w;
+    bad.box = {1, 0, 0, 0, 2, 3};
+    refused(errorOf(whitewaterParams(bad)), "--box", "below its maximum");
+    bad = w;
+    bad.limits = {1, 0, 1, 2, 1, 2};
+    refused(errorOf(whitewaterParams(bad)), "--limits", "above its minimum");
+    bad = w;
+    bad.lifetime = {5, 2};
+    refused(errorOf(whitewaterParams(bad)), "lifetime", "min <= max");
+
+    MeshOptions m;
+    refused(setOptionIn(meshOptionTable(), m, "radius", -1.0), "--radius", "positive");
+    ASSERT_TRUE(setOptionIn(meshOptionTable(), m, "stats", true));
+    EXPECT_TRUE(m.stats);
 }

@@ -76,8 +76,8 @@ bool isExr(const std::string& path) { return fs::path(path).extension() == ".exr
 bool isPng(const std::string& path) { return fs::path(path).extension() == ".png"; }
 bool isMp4(const std::string& path) { return fs::path(path).extension() == ".mp4"; }
 
-void addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, const std::string& help,
-                    const OptionRef& ref, const OptionLimits& limits, bool flag, bool noDefault) {
+CLI::Option* addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, const std::string& help,
+                            const OptionRef& ref, const OptionLimits& limits, bool flag, bool noDefault) {
     // The default shown is the bound value's (a command may set its own, e.g. simulate's --backend cpu).
     const std::string defaultText = noDefault ? std::string() : optionText(ref);
     const std::string option = "--" + name;
@@ -88,8 +88,12 @@ void addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, c
                 if (flag) return cmd->add_flag(option, *p, help);
                 return cmd->add_option(option, *p, help);
             } else if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float> || std::is_same_v<T, double> ||
-                                 std::is_same_v<T, std::string> || std::is_same_v<T, std::vector<std::string>>) {
+                                 std::is_same_v<T, std::uint64_t> || std::is_same_v<T, std::string> ||
+                                 std::is_same_v<T, std::vector<std::string>>) {
                 return cmd->add_option(option, *p, help);  // a list: the option repeated
+            } else if constexpr (std::is_same_v<T, std::vector<float>>) {
+                // Its count of numbers, "a,b,c" or "a b c"; too few or too many is bad usage.
+                return cmd->add_option(option, *p, help)->delimiter(',')->expected(int(limits.count));
             } else {
                 // Three numbers "x,y,z", checked as the library checks them.
                 return cmd->add_option_function<std::string>(
@@ -123,29 +127,25 @@ void addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, c
             ""));
     }
     if (!defaultText.empty() && !flag) opt->default_str(defaultText);
-    // Numbers in range as the library checks them.
+    // Numbers (each of a list's) in range as the library checks them.
     std::visit(
         [&](auto* p) {
             using T = std::remove_pointer_t<decltype(p)>;
-            if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float> || std::is_same_v<T, double>) {
+            if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float> || std::is_same_v<T, double> ||
+                          std::is_same_v<T, std::uint64_t> || std::is_same_v<T, std::vector<float>>) {
                 if (limits.positive) opt->check(CLI::PositiveNumber);
                 else if (limits.min == 0.0 && std::isinf(limits.max)) opt->check(CLI::NonNegativeNumber);
                 else if (!std::isnan(limits.min) && !std::isnan(limits.max)) {
                     if constexpr (std::is_same_v<T, int>) opt->check(CLI::Range(int(limits.min), int(limits.max)));
+                    else if constexpr (std::is_same_v<T, std::uint64_t>)
+                        opt->check(CLI::Range(std::uint64_t(limits.min), std::uint64_t(limits.max)));
                     else opt->check(CLI::Range(limits.min, limits.max));
                 }
             }
         },
         ref);
+    return opt;
 }
-
-namespace {
-// A table's row on `cmd`, bound to `ref` (its own options' field, or another struct's).
-template <class O>
-void addRow(CLI::App* cmd, const OptionSpec<O>& s, const OptionRef& ref) {
-    addTableOption(cmd, s.name, s.group, s.help, ref, s.limits, s.flag, s.noDefault);
-}
-}  // namespace
 
 void addTableOptions(CLI::App* cmd, meniscus::RenderOptions& o,
                      const std::function<bool(const RenderOptionSpec&)>& keep) {
@@ -160,10 +160,7 @@ void addJobTableOptions(CLI::App* cmd, JobOptions& o, const std::vector<std::str
     }
 }
 
-void addMesherTableOptions(CLI::App* cmd, MesherOptions& o) {
-    for (const MesherOptionSpec& s : mesherOptionTable())
-        addRow(cmd, s, s.field(o));
-}
+void addMesherTableOptions(CLI::App* cmd, MesherOptions& o) { addRows(cmd, mesherOptionTable(), o); }
 
 void addSmoothingLengthOption(CLI::App* cmd, float& hPerSpacing) {
     const RenderOptionSpec& s = *findRenderOption("h-per-spacing");

@@ -10,6 +10,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -24,6 +25,7 @@
 
 namespace CLI {
 class App;
+class Option;
 }
 
 namespace meniscus::app {
@@ -83,8 +85,18 @@ void addMesherTableOptions(CLI::App* cmd, MesherOptions& o);
 // The job table's options of these names on `cmd`, in this order.
 void addJobTableOptions(CLI::App* cmd, JobOptions& o, const std::vector<std::string>& names);
 // One option of a table bound to `ref` (its own struct's field).
-void addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, const std::string& help,
-                    const OptionRef& ref, const OptionLimits& limits, bool flag, bool noDefault);
+CLI::Option* addTableOption(CLI::App* cmd, const std::string& name, OptionGroup group, const std::string& help,
+                            const OptionRef& ref, const OptionLimits& limits, bool flag, bool noDefault);
+// A table's row on `cmd`, bound to `ref` (its own options' field, or another struct's).
+template <class O>
+CLI::Option* addRow(CLI::App* cmd, const OptionSpec<O>& s, const OptionRef& ref) {
+    return addTableOption(cmd, s.name, s.group, s.help, ref, s.limits, s.flag, s.noDefault);
+}
+// Every row of `table` on `cmd`, in the table's order, bound to `o`.
+template <class O>
+void addRows(CLI::App* cmd, std::span<const OptionSpec<O>> table, std::type_identity_t<O>& o) {
+    for (const OptionSpec<O>& s : table) addRow(cmd, s, s.field(o));
+}
 
 // A rendered frame to `path`: .exr with every AOV, else PNG of the colour
 // (with alpha when `withAlpha`); a temporary name renamed, so never partial.

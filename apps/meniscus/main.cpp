@@ -305,13 +305,13 @@ int main(int argc, char** argv) {
         ->group("");
     useGroupedHelp(viewCmd, renderHelpLayout());
 
-    MeshOptions mesh;
+    MeshJob mesh;
     auto* meshCmd = addMeshCommand(app, mesh);
     RenderJob compare;
     auto* compareCmd = addCompareCommand(app, compare);
-    SimulateOptions simulate;
+    SimulateJob simulate;
     auto* simulateCmd = addSimulateCommand(app, simulate);
-    WhitewaterOptions whitewater;
+    WhitewaterJob whitewater;
     auto* whitewaterCmd = addWhitewaterCommand(app, whitewater);
     ConvertOptions convert;
     auto* convertCmd = addConvertCommand(app, convert);

@@ -15,7 +15,7 @@
 
 namespace meniscus::app {
 
-CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
+CLI::App* addMeshCommand(CLI::App& app, MeshJob& o) {
     auto* cmd = app.add_subcommand(
         "mesh",
         "Extract the liquid's surface as a closed triangle mesh (binary PLY or OBJ, with vertex normals) for "
@@ -28,21 +28,15 @@ CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o) {
                     "Output .ply (binary, default) or .obj; for a sequence a pattern like mesh_%04d.ply")
         ->group(group::kOutput)
         ->required();
-    cmd->add_option("--radius", o.radius,
-                    "Particle radius r in metres (default: the median of the file's radius attribute or smoothing "
-                    "length, else estimated from the first frame)")
-        ->group(group::kInput)
-        ->check(CLI::PositiveNumber);
+    addRows(cmd, meshOptionTable(), o);  // --radius under Input, --stats under Output
     addSmoothingLengthOption(cmd, o.hPerSpacing);
     addSelectOption(cmd, o.select);
     addMesherTableOptions(cmd, o.mesher);
-    cmd->add_flag("--stats", o.stats, "Print the extraction's phases, sizes and peak memory for each frame")
-        ->group(group::kOutput);
     useGroupedHelp(cmd, {group::kInput, group::kSurface, group::kOutput, group::kPerformance});
     return cmd;
 }
 
-int runMesh(const MeshOptions& o, int threads) {
+int runMesh(const MeshJob& o, int threads) {
     const Result<MeshFormat> format = meshFormatOf(o.output);
     if (!format) return fail(format.error().describe());
     auto frames = openFrames(o.input, nullptr, o.hPerSpacing);
@@ -51,9 +45,7 @@ int runMesh(const MeshOptions& o, int threads) {
     const std::size_t count = frames->count();
     if (auto st = frames->checkOutput(o.output, "mesh_%04d.ply"); !st) return fail(st.error().describe());
 
-    MesherOptions mesher = o.mesher;
-    for (const MesherOptionSpec& spec : mesherOptionTable())
-        if (auto st = checkOption(spec, mesher); !st) return fail(st.error().describe());
+    if (auto st = checkOptions(mesherOptionTable(), o.mesher); !st) return fail(st.error().describe());
     MeshParams params = mesherParams(o.mesher, 0.0f, threads);
 
     const bool tty = ::isatty(STDERR_FILENO) == 1;

@@ -14,20 +14,20 @@ class App;
 
 namespace meniscus::app {
 
-struct MeshOptions {
+// The library's mesh options (radius, stats: meshOptionTable), the mesher's,
+// and the input and output.
+struct MeshJob : meniscus::MeshOptions {
     std::string input;
     std::string output;
-    float radius = 0.0f;  // metres; 0 = estimate from the first frame
     float hPerSpacing = defaults::kHPerSpacing;  // a file's smoothing length h, in particle spacings
     std::string select;  // --select: only the particles that match (parseSelection); empty: all
     MesherOptions mesher;
-    bool stats = false;
 };
 
 
 // Adds the subcommand and its options to `app`.
-CLI::App* addMeshCommand(CLI::App& app, MeshOptions& o);
+CLI::App* addMeshCommand(CLI::App& app, MeshJob& o);
 // Runs it; `threads` = the global --threads (0 = all cores). Returns the exit code.
-int runMesh(const MeshOptions& o, int threads);
+int runMesh(const MeshJob& o, int threads);
 
 }  // namespace meniscus::app

@@ -390,7 +390,7 @@ int renderSimulation(Cluster& cluster, const RenderJob& o, RenderSettings& setti
     if (auto up = upRotation(o.up); !up || !up->identity)
         return fail("--up " + vec3Text(o.up) + ": a simulation's up is +y (gravity along -y); --up turns files");
     if (o.frames > 0) return fail("--frames: " + o.input + " is a simulation, whose frames are its own");
-    SimulateOptions so;
+    SimulateJob so;
     if (!o.select.empty())
         return fail("--select " + o.select + ": picks particles of files; " + o.input +
                     " is a simulation scene, whose particles are all its fluid");

@@ -39,7 +39,7 @@ struct FrameImages {
 
 // Everything --render needs, checked before anything is simulated: the
 // pattern, the look, the camera and the backend.
-Result<FrameImages> openImages(const SimulateOptions& o, const sim::Scene& sc) {
+Result<FrameImages> openImages(const SimulateJob& o, const sim::Scene& sc) {
     const bool movie = isMp4(o.render);
     if (!movie && o.render.find('%') == std::string::npos)
         return makeError(o.render, "--render needs a frame number pattern, e.g. out/img_%04d.png, or a movie, out.mp4");
@@ -115,14 +115,10 @@ std::filesystem::path pvdBeside(const std::string& pattern) {
 }  // namespace
 
 CLI::Option* addSolverOption(CLI::App* cmd, std::string& solver) {
-    return cmd
-        ->add_option("--solver", solver, "dfsph (Bender & Koschier 2015), sph (Muller et al. 2003), pbf "
-                                         "(position-based fluids, Macklin & Muller 2013) or ballistic (mass points, "
-                                         "no pressure) (default: the scene's)")
-        ->check(CLI::IsMember({"dfsph", "sph", "pbf", "ballistic"}));
+    return addRow(cmd, *findIn(simulateOptionTable(), "solver"), &solver);
 }
 
-CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
+CLI::App* addSimulateCommand(CLI::App& app, SimulateJob& o) {
     auto* cmd = app.add_subcommand(
         "simulate",
         "Simulate a scene file (scenes/*.json; every field in docs/scenes.md) with the built-in SPH solver "
@@ -135,27 +131,7 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
                     "Output pattern with a frame number: out/frame_%04d.bgeo (.bgeo, .bgeo.gz, .vtk, .vtu or .ply)")
         ->group(group::kOutput)
         ->required();
-    cmd->add_option("--duration", o.duration, "Simulated time in seconds (default: the scene's)")
-        ->group(group::kSimulation)
-        ->check(CLI::NonNegativeNumber);
-    cmd->add_option("--fps", o.fps, "Frames written per simulated second (default: the scene's)")
-        ->group(group::kSimulation)
-        ->check(CLI::PositiveNumber);
-    cmd->add_option("--radius", o.radius, "Particle radius r in metres; spacing 2r, kernel support 4r (default: the scene's)")
-        ->group(group::kSimulation)
-        ->check(CLI::PositiveNumber);
-    addSolverOption(cmd, o.solver)->group(group::kSimulation);
-    cmd->add_flag("--resume", o.resume,
-                  "Continue from the last frame already written under the output pattern (its particles and time)")
-        ->group(group::kOutput);
-    cmd->add_flag("--stats", o.stats, "Print each frame's steps, solver iterations and time per phase")
-        ->group(group::kOutput);
-    cmd->add_option("--render", o.render,
-                    "Also render each frame, as it is written, to this pattern with the same frame number: "
-                    "out/img_%04d.png (8-bit sRGB) or .exr (float AOVs), or into one movie, out.mp4 (H.264 at the "
-                    "simulation's frames per second). One camera for the whole sequence, framed "
-                    "on the scene's domain (the tank); the particle radius is the simulation's")
-        ->group(group::kOutput);
+    addRows(cmd, simulateOptionTable(), o);
     // The look of those images: the render command's own options and defaults,
     // in render's groups marked "(with --render)".
     const std::size_t imageOptions = cmd->get_options().size();
@@ -172,15 +148,10 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
     return cmd;
 }
 
-Result<sim::Scene> sceneFromOptions(const SimulateOptions& o) {
+Result<sim::Scene> sceneFromOptions(const SimulateJob& o) {
     auto scene = sim::readScene(o.scene);
     if (!scene) return scene.error();
-    sim::Scene& sc = *scene;
-    if (o.duration >= 0.0) sc.duration = o.duration;
-    if (o.fps > 0.0) sc.fps = o.fps;
-    if (o.radius > 0.0f) sc.params.radius = o.radius;
-    if (!o.solver.empty() && !sim::solverFromName(o.solver, &sc.params.solver))
-        return makeError("", "--solver " + o.solver + ": expected dfsph, sph, pbf or ballistic");
+    if (auto st = applySimulateOptions(o, *scene); !st) return st.error();
     return scene;
 }
 
@@ -191,7 +162,7 @@ Bounds domainBounds(const sim::Scene& scene) {
     return b;
 }
 
-int runSimulate(const SimulateOptions& o) {
+int runSimulate(const SimulateJob& o) {
     if (auto up = upRotation(o.image.up); !up || !up->identity)
         return fail("--up " + vec3Text(o.image.up) + ": the simulator's up is +y (gravity along -y); --up turns files for render");
     auto scene = sceneFromOptions(o);

@@ -201,7 +201,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         if (!o.render.select.empty())
             return fail("--select " + o.render.select + ": picks particles of files; --simulate shows a simulation, "
                         "whose particles are all its fluid");
-        SimulateOptions so = o.simulate;
+        SimulateJob so = o.simulate;
         so.radius = o.render.radius;  // one radius: the simulation's and the picture's
         auto read = sceneFromOptions(so);
         if (!read) return fail(read.error().describe());

@@ -17,7 +17,7 @@ struct ViewOptions {
     std::string inputScript; // for tests and scripts: input events replayed one per frame (see runView)
     // --simulate: simulate.scene (with its solver; the radius is render.radius)
     // runs live on a worker thread instead of showing an input.
-    SimulateOptions simulate;
+    SimulateJob simulate;
 };
 
 // Runs the viewer until the window is closed (Esc, Q) or `frames` are shown;

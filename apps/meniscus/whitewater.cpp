@@ -17,7 +17,7 @@
 
 namespace meniscus::app {
 
-CLI::App* addWhitewaterCommand(CLI::App& app, WhitewaterOptions& o) {
+CLI::App* addWhitewaterCommand(CLI::App& app, WhitewaterJob& o) {
     auto* cmd = app.add_subcommand(
         "whitewater",
         "Generate spray, foam and air-bubble particles from a fluid sequence with velocities (Ihmsen et al. 2012, "
@@ -29,88 +29,16 @@ CLI::App* addWhitewaterCommand(CLI::App& app, WhitewaterOptions& o) {
     cmd->add_option("-o,--output", o.output, "Output pattern, e.g. diffuse_%04d.bgeo (.bgeo, .bgeo.gz, .vtk, .vtu, .vtp, .ply)")
         ->group(group::kOutput)
         ->required();
-    cmd->add_option("--radius", o.radius, "Fluid particle radius r in metres (default: estimated from the first frame)")
-        ->group(group::kInput)
-        ->check(CLI::PositiveNumber);
+    addRows(cmd, whitewaterOptionTable(), o);
     addSelectOption(cmd, o.select);
-    cmd->add_option("--fps", o.fps,
-                    "Frames per second of the input (default: estimated from how far the particles of the first two "
-                    "frames move along their velocities)")
-        ->group(group::kInput)
-        ->check(CLI::PositiveNumber);
-    cmd->add_option("--limits", o.limits,
-                    "Potential limits TA_MIN,TA_MAX,WC_MIN,WC_MAX,KE_MIN,KE_MAX: trapped air (m/s), wave crest "
-                    "(curvature, no unit), kinetic energy (J/kg). Default: automatic, 0.1 and 1 times the mean of "
-                    "each frame's largest value (one more pass over the input)")
-        ->group(group::kGeneration)
-        ->delimiter(',')
-        ->expected(6);
-    cmd->add_option("--scale", o.params.scale, "Diffuse particles made per second by a particle at full potential")
-        ->group(group::kGeneration)
-        ->capture_default_str();
-    cmd->add_option("--trapped-air-rate", o.params.trappedAirRate,
-                    "k_ta: weight of the trapped-air potential (a factor on --scale, no unit)")
-        ->group(group::kGeneration)
-        ->capture_default_str();
-    cmd->add_option("--wave-crest-rate", o.params.waveCrestRate,
-                    "k_wc: weight of the wave-crest potential (a factor on --scale, no unit)")
-        ->group(group::kGeneration)
-        ->capture_default_str();
-    cmd->add_option("--lifetime", o.lifetime, "Foam lifetime MIN,MAX in seconds (default 2,5)")
-        ->group(group::kMotion)
-        ->delimiter(',')
-        ->expected(2);
-    cmd->add_option("--buoyancy", o.params.buoyancy, "Bubbles' buoyancy k_b, in multiples of -gravity")
-        ->group(group::kMotion)
-        ->capture_default_str();
-    cmd->add_option("--drag", o.params.drag, "Bubbles' drag k_d toward the fluid's velocity, 0 to 1")
-        ->group(group::kMotion)
-        ->capture_default_str();
-    cmd->add_option("--gravity", o.gravity, "Gravity X,Y,Z in m/s^2 (default 0,-9.81,0)")
-        ->group(group::kMotion)
-        ->delimiter(',')
-        ->expected(3);
-    cmd->add_option("--box", o.box,
-                    "MINX,MINY,MINZ,MAXX,MAXY,MAXZ in metres (the container): diffuse particles leaving it dissolve. "
-                    "Default: the fluid's region so far, grown by 4 r, open upward")
-        ->group(group::kMotion)
-        ->delimiter(',')
-        ->expected(6);
-    cmd->add_option("--spray-below", o.params.sprayBelow,
-                    "Fewer fluid neighbours than this within 4 r (r: the particle radius): spray")
-        ->group(group::kClasses)
-        ->capture_default_str();
-    cmd->add_option("--bubble-above", o.params.bubbleAbove, "More fluid neighbours than this: bubble (between: foam)")
-        ->group(group::kClasses)
-        ->capture_default_str();
-    cmd->add_option("--max-particles", o.params.maxParticles, "Most diffuse particles alive at once")
-        ->group(group::kGeneration)
-        ->capture_default_str();
-    cmd->add_option("--seed", o.params.seed, "Seed of the random numbers")
-        ->group(group::kGeneration)
-        ->capture_default_str();
     useGroupedHelp(cmd, {group::kInput, group::kGeneration, group::kClasses, group::kMotion, group::kOutput,
                          group::kPerformance});
     return cmd;
 }
 
-int runWhitewater(WhitewaterOptions o) {
-    if (o.limits.size() == 6) {
-        o.params.trappedAirMin = o.limits[0], o.params.trappedAirMax = o.limits[1];
-        o.params.waveCrestMin = o.limits[2], o.params.waveCrestMax = o.limits[3];
-        o.params.energyMin = o.limits[4], o.params.energyMax = o.limits[5];
-        if (o.params.trappedAirMax == 0.0f || o.params.waveCrestMax == 0.0f || o.params.energyMax == 0.0f)
-            return fail("--limits: every maximum must be above its minimum");
-    }
-    if (o.lifetime.size() == 2) o.params.lifetimeMinS = o.lifetime[0], o.params.lifetimeMaxS = o.lifetime[1];
-    if (o.gravity.size() == 3) o.params.gravity = {o.gravity[0], o.gravity[1], o.gravity[2]};
-    if (o.box.size() == 6) {
-        o.params.box.extend({o.box[0], o.box[1], o.box[2]});
-        o.params.box.extend({o.box[3], o.box[4], o.box[5]});
-        if (!(o.box[0] < o.box[3] && o.box[1] < o.box[4] && o.box[2] < o.box[5]))
-            return fail("--box: each minimum must be below its maximum");
-    }
-    if (std::string bad = sim::checkWhitewaterParams(o.params); !bad.empty()) return fail("whitewater: " + bad);
+int runWhitewater(const WhitewaterJob& o) {
+    const auto made = whitewaterParams(o);
+    if (!made) return fail(made.error().describe());
 
     auto frames = openFrames(o.input, nullptr);
     if (!frames) return fail(frames.error().describe());
@@ -148,7 +76,7 @@ int runWhitewater(WhitewaterOptions o) {
     }
 
     const bool tty = ::isatty(STDERR_FILENO) == 1;
-    WhitewaterParams params = o.params;
+    WhitewaterParams params = *made;
     if (o.limits.empty()) {  // FoamGenerator's automatic mode: one pass to measure
         std::vector<sim::PotentialMaxima> maxima;
         ProgressBar progress(count, "measuring");

@@ -4,9 +4,8 @@
 #pragma once
 
 #include <string>
-#include <vector>
 
-#include "meniscus/params.h"
+#include "meniscus/options.h"
 
 namespace CLI {
 class App;
@@ -14,20 +13,15 @@ class App;
 
 namespace meniscus::app {
 
-struct WhitewaterOptions {
+// The library's whitewater options (whitewaterOptionTable), the input and
+// output, and --select.
+struct WhitewaterJob : meniscus::WhitewaterOptions {
     std::string input;
     std::string output;
-    float radius = 0.0f;  // metres; 0 = estimate from the first frame
-    double fps = 0.0;     // frames per second of the input; 0 = estimate from its first two frames
-    std::vector<float> limits;    // ta min, max, wc min, max, ke min, max; empty = automatic
-    std::vector<float> lifetime;  // min, max, s
-    std::vector<float> gravity;   // x, y, z, m/s^2
-    std::vector<float> box;       // min x, y, z, max x, y, z, metres
-    std::string select;           // --select: only the fluid particles that match; empty: all
-    WhitewaterParams params;
+    std::string select;  // --select: only the fluid particles that match; empty: all
 };
 
-CLI::App* addWhitewaterCommand(CLI::App& app, WhitewaterOptions& o);
-int runWhitewater(WhitewaterOptions o);
+CLI::App* addWhitewaterCommand(CLI::App& app, WhitewaterJob& o);
+int runWhitewater(const WhitewaterJob& o);
 
 }  // namespace meniscus::app

@@ -1,9 +1,10 @@
-// The options a user sets to render, declared once: every face (the CLI's
-// options and its --help, Python's keywords and meniscus.settings(), render
-// scene files' keys, the viewer's saved scenes, docs/cli.md) is made from the
-// tables here, and `renderSettings` turns the typed values into the
-// pipeline's RenderSettings. Defaults are the structs' initialisers, which
-// take them from params.h.
+// The options a user sets, declared once: every face (the CLI's options and
+// its --help, Python's keywords and meniscus.settings(), render scene files'
+// keys, the viewer's saved scenes, docs/cli.md) is made from the tables here.
+// `renderSettings` turns the render options' typed values into the
+// pipeline's RenderSettings, `applySimulateOptions` the simulator's into a
+// scene, `whitewaterParams` the whitewater generator's into its parameters.
+// Defaults are the structs' initialisers, which take them from params.h.
 //
 // An option's name is its command-line spelling without the dashes
 // ("noise-bump"); Python and scene files spell it with underscores
@@ -31,8 +32,27 @@
 
 namespace meniscus {
 
+namespace sim {
+struct Scene;
+}
+
 // Where an option is listed (--help, docs/cli.md), in the order people set things.
-enum class OptionGroup { Input, Camera, Look, Surface, Extras, Output, Movie, Performance, Cluster };
+// Simulation, Generation, Classes and Motion are simulate's and whitewater's.
+enum class OptionGroup {
+    Input,
+    Camera,
+    Look,
+    Surface,
+    Extras,
+    Output,
+    Movie,
+    Performance,
+    Cluster,
+    Simulation,
+    Generation,
+    Classes,
+    Motion
+};
 // "Input", "Camera", ... (the help's group titles).
 const char* optionGroupTitle(OptionGroup group);
 
@@ -133,15 +153,64 @@ struct JobOptions {
     int frames = 0;
 };
 
+// `mesh`'s own options besides the mesher's, --h-per-spacing and --select
+// (meshOptionTable). The input and the output are the command's positional
+// and -o.
+struct MeshOptions {
+    float radius = 0.0f;  // metres; 0 = the file's radii, else estimated (resolveRadius)
+    bool stats = false;   // each frame's phases, sizes and peak memory on stderr
+};
+
+// `simulate`'s options besides the images' look (simulateOptionTable); view
+// --simulate takes the solver, Python's simulate() the scene's overrides.
+// Unset ones (< 0, 0, "") leave the scene's (applySimulateOptions).
+struct SimulateOptions {
+    double duration = -1.0;  // simulated seconds; < 0: the scene's
+    double fps = -1.0;       // frames per simulated second; < 0: the scene's
+    float radius = 0.0f;     // metres; 0: the scene's
+    std::string solver;      // dfsph, sph, pbf or ballistic; empty: the scene's
+    bool resume = false;     // go on after the last frame already written
+    bool stats = false;      // each frame's steps, iterations and phase times on stderr
+    std::string render;      // also render each frame to this pattern or movie; empty: no images
+};
+
+// `whitewater`'s options (whitewaterOptionTable): the fluid sequence's radius
+// and rate, and the generator's parameters (WhitewaterParams, whose
+// initialisers give the defaults; whitewaterParams makes them). The lists
+// hold their numbers as given, checked there.
+struct WhitewaterOptions {
+    float radius = 0.0f;  // metres; 0 = estimated from the first frame
+    double fps = 0.0;     // frames per second of the input; 0 = estimated from its first two frames
+    // Potential limits: trapped air min, max, wave crest min, max, kinetic energy min, max; empty: automatic.
+    std::vector<float> limits;
+    float scale = WhitewaterParams{}.scale;
+    float trappedAirRate = WhitewaterParams{}.trappedAirRate;
+    float waveCrestRate = WhitewaterParams{}.waveCrestRate;
+    std::vector<float> lifetime{WhitewaterParams{}.lifetimeMinS, WhitewaterParams{}.lifetimeMaxS};  // min, max, s
+    float buoyancy = WhitewaterParams{}.buoyancy;
+    float drag = WhitewaterParams{}.drag;
+    std::vector<float> gravity{WhitewaterParams{}.gravity.x, WhitewaterParams{}.gravity.y,
+                               WhitewaterParams{}.gravity.z};  // m/s^2
+    std::vector<float> box;  // min x, y, z, max x, y, z, metres; empty: the fluid's region so far
+    int sprayBelow = WhitewaterParams{}.sprayBelow;
+    int bubbleAbove = WhitewaterParams{}.bubbleAbove;
+    std::uint64_t maxParticles = WhitewaterParams{}.maxParticles;
+    std::uint64_t seed = WhitewaterParams{}.seed;
+};
+
 // ---------------------------------------------------------------- the table
 
 // Where an option's value lands in its options struct.
+// A list of numbers (std::vector<float>) holds OptionLimits::count of them,
+// or none (unset).
 using OptionRef = std::variant<bool*, int*, float*, double*, std::string*, std::vector<std::string>*,
-                               std::optional<glm::vec3>*, glm::vec3*>;
+                               std::optional<glm::vec3>*, glm::vec3*, std::uint64_t*, std::vector<float>*>;
 
 // A value given by a face that has types (Python, JSON): a whole number, a
-// number, true/false, a text, three numbers, or a list of texts.
-using OptionValue = std::variant<bool, std::int64_t, double, std::string, glm::vec3, std::vector<std::string>>;
+// number, true/false, a text, three numbers, a list of texts, or a list of
+// numbers.
+using OptionValue =
+    std::variant<bool, std::int64_t, double, std::string, glm::vec3, std::vector<std::string>, std::vector<double>>;
 
 // What values an option accepts.
 struct OptionLimits {
@@ -149,6 +218,8 @@ struct OptionLimits {
     bool positive = false;             // > 0
     double unset = NAN;                // a number meaning "not given" (--iterations -1): always accepted
     std::vector<std::string> choices;  // a text's accepted values; empty: any text
+    bool emptyUnset = false;           // a text's "" means "not given" (--solver: the scene's)
+    std::size_t count = 0;             // a list of numbers: how many it holds when given
 };
 
 // How the viewer's panels show an option (apps/meniscus/view_ui.cpp): under
@@ -183,6 +254,9 @@ struct OptionSpec {
 using RenderOptionSpec = OptionSpec<RenderOptions>;
 using MesherOptionSpec = OptionSpec<MesherOptions>;
 using JobOptionSpec = OptionSpec<JobOptions>;
+using MeshOptionSpec = OptionSpec<MeshOptions>;
+using SimulateOptionSpec = OptionSpec<SimulateOptions>;
+using WhitewaterOptionSpec = OptionSpec<WhitewaterOptions>;
 
 // `render`'s look, camera and surface options, in the order --help lists
 // them inside a group. The mesher's options (mesherOptionTable) are not in
@@ -193,6 +267,14 @@ std::span<const MesherOptionSpec> mesherOptionTable();
 // The job's: backend, diffuse, fluid, select, fps, crf, duration, renumber,
 // on-error, resume, shard, split, orbit, turntable, camera-path, frames.
 std::span<const JobOptionSpec> jobOptionTable();
+// mesh's: radius, stats.
+std::span<const MeshOptionSpec> meshOptionTable();
+// simulate's: duration, fps, radius, solver, resume, stats, render.
+std::span<const SimulateOptionSpec> simulateOptionTable();
+// whitewater's: radius, fps, limits, scale, trapped-air-rate, wave-crest-rate,
+// lifetime, buoyancy, drag, gravity, box, spray-below, bubble-above,
+// max-particles, seed.
+std::span<const WhitewaterOptionSpec> whitewaterOptionTable();
 
 // "noise_bump" or "noise-bump" -> the table's entry; nullptr when none.
 const RenderOptionSpec* findRenderOption(std::string_view name);
@@ -200,6 +282,16 @@ const MesherOptionSpec* findMesherOption(std::string_view name);
 const JobOptionSpec* findJobOption(std::string_view name);
 // "noise_bump" (Python's and scene files' spelling of "noise-bump").
 std::string keywordName(std::string_view optionName);
+// "noise-bump" (the tables' spelling of "noise_bump").
+std::string optionName(std::string_view keyword);
+// The row of `table` named `name` ('-' or '_' alike); nullptr when none.
+template <class Options>
+const OptionSpec<Options>* findIn(std::span<const OptionSpec<Options>> table, std::string_view name) {
+    const std::string n = optionName(name);
+    for (const OptionSpec<Options>& s : table)
+        if (s.name == n) return &s;
+    return nullptr;
+}
 // A widget's label: "noise bump (sprite radii)", "radius (m)".
 std::string widgetLabel(const std::string& optionName, const std::string& unit);
 
@@ -237,6 +329,23 @@ Status setOption(const OptionSpec<Options>& spec, Options& o, const OptionValue&
 Status setRenderOption(RenderOptions& o, std::string_view name, const OptionValue& value);
 // By name in the job's table.
 Status setJobOption(JobOptions& o, std::string_view name, const OptionValue& value);
+// By name in `table`; an error listing the table's names when there is no such option.
+template <class Options>
+Status setOptionIn(std::span<const OptionSpec<Options>> table, Options& o, std::string_view name,
+                   const OptionValue& value) {
+    if (const OptionSpec<Options>* s = findIn(table, name)) return setOption(*s, o, value);
+    std::string names;
+    for (const OptionSpec<Options>& s : table) names += (names.empty() ? "" : ", ") + keywordName(s.name);
+    return makeError("", "unknown option '" + std::string(name) + "' (the options are: " + names + ")");
+}
+// Every option of `table` in its range; the first error names the option.
+template <class Options>
+Status checkOptions(std::span<const OptionSpec<Options>> table, const Options& o) {
+    Options copy = o;
+    for (const OptionSpec<Options>& s : table)
+        if (auto st = checkOption(s, copy); !st) return st;
+    return okStatus();
+}
 
 // "x,y,z" as the command line writes it ("0,0,1").
 std::string vec3Text(const glm::vec3& v);
@@ -253,6 +362,15 @@ Status checkRenderOptions(const RenderOptions& o);
 // later (chooseCamera, resolveRadius). An error names the option at fault.
 // `diffuse`: a diffuse layer will be drawn (so view spray needs no spray).
 Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse = false);
+
+// The scene with the options' overrides (duration, fps, radius, solver; unset
+// ones leave the scene's); an error naming the option at fault.
+Status applySimulateOptions(const SimulateOptions& o, sim::Scene& scene);
+
+// The whitewater generator's parameters the options name (the lists turned
+// into limits, lifetime, gravity and the box); an error naming the option at
+// fault, or the generator's own check (sim::checkWhitewaterParams).
+Result<WhitewaterParams> whitewaterParams(const WhitewaterOptions& o);
 
 // The mesher's parameters for particles of radius `radiusM`.
 MeshParams mesherParams(const MesherOptions& o, float radiusM, int threads);

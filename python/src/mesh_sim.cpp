@@ -33,7 +33,12 @@ pb::tuple mesh(pb::object particles, pb::object radius, const std::string& field
     set("iso", double(iso));
     if (!support.is_none()) set("support", double(support.cast<float>()));
     set("block", std::int64_t(block));
-    const float given = radius.is_none() ? 0.0f : radius.cast<float>();
+    // radius through `meniscus mesh`'s own row (None: the table's unset 0).
+    MeshOptions own;
+    if (!radius.is_none())
+        if (auto st = setOption(*findIn(meshOptionTable(), "radius"), own, double(radius.cast<float>())); !st)
+            throwValue(st.error().describe());
+    const float given = own.radius;
     if (!radius.is_none())
         if (auto st = checkRadius(given); !st) throwValue("radius: " + st.error().message);
     Result<TriangleMesh> made = makeError("", "");
@@ -73,17 +78,22 @@ public:
         }
         if (!read) throwValue(read.error().describe());
         sim::Scene& sc = *read;
-        if (!duration.is_none()) {
-            sc.duration = duration.cast<double>();
-            if (!(sc.duration >= 0.0) || !std::isfinite(sc.duration)) throwValue("duration: expected seconds >= 0");
-        }
-        if (!fps.is_none()) {
-            sc.fps = fps.cast<double>();
-            if (!(sc.fps > 0.0) || !std::isfinite(sc.fps)) throwValue("fps: expected frames per second > 0");
-        }
-        if (!radius.is_none()) sc.params.radius = radius.cast<float>();
-        if (!solver.is_none() && !sim::solverFromName(solver.cast<std::string>(), &sc.params.solver))
-            throwValue("solver '" + solver.cast<std::string>() + "': expected dfsph, sph, pbf or ballistic");
+        // The overrides set, typed, through `meniscus simulate`'s table, and applied as it applies them.
+        // None is Python's "the scene's": a value given must be one, not the table's unset sentinel.
+        SimulateOptions o;
+        const auto set = [&](const char* name, pb::object v, const OptionValue& value) {
+            if (v.is_none()) return;
+            const SimulateOptionSpec& spec = *findIn(simulateOptionTable(), name);
+            OptionLimits given = spec.limits;
+            given.unset = NAN, given.emptyUnset = false;
+            if (auto st = setOptionValue(spec.name, spec.field(o), value, given); !st)
+                throwValue(st.error().describe());
+        };
+        set("duration", duration, duration.is_none() ? 0.0 : duration.cast<double>());
+        set("fps", fps, fps.is_none() ? 0.0 : fps.cast<double>());
+        set("radius", radius, radius.is_none() ? 0.0 : radius.cast<double>());
+        set("solver", solver, solver.is_none() ? std::string() : solver.cast<std::string>());
+        if (auto st = applySimulateOptions(o, sc); !st) throwValue(st.error().describe());
         Result<std::unique_ptr<sim::Simulator>> made = makeError("", "");
         {
             pb::gil_scoped_release unlocked;

@@ -20,4 +20,8 @@ void bindMeshSim(pybind11::module_& m);  // mesh_sim.cpp: mesh, simulate
 // positions. Call without the GIL held.
 RadiusEstimate defaultRadiusOf(const Particles& p, std::span<const glm::vec3> points);
 
+// The rows of `meniscus simulate`'s table simulate() takes as keywords (the
+// rest are the command's files and printing).
+inline constexpr const char* kSimulateKeywords[] = {"duration", "fps", "radius", "solver"};
+
 }  // namespace meniscus::py

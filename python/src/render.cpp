@@ -377,7 +377,7 @@ pb::dict autoCamera(pb::object particles, pb::object radius, int width, int heig
     return d;
 }
 
-pb::dict settingsInfo() {
+pb::dict settingsInfo(const std::string& command) {
     pb::dict d;
     const auto put = [&](const auto& spec) {
         pb::dict e;
@@ -388,9 +388,19 @@ pb::dict settingsInfo() {
         e["help"] = spec.help;
         d[pb::str(keywordName(spec.name))] = e;
     };
-    for (const RenderOptionSpec& spec : renderOptionTable())
-        if (isSetting(spec.name)) put(spec);
-    for (const MesherOptionSpec& spec : mesherOptionTable()) put(spec);
+    if (command == "render") {
+        for (const RenderOptionSpec& spec : renderOptionTable())
+            if (isSetting(spec.name)) put(spec);
+        for (const MesherOptionSpec& spec : mesherOptionTable()) put(spec);
+    } else if (command == "mesh") {  // mesh()'s keywords: `meniscus mesh`'s rows
+        put(*findIn(meshOptionTable(), "radius"));
+        for (const MesherOptionSpec& spec : mesherOptionTable()) put(spec);
+        put(*findRenderOption("h-per-spacing"));
+    } else if (command == "simulate") {  // simulate()'s keywords: `meniscus simulate`'s rows
+        for (const char* name : kSimulateKeywords) put(*findIn(simulateOptionTable(), name));
+    } else {
+        throwValue("settings: '" + command + "': expected 'render', 'mesh' or 'simulate'");
+    }
     return d;
 }
 
@@ -456,13 +466,15 @@ Returns {'eye': (x, y, z), 'target': (x, y, z), 'fov': degrees, 'near': m,
 'far': m} in the data's coordinates; pass it as camera= to keep one camera
 over a sequence (the CLI frames a sequence once). settings: the same keywords
 as render() (azimuth, elevation, distance, fov, up, ... matter here).)");
-    m.def("settings", &settingsInfo,
-          R"(The settings render() and Renderer take, by Python name.
+    m.def("settings", &settingsInfo, pb::arg("command") = "render",
+          R"(The settings render() and Renderer take, by Python name; with command='mesh'
+or 'simulate', the keywords mesh() or simulate() take.
 
-Returns {name: {'option': the CLI option, 'default': its default as text,
-'unit': its unit ('' for none), 'group': where --help lists it, 'help':
-what it does}}. They are `meniscus render`'s options, so a render
-scene file's keys and the CLI's documentation apply.)");
+Returns {name: {'option': the CLI option, 'default': its default as text
+('' when the default is the input's or the scene's own), 'unit': its unit
+('' for none), 'group': where --help lists it, 'help': what it does}}. They
+are `meniscus render`'s (mesh's, simulate's) options, so a render scene
+file's keys and the CLI's documentation apply.)");
 }
 
 }  // namespace meniscus::py

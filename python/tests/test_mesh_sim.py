@@ -93,6 +93,26 @@ class SimulateTest(unittest.TestCase):
             meniscus.simulate({"domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "raduis": 1})
         with self.assertRaises(ValueError):
             meniscus.simulate(TINY_SCENE, solver="lbm")
+        for bad in ({"duration": -1}, {"fps": 0}, {"radius": -0.01}, {"solver": ""}):
+            with self.assertRaises(ValueError, msg=str(bad)) as e:
+                meniscus.simulate(TINY_SCENE, **bad)
+            self.assertIn(list(bad)[0], str(e.exception))  # names the keyword
+            self.assertNotIn("--", str(e.exception))
+
+    def test_settings_of_mesh_and_simulate(self):
+        # From `meniscus simulate`'s and `meniscus mesh`'s option tables, as their --help.
+        s = meniscus.settings("simulate")
+        self.assertEqual(sorted(s), ["duration", "fps", "radius", "solver"])
+        self.assertEqual(s["duration"]["option"], "--duration")
+        self.assertEqual(s["duration"]["unit"], "s")
+        self.assertEqual(s["duration"]["group"], "Simulation")
+        self.assertEqual(s["fps"]["default"], "")  # the scene's
+        m = meniscus.settings("mesh")
+        self.assertEqual(m["radius"]["unit"], "m")
+        self.assertEqual(m["cube_size"]["option"], "--cube-size")
+        self.assertIn("h_per_spacing", list(m))
+        with self.assertRaises(ValueError):
+            meniscus.settings("paint")
 
 
 if __name__ == "__main__":

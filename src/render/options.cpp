@@ -9,6 +9,8 @@
 #include <type_traits>
 
 #include "meniscus/particles.h"
+#include "meniscus/sim.h"
+#include "meniscus/whitewater.h"
 
 namespace meniscus {
 
@@ -29,11 +31,13 @@ OptionSpec<O> row(std::string name, G group, std::string unit, std::string help,
     s.field = field;
     return s;
 }
-RenderOptionSpec ranged(RenderOptionSpec s, double lo, double hi) {
+template <class O>
+OptionSpec<O> ranged(OptionSpec<O> s, double lo, double hi) {
     s.limits.min = lo, s.limits.max = hi;
     return s;
 }
-RenderOptionSpec oneOf(RenderOptionSpec s, std::vector<std::string> choices) {
+template <class O>
+OptionSpec<O> oneOf(OptionSpec<O> s, std::vector<std::string> choices) {
     s.limits.choices = std::move(choices);
     return s;
 }
@@ -42,16 +46,25 @@ RenderOptionSpec shown(RenderOptionSpec s, const char* panel, float lo = 0.0f, f
     s.widget.lo = lo, s.widget.hi = hi, s.widget.log = log;
     return s;
 }
-RenderOptionSpec positive(RenderOptionSpec s) {
+template <class O>
+OptionSpec<O> positive(OptionSpec<O> s) {
     s.limits.min = 0.0, s.limits.max = std::numeric_limits<double>::infinity(), s.limits.positive = true;
     return s;
 }
-RenderOptionSpec flagRow(RenderOptionSpec s) {
+template <class O>
+OptionSpec<O> flagRow(OptionSpec<O> s) {
     s.flag = true;
     return s;
 }
-RenderOptionSpec noDefault(RenderOptionSpec s) {
+template <class O>
+OptionSpec<O> noDefault(OptionSpec<O> s) {
     s.noDefault = true;
+    return s;
+}
+// A list of `count` numbers.
+template <class O>
+OptionSpec<O> listOf(OptionSpec<O> s, std::size_t count) {
+    s.limits.count = count;
     return s;
 }
 
@@ -476,6 +489,133 @@ std::vector<JobOptionSpec> makeJobTable() {
     return t;
 }
 
+std::vector<MeshOptionSpec> makeMeshTable() {
+    using M = MeshOptions;
+    std::vector<MeshOptionSpec> t;
+    t.push_back(noDefault(positive(row<M>("radius", G::Input, "m",
+                                          "Particle radius r in metres (default: the median of the file's radius "
+                                          "attribute or smoothing length, else estimated from the first frame)",
+                                          [](M& o) -> OptionRef { return &o.radius; }))));
+    t.back().limits.unset = 0.0;  // the file's, or estimated
+    t.push_back(flagRow(row<M>("stats", G::Output, "",
+                               "Print the extraction's phases, sizes and peak memory for each frame",
+                               [](M& o) -> OptionRef { return &o.stats; })));
+    return t;
+}
+
+std::vector<SimulateOptionSpec> makeSimulateTable() {
+    using S = SimulateOptions;
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    std::vector<SimulateOptionSpec> t;
+    t.push_back(noDefault(ranged(row<S>("duration", G::Simulation, "s",
+                                        "Simulated time in seconds (default: the scene's)",
+                                        [](S& o) -> OptionRef { return &o.duration; }),
+                                 0.0, inf)));
+    t.back().limits.unset = -1.0;  // the scene's
+    t.push_back(noDefault(positive(row<S>("fps", G::Simulation, "1/s",
+                                          "Frames written per simulated second (default: the scene's)",
+                                          [](S& o) -> OptionRef { return &o.fps; }))));
+    t.back().limits.unset = -1.0;
+    t.push_back(noDefault(positive(row<S>("radius", G::Simulation, "m",
+                                          "Particle radius r in metres; spacing 2r, kernel support 4r (default: the "
+                                          "scene's)",
+                                          [](S& o) -> OptionRef { return &o.radius; }))));
+    t.back().limits.unset = 0.0;
+    t.push_back(noDefault(oneOf(row<S>("solver", G::Simulation, "",
+                                       "dfsph (Bender & Koschier 2015), sph (Muller et al. 2003), pbf (position-based "
+                                       "fluids, Macklin & Muller 2013) or ballistic (mass points, no pressure) "
+                                       "(default: the scene's)",
+                                       [](S& o) -> OptionRef { return &o.solver; }),
+                                {"dfsph", "sph", "pbf", "ballistic"})));
+    t.back().limits.emptyUnset = true;  // the scene's
+    t.push_back(flagRow(row<S>("resume", G::Output, "",
+                               "Continue from the last frame already written under the output pattern (its particles "
+                               "and time)",
+                               [](S& o) -> OptionRef { return &o.resume; })));
+    t.push_back(flagRow(row<S>("stats", G::Output, "", "Print each frame's steps, solver iterations and time per phase",
+                               [](S& o) -> OptionRef { return &o.stats; })));
+    t.push_back(row<S>("render", G::Output, "",
+                       "Also render each frame, as it is written, to this pattern with the same frame number: "
+                       "out/img_%04d.png (8-bit sRGB) or .exr (float AOVs), or into one movie, out.mp4 (H.264 at the "
+                       "simulation's frames per second). One camera for the whole sequence, framed on the scene's "
+                       "domain (the tank); the particle radius is the simulation's",
+                       [](S& o) -> OptionRef { return &o.render; }));
+    t.back().path = true;
+    return t;
+}
+
+std::vector<WhitewaterOptionSpec> makeWhitewaterTable() {
+    using W = WhitewaterOptions;
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    std::vector<WhitewaterOptionSpec> t;
+    // Input.
+    t.push_back(noDefault(positive(row<W>("radius", G::Input, "m",
+                                          "Fluid particle radius r in metres (default: estimated from the first frame)",
+                                          [](W& o) -> OptionRef { return &o.radius; }))));
+    t.back().limits.unset = 0.0;
+    t.push_back(noDefault(positive(row<W>("fps", G::Input, "1/s",
+                                          "Frames per second of the input (default: estimated from how far the "
+                                          "particles of the first two frames move along their velocities)",
+                                          [](W& o) -> OptionRef { return &o.fps; }))));
+    t.back().limits.unset = 0.0;
+    // Generation.
+    t.push_back(listOf(ranged(row<W>("limits", G::Generation, "",
+                                     "Potential limits TA_MIN,TA_MAX,WC_MIN,WC_MAX,KE_MIN,KE_MAX: trapped air (m/s), "
+                                     "wave crest (curvature, no unit), kinetic energy (J/kg). Default: automatic, 0.1 "
+                                     "and 1 times the mean of each frame's largest value (one more pass over the input)",
+                                     [](W& o) -> OptionRef { return &o.limits; }),
+                              0.0, inf),
+                       6));
+    t.push_back(ranged(row<W>("scale", G::Generation, "1/s",
+                              "Diffuse particles made per second by a particle at full potential",
+                              [](W& o) -> OptionRef { return &o.scale; }),
+                       0.0, 1e9));
+    t.push_back(ranged(row<W>("trapped-air-rate", G::Generation, "",
+                              "k_ta: weight of the trapped-air potential (a factor on --scale, no unit)",
+                              [](W& o) -> OptionRef { return &o.trappedAirRate; }),
+                       0.0, 1e9));
+    t.push_back(ranged(row<W>("wave-crest-rate", G::Generation, "",
+                              "k_wc: weight of the wave-crest potential (a factor on --scale, no unit)",
+                              [](W& o) -> OptionRef { return &o.waveCrestRate; }),
+                       0.0, 1e9));
+    // Motion.
+    t.push_back(listOf(ranged(row<W>("lifetime", G::Motion, "s", "Foam lifetime MIN,MAX in seconds",
+                                     [](W& o) -> OptionRef { return &o.lifetime; }),
+                              0.0, 1e6),
+                       2));
+    t.push_back(ranged(row<W>("buoyancy", G::Motion, "", "Bubbles' buoyancy k_b, in multiples of -gravity",
+                              [](W& o) -> OptionRef { return &o.buoyancy; }),
+                       0.0, 1e3));
+    t.push_back(ranged(row<W>("drag", G::Motion, "", "Bubbles' drag k_d toward the fluid's velocity, 0 to 1",
+                              [](W& o) -> OptionRef { return &o.drag; }),
+                       0.0, 1.0));
+    t.push_back(listOf(ranged(row<W>("gravity", G::Motion, "m/s^2", "Gravity X,Y,Z in m/s^2",
+                                     [](W& o) -> OptionRef { return &o.gravity; }),
+                              -1e4, 1e4),
+                       3));
+    t.push_back(listOf(row<W>("box", G::Motion, "m",
+                              "MINX,MINY,MINZ,MAXX,MAXY,MAXZ in metres (the container): diffuse particles leaving it "
+                              "dissolve. Default: the fluid's region so far, grown by 4 r, open upward",
+                              [](W& o) -> OptionRef { return &o.box; }),
+                       6));
+    // Classes.
+    t.push_back(ranged(row<W>("spray-below", G::Classes, "",
+                              "Fewer fluid neighbours than this within 4 r (r: the particle radius): spray",
+                              [](W& o) -> OptionRef { return &o.sprayBelow; }),
+                       0, 100000));
+    t.push_back(ranged(row<W>("bubble-above", G::Classes, "",
+                              "More fluid neighbours than this: bubble (between: foam)",
+                              [](W& o) -> OptionRef { return &o.bubbleAbove; }),
+                       0, 100000));
+    // Generation: the caps.
+    t.push_back(ranged(row<W>("max-particles", G::Generation, "", "Most diffuse particles alive at once",
+                              [](W& o) -> OptionRef { return &o.maxParticles; }),
+                       1, 1e9));
+    t.push_back(row<W>("seed", G::Generation, "", "Seed of the random numbers",
+                       [](W& o) -> OptionRef { return &o.seed; }));
+    return t;
+}
+
 std::string doubleText(double v) {  // the shortest text that reads back as the same double
     char buf[32];
     const auto r = std::to_chars(buf, buf + sizeof buf, v);
@@ -488,21 +628,6 @@ std::string numberText(double v) {
     return s.str();
 }
 
-
-std::string spelling(std::string_view name) {  // "noise_bump" -> "noise-bump"
-    std::string s(name);
-    std::replace(s.begin(), s.end(), '_', '-');
-    return s;
-}
-
-// The row of `table` named `name` ('-' or '_' alike); nullptr when none.
-template <class O>
-const OptionSpec<O>* findIn(std::span<const OptionSpec<O>> table, std::string_view name) {
-    const std::string n = spelling(name);
-    for (const OptionSpec<O>& s : table)
-        if (s.name == n) return &s;
-    return nullptr;
-}
 
 bool inRange(double v, double lo, double hi) {
     return !(v < lo) && !(v > hi) && !std::isnan(v);  // NaN bounds are open
@@ -526,6 +651,10 @@ const char* optionGroupTitle(OptionGroup group) {
     case OptionGroup::Movie: return "Movie";
     case OptionGroup::Performance: return "Performance";
     case OptionGroup::Cluster: return "Cluster";
+    case OptionGroup::Simulation: return "Simulation";
+    case OptionGroup::Generation: return "Generation";
+    case OptionGroup::Classes: return "Classes";
+    case OptionGroup::Motion: return "Motion";
     }
     return "";
 }
@@ -542,6 +671,21 @@ std::span<const MesherOptionSpec> mesherOptionTable() {
 
 std::span<const JobOptionSpec> jobOptionTable() {
     static const std::vector<JobOptionSpec> table = makeJobTable();
+    return table;
+}
+
+std::span<const MeshOptionSpec> meshOptionTable() {
+    static const std::vector<MeshOptionSpec> table = makeMeshTable();
+    return table;
+}
+
+std::span<const SimulateOptionSpec> simulateOptionTable() {
+    static const std::vector<SimulateOptionSpec> table = makeSimulateTable();
+    return table;
+}
+
+std::span<const WhitewaterOptionSpec> whitewaterOptionTable() {
+    static const std::vector<WhitewaterOptionSpec> table = makeWhitewaterTable();
     return table;
 }
 
@@ -568,6 +712,12 @@ std::string widgetLabel(const std::string& optionName, const std::string& unit) 
     return unit.empty() ? label : label + " (" + unit + ")";
 }
 
+std::string optionName(std::string_view keyword) {
+    std::string s(keyword);
+    std::replace(s.begin(), s.end(), '_', '-');
+    return s;
+}
+
 std::string keywordName(std::string_view optionName) {
     std::string s(optionName);
     std::replace(s.begin(), s.end(), '-', '_');
@@ -579,8 +729,13 @@ std::string optionText(const OptionRef& ref) {
         [&](auto* p) -> std::string {
             using T = std::remove_pointer_t<decltype(p)>;
             if constexpr (std::is_same_v<T, bool>) return *p ? "true" : "false";
-            else if constexpr (std::is_same_v<T, int>) return std::to_string(*p);
+            else if constexpr (std::is_same_v<T, int> || std::is_same_v<T, std::uint64_t>) return std::to_string(*p);
             else if constexpr (std::is_same_v<T, float>) return std::isnan(*p) ? std::string() : floatText(*p);
+            else if constexpr (std::is_same_v<T, std::vector<float>>) {
+                std::string joined;
+                for (float e : *p) joined += (joined.empty() ? "" : ",") + floatText(e);
+                return joined;
+            }
             else if constexpr (std::is_same_v<T, double>) return doubleText(*p);
             else if constexpr (std::is_same_v<T, std::string>) return *p;
             else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
@@ -614,15 +769,26 @@ Status checkOptionValue(const std::string& name, const OptionRef& ref, const Opt
     return std::visit(
         [&](auto* p) -> Status {
             using T = std::remove_pointer_t<decltype(p)>;
-            if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float> || std::is_same_v<T, double>) {
-                if constexpr (!std::is_same_v<T, int>)
+            if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float> || std::is_same_v<T, double> ||
+                          std::is_same_v<T, std::uint64_t>) {
+                if constexpr (std::is_floating_point_v<T>)
                     if (std::isnan(*p)) return okStatus();  // unset: the preset's
                 if (double(*p) == limits.unset) return okStatus();
                 if (limits.positive && !(*p > 0)) return bad(numberText(double(*p)), "expected a positive number");
                 if ((!std::isnan(lo) || !std::isnan(hi)) && !inRange(double(*p), std::isnan(lo) ? -HUGE_VAL : lo,
                                                                      std::isnan(hi) ? HUGE_VAL : hi))
                     return bad(numberText(double(*p)), "expected a number " + rangeText(lo, hi));
+            } else if constexpr (std::is_same_v<T, std::vector<float>>) {
+                if (p->empty()) return okStatus();  // unset: the command's own
+                if (limits.count && p->size() != limits.count)
+                    return bad(optionText(p), "expected " + std::to_string(limits.count) + " numbers");
+                for (float e : *p) {
+                    if (!std::isfinite(e)) return bad(optionText(p), "expected finite numbers");
+                    if (!std::isnan(lo) && !inRange(e, lo, std::isnan(hi) ? HUGE_VAL : hi))
+                        return bad(optionText(p), "expected each number " + rangeText(lo, hi));
+                }
             } else if constexpr (std::is_same_v<T, std::string>) {
+                if (p->empty() && limits.emptyUnset) return okStatus();
                 if (!choices.empty() && std::find(choices.begin(), choices.end(), *p) == choices.end()) {
                     if (choices.size() == 2) return bad(*p, "expected " + choices[0] + " or " + choices[1]);
                     std::string list;
@@ -664,6 +830,30 @@ Status setOptionValue(const std::string& name, const OptionRef& ref, const Optio
                     return wrong("a whole number");
                 if (!(std::fabs(number) < 2e9)) return wrong("a whole number in range");
                 v = int(number);
+            } else if constexpr (std::is_same_v<T, std::uint64_t>) {
+                if (const auto* i = std::get_if<std::int64_t>(&value)) {
+                    if (*i < 0) return wrong("a whole number, not negative");
+                    v = std::uint64_t(*i);
+                } else if (std::holds_alternative<double>(value) && number == std::floor(number) && number >= 0.0 &&
+                           number < 1.8e19) {
+                    v = std::uint64_t(number);
+                } else return wrong("a whole number, not negative");
+            } else if constexpr (std::is_same_v<T, std::vector<float>>) {
+                // Numbers, three of them, or their text "a,b,c" (as the command line says them).
+                v.clear();
+                if (const auto* list = std::get_if<std::vector<double>>(&value)) v.assign(list->begin(), list->end());
+                else if (const auto* three = std::get_if<glm::vec3>(&value)) v = {three->x, three->y, three->z};
+                else if (const auto* text = std::get_if<std::string>(&value)) {
+                    std::istringstream in(*text);
+                    std::string item;
+                    while (std::getline(in, item, ',')) {
+                        char* end = nullptr;
+                        const float e = std::strtof(item.c_str(), &end);
+                        if (item.empty() || *end != '\0') return wrong("numbers separated by commas");
+                        v.push_back(e);
+                    }
+                } else return wrong("a list of numbers");
+                if (v.empty() && limits.count) return wrong((std::to_string(limits.count) + " numbers").c_str());
             } else if constexpr (std::is_same_v<T, float>) {
                 if (!isNumber || !std::isfinite(number)) return wrong("a number");
                 v = float(number);
@@ -714,13 +904,51 @@ Status setRenderOption(RenderOptions& o, std::string_view name, const OptionValu
     return makeError("", "unknown option '" + std::string(name) + "' (the options are: " + names + ")");
 }
 
-Status checkRenderOptions(const RenderOptions& o) {
-    RenderOptions copy = o;
-    for (const RenderOptionSpec& s : renderOptionTable())
-        if (auto st = checkOption(s, copy); !st) return st;
-    for (const MesherOptionSpec& s : mesherOptionTable())
-        if (auto st = checkOption(s, copy.mesher); !st) return st;
+Status applySimulateOptions(const SimulateOptions& o, sim::Scene& scene) {
+    if (auto st = checkOptions(simulateOptionTable(), o); !st) return st;
+    if (o.duration >= 0.0) scene.duration = o.duration;
+    if (o.fps > 0.0) scene.fps = o.fps;
+    if (o.radius > 0.0f) scene.params.radius = o.radius;
+    if (!o.solver.empty() && !sim::solverFromName(o.solver, &scene.params.solver))
+        return makeError("", "--solver " + o.solver + ": expected dfsph, sph, pbf or ballistic");
     return okStatus();
+}
+
+Result<WhitewaterParams> whitewaterParams(const WhitewaterOptions& o) {
+    if (auto st = checkOptions(whitewaterOptionTable(), o); !st) return st.error();
+    WhitewaterParams p;
+    if (o.limits.size() == 6) {
+        p.trappedAirMin = o.limits[0], p.trappedAirMax = o.limits[1];
+        p.waveCrestMin = o.limits[2], p.waveCrestMax = o.limits[3];
+        p.energyMin = o.limits[4], p.energyMax = o.limits[5];
+        // A maximum of 0 would ask for the automatic limits.
+        if (p.trappedAirMax == 0.0f || p.waveCrestMax == 0.0f || p.energyMax == 0.0f)
+            return makeError("", "--limits: every maximum must be above its minimum");
+    }
+    p.scale = o.scale;
+    p.trappedAirRate = o.trappedAirRate;
+    p.waveCrestRate = o.waveCrestRate;
+    if (o.lifetime.size() == 2) p.lifetimeMinS = o.lifetime[0], p.lifetimeMaxS = o.lifetime[1];
+    p.buoyancy = o.buoyancy;
+    p.drag = o.drag;
+    if (o.gravity.size() == 3) p.gravity = {o.gravity[0], o.gravity[1], o.gravity[2]};
+    if (o.box.size() == 6) {
+        if (!(o.box[0] < o.box[3] && o.box[1] < o.box[4] && o.box[2] < o.box[5]))
+            return makeError("", "--box: each minimum must be below its maximum");
+        p.box.extend({o.box[0], o.box[1], o.box[2]});
+        p.box.extend({o.box[3], o.box[4], o.box[5]});
+    }
+    p.sprayBelow = o.sprayBelow;
+    p.bubbleAbove = o.bubbleAbove;
+    p.maxParticles = std::size_t(o.maxParticles);
+    p.seed = o.seed;
+    if (std::string bad = sim::checkWhitewaterParams(p); !bad.empty()) return makeError("", "whitewater: " + bad);
+    return p;
+}
+
+Status checkRenderOptions(const RenderOptions& o) {
+    if (auto st = checkOptions(renderOptionTable(), o); !st) return st;
+    return checkOptions(mesherOptionTable(), o.mesher);
 }
 
 Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
