@@ -199,10 +199,14 @@ void expectCompleteTable(std::span<const OptionSpec<O>> table, const char* which
         EXPECT_EQ(s.name.find('_'), std::string::npos) << s.name;
         ASSERT_NE(s.field, nullptr) << s.name;
         EXPECT_TRUE(checkOption(s, o)) << which << ": " << s.name << ": its default";
-        if (s.flag) EXPECT_TRUE(std::holds_alternative<bool*>(s.field(o))) << s.name;
+        if (s.flag) {
+            EXPECT_TRUE(std::holds_alternative<bool*>(s.field(o))) << s.name;
+        }
         // A default the help prints is not repeated in the help line.
         const std::string d = defaultText(s);
-        if (!d.empty() && !s.flag) EXPECT_EQ(s.help.find("default " + d), std::string::npos) << s.name;
+        if (!d.empty() && !s.flag) {
+            EXPECT_EQ(s.help.find("default " + d), std::string::npos) << s.name;
+        }
     }
 }
 
