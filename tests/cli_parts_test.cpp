@@ -41,7 +41,7 @@ TEST(SceneSave, EveryOptionHasItsText) {
 TEST(SceneSave, ReparsedIsWhatTheCommandLineReads) {
     RenderJob o;
     o.iterations = 3;
-    o.noise = true;
+    o.stages.noise.enabled = true;
     o.opacity = 0.123456789f;
     o.fluidColor = glm::vec3(0.1f, 0.2f, 0.3f);
     o.anisotropy = "off";
@@ -49,8 +49,8 @@ TEST(SceneSave, ReparsedIsWhatTheCommandLineReads) {
     auto r = reparsed(o);
     ASSERT_TRUE(r) << r.error().describe();
     EXPECT_EQ(r->iterations, 3);
-    EXPECT_TRUE(r->noise);
-    EXPECT_FALSE(r->whiten);
+    EXPECT_TRUE(r->stages.noise.enabled);
+    EXPECT_FALSE(r->stages.whitening.enabled);
     EXPECT_EQ(r->opacity, 0.123456789f);  // typed: nothing goes through text
     EXPECT_EQ(r->fluidColor, glm::vec3(0.1f, 0.2f, 0.3f));
     EXPECT_EQ(r->anisotropy, "off");
@@ -67,7 +67,7 @@ TEST(SceneSave, ReparsedIsWhatTheCommandLineReads) {
 TEST(SceneSave, ChangedOptionsAreCommandLineWords) {
     RenderJob a, b;
     b.iterations = 3;
-    b.noise = true;
+    b.stages.noise.enabled = true;
     b.material = "milk";
     const auto changed = changedOptions(a, b);
     EXPECT_EQ(changed, (std::vector<std::string>{"--iterations 3", "--material milk", "--noise"}));
@@ -86,7 +86,7 @@ TEST(SceneSave, ASavedSceneReadsBackAsTheSameOptions) {
     o.input = frame;
     o.up = {0.0f, 0.0f, 1.0f};
     o.iterations = 2;
-    o.spray = true;
+    o.stages.spray.enabled = true;
     o.material = "milk";
     o.opacity = 0.25f;
     o.select = "density>500 && velocity.y<0";
@@ -110,7 +110,7 @@ TEST(SceneSave, ASavedSceneReadsBackAsTheSameOptions) {
     ASSERT_TRUE(back) << back.error().describe();
     EXPECT_EQ(std::filesystem::weakly_canonical(back->input), std::filesystem::weakly_canonical(frame));
     EXPECT_EQ(back->iterations, 2);
-    EXPECT_TRUE(back->spray);
+    EXPECT_TRUE(back->stages.spray.enabled);
     EXPECT_EQ(back->material, "milk");
     EXPECT_EQ(back->opacity, 0.25f);
     EXPECT_EQ(back->select, "density>500 && velocity.y<0") << "the selection is part of the scene";

@@ -40,7 +40,7 @@ TEST(OptionTable, EveryRowIsCompleteAndNamedOnce) {
 TEST(OptionTable, RowsLandInTheirFields) {
     RenderOptions o;
     ASSERT_TRUE(setRenderOption(o, "noise_bump", 0.75));
-    EXPECT_EQ(o.noiseParams.bump, 0.75f);
+    EXPECT_EQ(o.stages.noise.bump, 0.75f);
     ASSERT_TRUE(setRenderOption(o, "anisotropy-neighbours", std::int64_t(12)));
     EXPECT_EQ(o.anisotropyParams.minNeighbours, 12);
     ASSERT_TRUE(setRenderOption(o, "cube_size", 1.5));
@@ -55,13 +55,13 @@ TEST(OptionTable, RowsLandInTheirFields) {
     ASSERT_TRUE(setRenderOption(o, "anisotropy", false));  // on/off takes a bool too
     EXPECT_EQ(o.anisotropy, "off");
     ASSERT_TRUE(setRenderOption(o, "noise", true));
-    EXPECT_TRUE(o.noise);
+    EXPECT_TRUE(o.stages.noise.enabled);
     ASSERT_TRUE(setRenderOption(o, "iterations", 3.0));  // a whole float is a whole number
     EXPECT_EQ(o.iterations, 3);
     // Everything else is still its default.
     RenderOptions fresh;
     EXPECT_EQ(o.width, fresh.width);
-    EXPECT_EQ(o.noiseParams.frequency, fresh.noiseParams.frequency);
+    EXPECT_EQ(o.stages.noise.frequency, fresh.stages.noise.frequency);
     EXPECT_EQ(o.mesher.iso, fresh.mesher.iso);
 }
 

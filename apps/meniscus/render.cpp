@@ -628,7 +628,7 @@ int runRenderOn(Cluster& cluster, const RenderJob& options, const ParticleSet* e
     std::optional<ParticleSet> still;
     if (frames->repeat) still = *first;
     settings.colorOnly = !isExr(o.output);  // a PNG or a movie needs only the colour AOV
-    if (o.whiten && !ParticleView::of(*first).velocity.present())
+    if (o.stages.whitening.enabled && !ParticleView::of(*first).velocity.present())
         std::cerr << "meniscus: warning: " << frames->name(firstIndex)
                   << " has no velocity attribute: --whiten leaves the colour as it is\n";
 

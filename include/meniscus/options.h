@@ -92,29 +92,21 @@ struct RenderOptions {
     std::optional<glm::vec3> light;  // toward the key light, world space; unset: ShadingParams' default
     // auto: studio for a still camera, floor when the camera moves (the caller decides).
     std::string background = "auto";
-    // Surface noise and foam (docs/pipeline.md#noise-and-foam): off unless noise.
-    bool noise = false;
-    NoiseParams noiseParams;
-    // Velocity whitening (docs/pipeline.md#noise-and-foam): off unless whiten.
-    bool whiten = false;
-    WhiteningParams whitening;
-    // Spray drops (docs/pipeline.md#classification): off unless spray.
-    bool spray = false;
-    SprayParams sprayParams;
-    // Silhouette reduction (docs/pipeline.md#silhouette-reduction): off unless silhouette.
-    bool silhouette = false;
-    SilhouetteParams silhouetteParams;
+    // The stages' own parameters (params.h), as the pipeline takes them: the
+    // surface noise and foam, the whitening, the spray, the silhouette
+    // (each off unless its `enabled`), the thickness floor, the ray cast's
+    // steps. The filter, the shading, the hole filling and whether the ray
+    // cast runs come from the options above and below, not from here.
+    StageParams stages;
     // Anisotropic kernels (Yu & Turk 2013): on or off.
     std::string anisotropy = AnisotropyParams{}.enabled ? "on" : "off";
     AnisotropyParams anisotropyParams;
     // Hole filling (docs/pipeline.md#hole-filling): the widest gap filled,
-    // radii (0: off); the thin-liquid floor, radii.
+    // radii (0: off).
     float fillHoles = HoleFillParams{}.maxSpanRadii;
-    float minThickness = ThicknessParams{}.minRadii;
     // Reduced-resolution processing (docs/pipeline.md#reduced-resolution): 1, 0.5 or 0.25.
     float fluidScale = defaults::kFluidScale;
     std::string surface = "screen";  // screen (splat + smoothing), raycast (splat + SPH ray cast) or mesh
-    RaycastParams raycastParams;     // surface raycast (iso and support from mesher)
     MesherOptions mesher;
     // Several fluids (docs/pipeline.md#several-fluids): the integer attribute
     // holding each particle's fluid index; empty: the files' own `fluid`, if any.

@@ -194,56 +194,56 @@ std::vector<RenderOptionSpec> makeRenderTable() {
                             "Surface noise and foam: small waves that travel with the particles, foam where they are "
                             "strong, rougher where velocities jump between frames (uses the files' id and velocity "
                             "attributes)",
-                            [](R& o) -> OptionRef { return &o.noise; })));
+                            [](R& o) -> OptionRef { return &o.stages.noise.enabled; })));
     t.push_back(row("noise-bump", G::Extras, "sprite radii",
                     "Height of the noise's waves, in sprite radii (a sprite is " + sprite +
                         " particle radii; 0 = no bumps, foam only)",
-                    [](R& o) -> OptionRef { return &o.noiseParams.bump; }));
+                    [](R& o) -> OptionRef { return &o.stages.noise.bump; }));
     t.push_back(row("noise-frequency", G::Extras, "1/sprite radius",
                     "Noise cycles per sprite radius (a sprite is " + sprite + " particle radii)",
-                    [](R& o) -> OptionRef { return &o.noiseParams.frequency; }));
+                    [](R& o) -> OptionRef { return &o.stages.noise.frequency; }));
     t.push_back(row("noise-octaves", G::Extras, "", "Fractal octaves of the noise, 1 to 6",
-                    [](R& o) -> OptionRef { return &o.noiseParams.octaves; }));
+                    [](R& o) -> OptionRef { return &o.stages.noise.octaves; }));
     t.push_back(row("foam", G::Extras, "", "Foam cover per unit of noise magnitude above the threshold (0 = no foam)",
-                    [](R& o) -> OptionRef { return &o.noiseParams.foamGain; }));
+                    [](R& o) -> OptionRef { return &o.stages.noise.foamGain; }));
     t.push_back(row("turbulence-tau", G::Extras, "m/s",
                     "Velocity change between frames, in m/s, above which a particle's noise is rougher for a while",
-                    [](R& o) -> OptionRef { return &o.noiseParams.turbulence.tauMps; }));
+                    [](R& o) -> OptionRef { return &o.stages.noise.turbulence.tauMps; }));
     t.push_back(flagRow(row("whiten", G::Extras, "",
                             "Velocity whitening: fast water turns white (uses the files' velocity attribute)",
-                            [](R& o) -> OptionRef { return &o.whiten; })));
+                            [](R& o) -> OptionRef { return &o.stages.whitening.enabled; })));
     t.push_back(row("whiten-threshold", G::Extras, "m/s", "Speed where whitening starts, in m/s",
-                    [](R& o) -> OptionRef { return &o.whitening.thresholdMps; }));
+                    [](R& o) -> OptionRef { return &o.stages.whitening.thresholdMps; }));
     t.push_back(row("whiten-ramp", G::Extras, "m/s", "Speed range over which whitening rises to full, in m/s",
-                    [](R& o) -> OptionRef { return &o.whitening.rampMps; }));
+                    [](R& o) -> OptionRef { return &o.stages.whitening.rampMps; }));
     t.push_back(row("whiten-strength", G::Extras, "", "White cover at full whitening, 0 to 1",
-                    [](R& o) -> OptionRef { return &o.whitening.strength; }));
+                    [](R& o) -> OptionRef { return &o.stages.whitening.strength; }));
     t.push_back(flagRow(row("spray", G::Extras, "",
                             "Spray: particles far below the rest density (the files' density attribute, else "
                             "estimated from their neighbours) are drawn as small drops streaked along their velocity, "
                             "not as surface",
-                            [](R& o) -> OptionRef { return &o.spray; })));
+                            [](R& o) -> OptionRef { return &o.stages.spray.enabled; })));
     t.push_back(row("spray-density", G::Extras, "", "Fraction of the rest density below which a particle is spray",
-                    [](R& o) -> OptionRef { return &o.sprayParams.sprayDensity; }));
+                    [](R& o) -> OptionRef { return &o.stages.spray.sprayDensity; }));
     t.push_back(row("rest-density", G::Extras, "kg/m^3",
                     "Rest density of the density attribute, kg/m^3 (0 = the frame's median density)",
-                    [](R& o) -> OptionRef { return &o.sprayParams.restDensityKgM3; }));
+                    [](R& o) -> OptionRef { return &o.stages.spray.restDensityKgM3; }));
     t.push_back(row("spray-size", G::Extras, "radii", "A drop's drawn radius, in particle radii",
-                    [](R& o) -> OptionRef { return &o.sprayParams.sizeRadii; }));
+                    [](R& o) -> OptionRef { return &o.stages.spray.sizeRadii; }));
     t.push_back(row("spray-streak", G::Extras, "s", "Exposure over which a drop is streaked along its path, in seconds",
-                    [](R& o) -> OptionRef { return &o.sprayParams.streakSeconds; }));
+                    [](R& o) -> OptionRef { return &o.stages.spray.streakSeconds; }));
     t.push_back(flagRow(row("silhouette", G::Extras, "",
                             "Silhouette reduction (Instant Liquids): near its contours, where less than all of a small "
                             "window around a pixel is liquid, the liquid fades into the scene behind it (softer, "
                             "anti-aliased edges, no rim of badly smoothed normals)",
-                            [](R& o) -> OptionRef { return &o.silhouette; })));
+                            [](R& o) -> OptionRef { return &o.stages.silhouette.enabled; })));
     t.push_back(row("silhouette-radius", G::Extras, "radii", "The window's half-width, in particle radii",
-                    [](R& o) -> OptionRef { return &o.silhouetteParams.radiusRadii; }));
+                    [](R& o) -> OptionRef { return &o.stages.silhouette.radiusRadii; }));
     t.push_back(row("silhouette-fade", G::Extras, "",
                     "Liquid fraction of the window at which the fade reaches 0 (0.5: a straight edge's own pixels; "
                     "below 0.5 the fade continues onto the background pixels just outside the liquid, in its colour; "
                     "1: clip, liquid only where the whole window is)",
-                    [](R& o) -> OptionRef { return &o.silhouetteParams.fadeFrom; }));
+                    [](R& o) -> OptionRef { return &o.stages.silhouette.fadeFrom; }));
     // Surface: anisotropy, hole filling, thin liquid.
     t.push_back(oneOf(row("anisotropy", G::Surface, "",
                           "Anisotropic kernels (Yu & Turk 2013), on or off: each particle is splatted as the ellipsoid "
@@ -277,7 +277,7 @@ std::vector<RenderOptionSpec> makeRenderTable() {
                     "Thin liquid: every liquid pixel is shaded as at least this many particle radii thick, so a sheet "
                     "one particle thick or the rim of a drop is tinted, never the untinted background; 0 = the "
                     "thickness as splatted",
-                    [](R& o) -> OptionRef { return &o.minThickness; }));
+                    [](R& o) -> OptionRef { return &o.stages.thickness.minRadii; }));
     t.push_back(row("fluid-scale", G::Performance, "",
                     "Reduced-resolution processing: 1, 0.5 or 0.25 of the width and height for the splat, smoothing, "
                     "normals and noise (about 4x or 16x fewer pixels); the surface is upsampled depth-aware and shaded "
@@ -292,14 +292,14 @@ std::vector<RenderOptionSpec> makeRenderTable() {
                           [](R& o) -> OptionRef { return &o.surface; }),
                       {"screen", "raycast", "mesh"}));
     t.push_back(row("raycast-step", G::Surface, "radii", "--surface raycast: the march's step, in particle radii",
-                    [](R& o) -> OptionRef { return &o.raycastParams.stepRadii; }));
+                    [](R& o) -> OptionRef { return &o.stages.raycast.stepRadii; }));
     t.push_back(row("raycast-steps", G::Surface, "",
                     "--surface raycast: steps a ray takes before it gives up (no surface at that pixel)",
-                    [](R& o) -> OptionRef { return &o.raycastParams.maxSteps; }));
+                    [](R& o) -> OptionRef { return &o.stages.raycast.maxSteps; }));
     t.push_back(row("raycast-cover", G::Surface, "radii",
                     "--surface raycast: radius of the splatted spheres that start the rays, in particle radii (the "
                     "iso-surface reaches past the spheres of r between particles)",
-                    [](R& o) -> OptionRef { return &o.raycastParams.coverRadii; }));
+                    [](R& o) -> OptionRef { return &o.stages.raycast.coverRadii; }));
     // The viewer's panels: header, slider range (log for wide ones).
     struct Widget {
         const char* name;
@@ -954,6 +954,7 @@ Status checkRenderOptions(const RenderOptions& o) {
 Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
     if (auto st = checkRenderOptions(o); !st) return st.error();
     RenderSettings s;
+    static_cast<StageParams&>(s) = o.stages;  // the stages' parameters whole; the filter and shading below
     if (!viewFromName(o.view, &s.view)) return makeError("", "--view " + o.view + ": expected one of " + viewNames());
     if (!filterFromName(o.filter, &s.filter))
         return makeError("", "--filter " + o.filter + ": expected one of " + filterNames());
@@ -994,29 +995,23 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
     }
     s.scene.background = o.background != "none";
     s.scene.walls = o.background != "floor";  // auto: walls unless the caller sees the camera move
-    s.noise = o.noiseParams;
-    s.noise.enabled = o.noise;
-    if (o.noise)
+    const bool noise = o.stages.noise.enabled, whiten = o.stages.whitening.enabled;
+    const bool spray = o.stages.spray.enabled, silhouette = o.stages.silhouette.enabled;
+    if (noise)
         if (std::string bad = checkNoiseParams(s.noise); !bad.empty()) return makeError("", "--noise: " + bad);
-    if ((s.view == View::Noise || s.view == View::Foam) && !o.noise)
+    if ((s.view == View::Noise || s.view == View::Foam) && !noise)
         return makeError("", "--view " + o.view + " shows the surface noise: add --noise");
-    s.whitening = o.whitening;
-    s.whitening.enabled = o.whiten;
-    if (o.whiten)
+    if (whiten)
         if (std::string bad = checkWhiteningParams(s.whitening); !bad.empty()) return makeError("", "--whiten: " + bad);
-    if (s.view == View::Whitening && !o.whiten)
+    if (s.view == View::Whitening && !whiten)
         return makeError("", "--view whitening shows the velocity whitening: add --whiten");
-    s.spray = o.sprayParams;
-    s.spray.enabled = o.spray;
-    if (o.spray)
+    if (spray)
         if (std::string bad = checkSprayParams(s.spray); !bad.empty()) return makeError("", "--spray: " + bad);
-    if (s.view == View::Spray && !o.spray && !diffuse)
+    if (s.view == View::Spray && !spray && !diffuse)
         return makeError("", "--view spray shows the spray drops: add --spray (or --diffuse)");
-    s.silhouette = o.silhouetteParams;
-    s.silhouette.enabled = o.silhouette;
-    if (o.silhouette)
+    if (silhouette)
         if (std::string bad = checkSilhouetteParams(s.silhouette); !bad.empty()) return makeError("", "--silhouette: " + bad);
-    if (s.view == View::Silhouette && !o.silhouette)
+    if (s.view == View::Silhouette && !silhouette)
         return makeError("", "--view silhouette shows the silhouette map: add --silhouette");
     s.particleRadii = o.radius == 0.0f;  // an explicit radius replaces the file's own radii
     s.anisotropy = o.anisotropyParams;
@@ -1026,11 +1021,9 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
             return makeError("", "--anisotropy: " + bad);
     s.holeFill.enabled = o.fillHoles > 0.0f;
     if (s.holeFill.enabled) s.holeFill.maxSpanRadii = o.fillHoles;
-    s.thickness.minRadii = o.minThickness;
     if (std::string bad = checkHoleFillParams(s.holeFill, s.thickness); !bad.empty())
         return makeError("", std::string(bad.rfind("thickness", 0) == 0 ? "--min-thickness: " : "--fill-holes: ") +
                                  bad);
-    s.raycast = o.raycastParams;
     s.raycast.enabled = o.surface == "raycast";
     if (s.raycast.enabled) {
         if (o.mesher.field != "sph")
