@@ -116,6 +116,18 @@ struct FrameSettings : StageParams {
     // all of them. Unset: all of them. The CPU backend only (the Renderer
     // refuses it on another).
     std::optional<ParticleRange> splatRange;
+
+    // The fluid the stages draw from now on (Backend::setFluid): its
+    // particles, shapes, field, material and per-particle inputs.
+    void useFluid(const FluidSettings& fluid) {
+        particles = fluid.particles;
+        shapes = fluid.shapes;
+        field = fluid.field;
+        shading = fluid.shading;
+        noiseIdz = fluid.noiseIdz;
+        noiseAmplitude = fluid.noiseAmplitude;
+        whiteness = fluid.whiteness;
+    }
 };
 
 class Backend;

@@ -14,13 +14,7 @@ Status CpuBackend::beginFrame(std::span<const glm::vec3> positions, const FrameS
 
 void CpuBackend::setFluid(std::span<const glm::vec3> positions, const FluidSettings& fluid) {
     positions_ = positions;
-    s_.particles = fluid.particles;
-    s_.shapes = fluid.shapes;
-    s_.field = fluid.field;
-    s_.shading = fluid.shading;
-    s_.noiseIdz = fluid.noiseIdz;
-    s_.noiseAmplitude = fluid.noiseAmplitude;
-    s_.whiteness = fluid.whiteness;
+    s_.useFluid(fluid);
 }
 
 void CpuBackend::beginStage(const char* name) {

@@ -79,12 +79,7 @@ Status GlBackend::beginFrame(std::span<const glm::vec3> positions, const FrameSe
 }
 
 void GlBackend::setFluid(std::span<const glm::vec3> positions, const FluidSettings& fluid) {
-    s_.particles = fluid.particles;
-    s_.field = fluid.field;
-    s_.shading = fluid.shading;
-    s_.noiseIdz = fluid.noiseIdz;
-    s_.noiseAmplitude = fluid.noiseAmplitude;
-    s_.whiteness = fluid.whiteness;
+    s_.useFluid(fluid);
     upload();
     splat_.uploadParticles(positions, fluid.shapes);
 }
