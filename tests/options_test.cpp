@@ -214,6 +214,7 @@ TEST(OptionTable, TheOtherCommandsTablesAreComplete) {
     expectCompleteTable(meshOptionTable(), "mesh");
     expectCompleteTable(simulateOptionTable(), "simulate");
     expectCompleteTable(whitewaterOptionTable(), "whitewater");
+    expectCompleteTable(viewerOptionTable(), "view");
     for (const char* name : {"duration", "fps", "radius", "solver", "resume", "stats", "render"})
         EXPECT_NE(findIn(simulateOptionTable(), name), nullptr) << name;
     for (const char* name : {"radius", "fps", "limits", "scale", "trapped-air-rate", "wave-crest-rate", "lifetime",

@@ -279,30 +279,11 @@ int main(int argc, char** argv) {
     addCameraOptions(viewCmd, view.render);
     addSurfaceOptions(viewCmd, view.render);
     addFluidInputOption(viewCmd, view.render);
-    viewCmd->add_option("--simulate", view.simulate.scene,
-                        "Instead of an input, simulate this scene file (.json, docs/scenes.md) live on a worker "
-                        "thread and show its newest frame (a frame every 1/fps simulated seconds, played at most at "
-                        "real time, to the scene's duration; simulated time and particle count in the title); the "
-                        "camera is framed on the "
-                        "scene's domain. --radius then sets the simulation's particle radius in metres (default: "
-                        "the scene's)")
-        ->group(group::kInput)
-        ->excludes(viewInput);
-    addSolverOption(viewCmd, view.simulate.solver)->needs("--simulate")->group(group::kInput);
-    viewCmd->add_option("--screenshot", view.screenshot,
-                        "On exit, save the picture the window shows (without the panels) to this .png")
-        ->group(group::kOutput);
-    viewCmd->add_option("--screenshot-window", view.screenshotWindow,
-                        "On exit, save the whole window, panels included, to this .png")
-        ->group(group::kOutput);
-    // For tests and scripts: no interaction, just N frames rendered and shown.
-    viewCmd->add_option("--frames", view.frames, "Render and show N frames, then exit")
-        ->check(CLI::PositiveNumber)
-        ->group("");
-    viewCmd->add_option("--input-script", view.inputScript,
-                        "Replay input, one event per frame: drag:DX,DY;scroll:N;key:left|right|space|tab|h|c|q|"
-                        "escape;drop:PATH;click:LABEL@F (a panel widget by its label, F the fraction of its width)")
-        ->group("");
+    for (const ViewerOptionSpec& row : viewerOptionTable()) {
+        CLI::Option* opt = addRow(viewCmd, row, row.field(view));
+        if (row.name == "simulate") opt->excludes(viewInput);
+    }
+    addSolverOption(viewCmd, view.live.solver)->needs("--simulate")->group(group::kInput);
     useGroupedHelp(viewCmd, renderHelpLayout());
 
     MeshJob mesh;
@@ -372,7 +353,7 @@ int main(int argc, char** argv) {
         return runRender(demo, &set.value());
     }
     if (*viewCmd) {
-        if (!view.render.input.empty() || !view.simulate.scene.empty()) return runView(view, nullptr);
+        if (!view.render.input.empty() || !view.simulate.empty()) return runView(view, nullptr);
         auto set = parseParticles(demoFrameBytes(), kDemoFrameName);
         if (!set) return fail(set.error().describe());
         if (view.render.radius == 0.0f) view.render.radius = kDemoRadiusM;

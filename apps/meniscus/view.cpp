@@ -130,7 +130,7 @@ std::string title(const RenderJob& o, std::size_t count, std::size_t index, cons
 std::string liveTitle(const ViewOptions& o, const sim::Scene& scene, const LiveSimulation::Frame& f, bool running) {
     char t[64];
     std::snprintf(t, sizeof t, "t = %.3f of %g s, %zu particles", f.time, scene.duration, f.particles->size());
-    return "meniscus view: " + o.simulate.scene + " (" + t + (running ? ")" : ", done)");
+    return "meniscus view: " + o.simulate + " (" + t + (running ? ")" : ", done)");
 }
 
 // The frames of o.input (the demo frame when empty) with its fluids and up
@@ -197,11 +197,12 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     std::optional<sim::Scene> scene;
     std::optional<Frames> input;
     std::unique_ptr<sim::Simulator> simulator;
-    if (!o.simulate.scene.empty()) {
+    if (!o.simulate.empty()) {
         if (!o.render.select.empty())
             return fail("--select " + o.render.select + ": picks particles of files; --simulate shows a simulation, "
                         "whose particles are all its fluid");
-        SimulateJob so = o.simulate;
+        SimulateJob so = o.live;
+        so.scene = o.simulate;
         so.radius = o.render.radius;  // one radius: the simulation's and the picture's
         auto read = sceneFromOptions(so);
         if (!read) return fail(read.error().describe());
@@ -218,7 +219,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     // The window first: without a display nothing else is worth doing.
     // Wider than --width by the panels, which the picture is drawn beside.
     auto window = Window::create(o.render.width + (viewerHasPanels() ? kViewerPanelWidth : 0), o.render.height,
-                                 scene ? "meniscus view: " + o.simulate.scene : title(o.render, 1, 0, nullptr));
+                                 scene ? "meniscus view: " + o.simulate : title(o.render, 1, 0, nullptr));
     if (!window)
         return fail(window.error().describe() +
                     "; meniscus view needs a display (`meniscus render` writes images without one)");
@@ -300,7 +301,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     // After the window, so stopped (joined) before the window goes.
     std::optional<LiveSimulation> live;
     if (scene) {
-        std::cerr << "meniscus: simulating " << o.simulate.scene << " live: " << simulator->size()
+        std::cerr << "meniscus: simulating " << o.simulate << " live: " << simulator->size()
                   << " particles, r = " << scene->params.radius << " m, " << sim::solverName(scene->params.solver)
                   << ", " << scene->duration << " s at " << scene->fps << " fps\n";
         live.emplace(std::move(simulator), scene->fps, scene->duration, kLiveSpeed);
@@ -438,7 +439,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
             // read first: once it is false, latest() is the last frame).
             const bool running = live->running();
             const LiveSimulation::Frame f = live->latest();
-            if (auto e = live->error()) return fail(Error{o.simulate.scene, e->describe()}.describe());
+            if (auto e = live->error()) return fail(Error{o.simulate, e->describe()}.describe());
             if (f.number != liveNumber || running != liveRunning) win.setTitle(liveTitle(o, *scene, f, running));
             liveRunning = running;
             if (f.number != liveNumber) {

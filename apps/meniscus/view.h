@@ -9,15 +9,12 @@
 
 namespace meniscus::app {
 
-struct ViewOptions {
-    RenderJob render;    // input (empty: the embedded demo frame), size, camera, look; output/backend unused
-    std::string screenshot;  // when set: the picture the window shows on exit (without the panels), saved as PNG
-    std::string screenshotWindow;  // when set: the whole window on exit, panels included, saved as PNG
-    int frames = 0;          // > 0: render and show this many frames, then exit (no interaction needed)
-    std::string inputScript; // for tests and scripts: input events replayed one per frame (see runView)
-    // --simulate: simulate.scene (with its solver; the radius is render.radius)
-    // runs live on a worker thread instead of showing an input.
-    SimulateJob simulate;
+// The viewer's options: the look and the input (as render's), its own
+// (ViewerOptions: --simulate, screenshots, a scripted run), and the live
+// simulation's solver and radius (the scene is ViewerOptions::simulate).
+struct ViewOptions : ViewerOptions {
+    RenderJob render;  // input (empty: the embedded demo frame), size, camera, look; output/backend unused
+    SimulateJob live;  // the solver of --simulate (its radius is render.radius)
 };
 
 // Runs the viewer until the window is closed (Esc, Q) or `frames` are shown;

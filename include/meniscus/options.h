@@ -51,7 +51,8 @@ enum class OptionGroup {
     Simulation,
     Generation,
     Classes,
-    Motion
+    Motion,
+    Scripting
 };
 // "Input", "Camera", ... (the help's group titles).
 const char* optionGroupTitle(OptionGroup group);
@@ -166,6 +167,17 @@ struct SimulateOptions {
     std::string render;      // also render each frame to this pattern or movie; empty: no images
 };
 
+// `view`'s own options besides the look and the camera (viewerOptionTable):
+// a simulation shown live instead of an input, what is saved on exit, and
+// a scripted run for tests and scripts.
+struct ViewerOptions {
+    std::string simulate;          // a simulation scene (.json) run live; empty: show the input
+    std::string screenshot;        // on exit: the picture the window shows, without the panels (.png)
+    std::string screenshotWindow;  // on exit: the whole window, panels included (.png)
+    int frames = 0;                // > 0: render and show this many frames, then exit
+    std::string inputScript;       // input events replayed one per frame (runView)
+};
+
 // `whitewater`'s options (whitewaterOptionTable): the fluid sequence's radius
 // and rate, and the generator's parameters (WhitewaterParams, whose
 // initialisers give the defaults; whitewaterParams makes them). The lists
@@ -249,6 +261,7 @@ using JobOptionSpec = OptionSpec<JobOptions>;
 using MeshOptionSpec = OptionSpec<MeshOptions>;
 using SimulateOptionSpec = OptionSpec<SimulateOptions>;
 using WhitewaterOptionSpec = OptionSpec<WhitewaterOptions>;
+using ViewerOptionSpec = OptionSpec<ViewerOptions>;
 
 // `render`'s look, camera and surface options, in the order --help lists
 // them inside a group. The mesher's options (mesherOptionTable) are not in
@@ -263,6 +276,8 @@ std::span<const JobOptionSpec> jobOptionTable();
 std::span<const MeshOptionSpec> meshOptionTable();
 // simulate's: duration, fps, radius, solver, resume, stats, render.
 std::span<const SimulateOptionSpec> simulateOptionTable();
+// `view`'s own: simulate, screenshot, screenshot-window, frames, input-script.
+std::span<const ViewerOptionSpec> viewerOptionTable();
 // whitewater's: radius, fps, limits, scale, trapped-air-rate, wave-crest-rate,
 // lifetime, buoyancy, drag, gravity, box, spray-below, bubble-above,
 // max-particles, seed.

@@ -655,6 +655,7 @@ const char* optionGroupTitle(OptionGroup group) {
     case OptionGroup::Generation: return "Generation";
     case OptionGroup::Classes: return "Classes";
     case OptionGroup::Motion: return "Motion";
+    case OptionGroup::Scripting: return "Scripting";
     }
     return "";
 }
@@ -676,6 +677,39 @@ std::span<const JobOptionSpec> jobOptionTable() {
 
 std::span<const MeshOptionSpec> meshOptionTable() {
     static const std::vector<MeshOptionSpec> table = makeMeshTable();
+    return table;
+}
+
+std::vector<ViewerOptionSpec> makeViewerTable() {
+    using V = ViewerOptions;
+    std::vector<ViewerOptionSpec> t;
+    t.push_back(row<V>("simulate", G::Input, "",
+                       "Instead of an input, simulate this scene file (.json, docs/scenes.md) live on a worker thread "
+                       "and show its newest frame (a frame every 1/fps simulated seconds, played at most at real "
+                       "time, to the scene's duration; simulated time and particle count in the title); the camera "
+                       "is framed on the scene's domain. --radius then sets the simulation's particle radius in "
+                       "metres (default: the scene's)",
+                       [](V& o) -> OptionRef { return &o.simulate; }));
+    t.back().path = true;
+    t.push_back(row<V>("screenshot", G::Output, "",
+                       "On exit, save the picture the window shows (without the panels) to this .png",
+                       [](V& o) -> OptionRef { return &o.screenshot; }));
+    t.back().path = true;
+    t.push_back(row<V>("screenshot-window", G::Output, "", "On exit, save the whole window, panels included, to this .png",
+                       [](V& o) -> OptionRef { return &o.screenshotWindow; }));
+    t.back().path = true;
+    t.push_back(noDefault(positive(row<V>("frames", G::Scripting, "", "Render and show N frames, then exit",
+                                          [](V& o) -> OptionRef { return &o.frames; }))));
+    t.back().limits.unset = 0.0;  // until the window is closed
+    t.push_back(row<V>("input-script", G::Scripting, "",
+                       "Replay input, one event per frame: drag:DX,DY;scroll:N;key:left|right|space|tab|h|c|q|"
+                       "escape;drop:PATH;click:LABEL@F (a panel widget by its label, F the fraction of its width)",
+                       [](V& o) -> OptionRef { return &o.inputScript; }));
+    return t;
+}
+
+std::span<const ViewerOptionSpec> viewerOptionTable() {
+    static const std::vector<ViewerOptionSpec> table = makeViewerTable();
     return table;
 }
 
