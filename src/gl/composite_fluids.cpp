@@ -95,12 +95,8 @@ void FluidCompositor::run(std::span<const FluidLayerGpu> layers, const GpuImage&
 
 namespace {
 
-Status prepareCompositeFluids(Backend& b) { return GlBackend::of(b).prepare<FluidCompositor>(); }
-
 // Layers 0 .. io.fluids.size() - 1 composited front to back over the scene.
-void runCompositeFluids(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runCompositeFluids(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     for (Slot out : {at.color, at.depth, at.normal, at.thickness, at.fluidId}) g.forget(out);
     std::vector<FluidLayerGpu> layers;
@@ -117,6 +113,6 @@ void runCompositeFluids(Backend& b, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kCompositeFluidsStage = {prepareCompositeFluids, runCompositeFluids};
+extern const StageDriver kCompositeFluidsStage = {glPrepare<FluidCompositor>, glRun<runCompositeFluids>};
 
 }  // namespace meniscus::gl

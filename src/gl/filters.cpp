@@ -12,18 +12,9 @@ namespace meniscus::gl {
 
 namespace {
 
-Status prepareSmooth(Backend& b) {
-    GlBackend& g = GlBackend::of(b);
-    if (auto st = g.prepare<SeparableFilters>(); !st) return st;
-    if (auto st = g.prepare<CurvatureFlow>(); !st) return st;
-    return g.prepare<NarrowRange>();
-}
-
 // The stage follows the filter variant itself: a filter added to
 // FilterParams without a GL pass does not compile.
-void runSmooth(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runSmooth(GlBackend& g, const StageIo& io) {
     g.forget(io.at.depth);
     GpuImage& src = g.img(io.at.raw);
     GpuImage& dst = g.img(io.at.depth);
@@ -55,6 +46,6 @@ void runSmooth(Backend& b, const StageIo& io) {
 
 // The stage's GL driver (core/backend.h StageDriver), named by its row in the
 // stage list (src/render/stages.cpp).
-extern const StageDriver kSmoothStage = {prepareSmooth, runSmooth};
+extern const StageDriver kSmoothStage = {glPrepare<SeparableFilters, CurvatureFlow, NarrowRange>, glRun<runSmooth>};
 
 }  // namespace meniscus::gl

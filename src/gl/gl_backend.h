@@ -126,6 +126,25 @@ private:
     std::size_t stage_ = 0;
 };
 
+// A GL stage driver's run (StageDriver::run) made of a function of the GL
+// backend: the backend's buffer fills are installed for the stage around it.
+template <void (*run)(GlBackend&, const StageIo&)>
+void glRun(Backend& b, const StageIo& io) {
+    GlBackend& g = GlBackend::of(b);
+    const auto fills = g.bufferFills();
+    run(g, io);
+}
+
+// A GL stage driver's prepare (StageDriver::prepare): the passes it runs,
+// made once per backend; the first error.
+template <class... Passes>
+Status glPrepare(Backend& b) {
+    GlBackend& g = GlBackend::of(b);
+    Status st = okStatus();
+    ((st = st ? g.prepare<Passes>() : st), ...);
+    return st;
+}
+
 // A slot read back. With shader fills (a hardware GPU) through a staging
 // buffer: NVIDIA's driver moves a buffer it sees read back every frame to
 // host memory, where the stage writing it then writes over PCIe (the

@@ -103,11 +103,7 @@ void HoleFill::run(const FrameParams& frame, const HoleFillParams& params, const
 
 namespace {
 
-Status prepareFillHoles(Backend& b) { return GlBackend::of(b).prepare<HoleFill>(); }
-
-void runFillHoles(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runFillHoles(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     g.forget(at.raw);
     g.forget(at.thickness);
@@ -116,6 +112,6 @@ void runFillHoles(Backend& b, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kFillHolesStage = {prepareFillHoles, runFillHoles};
+extern const StageDriver kFillHolesStage = {glPrepare<HoleFill>, glRun<runFillHoles>};
 
 }  // namespace meniscus::gl

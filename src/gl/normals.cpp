@@ -54,11 +54,7 @@ void Normals::run(const FrameParams& frame, const GpuImage& depth, GpuImage& nor
 
 namespace {
 
-Status prepareNormals(Backend& b) { return GlBackend::of(b).prepare<Normals>(); }
-
-void runNormals(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runNormals(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     g.forget(at.normal);
     g.pass<Normals>().run(g.params(), g.img(at.depth), g.img(at.normal));
@@ -66,6 +62,6 @@ void runNormals(Backend& b, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kNormalsStage = {prepareNormals, runNormals};
+extern const StageDriver kNormalsStage = {glPrepare<Normals>, glRun<runNormals>};
 
 }  // namespace meniscus::gl

@@ -139,11 +139,7 @@ void MeshRasteriser::run(const FrameParams& frame, const TriangleMesh& mesh, con
 
 namespace {
 
-Status prepareRasterise(Backend& b) { return GlBackend::of(b).prepare<MeshRasteriser>(); }
-
-void runRasterise(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runRasterise(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     g.forget(at.depth);
     g.forget(at.normal);
@@ -155,6 +151,6 @@ void runRasterise(Backend& b, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kRasteriseStage = {prepareRasterise, runRasterise};
+extern const StageDriver kRasteriseStage = {glPrepare<MeshRasteriser>, glRun<runRasterise>};
 
 }  // namespace meniscus::gl

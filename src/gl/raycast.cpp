@@ -68,11 +68,7 @@ void Raycast::run(const FrameParams& frame, const SphField* field, const Raycast
 
 namespace {
 
-Status prepareRaycast(Backend& b) { return GlBackend::of(b).prepare<Raycast>(); }
-
-void runRaycast(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runRaycast(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     g.forget(at.depth);
     g.forget(at.normal);
@@ -83,6 +79,6 @@ void runRaycast(Backend& b, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kRaycastStage = {prepareRaycast, runRaycast};
+extern const StageDriver kRaycastStage = {glPrepare<Raycast>, glRun<runRaycast>};
 
 }  // namespace meniscus::gl

@@ -59,12 +59,8 @@ void SceneCaster::run(const FrameParams& frame, const shared::Studio& studio, Gp
 
 namespace {
 
-Status prepareScene(Backend& b) { return GlBackend::of(b).prepare<SceneCaster>(); }
-
 // Cast again only when the camera, the studio or the slots changed.
-void runScene(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runScene(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     if (g.sceneCached(at.sceneColor, at.sceneDepth)) return;
     g.pass<SceneCaster>().run(g.params(), g.frame().studio, g.img(at.sceneColor), g.img(at.sceneDepth));
@@ -73,6 +69,6 @@ void runScene(Backend& b, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kSceneStage = {prepareScene, runScene};
+extern const StageDriver kSceneStage = {glPrepare<SceneCaster>, glRun<runScene>};
 
 }  // namespace meniscus::gl

@@ -130,13 +130,9 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
 
 namespace {
 
-Status prepareShade(Backend& b) { return GlBackend::of(b).prepare<Shading>(); }
-
 // Foam only with the noise on (its slot then holds this frame's N), white
 // water only with the whitening on (likewise its map).
-void runShade(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runShade(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     g.forget(at.color);
     const FrameSettings& s = g.frame();
@@ -149,6 +145,6 @@ void runShade(Backend& b, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kShadeStage = {prepareShade, runShade};
+extern const StageDriver kShadeStage = {glPrepare<Shading>, glRun<runShade>};
 
 }  // namespace meniscus::gl

@@ -125,14 +125,10 @@ void SilhouetteReduction::run(const Camera& camera, const GpuImage& depth, const
 
 namespace {
 
-Status prepareSilhouette(Backend& b) { return GlBackend::of(b).prepare<SilhouetteReduction>(); }
-
 // Faded in place: a colour slot that held the cached scene no longer does
 // (the next cast redraws it), as the CPU copies its cached scene out before
 // fading, never the scene itself.
-void runSilhouette(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runSilhouette(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     g.forget(at.color);
     g.forget(at.silhouette);
@@ -143,6 +139,6 @@ void runSilhouette(Backend& b, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kSilhouetteStage = {prepareSilhouette, runSilhouette};
+extern const StageDriver kSilhouetteStage = {glPrepare<SilhouetteReduction>, glRun<runSilhouette>};
 
 }  // namespace meniscus::gl

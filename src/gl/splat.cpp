@@ -193,17 +193,9 @@ Result<Image<float>> splatDepth(const Camera& camera, std::span<const glm::vec3>
 
 namespace {
 
-Status prepareSplat(Backend& b) {
-    GlBackend& g = GlBackend::of(b);
-    if (auto st = g.prepare<SeparableFilters>(); !st) return st;
-    return g.prepare<LowResThickness>();
-}
-
 // The depth splat and the thickness (chords, calibration, blur); the
 // thickness grid 1, 2 or 4 pixels per block side.
-void runSplat(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runSplat(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     g.forget(at.raw);
     g.forget(at.thickness);
@@ -221,9 +213,7 @@ void runSplat(Backend& b, const StageIo& io) {
 }
 
 // Sort-last: the splat's depth and fixed-point sums read back for the compositor.
-void runSplatPartial(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runSplatPartial(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     const FrameParams& fp = g.params();
     Splat& splat = g.particles();
@@ -239,9 +229,7 @@ void runSplatPartial(Backend& b, const StageIo& io) {
 }
 
 // Sort-last: the combination uploaded and resolved as runSplat does.
-void runResolveSplat(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runResolveSplat(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     g.forget(at.raw);
     g.forget(at.thickness);
@@ -262,8 +250,8 @@ void runResolveSplat(Backend& b, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kSplatStage = {prepareSplat, runSplat};
-extern const StageDriver kSplatPartialStage = {prepareSplat, runSplatPartial};
-extern const StageDriver kResolveSplatStage = {prepareSplat, runResolveSplat};
+extern const StageDriver kSplatStage = {glPrepare<SeparableFilters, LowResThickness>, glRun<runSplat>};
+extern const StageDriver kSplatPartialStage = {glPrepare<SeparableFilters, LowResThickness>, glRun<runSplatPartial>};
+extern const StageDriver kResolveSplatStage = {glPrepare<SeparableFilters, LowResThickness>, glRun<runResolveSplat>};
 
 }  // namespace meniscus::gl

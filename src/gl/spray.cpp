@@ -163,14 +163,10 @@ void SprayDrops::run(const Camera& camera, std::span<const glm::vec3> positionsW
 
 namespace {
 
-Status prepareSpray(Backend& b) { return GlBackend::of(b).prepare<SprayDrops>(); }
-
 // Drawn over the colour in place: a colour slot that held the cached scene
 // no longer does (the next cast redraws it), as the CPU copies its cached
 // scene out before painting, never over it.
-void runSpray(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runSpray(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     g.forget(at.color);
     g.forget(at.spray);
@@ -182,6 +178,6 @@ void runSpray(Backend& b, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kSprayStage = {prepareSpray, runSpray};
+extern const StageDriver kSprayStage = {glPrepare<SprayDrops>, glRun<runSpray>};
 
 }  // namespace meniscus::gl

@@ -202,12 +202,8 @@ void SurfaceNoise::runWhitening(const FrameParams& frame, const Camera& camera, 
 
 namespace {
 
-Status prepareSurfaceNoise(Backend& b) { return GlBackend::of(b).prepare<SurfaceNoise>(); }
-
 // The noise N of the particles near the surface, and the normals bumped by its gradient in place.
-void runNoise(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runNoise(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     g.forget(at.normal);
     g.forget(at.noise);
@@ -217,9 +213,7 @@ void runNoise(Backend& b, const StageIo& io) {
                                s.noiseIdz, s.noiseAmplitude, g.img(at.depth), g.img(at.normal), g.img(at.noise));
 }
 
-void runWhitening(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runWhitening(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     g.forget(at.whitening);
     const FrameSettings& s = g.frame();
@@ -231,7 +225,7 @@ void runWhitening(Backend& b, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kNoiseStage = {prepareSurfaceNoise, runNoise};
-extern const StageDriver kWhiteningStage = {prepareSurfaceNoise, runWhitening};
+extern const StageDriver kNoiseStage = {glPrepare<SurfaceNoise>, glRun<runNoise>};
+extern const StageDriver kWhiteningStage = {glPrepare<SurfaceNoise>, glRun<runWhitening>};
 
 }  // namespace meniscus::gl

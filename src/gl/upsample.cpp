@@ -146,12 +146,8 @@ void Upsampling::blendEdges(const GpuImage& depth, const GpuImage& coverage, con
 
 namespace {
 
-Status prepareUpsampling(Backend& b) { return GlBackend::of(b).prepare<Upsampling>(); }
-
 // The scene depth reduced to the current (low) camera's size.
-void runReduceSceneDepth(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runReduceSceneDepth(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     g.forget(Slot::LowSceneDepth);
     const FrameSettings& s = g.frame();
@@ -160,9 +156,7 @@ void runReduceSceneDepth(Backend& b, const StageIo& io) {
 }
 
 // The low surface (the Low* slots) upsampled into the surface's full-size images.
-void runUpsample(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runUpsample(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     for (Slot out : {at.depth, at.normal, at.thickness, at.noise, at.coverage}) g.forget(out);
     const FrameSettings& s = g.frame();
@@ -174,9 +168,7 @@ void runUpsample(Backend& b, const StageIo& io) {
                                   g.img(at.coverage));
 }
 
-void runFluidEdges(Backend& b, const StageIo& io) {
-    GlBackend& g = GlBackend::of(b);
-    const auto fills = g.bufferFills();
+void runFluidEdges(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     const bool split = at.emission != Slot::None;
     g.pass<Upsampling>().blendEdges(g.img(at.depth), g.img(at.coverage), g.img(at.sceneColor), g.img(at.color),
@@ -185,8 +177,8 @@ void runFluidEdges(Backend& b, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kReduceSceneDepthStage = {prepareUpsampling, runReduceSceneDepth};
-extern const StageDriver kUpsampleStage = {prepareUpsampling, runUpsample};
-extern const StageDriver kFluidEdgesStage = {prepareUpsampling, runFluidEdges};
+extern const StageDriver kReduceSceneDepthStage = {glPrepare<Upsampling>, glRun<runReduceSceneDepth>};
+extern const StageDriver kUpsampleStage = {glPrepare<Upsampling>, glRun<runUpsample>};
+extern const StageDriver kFluidEdgesStage = {glPrepare<Upsampling>, glRun<runFluidEdges>};
 
 }  // namespace meniscus::gl
