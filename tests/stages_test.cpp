@@ -89,14 +89,17 @@ TEST(StageList, ChecksAreWhatTheRenderRefuses) {
 
 // A stage that draws has its CPU driver (the GL one: gl_backend_test), or is
 // the host's work alone (the compositor's combination); the host's own
-// stages and the read-back have none.
+// stages have their host work instead, and the read-back is the Renderer's.
 TEST(StageList, EveryImageStageHasItsCpuDriver) {
     for (const StageDecl& s : frameStages()) {
         if (s.scope == StageScope::Host || s.scope == StageScope::Readback) {
             EXPECT_EQ(s.cpu, nullptr) << s.name;
             EXPECT_EQ(s.run, nullptr) << s.name;
+            // The host's work is its own stage's: none left in the Renderer's frame.
+            EXPECT_EQ(s.host != nullptr, s.scope == StageScope::Host) << s.name;
             continue;
         }
+        EXPECT_EQ(s.host, nullptr) << s.name;
         if (!s.cpu) {
             EXPECT_NE(s.run, nullptr) << s.name << " has neither a driver nor host work";
             continue;

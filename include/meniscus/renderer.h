@@ -160,11 +160,8 @@ std::string backendNames();
 
 class Backend;            // src/core/backend.h
 class TurbulenceTracker;  // src/core/turbulence.h
-struct SpraySplit;        // src/render/pipeline.cpp
-struct FluidSplit;        // src/render/pipeline.cpp
+struct HostFrame;         // src/render/pipeline.cpp
 struct Drawn;             // src/render/pipeline.cpp
-struct Ellipsoids;        // src/core/anisotropy.h
-struct SphField;          // src/core/sph_field.h
 
 // Renders frames, keeping what does not change between them: the scene layer
 // (studio colour and depth) is cast again only when the camera or the studio
@@ -228,18 +225,12 @@ private:
     Drawn drawn(const RenderSettings& settings) const;
     std::unique_ptr<Backend> backend_;
     bool prepared_ = false;  // the stages' drivers made ready on backend_ (render/stages.h prepareStages)
-    std::vector<glm::vec3> gathered_;  // positions of a strided view, made contiguous for the backend
     std::vector<float> noiseIdz_, noiseAmplitude_, whiteness_;
     std::unique_ptr<TurbulenceTracker> turbulence_;
     std::int64_t turbulenceFrame_ = -1;  // the frameIndex noiseAmplitude_ belongs to; -1 = none
-    std::unique_ptr<SpraySplit> spray_;  // this frame's body of water and drops, with the spray on
-    double sprayClassifyMs_ = -1.0;      // its host time this frame (the bench's spray-classify line); -1 = none
-    std::vector<Ellipsoids> ellipsoids_;  // with anisotropy or own radii: one set per fluid drawn (centres: anisotropy only)
-    std::vector<float> radii_;            // one fluid's own radii, contiguous
-    double anisotropyMs_ = -1.0;         // their host time this frame (the bench's anisotropy line); -1 = none
-    std::vector<SphField> fields_;        // with the raycast: one per fluid drawn
-    double fieldMs_ = -1.0;               // their host time this frame (the bench's sph-field line); -1 = none
-    std::unique_ptr<FluidSplit> fluids_;  // this frame's fluids, when the particles carry a fluid index
+    // The host stages' buffers and this frame's results (the spray's split,
+    // the fluids, the field, the shapes, their times).
+    std::unique_ptr<HostFrame> host_;
 };
 
 // One frame with a fresh Renderer (nothing cached).

@@ -529,6 +529,146 @@ struct FluidSplit {
     }
 };
 
+// The host's side of a frame: what the Host stages of the list
+// (render/stages.cpp) make of the particles before the images, and the
+// buffers the Renderer keeps for them from frame to frame.
+struct HostFrame {
+    // Kept between frames (their memory).
+    std::vector<glm::vec3> gathered;     // positions of a strided view, made contiguous for the backend
+    SpraySplit spray;                    // the body of water and the drops, with the spray on
+    FluidSplit fluids;                   // the fluids, when the particles carry a fluid index
+    std::vector<Ellipsoids> ellipsoids;  // drawn shapes: one set per fluid drawn (centres: anisotropy only)
+    std::vector<float> radii;            // one fluid's own radii, contiguous
+    std::vector<SphField> fields;        // with the ray cast: one per fluid drawn
+    // This frame's.
+    const ParticleView* particles = nullptr;  // the body of water (every particle without the spray)
+    std::span<const glm::vec3> positions;     // its positions, contiguous (anisotropy, one fluid: the smoothed centres)
+    bool several = false;                     // several fluids
+    bool ownRadii = false;                    // each particle drawn at its own radius
+    bool shaped = false;                      // drawn as shapes (anisotropy, own radii or the ray cast)
+    std::vector<StageTime> times;             // the host stages' times, in their order
+
+    void begin(const ParticleView& all) {
+        particles = &all;
+        positions = {};
+        several = ownRadii = shaped = false;
+        times.clear();
+    }
+};
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+}  // namespace
+
+// spray-classify: the particles split into the body of water, which the
+// stages after it see, and the drops (with the diffuse layer's); on the host
+// for both backends (the density estimate, the split).
+Status hostSprayClassify(HostRun& r) {
+    const auto t0 = Clock::now();
+    HostFrame& h = r.host;
+    const RenderSettings& s = r.settings;
+    if (s.spray.enabled) {
+        h.spray.split(r.all, s);
+        h.particles = &h.spray.body.view;
+    } else {
+        h.spray.dropPositions.clear(), h.spray.dropVelocities.clear();
+    }
+    h.spray.addDiffuse(s.diffuse, s.camera, s.radiusM);
+    h.times.push_back({"spray-classify", msSince(t0)});
+    return okStatus();
+}
+
+// fluid-split: the body of water grouped by fluid index
+// (docs/pipeline.md#several-fluids), its positions made one contiguous
+// array for the backends (the caller's own when the view is one, else
+// gathered), and the particles' own radii checked.
+Status hostFluidSplit(HostRun& r) {
+    HostFrame& h = r.host;
+    const RenderSettings& s = r.settings;
+    const ParticleView& particles = *h.particles;
+    if (auto st = h.fluids.split(particles); !st) return st;
+    const std::vector<FluidSplit::Group>& groups = h.fluids.groups;
+    h.several = groups.size() > 1;
+    if (h.several)  // (one fluid was checked before the stages)
+        if (auto st = checkFrameMemory(s.camera.width, s.camera.height, physicalMemoryBytes(), s.noise.enabled,
+                                       s.whitening.enabled, int(groups.size()));
+            !st)
+            return st;
+    if (h.several && s.mesh)
+        return makeError("", "several fluids are drawn by the screen-space surface, not the mesh path");
+    if (s.view == View::FluidId && groups.empty())
+        return makeError("", "the fluid-id view needs a fluid index per particle (ParticleView::fluid)");
+    const std::byte* first = particles.positions.data;
+    if (particles.positions.contiguous() && reinterpret_cast<std::uintptr_t>(first) % alignof(glm::vec3) == 0) {
+        h.positions = {reinterpret_cast<const glm::vec3*>(first), particles.size()};
+    } else {
+        h.gathered.resize(particles.size());
+        for (std::size_t i = 0; i < h.gathered.size(); ++i) h.gathered[i] = particles.positions[i];
+        h.positions = h.gathered;
+    }
+    h.ownRadii = s.particleRadii && particles.radius.present();
+    if (h.ownRadii)
+        for (std::size_t i = 0; i < particles.size(); ++i)
+            if (const Status st = checkRadius(particles.radius[i]); !st)
+                return makeError("", "particle " + std::to_string(i) + " has radius " +
+                                         std::to_string(particles.radius[i]) + " m: " + st.error().message);
+    return okStatus();
+}
+
+// sph-field: the ray cast's SPH field of each fluid's own positions (the
+// centres' smoothing is the splat's only).
+Status hostSphField(HostRun& r) {
+    const auto t0 = Clock::now();
+    HostFrame& h = r.host;
+    const std::vector<FluidSplit::Group>& groups = h.fluids.groups;
+    h.fields.resize(h.several ? groups.size() : 1);
+    for (std::size_t l = 0; l < h.fields.size(); ++l)
+        buildSphField(h.several ? std::span<const glm::vec3>(groups[l].particles.positions) : h.positions,
+                      r.settings.radiusM, r.settings.raycast, h.fields[l]);
+    h.times.push_back({"sph-field", msSince(t0)});
+    return okStatus();
+}
+
+// anisotropy: each fluid's shapes: with anisotropic kernels (Yu & Turk 2013)
+// its ellipsoids and smoothed centres, else spheres of the particles' own
+// radii (or of the radius); the ray cast's rays start on (and only where)
+// shapes coverRadii times larger. Timed as the anisotropy when it is on.
+Status hostShapes(HostRun& r) {
+    HostFrame& h = r.host;
+    const RenderSettings& s = r.settings;
+    const bool anisotropic = s.anisotropy.enabled, raycast = s.raycast.enabled;
+    h.shaped = anisotropic || h.ownRadii || raycast;
+    if (!h.shaped) return okStatus();
+    const auto t0 = Clock::now();
+    const std::vector<FluidSplit::Group>& groups = h.fluids.groups;
+    h.ellipsoids.resize(h.several ? groups.size() : 1);
+    for (std::size_t l = 0; l < h.ellipsoids.size(); ++l) {
+        const ParticleView& view = h.several ? groups[l].particles.view : *h.particles;
+        const std::span<const glm::vec3> pos =
+            h.several ? std::span<const glm::vec3>(groups[l].particles.positions) : h.positions;
+        Ellipsoids& e = h.ellipsoids[l];
+        h.radii.clear();
+        if (h.ownRadii)
+            for (std::size_t i = 0; i < view.size(); ++i) h.radii.push_back(view.radius[i]);
+        if (anisotropic) {
+            computeAnisotropy(pos, s.radiusM, s.anisotropy, e, h.radii);
+        } else {
+            e.centres.clear();
+            e.shapes.resize(h.ownRadii ? h.radii.size() : pos.size());
+            for (std::size_t i = 0; i < e.shapes.size(); ++i)
+                e.shapes[i] = sphereShape(h.ownRadii ? h.radii[i] : s.radiusM);
+        }
+        if (raycast)
+            for (EllipsoidShape& shape : e.shapes) shape = scaledShape(shape, s.raycast.coverRadii);
+    }
+    if (anisotropic) {
+        h.times.push_back({"anisotropy", msSince(t0)});
+        if (!h.several) h.positions = h.ellipsoids[0].centres;
+    }
+    return okStatus();
+}
+
 void Renderer::prepareNoise(const ParticleView& particles, const RenderSettings& s) {
     const std::size_t n = particles.size();
     noiseIdz_.resize(n);
@@ -601,102 +741,31 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     Bounds box = s.scene.studioBounds;
     if (box.empty())
         for (std::size_t i = 0; i < all.size(); ++i) box.extend(all.positions[i]);
-    // With the spray on, the stages below see the body of water only.
-    sprayClassifyMs_ = -1.0;
-    if (drops) {
-        const auto t0 = std::chrono::steady_clock::now();
-        if (!spray_) spray_ = std::make_unique<SpraySplit>();
-        if (s.spray.enabled) spray_->split(all, s);
-        else spray_->dropPositions.clear(), spray_->dropVelocities.clear();
-        spray_->addDiffuse(s.diffuse, s.camera, s.radiusM);
-        // On the host for both backends (the density estimate, the split).
-        sprayClassifyMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    }
-    const ParticleView& particles = s.spray.enabled ? spray_->body.view : all;
-    // Several fluids (docs/pipeline.md#several-fluids): grouped by their index.
-    if (!fluids_) fluids_ = std::make_unique<FluidSplit>();
-    if (auto st = fluids_->split(particles); !st) return st;
-    const std::vector<FluidSplit::Group>& groups = fluids_->groups;
-    const bool several = groups.size() > 1;
-    if (several)  // (one fluid was checked above)
-        if (auto st = checkFrameMemory(s.camera.width, s.camera.height, physicalMemoryBytes(), s.noise.enabled,
-                                       s.whitening.enabled, int(groups.size()));
-            !st)
-            return st;
-    if (several && s.mesh) return makeError("", "several fluids are drawn by the screen-space surface, not the mesh path");
-    if (s.view == View::FluidId && groups.empty())
-        return makeError("", "the fluid-id view needs a fluid index per particle (ParticleView::fluid)");
+    // The host's stages (render/stages.cpp): the spray's split, the fluids,
+    // the ray cast's field, the shapes.
+    if (!host_) host_ = std::make_unique<HostFrame>();
+    HostFrame& h = *host_;
+    h.begin(all);
+    HostRun hostRun{s, all, h};
+    if (auto st = runHostStages(StageWhen{s}, hostRun); !st) return st;
+    const ParticleView& particles = *h.particles;
+    const std::vector<FluidSplit::Group>& groups = h.fluids.groups;
+    const bool several = h.several, shaped = h.shaped;
+    const bool anisotropic = s.anisotropy.enabled, raycast = s.raycast.enabled;
+    std::span<const glm::vec3> positions = h.positions;
     // Fluid k's material.
     auto shadingOf = [&](int k) {
         ShadingParams sh = s.shading;
         if (k >= 0 && std::size_t(k) < s.fluidMaterials.size()) sh.material = s.fluidMaterials[std::size_t(k)];
         return sh;
     };
-    // The backends read positions as one contiguous array: the caller's own
-    // when the view is one, else gathered here (a strided view).
-    std::span<const glm::vec3> positions;
-    const std::byte* first = particles.positions.data;
-    if (particles.positions.contiguous() && reinterpret_cast<std::uintptr_t>(first) % alignof(glm::vec3) == 0) {
-        positions = {reinterpret_cast<const glm::vec3*>(first), particles.size()};
-    } else {
-        gathered_.resize(particles.size());
-        for (std::size_t i = 0; i < gathered_.size(); ++i) gathered_[i] = particles.positions[i];
-        positions = gathered_;
-    }
-    // Anisotropic kernels (Yu & Turk 2013) and the particles' own radii: each
-    // fluid's own ellipsoids (and smoothed centres), on the host for both backends.
-    anisotropyMs_ = -1.0;
-    const bool anisotropic = s.anisotropy.enabled;
-    const bool ownRadii = s.particleRadii && particles.radius.present();
-    if (ownRadii)
-        for (std::size_t i = 0; i < particles.size(); ++i)
-            if (const Status st = checkRadius(particles.radius[i]); !st)
-                return makeError("", "particle " + std::to_string(i) + " has radius " +
-                                         std::to_string(particles.radius[i]) + " m: " + st.error().message);
-    const bool raycast = s.raycast.enabled;
-    fieldMs_ = -1.0;
-    if (raycast) {  // the field of each fluid's own positions (the centres' smoothing is the splat's only)
-        const auto t0 = std::chrono::steady_clock::now();
-        fields_.resize(several ? groups.size() : 1);
-        for (std::size_t l = 0; l < fields_.size(); ++l)
-            buildSphField(several ? std::span<const glm::vec3>(groups[l].particles.positions) : positions, s.radiusM,
-                          s.raycast, fields_[l]);
-        fieldMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    }
-    if (anisotropic || ownRadii || raycast) {
-        const auto t0 = std::chrono::steady_clock::now();
-        ellipsoids_.resize(several ? groups.size() : 1);
-        for (std::size_t l = 0; l < ellipsoids_.size(); ++l) {
-            const ParticleView& view = several ? groups[l].particles.view : particles;
-            const std::span<const glm::vec3> pos = several ? std::span<const glm::vec3>(groups[l].particles.positions)
-                                                           : positions;
-            Ellipsoids& e = ellipsoids_[l];
-            radii_.clear();
-            if (ownRadii)
-                for (std::size_t i = 0; i < view.size(); ++i) radii_.push_back(view.radius[i]);
-            if (anisotropic) {
-                computeAnisotropy(pos, s.radiusM, s.anisotropy, e, radii_);
-            } else {  // spheres of their own radii (or of the radius), at their own positions
-                e.centres.clear();
-                e.shapes.resize(ownRadii ? radii_.size() : pos.size());
-                for (std::size_t i = 0; i < e.shapes.size(); ++i)
-                    e.shapes[i] = sphereShape(ownRadii ? radii_[i] : s.radiusM);
-            }
-            // The raycast's rays start on (and only where) shapes coverRadii times larger.
-            if (raycast)
-                for (EllipsoidShape& shape : e.shapes) shape = scaledShape(shape, s.raycast.coverRadii);
-        }
-        if (anisotropic) anisotropyMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        if (anisotropic && !several) positions = ellipsoids_[0].centres;
-    }
-    const bool shaped = anisotropic || ownRadii || raycast;
     FrameSettings f;
     static_cast<StageParams&>(f) = s;  // every stage's parameters, whole
     f.camera = s.camera;
     f.radius = s.radiusM;
-    if (shaped && !several) f.shapes = ellipsoids_[0].shapes;
+    if (shaped && !several) f.shapes = h.ellipsoids[0].shapes;
     if (raycast) {
-        if (!several) f.field = &fields_[0];
+        if (!several) f.field = &h.fields[0];
         // The larger shapes' chords, calibrated as spheres of coverRadii r at
         // the same spacing (shared::thicknessWeight): the same thickness.
         const float spacing = s.thickness.spacingM > 0.0f ? s.thickness.spacingM : 2.0f * s.radiusM;
@@ -719,8 +788,8 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         f.whiteness = whiteness_;
     }
     if (drops) {
-        f.sprayPositions = spray_->dropPositions;
-        f.sprayVelocities = spray_->dropVelocities;
+        f.sprayPositions = h.spray.dropPositions;
+        f.sprayVelocities = h.spray.dropVelocities;
     }
     f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
     f.fluidDivisor = divisor;
@@ -735,7 +804,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     if (s.compositor && s.share) {
         ParticleRange r = *s.share;
         if (s.spray.enabled) {
-            const std::vector<std::uint32_t>& kept = spray_->kept;
+            const std::vector<std::uint32_t>& kept = h.spray.kept;
             r.begin = std::size_t(std::lower_bound(kept.begin(), kept.end(), std::uint32_t(s.share->begin)) - kept.begin());
             r.end = std::size_t(std::lower_bound(kept.begin(), kept.end(), std::uint32_t(s.share->end)) - kept.begin());
         }
@@ -776,17 +845,17 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
             // shaded on its own into its layer's images (at reduced resolution:
             // upsampled, shaded, its edges blended, E and T with them), then
             // composited front to back.
-            FluidSplit::Group& g = fluids_->groups[l];
+            FluidSplit::Group& g = h.fluids.groups[l];
             auto layer = [l](LayerImage what) { return layerSlot(int(l), what); };
             const std::span<const float> none;
             gatherValues(s.noise.enabled ? f.noiseIdz : none, g.indices, g.idz);
             gatherValues(s.noise.enabled ? f.noiseAmplitude : none, g.indices, g.amplitude);
             gatherValues(s.whitening.enabled ? f.whiteness : none, g.indices, g.whiteness);
             const std::span<const glm::vec3> centres =
-                anisotropic ? std::span<const glm::vec3>(ellipsoids_[l].centres) : g.particles.positions;
+                anisotropic ? std::span<const glm::vec3>(h.ellipsoids[l].centres) : g.particles.positions;
             const std::span<const EllipsoidShape> shapes =
-                shaped ? std::span<const EllipsoidShape>(ellipsoids_[l].shapes) : std::span<const EllipsoidShape>();
-            b.setFluid(centres, {g.particles.view, shapes, raycast ? &fields_[l] : nullptr, shadingOf(g.fluid), g.idz,
+                shaped ? std::span<const EllipsoidShape>(h.ellipsoids[l].shapes) : std::span<const EllipsoidShape>();
+            b.setFluid(centres, {g.particles.view, shapes, raycast ? &h.fields[l] : nullptr, shadingOf(g.fluid), g.idz,
                                  g.amplitude, g.whiteness});
             r.tag = "fluid " + std::to_string(g.fluid) + ": ";
             q.raw = layer(LayerImage::RawDepth), q.thickness = layer(LayerImage::Thickness);
@@ -818,7 +887,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
 Drawn Renderer::drawn(const RenderSettings& s) const {
     Drawn d{s.noise.enabled, s.whitening.enabled, drawsDrops(s), s.silhouette.enabled, {}, -1};
     const std::vector<FluidSplit::Group> none;
-    const std::vector<FluidSplit::Group>& groups = fluids_ ? fluids_->groups : none;
+    const std::vector<FluidSplit::Group>& groups = host_ ? host_->fluids.groups : none;
     if (groups.size() > 1)
         for (const FluidSplit::Group& g : groups) d.layerFluids.push_back(g.fluid);
     if (groups.size() == 1) d.singleFluid = groups[0].fluid;
@@ -833,9 +902,7 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
         // The host's own stages (not the backend's), first in the list.
         auto hostTimes = [&] {
             *timings = b.stageTimes();
-            if (anisotropyMs_ >= 0.0) timings->insert(timings->begin(), {"anisotropy", anisotropyMs_});
-            if (fieldMs_ >= 0.0) timings->insert(timings->begin(), {"sph-field", fieldMs_});
-            if (sprayClassifyMs_ >= 0.0) timings->insert(timings->begin(), {"spray-classify", sprayClassifyMs_});
+            if (host_) timings->insert(timings->begin(), host_->times.begin(), host_->times.end());
         };
         // Sort-last, not the root: the frame ended after the composite.
         if (s.compositor && !s.compositor->root()) {

@@ -146,13 +146,22 @@ Status runResolveSplat(StageRun& r) {
 // for a stage that is off: the check says which setting to turn on).
 using S = StageScope;
 const StageDecl kStages[] = {
-    // Host work, before the images: the spray's split, the ray cast's field, the kernels.
+    // Host work, before the images: the spray's split, the fluids, the ray cast's field, the shapes.
     {"spray-classify", S::Host, "particles (density, velocity)", "the body's particles, the drops",
-     [](const StageWhen& w) { return drawsDrops(w.settings); }, checkSpray, nullptr, nullptr},
+     [](const StageWhen& w) { return drawsDrops(w.settings); }, checkSpray, nullptr, nullptr, nullptr,
+     hostSprayClassify},
+    {"fluid-split", S::Host, "the body's particles (fluid index, radius)",
+     "each fluid's particles; the positions, contiguous", always, nullptr, nullptr, nullptr, nullptr, hostFluidSplit},
     {"sph-field", S::Host, "particles", "the SPH density grid of the ray cast",
-     [](const StageWhen& w) { return w.settings.raycast.enabled; }, checkRaycast, nullptr, nullptr},
-    {"anisotropy", S::Host, "particles", "one ellipsoid and centre per particle",
-     [](const StageWhen& w) { return w.settings.anisotropy.enabled; }, checkAnisotropy, nullptr, nullptr},
+     [](const StageWhen& w) { return w.settings.raycast.enabled; }, checkRaycast, nullptr, nullptr, nullptr,
+     hostSphField},
+    {"anisotropy", S::Host, "particles (radius)",
+     "one shape per particle (and with anisotropy its smoothed centre)",
+     [](const StageWhen& w) {
+         const RenderSettings& s = w.settings;
+         return s.anisotropy.enabled || s.raycast.enabled || s.particleRadii;
+     },
+     checkAnisotropy, nullptr, nullptr, nullptr, hostShapes},
     // The images: the scene, once.
     {"scene", S::Frame, "camera, studio, light", "SceneColor, SceneDepth", always, nullptr, DRIVERS(kSceneStage)},
     {"reduce-scene-depth", S::Frame, "SceneDepth", "LowSceneDepth", reduced, checkReduced,
@@ -235,6 +244,13 @@ Status runStage(Backend& b, std::string_view name, const StageIo& io) {
         return b.stageStatus(stage.name);
     }
     return makeError("", "no stage is named " + std::string(name));
+}
+
+Status runHostStages(const StageWhen& when, HostRun& r) {
+    for (const StageDecl& stage : kStages)
+        if (stage.scope == StageScope::Host && stage.runs(when))
+            if (auto st = stage.host(r); !st) return st;
+    return okStatus();
 }
 
 Status runScope(StageScope scope, const StageWhen& when, StageRun& r, bool timed) {

@@ -56,6 +56,22 @@ struct StageRun {
     void drive();
 };
 
+// What the Host stages read and write: the frame's settings and particles,
+// and the Renderer's host state (HostFrame, render/pipeline.cpp), which they
+// fill for the stages on the images.
+struct HostFrame;
+struct HostRun {
+    const RenderSettings& settings;
+    const ParticleView& all;  // every particle of the frame
+    HostFrame& host;
+};
+
+// The host stages' work (render/pipeline.cpp), named by their rows.
+Status hostSprayClassify(HostRun& r);
+Status hostFluidSplit(HostRun& r);
+Status hostSphField(HostRun& r);
+Status hostShapes(HostRun& r);
+
 struct StageDecl {
     const char* name;    // "silhouette"; per fluid prefixed "fluid 1: "
     StageScope scope;
@@ -66,14 +82,16 @@ struct StageDecl {
     // Its parameters and what the chosen view needs of it; nullptr: nothing to check.
     Status (*check)(const RenderSettings&);
     // Its drivers, one per kind of backend (defined in src/cpu/<stage>.cpp
-    // and src/gl/<stage>.cpp); nullptr for the Host and Readback stages,
-    // which the Renderer runs, and for work on the host alone.
+    // and src/gl/<stage>.cpp); nullptr for the Host stages (their `host`
+    // work), the read-back (the Renderer's) and work on the host alone.
     const StageDriver* cpu;
     const StageDriver* gl;
     // Host work around the driver (the renderer's side of the stage: a
     // camera change, the compositor); nullptr: the driver alone. It calls
     // r.drive() where the driver runs; an error stops the frame.
     Status (*run)(StageRun&) = nullptr;
+    // A Host stage's work; nullptr for the others.
+    Status (*host)(HostRun&) = nullptr;
 };
 
 // Every stage, host stages (before the images) first, in the order they run.
@@ -90,6 +108,10 @@ Status prepareStages(Backend& b);
 // Runs one stage's driver by name on `b`, on the images `io` names (a test
 // of a stage on its own); an error when no stage has that name.
 Status runStage(Backend& b, std::string_view name, const StageIo& io);
+
+// Runs the Host stages that run for `when`, in the list's order; the
+// first error.
+Status runHostStages(const StageWhen& when, HostRun& r);
 
 // Runs the stages of `scope` that run for `when`, in the list's order: each
 // bracketed by the backend's timing when `timed`, its failure (the call's
