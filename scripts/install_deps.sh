@@ -18,7 +18,8 @@
 # libzip (libzip-dev). The Python module is built with pybind11 (pybind11-dev,
 # python3-dev) and takes numpy arrays (python3-numpy). Sort-last rendering and
 # frame-parallel sequences over several processes use MPI (libopenmpi-dev;
-# openmpi-bin's mpirun runs the MPI tests).
+# openmpi-bin's mpirun runs the MPI tests). Scene geometry (meshes in OBJ,
+# PLY, STL, glTF and more) is read through Assimp (libassimp-dev).
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 SUDO=""
@@ -33,6 +34,6 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   libglfw3-dev libglx-mesa0 xvfb xauth libimgui-dev \
   libavcodec-dev libavformat-dev libswscale-dev libavutil-dev \
   libhdf5-dev libzip-dev pybind11-dev python3-dev python3-numpy \
-  libopenmpi-dev openmpi-bin \
+  libopenmpi-dev openmpi-bin libassimp-dev \
   clang libclang-rt-14-dev >/dev/null
 echo "meniscus: dependencies installed"
