@@ -25,11 +25,23 @@ namespace {
 // The camera (chooseCamera), radius and studio box for a whole sequence.
 Status fixCamera(const RenderJob& o, const std::vector<glm::vec3>& samplePoints, float radius,
                  const Bounds& studio, RenderSettings& settings) {
-    auto camera = chooseCamera(o, samplePoints, radius);
+    // The scene's objects are framed with the particles (the whole tank, not
+    // the water alone) and the studio is built around both (its floor under the tank).
+    Bounds box = studio;
+    std::vector<glm::vec3> points = samplePoints;
+    if (settings.geometry)
+        if (const Bounds g = settings.geometry->bounds(); !g.empty())
+            for (int c = 0; c < 8; ++c) {
+                const glm::vec3 corner{c & 1 ? g.max.x : g.min.x, c & 2 ? g.max.y : g.min.y,
+                                       c & 4 ? g.max.z : g.min.z};
+                points.push_back(corner);
+                box.extend(corner);
+            }
+    auto camera = chooseCamera(o, points, radius);
     if (!camera) return camera.error();
     settings.camera = *camera;
     settings.radiusM = radius;
-    settings.scene.studioBounds = studio;
+    settings.scene.studioBounds = box;
     return okStatus();
 }
 

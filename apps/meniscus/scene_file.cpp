@@ -60,7 +60,8 @@ public:
         // The tables' options: typed. A path is the file's folder's; a list of
         // objects (camera.path's keys) is the option's JSON text.
         Result<OptionValue> value = makeError("", "");
-        if (v.is_array() && !v.empty() && v.front().is_object()) value = OptionValue(v.dump());
+        if (option == "geometry") value = geometryValue(v);
+        else if (v.is_array() && !v.empty() && v.front().is_object()) value = OptionValue(v.dump());
         else value = typedValue(v);
         if (!value) return fail(key, value.error().message);
         if (job && job->path) {
@@ -72,6 +73,31 @@ public:
         out_.typed.push_back({key, option, std::move(*value)});
         out_.keyOfOption.emplace_back(name, key);
         return okStatus();
+    }
+
+    // The `geometry` key: a path or an object (docs/geometry.md), or a list
+    // of them, as --geometry's list. Paths, the objects' files among them,
+    // are the file's folder's.
+    Result<OptionValue> geometryValue(const json& v) const {
+        std::vector<std::string> specs;
+        auto one = [&](json e) -> Status {
+            if (e.is_string()) {
+                specs.push_back(path(e.get<std::string>()));
+                return okStatus();
+            }
+            if (!e.is_object()) return makeError("", "expected a file name or a geometry object ({\"box\": ...})");
+            for (const char* key : {"file", "splishsplash"})
+                if (auto it = e.find(key); it != e.end() && it->is_string()) *it = path(it->get<std::string>());
+            specs.push_back(e.dump());
+            return okStatus();
+        };
+        if (v.is_array()) {
+            for (const json& e : v)
+                if (auto st = one(e); !st) return st.error();
+        } else if (auto st = one(v); !st) {
+            return st.error();
+        }
+        return OptionValue(std::move(specs));
     }
 
     // A JSON value as an option's typed value: true/false, a whole number, a

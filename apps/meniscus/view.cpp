@@ -368,6 +368,33 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         model.message = "copied " + line;
     };
 
+    // The scene geometry's objects as the panel shows them: a new list of
+    // objects is listed all as the settings have them; an object unticked
+    // stays hidden when the look changes (which reads the geometry again).
+    const auto applyVisibility = [&]() -> bool {
+        if (!settings.geometry) {
+            model.geometryNames.clear();
+            model.geometryShown.clear();
+            return false;
+        }
+        const std::vector<GeometryObject>& objects = settings.geometry->objects;
+        std::vector<std::string> names;
+        for (const GeometryObject& g : objects) names.push_back(g.name);
+        if (names != model.geometryNames) {
+            model.geometryNames = std::move(names);
+            model.geometryShown.clear();
+            for (const GeometryObject& g : objects) model.geometryShown.push_back(g.visible ? 1 : 0);
+            return false;
+        }
+        bool same = true;
+        for (std::size_t k = 0; k < objects.size(); ++k) same = same && objects[k].visible == (model.geometryShown[k] != 0);
+        if (same) return false;
+        auto shown = std::make_shared<SceneGeometry>(*settings.geometry);
+        for (std::size_t k = 0; k < objects.size(); ++k) shown->objects[k].visible = model.geometryShown[k] != 0;
+        settings.geometry = std::move(shown);
+        return true;
+    };
+
     bool stale = true;  // the frame on the backend does not show the current particles, camera and size
     int rendered = 0;
     long liveNumber = -1;      // the simulated frame on screen
@@ -378,6 +405,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     using Clock = std::chrono::steady_clock;
     Clock::time_point nextFrameDue = Clock::now(), lastShown = Clock::now();
     while (!win.shouldClose()) {
+        if (applyVisibility()) stale = true;
         WindowInput in = win.takeInput();
         // What the panels take is theirs (a script's events are meant for the picture).
         if (ui && panels && ui->wantsMouse()) in.drag = glm::dvec2(0.0), in.scroll = 0.0;

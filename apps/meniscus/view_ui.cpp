@@ -298,6 +298,16 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
                 req.lookChanged = true;
             }
         }
+        if (!m.geometryNames.empty() && header("Scene geometry", true)) {
+            for (std::size_t k = 0; k < m.geometryNames.size() && k < m.geometryShown.size(); ++k) {
+                bool shown = m.geometryShown[k] != 0;
+                const std::string label = m.geometryNames[k] + "##geometry" + std::to_string(k);
+                if (check(label.c_str(), shown)) {
+                    m.geometryShown[k] = shown ? 1 : 0;
+                    req.geometryChanged = true;
+                }
+            }
+        }
         if (header("Timings", true)) {
             ImGui::Text("%s", m.backend.c_str());
             ImGui::Text("%.1f frames/s shown, last draw %.1f ms", m.framesPerSecond, m.drawMs);

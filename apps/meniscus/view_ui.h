@@ -44,6 +44,10 @@ struct UiModel {
     double framesPerSecond = 0.0;        // shown per second, smoothed
     std::vector<StageTime> stages;       // per-stage times (GL: GPU timer queries)
     std::string scenePath = "scene.json";  // the scene file's name for Save and Load
+    // The scene geometry's objects (RenderSettings::geometry): name, and
+    // whether it is drawn (a checkbox each; 1 = shown).
+    std::vector<std::string> geometryNames;
+    std::vector<char> geometryShown;
     std::string message;                 // the last thing done or gone wrong, shown at the bottom
     bool showHelp = false;
 };
@@ -54,6 +58,7 @@ struct UiRequests {
     bool fovChanged = false;     // model.camera.fovYDegrees changed
     bool copyCamera = false, resetCamera = false;
     bool save = false, load = false;
+    bool geometryChanged = false;  // model.geometryShown changed
     long seek = -1;              // show this frame (timeline slider, step buttons)
 };
 

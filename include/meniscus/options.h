@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -93,6 +94,9 @@ struct RenderOptions {
     std::optional<glm::vec3> light;  // toward the key light, world space; unset: ShadingParams' default
     // auto: studio for a still camera, floor when the camera moves (the caller decides).
     std::string background = "auto";
+    // Scene geometry drawn around the liquid (readGeometry, docs/geometry.md):
+    // each a mesh file, a SPlisHSPlasH scene file, or geometry objects as JSON.
+    std::vector<std::string> geometry;
     // The stages' own parameters (params.h), as the pipeline takes them: the
     // surface noise and foam, the whitening, the spray, the silhouette
     // (each off unless its `enabled`), the thickness floor, the ray cast's
@@ -369,6 +373,14 @@ Status checkRenderOptions(const RenderOptions& o);
 // later (chooseCamera, resolveRadius). An error names the option at fault.
 // `diffuse`: a diffuse layer will be drawn (so view spray needs no spray).
 Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse = false);
+
+// The scene geometry of `specs` (RenderOptions::geometry: readGeometry of
+// each, appended in order), turned from the data's up axis to +y as the
+// particles are. The last list read is kept (keyed by the texts, the files'
+// sizes and modification times, and the axis), so asking again is free.
+// Errors name the option and the file.
+Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<std::string>& specs,
+                                                            const glm::vec3& upAxis);
 
 // The scene with the options' overrides (duration, fps, radius, solver; unset
 // ones leave the scene's); an error naming the option at fault.

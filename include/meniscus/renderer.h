@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "meniscus/camera.h"
+#include "meniscus/geometry.h"
 #include "meniscus/io.h"
 #include "meniscus/mesh.h"
 #include "meniscus/params.h"
@@ -105,6 +106,14 @@ struct RenderSettings : StageParams {
     // is out of range, a position or normal is not finite, or the normals are
     // not one per vertex.
     const TriangleMesh* mesh = nullptr;
+    // The world around the liquid (include/meniscus/geometry.h,
+    // docs/geometry.md): objects drawn into the scene before the liquid, in
+    // the studio's light, so the liquid is hidden behind them and refracts
+    // what lies behind it; the studio's floor and walls are built around them
+    // and the particles together. Shared and immutable: a changed scene is a
+    // new object. Null or empty: the studio alone. An error when a mesh is
+    // invalid (TriangleMesh::validate with normals).
+    std::shared_ptr<const SceneGeometry> geometry;
     // Sort-last rendering over several processes
     // (include/meniscus/sort_last.h): when set, each process renders its own
     // share of the particles with the same settings, the splat runs as the

@@ -105,6 +105,10 @@ struct FrameSettings : StageParams {
     // The mesh of the mesh path (RenderSettings::mesh, checked by the
     // Renderer), or null. Valid for this frame only.
     const TriangleMesh* mesh = nullptr;
+    // The scene geometry (RenderSettings::geometry, checked by the Renderer),
+    // or null: drawn into the scene layer by the geometry stage. Valid for
+    // this frame only.
+    const SceneGeometry* geometry = nullptr;
     // Sort-last rendering (RenderSettings::compositor, meniscus/sort_last.h),
     // or null: the Renderer then runs splatPartial, the compositor and
     // resolveSplat in place of splat. The backends only carry it (for a

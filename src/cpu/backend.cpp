@@ -53,6 +53,14 @@ Image<glm::vec4>& CpuBackend::colorToPaint(Slot s) {
     return colors_[int(s)];
 }
 
+Image<float>& CpuBackend::scalarToPaint(Slot s) {
+    if (int(s) == sceneDepthSlot_) {
+        scalars_[int(s)] = scene_.depth;
+        sceneDepthSlot_ = -1;
+    }
+    return scalars_[int(s)];
+}
+
 void CpuBackend::castScene(Slot color, Slot depth) {
     if (!sceneValid_ || !(sceneCamera_ == s_.camera) || !(sceneStudio_ == s_.studio)) {
         scene_ = cpu::castScene(s_.camera, s_.studio);

@@ -49,6 +49,7 @@ public:
     // A colour slot to paint over in place: when it names the cached scene,
     // a copy of the scene (the cache itself is never painted over).
     Image<glm::vec4>& colorToPaint(Slot s);
+    Image<float>& scalarToPaint(Slot s);
     // The scene cast (the scene stage): kept while camera and studio stay the
     // same, its slots naming the cached layer itself (no per-frame copy).
     void castScene(Slot color, Slot depth);

@@ -4,10 +4,13 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
+#include <mutex>
 #include <sstream>
 #include <type_traits>
 
+#include "meniscus/geometry.h"
 #include "meniscus/particles.h"
 #include "meniscus/sim.h"
 #include "meniscus/whitewater.h"
@@ -178,6 +181,12 @@ std::vector<RenderOptionSpec> makeRenderTable() {
     t.push_back(row("light", G::Look, "",
                     "Direction toward the key light x,y,z, world space (default -0.4,1,0.55: above, front left)",
                     [](R& o) -> OptionRef { return &o.light; }));
+    t.push_back(row("geometry", G::Look, "",
+                    "Scene geometry drawn around the liquid, repeatable: a mesh file (OBJ, PLY, STL, glTF, ...), a "
+                    "SPlisHSPlasH scene file (its rigid bodies and boundaries; walls between the camera and the "
+                    "liquid cut away), or geometry objects as JSON (a box, sphere, plane or file with a transform "
+                    "and a material; docs/geometry.md). In the data's coordinates and units",
+                    [](R& o) -> OptionRef { return &o.geometry; }));
     // Extras.
     t.push_back(row("fluid-attribute", G::Extras, "",
                     "Several fluids: the integer particle attribute giving each particle's fluid, 0 to 3 (default: "
@@ -980,6 +989,61 @@ Result<WhitewaterParams> whitewaterParams(const WhitewaterOptions& o) {
     return p;
 }
 
+namespace {
+
+// One geometry spec's identity for the cache below: the text, and for a file
+// its size and modification time (an edited file is read again).
+std::string geometryKey(const std::string& spec) {
+    std::string key = spec;
+    std::error_code ec;
+    const std::filesystem::path path(spec);
+    if (!spec.empty() && spec.front() != '{' && spec.front() != '[' && std::filesystem::is_regular_file(path, ec)) {
+        key += '\n' + std::to_string(std::filesystem::file_size(path, ec));
+        key += '\n' + std::to_string(std::filesystem::last_write_time(path, ec).time_since_epoch().count());
+    }
+    return key;
+}
+
+}  // namespace
+
+Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<std::string>& specs,
+                                                            const glm::vec3& upAxis) {
+    auto up = upRotation(upAxis);
+    if (!up) return up.error();
+    // The last list read, kept: the viewer makes settings again on every
+    // change of an option, and a sequence once per frame range.
+    static std::mutex mutex;
+    static std::vector<std::string> lastKeys;
+    static std::shared_ptr<const SceneGeometry> last;
+    std::vector<std::string> keys;
+    for (const std::string& spec : specs) keys.push_back(geometryKey(spec));
+    keys.push_back(vec3Text(upAxis));
+    {
+        std::lock_guard lock(mutex);
+        if (last && keys == lastKeys) return last;
+    }
+    auto all = std::make_shared<SceneGeometry>();
+    for (const std::string& spec : specs) {
+        auto one = readGeometry(spec);
+        if (!one) {
+            const bool inline_ = !spec.empty() && (spec.front() == '{' || spec.front() == '[');
+            return makeError(one.error().file, (inline_ ? "--geometry: " : "--geometry " + spec + ": ") +
+                                                   one.error().message);
+        }
+        all->append(std::move(*one));
+    }
+    // Turned like the particles, so the objects stay where the data has them.
+    if (!up->identity)
+        for (GeometryObject& object : all->objects) {
+            for (glm::vec3& p : object.mesh.positions) p = up->apply(p);
+            for (glm::vec3& n : object.mesh.normals) n = up->apply(n);
+        }
+    std::lock_guard lock(mutex);
+    lastKeys = std::move(keys);
+    last = std::move(all);
+    return last;
+}
+
 Status checkRenderOptions(const RenderOptions& o) {
     if (auto st = checkOptions(renderOptionTable(), o); !st) return st;
     return checkOptions(mesherOptionTable(), o.mesher);
@@ -1079,6 +1143,11 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
     if (!(o.radius >= 0.0f)) return makeError("", "--radius must be a positive number of metres");
     if (o.radius != 0.0f)
         if (auto st = checkRadius(o.radius); !st) return makeError("", "--radius: " + st.error().message);
+    if (!o.geometry.empty()) {
+        auto geometry = renderGeometry(o.geometry, o.up);
+        if (!geometry) return geometry.error();
+        s.geometry = std::move(*geometry);
+    }
     return s;
 }
 

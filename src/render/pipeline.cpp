@@ -739,8 +739,15 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         if (auto st = checkSortLast(s, all); !st) return st;
     // The studio is built around every particle, spray included.
     Bounds box = s.scene.studioBounds;
-    if (box.empty())
+    if (box.empty()) {
         for (std::size_t i = 0; i < all.size(); ++i) box.extend(all.positions[i]);
+        // And around the scene's objects: the floor under the tank, not inside it.
+        if (s.geometry)
+            if (const Bounds g = s.geometry->bounds(); !g.empty()) {
+                box.extend(g.min);
+                box.extend(g.max);
+            }
+    }
     // The host's stages (render/stages.cpp): the spray's split, the fluids,
     // the ray cast's field, the shapes.
     if (!host_) host_ = std::make_unique<HostFrame>();
@@ -774,6 +781,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     f.shading = shadingOf(groups.size() == 1 ? groups[0].fluid : -1);
     f.particles = particles;
     f.mesh = s.mesh;
+    f.geometry = s.geometry.get();
     if (s.noise.enabled) {
         prepareNoise(particles, s);
         f.noiseIdz = noiseIdz_;

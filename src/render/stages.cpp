@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/fluid_scale.h"
+#include "core/geometry_draw.h"
 #include "shared/thickness.h"
 
 namespace meniscus {
@@ -14,10 +15,10 @@ bool drawsDrops(const RenderSettings& s) { return s.spray.enabled || !s.diffuse.
 
 // The stages' drivers, each defined in its stage's own file.
 #define MENISCUS_STAGE_DRIVERS(X)                                                                          \
-    X(kSceneStage) X(kReduceSceneDepthStage) X(kSplatStage) X(kSplatPartialStage) X(kResolveSplatStage)     \
+    X(kSceneStage) X(kGeometryStage) X(kReduceSceneDepthStage) X(kSplatStage) X(kSplatPartialStage) X(kResolveSplatStage)     \
     X(kFillHolesStage) X(kSmoothStage) X(kNormalsStage) X(kRasteriseStage) X(kRaycastStage) X(kNoiseStage) \
     X(kUpsampleStage) X(kWhiteningStage) X(kShadeStage) X(kFluidEdgesStage) X(kCompositeFluidsStage)        \
-    X(kSilhouetteStage) X(kSprayStage)
+    X(kSilhouetteStage) X(kSprayStage) X(kGlassStage)
 #define MENISCUS_DECLARE_DRIVER(name) extern const StageDriver name;
 namespace cpu {
 MENISCUS_STAGE_DRIVERS(MENISCUS_DECLARE_DRIVER)
@@ -97,6 +98,25 @@ Status checkSpray(const RenderSettings& s) {
     return settingError("spray.", checkSprayParams(s.spray));
 }
 
+bool drawsGeometry(const StageWhen& w) {
+    const SceneGeometry* g = w.settings.geometry.get();
+    if (!g) return false;
+    for (const GeometryObject& o : g->objects)
+        if (drawsObject(o)) return true;
+    return false;
+}
+
+Status checkGeometry(const RenderSettings& s) {
+    if (!s.geometry) return okStatus();
+    for (std::size_t i = 0; i < s.geometry->objects.size(); ++i) {
+        const GeometryObject& o = s.geometry->objects[i];
+        if (auto st = o.mesh.validate(true); !st)
+            return makeError("", "RenderSettings::geometry: object " + std::to_string(i) + " (" + o.name +
+                                     "): " + st.error().message);
+    }
+    return okStatus();
+}
+
 Status checkAnisotropy(const RenderSettings& s) {
     if (!s.anisotropy.enabled) return okStatus();
     return settingError("anisotropy.", checkAnisotropyParams(s.anisotropy));
@@ -164,6 +184,8 @@ const StageDecl kStages[] = {
      checkAnisotropy, nullptr, nullptr, nullptr, hostShapes},
     // The images: the scene, once.
     {"scene", S::Frame, "camera, studio, light", "SceneColor, SceneDepth", always, nullptr, DRIVERS(kSceneStage)},
+    {"geometry", S::Frame, "SceneColor, SceneDepth, the geometry, light", "SceneColor, SceneDepth", drawsGeometry,
+     checkGeometry, DRIVERS(kGeometryStage)},
     {"reduce-scene-depth", S::Frame, "SceneDepth", "LowSceneDepth", reduced, checkReduced,
      DRIVERS(kReduceSceneDepthStage), runReduceSceneDepth},
     // Each surface (the one fluid, or each fluid's layer), at the splat's resolution.
@@ -202,6 +224,8 @@ const StageDecl kStages[] = {
      [](const StageWhen& w) { return w.settings.silhouette.enabled; }, checkSilhouette, DRIVERS(kSilhouetteStage)},
     {"spray", S::Finish, "SceneDepth, Depth, Color, the drops", "Color, Spray",
      [](const StageWhen& w) { return drawsDrops(w.settings); }, nullptr, DRIVERS(kSprayStage)},
+    {"glass", S::Finish, "SceneDepth, Depth, Color, the glass", "Color",
+     [](const StageWhen& w) { return drawsGlass(w.settings.geometry.get()); }, nullptr, DRIVERS(kGlassStage)},
     // After the stages, render() reads the images it returns back to the host.
     {"readback", S::Readback, "Color and the AOVs", "the host's Aovs", always, nullptr, nullptr, nullptr},
 };
@@ -217,14 +241,15 @@ Status checkStages(const RenderSettings& s) {
     return okStatus();
 }
 
-void StageRun::drive() {
-    const StageDriver* driver = backend.kind() == BackendKind::Cpu ? stage->cpu : stage->gl;
-    driver->run(backend, io);
+const StageDriver* driverFor(const StageDecl& stage, const Backend& b) {
+    return b.kind() == BackendKind::Cpu ? stage.cpu : stage.gl;
 }
+
+void StageRun::drive() { driverFor(*stage, backend)->run(backend, io); }
 
 Status prepareStages(Backend& b) {
     for (const StageDecl& stage : kStages) {
-        const StageDriver* driver = b.kind() == BackendKind::Cpu ? stage.cpu : stage.gl;
+        const StageDriver* driver = driverFor(stage, b);
         if (driver && driver->prepare)
             if (auto st = driver->prepare(b); !st)
                 return makeError(st.error().file, std::string("preparing the stage ") + stage.name + ": " +
@@ -236,7 +261,7 @@ Status prepareStages(Backend& b) {
 Status runStage(Backend& b, std::string_view name, const StageIo& io) {
     for (const StageDecl& stage : kStages) {
         if (stage.name != name) continue;
-        const StageDriver* driver = b.kind() == BackendKind::Cpu ? stage.cpu : stage.gl;
+        const StageDriver* driver = driverFor(stage, b);
         if (!driver) return makeError("", "the stage " + std::string(name) + " has no driver on " + b.name());
         if (driver->prepare)
             if (auto st = driver->prepare(b); !st) return st;
@@ -256,7 +281,7 @@ Status runHostStages(const StageWhen& when, HostRun& r) {
 Status runScope(StageScope scope, const StageWhen& when, StageRun& r, bool timed) {
     for (const StageDecl& stage : kStages) {
         if (stage.scope != scope || !stage.runs(when)) continue;
-        if (!stage.run && !(r.backend.kind() == BackendKind::Cpu ? stage.cpu : stage.gl))
+        if (!stage.run && !driverFor(stage, r.backend))
             return makeError("", std::string("the stage ") + stage.name + " has no driver on " + r.backend.name());
         const std::string name = r.tag + stage.name;
         r.stage = &stage;

@@ -97,6 +97,9 @@ struct StageDecl {
 // Every stage, host stages (before the images) first, in the order they run.
 std::span<const StageDecl> frameStages();
 
+// The stage's driver on `b`'s kind of backend (null: none there).
+const StageDriver* driverFor(const StageDecl& stage, const Backend& b);
+
 // The checks of every stage that runs for `s`, in order: the first error.
 Status checkStages(const RenderSettings& s);
 

@@ -1,0 +1,39 @@
+// The visible objects and the faces drawn of each (geometry_draw.h).
+#include "core/geometry_draw.h"
+
+namespace meniscus {
+
+bool drawsObject(const GeometryObject& object) { return object.visible && object.mesh.triangleCount() > 0; }
+
+bool drawsGlass(const SceneGeometry* geometry) {
+    if (!geometry) return false;
+    for (const GeometryObject& o : geometry->objects)
+        if (o.material.glass && drawsObject(o)) return true;
+    return false;
+}
+
+Faces sceneFaces(const GeometryObject& object) {
+    return object.cutaway || object.material.glass ? Faces::Back : Faces::All;
+}
+
+const TriangleMesh& facesSeenFrom(const TriangleMesh& m, const glm::vec3& eye, Faces faces, TriangleMesh* scratch) {
+    if (faces == Faces::All) return m;
+    // The vertices stay as they are (indices keep their meaning).
+    scratch->positions = m.positions;
+    scratch->normals = m.normals;
+    scratch->indices.clear();
+    scratch->indices.reserve(m.indices.size());
+    const std::size_t n = m.positions.size();
+    for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+        const std::uint32_t a = m.indices[t], b = m.indices[t + 1], c = m.indices[t + 2];
+        if (a >= n || b >= n || c >= n) continue;
+        const glm::vec3 p = m.positions[a];
+        const glm::vec3 outward = glm::cross(m.positions[b] - p, m.positions[c] - p);
+        const bool front = glm::dot(outward, eye - p) > 0.0f;
+        if (front != (faces == Faces::Front)) continue;
+        scratch->indices.insert(scratch->indices.end(), {a, b, c});
+    }
+    return *scratch;
+}
+
+}  // namespace meniscus

@@ -1,0 +1,38 @@
+// What of the scene geometry (include/meniscus/geometry.h) a frame draws, said
+// once for both backends' geometry and glass stages (src/cpu/geometry.cpp,
+// src/gl/geometry.cpp): the visible objects, and of each which faces.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "meniscus/geometry.h"
+
+namespace meniscus {
+
+// Whether the frame draws `object` at all: visible, with triangles.
+bool drawsObject(const GeometryObject& object);
+// Whether the geometry has a drawn glass object (the glass stage's fronts).
+bool drawsGlass(const SceneGeometry* geometry);
+
+// Which triangles of a mesh are drawn, by the side of their plane the eye is
+// on (a triangle wound counter-clockwise seen from outside, its outside
+// being the side its normal cross(b - a, c - a) points to).
+enum class Faces {
+    All,
+    Back,   // those whose outside faces away from the eye (the far walls' insides)
+    Front,  // those whose outside faces the eye
+};
+
+// The triangles of `mesh` seen from `eye` that `faces` keeps: the mesh itself
+// for Faces::All, else a copy in *scratch with the same vertices and only the
+// kept triangles. Exact and on the host: the same triangles on both backends.
+const TriangleMesh& facesSeenFrom(const TriangleMesh& mesh, const glm::vec3& eye, Faces faces, TriangleMesh* scratch);
+
+// The faces the scene layer draws of `object`: of a cut-away container
+// (GeometryObject::cutaway) and of glass only the back faces (a tank seen
+// from outside loses the walls between the camera and the liquid, and its
+// lid seen from above, as ParaView users clip them; glass's front faces are
+// drawn over the liquid by the glass stage); of anything else all.
+Faces sceneFaces(const GeometryObject& object);
+
+}  // namespace meniscus

@@ -1,0 +1,115 @@
+// CPU geometry stage (geometry.h, docs/geometry.md#how-it-is-drawn). The
+// liquid is composited into the user's scene as in van der Laan et al. 2009
+// (US 8,947,430: the opaque scene first, the fluid splatted against its depth
+// and refracting its colour) and Instant Liquids (Cords & Staadt 2008, §3):
+// this stage adds the scene's objects to the scene layer the studio began.
+// The per-pixel shading (shared::geometryRadiance) is the GL twin's too.
+#include "cpu/geometry.h"
+#include "cpu/cpu_backend.h"
+
+#include "core/geometry_draw.h"
+#include "cpu/filter_util.h"
+#include "cpu/raster_mesh.h"
+#include "shared/geometry_shade.h"
+#include "shared/sky.h"
+
+namespace meniscus::cpu {
+
+namespace {
+
+// How one object's raster goes into the picture.
+enum class Blend {
+    Opaque,  // shaded by geometryRadiance, colour and depth written
+    Glass,   // glassRadiance over the colour there, the depth kept
+};
+
+// One object's raster (rasteriseMesh against `depth`) shaded into `color`
+// (and `depth` when opaque) where nearer than `depth` and, when given,
+// `alsoBehind` (the liquid's depth, for glass fronts).
+void shadeRaster(const Camera& camera, const MeshRaster& r, const GeometryMaterial& mat, const glm::vec3& light,
+                 Blend blend, const Image<float>* alsoBehind, Image<glm::vec4>& color, const Image<float>& depthIn,
+                 Image<float>* depthOut) {
+    const int W = camera.width, H = camera.height;
+    const glm::vec3 right = camera.right(), up = camera.trueUp(), back = camera.back();
+    const float invF = 1.0f / camera.focalPx(), halfW = 0.5f * float(W), halfH = 0.5f * float(H);
+    forEachRow(H, [&](int y) {
+        const glm::vec3 rowDir = (-(float(y) + 0.5f - halfH) * invF) * up - back;
+        for (int x = 0; x < W; ++x) {
+            const float z = r.depth.at(x, y);
+            if (!(z < depthIn.at(x, y))) continue;  // nothing drawn here (+inf), or behind
+            if (alsoBehind && !(z < alsoBehind->at(x, y))) continue;
+            const glm::vec3 nv = r.normal.at(x, y);
+            const glm::vec3 n = nv.x * right + nv.y * up + nv.z * back;
+            const float vx = (float(x) + 0.5f - halfW) * invF;
+            const glm::vec3 d = rowDir + vx * right;
+            const float invLen = 1.0f / std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+            const glm::vec3 v = -d * invLen;
+            glm::vec4& c = color.at(x, y);
+            if (blend == Blend::Opaque) {
+                c = glm::vec4(shared::geometryRadiance(n, v, light, mat.baseColor, mat.roughness, mat.metalness), 1.0f);
+                (*depthOut).at(x, y) = z;
+            } else {
+                // Over a transparent background (no studio) the glass is seen
+                // against black, its alpha made whole.
+                const glm::vec3 below = glm::vec3(c) * c.a;
+                c = glm::vec4(shared::glassRadiance(below, n, v, light, mat.ior, mat.tint, mat.thicknessM), 1.0f);
+            }
+        }
+    });
+}
+
+}  // namespace
+
+void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const shared::Studio& studio,
+                  Image<glm::vec4>& color, Image<float>& depth) {
+    const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
+    TriangleMesh scratch;
+    // The opaque objects, then glass's back faces over them.
+    for (const bool glass : {false, true})
+        for (const GeometryObject& object : geometry.objects) {
+            if (!drawsObject(object) || object.material.glass != glass) continue;
+            const TriangleMesh& mesh = facesSeenFrom(object.mesh, camera.eye, sceneFaces(object), &scratch);
+            const MeshRaster r = rasteriseMesh(camera, mesh, &depth);
+            shadeRaster(camera, r, object.material, light, glass ? Blend::Glass : Blend::Opaque, nullptr, color,
+                        depth, &depth);
+        }
+}
+
+void drawGlassFronts(const Camera& camera, const SceneGeometry& geometry, const shared::Studio& studio,
+                     const Image<float>& liquidDepth, const Image<float>& sceneDepth, Image<glm::vec4>& color) {
+    const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
+    TriangleMesh scratch;
+    for (const GeometryObject& object : geometry.objects) {
+        if (!drawsObject(object) || !object.material.glass) continue;
+        const TriangleMesh& mesh = facesSeenFrom(object.mesh, camera.eye, Faces::Front, &scratch);
+        const MeshRaster r = rasteriseMesh(camera, mesh, &sceneDepth);
+        shadeRaster(camera, r, object.material, light, Blend::Glass, &liquidDepth, color, sceneDepth, nullptr);
+    }
+}
+
+// ---- The stage's CPU driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+void runGeometry(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    if (!s.geometry) return;
+    drawGeometry(s.camera, *s.geometry, s.studio, c.colorToPaint(io.at.sceneColor), c.scalarToPaint(io.at.sceneDepth));
+}
+
+void runGlass(Backend& b, const StageIo& io) {
+    CpuBackend& c = CpuBackend::of(b);
+    const FrameSettings& s = c.frame();
+    if (!s.geometry) return;
+    drawGlassFronts(s.camera, *s.geometry, s.studio, c.scalar(io.at.depth), c.scalar(io.at.sceneDepth),
+                    c.colorToPaint(io.at.color));
+}
+
+}  // namespace
+
+extern const StageDriver kGeometryStage = {nullptr, runGeometry};
+extern const StageDriver kGlassStage = {nullptr, runGlass};
+
+}  // namespace meniscus::cpu

@@ -1,0 +1,111 @@
+// GL geometry stage (geometry.h): per drawn object, the mesh path's
+// rasteriser draws its triangles against the scene depth, then
+// shaders/geometry_shade.comp shades the covered pixels with
+// shared::geometryRadiance (the CPU's formula, src/shared/geometry_shade.h)
+// and writes them into the scene layer. The compositing is van der Laan et
+// al. 2009's (US 8,947,430) and Instant Liquids' (Cords & Staadt 2008, §3):
+// the opaque scene first, the liquid against its depth.
+#include "gl/geometry.h"
+#include "gl/gl_backend.h"
+
+#include "core/geometry_draw.h"
+#include "gl/dispatch.h"
+#include "gl/shaders.h"
+#include "shared/sky.h"
+
+namespace meniscus::gl {
+
+namespace {
+constexpr int kGroup = 64;  // local_size_x of geometry_shade.comp
+}  // namespace
+
+Result<GeometryDrawer> GeometryDrawer::create() {
+    GeometryDrawer d;
+    auto raster = MeshRasteriser::create();
+    if (!raster) return raster.error();
+    d.raster_ = std::move(*raster);
+    auto shade = loadComputeProgram("geometry_shade.comp");
+    if (!shade) return shade.error();
+    d.shade_ = std::move(*shade);
+    return d;
+}
+
+void GeometryDrawer::drawObject(const FrameParams& frame, const TriangleMesh& mesh, const GeometryMaterial& m,
+                                const glm::vec3& light, int mode, const GpuImage* limit, GpuImage& color,
+                                GpuImage& depth) {
+    const int W = frame.size.x, H = frame.size.y;
+    raster_.run(frame, mesh, &depth, objectDepth_, objectNormal_);
+    glUseProgram(shade_.id());
+    glUniform3f(0, light.x, light.y, light.z);
+    glUniform3f(1, m.baseColor.x, m.baseColor.y, m.baseColor.z);
+    glUniform2f(2, m.roughness, m.metalness);
+    glUniform1i(3, mode);
+    glUniform3f(4, m.tint.x, m.tint.y, m.tint.z);
+    glUniform2f(5, m.ior, m.thicknessM);
+    glUniform1i(6, limit ? 1 : 0);
+    objectDepth_.bind(1);
+    objectNormal_.bind(2);
+    color.bind(3);
+    depth.bind(4);
+    (limit ? *limit : objectDepth_).bind(5);  // unread without uLimit
+    glDispatchCompute(ceilDiv(GLuint(W), kGroup), GLuint(H), 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glUseProgram(0);
+}
+
+void GeometryDrawer::run(const FrameParams& frame, const glm::vec3& eye, const SceneGeometry& geometry,
+                         const shared::Studio& studio, GpuImage& color, GpuImage& depth) {
+    if (frame.size.x <= 0 || frame.size.y <= 0) return;
+    // The same bits as the CPU's: computed once on the host.
+    const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
+    // The opaque objects, then glass's back faces over them (as the CPU).
+    for (const bool glass : {false, true})
+        for (const GeometryObject& object : geometry.objects) {
+            if (!drawsObject(object) || object.material.glass != glass) continue;
+            const TriangleMesh& mesh = facesSeenFrom(object.mesh, eye, sceneFaces(object), &scratch_);
+            drawObject(frame, mesh, object.material, light, glass ? 1 : 0, nullptr, color, depth);
+        }
+}
+
+void GeometryDrawer::runGlassFronts(const FrameParams& frame, const glm::vec3& eye, const SceneGeometry& geometry,
+                                    const shared::Studio& studio, const GpuImage& liquidDepth, GpuImage& sceneDepth,
+                                    GpuImage& color) {
+    if (frame.size.x <= 0 || frame.size.y <= 0) return;
+    const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
+    for (const GeometryObject& object : geometry.objects) {
+        if (!drawsObject(object) || !object.material.glass) continue;
+        const TriangleMesh& mesh = facesSeenFrom(object.mesh, eye, Faces::Front, &scratch_);
+        drawObject(frame, mesh, object.material, light, 1, &liquidDepth, color, sceneDepth);
+    }
+}
+
+// ---- The stage's GL driver (core/backend.h StageDriver), named by its row
+// in the stage list (src/render/stages.cpp).
+
+namespace {
+
+// Draws over the scene slots: the cached studio cast is no longer what they hold.
+void runGeometry(GlBackend& g, const StageIo& io) {
+    const FrameSettings& s = g.frame();
+    if (!s.geometry) return;
+    g.forget(io.at.sceneColor);
+    g.forget(io.at.sceneDepth);
+    g.pass<GeometryDrawer>().run(g.params(), s.camera.eye, *s.geometry, s.studio, g.img(io.at.sceneColor),
+                                 g.img(io.at.sceneDepth));
+}
+
+// The glass's front faces over the finished picture (the scene's depth is
+// only read: the glass stage writes the colour alone).
+void runGlass(GlBackend& g, const StageIo& io) {
+    const FrameSettings& s = g.frame();
+    if (!s.geometry) return;
+    g.pass<GeometryDrawer>().runGlassFronts(g.params(), s.camera.eye, *s.geometry, s.studio, g.img(io.at.depth),
+                                            g.img(io.at.sceneDepth), g.img(io.at.color));
+}
+
+}  // namespace
+
+extern const StageDriver kGeometryStage = {glPrepare<GeometryDrawer>, glRun<runGeometry>};
+extern const StageDriver kGlassStage = {glPrepare<GeometryDrawer>, glRun<runGlass>};
+
+}  // namespace meniscus::gl
