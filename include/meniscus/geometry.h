@@ -6,6 +6,8 @@
 // boundaries of a SPlisHSPlasH scene file.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -18,6 +20,25 @@
 #include "meniscus/types.h"
 
 namespace meniscus {
+
+namespace sim {
+struct Scene;
+}
+
+// Limits of the readers, checked before anything is read or allocated, so a
+// hostile or broken file costs an error, not the machine's memory.
+namespace geometry_limits {
+// A mesh file (or a mesh in memory) larger than this is refused unread.
+inline constexpr std::uintmax_t kMaxMeshFileBytes = std::uintmax_t(1) << 30;  // 1 GiB
+// A mesh file's triangles, all its meshes together: more is refused before
+// the merged mesh is allocated (2^28 triangles are ~10 GiB as drawn).
+inline constexpr std::size_t kMaxTriangles = std::size_t(1) << 28;
+// A geometry JSON file or text (ours or SPlisHSPlasH's): more is refused unread.
+inline constexpr std::uintmax_t kMaxJsonBytes = std::uintmax_t(16) << 20;  // 16 MiB
+// JSON nested deeper than this is refused before any value is built (a deeply
+// nested document can overflow the stack of a recursive reader).
+inline constexpr int kMaxJsonDepth = 64;
+}  // namespace geometry_limits
 
 // How a piece of geometry looks. Colours are linear RGB.
 struct GeometryMaterial {
@@ -86,7 +107,38 @@ Result<SceneGeometry> readGeometry(const std::string& spec, const std::filesyste
 Result<SceneGeometry> parseGeometry(std::string_view jsonText, const std::string& source,
                                     const std::filesystem::path& baseDir);
 
-// Primitives, in world coordinates, with flat faces (per-face vertices).
+// One mesh file through Assimp: every mesh of the file merged into one
+// TriangleMesh in the file's world coordinates (its node transforms applied),
+// triangles only (points and lines dropped), unit per-vertex normals; the
+// material's base colour is the file's when it has one material (textures are
+// not read). The object's name is the file's name. An error (naming the file)
+// for a missing, unreadable, oversized or empty file, a format Assimp does not
+// read, or non-finite vertices.
+Result<GeometryObject> readGeometryMesh(const std::filesystem::path& file);
+// The same for a file already in memory: `name` names it in errors and its
+// extension (".obj", ".stl", ...) picks the format. Files the mesh refers to
+// (an OBJ's .mtl, a glTF's external buffers) are not found from memory.
+Result<GeometryObject> parseGeometryMesh(ByteView data, const std::string& name);
+
+// Moves `mesh` by the affine transform `m` (positions) and its inverse
+// transpose (normals, renormalised); a transform that mirrors (negative
+// determinant) reverses every triangle's winding, so triangles stay
+// counter-clockwise seen from outside.
+void transformMesh(TriangleMesh& mesh, const glm::mat4& m);
+// Gives every vertex whose normal is missing, non-finite or zero the
+// area-weighted mean of its triangles' normals (+y when every one of them is
+// degenerate); a mesh with no normals gets them all so.
+void fillMissingNormals(TriangleMesh& mesh);
+
+// The built-in simulator's scene as drawn geometry: one object per collider,
+// where the simulator puts it (a mesh collider scaled, then translated, as
+// sim::Simulator does), and the domain's walls as a cut-away box named
+// "domain". An error when a mesh collider's file cannot be read.
+Result<SceneGeometry> simulationGeometry(const sim::Scene& scene);
+
+// Primitives, in world coordinates, counter-clockwise seen from outside. The
+// box and the plane have flat faces (per-face vertices); the sphere shares its
+// vertices, with radial normals.
 TriangleMesh makeBoxMesh(const glm::vec3& min, const glm::vec3& max);
 // A UV sphere whose facets are within ~0.1 % of the radius.
 TriangleMesh makeSphereMesh(const glm::vec3& center, float radius);
