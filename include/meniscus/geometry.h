@@ -48,8 +48,8 @@ struct GeometryMaterial {
     // Transparent (glass): the liquid inside is seen through it.
     bool glass = false;
     float ior = 1.5f;                          // index of refraction of the glass
-    glm::vec3 tint{0.92f, 0.97f, 0.96f};       // transmittance through `thicknessM` of glass
-    float thicknessM = 0.004f;                 // wall thickness, metres
+    glm::vec3 tint{0.92f, 0.97f, 0.96f};       // transmittance of 1 cm of the glass (Beer-Lambert)
+    float thicknessM = 0.004f;                 // wall thickness, metres (the path is longer at an angle)
 
     bool operator==(const GeometryMaterial&) const = default;
 };
