@@ -9,6 +9,7 @@
 // timer queries on GL -- with the CPU and GL lines of a stage side by side.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -24,6 +25,8 @@
 #include <unistd.h>
 
 #include "meniscus/camera.h"
+#include "meniscus/geometry.h"
+#include "meniscus/options.h"
 #include "meniscus/io.h"
 #include "meniscus/params.h"
 #include "meniscus/particles.h"
@@ -47,6 +50,36 @@ double medianMs(int repeat, const std::function<void()>& fn) {
         ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     return median(ms);
+}
+
+// A wavy ground of about `triangles` triangles, twice the particles' width,
+// just under them (--geometry-triangles).
+GeometryObject groundGrid(const std::vector<glm::vec3>& points, long triangles) {
+    Bounds box;
+    for (const glm::vec3& p : points) box.extend(p);
+    const glm::vec3 c = box.center(), e = glm::max(box.extent(), glm::vec3(1e-3f));
+    const int side = std::max(1, int(std::sqrt(double(triangles) / 2.0)));
+    const float w = 2.0f * std::max(e.x, e.z), step = w / float(side), amp = 0.01f * w;
+    GeometryObject g;
+    g.name = "ground";
+    TriangleMesh& m = g.mesh;
+    for (int j = 0; j <= side; ++j)
+        for (int i = 0; i <= side; ++i) {
+            const float x = c.x - 0.5f * w + float(i) * step, z = c.z - 0.5f * w + float(j) * step;
+            const float kx = 12.0f / w, kz = 9.0f / w;
+            const float y = box.min.y - amp * (1.0f + std::sin(kx * x) * std::cos(kz * z));
+            m.positions.push_back({x, y, z});
+            const float dx = -amp * kx * std::cos(kx * x) * std::cos(kz * z);
+            const float dz = amp * kz * std::sin(kx * x) * std::sin(kz * z);
+            m.normals.push_back(glm::normalize(glm::vec3(-dx, 1.0f, -dz)));
+        }
+    for (int j = 0; j < side; ++j)
+        for (int i = 0; i < side; ++i) {
+            const std::uint32_t a = std::uint32_t(j * (side + 1) + i), b = a + 1, d = a + std::uint32_t(side + 1),
+                                e2 = d + 1;
+            m.indices.insert(m.indices.end(), {a, d, b, b, d, e2});
+        }
+    return g;
 }
 
 // The isosurface path's phases (median of `repeat` extractions), then the
@@ -244,6 +277,15 @@ int main(int argc, char** argv) {
                  "spray-drop stage (the split's time is part of the frame's own)");
     app.add_flag("--whiten", whiten,
                  "Also run the velocity whitening stage (and white water in the shading), from the file's velocities");
+    std::vector<std::string> geometry;
+    app.add_option("--geometry", geometry,
+                   "Scene geometry drawn around the liquid (as render's --geometry: a mesh file, a SPlisHSPlasH "
+                   "scene, JSON objects); the geometry stage's line times it");
+    long groundTriangles = 0;
+    app.add_option("--geometry-triangles", groundTriangles,
+                   "Also a generated ground of about this many triangles (a wavy grid twice the particles' width "
+                   "under them): the geometry stage's cost per triangle")
+        ->check(CLI::NonNegativeNumber);
     app.add_option("--openvdb", openvdb,
                    "The OpenVDB peer binary (scripts/build_openvdb_peer.sh builds build/openvdb_mesh), run on the same "
                    "frame at the same voxel size");
@@ -306,6 +348,21 @@ int main(int argc, char** argv) {
     RenderSettings settings;
     print("auto-camera", res, n, medianMs(repeat, [&] { settings.camera = autoFrameCamera(set->positions, radius.radius, base); }));
     settings.radiusM = radius.radius;
+    if (!geometry.empty()) {
+        auto g = renderGeometry(geometry, {0.0f, 1.0f, 0.0f});
+        if (!g) {
+            std::fprintf(stderr, "bench: error: %s\n", g.error().describe().c_str());
+            return 2;
+        }
+        settings.geometry = *g;
+    }
+    if (groundTriangles > 0) {
+        SceneGeometry more = settings.geometry ? *settings.geometry : SceneGeometry{};
+        more.objects.push_back(groundGrid(set->positions, groundTriangles));
+        settings.geometry = std::make_shared<SceneGeometry>(std::move(more));
+    }
+    if (settings.geometry)
+        std::printf("%-34s %-10s %9zu triangles\n", "geometry", "-", settings.geometry->triangleCount());
 
     // Each configuration: filter name, parameters.
     std::vector<std::pair<std::string, FilterParams>> configs;

@@ -258,7 +258,8 @@ TEST_F(GlBackend, NoParticlesGivesTheSceneAsOnTheCpu) {
 }
 
 // Scene geometry (docs/geometry.md): the real frame inside a cut-away tank,
-// a rough sphere in front of it and a polished metal box behind it; every
+// a rough sphere in front of it, a polished metal box behind it and a glass
+// box around part of it; every
 // AOV within the pipeline's tolerances, the geometry's own pixels among the
 // colours (the mesh path's rasteriser on both sides, the shared shading
 // formula). The same renderer again (the studio's cache under the geometry)
@@ -288,6 +289,12 @@ TEST_F(GlBackend, SceneGeometryMatchesCpu) {
     metal.material.roughness = 0.15f;
     metal.material.baseColor = {0.9f, 0.8f, 0.5f};
     g->objects.push_back(metal);
+    GeometryObject glass;  // its back faces in the scene layer, its front faces over the liquid
+    glass.name = "glass";
+    glass.mesh = makeBoxMesh(c - glm::vec3(0.2f, 0.3f, 0.3f) * e, c + glm::vec3(0.3f, 0.2f, 0.3f) * e);
+    glass.material.glass = true;
+    glass.material.tint = {0.5f, 0.9f, 0.8f};
+    g->objects.push_back(glass);
     f.settings.geometry = g;
     auto gl = Renderer::create(BackendChoice::Gl);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();

@@ -16,6 +16,7 @@
 #include <glm/glm.hpp>
 
 #include "meniscus/camera_path.h"
+#include "meniscus/sim.h"
 #include "meniscus/options.h"
 #include "meniscus/params.h"
 #include "meniscus/particles.h"
@@ -197,5 +198,9 @@ Result<ParticleSet> fixForSequence(const RenderJob& o, const Frames& frames, Ren
 // box's eight corners, the studio around the box. Every frame, the first
 // (which an emitter may leave empty) included, is seen by the same camera.
 Status fixForBox(const RenderJob& o, const Bounds& box, float radiusM, RenderSettings& settings);
+// The simulation's world drawn (its colliders, its domain's walls cut away
+// unless --cut-away off: simulationGeometry) added to `settings`' geometry,
+// then the camera and the studio fixed for the domain (fixForBox).
+Status fixForScene(const RenderJob& o, const sim::Scene& scene, RenderSettings& settings);
 
 }  // namespace meniscus::app

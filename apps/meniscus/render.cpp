@@ -413,7 +413,7 @@ int renderSimulation(Cluster& cluster, const RenderJob& o, RenderSettings& setti
     if (!motion) return fail(motion.error().describe());
     if (!isMp4(o.output))
         if (auto st = frames.checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error().describe());
-    if (auto st = fixForBox(o, domainBounds(*scene), scene->params.radius, settings); !st)
+    if (auto st = fixForScene(o, *scene, settings); !st)
         return fail(withSceneKey(st.error().describe(), o.sceneFile, o.sceneKeys));
     settings.colorOnly = !isExr(o.output);
     std::cerr << "meniscus: simulating " << o.input << ": " << simulator.size() << " particles, r = "

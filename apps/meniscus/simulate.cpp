@@ -57,7 +57,7 @@ Result<FrameImages> openImages(const SimulateJob& o, const sim::Scene& sc) {
     look.radius = sc.params.radius;  // the simulation's particles, exactly
     auto settings = settingsFromOptions(look);
     if (!settings) return settings.error();
-    if (auto st = fixForBox(look, domainBounds(sc), sc.params.radius, *settings); !st) return st.error();
+    if (auto st = fixForScene(look, sc, *settings); !st) return st.error();
     settings->colorOnly = !isExr(o.render);  // a PNG needs only the colour AOV
     auto renderer = makeRenderer(look);
     if (!renderer) return renderer.error();

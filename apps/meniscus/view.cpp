@@ -281,7 +281,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
             sized.width = fb.x;
             sized.height = fb.y;
         }
-        if (auto st = fixForBox(sized, domainBounds(*scene), scene->params.radius, settings); !st)
+        if (auto st = fixForScene(sized, *scene, settings); !st)
             return fail(st.error().describe());
         estimatedRadius = settings.radiusM;
         homeCamera = settings.camera;
@@ -339,6 +339,8 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         s->camera = settings.camera;
         s->radiusM = re->radius > 0.0f ? re->radius : estimatedRadius;
         s->scene.studioBounds = settings.scene.studioBounds;
+        if (scene)  // the simulation's world, as it was added when the view opened
+            if (auto world = simulationGeometry(*scene); world) addGeometry(*s, std::move(*world), re->cutAway == "on");
         std::string set;
         for (const std::string& c : changedOptions(look, *re)) set += (set.empty() ? "" : " ") + c;
         if (!set.empty()) std::cerr << "meniscus: set " << set << "\n";

@@ -97,6 +97,10 @@ struct RenderOptions {
     // Scene geometry drawn around the liquid (readGeometry, docs/geometry.md):
     // each a mesh file, a SPlisHSPlasH scene file, or geometry objects as JSON.
     std::vector<std::string> geometry;
+    // on: containers' walls between the camera and the liquid are not drawn
+    // (GeometryObject::cutaway: a SPlisHSPlasH scene's walls, a simulation's
+    // domain); off: every wall drawn.
+    std::string cutAway = "on";
     // The stages' own parameters (params.h), as the pipeline takes them: the
     // surface noise and foam, the whitening, the spray, the silhouette
     // (each off unless its `enabled`), the thickness floor, the ray cast's
@@ -376,11 +380,14 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse = fal
 
 // The scene geometry of `specs` (RenderOptions::geometry: readGeometry of
 // each, appended in order), turned from the data's up axis to +y as the
-// particles are. The last list read is kept (keyed by the texts, the files'
+// particles are; `cutAway` false (--cut-away off) draws containers whole. The last list read is kept (keyed by the texts, the files'
 // sizes and modification times, and the axis), so asking again is free.
 // Errors name the option and the file.
 Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<std::string>& specs,
-                                                            const glm::vec3& upAxis);
+                                                            const glm::vec3& upAxis, bool cutAway = true);
+// `settings`' geometry with `more`'s objects after its own (a simulation's
+// colliders and domain); `cutAway` false draws every wall of them.
+void addGeometry(RenderSettings& settings, SceneGeometry more, bool cutAway);
 
 // The scene with the options' overrides (duration, fps, radius, solver; unset
 // ones leave the scene's); an error naming the option at fault.

@@ -187,6 +187,12 @@ std::vector<RenderOptionSpec> makeRenderTable() {
                     "liquid cut away), or geometry objects as JSON (a box, sphere, plane or file with a transform "
                     "and a material; docs/geometry.md). In the data's coordinates and units",
                     [](R& o) -> OptionRef { return &o.geometry; }));
+    t.push_back(oneOf(row("cut-away", G::Look, "",
+                          "on: the walls of containers (a SPlisHSPlasH scene's walls, a simulation's domain) between "
+                          "the camera and the liquid are not drawn, the inside of the far walls shows; off: every "
+                          "wall drawn",
+                          [](R& o) -> OptionRef { return &o.cutAway; }),
+                      {"on", "off"}));
     // Extras.
     t.push_back(row("fluid-attribute", G::Extras, "",
                     "Several fluids: the integer particle attribute giving each particle's fluid, 0 to 3 (default: "
@@ -344,6 +350,7 @@ std::vector<RenderOptionSpec> makeRenderTable() {
         {"anisotropy-keep-surface", "Anisotropy"},
         {"anisotropy-smoothing", "Anisotropy", 0.0f, 1.0f},
         {"background", "Scene and light"},
+        {"cut-away", "Scene and light"},
         {"light", "Scene and light", -1.0f, 1.0f},
         {"noise", "Noise and foam"},
         {"noise-bump", "Noise and foam", 0.0f, 1.0f},
@@ -1007,7 +1014,7 @@ std::string geometryKey(const std::string& spec) {
 }  // namespace
 
 Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<std::string>& specs,
-                                                            const glm::vec3& upAxis) {
+                                                            const glm::vec3& upAxis, bool cutAway) {
     auto up = upRotation(upAxis);
     if (!up) return up.error();
     // The last list read, kept: the viewer makes settings again on every
@@ -1018,6 +1025,7 @@ Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<st
     std::vector<std::string> keys;
     for (const std::string& spec : specs) keys.push_back(geometryKey(spec));
     keys.push_back(vec3Text(upAxis));
+    keys.push_back(cutAway ? "cut away" : "whole");
     {
         std::lock_guard lock(mutex);
         if (last && keys == lastKeys) return last;
@@ -1032,6 +1040,8 @@ Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<st
         }
         all->append(std::move(*one));
     }
+    if (!cutAway)
+        for (GeometryObject& object : all->objects) object.cutaway = false;
     // Turned like the particles, so the objects stay where the data has them.
     if (!up->identity)
         for (GeometryObject& object : all->objects) {
@@ -1042,6 +1052,14 @@ Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<st
     lastKeys = std::move(keys);
     last = std::move(all);
     return last;
+}
+
+void addGeometry(RenderSettings& settings, SceneGeometry more, bool cutAway) {
+    if (!cutAway)
+        for (GeometryObject& object : more.objects) object.cutaway = false;
+    auto all = std::make_shared<SceneGeometry>(settings.geometry ? *settings.geometry : SceneGeometry{});
+    all->append(std::move(more));
+    settings.geometry = std::move(all);
 }
 
 Status checkRenderOptions(const RenderOptions& o) {
@@ -1144,7 +1162,7 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
     if (o.radius != 0.0f)
         if (auto st = checkRadius(o.radius); !st) return makeError("", "--radius: " + st.error().message);
     if (!o.geometry.empty()) {
-        auto geometry = renderGeometry(o.geometry, o.up);
+        auto geometry = renderGeometry(o.geometry, o.up, o.cutAway == "on");
         if (!geometry) return geometry.error();
         s.geometry = std::move(*geometry);
     }

@@ -25,9 +25,12 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/glm.hpp>
+#endif
 
-#include "shared/sky.h"
-#include "shared/studio_shade.h"
+#include "sky.h"
+#include "studio_shade.h"
+
+#ifdef __cplusplus
 namespace meniscus::shared {
 using vec3 = glm::vec3;
 using std::clamp;
