@@ -291,3 +291,36 @@ TEST(GeometryStage, LiquidInAGlassIsSeenThroughItsWalls) {
     EXPECT_LT(b.r, 0.7f * a.r) << a.r << " " << b.r;
     EXPECT_GT(b.g, 0.7f * a.g) << a.g << " " << b.g;
 }
+
+// One Renderer over frames: the scene with its geometry is drawn once and
+// kept while the camera, studio and geometry stay; a new geometry object, a
+// hidden object or a new camera draws it again (each frame the same as a
+// fresh renderer's).
+TEST(GeometryStage, AReusedRendererKeepsTheDrawnGeometryUntilItChanges) {
+    const float r = 0.02f;
+    const std::vector<glm::vec3> pts = test::jitteredBlock({10, 6, 4}, 2.0f * r, 0.0f, {-0.2f, -0.1f, -0.1f});
+    RenderSettings s;
+    s.radiusM = r;
+    s.camera = frontCamera(2.0f, 96, 72);
+    s.anisotropy.enabled = false;
+    auto g = std::make_shared<SceneGeometry>();
+    g->objects.push_back(boxObject({-0.5f, -0.3f, -0.5f}, {0.5f, -0.15f, -0.3f}));
+    g->objects.push_back(boxObject({0.25f, -0.1f, 0.2f}, {0.4f, 0.1f, 0.3f}, glm::vec3(0.1f, 0.2f, 0.9f)));
+    auto hidden = std::make_shared<SceneGeometry>(*g);
+    hidden->objects[1].visible = false;
+    Renderer reused;
+    std::vector<Image<glm::vec4>> pictures;
+    for (int k = 0; k < 5; ++k) {
+        s.geometry = k == 2 ? hidden : g;
+        if (k == 4) s.camera.eye.x += 0.3f;
+        auto a = reused.render(pts, s);
+        auto b = Renderer().render(pts, s);
+        ASSERT_TRUE(a.ok() && b.ok());
+        EXPECT_TRUE(sameBits(a->color, b->color)) << k;
+        pictures.push_back(a->color);
+    }
+    EXPECT_TRUE(sameBits(pictures[0], pictures[1]));
+    EXPECT_FALSE(sameBits(pictures[1], pictures[2]));  // the blue box hidden
+    EXPECT_TRUE(sameBits(pictures[0], pictures[3]));   // and shown again
+    EXPECT_FALSE(sameBits(pictures[3], pictures[4]));
+}

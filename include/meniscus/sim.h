@@ -52,6 +52,11 @@ struct Collider {
     std::filesystem::path mesh;    // Kind::Mesh: the file (relative to the scene file's folder)
     glm::vec3 scale{1.0f};         // Kind::Mesh
     glm::vec3 translate{0.0f};     // Kind::Mesh, metres
+    // How it is drawn (render scene.json, simulate --render, view --simulate):
+    // the JSON text of its "material" object, as scene geometry's
+    // (docs/geometry.md; e.g. {"glass": true}); empty: the default. The
+    // simulator itself does not read it.
+    std::string material;
 };
 
 // A block of fluid filled with particles on a cubic lattice of spacing 2r:

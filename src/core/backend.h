@@ -106,9 +106,9 @@ struct FrameSettings : StageParams {
     // Renderer), or null. Valid for this frame only.
     const TriangleMesh* mesh = nullptr;
     // The scene geometry (RenderSettings::geometry, checked by the Renderer),
-    // or null: drawn into the scene layer by the geometry stage. Valid for
-    // this frame only.
-    const SceneGeometry* geometry = nullptr;
+    // or null: drawn into the scene layer by the geometry stage. Shared, so a
+    // backend may keep what it drew of it while it stays the same object.
+    std::shared_ptr<const SceneGeometry> geometry;
     // Sort-last rendering (RenderSettings::compositor, meniscus/sort_last.h),
     // or null: the Renderer then runs splatPartial, the compositor and
     // resolveSplat in place of splat. The backends only carry it (for a

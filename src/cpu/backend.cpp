@@ -29,11 +29,11 @@ void CpuBackend::endStage() {
 // Hand the frame's images over instead of copying them (tens of MB a frame
 // at 1280x720); the cached scene layer is copied, it is kept.
 Image<float> CpuBackend::readScalar(Slot slot) {
-    return int(slot) == sceneDepthSlot_ ? scene_.depth : std::move(scalars_[int(slot)]);
+    return int(slot) == sceneDepthSlot_ ? named_->depth : std::move(scalars_[int(slot)]);
 }
 
 Image<glm::vec4> CpuBackend::readColor(Slot slot) {
-    return int(slot) == sceneColorSlot_ ? scene_.color : std::move(colors_[int(slot)]);
+    return int(slot) == sceneColorSlot_ ? named_->color : std::move(colors_[int(slot)]);
 }
 
 void CpuBackend::writeColor(Slot slot, Image<glm::vec4> image) {
@@ -47,7 +47,7 @@ Status CpuBackend::present(Slot, int, int, int) {
 
 Image<glm::vec4>& CpuBackend::colorToPaint(Slot s) {
     if (int(s) == sceneColorSlot_) {
-        colors_[int(s)] = scene_.color;
+        colors_[int(s)] = named_->color;
         sceneColorSlot_ = -1;
     }
     return colors_[int(s)];
@@ -55,7 +55,7 @@ Image<glm::vec4>& CpuBackend::colorToPaint(Slot s) {
 
 Image<float>& CpuBackend::scalarToPaint(Slot s) {
     if (int(s) == sceneDepthSlot_) {
-        scalars_[int(s)] = scene_.depth;
+        scalars_[int(s)] = named_->depth;
         sceneDepthSlot_ = -1;
     }
     return scalars_[int(s)];
@@ -67,13 +67,30 @@ void CpuBackend::castScene(Slot color, Slot depth) {
         sceneCamera_ = s_.camera;
         sceneStudio_ = s_.studio;
         sceneValid_ = true;
+        withGeometryValid_ = false;
     }
+    named_ = &scene_;
     sceneColorSlot_ = int(color);
     sceneDepthSlot_ = int(depth);
 }
 
+void CpuBackend::paintSceneGeometry(Slot color, Slot depth,
+                                    const std::function<void(Image<glm::vec4>&, Image<float>&)>& draw) {
+    if (int(color) != sceneColorSlot_ || int(depth) != sceneDepthSlot_) {
+        draw(colorToPaint(color), scalarToPaint(depth));
+        return;
+    }
+    if (!withGeometryValid_ || drawnGeometry_ != s_.geometry) {
+        withGeometry_ = scene_;
+        draw(withGeometry_.color, withGeometry_.depth);
+        drawnGeometry_ = s_.geometry;
+        withGeometryValid_ = true;
+    }
+    named_ = &withGeometry_;
+}
+
 const SceneLayer& CpuBackend::sceneLayer(Slot color, Slot depth, SceneLayer* copy) const {
-    if (int(color) == sceneColorSlot_ && int(depth) == sceneDepthSlot_) return scene_;
+    if (int(color) == sceneColorSlot_ && int(depth) == sceneDepthSlot_) return *named_;
     *copy = {this->color(color), scalar(depth)};
     return *copy;
 }

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -40,8 +42,8 @@ public:
     const FrameSettings& frame() const { return s_; }
     std::span<const glm::vec3> positions() const { return positions_; }
     // A slot's image to read (the cached scene's when the slot names it).
-    const Image<float>& scalar(Slot s) const { return int(s) == sceneDepthSlot_ ? scene_.depth : scalars_[int(s)]; }
-    const Image<glm::vec4>& color(Slot s) const { return int(s) == sceneColorSlot_ ? scene_.color : colors_[int(s)]; }
+    const Image<float>& scalar(Slot s) const { return int(s) == sceneDepthSlot_ ? named_->depth : scalars_[int(s)]; }
+    const Image<glm::vec4>& color(Slot s) const { return int(s) == sceneColorSlot_ ? named_->color : colors_[int(s)]; }
     // A slot's image to write.
     Image<float>& scalarOut(Slot s) { return scalars_[int(s)]; }
     Image<glm::vec3>& vec3(Slot s) { return vec3s_[int(s)]; }
@@ -53,6 +55,12 @@ public:
     // The scene cast (the scene stage): kept while camera and studio stay the
     // same, its slots naming the cached layer itself (no per-frame copy).
     void castScene(Slot color, Slot depth);
+    // The geometry stage: `draw` paints the frame's geometry over a copy of
+    // the scene cast, kept (and not drawn again) while the camera, the studio
+    // and the geometry object stay the same, the slots then naming it; when
+    // the slots do not name the cast (a stage run alone on other images),
+    // `draw` paints them in place.
+    void paintSceneGeometry(Slot color, Slot depth, const std::function<void(Image<glm::vec4>&, Image<float>&)>& draw);
     // The scene as one layer, for the shading: the cached cast when the slots
     // name it (always, in the pipeline), else a copy into *copy.
     const SceneLayer& sceneLayer(Slot color, Slot depth, SceneLayer* copy) const;
@@ -68,6 +76,11 @@ private:
     Camera sceneCamera_;
     shared::Studio sceneStudio_;
     SceneLayer scene_;
+    // The cast with the geometry drawn over it, for the geometry it was drawn with.
+    SceneLayer withGeometry_;
+    std::shared_ptr<const SceneGeometry> drawnGeometry_;
+    bool withGeometryValid_ = false;
+    const SceneLayer* named_ = &scene_;  // the layer the scene slots name: the cast, or the cast with geometry
     int sceneColorSlot_ = -1, sceneDepthSlot_ = -1;
     std::string stage_;
     std::chrono::steady_clock::time_point t0_;

@@ -96,7 +96,9 @@ void runGeometry(Backend& b, const StageIo& io) {
     CpuBackend& c = CpuBackend::of(b);
     const FrameSettings& s = c.frame();
     if (!s.geometry) return;
-    drawGeometry(s.camera, *s.geometry, s.studio, c.colorToPaint(io.at.sceneColor), c.scalarToPaint(io.at.sceneDepth));
+    c.paintSceneGeometry(io.at.sceneColor, io.at.sceneDepth, [&](Image<glm::vec4>& color, Image<float>& depth) {
+        drawGeometry(s.camera, *s.geometry, s.studio, color, depth);
+    });
 }
 
 void runGlass(Backend& b, const StageIo& io) {

@@ -781,7 +781,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     f.shading = shadingOf(groups.size() == 1 ? groups[0].fluid : -1);
     f.particles = particles;
     f.mesh = s.mesh;
-    f.geometry = s.geometry.get();
+    f.geometry = s.geometry;
     if (s.noise.enabled) {
         prepareNoise(particles, s);
         f.noiseIdz = noiseIdz_;

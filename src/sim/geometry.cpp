@@ -56,6 +56,15 @@ Result<SceneGeometry> simulationGeometry(const sim::Scene& scene) {
                 break;
             }
         }
+        if (!c.material.empty()) {
+            // Read by the geometry's own reader (one schema, one set of checks),
+            // on a placeholder shape that carries it.
+            const std::string where = "colliders[" + std::to_string(i) + "]";
+            auto carried = parseGeometry(R"({"box": {"min": [0, 0, 0], "max": [1, 1, 1]}, "material": )" + c.material + "}",
+                                         where, {});
+            if (!carried) return makeError("", where + ".material: " + carried.error().message);
+            g.material = carried->objects.front().material;
+        }
         out.objects.push_back(std::move(g));
     }
     GeometryObject walls;

@@ -373,6 +373,11 @@ Collider readCollider(const json& v, const std::string& path, const fs::path& fo
     } else {
         fail(probe.path("kind"), "unknown collider kind \"" + shown(kind) + "\"; the kinds are box, sphere, plane, mesh");
     }
+    // How it is drawn: checked by the renderer's geometry reader, which names this key.
+    if (const json* m = f.get("material")) {
+        if (!m->is_object()) fail(f.path("material"), "expected an object, e.g. {\"glass\": true}");
+        c.material = m->dump();
+    }
     f.finish();
     return c;
 }
