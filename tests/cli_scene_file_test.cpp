@@ -174,3 +174,58 @@ TEST(SceneFile, ErrorsNameTheKey) {
         EXPECT_FALSE(fs::exists(dir / "x.png")) << c.json;
     }
 }
+
+// Scene geometry (docs/geometry.md): the scene file's `geometry` key (a file
+// relative to the scene file, inline objects whose files are too) gives the
+// bytes of the same --geometry options; --cut-away off draws a container's
+// near walls (a different picture); a missing file is an error naming it and
+// the option; a simulation scene's colliders are drawn (render scene.json).
+TEST(SceneFile, GeometryKeyMatchesTheOptionAndErrorsNameTheFile) {
+    const fs::path dir = dirWithFrame("scene_geometry");
+    fs::create_directories(dir / "models");
+    write(dir / "models" / "cube.obj",
+          "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+          "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n");
+    write(dir / "scene.json", R"({
+      "particles": "f.bgeo", "output": "a.png", "radius": 0.01,
+      "camera": {"eye": [2.6, 2.0, 3.2], "target": [0, 0.35, 0]},
+      "render": {"width": 160, "height": 90, "backend": "cpu"},
+      "geometry": [
+        {"file": "models/cube.obj", "scale": 0.3, "translate": [0.6, 0, 0.3], "material": {"color": [0.8, 0.2, 0.1]}},
+        {"box": {"min": [-0.5, -0.05, -0.5], "max": [1.5, 1.0, 0.5]}, "cutaway": true}
+      ]
+    })");
+    std::string out;
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "scene.json"), &out), 0) << out;
+    const std::string cube = R"({"file": ")" + (dir / "models" / "cube.obj").string() +
+                             R"(", "scale": 0.3, "translate": [0.6, 0, 0.3], "material": {"color": [0.8, 0.2, 0.1]}})";
+    const std::string tank = R"({"box": {"min": [-0.5, -0.05, -0.5], "max": [1.5, 1.0, 0.5]}, "cutaway": true})";
+    const std::string options = " --radius 0.01 --eye 2.6,2,3.2 --target 0,0.35,0 --width 160 --height 90 "
+                                "--backend cpu --geometry " + shellQuote(cube) + " --geometry " + shellQuote(tank);
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "b.png") + options, &out), 0)
+        << out;
+    EXPECT_EQ(readBytes(dir / "a.png"), readBytes(dir / "b.png"));
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "c.png") + options +
+                         " --cut-away off",
+                     &out),
+              0)
+        << out;
+    EXPECT_NE(readBytes(dir / "a.png"), readBytes(dir / "c.png"));
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "d.png") + options, &out), 0);
+    EXPECT_EQ(readBytes(dir / "a.png"), readBytes(dir / "d.png"));
+
+    // Errors: a missing mesh file, bad JSON, an unknown key.
+    EXPECT_NE(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "e.png") +
+                         " --geometry " + shellQuote(dir / "nothing.obj"),
+                     &out),
+              0);
+    EXPECT_NE(out.find("--geometry"), std::string::npos) << out;
+    EXPECT_NE(out.find("nothing.obj"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "e.png"));
+    EXPECT_NE(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "e.png") +
+                         " --geometry " + shellQuote(R"({"box": {"min": [0, 0, 0], "max": [1, 1, 1]}, "colour": 1})"),
+                     &out),
+              0);
+    EXPECT_NE(out.find("colour"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "e.png"));
+}
