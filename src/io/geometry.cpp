@@ -368,6 +368,7 @@ Result<std::string> readText(const fs::path& path) {
     const std::string name = path.string();
     std::error_code ec;
     if (!fs::exists(path, ec)) return makeError(name, "no such file");
+    if (!fs::is_regular_file(path, ec)) return makeError(name, "is not a regular file");
     const std::uintmax_t size = fs::file_size(path, ec);
     if (ec) return makeError(name, "cannot be read: " + ec.message());
     if (size > lim::kMaxJsonBytes)
