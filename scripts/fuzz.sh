@@ -10,18 +10,27 @@
 #
 #   scripts/fuzz.sh [READER...]     (default: every reader in fuzz/CMakeLists.txt)
 #   FUZZ_SECONDS=600 scripts/fuzz.sh ply    one reader, ten minutes
+#
+# Time: a named reader runs 25 s. The default run shares one budget,
+# FUZZ_BUDGET target-seconds (325: the 13 targets x 25 s the phase had before
+# the geometry readers joined), evenly among its targets, so a new target
+# takes its slice from the others and the phase stays as long as it was.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc 2>/dev/null || echo 2)
-seconds=${FUZZ_SECONDS:-25}
 clangxx=${FUZZ_CXX:-clang++}
 if ! command -v "$clangxx" >/dev/null; then
   echo "fuzz: $clangxx not found; the fuzzers need clang and libFuzzer (Debian: apt-get install clang libclang-rt-14-dev)" >&2
   exit 1
 fi
 readers=("$@")
+seconds=${FUZZ_SECONDS:-25}
 if [ ${#readers[@]} -eq 0 ]; then
   read -r -a readers <<<"$(sed -n 's/^set(MENISCUS_FUZZ_READERS \(.*\))$/\1/p' fuzz/CMakeLists.txt)"
+  if [ -z "${FUZZ_SECONDS:-}" ]; then
+    seconds=$(( ${FUZZ_BUDGET:-325} / ${#readers[@]} ))
+    [ "$seconds" -ge 5 ] || seconds=5
+  fi
 fi
 
 # Only the reader code is needed: no GL, tests or bench.

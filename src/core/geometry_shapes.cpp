@@ -50,8 +50,11 @@ void basis(const glm::vec3& n, glm::vec3& u, glm::vec3& v) {
 // normalize(u x v): four vertices, two triangles.
 void addQuad(TriangleMesh& m, const glm::vec3& c, const glm::vec3& u, const glm::vec3& v, const glm::vec3& n) {
     const auto base = std::uint32_t(m.positions.size());
-    m.positions.insert(m.positions.end(), {c - u - v, c + u - v, c + u + v, c - u + v});
-    m.normals.insert(m.normals.end(), 4, n);
+    // One at a time: GCC 12 warns (falsely) on inserting an initializer list here.
+    for (const glm::vec3& p : {c - u - v, c + u - v, c + u + v, c - u + v}) {
+        m.positions.push_back(p);
+        m.normals.push_back(n);
+    }
     m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
 }
 
@@ -105,20 +108,25 @@ void fillMissingNormals(TriangleMesh& mesh) {
 TriangleMesh makeBoxMesh(const glm::vec3& min, const glm::vec3& max) {
     TriangleMesh m;
     m.positions.reserve(24), m.normals.reserve(24), m.indices.reserve(36);
-    const glm::vec3 c = 0.5f * (min + max), h = 0.5f * (max - min);
     for (int axis = 0; axis < 3; ++axis) {
-        for (float side : {-1.0f, 1.0f}) {
+        for (int side = 0; side < 2; ++side) {
             glm::vec3 n(0.0f);
-            n[axis] = side;
-            // The other two axes, ordered so that u x v = n.
-            const int a = (axis + 1) % 3, b = (axis + 2) % 3;
-            glm::vec3 u(0.0f), v(0.0f);
-            u[a] = h[a];
-            v[b] = h[b];
-            if (side < 0.0f) std::swap(u, v);
-            glm::vec3 fc = c;
-            fc[axis] += side * h[axis];
-            addQuad(m, fc, u, v, n);
+            n[axis] = side ? 1.0f : -1.0f;
+            // The other two axes, ordered so that e_u x e_v = n; the corners
+            // are min's and max's own coordinates (no centre +- half, which
+            // would round), walked counter-clockwise seen from outside.
+            int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            if (!side) std::swap(u, v);
+            const auto base = std::uint32_t(m.positions.size());
+            for (const auto& [du, dv] : {std::pair{0, 0}, std::pair{1, 0}, std::pair{1, 1}, std::pair{0, 1}}) {
+                glm::vec3 p;
+                p[axis] = side ? max[axis] : min[axis];
+                p[u] = du ? max[u] : min[u];
+                p[v] = dv ? max[v] : min[v];
+                m.positions.push_back(p);
+                m.normals.push_back(n);
+            }
+            m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
         }
     }
     return m;

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <fstream>
 #include <new>
 #include <numbers>
 #include <optional>
@@ -183,17 +184,34 @@ Result<GeometryObject> toObject(const aiScene* scene, const std::string& name) {
     return obj;
 }
 
-// The one path both readers take: `read` calls ReadFile or ReadFileFromMemory.
+// The one path both readers take: `read` calls ReadFile or ReadFileFromMemory
+// (with aiProcess_ValidateDataStructure only; the rest, kAssimpFlags, after the check).
 template <class Read>
 Result<GeometryObject> importWith(Assimp::Importer& importer, const std::string& name, Read&& read) {
     try {
         // Points and lines are split off by SortByPType, then dropped.
         importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-        const aiScene* scene = read();
-        if (!scene) {
+        auto failed = [&] {
             const char* why = importer.GetErrorString();
             return makeError(name, std::string("cannot be read: ") + (why && *why ? why : "unknown Assimp error"));
+        };
+        // Read as the file is (validated), look for non-finite vertices, then
+        // post-process: joining identical vertices compares with ==, so a NaN
+        // vertex would be merged away into a degenerate triangle unseen.
+        const aiScene* raw = read();
+        if (!raw) return failed();
+        for (unsigned i = 0; raw->mMeshes && i < raw->mNumMeshes; ++i) {
+            const aiMesh* m = raw->mMeshes[i];
+            if (!m || !m->mVertices) continue;
+            for (unsigned v = 0; v < m->mNumVertices; ++v) {
+                const aiVector3D& p = m->mVertices[v];
+                if (!finite(glm::vec3(p.x, p.y, p.z)))
+                    return makeError(name, "vertex " + std::to_string(v) + " of mesh " + std::to_string(i) +
+                                               " is not finite (" + num(p.x) + ", " + num(p.y) + ", " + num(p.z) + ")");
+            }
         }
+        const aiScene* scene = importer.ApplyPostProcessing(kAssimpFlags & ~unsigned(aiProcess_ValidateDataStructure));
+        if (!scene) return failed();
         return toObject(scene, name);
     } catch (const std::bad_alloc&) {
         return makeError(name, "ran out of memory while reading");
@@ -205,6 +223,32 @@ Result<GeometryObject> importWith(Assimp::Importer& importer, const std::string&
 }
 
 std::string extensionOf(const std::string& name) { return lower(fs::path(name).extension().string()); }
+
+// A PLY header's element counts, checked against the file's size before
+// Assimp sees them: every element takes at least one byte in any encoding, so
+// a count above the size is a broken or hostile file, which Assimp's PLY
+// reader would otherwise loop over (a 60-byte file claiming 10^11 vertices
+// takes it most of a minute).
+std::optional<std::string> implausiblePly(std::string_view head, std::uintmax_t size) {
+    if (head.substr(0, 3) != "ply") return std::nullopt;
+    std::size_t pos = 0;
+    while (pos < head.size()) {
+        std::size_t end = head.find('\n', pos);
+        if (end == std::string_view::npos) end = head.size();
+        const std::string_view line = head.substr(pos, end - pos);
+        pos = end + 1;
+        if (line.substr(0, 10) == "end_header") break;
+        if (line.substr(0, 8) != "element ") continue;
+        const std::size_t space = line.rfind(' ');
+        const std::string count(line.substr(space + 1));
+        char* stop = nullptr;
+        const double n = std::strtod(count.c_str(), &stop);
+        if (n > double(size))
+            return "its header claims " + count + " " + std::string(line.substr(8, space > 8 ? space - 8 : 0)) +
+                   " elements, more than the file's " + std::to_string(size) + " bytes can hold";
+    }
+    return std::nullopt;
+}
 
 }  // namespace
 
@@ -226,7 +270,14 @@ Result<GeometryObject> readGeometryMesh(const fs::path& file) {
             return makeError(name, "is not a mesh format this build reads (by its extension " +
                                        (ext.empty() ? std::string("(none)") : ext) + "); Assimp reads " +
                                        supportedList(importer));
-        return importWith(importer, name, [&] { return importer.ReadFile(name, kAssimpFlags); });
+        if (ext == ".ply") {
+            std::ifstream in(file, std::ios::binary);
+            std::string head(std::size_t(std::min<std::uintmax_t>(size, 64 << 10)), '\0');
+            in.read(head.data(), std::streamsize(head.size()));
+            head.resize(std::size_t(in.gcount()));
+            if (auto why = implausiblePly(head, size)) return makeError(name, *why);
+        }
+        return importWith(importer, name, [&] { return importer.ReadFile(name, aiProcess_ValidateDataStructure); });
     } catch (...) {
         return makeError(name, "cannot be read (an unexpected error)");
     }
@@ -244,10 +295,14 @@ Result<GeometryObject> parseGeometryMesh(ByteView data, const std::string& name)
             return makeError(name, "is not a mesh format this build reads (by its extension " +
                                        (ext.empty() ? std::string("(none)") : ext) + "); Assimp reads " +
                                        supportedList(importer));
+        if (ext == ".ply") {
+            const std::string_view head(reinterpret_cast<const char*>(data.data()), std::min<std::size_t>(data.size(), 64 << 10));
+            if (auto why = implausiblePly(head, data.size())) return makeError(name, *why);
+        }
         importer.SetIOHandler(new NoFiles);  // the importer owns it
         const std::string hint = ext.substr(1);
         return importWith(importer, name, [&] {
-            return importer.ReadFileFromMemory(data.data(), data.size(), kAssimpFlags, hint.c_str());
+            return importer.ReadFileFromMemory(data.data(), data.size(), aiProcess_ValidateDataStructure, hint.c_str());
         });
     } catch (...) {
         return makeError(name, "cannot be read (an unexpected error)");
@@ -313,6 +368,7 @@ Result<std::string> readText(const fs::path& path) {
     const std::string name = path.string();
     std::error_code ec;
     if (!fs::exists(path, ec)) return makeError(name, "no such file");
+    if (!fs::is_regular_file(path, ec)) return makeError(name, "is not a regular file");
     const std::uintmax_t size = fs::file_size(path, ec);
     if (ec) return makeError(name, "cannot be read: " + ec.message());
     if (size > lim::kMaxJsonBytes)
