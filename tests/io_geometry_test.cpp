@@ -271,10 +271,10 @@ TEST(GeometrySplishSplash, DamBreakTankIsOneCutAwayBoxWhereTheSceneSaysIt) {
     }
     test::expectClosedAndOriented(tank.mesh);
     test::expectOutward(tank.mesh, translation);
-    // "color": [0.1, 0.4, 0.6, 1.0], sRGB as SPlisHSPlasH shows it, linear here.
-    EXPECT_NEAR(tank.material.baseColor.r, 0.0100f, 1e-3f);
-    EXPECT_NEAR(tank.material.baseColor.g, 0.1329f, 1e-3f);
-    EXPECT_NEAR(tank.material.baseColor.b, 0.3185f, 1e-3f);
+    // "color": [0.1, 0.4, 0.6, 1.0] is checked, but a wall keeps the neutral
+    // default so the water reads against it (an obstacle's colour is kept:
+    // RotationIsInRadiansAfterTheScale).
+    EXPECT_EQ(tank.material.baseColor, GeometryMaterial{}.baseColor);
     // The same through our list's "splishsplash" key.
     const SceneGeometry viaList =
         ok(parseGeometry("{\"splishsplash\": \"" + scene.generic_string() + "\"}", "inline", {}));
@@ -290,10 +290,14 @@ TEST(GeometrySplishSplash, RotationIsInRadiansAfterTheScale) {
     // turns the scaled box (2 x 1 x 1) upright (1 x 2 x 1).
     writeText(dir / "scene.json", R"({"Boundaries": [{"geometryFile": "box.obj", "scale": [2, 1, 1],
         "rotationAxis": [0, 0, 1], "rotationAngle": 1.5707963267948966, "translation": [0, 1, 0],
-        "isWall": false, "particleFile": "ignored.bgeo"}]})");
+        "isWall": false, "color": [0.5, 0.25, 0.0, 1.0], "particleFile": "ignored.bgeo"}]})");
     const SceneGeometry g = ok(readGeometry((dir / "scene.json").string()));
     ASSERT_EQ(g.objects.size(), 1u);
     EXPECT_FALSE(g.objects[0].cutaway);
+    // An obstacle keeps its colour (sRGB as SPlisHSPlasH shows it, linear here).
+    EXPECT_NEAR(g.objects[0].material.baseColor.r, 0.2140f, 1e-3f);
+    EXPECT_NEAR(g.objects[0].material.baseColor.g, 0.0509f, 1e-3f);
+    EXPECT_EQ(g.objects[0].material.baseColor.b, 0.0f);
     const Bounds b = boundsOf(g.objects[0].mesh);
     EXPECT_NEAR(b.min.x, -0.5f, 1e-5f);
     EXPECT_NEAR(b.max.x, 0.5f, 1e-5f);

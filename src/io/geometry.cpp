@@ -667,7 +667,12 @@ SceneGeometry readSplishSplash(const json& root, const std::string& file, const 
                 // SPlisHSPlasH's viewer puts these numbers on the screen as
                 // they are (no sRGB framebuffer), so they are the sRGB colour
                 // seen there: decoded to linear here.
-                for (int k = 0; k < 3; ++k) g.material.baseColor[k] = srgbToLinear(r.number(c[std::size_t(k)], element(p, std::size_t(k))));
+                glm::vec3 color;
+                for (int k = 0; k < 3; ++k) color[k] = srgbToLinear(r.number(c[std::size_t(k)], element(p, std::size_t(k))));
+                // An obstacle keeps its colour; a wall (a tank, usually the
+                // same saturated blue as the water in SPlisHSPlasH's scenes)
+                // keeps the neutral default, so the liquid reads against it.
+                if (!g.cutaway) g.material.baseColor = color;
             }
             out.objects.push_back(std::move(g));
         }
