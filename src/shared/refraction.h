@@ -56,9 +56,9 @@ using std::sqrt;
 
 // The march: a step per this many pixels of screen length (each segment),
 // at most kRefractionMaxSteps steps per segment, then kRefractionRefine
-// bisections: a 30 px path ends within 30 / 8 / 2^5 ~ 0.12 px of the crossing.
-MENISCUS_REFR_CONST float kRefractionStepPx = 2.0f;
-MENISCUS_REFR_CONST int kRefractionMaxSteps = 8;
+// bisections: a 30 px path ends within 30 / 6 / 2^6 ~ 0.08 px of the crossing.
+MENISCUS_REFR_CONST float kRefractionStepPx = 3.0f;
+MENISCUS_REFR_CONST int kRefractionMaxSteps = 6;
 MENISCUS_REFR_CONST int kRefractionRefine = 5;
 
 // The refracted ray grazes the surface only where the normal is
@@ -124,9 +124,37 @@ MENISCUS_REFR_INLINE void refractionPathAt(float s, float ex, float ey, float wz
     w = s <= 1.0f ? wIn : wOut;
 }
 
+// Steps per segment of a path with exit offset (ex, ey): one per
+// kRefractionStepPx of its screen length (Chebyshev, pixels), at least 1, at
+// most kRefractionMaxSteps (also for NaN).
+MENISCUS_REFR_INLINE int refractionSteps(float ex, float ey) {
+    MENISCUS_REFR_EXACT float len = max(abs(ex), abs(ey));
+    return len < float(kRefractionMaxSteps - 1) * kRefractionStepPx ? 1 + int(len / kRefractionStepPx)
+                                                                     : kRefractionMaxSteps;
+}
+
+// The texel holding continuous pixel position (px, py), clamped to the W x H
+// image (NaN -> texel 0, as the bilinear fetch): std::min(max, std::max(0,
+// v)) in the same form in GLSL.
+MENISCUS_REFR_INLINE void refractionTexel(float px, float py, int W, int H, MENISCUS_REFR_OUT(int) ix,
+                                          MENISCUS_REFR_OUT(int) iy) {
+    float cx = 0.0f < px ? px : 0.0f;
+    float cy = 0.0f < py ? py : 0.0f;
+    cx = float(W - 1) < cx ? float(W - 1) : cx;
+    cy = float(H - 1) < cy ? float(H - 1) : cy;
+    ix = int(cx);
+    iy = int(cy);
+}
+
+// Whether a path point of inverse eye depth w is behind a scene depth zs:
+// 1/w >= zs. The sky (+inf) is never crossed (w zs = inf or, at w = 0, NaN).
+MENISCUS_REFR_INLINE bool refractionIsBehind(float w, float zs) {
+    MENISCUS_REFR_EXACT float wz = w * zs;
+    return wz <= 1.0f;
+}
+
 #ifdef __cplusplus
-// The scene's eye depth at the texel holding continuous pixel position (px,
-// py), clamped to the image (NaN -> texel 0, as the bilinear fetch).
+// The scene's eye depth at the texel of (px, py) behind the path point?
 template <class SceneDepthAt>
 inline bool refractionBehind(float px, float py, float w, int W, int H, const SceneDepthAt& sceneDepthAt) {
 #define MENISCUS_REFR_SCENE_DEPTH(ix, iy) sceneDepthAt(ix, iy)
@@ -135,23 +163,17 @@ inline bool refractionBehind(float px, float py, float w, int W, int H, const Sc
 bool refractionBehind(float px, float py, float w, int W, int H) {
 #define MENISCUS_REFR_SCENE_DEPTH(ix, iy) refractionSceneDepth(ix, iy)
 #endif
-    // std::min(max, std::max(0, v)) with NaN -> 0, in the same form in GLSL.
-    float cx = 0.0f < px ? px : 0.0f;
-    float cy = 0.0f < py ? py : 0.0f;
-    cx = float(W - 1) < cx ? float(W - 1) : cx;
-    cy = float(H - 1) < cy ? float(H - 1) : cy;
-    MENISCUS_REFR_EXACT float zs = MENISCUS_REFR_SCENE_DEPTH(int(cx), int(cy));
-    // Behind the scene: 1/w >= Zs. The sky (+inf) is never crossed
-    // (w Zs = inf or, at w = 0, NaN).
-    MENISCUS_REFR_EXACT float wz = w * zs;
-    return wz <= 1.0f;
+    int ix, iy;
+    refractionTexel(px, py, W, H, ix, iy);
+    return refractionIsBehind(w, MENISCUS_REFR_SCENE_DEPTH(ix, iy));
 }
 #undef MENISCUS_REFR_SCENE_DEPTH
 
 // The background point the refracted path of pixel (p0x, p0y) (its centre,
 // continuous pixel coordinates) sees: (px, py), continuous pixel coordinates
 // to sample the scene colour at. wz = 1 / z; ex, ey, wB from refractionExit.
-// Scalar: the march stops at the first crossing.
+// Scalar: the march stops at the first crossing. (The CPU runs the same
+// operations lane by lane over a batch of pixels, src/cpu/shading.cpp.)
 #ifdef __cplusplus
 template <class SceneDepthAt>
 inline void refractionMarch(float p0x, float p0y, float ex, float ey, float wz, float wB, int W, int H,
@@ -169,11 +191,7 @@ void refractionMarch(float p0x, float p0y, float ex, float ey, float wz, float w
         py = p0y;
         return;
     }
-    // Steps per segment from its screen length (Chebyshev, pixels); NaN -> the most.
-    MENISCUS_REFR_EXACT float len = max(abs(ex), abs(ey));
-    int n = len < float(kRefractionMaxSteps - 1) * kRefractionStepPx
-                      ? 1 + int(len / kRefractionStepPx)
-                      : kRefractionMaxSteps;
+    int n = refractionSteps(ex, ey);
     MENISCUS_REFR_EXACT float ds = 1.0f / float(n);
     // The last point (s = 2, w = 0: p0 at infinity) when nothing is crossed.
     float lo = 2.0f, hi = 2.0f;
