@@ -36,7 +36,9 @@ class GlShading : public GlTest {};
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Tolerances. The shader runs shadeBatch's operations in the CPU's order,
-// `precise`, with the same sky source (src/shared/sky.h); the one difference is
+// `precise`, with the same sky source (src/shared/sky.h) and the same
+// refracted-ray march (src/shared/refraction.h: its crossings are decided by
+// the same bits on both sides); the one difference is
 // exp/log: the driver's built-ins against the CPU's Cephes polynomials (both
 // ~1e-7 relative), amplified by the (n.h)^120 highlight (120 ln(n.h)) and by
 // absorption's exp(-kT):
@@ -195,6 +197,31 @@ TEST_F(GlShading, RealFrameEveryPresetAndAnotherLightMatchCpu) {
     s.material.shininess = 30.0f;
     const ShadeDiff d = compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, s);
     expectWithinTolerance(d, a.aovs.depth.size(), "water, side light, shininess 30");
+}
+
+TEST_F(GlShading, RefractedRayMatchesCpu) {
+    // The refracted view ray marched to the studio's depth (src/shared/
+    // refraction.h) over the real frame: water at Snell's strength, then the
+    // liquid four times as thick and the bend doubled (long paths: the most
+    // march steps, crossings on the inner segment where the back passes the
+    // floor). Each matches the CPU within the tolerances above, and the
+    // refraction shows: the image differs from strength 0 by many steps.
+    const RealAovs& a = real320();
+    ASSERT_FALSE(a.aovs.depth.empty());
+    Image<float> thick = a.aovs.thickness;
+    for (float& t : thick.pixels) t *= 4.0f;
+    ShadingParams s = preset("water");
+    ASSERT_EQ(s.material.refraction, 1.0f);
+    const ShadeDiff snell =
+        compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, a.aovs.thickness, s);
+    expectWithinTolerance(snell, a.aovs.depth.size(), "refraction 1");
+    s.material.refraction = 2.0f;
+    const ShadeDiff strong = compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, thick, s);
+    expectWithinTolerance(strong, a.aovs.depth.size(), "refraction 2, 4x thickness");
+    s.material.refraction = 0.0f;
+    const ShadeDiff none = compareWithCpu(a.camera, a.radius, a.scene, a.aovs.depth, a.aovs.normal, thick, s);
+    expectWithinTolerance(none, a.aovs.depth.size(), "refraction 0, 4x thickness");
+    EXPECT_GT(compareColor(none.gl, strong.gl).maxSteps, 20);
 }
 
 TEST_F(GlShading, SkySunFollowsTheLightAsOnTheCpu) {

@@ -462,8 +462,8 @@ struct Material {
     std::string name = defaults::kMaterialName;
     glm::vec3 fluidColor{0.03f, 0.19f, 0.27f};     // linear RGB seen through thick fluid
     glm::vec3 absorptionPerM{6.0f, 2.0f, 1.3f};    // Beer-Lambert k per channel, 1/m
-    float ior = 1.33f;                              // Schlick F0 = ((ior-1)/(ior+1))^2
-    float refraction = 0.6f;                        // background offset = refraction * T projected (T*f/z px) along n
+    float ior = 1.33f;                              // Snell's law (refracted view ray); Schlick F0 = ((ior-1)/(ior+1))^2
+    float refraction = 1.0f;                        // strength of the refracted ray's bend: 1 Snell's law, 0 straight through
     float specular = 0.6f;                          // k_s
     float shininess = 120.0f;                       // Blinn-Phong exponent
     float opacity = 0.0f;                           // 0 = transparent fluid, 1 = opaque (sand-like)

@@ -25,7 +25,7 @@ Material murky() {
     m.name = "murky";
     m.fluidColor = {0.075f, 0.085f, 0.030f};
     m.absorptionPerM = {9.0f, 7.0f, 12.0f};
-    m.refraction = 0.3f;
+    m.refraction = 1.0f;  // water's bend (Snell's law); the absorption hides the floor
     m.specular = 0.5f;
     return m;
 }
@@ -37,7 +37,7 @@ Material milk() {
     m.fluidColor = {0.82f, 0.82f, 0.78f};
     m.absorptionPerM = {60.0f, 60.0f, 60.0f};
     m.ior = 1.35f;
-    m.refraction = 0.1f;
+    m.refraction = 1.0f;  // Snell's law; thin films show a little bent background
     m.specular = 0.35f;
     m.shininess = 60.0f;
     m.opacity = 0.7f;
@@ -52,7 +52,7 @@ Material lava() {
     m.fluidColor = {0.70f, 0.10f, 0.01f};
     m.absorptionPerM = {80.0f, 80.0f, 80.0f};
     m.ior = 1.5f;
-    m.refraction = 0.0f;
+    m.refraction = 0.0f;  // nearly opaque: the little background seen straight behind, no march
     m.specular = 0.15f;
     m.shininess = 30.0f;
     m.opacity = 0.6f;
@@ -66,7 +66,7 @@ Material sand() {
     m.fluidColor = {0.55f, 0.40f, 0.21f};
     m.absorptionPerM = {100.0f, 100.0f, 100.0f};
     m.ior = 1.5f;
-    m.refraction = 0.0f;
+    m.refraction = 0.0f;  // opaque: no background seen, no march
     m.specular = 0.05f;
     m.shininess = 8.0f;
     m.opacity = 1.0f;

@@ -1,17 +1,20 @@
 // CPU shading and compositing, docs/pipeline.md#shading. After van der Laan,
 // Green & Sainz 2009 (US 8,947,430, eqs. 18-20) with the reflection/refraction
 // of Cords & Staadt 2008 ("Instant Liquids" §3):
-//   a     = lerp(C_fluid, S(x + beta n_x, y - beta n_y), exp(-k_rgb T))   (eq. 18)
-//   C_out = a (1 - F) + b F + k_s (n·h)^alpha                              (eq. 20)
+//   a     = lerp(C_fluid, S(refracted ray), exp(-k_rgb T))   (eq. 18)
+//   C_out = a (1 - F) + b F + k_s (n·h)^alpha                 (eq. 20)
 // with b the sky (environment map) along reflect(-v, n) in world space and F
 // Schlick's Fresnel term. Below the horizon b is a itself, what the liquid
 // shows through at that pixel (shared::reflectionRadiance says why).
 //
 // Choices:
-//  - The refraction offset is beta = refraction * T * f / z pixels: the
-//    thickness projected to the screen, so the image is scale-invariant (the
-//    patent's beta = gamma T is in pixels per metre and is not). The offset is
-//    along the view-space normal; row 0 is the top, hence -n_y.
+//  - Refraction follows the refracted view ray (Snell's law, src/shared/
+//    refraction.h, which the GL twin shares): inside the liquid down to the
+//    depth of its back, then parallel to the view ray, intersected with the
+//    scene's depth by a screen-space march (McGuire & Mara 2014). The
+//    background point found is sampled; Material::refraction scales the bend.
+//    The earlier offset refraction * T * f / z along the normal grew without
+//    bound with the thickness (a starburst of the floor behind thick water).
 //  - The background is sampled bilinearly with premultiplied alpha and the sky
 //    along the view ray fills what the scene leaves transparent, so a missing
 //    background blends smoothly into sky.
@@ -22,8 +25,9 @@
 //    non-fluid pixel keeps), made row by row in parallel. Per row the fluid
 //    pixels are gathered into short structure-of-arrays batches and shaded by
 //    branch-free loops that GCC vectorises (target_clones: AVX2 or the SSE2
-//    baseline; no FMA in either, so both give the same bits); only the bilinear
-//    background fetch stays scalar. exp and pow use the Cephes single-precision
+//    baseline; no FMA in either, so both give the same bits), the refracted
+//    ray's march too (lane by lane; see marchBatch); only the scene-depth and
+//    background texel reads stay scalar. exp and pow use the Cephes single-precision
 //    polynomials (relative error ~2e-7, vs libm's correctly rounded ~6e-8) so
 //    they vectorise; see fastExp/fastLog. The sky along the view ray is only
 //    evaluated for batches with a transparent background, the highlight only
@@ -44,6 +48,7 @@
 #include "cpu/sky.h"
 #include "shared/fluids.h"
 #include "shared/hole_fill.h"
+#include "shared/refraction.h"
 #include "shared/shading.h"
 #include "shared/surface_noise.h"
 
@@ -145,6 +150,7 @@ struct Setup {
     glm::vec3 sun;                  // the sky's sun: unit, world space
     glm::vec3 fluid, negK;
     float f0, opacity, refraction, specular, shininess, nhMin;
+    float eta;  // 1 / ior (Snell's law entering the liquid)
     float minThicknessRadii, radiusM;  // thin liquid: T at least minThicknessRadii * radiusM
 };
 
@@ -155,6 +161,14 @@ struct Batch {
     float z[kBatch], T[kBatch];
     float nx[kBatch], ny[kBatch], nz[kBatch];
     float vx[kBatch], vy[kBatch], vz[kBatch];
+    float invLen[kBatch];                     // 1 / |view ray|
+    float ex[kBatch], ey[kBatch], wB[kBatch];  // refracted path: exit offset (px), 1 / its eye depth
+    float wz[kBatch];                          // 1 / z
+    float px[kBatch], py[kBatch];             // background point seen (continuous pixel coordinates)
+    float ds[kBatch], lo[kBatch], hi[kBatch];  // the march: step, bracket of the crossing
+    float mw[kBatch], ms[kBatch];              // the march: this step's 1/z and parameter
+    int steps2[kBatch], live[kBatch], texel[kBatch];
+    float zs[kBatch];                          // the scene depth at this step's texel
     int i00[kBatch], dx[kBatch], dy[kBatch];  // bilinear footprint: first texel, steps to +x / +y
     float tx[kBatch], ty[kBatch];             // bilinear weights
     float sr[kBatch], sg[kBatch], sb[kBatch], sa[kBatch];  // premultiplied background
@@ -167,6 +181,68 @@ struct Batch {
     float F[kBatch];                           // Fresnel weight after the opaque mix
     float ground[kBatch];                      // the reflected direction's groundShare (layer split only)
 };
+
+// The refracted ray's march (shared::refractionMarch) over a batch, lane by
+// lane: every lane runs the scalar function's operations in its order (so the
+// same bits as the GL shader), the steps and the bisections as branch-free
+// loops over the batch, only the scene-depth texel reads scalar. The batch
+// stops stepping once every lane has crossed or run out of steps.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void marchBatch(const Setup& S, int y, int n, Batch& B) {
+    const int w = S.scene->depth.width, h = S.scene->depth.height;
+    const float* sceneDepth = S.scene->depth.pixels.data();
+    const float p0y = float(y) + 0.5f;
+    int maxSteps = 0;
+    for (int i = 0; i < n; ++i) {
+        const int steps = shared::refractionSteps(B.ex[i], B.ey[i]);
+        B.ds[i] = 1.0f / float(steps);
+        B.steps2[i] = 2 * steps;
+        B.lo[i] = B.hi[i] = 2.0f;  // the path's end (p0 at infinity) when nothing is crossed
+        B.live[i] = 1;
+        B.wz[i] = 1.0f / B.z[i];
+        maxSteps = std::max(maxSteps, steps);
+    }
+    const auto texelsAt = [&](int i, float s) {
+        float ox, oy, pw;
+        shared::refractionPathAt(s, B.ex[i], B.ey[i], B.wz[i], B.wB[i], ox, oy, pw);
+        int ix, iy;
+        shared::refractionTexel(float(B.x[i]) + 0.5f + ox, p0y + oy, w, h, ix, iy);
+        B.texel[i] = iy * w + ix;
+        B.mw[i] = pw;
+        B.ms[i] = s;
+    };
+    for (int k = 1; k <= 2 * maxSteps; ++k) {
+        for (int i = 0; i < n; ++i) texelsAt(i, float(k) * B.ds[i]);
+        for (int i = 0; i < n; ++i) B.zs[i] = sceneDepth[B.texel[i]];
+        int live = 0;
+        for (int i = 0; i < n; ++i) {
+            const bool hit = (B.live[i] != 0) & (k <= B.steps2[i]) & shared::refractionIsBehind(B.mw[i], B.zs[i]);
+            B.lo[i] = hit ? float(k - 1) * B.ds[i] : B.lo[i];
+            B.hi[i] = hit ? B.ms[i] : B.hi[i];
+            B.live[i] = hit ? 0 : B.live[i];
+            live += (B.live[i] != 0) & (k < B.steps2[i]);
+        }
+        if (live == 0) break;
+    }
+    for (int j = 0; j < shared::kRefractionRefine; ++j) {
+        for (int i = 0; i < n; ++i) texelsAt(i, 0.5f * (B.lo[i] + B.hi[i]));
+        for (int i = 0; i < n; ++i) B.zs[i] = sceneDepth[B.texel[i]];
+        for (int i = 0; i < n; ++i) {
+            const bool on = B.lo[i] < B.hi[i];  // crossed: bisect its step
+            const bool behind = shared::refractionIsBehind(B.mw[i], B.zs[i]);
+            B.hi[i] = on & behind ? B.ms[i] : B.hi[i];
+            B.lo[i] = on & !behind ? B.ms[i] : B.lo[i];
+        }
+    }
+    for (int i = 0; i < n; ++i) {
+        float ox, oy, pw;
+        shared::refractionPathAt(0.5f * (B.lo[i] + B.hi[i]), B.ex[i], B.ey[i], B.wz[i], B.wB[i], ox, oy, pw);
+        B.px[i] = float(B.x[i]) + 0.5f + ox;
+        B.py[i] = p0y + oy;
+    }
+}
 
 // Shades a batch of n fluid pixels of row y: branch-free loops over the
 // arrays, vectorised, except the texel fetch of the background. Each lane is
@@ -189,21 +265,25 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
         B.vx[i] = vx;
         B.vy[i] = vy;
         B.vz[i] = vz;
+        B.invLen[i] = invLen;
         const float T = B.T[i];
         B.T[i] = shared::thinLiquidThickness(T > 0.0f && T < INFINITY ? T : 0.0f, S.minThicknessRadii, S.radiusM);
     }
-    // 2. Refraction: the background shifted along the normal by the projected
-    // thickness, sampled bilinearly (pixel centres at +0.5, clamped to the image)
-    // with premultiplied alpha. Footprints computed in vector lanes, texels
-    // fetched per pixel.
+    // 2. Refraction: the refracted view ray (shared/refraction.h): its path
+    // in screen space and its march to the scene's depth in vector lanes
+    // (marchBatch); then the background there sampled bilinearly (pixel centres at
+    // +0.5, clamped to the image) with premultiplied alpha. Footprints
+    // computed in vector lanes, texels fetched per pixel.
     if (S.hasScene) {
         const int w = S.scene->color.width, h = S.scene->color.height;
         const float xMax = float(w - 1), yMax = float(h - 1);
+        for (int i = 0; i < n; ++i)
+            shared::refractionExit(B.rx[i], ryc, B.invLen[i], B.nx[i], B.ny[i], B.nz[i], B.z[i], B.T[i], S.eta,
+                                   S.refraction, S.f, B.ex[i], B.ey[i], B.wB[i]);
+        marchBatch(S, y, n, B);
         for (int i = 0; i < n; ++i) {
-            const float beta = S.refraction * B.T[i] * S.f / B.z[i];
-            const float px = float(B.x[i]) + 0.5f + beta * B.nx[i], py = float(y) + 0.5f - beta * B.ny[i];
-            const float fx = std::min(xMax, std::max(0.0f, px - 0.5f));  // NaN (garbage normals) -> 0
-            const float fy = std::min(yMax, std::max(0.0f, py - 0.5f));
+            const float fx = std::min(xMax, std::max(0.0f, B.px[i] - 0.5f));  // NaN (garbage normals) -> 0
+            const float fy = std::min(yMax, std::max(0.0f, B.py[i] - 0.5f));
             const int x0 = int(fx), y0 = int(fy);
             B.tx[i] = fx - float(x0);
             B.ty[i] = fy - float(y0);
@@ -455,6 +535,7 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
     S.f0 = fresnelF0(m.ior);
     S.opacity = std::clamp(m.opacity, 0.0f, 1.0f);
     S.refraction = m.refraction;
+    S.eta = 1.0f / m.ior;  // refractionExit keeps the view ray where this is unusable
     S.specular = m.specular;
     S.shininess = m.shininess;
     // The highlight is skipped where it is invisible (shared with the GL twin).

@@ -161,12 +161,13 @@ std::vector<RenderOptionSpec> makeRenderTable() {
                            "Custom material: Beer-Lambert absorption per channel r,g,b, per metre (water: 6,2,1.3)",
                            [](R& o) -> OptionRef { return &o.absorption; }),
                        0.0, inf));
-    t.push_back(ranged(row("ior", G::Look, "", "Custom material: index of refraction (Fresnel F0; water 1.33)",
+    t.push_back(ranged(row("ior", G::Look, "",
+                           "Custom material: index of refraction (Snell's law and Fresnel F0; water 1.33)",
                            [](R& o) -> OptionRef { return &o.ior; }),
                        1.0, 4.0));
     t.push_back(ranged(row("refraction", G::Look, "",
-                           "Custom material: how far the background seen through the liquid is shifted, as a multiple "
-                           "of the liquid's thickness projected onto the image (no unit)",
+                           "Custom material: strength of the refraction, the bend of the view ray entering the liquid "
+                           "as a multiple of Snell's law's (1 physical, 0 the background straight behind; no unit)",
                            [](R& o) -> OptionRef { return &o.refraction; }),
                        0.0, 10.0));
     t.push_back(ranged(row("specular", G::Look, "", "Custom material: highlight strength k_s",

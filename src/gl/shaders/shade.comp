@@ -4,12 +4,13 @@
 // src/cpu/shading.cpp. After van der Laan, Green & Sainz 2009 (US 8,947,430,
 // eqs. 18-20) with the reflection/refraction of Cords & Staadt 2008 ("Instant
 // Liquids" §3):
-//   a     = lerp(C_fluid, S(x + beta n_x, y - beta n_y), exp(-k_rgb T))   (eq. 18)
-//   C_out = a (1 - F) + b F + k_s (n·h)^alpha                              (eq. 20)
+//   a     = lerp(C_fluid, S(refracted ray), exp(-k_rgb T))   (eq. 18)
+//   C_out = a (1 - F) + b F + k_s (n·h)^alpha                 (eq. 20)
 // with b the sky (src/shared/sky.h) along reflect(-v, n) in world space (below the
 // horizon a itself: reflectionRadiance), F
-// Schlick's Fresnel term, beta = refraction * T * f / z pixels, the background
-// sampled bilinearly with premultiplied alpha and the sky filling what the
+// Schlick's Fresnel term, S the background where the refracted view ray (Snell's
+// law, src/shared/refraction.h: the screen-space march after McGuire & Mara 2014)
+// meets the scene's depth, sampled bilinearly with premultiplied alpha and the sky filling what the
 // scene leaves transparent; opaque materials mix toward a Lambert-lit fluid
 // colour and fade the mirror reflection. With the surface noise on (
 // docs/pipeline.md#noise-and-foam, the patent's foam tint by |N|), foam of cover
@@ -67,6 +68,10 @@ layout(location = 11) uniform int uLayer;        // write emission and transmit 
 
 int W, H;
 
+// The scene's eye depth at texel (x, y), for the refracted ray's march.
+float refractionSceneDepth(int x, int y) { return texelFetch(sceneDepth, y * W + x).x; }
+#include "refraction.h"
+
 // Premultiplied texel k of the scene: (alpha * rgb, alpha).
 vec4 premulTexel(int k) {
     const vec4 c = texelFetch(sceneColor, k);
@@ -91,6 +96,7 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out
     precise float f0 = q * q;  // Schlick F0 (cpu::fresnelF0)
     const float op = clamp(P.fluidColor.w, 0.0, 1.0);
     const float refraction = P.lightDirWorld.w, f = P.right.w;
+    precise float eta = 1.0 / P.absorptionPerM.w;  // 1 / ior, as the CPU's Setup
 
     // 1. View vector, normal (the view vector where none), sanitised thickness.
     precise float invLen = 1.0 / sqrt(rx * rx + ryc * ryc + 1.0);
@@ -103,13 +109,15 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out
     float T = hasThickness ? texelFetch(thickness, k).x : 0.0;
     T = thinLiquidThickness(T > 0.0 && T < kInf ? T : 0.0, P.thicknessMinRadii, P.radius);
 
-    // 2. Refraction: the background shifted along the normal by the projected
-    // thickness, sampled bilinearly (pixel centres at +0.5, clamped to the
-    // image) with premultiplied alpha.
+    // 2. Refraction: the refracted view ray (shared/refraction.h) marched to
+    // the scene's depth, the background there sampled bilinearly (pixel
+    // centres at +0.5, clamped to the image) with premultiplied alpha.
     precise vec4 s = vec4(0.0);
     if (hasScene) {
-        precise float beta = refraction * T * f / z;
-        precise float px = float(x) + 0.5 + beta * n.x, py = float(y) + 0.5 - beta * n.y;
+        precise float ex, ey, wB, px, py;
+        refractionExit(rx, ryc, invLen, n.x, n.y, n.z, z, T, eta, refraction, f, ex, ey, wB);
+        precise float wz = 1.0 / z;
+        refractionMarch(float(x) + 0.5, float(y) + 0.5, ex, ey, wz, wB, W, H, px, py);
         // std::min(max, std::max(0, v)) with the CPU's NaN behaviour (NaN -> 0).
         precise float mx = px - 0.5, my = py - 0.5;
         float fx = 0.0 < mx ? mx : 0.0;
