@@ -18,6 +18,7 @@ cd "$(dirname "$0")/.."
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)" --target meniscus_cli >/dev/null
 in=data/dambreak_r0.01/ParticleData_Fluid_21.bgeo
+tank=tests/data/splishsplash_scene/scenes/DamBreakModel.json
 render() { build/meniscus render "$in" -o "docs/images/$1.png" --width 640 --height 360 --backend cpu "${@:2}"; }
 render dambreak21_final
 for v in raw-depth depth normals thickness; do render "dambreak21_$v" --view "$v"; done
@@ -68,6 +69,12 @@ if [ -n "$small" ]; then
     build/meniscus render "$f30" -o docs/images/whitewater30.png --width 640 --height 360 --backend cpu \
         --diffuse "$seq/diffuse_%04d.bgeo" --spray-streak 0.03
     rm -r "$seq"
+    # The block of frame 1 in its tank, and a close view of it: flat faces
+    # refract the floor and walls without streaks.
+    build/meniscus render "$small/ParticleData_Fluid_1.bgeo" -o docs/images/world_block1.png --width 640 --height 360 \
+        --backend cpu --geometry "$tank"
+    build/meniscus render "$small/ParticleData_Fluid_1.bgeo" -o docs/images/world_block1_close.png --width 640 \
+        --height 360 --backend cpu --geometry "$tank" --eye -0.2,0.9,1.6 --target -1.2,0.45,0
 fi
 two=tests/data/splishsplash/two_fluids/ParticleData_Fluid_21_phase.bgeo
 for v in final fluid-id; do
@@ -75,3 +82,16 @@ for v in final fluid-id; do
         --fluid-attribute phase --material water,murky --view "$v"
 done
 build/meniscus demo -o docs/images/demo.png --width 640 --height 360 --backend cpu
+# The world around the liquid (docs/geometry.md): frame 21 in its tank, read
+# from SPlisHSPlasH's own scene file (the walls toward the camera cut away);
+# objects of the JSON form (an opaque ball, a metal box, a glass box); the
+# glass scene simulated to 3 s and drawn with its glass.
+render world_tank21 --geometry "$tank"
+render world_objects21 --geometry '{"sphere": {"center": [-1.2, 0.22, 0.15], "radius": 0.16}, "material": {"color": [0.8, 0.25, 0.08], "roughness": 0.4}}' \
+    --geometry '{"box": {"min": [0.55, 0, -0.7], "max": [0.85, 0.5, -0.4]}, "material": {"color": [0.95, 0.8, 0.5], "metalness": 1, "roughness": 0.2}}' \
+    --geometry '{"box": {"min": [-2.05, 0, -0.8], "max": [-1.55, 0.7, 0.8]}, "material": {"glass": true}}'
+glass=$(mktemp -d)
+build/meniscus simulate scenes/glass.json --duration 3 -o "$glass/f_%04d.bgeo" --render "$glass/img_%04d.png" \
+    --width 640 --height 360 --backend cpu 2>/dev/null
+cp "$glass/img_0075.png" docs/images/world_glass.png
+rm -r "$glass"

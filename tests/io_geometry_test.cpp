@@ -271,6 +271,11 @@ TEST(GeometrySplishSplash, DamBreakTankIsOneCutAwayBoxWhereTheSceneSaysIt) {
     }
     test::expectClosedAndOriented(tank.mesh);
     test::expectOutward(tank.mesh, translation);
+    // The file has no normals and shares its 8 corners: the generated normals
+    // are split at the 90-degree edges (each face flat, one of the 6 axes),
+    // not smoothed across them into a rounded look.
+    for (const glm::vec3& n : tank.mesh.normals)
+        EXPECT_NEAR(std::max({std::abs(n.x), std::abs(n.y), std::abs(n.z)}), 1.0f, 1e-5f) << n.x << "," << n.y << "," << n.z;
     // "color": [0.1, 0.4, 0.6, 1.0] is checked, but a wall keeps the neutral
     // default so the water reads against it (an obstacle's colour is kept:
     // RotationIsInRadiansAfterTheScale).

@@ -65,6 +65,8 @@ float srgbToLinear(float c) {
 // into the vertices (world coordinates, one flat list of meshes), meshes split
 // by primitive type so points and lines can be dropped, and Assimp's own
 // check of the structure (index ranges) before we look at it.
+// The crease angle of generated normals (importWith), degrees.
+constexpr float kCreaseDegrees = 45.0f;
 constexpr unsigned kAssimpFlags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                                   aiProcess_GenSmoothNormals | aiProcess_PreTransformVertices |
                                   aiProcess_SortByPType | aiProcess_ValidateDataStructure;
@@ -191,6 +193,10 @@ Result<GeometryObject> importWith(Assimp::Importer& importer, const std::string&
     try {
         // Points and lines are split off by SortByPType, then dropped.
         importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+        // Normals made for a file without them are smooth only across edges
+        // of at most kCreaseDegrees (a sphere's facets), and split at sharper
+        // ones (a box's corners), so a box is drawn with flat faces.
+        importer.SetPropertyFloat(AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, kCreaseDegrees);
         auto failed = [&] {
             const char* why = importer.GetErrorString();
             return makeError(name, std::string("cannot be read: ") + (why && *why ? why : "unknown Assimp error"));

@@ -10,9 +10,11 @@
 // "Real Shading in Unreal Engine 4"): the diffuse albedo is the base colour
 // times (1 - metalness); the specular reflectance F0 is 0.04 for a dielectric
 // and the base colour for a metal, raised toward 1 at grazing angles by
-// Schlick's approximation (Schlick 1994). The reflected environment
+// Schlick's approximation (Schlick 1994), its grazing value capped by the
+// roughness (Lagarde & de Rousiers 2014). The reflected environment
 // (sky.h's environmentRadiance along the mirror direction) is weighted by the
-// gloss (1 - roughness)^2; the rest of the specular lobe reflects the studio's
+// gloss (1 - roughness)^4, which falls off as steeply as a GGX lobe's peak (a
+// rough wall shows no sharp image of the horizon); the rest of the specular lobe reflects the studio's
 // light (ambient + key) diffusely; the key light's highlight is a normalised
 // Blinn-Phong lobe (Blinn 1977) whose exponent 2 / alpha^2 - 2, alpha =
 // roughness^2, is the usual match to the GGX width (Walter et al. 2007).
@@ -73,9 +75,13 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 
     MENISCUS_GEOMETRY_EXACT float f0r = MENISCUS_GEOMETRY_F0 * diel + base.x * metalness;
     MENISCUS_GEOMETRY_EXACT float f0g = MENISCUS_GEOMETRY_F0 * diel + base.y * metalness;
     MENISCUS_GEOMETRY_EXACT float f0b = MENISCUS_GEOMETRY_F0 * diel + base.z * metalness;
-    MENISCUS_GEOMETRY_EXACT float fr = f0r + (1.0f - f0r) * m5;
-    MENISCUS_GEOMETRY_EXACT float fg = f0g + (1.0f - f0g) * m5;
-    MENISCUS_GEOMETRY_EXACT float fb = f0b + (1.0f - f0b) * m5;
+    // A rough surface's grazing reflectance stays below 1 - roughness (the
+    // roughness-aware Schlick of Lagarde & de Rousiers 2014): a rough wall
+    // does not turn into a mirror of the horizon at grazing angles.
+    MENISCUS_GEOMETRY_EXACT float f90 = 1.0f - roughness;
+    MENISCUS_GEOMETRY_EXACT float fr = f0r + (max(f90, f0r) - f0r) * m5;
+    MENISCUS_GEOMETRY_EXACT float fg = f0g + (max(f90, f0g) - f0g) * m5;
+    MENISCUS_GEOMETRY_EXACT float fb = f0b + (max(f90, f0b) - f0b) * m5;
     // The mirror direction reflect(-v, n) and the environment along it.
     MENISCUS_GEOMETRY_EXACT float tn = 2.0f * nv;
     MENISCUS_GEOMETRY_EXACT float rx = tn * nx - v.x;
@@ -83,7 +89,8 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 
     MENISCUS_GEOMETRY_EXACT float rz = tn * nz - v.z;
     MENISCUS_GEOMETRY_EXACT vec3 env = skyRadiance(rx, ry, rz, light);
     MENISCUS_GEOMETRY_EXACT float sm = 1.0f - roughness;
-    MENISCUS_GEOMETRY_EXACT float gloss = sm * sm;
+    MENISCUS_GEOMETRY_EXACT float sm2 = sm * sm;
+    MENISCUS_GEOMETRY_EXACT float gloss = sm2 * sm2;
     // The key light's highlight: normalised Blinn-Phong, (s + 8) / (8 pi) (n.h)^s n.l.
     MENISCUS_GEOMETRY_EXACT float hx = light.x + v.x;
     MENISCUS_GEOMETRY_EXACT float hy = light.y + v.y;
