@@ -28,34 +28,9 @@ namespace {
 // The camera (chooseCamera), radius and studio box for a whole sequence.
 Status fixCamera(const RenderJob& o, const std::vector<glm::vec3>& samplePoints, float radius,
                  const Bounds& studio, RenderSettings& settings) {
-    // The scene's objects are framed with the particles and the studio is
-    // built around both (its floor under the tank). A container (a tank, a
-    // domain) is framed across its width but only as high as the particles
-    // reach, so a tall tank does not make the water small; its corners count
-    // as many points as a hundredth of the particles each, so the framing
-    // does not take them for outliers.
     Bounds box = studio;
     std::vector<glm::vec3> points = samplePoints;
-    if (settings.geometry) {
-        Bounds particles;
-        for (const glm::vec3& p : samplePoints) particles.extend(p);
-        const std::size_t weight = samplePoints.size() / 100 + 1;
-        for (const GeometryObject& object : settings.geometry->objects) {
-            if (!object.visible || object.mesh.positions.empty()) continue;
-            Bounds g;
-            for (const glm::vec3& p : object.mesh.positions) g.extend(p);
-            box.extend(g.min);
-            box.extend(g.max);
-            if (object.cutaway && !particles.empty()) {
-                g.min.y = std::max(g.min.y, particles.min.y);
-                g.max.y = std::min(g.max.y, particles.max.y + 0.25f * particles.extent().y);
-                if (!(g.min.y <= g.max.y)) continue;
-            }
-            for (int c = 0; c < 8; ++c)
-                points.insert(points.end(), weight,
-                              {c & 1 ? g.max.x : g.min.x, c & 2 ? g.max.y : g.min.y, c & 4 ? g.max.z : g.min.z});
-        }
-    }
+    frameGeometry(settings.geometry.get(), points, &box);
     auto camera = chooseCamera(o, points, radius);
     if (!camera) return camera.error();
     settings.camera = *camera;

@@ -385,6 +385,15 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse = fal
 // Errors name the option and the file.
 Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<std::string>& specs,
                                                             const glm::vec3& upAxis, bool cutAway = true);
+// Scene geometry in the automatic camera's framing and the studio's box (the
+// CLI, Python and the viewer alike): each visible object's box is added to
+// *studioBox (the floor goes under a tank, not through it) and its corners to
+// `samplePoints`, each as many times as a hundredth of the points (so the
+// framing does not leave them out as outliers); a container (cut-away) only
+// across its width and up to a quarter above the points' top, so a tall tank
+// does not make the water small. Null geometry: nothing changes.
+void frameGeometry(const SceneGeometry* geometry, std::vector<glm::vec3>& samplePoints, Bounds* studioBox);
+
 // `settings`' geometry with `more`'s objects after its own (a simulation's
 // colliders and domain); `cutAway` false draws every wall of them.
 void addGeometry(RenderSettings& settings, SceneGeometry more, bool cutAway);

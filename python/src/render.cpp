@@ -50,7 +50,8 @@ bool isBool(pb::handle v) {
 
 // A Python value as an option's typed value: True/False, a whole number, a
 // number, a text, three numbers (a tuple, list or array: eye=(1, 2, 3)), or
-// texts joined by commas (material=('water', 'lava')).
+// a list of texts (material=('water', 'lava'), joined by commas as the option
+// says them; geometry=[...], one object each).
 OptionValue optionValue(pb::handle v, const std::string& name) {
     if (isBool(v)) return v.cast<bool>();
     if (pb::isinstance<pb::str>(v)) return v.cast<std::string>();
@@ -60,10 +61,10 @@ OptionValue optionValue(pb::handle v, const std::string& name) {
         const pb::list items(pb::isinstance<pb::array>(v) ? v.attr("tolist")() : pb::reinterpret_borrow<pb::object>(v));
         bool texts = items.size() > 0;
         for (pb::handle e : items) texts = texts && pb::isinstance<pb::str>(e);
-        if (texts) {
-            std::string joined;
-            for (pb::handle e : items) joined += (joined.empty() ? "" : ",") + e.cast<std::string>();
-            return joined;
+        if (texts) {  // kept apart: a text option joins them with commas, a list option keeps each
+            std::vector<std::string> list;
+            for (pb::handle e : items) list.push_back(e.cast<std::string>());
+            return list;
         }
         if (items.size() == 3) {
             glm::vec3 out;
@@ -147,7 +148,14 @@ CameraArg cameraArg(pb::handle camera) {
 Result<Camera> frameCamera(const RenderOptions& o, std::span<const glm::vec3> points, float radius,
                            const CameraArg& extra, std::size_t* outside) {
     std::vector<glm::vec3> samples;
-    if (!o.eye) sampleFramePoints(points, samples);
+    if (!o.eye) {
+        sampleFramePoints(points, samples);
+        if (!o.geometry.empty()) {  // framed with the particles, as the CLI frames them
+            auto geometry = renderGeometry(o.geometry, o.up, o.cutAway == "on");
+            if (!geometry) return geometry.error();
+            frameGeometry(geometry->get(), samples, nullptr);
+        }
+    }
     auto cam = chooseCamera(o, samples, radius, outside);
     if (!cam) return makeError("", "camera: " + cam.error().message);
     if (extra.nearM) cam->nearM = *extra.nearM;
@@ -311,6 +319,10 @@ public:
                     f.turned.empty() ? reinterpret_cast<const glm::vec3*>(p.position.data) : f.turned.data();
                 s.scene.studioBounds =
                     fixedStudio ? *fixedStudio : computeBounds(std::span<const glm::vec3>(points, p.size()));
+                if (!fixedStudio) {  // around the scene's objects too, as the CLI
+                    std::vector<glm::vec3> none;
+                    frameGeometry(s.geometry.get(), none, &s.scene.studioBounds);
+                }
                 TriangleMesh mesh;
                 if (o.surface == "mesh") {
                     auto made = extractSurface(f.view, mesherParams(o.mesher, s.radiusM, 0));

@@ -48,6 +48,17 @@ class RenderMatchesCliTest(unittest.TestCase):
     def test_surface_mesh_and_background(self):
         self.check(["--surface", "mesh", "--background", "none"], alpha=True, surface="mesh", background="none")
 
+    def test_geometry(self):
+        # Scene geometry (docs/geometry.md): inline objects and the tank of
+        # SPlisHSPlasH's scene file, as --geometry says them.
+        ball = '{"sphere": {"center": [-1.2, 0.2, 0.1], "radius": 0.15}, "material": {"color": [0.8, 0.3, 0.1]}}'
+        tank = os.path.join(DATA, "..", "..", "splishsplash_scene", "scenes", "DamBreakModel.json")
+        self.check(["--geometry", ball, "--geometry", tank, "--cut-away", "off"], geometry=[ball, tank],
+                   cut_away=False)
+        with self.assertRaises(ValueError) as caught:
+            meniscus.render(self.frame, width=W, height=H, backend="cpu", geometry=["no_such_tank.obj"])
+        self.assertIn("no_such_tank.obj", str(caught.exception))
+
     def test_two_fluids(self):
         path = os.path.join(DATA, "..", "two_fluids", "ParticleData_Fluid_21_phase.bgeo")
         frame = meniscus.read(path)

@@ -1055,6 +1055,30 @@ Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<st
     return last;
 }
 
+void frameGeometry(const SceneGeometry* geometry, std::vector<glm::vec3>& samplePoints, Bounds* studioBox) {
+    if (!geometry) return;
+    Bounds particles;
+    for (const glm::vec3& p : samplePoints) particles.extend(p);
+    const std::size_t weight = samplePoints.size() / 100 + 1;
+    for (const GeometryObject& object : geometry->objects) {
+        if (!object.visible || object.mesh.positions.empty()) continue;
+        Bounds g;
+        for (const glm::vec3& p : object.mesh.positions) g.extend(p);
+        if (studioBox) {
+            studioBox->extend(g.min);
+            studioBox->extend(g.max);
+        }
+        if (object.cutaway && !particles.empty()) {
+            g.min.y = std::max(g.min.y, particles.min.y);
+            g.max.y = std::min(g.max.y, particles.max.y + 0.25f * particles.extent().y);
+            if (!(g.min.y <= g.max.y)) continue;
+        }
+        for (int c = 0; c < 8; ++c)
+            samplePoints.insert(samplePoints.end(), weight,
+                                {c & 1 ? g.max.x : g.min.x, c & 2 ? g.max.y : g.min.y, c & 4 ? g.max.z : g.min.z});
+    }
+}
+
 void addGeometry(RenderSettings& settings, SceneGeometry more, bool cutAway) {
     if (!cutAway)
         for (GeometryObject& object : more.objects) object.cutaway = false;
