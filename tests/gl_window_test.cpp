@@ -359,6 +359,36 @@ TEST_F(GlWindow, ViewSimulateShowsTheFramesSimulateRenders) {
     EXPECT_NE(out.find("missing.json"), std::string::npos) << out;
 }
 
+// Scene geometry in the viewer: its objects listed with checkboxes; a
+// scripted click hides one, and the picture is then what `render` writes
+// without it (the camera given, so both frame alike).
+TEST_F(GlWindow, SceneGeometryIsListedAndAnObjectCanBeHidden) {
+    const auto dir = tempDir();
+    const std::string frame = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo").string();
+    const std::string look = " --width 480 --height 320 --eye 0.5,1.6,2.6 --target -0.9,0.2,0";
+    const std::string ball =
+        R"('{"name": "ball", "sphere": {"center": [-0.9, 0.3, 0.4], "radius": 0.25}, "material": {"color": [0.9, 0.2, 0.1]}}')";
+    const std::string tank = testData("splishsplash_scene/scenes/DamBreakModel.json").string();
+    std::string out;
+    const auto run = [&](const std::string& args) {
+        const std::string cmd = "cd " + dir.string() + " && " + viewerCommand(args);
+        EXPECT_EQ(runCommand(cmd, &out), 0) << cmd << "\n" << out;
+    };
+    const auto render = [&](const std::string& args, const std::string& name) {
+        EXPECT_EQ(runCommand(cliPath() + " render " + args + " --backend gl -o " + (dir / name).string(), &out), 0)
+            << out;
+        return dir / name;
+    };
+    run(frame + look + " --geometry " + ball + " --geometry " + tank + " --frames 2 --screenshot both.png");
+    EXPECT_LE(comparePng(dir / "both.png", render(frame + look + " --geometry " + ball + " --geometry " + tank, "both_r.png"))
+                  .worst,
+              1);
+    run(frame + look + " --geometry " + ball + " --geometry " + tank +
+        " --frames 3 --input-script 'click:ball##geometry0' --screenshot hidden.png");
+    EXPECT_GT(comparePng(dir / "both.png", dir / "hidden.png").off, 0.005) << "the ball should be gone";
+    EXPECT_LE(comparePng(dir / "hidden.png", render(frame + look + " --geometry " + tank, "tank_r.png")).worst, 1);
+}
+
 // The panels: a scripted click on the radius slider changes the picture, prints
 // the `render` option that makes it, and the picture is what `render` with that
 // option writes; after an orbit, "save" writes a scene file that `render` turns

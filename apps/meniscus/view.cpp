@@ -392,7 +392,12 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         for (std::size_t k = 0; k < objects.size(); ++k) same = same && objects[k].visible == (model.geometryShown[k] != 0);
         if (same) return false;
         auto shown = std::make_shared<SceneGeometry>(*settings.geometry);
-        for (std::size_t k = 0; k < objects.size(); ++k) shown->objects[k].visible = model.geometryShown[k] != 0;
+        for (std::size_t k = 0; k < objects.size(); ++k) {
+            shown->objects[k].visible = model.geometryShown[k] != 0;
+            if (shown->objects[k].visible != objects[k].visible)
+                std::cerr << "meniscus: " << (shown->objects[k].visible ? "showing " : "hiding ") << objects[k].name
+                          << "\n";
+        }
         settings.geometry = std::move(shown);
         return true;
     };

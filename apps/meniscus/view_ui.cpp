@@ -231,6 +231,16 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
             ImGui::SameLine();
             if (button("load")) req.load = true;
         }
+        if (!m.geometryNames.empty() && header("Scene geometry", true)) {
+            for (std::size_t k = 0; k < m.geometryNames.size() && k < m.geometryShown.size(); ++k) {
+                bool shown = m.geometryShown[k] != 0;
+                const std::string label = m.geometryNames[k] + "##geometry" + std::to_string(k);
+                if (check(label.c_str(), shown)) {
+                    m.geometryShown[k] = shown ? 1 : 0;
+                    req.geometryChanged = true;
+                }
+            }
+        }
         // Every option with a widget in the table (include/meniscus/options.h),
         // under its header, in the table's order.
         const auto shownNow = [&](const PanelWidget& w) {
@@ -296,16 +306,6 @@ UiRequests ViewerUi::frame(UiModel& m, bool visible) {
                 o.absorption.reset();
                 o.ior = o.refraction = o.specular = o.shininess = o.opacity = NAN;
                 req.lookChanged = true;
-            }
-        }
-        if (!m.geometryNames.empty() && header("Scene geometry", true)) {
-            for (std::size_t k = 0; k < m.geometryNames.size() && k < m.geometryShown.size(); ++k) {
-                bool shown = m.geometryShown[k] != 0;
-                const std::string label = m.geometryNames[k] + "##geometry" + std::to_string(k);
-                if (check(label.c_str(), shown)) {
-                    m.geometryShown[k] = shown ? 1 : 0;
-                    req.geometryChanged = true;
-                }
             }
         }
         if (header("Timings", true)) {
