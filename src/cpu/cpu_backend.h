@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/backend.h"
+#include "cpu/raster_mesh.h"
 #include "cpu/scene.h"
 
 namespace meniscus::cpu {
@@ -64,6 +65,8 @@ public:
     // The scene as one layer, for the shading: the cached cast when the slots
     // name it (always, in the pipeline), else a copy into *copy.
     const SceneLayer& sceneLayer(Slot color, Slot depth, SceneLayer* copy) const;
+    // The geometry stages' rasteriser images, kept across frames.
+    MeshRaster& geometryRaster() { return geometryRaster_; }
 
 private:
     std::span<const glm::vec3> positions_;
@@ -80,7 +83,8 @@ private:
     SceneLayer withGeometry_;
     std::shared_ptr<const SceneGeometry> drawnGeometry_;
     bool withGeometryValid_ = false;
-    const SceneLayer* named_ = &scene_;  // the layer the scene slots name: the cast, or the cast with geometry
+    const SceneLayer* named_ = &scene_;
+    MeshRaster geometryRaster_;  // the layer the scene slots name: the cast, or the cast with geometry
     int sceneColorSlot_ = -1, sceneDepthSlot_ = -1;
     std::string stage_;
     std::chrono::steady_clock::time_point t0_;

@@ -61,28 +61,33 @@ void shadeRaster(const Camera& camera, const MeshRaster& r, const GeometryMateri
 }  // namespace
 
 void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const shared::Studio& studio,
-                  Image<glm::vec4>& color, Image<float>& depth) {
+                  Image<glm::vec4>& color, Image<float>& depth, MeshRaster* reuse) {
     const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
     TriangleMesh scratch;
+    MeshRaster own;
+    MeshRaster& r = reuse ? *reuse : own;
     // The opaque objects, then glass's back faces over them.
     for (const bool glass : {false, true})
         for (const GeometryObject& object : geometry.objects) {
             if (!drawsObject(object) || object.material.glass != glass) continue;
             const TriangleMesh& mesh = facesSeenFrom(object.mesh, camera.eye, sceneFaces(object), &scratch);
-            const MeshRaster r = rasteriseMesh(camera, mesh, &depth);
+            rasteriseMesh(camera, mesh, &depth, r);
             shadeRaster(camera, r, object.material, light, glass ? Blend::Glass : Blend::Opaque, nullptr, color,
                         depth, &depth);
         }
 }
 
 void drawGlassFronts(const Camera& camera, const SceneGeometry& geometry, const shared::Studio& studio,
-                     const Image<float>& liquidDepth, const Image<float>& sceneDepth, Image<glm::vec4>& color) {
+                     const Image<float>& liquidDepth, const Image<float>& sceneDepth, Image<glm::vec4>& color,
+                     MeshRaster* reuse) {
     const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
     TriangleMesh scratch;
+    MeshRaster own;
+    MeshRaster& r = reuse ? *reuse : own;
     for (const GeometryObject& object : geometry.objects) {
         if (!drawsObject(object) || !object.material.glass) continue;
         const TriangleMesh& mesh = facesSeenFrom(object.mesh, camera.eye, Faces::Front, &scratch);
-        const MeshRaster r = rasteriseMesh(camera, mesh, &sceneDepth);
+        rasteriseMesh(camera, mesh, &sceneDepth, r);
         shadeRaster(camera, r, object.material, light, Blend::Glass, &liquidDepth, color, sceneDepth, nullptr);
     }
 }
@@ -97,7 +102,7 @@ void runGeometry(Backend& b, const StageIo& io) {
     const FrameSettings& s = c.frame();
     if (!s.geometry) return;
     c.paintSceneGeometry(io.at.sceneColor, io.at.sceneDepth, [&](Image<glm::vec4>& color, Image<float>& depth) {
-        drawGeometry(s.camera, *s.geometry, s.studio, color, depth);
+        drawGeometry(s.camera, *s.geometry, s.studio, color, depth, &c.geometryRaster());
     });
 }
 
@@ -106,7 +111,7 @@ void runGlass(Backend& b, const StageIo& io) {
     const FrameSettings& s = c.frame();
     if (!s.geometry) return;
     drawGlassFronts(s.camera, *s.geometry, s.studio, c.scalar(io.at.depth), c.scalar(io.at.sceneDepth),
-                    c.colorToPaint(io.at.color));
+                    c.colorToPaint(io.at.color), &c.geometryRaster());
 }
 
 }  // namespace

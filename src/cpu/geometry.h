@@ -8,6 +8,7 @@
 #include "meniscus/camera.h"
 #include "meniscus/geometry.h"
 #include "meniscus/types.h"
+#include "cpu/raster_mesh.h"
 #include "shared/studio.h"
 
 namespace meniscus::cpu {
@@ -21,10 +22,11 @@ namespace meniscus::cpu {
 // written with their depth where nearer, objects in their list's order;
 // then glass objects' back faces blended over the colour by
 // shared::glassRadiance, the depth left as it is (the liquid inside shows).
-// Bit-identical for any thread count. Preconditions as rasteriseMesh's (the
+// Bit-identical for any thread count. `reuse`: the rasteriser's images, kept
+// by the caller across frames (their memory reused). Preconditions as rasteriseMesh's (the
 // Renderer checks them): every mesh valid with normals.
 void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const shared::Studio& studio,
-                  Image<glm::vec4>& color, Image<float>& depth);
+                  Image<glm::vec4>& color, Image<float>& depth, MeshRaster* reuse = nullptr);
 
 // The glass stage: the front faces of every drawn glass object over the
 // finished picture `color` where they are nearer than both the liquid
@@ -33,6 +35,7 @@ void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const sha
 // scene layer the same way, without writing its depth: the liquid inside a
 // glass is seen through its walls, front faces over it, back faces behind.)
 void drawGlassFronts(const Camera& camera, const SceneGeometry& geometry, const shared::Studio& studio,
-                     const Image<float>& liquidDepth, const Image<float>& sceneDepth, Image<glm::vec4>& color);
+                     const Image<float>& liquidDepth, const Image<float>& sceneDepth, Image<glm::vec4>& color,
+                     MeshRaster* reuse = nullptr);
 
 }  // namespace meniscus::cpu

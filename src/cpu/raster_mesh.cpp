@@ -412,13 +412,26 @@ void rasterise(const Frame& fr, const TriangleMesh& mesh, const Targets& out) {
 
 MeshRaster rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const Image<float>* sceneDepth,
                          Image<std::uint32_t>* coverage) {
-    const int W = camera.width, H = camera.height;
     MeshRaster out;
+    rasteriseMesh(camera, mesh, sceneDepth, out, coverage);
+    return out;
+}
+
+void rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const Image<float>* sceneDepth, MeshRaster& out,
+                   Image<std::uint32_t>* coverage) {
+    const int W = camera.width, H = camera.height;
     const bool hasScene = sceneDepth && sceneDepth->width == W && sceneDepth->height == H;
     // The z-buffer starts at the scene depth, so the strict test discards
-    // fragments at or behind it; still equal at the end = no fluid.
-    out.depth = hasScene ? *sceneDepth : Image<float>(W, H, kInf);
-    out.normal = Image<glm::vec3>(W, H, glm::vec3(0.0f));
+    // fragments at or behind it; still equal at the end = no fluid. The
+    // images are assigned in place (their memory reused when `out` is).
+    const auto refill = [&](auto& image, const auto& value) {
+        image.width = W;
+        image.height = H;
+        image.pixels.assign(std::size_t(W) * std::size_t(H), value);
+    };
+    if (hasScene) out.depth = *sceneDepth;
+    else refill(out.depth, kInf);
+    refill(out.normal, glm::vec3(0.0f));
     Frame fr;
     fr.width = W;
     fr.height = H;
@@ -441,7 +454,6 @@ MeshRaster rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const I
             for (std::size_t i = std::size_t(y) * W; i < std::size_t(y + 1) * W; ++i)
                 if (!(out.depth.pixels[i] < sceneDepth->pixels[i])) out.depth.pixels[i] = kInf;
         });
-    return out;
 }
 
 // ---- The stage's CPU driver (core/backend.h StageDriver), named by its row

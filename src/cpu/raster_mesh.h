@@ -46,5 +46,8 @@ struct MeshRaster {
 // or scene test: a test of the fill rule.
 MeshRaster rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const Image<float>* sceneDepth = nullptr,
                          Image<std::uint32_t>* coverage = nullptr);
+// The same into `out`, whose images' memory is reused (a stage drawing every frame).
+void rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const Image<float>* sceneDepth, MeshRaster& out,
+                   Image<std::uint32_t>* coverage = nullptr);
 
 }  // namespace meniscus::cpu

@@ -51,6 +51,16 @@ using std::sqrt;
 // The narrowest highlight: roughness below this is treated as this.
 #define MENISCUS_GEOMETRY_MIN_ALPHA 0.02f
 
+// The key light's normalised Blinn-Phong lobe (s + 8) / (8 pi) (n.h)^s n.l.
+// Where it cannot reach 1e-4 it is 0 and pow is skipped: (n.h)^s <=
+// exp(-s (1 - n.h)) (ln x <= x - 1), below e^-14.5 once s (1 - n.h) > 14.5,
+// and (s + 8) / (8 pi) < 200 for every exponent used (alpha >= 0.02).
+MENISCUS_GEOMETRY_INLINE float geometryLobe(float nl, float nh, float s) {
+    MENISCUS_GEOMETRY_EXACT float far = s * (1.0f - nh);
+    bool lit = nl > 0.0f && nh > 0.0f && far <= 14.5f;
+    return lit ? (s + 8.0f) * 0.0397887358f * pow(nh, s) * nl : 0.0f;
+}
+
 // Linear RGB radiance of a surface point. n: unit world normal (turned toward
 // the viewer here when it faces away: the inside of a cut-away tank);
 // v: unit world direction toward the eye; light: unit world direction toward
@@ -99,7 +109,7 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 
     MENISCUS_GEOMETRY_EXACT float nh = hLen > 0.0f ? max((nx * hx + ny * hy + nz * hz) / hLen, 0.0f) : 0.0f;
     MENISCUS_GEOMETRY_EXACT float alpha = max(roughness * roughness, MENISCUS_GEOMETRY_MIN_ALPHA);
     MENISCUS_GEOMETRY_EXACT float s = 2.0f / (alpha * alpha) - 2.0f;
-    MENISCUS_GEOMETRY_EXACT float lobe = nl > 0.0f && nh > 0.0f ? (s + 8.0f) * 0.0397887358f * pow(nh, s) * nl : 0.0f;
+    MENISCUS_GEOMETRY_EXACT float lobe = geometryLobe(nl, nh, s);
     MENISCUS_GEOMETRY_EXACT float highlight = kStudioKey * lobe;
     // Diffuse + specular: the glossy share mirrors the environment, the rest
     // reflects the studio's light diffusely, plus the highlight.
@@ -149,7 +159,7 @@ MENISCUS_GEOMETRY_INLINE vec3 glassRadiance(vec3 below, vec3 n, vec3 v, vec3 lig
     MENISCUS_GEOMETRY_EXACT float hLen = sqrt(hx * hx + hy * hy + hz * hz);
     MENISCUS_GEOMETRY_EXACT float nh = hLen > 0.0f ? max((nx * hx + ny * hy + nz * hz) / hLen, 0.0f) : 0.0f;
     MENISCUS_GEOMETRY_EXACT float s = 2.0f / (MENISCUS_GEOMETRY_MIN_ALPHA * MENISCUS_GEOMETRY_MIN_ALPHA) - 2.0f;
-    MENISCUS_GEOMETRY_EXACT float lobe = nl > 0.0f && nh > 0.0f ? (s + 8.0f) * 0.0397887358f * pow(nh, s) * nl : 0.0f;
+    MENISCUS_GEOMETRY_EXACT float lobe = geometryLobe(nl, nh, s);
     MENISCUS_GEOMETRY_EXACT float highlight = kStudioKey * F * lobe;
     MENISCUS_GEOMETRY_EXACT float keep = 1.0f - F;
     return vec3(below.x * tr * keep + F * env.x + highlight, below.y * tg * keep + F * env.y + highlight,
