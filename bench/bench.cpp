@@ -470,8 +470,8 @@ int main(int argc, char** argv) {
             }
         }
         for (const auto& stage : order) {
-            const std::string name = stage == "smooth" ? "smooth " + label : stage == "scene"      ? "scene (cached)"
-                                    : stage == "geometry" ? "geometry (cached)"
+            const std::string name = stage == "smooth" ? "smooth " + label : stage == "scene"      ? "scene (still camera)"
+                                    : stage == "geometry" ? "geometry (still camera)"
                                                           : stage;
             for (std::size_t b = 0; b < renderers.size(); ++b)
                 if (perStage[b].count(stage)) printOn(name.c_str(), res, n, renderers[b].first, median(perStage[b][stage]));
