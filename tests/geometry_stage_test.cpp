@@ -47,6 +47,20 @@ GeometryObject boxObject(glm::vec3 min, glm::vec3 max, glm::vec3 color = glm::ve
     return o;
 }
 
+// A block of liquid of n particles of radius kR from `origin`, and the
+// settings that look at it from +z.
+constexpr float kR = 0.02f;
+std::vector<glm::vec3> liquidBlock(glm::ivec3 n, glm::vec3 origin) {
+    return test::jitteredBlock(n, 2.0f * kR, 0.0f, origin);
+}
+RenderSettings liquidSettings(float dist, int w, int h) {
+    RenderSettings s;
+    s.radiusM = kR;
+    s.camera = frontCamera(dist, w, h);
+    s.anisotropy.enabled = false;
+    return s;
+}
+
 shared::Studio studioFor(const Camera& cam) {
     Bounds box;
     box.extend({-1.0f, -1.0f, -1.0f});
@@ -171,12 +185,8 @@ TEST(GeometryStage, SameBitsForAnyThreadCount) {
 // Through the Renderer: a block of liquid, a box in front of its left half and
 // a bright box behind its right half.
 TEST(GeometryStage, InFrontHidesTheLiquidBehindIsRefractedThrough) {
-    const float r = 0.02f;
-    const std::vector<glm::vec3> pts = test::jitteredBlock({20, 10, 5}, 2.0f * r, 0.0f, {-0.4f, -0.2f, -0.1f});
-    RenderSettings s;
-    s.radiusM = r;
-    s.camera = frontCamera(2.5f, 160, 120);
-    s.anisotropy.enabled = false;
+    const std::vector<glm::vec3> pts = liquidBlock({20, 10, 5}, {-0.4f, -0.2f, -0.1f});
+    RenderSettings s = liquidSettings(2.5f, 160, 120);
     auto plain = renderFrame(pts, s);
     ASSERT_TRUE(plain.ok()) << plain.error().describe();
 
@@ -258,13 +268,9 @@ TEST(GeometryStage, GlassFrontAtNormalIncidenceFollowsBeerLambertAndFresnel) {
 // glass's front wall (a red-absorbing tint takes red away) and its back wall
 // behind it; the liquid's depth the same bits as without the glass.
 TEST(GeometryStage, LiquidInAGlassIsSeenThroughItsWalls) {
-    const float r = 0.02f;
-    const std::vector<glm::vec3> pts = test::jitteredBlock({10, 10, 5}, 2.0f * r, 0.0f, {-0.2f, -0.2f, -0.1f});
-    RenderSettings s;
-    s.radiusM = r;
-    s.camera = frontCamera(2.0f, 120, 90);
+    const std::vector<glm::vec3> pts = liquidBlock({10, 10, 5}, {-0.2f, -0.2f, -0.1f});
+    RenderSettings s = liquidSettings(2.0f, 120, 90);
     s.camera.eye = {0.4f, 0.5f, 2.0f};
-    s.anisotropy.enabled = false;
     auto plain = renderFrame(pts, s);
     ASSERT_TRUE(plain.ok());
     auto g = std::make_shared<SceneGeometry>();
@@ -297,12 +303,8 @@ TEST(GeometryStage, LiquidInAGlassIsSeenThroughItsWalls) {
 // hidden object or a new camera draws it again (each frame the same as a
 // fresh renderer's).
 TEST(GeometryStage, AReusedRendererKeepsTheDrawnGeometryUntilItChanges) {
-    const float r = 0.02f;
-    const std::vector<glm::vec3> pts = test::jitteredBlock({10, 6, 4}, 2.0f * r, 0.0f, {-0.2f, -0.1f, -0.1f});
-    RenderSettings s;
-    s.radiusM = r;
-    s.camera = frontCamera(2.0f, 96, 72);
-    s.anisotropy.enabled = false;
+    const std::vector<glm::vec3> pts = liquidBlock({10, 6, 4}, {-0.2f, -0.1f, -0.1f});
+    RenderSettings s = liquidSettings(2.0f, 96, 72);
     auto g = std::make_shared<SceneGeometry>();
     g->objects.push_back(boxObject({-0.5f, -0.3f, -0.5f}, {0.5f, -0.15f, -0.3f}));
     g->objects.push_back(boxObject({0.25f, -0.1f, 0.2f}, {0.4f, 0.1f, 0.3f}, glm::vec3(0.1f, 0.2f, 0.9f)));

@@ -256,6 +256,21 @@ std::optional<std::string> implausiblePly(std::string_view head, std::uintmax_t 
     return std::nullopt;
 }
 
+// Why a mesh of `size` bytes named `name` is refused before it is read (empty,
+// over the size limit, or an extension Assimp does not read); none: read it.
+std::optional<Error> refusedMesh(const Assimp::Importer& importer, const std::string& name, const std::string& ext,
+                                 std::uintmax_t size) {
+    if (size == 0) return makeError(name, "is empty");
+    if (size > lim::kMaxMeshFileBytes)
+        return makeError(name, "is " + std::to_string(size) + " bytes; a mesh file is at most " +
+                                   std::to_string(lim::kMaxMeshFileBytes) + " bytes");
+    if (ext.empty() || !importer.IsExtensionSupported(ext))
+        return makeError(name, "is not a mesh format this build reads (by its extension " +
+                                   (ext.empty() ? std::string("(none)") : ext) + "); Assimp reads " +
+                                   supportedList(importer));
+    return std::nullopt;
+}
+
 }  // namespace
 
 Result<GeometryObject> readGeometryMesh(const fs::path& file) {
@@ -266,16 +281,9 @@ Result<GeometryObject> readGeometryMesh(const fs::path& file) {
         if (!fs::is_regular_file(file, ec)) return makeError(name, "is not a regular file");
         const std::uintmax_t size = fs::file_size(file, ec);
         if (ec) return makeError(name, "cannot be read: " + ec.message());
-        if (size == 0) return makeError(name, "is empty");
-        if (size > lim::kMaxMeshFileBytes)
-            return makeError(name, "is " + std::to_string(size) + " bytes; a mesh file is at most " +
-                                       std::to_string(lim::kMaxMeshFileBytes) + " bytes");
         Assimp::Importer importer;
         const std::string ext = extensionOf(name);
-        if (ext.empty() || !importer.IsExtensionSupported(ext))
-            return makeError(name, "is not a mesh format this build reads (by its extension " +
-                                       (ext.empty() ? std::string("(none)") : ext) + "); Assimp reads " +
-                                       supportedList(importer));
+        if (auto refused = refusedMesh(importer, name, ext, size)) return *refused;
         if (ext == ".ply") {
             std::ifstream in(file, std::ios::binary);
             std::string head(std::size_t(std::min<std::uintmax_t>(size, 64 << 10)), '\0');
@@ -291,16 +299,9 @@ Result<GeometryObject> readGeometryMesh(const fs::path& file) {
 
 Result<GeometryObject> parseGeometryMesh(ByteView data, const std::string& name) {
     try {
-        if (data.empty()) return makeError(name, "is empty");
-        if (data.size() > lim::kMaxMeshFileBytes)
-            return makeError(name, "is " + std::to_string(data.size()) + " bytes; a mesh file is at most " +
-                                       std::to_string(lim::kMaxMeshFileBytes) + " bytes");
         Assimp::Importer importer;
         const std::string ext = extensionOf(name);
-        if (ext.empty() || !importer.IsExtensionSupported(ext))
-            return makeError(name, "is not a mesh format this build reads (by its extension " +
-                                       (ext.empty() ? std::string("(none)") : ext) + "); Assimp reads " +
-                                       supportedList(importer));
+        if (auto refused = refusedMesh(importer, name, ext, data.size())) return *refused;
         if (ext == ".ply") {
             const std::string_view head(reinterpret_cast<const char*>(data.data()), std::min<std::size_t>(data.size(), 64 << 10));
             if (auto why = implausiblePly(head, data.size())) return makeError(name, *why);
