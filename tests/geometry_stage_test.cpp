@@ -16,6 +16,7 @@
 #include "cpu/geometry.h"
 #include "cpu/scene.h"
 #include "meniscus/geometry.h"
+#include "meniscus/options.h"
 #include "meniscus/renderer.h"
 #include "shared/geometry_shade.h"
 #include "shared/sky.h"
@@ -325,4 +326,30 @@ TEST(GeometryStage, AReusedRendererKeepsTheDrawnGeometryUntilItChanges) {
     EXPECT_FALSE(sameBits(pictures[1], pictures[2]));  // the blue box hidden
     EXPECT_TRUE(sameBits(pictures[0], pictures[3]));   // and shown again
     EXPECT_FALSE(sameBits(pictures[3], pictures[4]));
+}
+
+// --geometry through the options: objects turned with z-up data as the
+// particles are (z up becomes y up), --cut-away off keeps containers whole,
+// the same list read once (the same object back), an error naming the option.
+TEST(GeometryOptions, RenderGeometryTurnsCutsAndCaches) {
+    const std::string box = R"({"box": {"min": [0, 0, 0], "max": [1, 2, 3]}, "cutaway": true})";
+    auto up = renderGeometry({box}, {0.0f, 0.0f, 1.0f});
+    ASSERT_TRUE(up.ok()) << up.error().describe();
+    const Bounds b = (*up)->bounds();
+    // (x, y, z) -> (x, z, -y): the box's 3 m along z now stand along y.
+    EXPECT_NEAR(b.min.y, 0.0f, 1e-6f);
+    EXPECT_NEAR(b.max.y, 3.0f, 1e-6f);
+    EXPECT_NEAR(b.min.z, -2.0f, 1e-6f);
+    EXPECT_TRUE((*up)->objects[0].cutaway);
+    auto again = renderGeometry({box}, {0.0f, 0.0f, 1.0f});
+    ASSERT_TRUE(again.ok());
+    EXPECT_EQ(again->get(), up->get());  // read once
+    auto whole = renderGeometry({box}, {0.0f, 1.0f, 0.0f}, false);
+    ASSERT_TRUE(whole.ok());
+    EXPECT_FALSE((*whole)->objects[0].cutaway);
+    EXPECT_NEAR((*whole)->bounds().max.z, 3.0f, 1e-6f);
+    auto missing = renderGeometry({"/no/such/tank.stl"}, {0.0f, 1.0f, 0.0f});
+    ASSERT_FALSE(missing.ok());
+    EXPECT_NE(missing.error().describe().find("--geometry /no/such/tank.stl"), std::string::npos)
+        << missing.error().describe();
 }
