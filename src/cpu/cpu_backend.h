@@ -75,6 +75,7 @@ private:
     bool sceneValid_ = false;
     Camera sceneCamera_;
     shared::Studio sceneStudio_;
+    shared::EnvironmentMap sceneEnv_;  // and the environment map
     SceneLayer scene_;
     // The cast with the geometry drawn over it, for the geometry it was drawn with.
     SceneLayer withGeometry_;

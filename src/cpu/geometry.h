@@ -8,6 +8,7 @@
 #include "meniscus/camera.h"
 #include "meniscus/geometry.h"
 #include "meniscus/types.h"
+#include "shared/environment.h"
 #include "shared/studio.h"
 
 namespace meniscus::cpu {
@@ -24,7 +25,7 @@ namespace meniscus::cpu {
 // Bit-identical for any thread count. Preconditions as rasteriseMesh's (the
 // Renderer checks them): every mesh valid with normals.
 void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const shared::Studio& studio,
-                  Image<glm::vec4>& color, Image<float>& depth);
+                  Image<glm::vec4>& color, Image<float>& depth, const shared::EnvironmentMap& environment = {});
 
 // The glass stage: the front faces of every drawn glass object over the
 // finished picture `color` where they are nearer than both the liquid
@@ -33,6 +34,7 @@ void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const sha
 // scene layer the same way, without writing its depth: the liquid inside a
 // glass is seen through its walls, front faces over it, back faces behind.)
 void drawGlassFronts(const Camera& camera, const SceneGeometry& geometry, const shared::Studio& studio,
-                     const Image<float>& liquidDepth, const Image<float>& sceneDepth, Image<glm::vec4>& color);
+                     const Image<float>& liquidDepth, const Image<float>& sceneDepth, Image<glm::vec4>& color,
+                     const shared::EnvironmentMap& environment = {});
 
 }  // namespace meniscus::cpu
