@@ -50,3 +50,28 @@ TEST(CliEnvironment, BadFilesAreErrorsNamingThem) {
               0);
     EXPECT_FALSE(fs::exists(dir / "f.png"));
 }
+
+// A scene file's `environment` key is a path relative to the scene file and
+// gives the picture of the same --environment option.
+TEST(CliEnvironment, SceneFileKeyIsRelativeToTheFile) {
+    const fs::path dir = dirWithFrame("scene_environment");
+    fs::create_directories(dir / "maps");
+    fs::copy_file(testData("environment/sky_128x64.exr"), dir / "maps" / "sky.exr",
+                  fs::copy_options::overwrite_existing);
+    writeText(dir / "scene.json", R"({
+      "particles": "f.bgeo", "output": "a.png", "radius": 0.01,
+      "camera": {"eye": [2.6, 0.4, 3.2], "target": [0, 0.35, 0]},
+      "render": {"width": 96, "height": 54, "backend": "cpu", "background": "floor",
+                 "environment": "maps/sky.exr", "environment_rotation": 45}
+    })");
+    std::string out;
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "scene.json"), &out), 0) << out;
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "b.png") +
+                         " --radius 0.01 --eye 2.6,0.4,3.2 --target 0,0.35,0 --width 96 --height 54 --backend cpu "
+                         "--background floor --environment-rotation 45 --environment " +
+                         shellQuote(dir / "maps" / "sky.exr"),
+                     &out),
+              0)
+        << out;
+    EXPECT_EQ(readBytes(dir / "a.png"), readBytes(dir / "b.png"));
+}
