@@ -236,6 +236,23 @@ TEST(EnvironmentMap, PipelineBackgroundAndReflectionTakeTheMapsColours) {
     ASSERT_GT(fluid, 100);
     EXPECT_GT(redSum / fluid, darkSum / fluid + 0.02) << redSum / fluid << " vs " << darkSum / fluid;
 
+    // In the studio with walls no sky is seen: the map changes the liquid's
+    // pixels (its reflection) and nothing else.
+    RenderSettings walls = autoFramedSettings(set, 160, 90);
+    auto wallsPlain = renderer.render(set.positions, walls);
+    walls.scene.environment = redGreen;
+    auto wallsRed = renderer.render(set.positions, walls);
+    ASSERT_TRUE(wallsPlain.ok() && wallsRed.ok());
+    int changedFluid = 0, changedOther = 0;
+    for (int y = 0; y < cam.height; ++y)
+        for (int x = 0; x < cam.width; ++x) {
+            const bool changed = wallsPlain->color.at(x, y) != wallsRed->color.at(x, y);
+            if (std::isfinite(wallsPlain->depth.at(x, y))) changedFluid += changed ? 1 : 0;
+            else changedOther += changed ? 1 : 0;
+        }
+    EXPECT_GT(changedFluid, 100);
+    EXPECT_EQ(changedOther, 0);
+
     // Rendering without the map again gives the default picture, bit for bit.
     auto again = renderer.render(set.positions, s);
     ASSERT_TRUE(again.ok());
