@@ -69,6 +69,7 @@ void CpuBackend::castScene(Slot color, Slot depth) {
     if (!sceneValid_ || !(sceneCamera_ == s_.camera) || !(sceneStudio_ == s_.studio) || !sameEnv) {
         scene_ = cpu::castScene(s_.camera, s_.studio, env);
         sceneEnv_ = env;
+        sceneEnvImage_ = s_.environmentImage;
         sceneCamera_ = s_.camera;
         sceneStudio_ = s_.studio;
         sceneValid_ = true;

@@ -102,6 +102,7 @@ void GlBackend::sceneCast(Slot color, Slot depth) {
     sceneCamera_ = s_.camera;
     sceneStudio_ = s_.studio;
     sceneEnv_ = s_.environment;
+    sceneEnvImage_ = s_.environmentImage;
     sceneSlots_ = {int(color), int(depth)};
 }
 

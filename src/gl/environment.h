@@ -5,9 +5,12 @@
 // and intensity as two uniforms. Uploaded once while the map stays the same.
 #pragma once
 
+#include <memory>
+
 #include <glm/glm.hpp>
 
 #include "gl/gpu_image.h"
+#include "meniscus/environment.h"
 #include "shared/environment.h"
 
 namespace meniscus::gl {
@@ -19,9 +22,12 @@ inline constexpr GLuint kEnvironmentBinding = 7;
 struct EnvironmentGpu {
     GpuImage texels;  // 3 floats per texel; a dummy texel when there is no map
     shared::EnvironmentMap map;  // what the uniforms describe (texels null: the sky)
+    // The image uploaded, kept alive so that no new map takes its address
+    // (which is what update compares).
+    std::shared_ptr<const EnvironmentImage> image;
 
     // Makes the buffer hold `m` (uploading only a new map).
-    void update(const shared::EnvironmentMap& m) {
+    void update(const shared::EnvironmentMap& m, std::shared_ptr<const EnvironmentImage> keep) {
         const bool same = map.texels == m.texels && map.width == m.width && map.height == m.height &&
                           texels.buffer.id() != 0;
         if (!same) {
@@ -33,6 +39,7 @@ struct EnvironmentGpu {
             }
         }
         map = m;
+        image = std::move(keep);
     }
     // Binds the texels and sets the program's uniforms at `sizeLoc` (ivec2:
     // width, 0 without a map; height) and `sizeLoc + 1` (vec2: rotation in

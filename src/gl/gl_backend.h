@@ -81,7 +81,7 @@ public:
     bool sceneCached(Slot color, Slot depth) const;
     // The frame's environment map on the GPU (uploaded when it changes).
     const EnvironmentGpu& environment() {
-        env_.update(s_.environment);
+        env_.update(s_.environment, s_.environmentImage);
         return env_;
     }
     void sceneCast(Slot color, Slot depth);
@@ -128,6 +128,7 @@ private:
     Camera sceneCamera_;
     shared::Studio sceneStudio_;
     shared::EnvironmentMap sceneEnv_;  // the environment map of the cached cast
+    std::shared_ptr<const EnvironmentImage> sceneEnvImage_;  // kept alive while cached (its address is the key)
     EnvironmentGpu env_;
     std::pair<int, int> sceneSlots_{-1, -1};
     std::vector<Timer> timers_;

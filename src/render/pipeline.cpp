@@ -801,6 +801,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     }
     f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
     f.environment = {};
+    f.environmentImage = s.scene.environment;
     if (s.scene.environment && !s.scene.environment->rgb.empty()) {
         f.environment.texels = s.scene.environment->rgb.data();
         f.environment.width = s.scene.environment->width;
