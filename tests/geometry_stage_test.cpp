@@ -118,7 +118,7 @@ TEST(GeometryStage, ABoxFaceAtItsAnalyticDepthShadedByTheSharedFormula) {
     const glm::vec3 d((float(cx) + 0.5f - 0.5f * cam.width) / f, -(float(cy) + 0.5f - 0.5f * cam.height) / f, -1.0f);
     const glm::vec3 v = -glm::normalize(d);  // the camera's axes are the world's here
     const GeometryMaterial& m = g.objects[0].material;
-    const glm::vec3 want = shared::geometryRadiance({0.0f, 0.0f, 1.0f}, v, light, m.baseColor, m.roughness, m.metalness);
+    const glm::vec3 want = shared::geometryRadiance({0.0f, 0.0f, 1.0f}, v, light, m.baseColor, m.roughness, m.metalness, {});
     const glm::vec4 got = layer.color.at(cx, cy);
     EXPECT_NEAR(got.r, want.r, 1e-5f);
     EXPECT_NEAR(got.g, want.g, 1e-5f);

@@ -12,6 +12,7 @@
 
 #include "shared/thickness.h"
 #include "gl_test_util.h"
+#include "meniscus/environment.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
@@ -304,6 +305,50 @@ TEST_F(GlBackend, SceneGeometryMatchesCpu) {
         auto a = cpu.render(f.positions, f.settings);
         auto b = gl->render(f.positions, f.settings);
         ASSERT_TRUE(a.ok() && b.ok());
+        expectSame(*a, *b, f.settings.radiusM);
+    }
+}
+
+// The HDR environment map (docs/pipeline.md#environment-map) in place of the
+// sky on both backends: the background of the studio with walls, of the
+// floor alone, the transparent background's fill, and the reflections of a
+// metal box and a glass box; the map turned and brightened.
+TEST_F(GlBackend, EnvironmentMapMatchesCpu) {
+    Frame f = realFrameSettings();
+    ASSERT_FALSE(f.positions.empty());
+    auto map = readEnvironmentMap(testData("environment/sky_128x64.exr"));
+    ASSERT_TRUE(map.ok()) << map.error().describe();
+    f.settings.scene.environment = std::make_shared<const EnvironmentImage>(std::move(*map));
+    f.settings.scene.environmentRotationDeg = 30.0f;
+    f.settings.scene.environmentIntensity = 1.5f;
+    Bounds box;
+    for (const glm::vec3& p : f.positions) box.extend(p);
+    const glm::vec3 c = box.center(), e = box.extent();
+    auto g = std::make_shared<SceneGeometry>();
+    GeometryObject metal;
+    metal.name = "metal";
+    metal.mesh = makeBoxMesh(c - glm::vec3(0.3f, 0.2f, 0.2f) * e, c - glm::vec3(0.1f, 0.0f, 0.0f) * e);
+    metal.material.metalness = 1.0f;
+    metal.material.roughness = 0.15f;
+    g->objects.push_back(metal);
+    GeometryObject glass;
+    glass.name = "glass";
+    glass.mesh = makeBoxMesh(c - glm::vec3(0.2f, 0.3f, 0.3f) * e, c + glm::vec3(0.3f, 0.2f, 0.3f) * e);
+    glass.material.glass = true;
+    g->objects.push_back(glass);
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    Renderer cpu;
+    // 0: the studio; 1: the floor alone; 2: no background; 3: with the geometry.
+    for (int variant = 0; variant < 4; ++variant) {
+        SCOPED_TRACE(variant);
+        f.settings.scene.walls = variant != 1;
+        f.settings.scene.background = variant != 2;
+        f.settings.geometry = variant == 3 ? g : nullptr;
+        auto a = cpu.render(f.positions, f.settings);
+        auto b = gl->render(f.positions, f.settings);
+        ASSERT_TRUE(a.ok()) << a.error().describe();
+        ASSERT_TRUE(b.ok()) << b.error().describe();
         expectSame(*a, *b, f.settings.radiusM);
     }
 }

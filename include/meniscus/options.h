@@ -94,6 +94,11 @@ struct RenderOptions {
     std::optional<glm::vec3> light;  // toward the key light, world space; unset: ShadingParams' default
     // auto: studio for a still camera, floor when the camera moves (the caller decides).
     std::string background = "auto";
+    // The HDR environment map (readEnvironmentMap; empty: the procedural sky),
+    // its turn about the vertical in degrees and its radiance multiplier.
+    std::string environment;
+    float environmentRotation = 0.0f;
+    float environmentIntensity = 1.0f;
     // Scene geometry drawn around the liquid (readGeometry, docs/geometry.md):
     // each a mesh file, a SPlisHSPlasH scene file, or geometry objects as JSON.
     std::vector<std::string> geometry;
@@ -383,6 +388,10 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse = fal
 // particles are; `cutAway` false (--cut-away off) draws containers whole. The last list read is kept (keyed by the texts, the files'
 // sizes and modification times, and the axis), so asking again is free.
 // Errors name the option and the file.
+// The environment map of --environment (readEnvironmentMap), the last one read
+// kept while the file stays the same.
+Result<std::shared_ptr<const EnvironmentImage>> renderEnvironment(const std::string& path);
+
 Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<std::string>& specs,
                                                             const glm::vec3& upAxis, bool cutAway = true);
 // Scene geometry in the automatic camera's framing and the studio's box (the

@@ -5,6 +5,7 @@
 // changes nothing in the image.
 #pragma once
 
+#include <memory>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -13,6 +14,7 @@
 
 #include <glm/glm.hpp>
 
+#include "meniscus/environment.h"
 #include "meniscus/types.h"
 
 namespace meniscus {
@@ -453,6 +455,12 @@ struct SceneParams {
     // empty = the bounds of the particles being rendered. Set it once per
     // sequence so the studio does not move between frames.
     Bounds studioBounds;
+    // The HDR environment map (docs/pipeline.md#environment-map; readEnvironmentMap
+    // in meniscus/environment.h): where set, it replaces the procedural sky as
+    // the background and in the reflections. Shared: frames keep one copy.
+    std::shared_ptr<const EnvironmentImage> environment;
+    float environmentRotationDeg = 0.0f;  // about the vertical axis, degrees
+    float environmentIntensity = 1.0f;    // multiplies the map's radiance
 };
 
 // ---- Shading (docs/pipeline.md#shading) -------------------------------------

@@ -26,6 +26,7 @@
 #include "meniscus/sort_last.h"
 #include "meniscus/types.h"
 #include "shared/fluids.h"
+#include "shared/environment.h"
 #include "shared/studio.h"
 
 namespace meniscus {
@@ -93,6 +94,14 @@ struct FrameSettings : StageParams {
     std::span<const glm::vec3> sprayPositions;
     std::span<const glm::vec3> sprayVelocities;
     shared::Studio studio;
+    // The environment map (docs/pipeline.md#environment-map), pointing into
+    // RenderSettings::scene.environment (valid for this frame), or disabled
+    // (texels null): the procedural sky of src/shared/sky.h.
+    shared::EnvironmentMap environment;
+    // The image `environment` points into: a backend that keeps what it drew
+    // with the map (the scene cast, the GPU copy) holds it too, so a new map
+    // cannot take the old one's address while the cache compares addresses.
+    std::shared_ptr<const EnvironmentImage> environmentImage;
     // Reduced-resolution processing (docs/pipeline.md#reduced-resolution): the
     // divisor d of the fluid scale (1: off), and the depth jump (metres) the
     // upsampling does not blend across.

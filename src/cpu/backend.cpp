@@ -62,8 +62,14 @@ Image<float>& CpuBackend::scalarToPaint(Slot s) {
 }
 
 void CpuBackend::castScene(Slot color, Slot depth) {
-    if (!sceneValid_ || !(sceneCamera_ == s_.camera) || !(sceneStudio_ == s_.studio)) {
-        scene_ = cpu::castScene(s_.camera, s_.studio);
+    const shared::EnvironmentMap& env = s_.environment;
+    const bool sameEnv = sceneEnv_.texels == env.texels && sceneEnv_.width == env.width &&
+                         sceneEnv_.height == env.height && sceneEnv_.rotation == env.rotation &&
+                         sceneEnv_.intensity == env.intensity;
+    if (!sceneValid_ || !(sceneCamera_ == s_.camera) || !(sceneStudio_ == s_.studio) || !sameEnv) {
+        scene_ = cpu::castScene(s_.camera, s_.studio, env);
+        sceneEnv_ = env;
+        sceneEnvImage_ = s_.environmentImage;
         sceneCamera_ = s_.camera;
         sceneStudio_ = s_.studio;
         sceneValid_ = true;

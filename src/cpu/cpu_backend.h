@@ -78,6 +78,8 @@ private:
     bool sceneValid_ = false;
     Camera sceneCamera_;
     shared::Studio sceneStudio_;
+    shared::EnvironmentMap sceneEnv_;  // and the environment map
+    std::shared_ptr<const EnvironmentImage> sceneEnvImage_;  // kept alive while cached (its address is the key)
     SceneLayer scene_;
     // The cast with the geometry drawn over it, for the geometry it was drawn with.
     SceneLayer withGeometry_;

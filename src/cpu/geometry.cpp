@@ -27,7 +27,7 @@ enum class Blend {
 // (and `depth` when opaque) where nearer than `depth` and, when given,
 // `alsoBehind` (the liquid's depth, for glass fronts).
 void shadeRaster(const Camera& camera, const MeshRaster& r, const GeometryMaterial& mat, const glm::vec3& light,
-                 Blend blend, const Image<float>* alsoBehind, Image<glm::vec4>& color, const Image<float>& depthIn,
+                 const shared::EnvironmentMap& env, Blend blend, const Image<float>* alsoBehind, Image<glm::vec4>& color, const Image<float>& depthIn,
                  Image<float>* depthOut) {
     const int W = camera.width, H = camera.height;
     const glm::vec3 right = camera.right(), up = camera.trueUp(), back = camera.back();
@@ -46,13 +46,14 @@ void shadeRaster(const Camera& camera, const MeshRaster& r, const GeometryMateri
             const glm::vec3 v = -d * invLen;
             glm::vec4& c = color.at(x, y);
             if (blend == Blend::Opaque) {
-                c = glm::vec4(shared::geometryRadiance(n, v, light, mat.baseColor, mat.roughness, mat.metalness), 1.0f);
+                c = glm::vec4(shared::geometryRadiance(n, v, light, mat.baseColor, mat.roughness, mat.metalness, env),
+                              1.0f);
                 (*depthOut).at(x, y) = z;
             } else {
                 // Over a transparent background (no studio) the glass is seen
                 // against black, its alpha made whole.
                 const glm::vec3 below = glm::vec3(c) * c.a;
-                c = glm::vec4(shared::glassRadiance(below, n, v, light, mat.ior, mat.tint, mat.thicknessM), 1.0f);
+                c = glm::vec4(shared::glassRadiance(below, n, v, light, mat.ior, mat.tint, mat.thicknessM, env), 1.0f);
             }
         }
     });
@@ -61,7 +62,8 @@ void shadeRaster(const Camera& camera, const MeshRaster& r, const GeometryMateri
 }  // namespace
 
 void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const shared::Studio& studio,
-                  Image<glm::vec4>& color, Image<float>& depth, MeshRaster* reuse) {
+                  Image<glm::vec4>& color, Image<float>& depth, const shared::EnvironmentMap& environment,
+                  MeshRaster* reuse) {
     const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
     TriangleMesh scratch;
     MeshRaster own;
@@ -72,14 +74,15 @@ void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const sha
             if (!drawsObject(object) || object.material.glass != glass) continue;
             const TriangleMesh& mesh = facesSeenFrom(object.mesh, camera.eye, sceneFaces(object), &scratch);
             rasteriseMesh(camera, mesh, &depth, r);
-            shadeRaster(camera, r, object.material, light, glass ? Blend::Glass : Blend::Opaque, nullptr, color,
+            shadeRaster(camera, r, object.material, light, environment, glass ? Blend::Glass : Blend::Opaque, nullptr,
+                        color,
                         depth, &depth);
         }
 }
 
 void drawGlassFronts(const Camera& camera, const SceneGeometry& geometry, const shared::Studio& studio,
                      const Image<float>& liquidDepth, const Image<float>& sceneDepth, Image<glm::vec4>& color,
-                     MeshRaster* reuse) {
+                     const shared::EnvironmentMap& environment, MeshRaster* reuse) {
     const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
     TriangleMesh scratch;
     MeshRaster own;
@@ -88,7 +91,8 @@ void drawGlassFronts(const Camera& camera, const SceneGeometry& geometry, const 
         if (!drawsObject(object) || !object.material.glass) continue;
         const TriangleMesh& mesh = facesSeenFrom(object.mesh, camera.eye, Faces::Front, &scratch);
         rasteriseMesh(camera, mesh, &sceneDepth, r);
-        shadeRaster(camera, r, object.material, light, Blend::Glass, &liquidDepth, color, sceneDepth, nullptr);
+        shadeRaster(camera, r, object.material, light, environment, Blend::Glass, &liquidDepth, color, sceneDepth,
+                    nullptr);
     }
 }
 
@@ -102,7 +106,7 @@ void runGeometry(Backend& b, const StageIo& io) {
     const FrameSettings& s = c.frame();
     if (!s.geometry) return;
     c.paintSceneGeometry(io.at.sceneColor, io.at.sceneDepth, [&](Image<glm::vec4>& color, Image<float>& depth) {
-        drawGeometry(s.camera, *s.geometry, s.studio, color, depth, &c.geometryRaster());
+        drawGeometry(s.camera, *s.geometry, s.studio, color, depth, s.environment, &c.geometryRaster());
     });
 }
 
@@ -111,7 +115,7 @@ void runGlass(Backend& b, const StageIo& io) {
     const FrameSettings& s = c.frame();
     if (!s.geometry) return;
     drawGlassFronts(s.camera, *s.geometry, s.studio, c.scalar(io.at.depth), c.scalar(io.at.sceneDepth),
-                    c.colorToPaint(io.at.color), &c.geometryRaster());
+                    c.colorToPaint(io.at.color), s.environment, &c.geometryRaster());
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "meniscus/geometry.h"
 #include "meniscus/types.h"
 #include "cpu/raster_mesh.h"
+#include "shared/environment.h"
 #include "shared/studio.h"
 
 namespace meniscus::cpu {
@@ -26,7 +27,8 @@ namespace meniscus::cpu {
 // by the caller across frames (their memory reused). Preconditions as rasteriseMesh's (the
 // Renderer checks them): every mesh valid with normals.
 void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const shared::Studio& studio,
-                  Image<glm::vec4>& color, Image<float>& depth, MeshRaster* reuse = nullptr);
+                  Image<glm::vec4>& color, Image<float>& depth, const shared::EnvironmentMap& environment = {},
+                  MeshRaster* reuse = nullptr);
 
 // The glass stage: the front faces of every drawn glass object over the
 // finished picture `color` where they are nearer than both the liquid
@@ -36,6 +38,6 @@ void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const sha
 // glass is seen through its walls, front faces over it, back faces behind.)
 void drawGlassFronts(const Camera& camera, const SceneGeometry& geometry, const shared::Studio& studio,
                      const Image<float>& liquidDepth, const Image<float>& sceneDepth, Image<glm::vec4>& color,
-                     MeshRaster* reuse = nullptr);
+                     const shared::EnvironmentMap& environment = {}, MeshRaster* reuse = nullptr);
 
 }  // namespace meniscus::cpu

@@ -1,7 +1,8 @@
 // CPU scene stage, docs/pipeline.md#scene: the default "studio" the fluid stands in — a
 // checker floor and two back walls forming the inside corner of a box around
 // the particles, or the floor alone for a moving camera — ray-cast per pixel into colour and eye depth, with the
-// procedural sky (sky.cpp) wherever no plane is hit. Rendering the opaque scene
+// procedural sky (sky.cpp), or the HDR environment map (shared/environment.h),
+// wherever no plane is hit. Rendering the opaque scene
 // first and splatting fluid against its depth is the compositing order of van
 // der Laan et al. 2009 (US 8,947,430) and Instant Liquids (Cords & Staadt
 // 2008, §3): fluid behind the scene is hidden and thickness stops at it.
@@ -17,6 +18,7 @@
 
 #include "cpu/filter_util.h"
 #include "cpu/sky.h"
+#include "shared/environment.h"
 #include "shared/studio_shade.h"
 
 namespace meniscus::cpu {
@@ -37,6 +39,7 @@ struct CastConstants {
     float floorY, wallX, wallZ, nX, nZ, topY;
     shared::StudioShading sh;  // checker, corner, fade, per-plane lighting, sun
     float floorLight[3], floorDark[3], wallLight[3], wallDark[3];  // linear RGB
+    shared::EnvironmentMap env;  // the HDR map in place of the sky (disabled: the procedural sky)
 };
 
 // Walls = false: the floor alone, (a, b) its coordinates from the box's centre
@@ -108,7 +111,9 @@ void castRow(const CastConstants c, int y, int width, float* depthRow, glm::vec4
             glm::vec3 rgb(red[k], green[k], blue[k]);
             if (fade[k] != 0.0f) {
                 const float vx = (float(x0 + k) + 0.5f - c.halfW) * c.invF;
-                const glm::vec3 sky = skyColor(rowDir + vx * c.right, c.sh.sunDir);
+                const glm::vec3 dir = rowDir + vx * c.right;
+                const glm::vec3 sky = c.env.enabled() ? shared::environmentMapRadiance(dir.x, dir.y, dir.z, c.env)
+                                                      : skyColor(dir, c.sh.sunDir);
                 rgb = fade[k] < 0.0f ? sky : glm::mix(rgb, sky, fade[k]);
             }
             colourRow[x0 + k] = glm::vec4(rgb, 1.0f);
@@ -118,7 +123,7 @@ void castRow(const CastConstants c, int y, int width, float* depthRow, glm::vec4
 
 }  // namespace
 
-SceneLayer castScene(const Camera& camera, const shared::Studio& studio) {
+SceneLayer castScene(const Camera& camera, const shared::Studio& studio, const shared::EnvironmentMap& environment) {
     const int W = camera.width, H = camera.height;
     SceneLayer out{Image<glm::vec4>(W, H, glm::vec4(0.0f)), Image<float>(W, H, kInf)};
     if (!studio.enabled) return out;
@@ -139,6 +144,7 @@ SceneLayer castScene(const Camera& camera, const shared::Studio& studio) {
     c.nZ = studio.wallZNormal;
     c.topY = studio.wallTopY;
     c.sh = shared::studioShading(studio);
+    c.env = environment;
     for (int ch = 0; ch < 3; ++ch) {
         c.floorLight[ch] = shared::kStudioFloorLight[ch];
         c.floorDark[ch] = shared::kStudioFloorDark[ch];

@@ -8,6 +8,7 @@
 #include "meniscus/camera.h"
 #include "meniscus/params.h"
 #include "meniscus/types.h"
+#include "shared/environment.h"
 #include "shared/studio.h"
 
 namespace meniscus::cpu {
@@ -22,6 +23,8 @@ struct SceneLayer {
 // sky) and eye depth of the nearest plane; skyColor (its sun toward
 // studio.lightDirWorld) and +inf depth where none is hit; all (0,0,0,0) and
 // +inf when the studio is disabled. Bit-identical for any thread count.
-SceneLayer castScene(const Camera& camera, const shared::Studio& studio);
+// With `environment` enabled, the HDR map (shared/environment.h) instead of the sky.
+SceneLayer castScene(const Camera& camera, const shared::Studio& studio,
+                     const shared::EnvironmentMap& environment = {});
 
 }  // namespace meniscus::cpu

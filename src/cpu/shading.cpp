@@ -46,6 +46,7 @@
 
 #include "cpu/filter_util.h"
 #include "cpu/sky.h"
+#include "shared/environment.h"
 #include "shared/fluids.h"
 #include "shared/hole_fill.h"
 #include "shared/refraction.h"
@@ -148,6 +149,7 @@ struct Setup {
     glm::vec3 axisX, axisY, axisZ;  // camera axes in world space (view -> world)
     glm::vec3 light;                // unit, view space
     glm::vec3 sun;                  // the sky's sun: unit, world space
+    shared::EnvironmentMap env;     // the HDR map in place of the sky (disabled: the sky)
     glm::vec3 fluid, negK;
     float f0, opacity, refraction, specular, shininess, nhMin;
     float eta;  // 1 / ior (Snell's law entering the liquid)
@@ -181,6 +183,9 @@ struct Batch {
     float F[kBatch];                           // Fresnel weight after the opaque mix
     float ground[kBatch];                      // the reflected direction's groundShare (layer split only)
 };
+
+// (forward) the two instances of the shading of a batch.
+void shadeBatch(const Setup& S, int y, int n, Batch& B);
 
 // The refracted ray's march (shared::refractionMarch) over a batch, lane by
 // lane: every lane runs the scalar function's operations in its order (so the
@@ -247,10 +252,14 @@ void marchBatch(const Setup& S, int y, int n, Batch& B) {
 // Shades a batch of n fluid pixels of row y: branch-free loops over the
 // arrays, vectorised, except the texel fetch of the background. Each lane is
 // the scalar computation of its pixel, so results do not depend on batching.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-__attribute__((target_clones("avx2", "default")))
+// Env: the HDR environment map (its texel gathers do not vectorise) instead of
+// the procedural sky, a separate instance so that the sky's loops stay as
+// they were (shadeBatchSky / shadeBatchEnv below).
+template <bool Env>
+#if defined(__GNUC__)
+__attribute__((always_inline))
 #endif
-void shadeBatch(const Setup& S, int y, int n, Batch& B) {
+inline void shadeBatchImpl(const Setup& S, int y, int n, Batch& B) {
     const float ryc = S.ry[y];
     // 1. View vector, normal (the view vector where none), sanitised thickness.
     for (int i = 0; i < n; ++i) {
@@ -313,7 +322,18 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
     const glm::vec3 X = S.axisX, Y = S.axisY, Z = S.axisZ, L = S.light, sun = S.sun, fc = S.fluid, k = S.negK;
     float minAlpha = 1.0f;  // (reductions as min / sums so the loops vectorise)
     for (int i = 0; i < n; ++i) minAlpha = std::min(minAlpha, B.sa[i]);
-    if (minAlpha < 1.0f) {
+    if (Env && minAlpha < 1.0f) {
+        for (int i = 0; i < n; ++i) {
+            const float rx = B.rx[i];
+            const glm::vec3 e =
+                shared::environmentMapRadiance(rx * X.x + ryc * Y.x + -1.0f * Z.x, rx * X.y + ryc * Y.y + -1.0f * Z.y,
+                                               rx * X.z + ryc * Y.z + -1.0f * Z.z, S.env);
+            const float ta = 1.0f - B.sa[i];
+            B.sr[i] += ta * e.x;
+            B.sg[i] += ta * e.y;
+            B.sb[i] += ta * e.z;
+        }
+    } else if (minAlpha < 1.0f) {
         for (int i = 0; i < n; ++i) {
             const float rx = B.rx[i];
             skyColorRgb(rx * X.x + ryc * Y.x + -1.0f * Z.x, rx * X.y + ryc * Y.y + -1.0f * Z.y,
@@ -361,7 +381,14 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
         float br, bg, bb;
         const float wx = ex * X.x + ey * Y.x + ez * Z.x, wy = ex * X.y + ey * Y.y + ez * Z.y,
                     wz = ex * X.z + ey * Y.z + ez * Z.z;
-        reflectionRgb(wx, wy, wz, sun, ar, ag, ab, &br, &bg, &bb);
+        if constexpr (Env) {
+            const glm::vec3 e = shared::environmentReflection(wx, wy, wz, S.env, glm::vec3(ar, ag, ab));
+            br = e.x;
+            bg = e.y;
+            bb = e.z;
+        } else {
+            reflectionRgb(wx, wy, wz, sun, ar, ag, ab, &br, &bg, &bb);
+        }
         B.ground[i] = split ? shared::groundShare(wx, wy, wz) : 0.0f;  // only the layer split needs it
         B.cr[i] = ar * (1.0f - F) + br * F;
         B.cg[i] = ag * (1.0f - F) + bg * F;
@@ -402,6 +429,21 @@ void shadeBatch(const Setup& S, int y, int n, Batch& B) {
             B.cb[i] = c.z;
         }
     }
+}
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void shadeBatchSky(const Setup& S, int y, int n, Batch& B) { shadeBatchImpl<false>(S, y, n, B); }
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void shadeBatchEnv(const Setup& S, int y, int n, Batch& B) { shadeBatchImpl<true>(S, y, n, B); }
+
+void shadeBatch(const Setup& S, int y, int n, Batch& B) {
+    if (S.env.enabled()) shadeBatchEnv(S, y, n, B);
+    else shadeBatchSky(S, y, n, B);
 }
 
 // Several fluids (shared/fluids.h): the batch's colours split into E and T,
@@ -479,7 +521,8 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
                                    const ShadingParams& params, const Image<float>* noise,
                                    const NoiseParams* noiseParams, const Image<float>* whitening,
                                    const WhiteningParams* whiteningParams, const LayerSplit* split,
-                                   float minThicknessRadii, float radiusM) {
+                                   float minThicknessRadii, float radiusM,
+                                   const shared::EnvironmentMap& environment) {
     const int w = depth.width, h = depth.height;
     if (w <= 0 || h <= 0) return Image<glm::vec4>(w, h, glm::vec4(0.0f));
     // (std::vector zero-fills here; each row is then overwritten in parallel:
@@ -530,6 +573,7 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
     const float lightLen = glm::length(light);
     S.light = lightLen > 0.0f ? light / lightLen : glm::vec3(0.0f, 0.0f, 1.0f);
     S.sun = shared::sunDirection(params.lightDirWorld);
+    S.env = environment;
     S.fluid = m.fluidColor;
     S.negK = -glm::max(m.absorptionPerM, glm::vec3(0.0f));
     S.f0 = fresnelF0(m.ior);
@@ -568,7 +612,8 @@ void runShade(Backend& b, const StageIo& io) {
                                              c.scalar(at.thickness), s.shading,
                                              s.noise.enabled ? &c.scalar(at.noise) : nullptr, &s.noise,
                                              s.whitening.enabled ? &c.scalar(at.whitening) : nullptr, &s.whitening,
-                                             split ? &layer : nullptr, s.thickness.minRadii, s.radius);
+                                             split ? &layer : nullptr, s.thickness.minRadii, s.radius,
+                                             s.environment);
 }
 
 }  // namespace

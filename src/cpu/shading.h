@@ -45,6 +45,6 @@ Image<glm::vec4> shadeAndComposite(const Camera& camera, const SceneLayer& scene
                                    const Image<float>* whitening = nullptr,
                                    const WhiteningParams* whiteningParams = nullptr,
                                    const LayerSplit* split = nullptr, float minThicknessRadii = 0.0f,
-                                   float radiusM = 0.0f);
+                                   float radiusM = 0.0f, const shared::EnvironmentMap& environment = {});
 
 }  // namespace meniscus::cpu

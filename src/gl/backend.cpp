@@ -90,7 +90,10 @@ void GlBackend::setCamera(const Camera& camera) {
 }
 
 bool GlBackend::sceneCached(Slot color, Slot depth) const {
-    return sceneValid_ && sceneCamera_ == s_.camera && sceneStudio_ == s_.studio &&
+    const shared::EnvironmentMap& e = s_.environment;
+    const bool sameEnv = sceneEnv_.texels == e.texels && sceneEnv_.width == e.width && sceneEnv_.height == e.height &&
+                         sceneEnv_.rotation == e.rotation && sceneEnv_.intensity == e.intensity;
+    return sceneValid_ && sameEnv && sceneCamera_ == s_.camera && sceneStudio_ == s_.studio &&
            sceneSlots_ == std::pair(int(color), int(depth));
 }
 
@@ -98,6 +101,8 @@ void GlBackend::sceneCast(Slot color, Slot depth) {
     sceneValid_ = true;
     sceneCamera_ = s_.camera;
     sceneStudio_ = s_.studio;
+    sceneEnv_ = s_.environment;
+    sceneEnvImage_ = s_.environmentImage;
     sceneSlots_ = {int(color), int(depth)};
 }
 

@@ -32,7 +32,7 @@ Result<GeometryDrawer> GeometryDrawer::create() {
 
 void GeometryDrawer::drawObject(const FrameParams& frame, const TriangleMesh& mesh, const GeometryMaterial& m,
                                 const glm::vec3& light, int mode, const GpuImage* limit, GpuImage& color,
-                                GpuImage& depth) {
+                                GpuImage& depth, const EnvironmentGpu* environment) {
     const int W = frame.size.x, H = frame.size.y;
     raster_.run(frame, mesh, &depth, objectDepth_, objectNormal_);
     glUseProgram(shade_.id());
@@ -43,6 +43,8 @@ void GeometryDrawer::drawObject(const FrameParams& frame, const TriangleMesh& me
     glUniform3f(4, m.tint.x, m.tint.y, m.tint.z);
     glUniform2f(5, m.ior, m.thicknessM);
     glUniform1i(6, limit ? 1 : 0);
+    if (environment) environment->bind(7);
+    else bindNoEnvironment(7);
     objectDepth_.bind(1);
     objectNormal_.bind(2);
     color.bind(3);
@@ -54,7 +56,8 @@ void GeometryDrawer::drawObject(const FrameParams& frame, const TriangleMesh& me
 }
 
 void GeometryDrawer::run(const FrameParams& frame, const glm::vec3& eye, const SceneGeometry& geometry,
-                         const shared::Studio& studio, GpuImage& color, GpuImage& depth) {
+                         const shared::Studio& studio, GpuImage& color, GpuImage& depth,
+                         const EnvironmentGpu* environment) {
     if (frame.size.x <= 0 || frame.size.y <= 0) return;
     // The same bits as the CPU's: computed once on the host.
     const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
@@ -63,19 +66,19 @@ void GeometryDrawer::run(const FrameParams& frame, const glm::vec3& eye, const S
         for (const GeometryObject& object : geometry.objects) {
             if (!drawsObject(object) || object.material.glass != glass) continue;
             const TriangleMesh& mesh = facesSeenFrom(object.mesh, eye, sceneFaces(object), &scratch_);
-            drawObject(frame, mesh, object.material, light, glass ? 1 : 0, nullptr, color, depth);
+            drawObject(frame, mesh, object.material, light, glass ? 1 : 0, nullptr, color, depth, environment);
         }
 }
 
 void GeometryDrawer::runGlassFronts(const FrameParams& frame, const glm::vec3& eye, const SceneGeometry& geometry,
                                     const shared::Studio& studio, const GpuImage& liquidDepth, GpuImage& sceneDepth,
-                                    GpuImage& color) {
+                                    GpuImage& color, const EnvironmentGpu* environment) {
     if (frame.size.x <= 0 || frame.size.y <= 0) return;
     const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
     for (const GeometryObject& object : geometry.objects) {
         if (!drawsObject(object) || !object.material.glass) continue;
         const TriangleMesh& mesh = facesSeenFrom(object.mesh, eye, Faces::Front, &scratch_);
-        drawObject(frame, mesh, object.material, light, 1, &liquidDepth, color, sceneDepth);
+        drawObject(frame, mesh, object.material, light, 1, &liquidDepth, color, sceneDepth, environment);
     }
 }
 
@@ -91,7 +94,7 @@ void runGeometry(GlBackend& g, const StageIo& io) {
     g.forget(io.at.sceneColor);
     g.forget(io.at.sceneDepth);
     g.pass<GeometryDrawer>().run(g.params(), s.camera.eye, *s.geometry, s.studio, g.img(io.at.sceneColor),
-                                 g.img(io.at.sceneDepth));
+                                 g.img(io.at.sceneDepth), &g.environment());
 }
 
 // The glass's front faces over the finished picture (the scene's depth is
@@ -100,7 +103,7 @@ void runGlass(GlBackend& g, const StageIo& io) {
     const FrameSettings& s = g.frame();
     if (!s.geometry) return;
     g.pass<GeometryDrawer>().runGlassFronts(g.params(), s.camera.eye, *s.geometry, s.studio, g.img(io.at.depth),
-                                            g.img(io.at.sceneDepth), g.img(io.at.color));
+                                            g.img(io.at.sceneDepth), g.img(io.at.color), &g.environment());
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // meniscus::cpu::drawGeometry. Needs a current GL 4.3 context.
 #pragma once
 
+#include "gl/environment.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "gl/raster_mesh.h"
@@ -23,17 +24,19 @@ public:
     // shaders/geometry_shade.comp into `color` and `depth` where nearer, for
     // the camera of the bound frame block. Asynchronous.
     void run(const FrameParams& frame, const glm::vec3& eye, const SceneGeometry& geometry,
-             const shared::Studio& studio, GpuImage& color, GpuImage& depth);
+             const shared::Studio& studio, GpuImage& color, GpuImage& depth,
+             const EnvironmentGpu* environment = nullptr);
     // GL twin of cpu::drawGlassFronts: the glass stage.
     void runGlassFronts(const FrameParams& frame, const glm::vec3& eye, const SceneGeometry& geometry,
                         const shared::Studio& studio, const GpuImage& liquidDepth, GpuImage& sceneDepth,
-                        GpuImage& color);
+                        GpuImage& color, const EnvironmentGpu* environment = nullptr);
 
 private:
     // One object's faces rasterised against `depth`, shaded (mode 0 opaque, 1
     // glass) into color (and depth when opaque), in front of `limit` too when given.
     void drawObject(const FrameParams& frame, const TriangleMesh& mesh, const GeometryMaterial& material,
-                    const glm::vec3& light, int mode, const GpuImage* limit, GpuImage& color, GpuImage& depth);
+                    const glm::vec3& light, int mode, const GpuImage* limit, GpuImage& color, GpuImage& depth,
+                    const EnvironmentGpu* environment);
 
     MeshRasteriser raster_;
     Program shade_;

@@ -19,6 +19,7 @@
 #include "core/backend.h"
 #include "gl/buffer_fill.h"
 #include "gl/context.h"
+#include "gl/environment.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "gl/present.h"
@@ -78,6 +79,11 @@ public:
     // Whether the scene cast into these slots is still valid (the same
     // camera, studio and slots as the last cast); sceneCast records a cast.
     bool sceneCached(Slot color, Slot depth) const;
+    // The frame's environment map on the GPU (uploaded when it changes).
+    const EnvironmentGpu& environment() {
+        env_.update(s_.environment, s_.environmentImage);
+        return env_;
+    }
     void sceneCast(Slot color, Slot depth);
 
     // A stage's GL objects of type T (T::create(): its programs), made once
@@ -121,6 +127,9 @@ private:
     bool sceneValid_ = false;
     Camera sceneCamera_;
     shared::Studio sceneStudio_;
+    shared::EnvironmentMap sceneEnv_;  // the environment map of the cached cast
+    std::shared_ptr<const EnvironmentImage> sceneEnvImage_;  // kept alive while cached (its address is the key)
+    EnvironmentGpu env_;
     std::pair<int, int> sceneSlots_{-1, -1};
     std::vector<Timer> timers_;
     std::size_t stage_ = 0;

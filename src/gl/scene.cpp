@@ -26,7 +26,8 @@ Result<SceneCaster> SceneCaster::create() {
     return s;
 }
 
-void SceneCaster::run(const FrameParams& frame, const shared::Studio& studio, GpuImage& color, GpuImage& depth) {
+void SceneCaster::run(const FrameParams& frame, const shared::Studio& studio, GpuImage& color, GpuImage& depth,
+                      const EnvironmentGpu* environment) {
     const int W = frame.size.x, H = frame.size.y;
     color.resize(W, H, 4);
     depth.resize(W, H, 1);
@@ -47,6 +48,8 @@ void SceneCaster::run(const FrameParams& frame, const shared::Studio& studio, Gp
     glUniform1i(4, kRows);
     glUniform3f(5, sh.sunDir.x, sh.sunDir.y, sh.sunDir.z);
     glUniform1i(6, studio.walls ? 1 : 0);
+    if (environment) environment->bind(7);
+    else bindNoEnvironment(7);
     color.bind(1);
     depth.bind(2);
     glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint((H + kRows - 1) / kRows), 1);
@@ -63,7 +66,8 @@ namespace {
 void runScene(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     if (g.sceneCached(at.sceneColor, at.sceneDepth)) return;
-    g.pass<SceneCaster>().run(g.params(), g.frame().studio, g.img(at.sceneColor), g.img(at.sceneDepth));
+    g.pass<SceneCaster>().run(g.params(), g.frame().studio, g.img(at.sceneColor), g.img(at.sceneDepth),
+                                 &g.environment());
     g.sceneCast(at.sceneColor, at.sceneDepth);
 }
 

@@ -2,6 +2,7 @@
 // Needs a current GL 4.3 context (gl::Context) on the calling thread.
 #pragma once
 
+#include "gl/environment.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "gl/uniforms.h"
@@ -22,7 +23,9 @@ public:
     // plain uniforms, lit (and its sky's sun placed) from studio.lightDirWorld.
     // A disabled studio gives (0,0,0,0) and +inf everywhere.
     // Asynchronous: nothing waits for the GPU here.
-    void run(const FrameParams& frame, const shared::Studio& studio, GpuImage& color, GpuImage& depth);
+    // environment: the HDR map instead of the sky (null or disabled: the sky).
+    void run(const FrameParams& frame, const shared::Studio& studio, GpuImage& color, GpuImage& depth,
+             const EnvironmentGpu* environment = nullptr);
 
 private:
     Program program_;

@@ -36,7 +36,8 @@ Result<Shading> Shading::create() {
 void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const GpuImage& sceneDepth,
                   const GpuImage& depth, const GpuImage& normals, const GpuImage& thickness, GpuImage& color,
                   const GpuImage* noise, const NoiseParams* noiseParams, const GpuImage* whitening,
-                  const WhiteningParams* whiteningParams, GpuImage* emission, GpuImage* transmit) {
+                  const WhiteningParams* whiteningParams, GpuImage* emission, GpuImage* transmit,
+                  const EnvironmentGpu* environment) {
     const int W = frame.size.x, H = frame.size.y;
     color.resize(W, H, 4);
     const bool layer = emission && transmit;
@@ -80,6 +81,8 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
         glUniform3f(7, noiseParams->foamColor.x, noiseParams->foamColor.y, noiseParams->foamColor.z);
     }
     glUniform1i(11, layer ? 1 : 0);
+    if (environment) environment->bind(12);
+    else bindNoEnvironment(12);
     glUniform1i(8, white ? 1 : 0);
     if (white) {
         glUniform1f(9, whiteningParams->strength);
@@ -140,7 +143,8 @@ void runShade(GlBackend& g, const StageIo& io) {
     g.pass<Shading>().run(g.params(), g.img(at.sceneColor), g.img(at.sceneDepth), g.img(at.depth), g.img(at.normal),
                           g.img(at.thickness), g.img(at.color), s.noise.enabled ? &g.img(at.noise) : nullptr,
                           &s.noise, s.whitening.enabled ? &g.img(at.whitening) : nullptr, &s.whitening,
-                          split ? &g.img(at.emission) : nullptr, split ? &g.img(at.transmit) : nullptr);
+                          split ? &g.img(at.emission) : nullptr, split ? &g.img(at.transmit) : nullptr,
+                          &g.environment());
 }
 
 }  // namespace

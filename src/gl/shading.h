@@ -4,6 +4,7 @@
 #pragma once
 
 #include "gl/fluid_segments.h"
+#include "gl/environment.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "gl/uniforms.h"
@@ -39,7 +40,7 @@ public:
              const GpuImage& normals, const GpuImage& thickness, GpuImage& color, const GpuImage* noise = nullptr,
              const NoiseParams* noiseParams = nullptr, const GpuImage* whitening = nullptr,
              const WhiteningParams* whiteningParams = nullptr, GpuImage* emission = nullptr,
-             GpuImage* transmit = nullptr);
+             GpuImage* transmit = nullptr, const EnvironmentGpu* environment = nullptr);
     // With `emission` and `transmit`, also the split C = E + T S of several
     // fluids (shared/fluids.h), as cpu::LayerSplit: W x H x 4 each, zero where
     // this fluid is not drawn.

@@ -206,6 +206,19 @@ std::vector<RenderOptionSpec> makeRenderTable() {
                           "camera, floor for one that moves (render --orbit, --turntable, --camera-path)",
                           [](R& o) -> OptionRef { return &o.background; }),
                       {"auto", "studio", "floor", "none"}));
+    t.push_back(row("environment", G::Look, "",
+                    "An HDR environment map, an equirectangular OpenEXR file (.exr, linear RGB, at most 16384x8192): "
+                    "the background and what the liquid and the geometry reflect, instead of the procedural sky "
+                    "(docs/pipeline.md#environment-map)",
+                    [](R& o) -> OptionRef { return &o.environment; }));
+    t.push_back(ranged(row("environment-rotation", G::Look, "degrees",
+                           "The environment map's turn about the vertical axis, degrees",
+                           [](R& o) -> OptionRef { return &o.environmentRotation; }),
+                       -3600.0, 3600.0));
+    t.push_back(ranged(row("environment-intensity", G::Look, "",
+                           "A multiplier of the environment map's radiance",
+                           [](R& o) -> OptionRef { return &o.environmentIntensity; }),
+                       0.0, 1000.0));
     t.push_back(flagRow(row("noise", G::Extras, "",
                             "Surface noise and foam: small waves that travel with the particles, foam where they are "
                             "strong, rougher where velocities jump between frames (uses the files' id and velocity "
@@ -1014,6 +1027,27 @@ std::string geometryKey(const std::string& spec) {
 
 }  // namespace
 
+// The environment map of --environment, the last one read kept (the viewer
+// and a sequence make settings again and again): read again when the path,
+// the file's size or its modification time changes.
+Result<std::shared_ptr<const EnvironmentImage>> renderEnvironment(const std::string& path) {
+    static std::mutex mutex;
+    static std::string lastKey;
+    static std::shared_ptr<const EnvironmentImage> last;
+    const std::string key = geometryKey(path);
+    {
+        std::lock_guard lock(mutex);
+        if (last && key == lastKey) return last;
+    }
+    auto image = readEnvironmentMap(path);
+    if (!image) return image.error();
+    auto shared = std::make_shared<const EnvironmentImage>(std::move(*image));
+    std::lock_guard lock(mutex);
+    lastKey = key;
+    last = shared;
+    return shared;
+}
+
 Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<std::string>& specs,
                                                             const glm::vec3& upAxis, bool cutAway) {
     auto up = upRotation(upAxis);
@@ -1136,6 +1170,13 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
     }
     s.scene.background = o.background != "none";
     s.scene.walls = o.background != "floor";  // auto: walls unless the caller sees the camera move
+    if (!o.environment.empty()) {
+        auto env = renderEnvironment(o.environment);
+        if (!env) return makeError(env.error().file, "--environment: " + env.error().message);
+        s.scene.environment = std::move(*env);
+    }
+    s.scene.environmentRotationDeg = o.environmentRotation;
+    s.scene.environmentIntensity = o.environmentIntensity;
     const bool noise = o.stages.noise.enabled, whiten = o.stages.whitening.enabled;
     const bool spray = o.stages.spray.enabled, silhouette = o.stages.silhouette.enabled;
     if (noise)

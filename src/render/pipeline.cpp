@@ -800,6 +800,15 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         f.sprayVelocities = h.spray.dropVelocities;
     }
     f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
+    f.environment = {};
+    f.environmentImage = s.scene.environment;
+    if (s.scene.environment && !s.scene.environment->rgb.empty()) {
+        f.environment.texels = s.scene.environment->rgb.data();
+        f.environment.width = s.scene.environment->width;
+        f.environment.height = s.scene.environment->height;
+        f.environment.rotation = s.scene.environmentRotationDeg / 360.0f;
+        f.environment.intensity = s.scene.environmentIntensity;
+    }
     f.fluidDivisor = divisor;
     f.upsampleJumpM = defaults::kDepthJumpRadii * s.radiusM;
     f.compositor = s.compositor;

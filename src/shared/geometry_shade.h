@@ -30,6 +30,7 @@
 #endif
 
 #include "sky.h"
+#include "environment.h"
 #include "studio_shade.h"
 
 #ifdef __cplusplus
@@ -65,9 +66,11 @@ MENISCUS_GEOMETRY_INLINE float geometryLobe(float nl, float nh, float s) {
 // the viewer here when it faces away: the inside of a cut-away tank);
 // v: unit world direction toward the eye; light: unit world direction toward
 // the key light (the sky's sun, sunDirection); base: linear base colour;
-// roughness, metalness in [0, 1].
+// roughness, metalness in [0, 1]; envMap: the HDR environment map reflected
+// (width 0: the procedural sky). The ambient term stays the studio's
+// kStudioAmbient with or without a map.
 MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 base, float roughness,
-                                               float metalness) {
+                                               float metalness, EnvironmentMap envMap) {
     MENISCUS_GEOMETRY_EXACT float nvRaw = n.x * v.x + n.y * v.y + n.z * v.z;
     MENISCUS_GEOMETRY_EXACT float flip = nvRaw < 0.0f ? -1.0f : 1.0f;
     MENISCUS_GEOMETRY_EXACT float nx = n.x * flip;
@@ -97,7 +100,9 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 
     MENISCUS_GEOMETRY_EXACT float rx = tn * nx - v.x;
     MENISCUS_GEOMETRY_EXACT float ry = tn * ny - v.y;
     MENISCUS_GEOMETRY_EXACT float rz = tn * nz - v.z;
-    MENISCUS_GEOMETRY_EXACT vec3 env = skyRadiance(rx, ry, rz, light);
+    // With an HDR map (environment.h) the map along the mirror direction.
+    MENISCUS_GEOMETRY_EXACT vec3 env =
+        envMap.width > 0 ? environmentMapRadiance(rx, ry, rz, envMap) : skyRadiance(rx, ry, rz, light);
     MENISCUS_GEOMETRY_EXACT float sm = 1.0f - roughness;
     MENISCUS_GEOMETRY_EXACT float sm2 = sm * sm;
     MENISCUS_GEOMETRY_EXACT float gloss = sm2 * sm2;
@@ -132,7 +137,7 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 
 // colour behind is taken straight behind). The key light's highlight is the
 // smooth (alpha = 0.02) lobe of geometryRadiance. n, v, light as there.
 MENISCUS_GEOMETRY_INLINE vec3 glassRadiance(vec3 below, vec3 n, vec3 v, vec3 light, float ior, vec3 tint,
-                                            float thicknessM) {
+                                            float thicknessM, EnvironmentMap envMap) {
     MENISCUS_GEOMETRY_EXACT float nvRaw = n.x * v.x + n.y * v.y + n.z * v.z;
     MENISCUS_GEOMETRY_EXACT float flip = nvRaw < 0.0f ? -1.0f : 1.0f;
     MENISCUS_GEOMETRY_EXACT float nx = n.x * flip;
@@ -151,7 +156,9 @@ MENISCUS_GEOMETRY_INLINE vec3 glassRadiance(vec3 below, vec3 n, vec3 v, vec3 lig
     MENISCUS_GEOMETRY_EXACT float tg = pow(max(tint.y, 1.0e-6f), path);
     MENISCUS_GEOMETRY_EXACT float tb = pow(max(tint.z, 1.0e-6f), path);
     MENISCUS_GEOMETRY_EXACT float tn = 2.0f * nv;
-    MENISCUS_GEOMETRY_EXACT vec3 env = skyRadiance(tn * nx - v.x, tn * ny - v.y, tn * nz - v.z, light);
+    MENISCUS_GEOMETRY_EXACT vec3 env = envMap.width > 0
+                                           ? environmentMapRadiance(tn * nx - v.x, tn * ny - v.y, tn * nz - v.z, envMap)
+                                           : skyRadiance(tn * nx - v.x, tn * ny - v.y, tn * nz - v.z, light);
     MENISCUS_GEOMETRY_EXACT float nl = max(nx * light.x + ny * light.y + nz * light.z, 0.0f);
     MENISCUS_GEOMETRY_EXACT float hx = light.x + v.x;
     MENISCUS_GEOMETRY_EXACT float hy = light.y + v.y;

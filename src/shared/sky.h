@@ -7,7 +7,8 @@
 // intermediate is `precise` (no FMA contraction or reassociation), matching the
 // CPU's plain IEEE arithmetic.
 // Branch-free (both candidates computed, one selected) so that the CPU's
-// per-row loops vectorise it.
+// per-row loops vectorise it. An HDR environment map (environment.h,
+// --environment) takes the sky's place where one is given.
 #ifndef MENISCUS_SHARED_SKY_H
 #define MENISCUS_SHARED_SKY_H
 

@@ -11,6 +11,12 @@
 #include "frame_params.h"
 #include "sky.h"
 #include "studio_shade.h"
+
+// The HDR environment map (src/shared/environment.h, gl/environment.h): its
+// texels, size (width 0: none, the procedural sky), rotation and intensity.
+layout(std430, binding = 7) readonly buffer EnvironmentTexels { float environmentTexels[]; };
+layout(location = 7) uniform ivec2 uEnvSize;
+layout(location = 8) uniform vec2 uEnvParams;  // rotation (turns), intensity
 #include "geometry_shade.h"
 
 layout(local_size_x = 64) in;
@@ -48,12 +54,13 @@ void main() {
     precise vec3 v = -d * invLen;
     const vec3 nv = vec3(objectNormal[3 * i], objectNormal[3 * i + 1], objectNormal[3 * i + 2]);
     precise vec3 n = nv.x * right + nv.y * up + nv.z * back;
+    const EnvironmentMap env = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y);
     if (uMode == 0) {
-        color[i] = vec4(geometryRadiance(n, v, uLight, uBase, uMaterial.x, uMaterial.y), 1.0);
+        color[i] = vec4(geometryRadiance(n, v, uLight, uBase, uMaterial.x, uMaterial.y, env), 1.0);
         depth[i] = z;
     } else {
         const vec4 c = color[i];
         precise vec3 below = c.rgb * c.a;
-        color[i] = vec4(glassRadiance(below, n, v, uLight, uGlass.x, uTint, uGlass.y), 1.0);
+        color[i] = vec4(glassRadiance(below, n, v, uLight, uGlass.x, uTint, uGlass.y, env), 1.0);
     }
 }

@@ -4,7 +4,8 @@
 // src/cpu/scene.cpp. The default studio (checker floor, two back walls forming
 // the inside corner of a box around the particles, or the floor alone) ray-cast
 // per pixel into colour and eye depth, with the procedural sky
-// (src/shared/sky.h) wherever no plane is hit. Rendering the opaque scene first
+// (src/shared/sky.h), or the HDR environment map (src/shared/environment.h),
+// wherever no plane is hit. Rendering the opaque scene first
 // and splatting fluid against its depth is the compositing order of van der
 // Laan et al. 2009 (US 8,947,430) and Instant Liquids (Cords & Staadt 2008,
 // §3).
@@ -18,6 +19,13 @@
 #include "frame_params.h"
 #include "sky.h"
 #include "studio_shade.h"
+
+// The HDR environment map (src/shared/environment.h, gl/environment.h): its
+// texels, size (width 0: none, the procedural sky), rotation and intensity.
+layout(std430, binding = 7) readonly buffer EnvironmentTexels { float environmentTexels[]; };
+layout(location = 7) uniform ivec2 uEnvSize;
+layout(location = 8) uniform vec2 uEnvParams;  // rotation (turns), intensity
+#include "environment.h"
 
 layout(local_size_x = 64) in;
 
@@ -101,7 +109,8 @@ void main() {
         // into the sky (hides the checker's aliasing there).
         const float reach = walls ? max(a, b) : studioFloorRadius(a, b);
         precise float fade = plane >= 0 ? clamp((reach - fadeStart) * invFade, 0.0, 1.0) : -1.0;
-        const vec3 sky = skyRadiance(Dx, Dy, Dz, uSun);
+        const EnvironmentMap env = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y);
+        const vec3 sky = env.width > 0 ? environmentMapRadiance(Dx, Dy, Dz, env) : skyRadiance(Dx, Dy, Dz, uSun);
         precise vec3 blend = c * (1.0 - fade) + sky * fade;  // glm::mix's formula
         const vec3 rgb = fade == 0.0 ? c : fade < 0.0 ? sky : blend;
         color[k] = vec4(rgb, 1.0);

@@ -35,6 +35,14 @@
 
 layout(local_size_x = 64) in;
 
+// The HDR environment map (src/shared/environment.h, gl/environment.h): its
+// texels, size (width 0: none, the procedural sky), rotation and intensity.
+// A storage buffer (read lane by lane on llvmpipe), but only with a map.
+layout(std430, binding = 7) readonly buffer EnvironmentTexels { float environmentTexels[]; };
+layout(location = 12) uniform ivec2 uEnvSize;
+layout(location = 13) uniform vec2 uEnvParams;  // rotation (turns), intensity
+#include "environment.h"
+
 // Reads through buffer textures, the write through an image buffer: llvmpipe
 // gathers and scatters those in SIMD but runs storage-buffer accesses lane by
 // lane (about 5x slower per read).
@@ -138,7 +146,9 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out
     if (s.a < 1.0) {
         precise vec3 dir = vec3(rx * X.x + ryc * Y.x + -1.0 * Z.x, rx * X.y + ryc * Y.y + -1.0 * Z.y,
                                 rx * X.z + ryc * Y.z + -1.0 * Z.z);
-        const vec3 sky = skyRadiance(dir.x, dir.y, dir.z, uSun);
+        const EnvironmentMap env = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y);
+        const vec3 sky = env.width > 0 ? environmentMapRadiance(dir.x, dir.y, dir.z, env)
+                                       : skyRadiance(dir.x, dir.y, dir.z, uSun);
         precise float ta = 1.0 - s.a;
         s.rgb = s.rgb + ta * sky;
     }
@@ -162,7 +172,9 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out
     precise vec3 e = tn * n - v;
     precise vec3 ew = vec3(e.x * X.x + e.y * Y.x + e.z * Z.x, e.x * X.y + e.y * Y.y + e.z * Z.y,
                            e.x * X.z + e.y * Y.z + e.z * Z.z);
-    const vec3 b = reflectionRadiance(ew.x, ew.y, ew.z, uSun, a);  // below the horizon: a
+    const EnvironmentMap envMap = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y);
+    const vec3 b = envMap.width > 0 ? environmentReflection(ew.x, ew.y, ew.z, envMap, a)
+                                    : reflectionRadiance(ew.x, ew.y, ew.z, uSun, a);  // below the horizon: a
     const float ground = groundShare(ew.x, ew.y, ew.z);
     precise vec3 c = a * (1.0 - F) + b * F;
     // 5. Blinn-Phong highlight (eq. 20) on the lit side where visible:

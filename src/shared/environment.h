@@ -1,0 +1,150 @@
+// The HDR environment map (docs/pipeline.md#environment-map), written once for
+// C++ and GLSL like sky.h: the sampling of an equirectangular (latitude-
+// longitude) linear RGB map along a world-space direction, which replaces the
+// procedural sky where one is given.
+//
+// Convention (+y up, right-handed): for the unit direction (x, y, z)
+//   u = atan2(x, -z) / (2 pi) + 0.5 - rotation   (turns; wrapped to [0, 1))
+//   v = acos(y) / pi = atan2(sqrt(x^2 + z^2), y) / pi   (0 the zenith, 1 the nadir)
+// so the map's centre column (u = 0.5) looks along -z (the default camera's
+// view), its top row is straight up, and texel (i, j) of a W x H map has its
+// centre at u = (i + 0.5) / W, v = (j + 0.5) / H. `rotation` turns the picture
+// about +y: what a direction of angle atan2(x, -z) = phi showed, the direction
+// of phi + 2 pi rotation shows after it (seen from above, from -z toward +x).
+// Bilinear between the four nearest texel centres, wrapping in u (the seam at
+// u = 0 joins the first and last columns) and clamped in v (the poles).
+//
+// Texel reads differ between the languages: C++ reads EnvironmentMap::texels,
+// GLSL the storage buffer `environmentTexels` that a shader including this
+// header declares first (a GLSL function cannot take a pointer). Both are
+// RGB floats, row after row from the top, 3 W H of them.
+// atan2 and acos are not those of the C library or of the GL driver (which
+// differ in their last bits and do not vectorise): environmentAtan2 below is
+// one polynomial, evaluated in the same order on both backends, `precise` in
+// GLSL, so both sample the same texel weights to rounding.
+#ifndef MENISCUS_SHARED_ENVIRONMENT_H
+#define MENISCUS_SHARED_ENVIRONMENT_H
+
+#include "sky.h"  // groundShare
+
+#ifdef __cplusplus
+#include <algorithm>
+#include <cmath>
+#include <glm/glm.hpp>
+namespace meniscus::shared {
+using vec3 = glm::vec3;
+using std::abs;
+using std::floor;
+using std::max;
+using std::min;
+using std::sqrt;
+// The map as the stages see it: the texels (null: no map, the procedural sky),
+// its size, the rotation in turns and the intensity multiplier.
+struct EnvironmentMap {
+    const float* texels = nullptr;
+    int width = 0, height = 0;
+    float rotation = 0.0f;   // turns about +y (degrees / 360)
+    float intensity = 1.0f;  // multiplies every texel
+    bool enabled() const { return texels != nullptr && width > 0 && height > 0; }
+};
+#define MENISCUS_ENV_INLINE inline
+#define MENISCUS_ENV_EXACT const
+#define MENISCUS_ENV_TEXEL(env, i) (env).texels[i]
+#else
+// GLSL: the same fields without the pointer (the texels are the includer's
+// `environmentTexels` buffer).
+struct EnvironmentMap {
+    int width, height;
+    float rotation, intensity;
+};
+#define MENISCUS_ENV_INLINE
+#define MENISCUS_ENV_EXACT precise
+#define MENISCUS_ENV_TEXEL(env, i) environmentTexels[i]
+#endif
+
+#define MENISCUS_ENV_PI 3.14159265358979f
+
+// atan2(y, x) in radians, (-pi, pi], branch-free: the octant reduced to
+// t = min/max in [0, 1], atan(t) by the odd degree-11 minimax polynomial of
+// Abramowitz & Stegun 4.4.49's kind (max error about 1e-5 rad, far below a
+// texel of any map this reads), then the octant restored. atan2(0, 0) = 0.
+MENISCUS_ENV_INLINE float environmentAtan2(float y, float x) {
+    MENISCUS_ENV_EXACT float ax = abs(x);
+    MENISCUS_ENV_EXACT float ay = abs(y);
+    MENISCUS_ENV_EXACT float hi = max(ax, ay);
+    MENISCUS_ENV_EXACT float lo = min(ax, ay);
+    MENISCUS_ENV_EXACT float t = hi > 0.0f ? lo / hi : 0.0f;
+    MENISCUS_ENV_EXACT float s = t * t;
+    MENISCUS_ENV_EXACT float p =
+        ((((-0.0117212f * s + 0.05265332f) * s - 0.11643287f) * s + 0.19354346f) * s - 0.33262347f) * s + 0.99997726f;
+    MENISCUS_ENV_EXACT float r0 = p * t;
+    MENISCUS_ENV_EXACT float r1 = ay > ax ? 0.5f * MENISCUS_ENV_PI - r0 : r0;
+    MENISCUS_ENV_EXACT float r2 = x < 0.0f ? MENISCUS_ENV_PI - r1 : r1;
+    return y < 0.0f ? -r2 : r2;
+}
+
+// The map's (u, v) of a world direction (need not be unit; zero: the zenith),
+// u not yet wrapped. See the convention above.
+MENISCUS_ENV_INLINE float environmentU(float dx, float dz, float rotation) {
+    return environmentAtan2(dx, -dz) * (0.5f / MENISCUS_ENV_PI) + 0.5f - rotation;
+}
+MENISCUS_ENV_INLINE float environmentV(float dx, float dy, float dz) {
+    MENISCUS_ENV_EXACT float r = sqrt(dx * dx + dz * dz);
+    return environmentAtan2(r, dy) * (1.0f / MENISCUS_ENV_PI);
+}
+
+// The texel (i, j) of the map, i already wrapped and j clamped.
+MENISCUS_ENV_INLINE vec3 environmentTexel(EnvironmentMap env, int i, int j) {
+    const int k = 3 * (j * env.width + i);
+    return vec3(MENISCUS_ENV_TEXEL(env, k), MENISCUS_ENV_TEXEL(env, k + 1), MENISCUS_ENV_TEXEL(env, k + 2));
+}
+
+// Linear RGB radiance of the map along a world direction (dx, dy, dz), need
+// not be unit: bilinear, wrapped in u, clamped in v, times the intensity.
+MENISCUS_ENV_INLINE vec3 environmentMapRadiance(float dx, float dy, float dz, EnvironmentMap env) {
+    MENISCUS_ENV_EXACT float u = environmentU(dx, dz, env.rotation);
+    MENISCUS_ENV_EXACT float v = environmentV(dx, dy, dz);
+    // Continuous texel coordinates with the texel centres at integers.
+    MENISCUS_ENV_EXACT float fu = (u - floor(u)) * float(env.width) - 0.5f;
+    MENISCUS_ENV_EXACT float fv = min(max(v * float(env.height) - 0.5f, 0.0f), float(env.height - 1));
+    MENISCUS_ENV_EXACT float iu = floor(fu);
+    MENISCUS_ENV_EXACT float iv = floor(fv);
+    MENISCUS_ENV_EXACT float tu = fu - iu;
+    MENISCUS_ENV_EXACT float tv = fv - iv;
+    // fu lies in [-0.5, W - 0.5): i0 in [-1, W - 1], wrapped; a float rounding
+    // of u - floor(u) to 1 is caught by the same wrap.
+    int i0 = int(iu);
+    i0 = i0 < 0 ? i0 + env.width : (i0 >= env.width ? i0 - env.width : i0);
+    const int i1 = i0 + 1 >= env.width ? 0 : i0 + 1;
+    const int j0 = min(int(iv), env.height - 1);
+    const int j1 = min(j0 + 1, env.height - 1);
+    MENISCUS_ENV_EXACT vec3 c00 = environmentTexel(env, i0, j0);
+    MENISCUS_ENV_EXACT vec3 c10 = environmentTexel(env, i1, j0);
+    MENISCUS_ENV_EXACT vec3 c01 = environmentTexel(env, i0, j1);
+    MENISCUS_ENV_EXACT vec3 c11 = environmentTexel(env, i1, j1);
+    MENISCUS_ENV_EXACT vec3 top = c00 * (1.0f - tu) + c10 * tu;
+    MENISCUS_ENV_EXACT vec3 bottom = c01 * (1.0f - tu) + c11 * tu;
+    MENISCUS_ENV_EXACT vec3 c = top * (1.0f - tv) + bottom * tv;
+    return c * env.intensity;
+}
+
+// What the liquid mirrors along a reflected direction with a map: the map,
+// turning below the horizon toward `behind` (what the liquid shows through
+// itself) by sky.h's groundShare, for the reason reflectionRadiance gives (the
+// screen-space pipeline has no scene below the horizon to reflect), and so the
+// colour stays affine in `behind` with the same share the layer split uses.
+MENISCUS_ENV_INLINE vec3 environmentReflection(float dx, float dy, float dz, EnvironmentMap env, vec3 behind) {
+    MENISCUS_ENV_EXACT vec3 e = environmentMapRadiance(dx, dy, dz, env);
+    MENISCUS_ENV_EXACT float g = groundShare(dx, dy, dz);
+    return e * (1.0f - g) + behind * g;
+}
+
+#ifdef __cplusplus
+}  // namespace meniscus::shared
+#endif
+#undef MENISCUS_ENV_PI
+#undef MENISCUS_ENV_INLINE
+#undef MENISCUS_ENV_EXACT
+#undef MENISCUS_ENV_TEXEL
+
+#endif  // MENISCUS_SHARED_ENVIRONMENT_H
