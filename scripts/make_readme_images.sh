@@ -90,6 +90,10 @@ render world_tank21 --geometry "$tank"
 render world_objects21 --geometry '{"sphere": {"center": [-1.2, 0.22, 0.15], "radius": 0.16}, "material": {"color": [0.8, 0.25, 0.08], "roughness": 0.4}}' \
     --geometry '{"box": {"min": [0.55, 0, -0.7], "max": [0.85, 0.5, -0.4]}, "material": {"color": [0.95, 0.8, 0.5], "metalness": 1, "roughness": 0.2}}' \
     --geometry '{"box": {"min": [-2.05, 0, -0.8], "max": [-1.55, 0.7, 0.8]}, "material": {"glass": true}}'
+# An environment map (the test map: a warm sky, a green ground band, a sun)
+# for the background and the reflections of the liquid and of a chrome ball.
+render world_environment21 --environment tests/data/environment/sky_128x64.exr --background floor --elevation 12 \
+    --geometry '{"sphere": {"center": [-1.2, 0.3, 0.15], "radius": 0.2}, "material": {"color": [0.95, 0.95, 0.95], "metalness": 1, "roughness": 0.05}}'
 glass=$(mktemp -d)
 build/meniscus simulate scenes/glass.json --duration 3 -o "$glass/f_%04d.bgeo" --render "$glass/img_%04d.png" \
     --width 640 --height 360 --backend cpu 2>/dev/null
