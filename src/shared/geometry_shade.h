@@ -62,6 +62,29 @@ MENISCUS_GEOMETRY_INLINE float geometryLobe(float nl, float nh, float s) {
     return lit ? (s + 8.0f) * 0.0397887358f * pow(nh, s) * nl : 0.0f;
 }
 
+// n turned toward the viewer v (the inside of a cut-away tank, a glass's far
+// wall): multiplying by +-1 is exact, so n.v of the result is |n.v| bit for bit.
+MENISCUS_GEOMETRY_INLINE vec3 geometryFacing(vec3 n, vec3 v) {
+    MENISCUS_GEOMETRY_EXACT float nv = n.x * v.x + n.y * v.y + n.z * v.z;
+    MENISCUS_GEOMETRY_EXACT float flip = nv < 0.0f ? -1.0f : 1.0f;
+    return vec3(n.x * flip, n.y * flip, n.z * flip);
+}
+
+// n.h, h the unit half vector of the light and the view (Blinn 1977), >= 0.
+MENISCUS_GEOMETRY_INLINE float geometryHalfway(vec3 n, vec3 v, vec3 light) {
+    MENISCUS_GEOMETRY_EXACT float hx = light.x + v.x;
+    MENISCUS_GEOMETRY_EXACT float hy = light.y + v.y;
+    MENISCUS_GEOMETRY_EXACT float hz = light.z + v.z;
+    MENISCUS_GEOMETRY_EXACT float hLen = sqrt(hx * hx + hy * hy + hz * hz);
+    return hLen > 0.0f ? max((n.x * hx + n.y * hy + n.z * hz) / hLen, 0.0f) : 0.0f;
+}
+
+// What a mirror reflects along (rx, ry, rz): the HDR map (environment.h) when
+// one is given, else the procedural sky.
+MENISCUS_GEOMETRY_INLINE vec3 geometryEnvironment(float rx, float ry, float rz, vec3 light, EnvironmentMap envMap) {
+    return envMap.width > 0 ? environmentMapRadiance(rx, ry, rz, envMap) : skyRadiance(rx, ry, rz, light);
+}
+
 // Linear RGB radiance of a surface point. n: unit world normal (turned toward
 // the viewer here when it faces away: the inside of a cut-away tank);
 // v: unit world direction toward the eye; light: unit world direction toward
@@ -71,12 +94,11 @@ MENISCUS_GEOMETRY_INLINE float geometryLobe(float nl, float nh, float s) {
 // kStudioAmbient with or without a map.
 MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 base, float roughness,
                                                float metalness, EnvironmentMap envMap) {
-    MENISCUS_GEOMETRY_EXACT float nvRaw = n.x * v.x + n.y * v.y + n.z * v.z;
-    MENISCUS_GEOMETRY_EXACT float flip = nvRaw < 0.0f ? -1.0f : 1.0f;
-    MENISCUS_GEOMETRY_EXACT float nx = n.x * flip;
-    MENISCUS_GEOMETRY_EXACT float ny = n.y * flip;
-    MENISCUS_GEOMETRY_EXACT float nz = n.z * flip;
-    MENISCUS_GEOMETRY_EXACT float nv = clamp(nvRaw * flip, 0.0f, 1.0f);
+    MENISCUS_GEOMETRY_EXACT vec3 f = geometryFacing(n, v);
+    MENISCUS_GEOMETRY_EXACT float nx = f.x;
+    MENISCUS_GEOMETRY_EXACT float ny = f.y;
+    MENISCUS_GEOMETRY_EXACT float nz = f.z;
+    MENISCUS_GEOMETRY_EXACT float nv = clamp(nx * v.x + ny * v.y + nz * v.z, 0.0f, 1.0f);
     MENISCUS_GEOMETRY_EXACT float nl = max(nx * light.x + ny * light.y + nz * light.z, 0.0f);
     // The studio's lighting of a plane facing n.
     MENISCUS_GEOMETRY_EXACT float lit = kStudioAmbient + kStudioKey * nl;
@@ -101,17 +123,12 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 
     MENISCUS_GEOMETRY_EXACT float ry = tn * ny - v.y;
     MENISCUS_GEOMETRY_EXACT float rz = tn * nz - v.z;
     // With an HDR map (environment.h) the map along the mirror direction.
-    MENISCUS_GEOMETRY_EXACT vec3 env =
-        envMap.width > 0 ? environmentMapRadiance(rx, ry, rz, envMap) : skyRadiance(rx, ry, rz, light);
+    MENISCUS_GEOMETRY_EXACT vec3 env = geometryEnvironment(rx, ry, rz, light, envMap);
     MENISCUS_GEOMETRY_EXACT float sm = 1.0f - roughness;
     MENISCUS_GEOMETRY_EXACT float sm2 = sm * sm;
     MENISCUS_GEOMETRY_EXACT float gloss = sm2 * sm2;
     // The key light's highlight: normalised Blinn-Phong, (s + 8) / (8 pi) (n.h)^s n.l.
-    MENISCUS_GEOMETRY_EXACT float hx = light.x + v.x;
-    MENISCUS_GEOMETRY_EXACT float hy = light.y + v.y;
-    MENISCUS_GEOMETRY_EXACT float hz = light.z + v.z;
-    MENISCUS_GEOMETRY_EXACT float hLen = sqrt(hx * hx + hy * hy + hz * hz);
-    MENISCUS_GEOMETRY_EXACT float nh = hLen > 0.0f ? max((nx * hx + ny * hy + nz * hz) / hLen, 0.0f) : 0.0f;
+    MENISCUS_GEOMETRY_EXACT float nh = geometryHalfway(f, v, light);
     MENISCUS_GEOMETRY_EXACT float alpha = max(roughness * roughness, MENISCUS_GEOMETRY_MIN_ALPHA);
     MENISCUS_GEOMETRY_EXACT float s = 2.0f / (alpha * alpha) - 2.0f;
     MENISCUS_GEOMETRY_EXACT float lobe = geometryLobe(nl, nh, s);
@@ -138,12 +155,11 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 
 // smooth (alpha = 0.02) lobe of geometryRadiance. n, v, light as there.
 MENISCUS_GEOMETRY_INLINE vec3 glassRadiance(vec3 below, vec3 n, vec3 v, vec3 light, float ior, vec3 tint,
                                             float thicknessM, EnvironmentMap envMap) {
-    MENISCUS_GEOMETRY_EXACT float nvRaw = n.x * v.x + n.y * v.y + n.z * v.z;
-    MENISCUS_GEOMETRY_EXACT float flip = nvRaw < 0.0f ? -1.0f : 1.0f;
-    MENISCUS_GEOMETRY_EXACT float nx = n.x * flip;
-    MENISCUS_GEOMETRY_EXACT float ny = n.y * flip;
-    MENISCUS_GEOMETRY_EXACT float nz = n.z * flip;
-    MENISCUS_GEOMETRY_EXACT float nv = clamp(nvRaw * flip, 0.0f, 1.0f);
+    MENISCUS_GEOMETRY_EXACT vec3 f = geometryFacing(n, v);
+    MENISCUS_GEOMETRY_EXACT float nx = f.x;
+    MENISCUS_GEOMETRY_EXACT float ny = f.y;
+    MENISCUS_GEOMETRY_EXACT float nz = f.z;
+    MENISCUS_GEOMETRY_EXACT float nv = clamp(nx * v.x + ny * v.y + nz * v.z, 0.0f, 1.0f);
     MENISCUS_GEOMETRY_EXACT float r0 = (ior - 1.0f) / (ior + 1.0f);
     MENISCUS_GEOMETRY_EXACT float f0 = r0 * r0;
     MENISCUS_GEOMETRY_EXACT float m = 1.0f - nv;
@@ -156,15 +172,9 @@ MENISCUS_GEOMETRY_INLINE vec3 glassRadiance(vec3 below, vec3 n, vec3 v, vec3 lig
     MENISCUS_GEOMETRY_EXACT float tg = pow(max(tint.y, 1.0e-6f), path);
     MENISCUS_GEOMETRY_EXACT float tb = pow(max(tint.z, 1.0e-6f), path);
     MENISCUS_GEOMETRY_EXACT float tn = 2.0f * nv;
-    MENISCUS_GEOMETRY_EXACT vec3 env = envMap.width > 0
-                                           ? environmentMapRadiance(tn * nx - v.x, tn * ny - v.y, tn * nz - v.z, envMap)
-                                           : skyRadiance(tn * nx - v.x, tn * ny - v.y, tn * nz - v.z, light);
+    MENISCUS_GEOMETRY_EXACT vec3 env = geometryEnvironment(tn * nx - v.x, tn * ny - v.y, tn * nz - v.z, light, envMap);
     MENISCUS_GEOMETRY_EXACT float nl = max(nx * light.x + ny * light.y + nz * light.z, 0.0f);
-    MENISCUS_GEOMETRY_EXACT float hx = light.x + v.x;
-    MENISCUS_GEOMETRY_EXACT float hy = light.y + v.y;
-    MENISCUS_GEOMETRY_EXACT float hz = light.z + v.z;
-    MENISCUS_GEOMETRY_EXACT float hLen = sqrt(hx * hx + hy * hy + hz * hz);
-    MENISCUS_GEOMETRY_EXACT float nh = hLen > 0.0f ? max((nx * hx + ny * hy + nz * hz) / hLen, 0.0f) : 0.0f;
+    MENISCUS_GEOMETRY_EXACT float nh = geometryHalfway(f, v, light);
     MENISCUS_GEOMETRY_EXACT float s = 2.0f / (MENISCUS_GEOMETRY_MIN_ALPHA * MENISCUS_GEOMETRY_MIN_ALPHA) - 2.0f;
     MENISCUS_GEOMETRY_EXACT float lobe = geometryLobe(nl, nh, s);
     MENISCUS_GEOMETRY_EXACT float highlight = kStudioKey * F * lobe;
