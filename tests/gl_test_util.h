@@ -42,12 +42,17 @@ inline gl::Context* sharedGlContext(std::string* why) {
     return ctx->get();
 }
 
-// Base fixture of every GL test: the context is current, or the test is skipped.
+// Base fixture of every GL test: the context is current, or the test is
+// skipped. Made current again for each test: a test's own Renderer makes its
+// context current and releases it when it goes, leaving none current for the
+// tests after it in the same process.
 class GlTest : public ::testing::Test {
 protected:
     void SetUp() override {
         std::string why;
-        if (!sharedGlContext(&why)) GTEST_SKIP() << "no GL context: " << why;
+        gl::Context* ctx = sharedGlContext(&why);
+        if (!ctx) GTEST_SKIP() << "no GL context: " << why;
+        if (auto st = ctx->makeCurrent(); !st) GTEST_SKIP() << "the GL context cannot be made current: " << st.error().describe();
     }
 };
 
