@@ -2,7 +2,8 @@
 // darkens the plane where the analytic projection along the light puts its
 // shadow, by the key light's share, and nowhere else; a slab of liquid tints
 // its shadow by Beer-Lambert (water keeps more blue than red); off, and auto
-// without geometry, run no stage; the same bits for any thread count.
+// without geometry, run no stage; the same bits for any thread count; the
+// light's camera covers the bounds and stays put while the particles move a little.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -11,8 +12,10 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include "core/shadow_camera.h"
 #include "meniscus/geometry.h"
 #include "meniscus/renderer.h"
+#include "shared/shadow.h"
 #include "shared/studio_shade.h"
 #include "test_util.h"
 
@@ -200,4 +203,31 @@ TEST(Shadows, TheSameBitsForAnyThreadCount) {
         EXPECT_EQ(std::memcmp(first.pixels.data(), a->color.pixels.data(), first.pixels.size() * sizeof(glm::vec4)), 0)
             << threads;
     }
+}
+
+TEST(Shadows, TheLightCameraCoversTheBoundsAndStaysPutForSmallMoves) {
+    std::vector<glm::vec3> pts = test::jitteredBlock({8, 3, 8}, 2.0f * kR, 0.3f, {0.3f, 0.5f, -0.2f});
+    FrameSettings f;
+    f.radius = kR;
+    f.particles = ParticleView(pts);
+    f.studio.lightDirWorld = kLight;
+    const ShadowLight a = shadowLight(f);
+    EXPECT_EQ(a.camera.width, shared::kShadowMapPx);
+    EXPECT_EQ(a.camera.height, shared::kShadowMapPx);
+    EXPECT_TRUE(validateCamera(a.camera).ok());
+    // Every particle inside the image and between the near and far planes.
+    for (const glm::vec3& p : pts) {
+        const glm::vec3 v = a.camera.toView(p);
+        ASSERT_LT(v.z, 0.0f);
+        EXPECT_GT(-v.z, a.camera.nearM);
+        EXPECT_LT(-v.z, a.camera.farM);
+        const glm::vec2 px = a.camera.projectView(v);
+        EXPECT_GT(px.x, 0.0f);
+        EXPECT_LT(px.x, float(shared::kShadowMapPx));
+        EXPECT_GT(px.y, 0.0f);
+        EXPECT_LT(px.y, float(shared::kShadowMapPx));
+    }
+    for (glm::vec3& p : pts) p += glm::vec3(1e-4f, -1e-4f, 0.0f);
+    f.particles = ParticleView(pts);
+    EXPECT_EQ(shadowLight(f).camera, a.camera);
 }

@@ -36,8 +36,14 @@ ShadowLight shadowLight(const FrameSettings& s) {
                 for (const glm::vec3& q : o.mesh.positions) b.extend(q);
     }
     if (b.empty()) b = Bounds{glm::vec3(-1.0f), glm::vec3(1.0f)};
-    const glm::vec3 centre = b.center();
-    const float radius = std::max(0.5f * glm::length(b.extent()), 1e-3f);
+    // Snapped, so that the light's camera (and the texels of the geometry's
+    // shadow) stays the same while the particles move a little: the radius
+    // rounded up to a power of 2^(1/4), the centre to 1/16 of it (the sphere
+    // grown by that to still cover the bounds).
+    const float exact = std::max(0.5f * glm::length(b.extent()), 1e-3f);
+    const float radius = std::exp2(std::ceil(4.0f * std::log2(exact / (1.0f - std::sqrt(3.0f) / 32.0f))) / 4.0f);
+    const float step = radius / 16.0f;
+    const glm::vec3 centre = glm::round(b.center() / step) * step;
     const glm::vec3 light = shared::sunDirection(s.studio.lightDirWorld);
     const float distance = 50.0f * radius;
     ShadowLight out;
