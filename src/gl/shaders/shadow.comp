@@ -26,7 +26,7 @@ layout(location = 4) uniform vec3 uLightDir;     // unit, toward the key light
 layout(location = 5) uniform vec3 uAbsorption;   // 1/m per channel
 layout(location = 6) uniform vec2 uLightParams;  // focal (px), texel (m)
 
-const float kInf = 1.0 / 0.0;
+#define kInf uintBitsToFloat(0x7f800000u)
 
 void main() {
     const int W = P.size.x, H = P.size.y;
