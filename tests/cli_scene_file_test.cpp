@@ -229,3 +229,29 @@ TEST(SceneFile, GeometryKeyMatchesTheOptionAndErrorsNameTheFile) {
     EXPECT_NE(out.find("colour"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "e.png"));
 }
+
+// Shadows (docs/geometry.md#shadows): auto draws them with geometry (as
+// --shadows on) and not without it (as --shadows off); off with geometry
+// and on without it are other pictures; an unknown value is an error naming
+// the option.
+TEST(SceneFile, ShadowsOptionAutoOnOff) {
+    const fs::path dir = dirWithFrame("scene_shadows");
+    const std::string box = R"({"box": {"min": [-0.2, 0.5, -0.2], "max": [0.2, 0.6, 0.2]}})";
+    const std::string base = "render " + shellQuote(dir / "f.bgeo") +
+                             " --radius 0.01 --eye 2.6,2,3.2 --target 0,0.35,0 --width 120 --height 80 --backend cpu";
+    const std::string geometry = " --geometry " + shellQuote(box);
+    std::string out;
+    auto render = [&](const std::string& name, const std::string& more) {
+        EXPECT_EQ(runCli(base + " -o " + shellQuote(dir / name) + more, &out), 0) << out;
+        return readBytes(dir / name);
+    };
+    const auto autoWith = render("a.png", geometry);
+    EXPECT_EQ(autoWith, render("b.png", geometry + " --shadows on"));
+    EXPECT_NE(autoWith, render("c.png", geometry + " --shadows off"));
+    const auto autoWithout = render("d.png", "");
+    EXPECT_EQ(autoWithout, render("e.png", " --shadows off"));
+    EXPECT_NE(autoWithout, render("f.png", " --shadows on"));
+    EXPECT_NE(runCli(base + " -o " + shellQuote(dir / "g.png") + " --shadows sometimes", &out), 0);
+    EXPECT_NE(out.find("--shadows"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "g.png"));
+}

@@ -105,8 +105,8 @@ TEST(CliSimulate, RenderWritesAnImagePerFrameFromOneCamera) {
     const fs::path scene = writeSmallScene(dir);
     std::string out;
     const std::string args = "simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "f/f_%04d.bgeo") + " --render " +
-                             shellQuote(dir / "img/i_%04d.png") + " --width 96 --height 72";
-    ASSERT_EQ(runCli(args, &out), 0) << out;
+                             shellQuote(dir / "img/i_%04d.png") + " --width 96 --height 72 --shadows off";
+    ASSERT_EQ(runCli(args, &out), 0) << out;  // (the falling column's shadow would sweep the empty tank)
     EXPECT_NE(out.find("one camera for all"), std::string::npos) << out;
     EXPECT_NE(out.find("and " + (dir / "img/i_0005.png").string()), std::string::npos) << out;
     std::vector<PngData> images;

@@ -106,6 +106,9 @@ struct RenderOptions {
     // (GeometryObject::cutaway: a SPlisHSPlasH scene's walls, a simulation's
     // domain); off: every wall drawn.
     std::string cutAway = "on";
+    // The key light's shadows (RenderSettings::shadows, docs/geometry.md#shadows):
+    // auto (on with visible scene geometry), on, off.
+    std::string shadows = "auto";
     // The stages' own parameters (params.h), as the pipeline takes them: the
     // surface noise and foam, the whitening, the spray, the silhouette
     // (each off unless its `enabled`), the thickness floor, the ray cast's

@@ -23,6 +23,10 @@ namespace meniscus {
 
 // What the colour AOV (and so the PNG) shows: the shaded, composited image or
 // a picture of one intermediate stage for a person to look at.
+// The key light's shadows (docs/geometry.md#shadows): Auto draws them when
+// the scene geometry has a visible object.
+enum class ShadowMode { Auto, On, Off };
+
 enum class View { Final, Depth, RawDepth, Normals, Thickness, Noise, Foam, Whitening, Spray, Silhouette, FluidId };
 
 // Diffuse particles for RenderSettings::diffuse: world positions, velocities
@@ -114,6 +118,11 @@ struct RenderSettings : StageParams {
     // new object. Null or empty: the studio alone. An error when a mesh is
     // invalid (TriangleMesh::validate with normals).
     std::shared_ptr<const SceneGeometry> geometry;
+    // The key light's shadows (docs/geometry.md#shadows) of the geometry and
+    // of the liquid (coloured by its absorption through its thickness seen
+    // from the light) on the studio and the geometry. Auto: on when the
+    // geometry has a visible object.
+    ShadowMode shadows = ShadowMode::Auto;
     // Sort-last rendering over several processes
     // (include/meniscus/sort_last.h): when set, each process renders its own
     // share of the particles with the same settings, the splat runs as the

@@ -55,6 +55,9 @@ class RenderMatchesCliTest(unittest.TestCase):
         tank = os.path.join(DATA, "..", "..", "splishsplash_scene", "scenes", "DamBreakModel.json")
         self.check(["--geometry", ball, "--geometry", tank, "--cut-away", "off"], geometry=[ball, tank],
                    cut_away=False)
+        # Shadows (docs/geometry.md#shadows): auto, on or off, as --shadows says.
+        self.check(["--geometry", ball, "--shadows", "off"], geometry=[ball], shadows="off")
+        self.check(["--shadows", "on"], shadows="on")
         with self.assertRaises(ValueError) as caught:
             meniscus.render(self.frame, width=W, height=H, backend="cpu", geometry=["no_such_tank.obj"])
         self.assertIn("no_such_tank.obj", str(caught.exception))

@@ -34,11 +34,14 @@ namespace meniscus {
 // Opaque handles of the images one frame passes between stages.
 // The Low* slots and Coverage hold the reduced-resolution pass
 // (docs/pipeline.md#reduced-resolution); FluidId and the layer slots after
-// FirstLayer (layerSlot) the several fluids (docs/pipeline.md#several-fluids).
+// FirstLayer (layerSlot) the several fluids (docs/pipeline.md#several-fluids);
+// the Light* slots the key light's maps of the shadows (docs/geometry.md#shadows):
+// the geometry's depth, the liquid's nearest depth and its thickness seen from the light.
 // None: no image (an output not wanted).
 enum class Slot {
     SceneColor, SceneDepth, RawDepth, Thickness, Depth, Normal, Noise, Whitening, Color, Spray, Silhouette,
-    LowSceneDepth, LowThickness, LowDepth, LowNormal, LowNoise, Coverage, FluidId, FirstLayer,
+    LowSceneDepth, LowThickness, LowDepth, LowNormal, LowNoise, Coverage, FluidId, LightDepth, LightRaw,
+    LightThickness, FirstLayer,
     None = -1
 };
 

@@ -194,6 +194,12 @@ std::vector<RenderOptionSpec> makeRenderTable() {
                           "wall drawn",
                           [](R& o) -> OptionRef { return &o.cutAway; }),
                       {"on", "off"}));
+    t.push_back(oneOf(row("shadows", G::Look, "",
+                          "The key light's shadows of the scene geometry and of the liquid (coloured by its "
+                          "absorption through the depth the light crosses) on the studio and the geometry: auto "
+                          "(on when --geometry draws an object), on, off",
+                          [](R& o) -> OptionRef { return &o.shadows; }),
+                      {"auto", "on", "off"}));
     // Extras.
     t.push_back(row("fluid-attribute", G::Extras, "",
                     "Several fluids: the integer particle attribute giving each particle's fluid, 0 to 3 (default: "
@@ -365,6 +371,7 @@ std::vector<RenderOptionSpec> makeRenderTable() {
         {"anisotropy-smoothing", "Anisotropy", 0.0f, 1.0f},
         {"background", "Scene and light"},
         {"cut-away", "Scene and light"},
+        {"shadows", "Scene and light"},
         {"light", "Scene and light", -1.0f, 1.0f},
         {"noise", "Noise and foam"},
         {"noise-bump", "Noise and foam", 0.0f, 1.0f},
@@ -1221,6 +1228,7 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
     if (o.fluidScale != 1.0f && o.surface == "mesh")
         return makeError("", "--fluid-scale applies to the screen-space surface, not --surface mesh");
     s.fluidScale = o.fluidScale;
+    s.shadows = o.shadows == "on" ? ShadowMode::On : o.shadows == "off" ? ShadowMode::Off : ShadowMode::Auto;
     if (!o.fluidAttribute.empty() && o.surface == "mesh")
         return makeError("", "--fluid-attribute, --fluid: several fluids are drawn by the screen-space surface, not "
                              "--surface mesh");

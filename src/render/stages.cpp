@@ -7,6 +7,7 @@
 
 #include "core/fluid_scale.h"
 #include "core/geometry_draw.h"
+#include "core/shadow_camera.h"
 #include "shared/thickness.h"
 
 namespace meniscus {
@@ -18,7 +19,7 @@ bool drawsDrops(const RenderSettings& s) { return s.spray.enabled || !s.diffuse.
     X(kSceneStage) X(kGeometryStage) X(kReduceSceneDepthStage) X(kSplatStage) X(kSplatPartialStage) X(kResolveSplatStage)     \
     X(kFillHolesStage) X(kSmoothStage) X(kNormalsStage) X(kRasteriseStage) X(kRaycastStage) X(kNoiseStage) \
     X(kUpsampleStage) X(kWhiteningStage) X(kShadeStage) X(kFluidEdgesStage) X(kCompositeFluidsStage)        \
-    X(kSilhouetteStage) X(kSprayStage) X(kGlassStage)
+    X(kSilhouetteStage) X(kSprayStage) X(kGlassStage) X(kShadowMapStage) X(kShadowsStage)
 #define MENISCUS_DECLARE_DRIVER(name) extern const StageDriver name;
 namespace cpu {
 MENISCUS_STAGE_DRIVERS(MENISCUS_DECLARE_DRIVER)
@@ -132,6 +133,18 @@ Status runReduceSceneDepth(StageRun& r) {
     return okStatus();
 }
 
+// The light's maps on the key light's camera (core/shadow_camera.h) in the
+// Light* slots, then the frame's camera again (the GL frame block follows
+// the camera).
+Status runShadowMap(StageRun& r) {
+    r.backend.setCamera(shadowLight(r.frame).camera);
+    StageIo io = r.io;
+    io.at.sceneDepth = Slot::LightDepth, io.at.raw = Slot::LightRaw, io.at.thickness = Slot::LightThickness;
+    driverFor(*r.stage, r.backend)->run(r.backend, io);
+    r.backend.setCamera(r.settings.camera);
+    return okStatus();
+}
+
 // Every process's partial combined (exact: min and integer sums); a process
 // other than the root hands its share over and its frame ends here.
 Status runComposite(StageRun& r) {
@@ -186,6 +199,11 @@ const StageDecl kStages[] = {
     {"scene", S::Frame, "camera, studio, light", "SceneColor, SceneDepth", always, nullptr, DRIVERS(kSceneStage)},
     {"geometry", S::Frame, "SceneColor, SceneDepth, the geometry, light", "SceneColor, SceneDepth", drawsGeometry,
      checkGeometry, DRIVERS(kGeometryStage)},
+    // The key light's shadows (docs/geometry.md#shadows): its maps, then the scene darkened where they hide it.
+    {"shadow-map", S::Frame, "particles, the geometry, light", "LightDepth, LightRaw, LightThickness",
+     [](const StageWhen& w) { return drawsShadows(w.settings); }, nullptr, DRIVERS(kShadowMapStage), runShadowMap},
+    {"shadows", S::Frame, "SceneColor, SceneDepth, LightDepth, LightRaw, LightThickness", "SceneColor",
+     [](const StageWhen& w) { return drawsShadows(w.settings); }, nullptr, DRIVERS(kShadowsStage)},
     {"reduce-scene-depth", S::Frame, "SceneDepth", "LowSceneDepth", reduced, checkReduced,
      DRIVERS(kReduceSceneDepthStage), runReduceSceneDepth},
     // Each surface (the one fluid, or each fluid's layer), at the splat's resolution.
