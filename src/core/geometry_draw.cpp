@@ -5,6 +5,13 @@ namespace meniscus {
 
 bool drawsObject(const GeometryObject& object) { return object.visible && object.mesh.triangleCount() > 0; }
 
+bool drawsAnyObject(const SceneGeometry* geometry) {
+    if (!geometry) return false;
+    for (const GeometryObject& o : geometry->objects)
+        if (drawsObject(o)) return true;
+    return false;
+}
+
 bool drawsGlass(const SceneGeometry* geometry) {
     if (!geometry) return false;
     for (const GeometryObject& o : geometry->objects)

@@ -11,7 +11,9 @@ namespace meniscus {
 
 // Whether the frame draws `object` at all: visible, with triangles.
 bool drawsObject(const GeometryObject& object);
-// Whether the geometry has a drawn glass object (the glass stage's fronts).
+// Whether the geometry has a drawn object at all (the geometry stage, the
+// shadows' default), and a drawn glass object (the glass stage's fronts).
+bool drawsAnyObject(const SceneGeometry* geometry);
 bool drawsGlass(const SceneGeometry* geometry);
 
 // Which triangles of a mesh are drawn, by the side of their plane the eye is

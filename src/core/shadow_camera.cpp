@@ -12,10 +12,7 @@ namespace meniscus {
 
 bool drawsShadows(const RenderSettings& s) {
     if (s.shadows == ShadowMode::On) return true;
-    if (s.shadows == ShadowMode::Off || !s.geometry) return false;
-    for (const GeometryObject& o : s.geometry->objects)
-        if (drawsObject(o)) return true;
-    return false;
+    return s.shadows != ShadowMode::Off && drawsAnyObject(s.geometry.get());
 }
 
 ShadowLight shadowLight(const FrameSettings& s) {

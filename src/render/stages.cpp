@@ -99,13 +99,7 @@ Status checkSpray(const RenderSettings& s) {
     return settingError("spray.", checkSprayParams(s.spray));
 }
 
-bool drawsGeometry(const StageWhen& w) {
-    const SceneGeometry* g = w.settings.geometry.get();
-    if (!g) return false;
-    for (const GeometryObject& o : g->objects)
-        if (drawsObject(o)) return true;
-    return false;
-}
+bool drawsGeometry(const StageWhen& w) { return drawsAnyObject(w.settings.geometry.get()); }
 
 Status checkGeometry(const RenderSettings& s) {
     if (!s.geometry) return okStatus();
