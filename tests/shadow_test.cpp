@@ -205,6 +205,36 @@ TEST(Shadows, TheSameBitsForAnyThreadCount) {
     }
 }
 
+// One Renderer keeps the geometry's depth seen from the light while the
+// geometry object and the light's camera stay (CpuBackend::casterDepth): its
+// frames are those of a fresh Renderer when the camera moves, when the
+// geometry is replaced and when the first geometry comes back.
+TEST(Shadows, TheKeptCasterDepthFollowsTheGeometryAndTheCamera) {
+    auto withBox = std::make_shared<SceneGeometry>();
+    withBox->objects.push_back(object("plane", makePlaneMesh({0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 2.0f)));
+    withBox->objects.push_back(object("box", makeBoxMesh({-0.2f, 0.3f, -0.2f}, {0.2f, 0.4f, 0.2f})));
+    auto moved = std::make_shared<SceneGeometry>(*withBox);
+    moved->objects[1].mesh = makeBoxMesh({-0.5f, 0.3f, 0.1f}, {-0.1f, 0.5f, 0.4f});
+    const std::vector<glm::vec3> pts = test::jitteredBlock({6, 3, 6}, 2.0f * kR, 0.3f, {0.5f, 0.5f, -0.3f});
+    Renderer kept;
+    auto same = [](const Image<glm::vec4>& a, const Image<glm::vec4>& b) {
+        return a.width == b.width && a.height == b.height &&
+               std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(glm::vec4)) == 0;
+    };
+    RenderSettings s = settings(withBox);
+    Image<glm::vec4> firstBox;
+    for (int step = 0; step < 4; ++step) {
+        s.geometry = step == 2 ? moved : withBox;
+        s.camera.eye.x = step == 1 ? 0.3f : 0.0f;
+        auto a = kept.render(ParticleView(pts), s);
+        auto fresh = renderFrame(pts, s);
+        ASSERT_TRUE(a.ok() && fresh.ok());
+        EXPECT_TRUE(same(a->color, fresh->color)) << "step " << step;
+        if (step == 0) firstBox = a->color;
+        if (step == 2) EXPECT_FALSE(same(a->color, firstBox));  // the moved box's shadow is elsewhere
+    }
+}
+
 TEST(Shadows, TheLightCameraCoversTheBoundsAndStaysPutForSmallMoves) {
     std::vector<glm::vec3> pts = test::jitteredBlock({8, 3, 8}, 2.0f * kR, 0.3f, {0.3f, 0.5f, -0.2f});
     FrameSettings f;

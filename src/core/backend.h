@@ -31,6 +31,13 @@
 
 namespace meniscus {
 
+// The key light's camera for the shadows (core/shadow_camera.h, shadowLight):
+// a square image just covering the particles and the scene geometry.
+struct ShadowLight {
+    Camera camera;        // square, shared::kShadowMapPx a side
+    float texelM = 0.0f;  // a texel's side at the bounds' centre (m)
+};
+
 // Opaque handles of the images one frame passes between stages.
 // The Low* slots and Coverage hold the reduced-resolution pass
 // (docs/pipeline.md#reduced-resolution); FluidId and the layer slots after
@@ -121,6 +128,10 @@ struct FrameSettings : StageParams {
     // or null: drawn into the scene layer by the geometry stage. Shared, so a
     // backend may keep what it drew of it while it stays the same object.
     std::shared_ptr<const SceneGeometry> geometry;
+    // The key light's camera of the shadow stages (shadowLight), made once per
+    // frame by the Renderer when the frame draws shadows (a zero-sized camera
+    // otherwise: the shadow stages then draw nothing).
+    ShadowLight shadow;
     // Sort-last rendering (RenderSettings::compositor, meniscus/sort_last.h),
     // or null: the Renderer then runs splatPartial, the compositor and
     // resolveSplat in place of splat. The backends only carry it (for a

@@ -23,13 +23,11 @@ Faces sceneFaces(const GeometryObject& object) {
     return object.cutaway || object.material.glass ? Faces::Back : Faces::All;
 }
 
-const TriangleMesh& facesSeenFrom(const TriangleMesh& m, const glm::vec3& eye, Faces faces, TriangleMesh* scratch) {
-    if (faces == Faces::All) return m;
-    // The vertices stay as they are (indices keep their meaning).
-    scratch->positions = m.positions;
-    scratch->normals = m.normals;
-    scratch->indices.clear();
-    scratch->indices.reserve(m.indices.size());
+std::span<const std::uint32_t> facesSeenFrom(const TriangleMesh& m, const glm::vec3& eye, Faces faces,
+                                             std::vector<std::uint32_t>* scratch) {
+    if (faces == Faces::All) return m.indices;
+    scratch->clear();
+    scratch->reserve(m.indices.size());
     const std::size_t n = m.positions.size();
     for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
         const std::uint32_t a = m.indices[t], b = m.indices[t + 1], c = m.indices[t + 2];
@@ -38,8 +36,17 @@ const TriangleMesh& facesSeenFrom(const TriangleMesh& m, const glm::vec3& eye, F
         const glm::vec3 outward = glm::cross(m.positions[b] - p, m.positions[c] - p);
         const bool front = glm::dot(outward, eye - p) > 0.0f;
         if (front != (faces == Faces::Front)) continue;
-        scratch->indices.insert(scratch->indices.end(), {a, b, c});
+        scratch->insert(scratch->end(), {a, b, c});
     }
+    return *scratch;
+}
+
+const TriangleMesh& facesSeenFrom(const TriangleMesh& m, const glm::vec3& eye, Faces faces, TriangleMesh* scratch) {
+    if (faces == Faces::All) return m;
+    // The vertices stay as they are (indices keep their meaning).
+    scratch->positions = m.positions;
+    scratch->normals = m.normals;
+    facesSeenFrom(m, eye, faces, &scratch->indices);
     return *scratch;
 }
 

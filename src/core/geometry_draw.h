@@ -3,6 +3,10 @@
 // src/gl/geometry.cpp): the visible objects, and of each which faces.
 #pragma once
 
+#include <cstdint>
+#include <span>
+#include <vector>
+
 #include <glm/glm.hpp>
 
 #include "meniscus/geometry.h"
@@ -29,6 +33,10 @@ enum class Faces {
 // for Faces::All, else a copy in *scratch with the same vertices and only the
 // kept triangles. Exact and on the host: the same triangles on both backends.
 const TriangleMesh& facesSeenFrom(const TriangleMesh& mesh, const glm::vec3& eye, Faces faces, TriangleMesh* scratch);
+// The same as triangle indices into `mesh`'s own vertices (nothing copied but
+// the kept indices, into *scratch; the mesh's own for Faces::All).
+std::span<const std::uint32_t> facesSeenFrom(const TriangleMesh& mesh, const glm::vec3& eye, Faces faces,
+                                             std::vector<std::uint32_t>* scratch);
 
 // The faces the scene layer draws of `object`: of a cut-away container
 // (GeometryObject::cutaway) and of glass only the back faces (a tank seen

@@ -61,14 +61,15 @@ void shadowCasters(const SceneGeometry* geometry, const glm::vec3& lightEye, Tri
     out.normals.clear();
     out.indices.clear();
     if (!geometry) return;
-    TriangleMesh scratch;
+    std::vector<std::uint32_t> scratch;
     for (const GeometryObject& object : geometry->objects) {
         if (!drawsObject(object) || object.material.glass) continue;
-        const TriangleMesh& m = facesSeenFrom(object.mesh, lightEye, sceneFaces(object), &scratch);
+        const TriangleMesh& m = object.mesh;
+        const std::span<const std::uint32_t> kept = facesSeenFrom(m, lightEye, sceneFaces(object), &scratch);
         const auto base = std::uint32_t(out.positions.size());
         out.positions.insert(out.positions.end(), m.positions.begin(), m.positions.end());
         out.normals.insert(out.normals.end(), m.normals.begin(), m.normals.end());
-        for (const std::uint32_t i : m.indices) out.indices.push_back(base + i);
+        for (const std::uint32_t i : kept) out.indices.push_back(base + i);
     }
 }
 

@@ -15,12 +15,8 @@ namespace meniscus {
 // visible scene-geometry object.
 bool drawsShadows(const RenderSettings& s);
 
-struct ShadowLight {
-    Camera camera;        // square, shared::kShadowMapPx a side
-    float texelM = 0.0f;  // a texel's side at the bounds' centre (m)
-};
-
-// The light camera of the frame (its particles, radius, geometry and studio light).
+// The light camera of the frame (its particles, radius, geometry and studio
+// light); the Renderer keeps it in FrameSettings::shadow.
 ShadowLight shadowLight(const FrameSettings& s);
 
 // The triangles that cast the geometry's shadow, as one mesh: of each

@@ -3,6 +3,8 @@
 // their own files.
 #include "cpu/cpu_backend.h"
 
+#include <limits>
+
 namespace meniscus::cpu {
 
 Status CpuBackend::beginFrame(std::span<const glm::vec3> positions, const FrameSettings& settings) {
@@ -93,6 +95,17 @@ void CpuBackend::paintSceneGeometry(Slot color, Slot depth,
         withGeometryValid_ = true;
     }
     named_ = &withGeometry_;
+}
+
+const Image<float>& CpuBackend::casterDepth(const std::function<void(Image<float>&)>& draw) {
+    if (!casterValid_ || casterGeometry_ != s_.geometry || !(casterCamera_ == s_.camera)) {
+        casterDepth_ = Image<float>(s_.camera.width, s_.camera.height, std::numeric_limits<float>::infinity());
+        draw(casterDepth_);
+        casterGeometry_ = s_.geometry;
+        casterCamera_ = s_.camera;
+        casterValid_ = true;
+    }
+    return casterDepth_;
 }
 
 const SceneLayer& CpuBackend::sceneLayer(Slot color, Slot depth, SceneLayer* copy) const {

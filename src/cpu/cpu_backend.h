@@ -67,6 +67,12 @@ public:
     const SceneLayer& sceneLayer(Slot color, Slot depth, SceneLayer* copy) const;
     // The geometry stages' rasteriser images, kept across frames.
     MeshRaster& geometryRaster() { return geometryRaster_; }
+    // The shadow-map stage: the geometry's depth seen from the key light (the
+    // current camera), painted by `draw` into a +inf-filled image and kept (not
+    // drawn again) while the light's camera and the geometry object stay the
+    // same: the light's camera is snapped (shadowLight), so a still scene
+    // draws its casters once.
+    const Image<float>& casterDepth(const std::function<void(Image<float>&)>& draw);
 
 private:
     std::span<const glm::vec3> positions_;
@@ -86,6 +92,11 @@ private:
     std::shared_ptr<const SceneGeometry> drawnGeometry_;
     bool withGeometryValid_ = false;
     const SceneLayer* named_ = &scene_;
+    // The geometry's depth from the key light, for the geometry and light camera it was drawn with.
+    Image<float> casterDepth_;
+    std::shared_ptr<const SceneGeometry> casterGeometry_;
+    Camera casterCamera_;
+    bool casterValid_ = false;
     MeshRaster geometryRaster_;  // the layer the scene slots name: the cast, or the cast with geometry
     int sceneColorSlot_ = -1, sceneDepthSlot_ = -1;
     std::string stage_;

@@ -65,15 +65,16 @@ void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const sha
                   Image<glm::vec4>& color, Image<float>& depth, const shared::EnvironmentMap& environment,
                   MeshRaster* reuse) {
     const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
-    TriangleMesh scratch;
+    std::vector<std::uint32_t> scratch;
     MeshRaster own;
     MeshRaster& r = reuse ? *reuse : own;
     // The opaque objects, then glass's back faces over them.
     for (const bool glass : {false, true})
         for (const GeometryObject& object : geometry.objects) {
             if (!drawsObject(object) || object.material.glass != glass) continue;
-            const TriangleMesh& mesh = facesSeenFrom(object.mesh, camera.eye, sceneFaces(object), &scratch);
-            rasteriseMesh(camera, mesh, &depth, r);
+            const TriangleMesh& m = object.mesh;
+            rasteriseMesh(camera, MeshRef{m.positions, m.normals, facesSeenFrom(m, camera.eye, sceneFaces(object), &scratch)},
+                          &depth, r);
             shadeRaster(camera, r, object.material, light, environment, glass ? Blend::Glass : Blend::Opaque, nullptr,
                         color,
                         depth, &depth);
@@ -84,13 +85,14 @@ void drawGlassFronts(const Camera& camera, const SceneGeometry& geometry, const 
                      const Image<float>& liquidDepth, const Image<float>& sceneDepth, Image<glm::vec4>& color,
                      const shared::EnvironmentMap& environment, MeshRaster* reuse) {
     const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
-    TriangleMesh scratch;
+    std::vector<std::uint32_t> scratch;
     MeshRaster own;
     MeshRaster& r = reuse ? *reuse : own;
     for (const GeometryObject& object : geometry.objects) {
         if (!drawsObject(object) || !object.material.glass) continue;
-        const TriangleMesh& mesh = facesSeenFrom(object.mesh, camera.eye, Faces::Front, &scratch);
-        rasteriseMesh(camera, mesh, &sceneDepth, r);
+        const TriangleMesh& m = object.mesh;
+        rasteriseMesh(camera, MeshRef{m.positions, m.normals, facesSeenFrom(m, camera.eye, Faces::Front, &scratch)},
+                      &sceneDepth, r);
         shadeRaster(camera, r, object.material, light, environment, Blend::Glass, &liquidDepth, color, sceneDepth,
                     nullptr);
     }

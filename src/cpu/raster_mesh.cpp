@@ -71,6 +71,9 @@ struct Vertex {
     glm::vec3 normal;      // view space, as given (unit for mesh vertices)
     std::int32_t fx, fy;   // pixel coordinates (row 0 at the top) * kOne, rounded
     std::uint32_t outside; // bit k: outside clip plane k
+    // When drawable: the unsnapped pixel coordinates (project) and 1/w, made
+    // once per vertex for the attribute planes of every triangle using it.
+    double sx, sy, q;
 };
 
 // Continuous pixel coordinates of a view-space point in front of the eye.
@@ -105,7 +108,7 @@ inline std::int32_t roundToInt(double v) {
 // planeValues: a shared vertex is the same bits everywhere.
 [[gnu::noinline]] Vertex makeVertex(const Frame& fr, const glm::vec3& view, const glm::vec3& normal,
                                     bool onPlane = false) {
-    Vertex v{view, normal, 0, 0, 0};
+    Vertex v{view, normal, 0, 0, 0, 0.0, 0.0, 0.0};
     double d[kPlanes];
     planeValues(fr, view, d);
     for (int k = 0; k < kPlanes; ++k) v.outside |= std::uint32_t(d[k] < 0.0) << k;
@@ -113,6 +116,9 @@ inline std::int32_t roundToInt(double v) {
         const glm::dvec2 s = project(fr, view);
         v.fx = roundToInt(s.x * double(kOne));
         v.fy = roundToInt(s.y * double(kOne));
+        v.sx = s.x;
+        v.sy = s.y;
+        v.q = -1.0 / double(view.z);
     }
     return v;
 }
@@ -219,17 +225,16 @@ struct Edge {
 struct Planes {
     double sx0, sy0, qMin, qMax;
     double base[4], gx[4], gy[4];
-    Planes(const Frame& fr, const Vertex& a, const Vertex& b, const Vertex& c) {
-        const glm::dvec2 sa = project(fr, a.view), sb = project(fr, b.view), sc = project(fr, c.view);
-        sx0 = sa.x;
-        sy0 = sa.y;
-        const double ux = sb.x - sx0, uy = sb.y - sy0, vx = sc.x - sx0, vy = sc.y - sy0;
+    Planes(const Vertex& a, const Vertex& b, const Vertex& c) {
+        sx0 = a.sx;
+        sy0 = a.sy;
+        const double ux = b.sx - sx0, uy = b.sy - sy0, vx = c.sx - sx0, vy = c.sy - sy0;
         const double det = ux * vy - uy * vx;
         // Barycentric gradients of b (l1) and c (l2); none when the unsnapped
         // triangle is degenerate (the vertex values then hold across it).
         const double inv = det != 0.0 ? 1.0 / det : 0.0;
         const double l1x = vy * inv, l1y = -vx * inv, l2x = -uy * inv, l2y = ux * inv;
-        const double qa = -1.0 / double(a.view.z), qb = -1.0 / double(b.view.z), qc = -1.0 / double(c.view.z);
+        const double qa = a.q, qb = b.q, qc = c.q;
         qMin = std::min({qa, qb, qc});
         qMax = std::max({qa, qb, qc});
         const glm::dvec3 na = glm::dvec3(a.normal) * qa, nb = glm::dvec3(b.normal) * qb, nc = glm::dvec3(c.normal) * qc;
@@ -271,7 +276,7 @@ void drawTriangle(const Frame& fr, const Vertex* a, const Vertex* b, const Verte
             if ((w0 | w1 | w2) < 0) continue;  // outside (some biased edge function negative)
             const std::size_t idx = rowStart + std::size_t(x);
             if constexpr (kCount) ++out.coverage[idx];
-            if (!planes) planes.emplace(fr, *a, *b, *c);
+            if (!planes) planes.emplace(*a, *b, *c);
             const Planes& P = *planes;
             const double dx = (double(x) + 0.5) - P.sx0, dy = (double(y) + 0.5) - P.sy0;
             // Inside the triangle 1/w lies between its vertex values; the clamp
@@ -331,11 +336,27 @@ void fillBins(Bins& bins, std::size_t first, std::size_t count) {
     perSlice([&](std::uint32_t& pos, std::size_t k) { bins.items[pos++] = std::uint32_t(first + k); });
 }
 
+}  // namespace
+
+struct RasterWorkspace::Data {
+    std::vector<Vertex> verts;
+    Bins bins;
+};
+
+RasterWorkspace::RasterWorkspace() : data_(std::make_unique<Data>()) {}
+RasterWorkspace::~RasterWorkspace() = default;
+RasterWorkspace::RasterWorkspace(RasterWorkspace&&) noexcept = default;
+RasterWorkspace& RasterWorkspace::operator=(RasterWorkspace&&) noexcept = default;
+
+namespace {
+
 template <bool kCount>
-void rasterise(const Frame& fr, const TriangleMesh& mesh, const Targets& out) {
-    // Every vertex to view space and the screen once.
+void rasterise(const Frame& fr, const MeshRef& mesh, const Targets& out, RasterWorkspace::Data& work) {
+    // Every vertex to view space and the screen once (the workspace's
+    // memory reused: a frame of a million vertices does not fault it in again).
     const std::size_t nv = mesh.positions.size();
-    std::vector<Vertex> verts(nv);
+    std::vector<Vertex>& verts = work.verts;
+    verts.resize(nv);
     tbb::parallel_for(std::size_t(0), nv, [&](std::size_t i) {
         const glm::vec3 d = mesh.positions[i] - fr.eye, n = mesh.normals[i];
         verts[i] = makeVertex(fr, {glm::dot(d, fr.right), glm::dot(d, fr.up), glm::dot(d, fr.back)},
@@ -363,7 +384,7 @@ void rasterise(const Frame& fr, const TriangleMesh& mesh, const Targets& out) {
         for (int i = 1; i + 1 < p.n; ++i) draw(&p.v[0], &p.v[i], &p.v[i + 1]);
     };
 
-    Bins bins;
+    Bins& bins = work.bins;
     bins.tilesX = (fr.width + kTile - 1) / kTile;
     bins.tilesY = (fr.height + kTile - 1) / kTile;
     const std::size_t triangles = mesh.triangleCount();
@@ -413,11 +434,16 @@ void rasterise(const Frame& fr, const TriangleMesh& mesh, const Targets& out) {
 MeshRaster rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const Image<float>* sceneDepth,
                          Image<std::uint32_t>* coverage) {
     MeshRaster out;
-    rasteriseMesh(camera, mesh, sceneDepth, out, coverage);
+    rasteriseMesh(camera, MeshRef::of(mesh), sceneDepth, out, coverage);
     return out;
 }
 
 void rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const Image<float>* sceneDepth, MeshRaster& out,
+                   Image<std::uint32_t>* coverage) {
+    rasteriseMesh(camera, MeshRef::of(mesh), sceneDepth, out, coverage);
+}
+
+void rasteriseMesh(const Camera& camera, const MeshRef& mesh, const Image<float>* sceneDepth, MeshRaster& out,
                    Image<std::uint32_t>* coverage) {
     const int W = camera.width, H = camera.height;
     const bool hasScene = sceneDepth && sceneDepth->width == W && sceneDepth->height == H;
@@ -446,8 +472,8 @@ void rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const Image<f
     const bool count = coverage && coverage->width == W && coverage->height == H;
     const Targets t{out.depth.pixels.data(), out.normal.pixels.data(), count ? coverage->pixels.data() : nullptr, W};
     if (mesh.normals.size() == mesh.positions.size() && W > 0 && H > 0) {
-        if (count) rasterise<true>(fr, mesh, t);
-        else rasterise<false>(fr, mesh, t);
+        if (count) rasterise<true>(fr, mesh, t, out.work.data());
+        else rasterise<false>(fr, mesh, t, out.work.data());
     }
     if (hasScene)
         tbb::parallel_for(0, H, [&](int y) {

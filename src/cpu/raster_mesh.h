@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <span>
 
 #include <glm/glm.hpp>
 
@@ -19,9 +21,37 @@ inline constexpr int kRasterTilePx = 64;
 // and llvmpipe: 8 bits, 1/256 px).
 inline constexpr int kRasterSubpixelBits = 8;
 
+// The rasteriser's own memory (its vertices and tile bins), kept by a
+// MeshRaster across calls so a frame does not allocate (and fault in) it again.
+// A copy starts empty: two rasters never share it.
+class RasterWorkspace {
+public:
+    struct Data;
+    RasterWorkspace();
+    ~RasterWorkspace();
+    RasterWorkspace(const RasterWorkspace&) : RasterWorkspace() {}
+    RasterWorkspace& operator=(const RasterWorkspace&) { return *this; }
+    RasterWorkspace(RasterWorkspace&&) noexcept;
+    RasterWorkspace& operator=(RasterWorkspace&&) noexcept;
+    Data& data() { return *data_; }
+
+private:
+    std::unique_ptr<Data> data_;
+};
+
 struct MeshRaster {
     Image<float> depth;       // eye depth of the nearest triangle (m), +inf where none
     Image<glm::vec3> normal;  // its unit view-space normal (+z toward the camera), (0,0,0) where none
+    RasterWorkspace work;     // reused by the next rasteriseMesh into this raster
+};
+
+// A mesh's arrays as the rasteriser reads them: a TriangleMesh's, or its
+// vertices with a subset of its triangles (the faces a frame draws).
+struct MeshRef {
+    std::span<const glm::vec3> positions, normals;
+    std::span<const std::uint32_t> indices;  // three per triangle
+    static MeshRef of(const TriangleMesh& m) { return {m.positions, m.normals, m.indices}; }
+    std::size_t triangleCount() const { return indices.size() / 3; }
 };
 
 // Rasterises `mesh` (world positions, unit per-vertex normals) seen by
@@ -48,6 +78,9 @@ MeshRaster rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const I
                          Image<std::uint32_t>* coverage = nullptr);
 // The same into `out`, whose images' memory is reused (a stage drawing every frame).
 void rasteriseMesh(const Camera& camera, const TriangleMesh& mesh, const Image<float>* sceneDepth, MeshRaster& out,
+                   Image<std::uint32_t>* coverage = nullptr);
+// The same over a MeshRef.
+void rasteriseMesh(const Camera& camera, const MeshRef& mesh, const Image<float>* sceneDepth, MeshRaster& out,
                    Image<std::uint32_t>* coverage = nullptr);
 
 }  // namespace meniscus::cpu

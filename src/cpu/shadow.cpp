@@ -32,22 +32,23 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 void runShadowMap(Backend& b, const StageIo& io) {
     CpuBackend& c = CpuBackend::of(b);
     const FrameSettings& s = c.frame();
-    TriangleMesh casters;
-    shadowCasters(s.geometry.get(), s.camera.eye, casters);
-    if (casters.empty()) {
-        c.scalarOut(io.at.sceneDepth) = Image<float>(s.camera.width, s.camera.height, kInf);
-    } else {
+    // The geometry's part depends on the geometry and the light's camera
+    // only: drawn once while they stay (CpuBackend::casterDepth).
+    c.scalarOut(io.at.sceneDepth) = c.casterDepth([&](Image<float>& depth) {
+        TriangleMesh casters;
+        shadowCasters(s.geometry.get(), s.camera.eye, casters);
+        if (casters.empty()) return;
         MeshRaster r;
         rasteriseMesh(s.camera, casters, nullptr, r);
-        c.scalarOut(io.at.sceneDepth) = std::move(r.depth);
-    }
+        depth = std::move(r.depth);
+    });
     kSplatStage.run(b, io);
 }
 
 void runShadows(Backend& b, const StageIo& io) {
     CpuBackend& c = CpuBackend::of(b);
     const FrameSettings& s = c.frame();
-    const ShadowLight light = shadowLight(s);
+    const ShadowLight& light = s.shadow;
     const Camera& lc = light.camera;
     const Image<float>& lightDepth = c.scalar(Slot::LightDepth);
     const Image<float>& lightRaw = c.scalar(Slot::LightRaw);

@@ -63,7 +63,7 @@ void runShadows(GlBackend& g, const StageIo& io) {
     const int side = shared::kShadowMapPx;
     if (!g.img(Slot::LightDepth).sized(side, side, 1)) return;  // no map (a stage run alone)
     const int W = s.camera.width, H = s.camera.height;
-    const ShadowLight light = shadowLight(s);
+    const ShadowLight& light = s.shadow;
     const Camera& lc = light.camera;
     g.forget(io.at.sceneColor);
     ShadowPasses& p = g.pass<ShadowPasses>();

@@ -38,6 +38,7 @@
 #include "core/backend.h"
 #include "core/fluid_scale.h"
 #include "core/frame_memory.h"
+#include "core/shadow_camera.h"
 #include "core/spray.h"
 #include "core/turbulence.h"
 #include "meniscus/particles.h"
@@ -809,6 +810,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         f.environment.rotation = s.scene.environmentRotationDeg / 360.0f;
         f.environment.intensity = s.scene.environmentIntensity;
     }
+    if (drawsShadows(s)) f.shadow = shadowLight(f);
     f.fluidDivisor = divisor;
     f.upsampleJumpM = defaults::kDepthJumpRadii * s.radiusM;
     f.compositor = s.compositor;

@@ -131,7 +131,7 @@ Status runReduceSceneDepth(StageRun& r) {
 // Light* slots, then the frame's camera again (the GL frame block follows
 // the camera).
 Status runShadowMap(StageRun& r) {
-    r.backend.setCamera(shadowLight(r.frame).camera);
+    r.backend.setCamera(r.frame.shadow.camera);
     StageIo io = r.io;
     io.at.sceneDepth = Slot::LightDepth, io.at.raw = Slot::LightRaw, io.at.thickness = Slot::LightThickness;
     driverFor(*r.stage, r.backend)->run(r.backend, io);
