@@ -27,7 +27,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends \
   ca-certificates cmake make ninja-build g++ pkg-config \
-  libglm-dev zlib1g-dev libpng-dev libopenexr-dev libtbb-dev \
+  libglm-dev zlib1g-dev libpng-dev libjpeg-dev libopenexr-dev libtbb-dev \
   nlohmann-json3-dev libcli11-dev libtinyxml2-dev liblz4-dev liblzma-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
   libepoxy-dev libegl-dev libgl1-mesa-dri libegl-mesa0 glslang-tools \

@@ -177,7 +177,8 @@ TEST(SceneFile, ErrorsNameTheKey) {
 
 // Scene geometry (docs/geometry.md): the scene file's `geometry` key (a file
 // relative to the scene file, inline objects whose files are too) gives the
-// bytes of the same --geometry options; --cut-away off draws a container's
+// bytes of the same --geometry options, and of one --geometry holding both
+// as a JSON list; --cut-away off draws a container's
 // near walls (a different picture); a missing file is an error naming it and
 // the option; a simulation scene's colliders are drawn (render scene.json).
 TEST(SceneFile, GeometryKeyMatchesTheOptionAndErrorsNameTheFile) {
@@ -213,6 +214,12 @@ TEST(SceneFile, GeometryKeyMatchesTheOptionAndErrorsNameTheFile) {
     EXPECT_NE(readBytes(dir / "a.png"), readBytes(dir / "c.png"));
     ASSERT_EQ(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "d.png") + options, &out), 0);
     EXPECT_EQ(readBytes(dir / "a.png"), readBytes(dir / "d.png"));
+    // Both objects as one inline JSON list (one value, its commas and brackets kept whole).
+    const std::string listed = " --radius 0.01 --eye 2.6,2,3.2 --target 0,0.35,0 --width 160 --height 90 "
+                               "--backend cpu --geometry " + shellQuote("[" + cube + ", " + tank + "]");
+    ASSERT_EQ(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "l.png") + listed, &out), 0)
+        << out;
+    EXPECT_EQ(readBytes(dir / "a.png"), readBytes(dir / "l.png"));
 
     // Errors: a missing mesh file, bad JSON, an unknown key.
     EXPECT_NE(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "e.png") +

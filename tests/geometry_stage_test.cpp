@@ -131,6 +131,49 @@ TEST(GeometryStage, ABoxFaceAtItsAnalyticDepthShadedByTheSharedFormula) {
     EXPECT_EQ(layer.depth.at(cam.width - 1, cam.height - 1), before.depth.at(cam.width - 1, cam.height - 1));
 }
 
+// A base colour map (shared/texture.h): the checker quad of
+// tests/data/geometry (four blocks of 2 x 2 texels) seen from above, each
+// quarter shaded as an untextured quad of that block's colour would be.
+TEST(GeometryStage, ATexturedQuadShowsItsMapWhereItsCoordinatesPutIt) {
+    Camera cam;
+    cam.eye = {0.5f, 2.0f, 0.5f};
+    cam.target = {0.5f, 0.0f, 0.5f};
+    cam.up = {0.0f, 0.0f, -1.0f};  // the image's top is -z, its right +x
+    cam.width = cam.height = 64;
+    cam.fovYDegrees = 20.0f;
+    cam.nearM = 0.01f;
+    const shared::Studio studio = studioFor(cam);
+    auto quad = readGeometryMesh(test::testData("geometry/textured_quad.obj"));
+    ASSERT_TRUE(quad.ok()) << quad.error().describe();
+    ASSERT_TRUE(quad->material.baseColorTexture);
+    const auto drawn = [&](const GeometryObject& o) {
+        cpu::SceneLayer layer = cpu::castScene(cam, studio);
+        SceneGeometry g;
+        g.objects.push_back(o);
+        cpu::drawGeometry(cam, g, studio, layer.color, layer.depth);
+        return layer.color;
+    };
+    const Image<glm::vec4> textured = drawn(*quad);
+    // The quarters' centres: the map's top-left block (red) at the image's top-left.
+    const struct {
+        int x, y;
+        glm::vec3 color;
+    } quarters[] = {{20, 20, {1, 0, 0}}, {44, 20, {0, 1, 0}}, {20, 44, {0, 0, 1}}, {44, 44, {1, 1, 1}}};
+    for (const auto& q : quarters) {
+        GeometryObject plain = *quad;
+        plain.material.baseColorTexture = nullptr;
+        plain.material.baseColor = q.color;
+        const glm::vec4 want = drawn(plain).at(q.x, q.y), got = textured.at(q.x, q.y);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], want[k], 1e-6f) << q.x << "," << q.y << " channel " << k;
+    }
+    // Without its coordinates the map is not drawn: the base colour (white) alone.
+    GeometryObject noUv = *quad;
+    noUv.uvs.clear();
+    GeometryObject white = *quad;
+    white.material.baseColorTexture = nullptr;
+    EXPECT_TRUE(sameBits(drawn(noUv), drawn(white)));
+}
+
 TEST(GeometryStage, NothingIsDrawnAtOrBehindTheSceneDepth) {
     const Camera cam = frontCamera(5.0f);
     Image<glm::vec4> color(cam.width, cam.height, glm::vec4(0.0f));

@@ -8,6 +8,8 @@
 
 #include <cstdlib>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <gtest/gtest.h>
 
 #include "shared/thickness.h"
@@ -260,8 +262,8 @@ TEST_F(GlBackend, NoParticlesGivesTheSceneAsOnTheCpu) {
 }
 
 // Scene geometry (docs/geometry.md): the real frame inside a cut-away tank,
-// a rough sphere in front of it, a polished metal box behind it and a glass
-// box around part of it; every
+// a rough sphere in front of it, a polished metal box behind it, a glass
+// box around part of it and a textured wall behind it all; every
 // AOV within the pipeline's tolerances, the geometry's own pixels among the
 // colours (the mesh path's rasteriser on both sides, the shared shading
 // formula). The same renderer again (the studio's cache under the geometry)
@@ -297,6 +299,15 @@ TEST_F(GlBackend, SceneGeometryMatchesCpu) {
     glass.material.glass = true;
     glass.material.tint = {0.5f, 0.9f, 0.8f};
     g->objects.push_back(glass);
+    // A textured quad (tests/data/geometry: the checker's four colours) as a
+    // wall behind the liquid, its map repeated twice across it.
+    auto quad = readGeometryMesh(testData("geometry/textured_quad.obj"));
+    ASSERT_TRUE(quad.ok()) << quad.error().describe();
+    transformMesh(quad->mesh, glm::translate(glm::mat4(1.0f), glm::vec3(box.min.x, box.min.y, box.min.z - 0.02f * e.z)) *
+                                  glm::rotate(glm::mat4(1.0f), glm::radians(-90.0f), glm::vec3(1.0f, 0.0f, 0.0f)) *
+                                  glm::scale(glm::mat4(1.0f), glm::vec3(e.x, 1.0f, e.y)));
+    for (glm::vec2& uv : quad->uvs) uv *= 2.0f;
+    g->objects.push_back(*quad);
     f.settings.geometry = g;
     auto gl = Renderer::create(BackendChoice::Gl);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();

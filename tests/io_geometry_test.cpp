@@ -7,7 +7,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
+#include <vector>
+
+#include <jpeglib.h>
 
 #include "geometry_test.h"
 #include "meniscus/geometry.h"
@@ -94,6 +98,153 @@ TEST(GeometryMesh, BaseColourFromTheFile) {
     EXPECT_NEAR(teal.material.baseColor.b, 0.4f, 1e-6f);
     EXPECT_NEAR(teal.material.metalness, 0.25f, 1e-6f);
     EXPECT_NEAR(teal.material.roughness, 0.3f, 1e-6f);
+}
+
+// The texel (i, j) of a texture, from its top-left corner.
+glm::vec3 texel(const GeometryTexture& t, int i, int j) {
+    const std::size_t k = 3 * (std::size_t(j) * std::size_t(t.width) + std::size_t(i));
+    return {t.rgb[k], t.rgb[k + 1], t.rgb[k + 2]};
+}
+
+TEST(GeometryMesh, TheFilesBaseColourMapAndTextureCoordinates) {
+    for (const char* name : {"textured_quad.obj", "textured_quad.gltf"}) {
+        SCOPED_TRACE(name);
+        const GeometryObject q = ok(readGeometryMesh(geo(name)));
+        ASSERT_TRUE(q.material.baseColorTexture);
+        const GeometryTexture& t = *q.material.baseColorTexture;
+        ASSERT_EQ(t.width, 4);
+        ASSERT_EQ(t.height, 4);
+        ASSERT_EQ(t.rgb.size(), 48u);
+        // sRGB 255 and 0 are linear 1 and 0 exactly.
+        EXPECT_EQ(texel(t, 0, 0), glm::vec3(1, 0, 0));
+        EXPECT_EQ(texel(t, 3, 0), glm::vec3(0, 1, 0));
+        EXPECT_EQ(texel(t, 0, 3), glm::vec3(0, 0, 1));
+        EXPECT_EQ(texel(t, 3, 3), glm::vec3(1, 1, 1));
+        EXPECT_EQ(q.material.baseColor, glm::vec3(1.0f));  // the map is the colour
+        // (0, 0) at the image's bottom-left for both formats: u = x, v = 1 - z.
+        ASSERT_EQ(q.uvs.size(), q.mesh.positions.size());
+        for (std::size_t i = 0; i < q.uvs.size(); ++i) {
+            EXPECT_NEAR(q.uvs[i].x, q.mesh.positions[i].x, 1e-6f) << i;
+            EXPECT_NEAR(q.uvs[i].y, 1.0f - q.mesh.positions[i].z, 1e-6f) << i;
+        }
+    }
+    // From memory the glTF's embedded image is read; the OBJ's map beside it is not looked for.
+    const auto gltf = test::readBytes(geo("textured_quad.gltf"));
+    EXPECT_TRUE(ok(parseGeometryMesh(ByteView(gltf.data(), gltf.size()), "textured_quad.gltf")).material.baseColorTexture);
+    const auto obj = test::readBytes(geo("textured_quad.obj"));
+    EXPECT_FALSE(ok(parseGeometryMesh(ByteView(obj.data(), obj.size()), "textured_quad.obj")).material.baseColorTexture);
+}
+
+namespace {
+
+// A CRC-32 (ISO 3309, as PNG's chunks carry), bit by bit.
+std::uint32_t crc32(const std::string& bytes) {
+    std::uint32_t c = 0xffffffffu;
+    for (const unsigned char b : bytes) {
+        c ^= b;
+        for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+    }
+    return c ^ 0xffffffffu;
+}
+std::string be32(std::uint32_t v) {
+    return {char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+}
+// A PNG's signature, IHDR chunk for a w x h 8-bit RGB image and an empty
+// IDAT chunk: a whole header, no pixels.
+std::string pngHeader(std::uint32_t w, std::uint32_t h) {
+    const std::string body = "IHDR" + be32(w) + be32(h) + std::string("\x08\x02\x00\x00\x00", 5);
+    return std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + body + be32(crc32(body)) + be32(0) + "IDAT" +
+           be32(crc32("IDAT"));
+}
+
+
+}  // namespace
+
+namespace {
+
+struct JpegBytes {
+    jpeg_destination_mgr mgr;
+    std::string out;
+    unsigned char buffer[4096];
+};
+
+// A w x h JPEG of one colour (libjpeg, quality 95).
+std::string solidJpeg(int w, int h, const unsigned char rgb[3]) {
+    jpeg_compress_struct c;
+    jpeg_error_mgr err;
+    c.err = jpeg_std_error(&err);
+    jpeg_create_compress(&c);
+    JpegBytes dest;
+    dest.mgr.next_output_byte = dest.buffer;
+    dest.mgr.free_in_buffer = sizeof dest.buffer;
+    dest.mgr.init_destination = [](j_compress_ptr) {};
+    dest.mgr.empty_output_buffer = [](j_compress_ptr p) -> boolean {
+        auto* d = reinterpret_cast<JpegBytes*>(p->dest);
+        d->out.append(reinterpret_cast<const char*>(d->buffer), sizeof d->buffer);
+        d->mgr.next_output_byte = d->buffer;
+        d->mgr.free_in_buffer = sizeof d->buffer;
+        return TRUE;
+    };
+    dest.mgr.term_destination = [](j_compress_ptr p) {
+        auto* d = reinterpret_cast<JpegBytes*>(p->dest);
+        d->out.append(reinterpret_cast<const char*>(d->buffer), sizeof d->buffer - d->mgr.free_in_buffer);
+    };
+    c.dest = &dest.mgr;
+    c.image_width = JDIMENSION(w);
+    c.image_height = JDIMENSION(h);
+    c.input_components = 3;
+    c.in_color_space = JCS_RGB;
+    jpeg_set_defaults(&c);
+    jpeg_set_quality(&c, 95, TRUE);
+    jpeg_start_compress(&c, TRUE);
+    std::vector<unsigned char> row(std::size_t(w) * 3);
+    for (int x = 0; x < w; ++x) std::copy(rgb, rgb + 3, row.begin() + 3 * x);
+    while (c.next_scanline < c.image_height) {
+        JSAMPROW r = row.data();
+        jpeg_write_scanlines(&c, &r, 1);
+    }
+    jpeg_finish_compress(&c);
+    jpeg_destroy_compress(&c);
+    return dest.out;
+}
+
+}  // namespace
+
+TEST(GeometryMesh, TexturesBesideTheFileJpegAndBadImages) {
+    const fs::path dir = tempDir();
+    // The unit quad of textured_quad.obj with its map in `image`.
+    auto quadWith = [&](const std::string& image) {
+        const std::vector<std::uint8_t> bytes = test::readBytes(geo("textured_quad.obj"));
+        std::string obj(bytes.begin(), bytes.end());
+        obj.replace(obj.find("textured_quad.mtl"), 17, image + ".mtl");
+        writeText(dir / (image + ".obj"), obj);
+        writeText(dir / (image + ".mtl"), "newmtl checker\nmap_Kd " + image + "\n");
+        return dir / (image + ".obj");
+    };
+    const unsigned char orange[3] = {200, 100, 50};
+    writeText(dir / "orange.jpg", solidJpeg(16, 8, orange));
+    const GeometryObject jpeg = ok(readGeometryMesh(quadWith("orange.jpg")));
+    ASSERT_TRUE(jpeg.material.baseColorTexture);
+    const GeometryTexture& t = *jpeg.material.baseColorTexture;
+    EXPECT_EQ(t.width, 16);
+    EXPECT_EQ(t.height, 8);
+    // sRGB 200, 100, 50 in linear terms, within what JPEG's coding changes (3 codes).
+    const glm::vec3 c = texel(t, 7, 4);
+    EXPECT_NEAR(c.r, 0.5776f, 0.02f);
+    EXPECT_NEAR(c.g, 0.1274f, 0.01f);
+    EXPECT_NEAR(c.b, 0.0319f, 0.005f);
+
+    expectError(readGeometryMesh(quadWith("missing.png")), quadWith("missing.png").string(), "missing.png");
+    writeText(dir / "text.png", "not an image at all");
+    expectError(readGeometryMesh(quadWith("text.png")), quadWith("text.png").string(), "not a PNG or a JPEG");
+    // A header claiming 10^5 x 10^5 pixels: refused before any pixel is allocated.
+    writeText(dir / "huge.png", pngHeader(100000, 100000));
+    expectError(readGeometryMesh(quadWith("huge.png")), quadWith("huge.png").string(), "pixels");
+    // A real header, its pixels cut off.
+    writeText(dir / "cut.png", pngHeader(4, 4));
+    expectError(readGeometryMesh(quadWith("cut.png")), quadWith("cut.png").string(), "PNG");
+    writeText(dir / "cut.jpg", solidJpeg(16, 8, orange).substr(0, 200));
+    expectError(readGeometryMesh(quadWith("cut.jpg")), quadWith("cut.jpg").string(), "JPEG");
 }
 
 TEST(GeometryMesh, FromMemoryTakesTheSamePath) {

@@ -94,9 +94,13 @@ CLI::Option* addTableOption(CLI::App* cmd, const std::string& name, OptionGroup 
                 if (flag) return cmd->add_flag(option, *p, help);
                 return cmd->add_option(option, *p, help);
             } else if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float> || std::is_same_v<T, double> ||
-                                 std::is_same_v<T, std::uint64_t> || std::is_same_v<T, std::string> ||
-                                 std::is_same_v<T, std::vector<std::string>>) {
-                return cmd->add_option(option, *p, help);  // a list: the option repeated
+                                 std::is_same_v<T, std::uint64_t> || std::is_same_v<T, std::string>) {
+                return cmd->add_option(option, *p, help);
+            } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+                // A list: the option repeated, one value each time, taken
+                // whole (CLI11 would otherwise split a value in brackets at its
+                // commas, and inline JSON such as [{"box": ...}, ...] is one).
+                return cmd->add_option(option, *p, help)->allow_extra_args(false);
             } else if constexpr (std::is_same_v<T, std::vector<float>>) {
                 // Its count of numbers, "a,b,c" or "a b c"; too few or too many is bad usage.
                 return cmd->add_option(option, *p, help)->delimiter(',')->expected(int(limits.count));

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -38,7 +39,23 @@ inline constexpr std::uintmax_t kMaxJsonBytes = std::uintmax_t(16) << 20;  // 16
 // JSON nested deeper than this is refused before any value is built (a deeply
 // nested document can overflow the stack of a recursive reader).
 inline constexpr int kMaxJsonDepth = 64;
+// A texture image: at most this many pixels a side and in all (2^25 pixels are
+// 384 MiB as linear RGB floats), and a texture file at most this many bytes.
+inline constexpr int kMaxTextureSidePx = 16384;
+inline constexpr long long kMaxTexturePixels = 1LL << 25;
+inline constexpr std::uintmax_t kMaxTextureFileBytes = std::uintmax_t(256) << 20;  // 256 MiB
 }  // namespace geometry_limits
+
+// A colour texture (a mesh file's base colour map) as drawn: linear RGB texels
+// (decoded from the file's sRGB), row after row from the top of the image, 3
+// floats each. Sampled bilinearly and repeated beyond [0, 1]
+// (src/shared/texture.h), with texture coordinates (0, 0) at the image's
+// bottom-left corner, as Assimp gives them for every format.
+struct GeometryTexture {
+    std::string name;  // the image's file (or "model.glb#0" for an embedded one), for errors and the viewer
+    int width = 0, height = 0;
+    std::vector<float> rgb;
+};
 
 // How a piece of geometry looks. Colours are linear RGB.
 struct GeometryMaterial {
@@ -50,6 +67,10 @@ struct GeometryMaterial {
     float ior = 1.5f;                          // index of refraction of the glass
     glm::vec3 tint{0.92f, 0.97f, 0.96f};       // transmittance of 1 cm of the glass (Beer-Lambert)
     float thicknessM = 0.004f;                 // wall thickness, metres (the path is longer at an angle)
+    // The base colour map (opaque materials; null: none): the base colour is
+    // baseColor times the texture at the surface's texture coordinates
+    // (GeometryObject::uvs). Shared: objects and copies point at one image.
+    std::shared_ptr<const GeometryTexture> baseColorTexture;
 
     bool operator==(const GeometryMaterial&) const = default;
 };
@@ -65,6 +86,8 @@ struct GeometryObject {
     // outside faces the camera are not drawn, so the walls between the camera
     // and the liquid are cut away and the inside of the far walls shows.
     bool cutaway = false;
+    // Texture coordinates, one per mesh vertex, or none (then no texture is drawn).
+    std::vector<glm::vec2> uvs;
 };
 
 struct SceneGeometry {
@@ -110,14 +133,18 @@ Result<SceneGeometry> parseGeometry(std::string_view jsonText, const std::string
 // One mesh file through Assimp: every mesh of the file merged into one
 // TriangleMesh in the file's world coordinates (its node transforms applied),
 // triangles only (points and lines dropped), unit per-vertex normals; the
-// material's base colour is the file's when it has one material (textures are
-// not read). The object's name is the file's name. An error (naming the file)
+// material's base colour is the file's when it has one material, with its
+// base colour (glTF) or diffuse (OBJ, FBX, ...) texture when it has one and
+// the meshes have texture coordinates: a PNG or a JPEG, embedded in the file
+// or beside it (a path relative to the file's folder). The object's name is
+// the file's name. An error (naming the file)
 // for a missing, unreadable, oversized or empty file, a format Assimp does not
 // read, or non-finite vertices.
 Result<GeometryObject> readGeometryMesh(const std::filesystem::path& file);
 // The same for a file already in memory: `name` names it in errors and its
 // extension (".obj", ".stl", ...) picks the format. Files the mesh refers to
-// (an OBJ's .mtl, a glTF's external buffers) are not found from memory.
+// (an OBJ's .mtl, a glTF's external buffers, textures beside the file) are
+// not found from memory; textures embedded in the file are read.
 Result<GeometryObject> parseGeometryMesh(ByteView data, const std::string& name);
 
 // Moves `mesh` by the affine transform `m` (positions) and its inverse

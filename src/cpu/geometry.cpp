@@ -12,6 +12,7 @@
 #include "cpu/raster_mesh.h"
 #include "shared/geometry_shade.h"
 #include "shared/sky.h"
+#include "shared/texture.h"
 
 namespace meniscus::cpu {
 
@@ -32,7 +33,14 @@ void shadeRaster(const Camera& camera, const MeshRaster& r, const GeometryMateri
     const int W = camera.width, H = camera.height;
     const glm::vec3 right = camera.right(), up = camera.trueUp(), back = camera.back();
     const float invF = 1.0f / camera.focalPx(), halfW = 0.5f * float(W), halfH = 0.5f * float(H);
-    forEachRow(H, [&](int y) {
+    // The base colour map, where the raster has texture coordinates.
+    shared::TextureMap texture;
+    if (const GeometryTexture* t = mat.baseColorTexture.get();
+        t && t->width > 0 && t->height > 0 && t->rgb.size() == std::size_t(t->width) * std::size_t(t->height) * 3)
+        texture = {t->rgb.data(), t->width, t->height};
+    const bool textured = texture.enabled() && r.uv.width == W && r.uv.height == H;
+    // Flattened: the shading formulas inlined into the row's loop.
+    forEachRow(H, [&](int y) __attribute__((flatten)) {
         const glm::vec3 rowDir = (-(float(y) + 0.5f - halfH) * invF) * up - back;
         for (int x = 0; x < W; ++x) {
             const float z = r.depth.at(x, y);
@@ -46,8 +54,12 @@ void shadeRaster(const Camera& camera, const MeshRaster& r, const GeometryMateri
             const glm::vec3 v = -d * invLen;
             glm::vec4& c = color.at(x, y);
             if (blend == Blend::Opaque) {
-                c = glm::vec4(shared::geometryRadiance(n, v, light, mat.baseColor, mat.roughness, mat.metalness, env),
-                              1.0f);
+                glm::vec3 base = mat.baseColor;
+                if (textured) {
+                    const glm::vec2 uv = r.uv.at(x, y);
+                    base *= shared::textureSample(texture, uv.x, uv.y);
+                }
+                c = glm::vec4(shared::geometryRadiance(n, v, light, base, mat.roughness, mat.metalness, env), 1.0f);
                 (*depthOut).at(x, y) = z;
             } else {
                 // Over a transparent background (no studio) the glass is seen
@@ -57,6 +69,15 @@ void shadeRaster(const Camera& camera, const MeshRaster& r, const GeometryMateri
             }
         }
     });
+}
+
+// `faces` of the object's mesh, with its texture coordinates when its
+// material has a texture to draw with them.
+MeshRef objectFaces(const GeometryObject& object, std::span<const std::uint32_t> faces) {
+    const TriangleMesh& m = object.mesh;
+    MeshRef ref{m.positions, m.normals, faces};
+    if (object.material.baseColorTexture && object.uvs.size() == m.positions.size()) ref.uvs = object.uvs;
+    return ref;
 }
 
 }  // namespace
@@ -73,7 +94,7 @@ void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const sha
         for (const GeometryObject& object : geometry.objects) {
             if (!drawsObject(object) || object.material.glass != glass) continue;
             const TriangleMesh& m = object.mesh;
-            rasteriseMesh(camera, MeshRef{m.positions, m.normals, facesSeenFrom(m, camera.eye, sceneFaces(object), &scratch)},
+            rasteriseMesh(camera, objectFaces(object, facesSeenFrom(m, camera.eye, sceneFaces(object), &scratch)),
                           &depth, r);
             shadeRaster(camera, r, object.material, light, environment, glass ? Blend::Glass : Blend::Opaque, nullptr,
                         color,
@@ -91,8 +112,7 @@ void drawGlassFronts(const Camera& camera, const SceneGeometry& geometry, const 
     for (const GeometryObject& object : geometry.objects) {
         if (!drawsObject(object) || !object.material.glass) continue;
         const TriangleMesh& m = object.mesh;
-        rasteriseMesh(camera, MeshRef{m.positions, m.normals, facesSeenFrom(m, camera.eye, Faces::Front, &scratch)},
-                      &sceneDepth, r);
+        rasteriseMesh(camera, objectFaces(object, facesSeenFrom(m, camera.eye, Faces::Front, &scratch)), &sceneDepth, r);
         shadeRaster(camera, r, object.material, light, environment, Blend::Glass, &liquidDepth, color, sceneDepth,
                     nullptr);
     }

@@ -69,6 +69,7 @@ struct Frame {
 struct Vertex {
     glm::vec3 view;
     glm::vec3 normal;      // view space, as given (unit for mesh vertices)
+    glm::vec2 uv;          // texture coordinates (0 without)
     std::int32_t fx, fy;   // pixel coordinates (row 0 at the top) * kOne, rounded
     std::uint32_t outside; // bit k: outside clip plane k
     // When drawable: the unsnapped pixel coordinates (project) and 1/w, made
@@ -107,8 +108,8 @@ inline std::int32_t roundToInt(double v) {
 // an ulp outside), its projection. Not inlined, for the same reason as
 // planeValues: a shared vertex is the same bits everywhere.
 [[gnu::noinline]] Vertex makeVertex(const Frame& fr, const glm::vec3& view, const glm::vec3& normal,
-                                    bool onPlane = false) {
-    Vertex v{view, normal, 0, 0, 0, 0.0, 0.0, 0.0};
+                                    const glm::vec2& uv, bool onPlane = false) {
+    Vertex v{view, normal, uv, 0, 0, 0, 0.0, 0.0, 0.0};
     double d[kPlanes];
     planeValues(fr, view, d);
     for (int k = 0; k < kPlanes; ++k) v.outside |= std::uint32_t(d[k] < 0.0) << k;
@@ -148,7 +149,8 @@ void clipPolygon(const Frame& fr, int k, Polygon& p) {
             const double di = ina ? da : db, dout = ina ? db : da;
             const float t = float(di / (di - dout));
             out.v[out.n++] =
-                makeVertex(fr, in.view + t * (ou.view - in.view), in.normal + t * (ou.normal - in.normal), true);
+                makeVertex(fr, in.view + t * (ou.view - in.view), in.normal + t * (ou.normal - in.normal),
+                           in.uv + t * (ou.uv - in.uv), true);
         }
     }
     p = out;
@@ -199,6 +201,7 @@ Rect centresIn(const Frame& fr, std::int64_t x0, std::int64_t y0, std::int64_t x
 struct Targets {
     float* depth;               // W x H, starts at the scene depth (or +inf)
     glm::vec3* normal;          // W x H
+    glm::vec2* uv;              // W x H or null (no texture coordinates)
     std::uint32_t* coverage;    // W x H or null
     int width;
 };
@@ -221,10 +224,11 @@ struct Edge {
 
 // Perspective-correct attributes of one triangle: planes over the unsnapped
 // screen positions (double), relative to vertex a, A(p) = A(a) + gx (px - a.x)
-// + gy (py - a.y), for A = 1/w and n/w (k = 0 and 1..3).
+// + gy (py - a.y), for A = 1/w, n/w and uv/w (k = 0, 1..3 and 4..5).
 struct Planes {
+    static constexpr int kAttributes = 6;
     double sx0, sy0, qMin, qMax;
-    double base[4], gx[4], gy[4];
+    double base[kAttributes], gx[kAttributes], gy[kAttributes];
     Planes(const Vertex& a, const Vertex& b, const Vertex& c) {
         sx0 = a.sx;
         sy0 = a.sy;
@@ -238,8 +242,10 @@ struct Planes {
         qMin = std::min({qa, qb, qc});
         qMax = std::max({qa, qb, qc});
         const glm::dvec3 na = glm::dvec3(a.normal) * qa, nb = glm::dvec3(b.normal) * qb, nc = glm::dvec3(c.normal) * qc;
-        const double va[4] = {qa, na.x, na.y, na.z}, vb[4] = {qb, nb.x, nb.y, nb.z}, vc[4] = {qc, nc.x, nc.y, nc.z};
-        for (int k = 0; k < 4; ++k) {
+        const double va[kAttributes] = {qa, na.x, na.y, na.z, double(a.uv.x) * qa, double(a.uv.y) * qa};
+        const double vb[kAttributes] = {qb, nb.x, nb.y, nb.z, double(b.uv.x) * qb, double(b.uv.y) * qb};
+        const double vc[kAttributes] = {qc, nc.x, nc.y, nc.z, double(c.uv.x) * qc, double(c.uv.y) * qc};
+        for (int k = 0; k < kAttributes; ++k) {
             base[k] = va[k];
             gx[k] = (vb[k] - va[k]) * l1x + (vc[k] - va[k]) * l2x;
             gy[k] = (vb[k] - va[k]) * l1y + (vc[k] - va[k]) * l2y;
@@ -288,6 +294,7 @@ void drawTriangle(const Frame& fr, const Vertex* a, const Vertex* b, const Verte
             const double nx = P.at(1, dx, dy), ny = P.at(2, dx, dy), nz = P.at(3, dx, dy);
             const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
             out.normal[idx] = len > 0.0 ? glm::vec3(float(nx / len), float(ny / len), float(nz / len)) : glm::vec3(0.0f);
+            if (out.uv) out.uv[idx] = glm::vec2(float(P.at(4, dx, dy) / q), float(P.at(5, dx, dy) / q));
         }
         e0.row += e0.stepY;
         e1.row += e1.stepY;
@@ -360,7 +367,8 @@ void rasterise(const Frame& fr, const MeshRef& mesh, const Targets& out, RasterW
     tbb::parallel_for(std::size_t(0), nv, [&](std::size_t i) {
         const glm::vec3 d = mesh.positions[i] - fr.eye, n = mesh.normals[i];
         verts[i] = makeVertex(fr, {glm::dot(d, fr.right), glm::dot(d, fr.up), glm::dot(d, fr.back)},
-                              {glm::dot(n, fr.right), glm::dot(n, fr.up), glm::dot(n, fr.back)});
+                              {glm::dot(n, fr.right), glm::dot(n, fr.up), glm::dot(n, fr.back)},
+                              mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[i]);
     });
     const std::uint32_t* idx = mesh.indices.data();
     // Triangle t: its vertices, or null when an index is out of range; and
@@ -458,6 +466,13 @@ void rasteriseMesh(const Camera& camera, const MeshRef& mesh, const Image<float>
     if (hasScene) out.depth = *sceneDepth;
     else refill(out.depth, kInf);
     refill(out.normal, glm::vec3(0.0f));
+    const bool withUv = !mesh.uvs.empty() && mesh.uvs.size() == mesh.positions.size();
+    if (withUv) {
+        refill(out.uv, glm::vec2(0.0f));
+    } else {
+        out.uv.width = out.uv.height = 0;
+        out.uv.pixels.clear();  // its memory kept for the next textured object
+    }
     Frame fr;
     fr.width = W;
     fr.height = H;
@@ -470,10 +485,13 @@ void rasteriseMesh(const Camera& camera, const MeshRef& mesh, const Image<float>
     fr.back = camera.back();
     fr.eye = camera.eye;
     const bool count = coverage && coverage->width == W && coverage->height == H;
-    const Targets t{out.depth.pixels.data(), out.normal.pixels.data(), count ? coverage->pixels.data() : nullptr, W};
+    const Targets t{out.depth.pixels.data(), out.normal.pixels.data(), withUv ? out.uv.pixels.data() : nullptr,
+                    count ? coverage->pixels.data() : nullptr, W};
     if (mesh.normals.size() == mesh.positions.size() && W > 0 && H > 0) {
-        if (count) rasterise<true>(fr, mesh, t, out.work.data());
-        else rasterise<false>(fr, mesh, t, out.work.data());
+        MeshRef m = mesh;
+        if (!withUv) m.uvs = {};
+        if (count) rasterise<true>(fr, m, t, out.work.data());
+        else rasterise<false>(fr, m, t, out.work.data());
     }
     if (hasScene)
         tbb::parallel_for(0, H, [&](int y) {

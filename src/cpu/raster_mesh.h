@@ -42,6 +42,9 @@ private:
 struct MeshRaster {
     Image<float> depth;       // eye depth of the nearest triangle (m), +inf where none
     Image<glm::vec3> normal;  // its unit view-space normal (+z toward the camera), (0,0,0) where none
+    // Its texture coordinates, interpolated perspective-correctly, when the
+    // mesh has them (MeshRef::uvs), (0,0) where none; else left empty (0 x 0).
+    Image<glm::vec2> uv;
     RasterWorkspace work;     // reused by the next rasteriseMesh into this raster
 };
 
@@ -50,6 +53,7 @@ struct MeshRaster {
 struct MeshRef {
     std::span<const glm::vec3> positions, normals;
     std::span<const std::uint32_t> indices;  // three per triangle
+    std::span<const glm::vec2> uvs = {};     // texture coordinates, one per vertex, or none
     static MeshRef of(const TriangleMesh& m) { return {m.positions, m.normals, m.indices}; }
     std::size_t triangleCount() const { return indices.size() / 3; }
 };

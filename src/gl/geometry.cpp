@@ -30,12 +30,33 @@ Result<GeometryDrawer> GeometryDrawer::create() {
     return d;
 }
 
-void GeometryDrawer::drawObject(const FrameParams& frame, const TriangleMesh& mesh, const GeometryMaterial& m,
+void GeometryDrawer::drawObject(const FrameParams& frame, const TriangleMesh& mesh, const GeometryObject& object,
                                 const glm::vec3& light, int mode, const GpuImage* limit, GpuImage& color,
                                 GpuImage& depth, const EnvironmentGpu* environment) {
     const int W = frame.size.x, H = frame.size.y;
-    raster_.run(frame, mesh, &depth, objectDepth_, objectNormal_);
+    const GeometryMaterial& m = object.material;
+    // The base colour map, as the CPU draws it: an opaque object with one
+    // texture coordinate per vertex and a whole image.
+    const GeometryTexture* t = m.baseColorTexture.get();
+    const bool textured = mode == 0 && t && t->width > 0 && t->height > 0 &&
+                          t->rgb.size() == std::size_t(t->width) * std::size_t(t->height) * 3 &&
+                          object.uvs.size() == mesh.positions.size();
+    raster_.run(frame, mesh, &depth, objectDepth_, objectNormal_, textured ? &object.uvs : nullptr,
+                textured ? &objectUv_ : nullptr);
+    if (textured && uploaded_ != m.baseColorTexture) {
+        texture_.upload(t->rgb.data(), GLsizeiptr(t->rgb.size() * sizeof(float)));
+        uploaded_ = m.baseColorTexture;
+    }
     glUseProgram(shade_.id());
+    glUniform2i(20, textured ? t->width : 0, textured ? t->height : 0);
+    if (textured) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, objectUv_.buffer.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, texture_.id());
+    } else {
+        // Unread without a texture, but bound: the shader declares them.
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, objectDepth_.buffer.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, objectDepth_.buffer.id());
+    }
     glUniform3f(0, light.x, light.y, light.z);
     glUniform3f(1, m.baseColor.x, m.baseColor.y, m.baseColor.z);
     glUniform2f(2, m.roughness, m.metalness);
@@ -66,7 +87,7 @@ void GeometryDrawer::run(const FrameParams& frame, const glm::vec3& eye, const S
         for (const GeometryObject& object : geometry.objects) {
             if (!drawsObject(object) || object.material.glass != glass) continue;
             const TriangleMesh& mesh = facesSeenFrom(object.mesh, eye, sceneFaces(object), &scratch_);
-            drawObject(frame, mesh, object.material, light, glass ? 1 : 0, nullptr, color, depth, environment);
+            drawObject(frame, mesh, object, light, glass ? 1 : 0, nullptr, color, depth, environment);
         }
 }
 
@@ -78,7 +99,7 @@ void GeometryDrawer::runGlassFronts(const FrameParams& frame, const glm::vec3& e
     for (const GeometryObject& object : geometry.objects) {
         if (!drawsObject(object) || !object.material.glass) continue;
         const TriangleMesh& mesh = facesSeenFrom(object.mesh, eye, Faces::Front, &scratch_);
-        drawObject(frame, mesh, object.material, light, 1, &liquidDepth, color, sceneDepth, environment);
+        drawObject(frame, mesh, object, light, 1, &liquidDepth, color, sceneDepth, environment);
     }
 }
 

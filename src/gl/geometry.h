@@ -2,6 +2,8 @@
 // meniscus::cpu::drawGeometry. Needs a current GL 4.3 context.
 #pragma once
 
+#include <memory>
+
 #include "gl/environment.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
@@ -34,13 +36,16 @@ public:
 private:
     // One object's faces rasterised against `depth`, shaded (mode 0 opaque, 1
     // glass) into color (and depth when opaque), in front of `limit` too when given.
-    void drawObject(const FrameParams& frame, const TriangleMesh& mesh, const GeometryMaterial& material,
-                    const glm::vec3& light, int mode, const GpuImage* limit, GpuImage& color, GpuImage& depth,
+    void drawObject(const FrameParams& frame, const TriangleMesh& mesh, const GeometryObject& object, const glm::vec3& light,
+                    int mode, const GpuImage* limit, GpuImage& color, GpuImage& depth,
                     const EnvironmentGpu* environment);
 
     MeshRasteriser raster_;
     Program shade_;
-    GpuImage objectDepth_, objectNormal_;
+    GpuImage objectDepth_, objectNormal_, objectUv_;
+    // The last base colour map uploaded (its texels), kept while the same image is drawn.
+    Buffer texture_;
+    std::shared_ptr<const GeometryTexture> uploaded_;
     TriangleMesh scratch_;
 };
 

@@ -40,10 +40,12 @@ Result<MeshRasteriser> MeshRasteriser::create() {
 }
 
 void MeshRasteriser::run(const FrameParams& frame, const TriangleMesh& mesh, const GpuImage* sceneDepth,
-                         GpuImage& depth, GpuImage& normal) {
+                         GpuImage& depth, GpuImage& normal, const std::vector<glm::vec2>* uvs, GpuImage* uv) {
     const int W = frame.size.x, H = frame.size.y;
+    const bool withUv = uv && uvs && uvs->size() == mesh.positions.size();
     depth.resize(W, H, 1);
     normal.resize(W, H, 3);
+    if (withUv) uv->resize(W, H, 2);
     if (W <= 0 || H <= 0) return;
 
     // The targets, made again only when the image size changes.
@@ -57,14 +59,16 @@ void MeshRasteriser::run(const FrameParams& frame, const TriangleMesh& mesh, con
         };
         target(depthTarget_, GL_R32F);
         target(normalTarget_, GL_RGBA32F);
+        target(uvTarget_, GL_RG32F);
         target(zBuffer_, GL_DEPTH_COMPONENT32F);
         glBindTexture(GL_TEXTURE_2D, 0);
         glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, depthTarget_.id(), 0);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, normalTarget_.id(), 0);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT2, GL_TEXTURE_2D, uvTarget_.id(), 0);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, zBuffer_.id(), 0);
-        const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-        glDrawBuffers(2, buffers);
+        const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+        glDrawBuffers(3, buffers);
         targetW_ = W;
         targetH_ = H;
     }
@@ -81,6 +85,16 @@ void MeshRasteriser::run(const FrameParams& frame, const TriangleMesh& mesh, con
     glBindBuffer(GL_ARRAY_BUFFER, normals_.id());
     glEnableVertexAttribArray(1);
     glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    if (withUv) {
+        static_assert(sizeof(glm::vec2) == 2 * sizeof(float));
+        uvs_.upload(uvs->data(), GLsizeiptr(uvs->size() * sizeof(glm::vec2)));
+        glBindBuffer(GL_ARRAY_BUFFER, uvs_.id());
+        glEnableVertexAttribArray(2);
+        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+    } else {
+        glDisableVertexAttribArray(2);
+        glVertexAttrib2f(2, 0.0f, 0.0f);
+    }
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_.id());
 
@@ -93,6 +107,7 @@ void MeshRasteriser::run(const FrameParams& frame, const TriangleMesh& mesh, con
     const GLfloat clearDepth[4] = {inf, 0.0f, 0.0f, 0.0f}, clearNormal[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     glClearBufferfv(GL_COLOR, 0, clearDepth);
     glClearBufferfv(GL_COLOR, 1, clearNormal);
+    glClearBufferfv(GL_COLOR, 2, clearNormal);
     const GLfloat clearZ = 0.0f;
     glClearBufferfv(GL_DEPTH, 0, &clearZ);
     glDisable(GL_BLEND);
@@ -124,10 +139,17 @@ void MeshRasteriser::run(const FrameParams& frame, const TriangleMesh& mesh, con
     glBindTexture(GL_TEXTURE_2D, depthTarget_.id());
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, normalTarget_.id());
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, uvTarget_.id());
+    glUniform1i(0, withUv ? 1 : 0);
     depth.bind(2);
     normal.bind(3);
+    if (withUv) uv->bind(4);
+    else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, empty_.id());
     glDispatchCompute(ceilDiv(GLuint(W), kGroup), GLuint(H), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, 0);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, 0);

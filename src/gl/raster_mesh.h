@@ -3,6 +3,10 @@
 // (gl::Context) on the calling thread.
 #pragma once
 
+#include <vector>
+
+#include <glm/glm.hpp>
+
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "gl/uniforms.h"
@@ -25,17 +29,19 @@ public:
     // from `frame`). Fragments at or behind `sceneDepth` (when W x H x 1) are
     // not drawn. The mesh must be valid (the Renderer checks it) and is
     // uploaded on every call. Asynchronous: nothing waits for the GPU here.
+    // With `uvs` (one per vertex) and `uv`, the texture coordinates too (W x H
+    // x 2, perspective-correct, (0,0) where none), as cpu::rasteriseMesh's.
     void run(const FrameParams& frame, const TriangleMesh& mesh, const GpuImage* sceneDepth, GpuImage& depth,
-             GpuImage& normal);
+             GpuImage& normal, const std::vector<glm::vec2>* uvs = nullptr, GpuImage* uv = nullptr);
 
 private:
     Program draw_;
     Program resolve_;
     VertexArray vertexArray_;
-    Buffer positions_, normals_, indices_;  // the mesh's arrays
+    Buffer positions_, normals_, indices_, uvs_;  // the mesh's arrays
     Buffer empty_;     // bound in place of a missing scene depth
     Framebuffer framebuffer_;
-    Texture depthTarget_, normalTarget_, zBuffer_;
+    Texture depthTarget_, normalTarget_, uvTarget_, zBuffer_;
     int targetW_ = 0, targetH_ = 0;
 };
 

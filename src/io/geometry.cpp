@@ -30,6 +30,7 @@
 #include <nlohmann/json.hpp>
 
 #include "meniscus/geometry.h"
+#include "io/image_decode.h"
 #include "meniscus/io.h"
 
 namespace meniscus {
@@ -104,8 +105,60 @@ std::optional<glm::vec3> materialColor(const aiMaterial* m) {
     return glm::clamp(v, glm::vec3(0.0f), glm::vec3(1.0f));
 }
 
+// The texture at `path` of material of `scene` read from `name`: embedded
+// ("*0", or a name the file's own textures carry), else a file relative to
+// the model's folder, read when `fromDisk` (from memory none is found: null).
+Result<std::shared_ptr<const GeometryTexture>> readTexture(const aiScene* scene, const std::string& path,
+                                                           const std::string& name, bool fromDisk) {
+    using Shared = std::shared_ptr<const GeometryTexture>;
+    if (const aiTexture* t = scene->GetEmbeddedTexture(path.c_str())) {
+        const std::string label = fs::path(name).filename().string() + "#" + path;
+        if (t->mHeight == 0) {  // compressed: mWidth bytes of a PNG, a JPEG, ...
+            if (!t->pcData) return makeError(name, "its embedded texture " + path + " has no data");
+            auto img = io::decodeTexture(ByteView(reinterpret_cast<const std::uint8_t*>(t->pcData), t->mWidth), label);
+            if (!img) return makeError(name, "its texture " + img.error().file + " " + img.error().message);
+            return Shared(std::make_shared<GeometryTexture>(std::move(*img)));
+        }
+        // Raw texels, BGRA bytes, sRGB like any colour map.
+        if (t->mWidth > unsigned(lim::kMaxTextureSidePx) || t->mHeight > unsigned(lim::kMaxTextureSidePx) ||
+            (long long)t->mWidth * t->mHeight > lim::kMaxTexturePixels || !t->pcData)
+            return makeError(name, "its embedded texture " + path + " is too large or has no data");
+        GeometryTexture out;
+        out.name = label;
+        out.width = int(t->mWidth);
+        out.height = int(t->mHeight);
+        out.rgb.resize(std::size_t(t->mWidth) * t->mHeight * 3);
+        for (std::size_t i = 0; i < std::size_t(t->mWidth) * t->mHeight; ++i) {
+            const aiTexel& x = t->pcData[i];
+            out.rgb[3 * i] = srgbToLinear(float(x.r) / 255.0f);
+            out.rgb[3 * i + 1] = srgbToLinear(float(x.g) / 255.0f);
+            out.rgb[3 * i + 2] = srgbToLinear(float(x.b) / 255.0f);
+        }
+        return Shared(std::make_shared<GeometryTexture>(std::move(out)));
+    }
+    if (!fromDisk) return Shared();
+    std::string rel = path;
+    std::replace(rel.begin(), rel.end(), '\\', '/');  // Windows exporters' separators
+    const fs::path file = fs::path(name).parent_path() / rel;
+    const std::string shown = file.string();
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) return makeError(name, "its texture " + shown + ": no such file");
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (ec) return makeError(name, "its texture " + shown + " cannot be read: " + ec.message());
+    if (size > lim::kMaxTextureFileBytes)
+        return makeError(name, "its texture " + shown + " is " + std::to_string(size) + " bytes; a texture file is at most " +
+                                   std::to_string(lim::kMaxTextureFileBytes));
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
+    std::ifstream in(file, std::ios::binary);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
+    if (!in || std::uintmax_t(in.gcount()) != size) return makeError(name, "its texture " + shown + " cannot be read");
+    auto img = io::decodeTexture(bytes, shown);
+    if (!img) return makeError(name, "its texture " + shown + " " + img.error().message);
+    return Shared(std::make_shared<GeometryTexture>(std::move(*img)));
+}
+
 // The meshes of an imported scene as one object (see readGeometryMesh).
-Result<GeometryObject> toObject(const aiScene* scene, const std::string& name) {
+Result<GeometryObject> toObject(const aiScene* scene, const std::string& name, bool fromDisk) {
     if (!scene || !scene->mMeshes || scene->mNumMeshes == 0)
         return makeError(name, "has no meshes");
     // Count first, so the cap is checked before anything is allocated.
@@ -131,6 +184,31 @@ Result<GeometryObject> toObject(const aiScene* scene, const std::string& name) {
 
     GeometryObject obj;
     obj.name = fs::path(name).filename().string();
+    // The one material's base colour map (glTF's base colour, else the
+    // diffuse map), drawn when some mesh has texture coordinates.
+    const aiMaterial* mat = oneMaterial && material && scene->mMaterials && *material < scene->mNumMaterials
+                                ? scene->mMaterials[*material]
+                                : nullptr;
+    aiString matName;
+    // Assimp's own stand-in (a file without materials: an OBJ without
+    // .mtl, STL, PLY) keeps our default rather than its 0.6 grey.
+    if (mat && mat->Get(AI_MATKEY_NAME, matName) == aiReturn_SUCCESS &&
+        std::strcmp(matName.C_Str(), AI_DEFAULT_MATERIAL_NAME) == 0)
+        mat = nullptr;
+    bool anyUv = false;
+    for (unsigned i = 0; i < scene->mNumMeshes; ++i)
+        anyUv = anyUv || (scene->mMeshes[i] && scene->mMeshes[i]->HasTextureCoords(0));
+    aiString texPath;
+    if (mat && anyUv &&
+        (mat->GetTexture(aiTextureType_BASE_COLOR, 0, &texPath) == aiReturn_SUCCESS ||
+         mat->GetTexture(aiTextureType_DIFFUSE, 0, &texPath) == aiReturn_SUCCESS) &&
+        texPath.length > 0) {
+        auto tex = readTexture(scene, texPath.C_Str(), name, fromDisk);
+        if (!tex) return tex.error();
+        obj.material.baseColorTexture = std::move(*tex);
+    }
+    const bool withUv = obj.material.baseColorTexture != nullptr;
+    if (withUv) obj.uvs.reserve(vertices);
     TriangleMesh& out = obj.mesh;
     out.positions.reserve(vertices);
     out.normals.reserve(vertices);
@@ -160,27 +238,35 @@ Result<GeometryObject> toObject(const aiScene* scene, const std::string& name) {
             out.positions.push_back(q);
             if (m->mNormals) out.normals.emplace_back(m->mNormals[v].x, m->mNormals[v].y, m->mNormals[v].z);
             else out.normals.emplace_back(0.0f);
+            if (withUv) {
+                glm::vec2 uv(0.0f);
+                if (m->HasTextureCoords(0)) uv = {m->mTextureCoords[0][v].x, m->mTextureCoords[0][v].y};
+                obj.uvs.push_back(std::isfinite(uv.x) && std::isfinite(uv.y) ? uv : glm::vec2(0.0f));
+            }
         }
     }
     // Assimp leaves NaN normals on vertices of degenerate faces; those (and
     // any other unusable one) get the mean of their triangles' normals.
     fillMissingNormals(out);
 
-    if (oneMaterial && material && scene->mMaterials && *material < scene->mNumMaterials) {
-        const aiMaterial* mat = scene->mMaterials[*material];
-        aiString matName;
-        // Assimp's own stand-in (a file without materials: an OBJ without
-        // .mtl, STL, PLY) keeps our default rather than its 0.6 grey.
-        const bool standIn = mat && mat->Get(AI_MATKEY_NAME, matName) == aiReturn_SUCCESS &&
-                             std::strcmp(matName.C_Str(), AI_DEFAULT_MATERIAL_NAME) == 0;
-        if (mat && !standIn) {
-            if (auto c = materialColor(mat)) obj.material.baseColor = *c;
-            float f = 0.0f;
-            if (mat->Get(AI_MATKEY_METALLIC_FACTOR, f) == aiReturn_SUCCESS && std::isfinite(f))
-                obj.material.metalness = std::clamp(f, 0.0f, 1.0f);
-            if (mat->Get(AI_MATKEY_ROUGHNESS_FACTOR, f) == aiReturn_SUCCESS && std::isfinite(f))
-                obj.material.roughness = std::clamp(f, 0.0f, 1.0f);
+    if (mat) {
+        if (auto c = materialColor(mat)) obj.material.baseColor = *c;
+        // A textured OBJ's Kd is often left at Assimp's 0.6 grey or black
+        // beside its map_Kd; the map is the colour then (glTF multiplies its
+        // factor, 1 by default, with the map, as here).
+        if (obj.material.baseColorTexture) {
+            aiColor4D factor;
+            if (mat->Get(AI_MATKEY_BASE_COLOR, factor) == aiReturn_SUCCESS) {
+                if (auto c = materialColor(mat)) obj.material.baseColor = *c;
+            } else {
+                obj.material.baseColor = glm::vec3(1.0f);
+            }
         }
+        float f = 0.0f;
+        if (mat->Get(AI_MATKEY_METALLIC_FACTOR, f) == aiReturn_SUCCESS && std::isfinite(f))
+            obj.material.metalness = std::clamp(f, 0.0f, 1.0f);
+        if (mat->Get(AI_MATKEY_ROUGHNESS_FACTOR, f) == aiReturn_SUCCESS && std::isfinite(f))
+            obj.material.roughness = std::clamp(f, 0.0f, 1.0f);
     }
     if (Status st = out.validate(true); !st) return makeError(name, st.error().message);
     return obj;
@@ -189,7 +275,7 @@ Result<GeometryObject> toObject(const aiScene* scene, const std::string& name) {
 // The one path both readers take: `read` calls ReadFile or ReadFileFromMemory
 // (with aiProcess_ValidateDataStructure only; the rest, kAssimpFlags, after the check).
 template <class Read>
-Result<GeometryObject> importWith(Assimp::Importer& importer, const std::string& name, Read&& read) {
+Result<GeometryObject> importWith(Assimp::Importer& importer, const std::string& name, bool fromDisk, Read&& read) {
     try {
         // Points and lines are split off by SortByPType, then dropped.
         importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
@@ -218,7 +304,7 @@ Result<GeometryObject> importWith(Assimp::Importer& importer, const std::string&
         }
         const aiScene* scene = importer.ApplyPostProcessing(kAssimpFlags & ~unsigned(aiProcess_ValidateDataStructure));
         if (!scene) return failed();
-        return toObject(scene, name);
+        return toObject(scene, name, fromDisk);
     } catch (const std::bad_alloc&) {
         return makeError(name, "ran out of memory while reading");
     } catch (const std::exception& e) {
@@ -291,7 +377,7 @@ Result<GeometryObject> readGeometryMesh(const fs::path& file) {
             head.resize(std::size_t(in.gcount()));
             if (auto why = implausiblePly(head, size)) return makeError(name, *why);
         }
-        return importWith(importer, name, [&] { return importer.ReadFile(name, aiProcess_ValidateDataStructure); });
+        return importWith(importer, name, true, [&] { return importer.ReadFile(name, aiProcess_ValidateDataStructure); });
     } catch (...) {
         return makeError(name, "cannot be read (an unexpected error)");
     }
@@ -308,7 +394,7 @@ Result<GeometryObject> parseGeometryMesh(ByteView data, const std::string& name)
         }
         importer.SetIOHandler(new NoFiles);  // the importer owns it
         const std::string hint = ext.substr(1);
-        return importWith(importer, name, [&] {
+        return importWith(importer, name, false, [&] {
             return importer.ReadFileFromMemory(data.data(), data.size(), aiProcess_ValidateDataStructure, hint.c_str());
         });
     } catch (...) {

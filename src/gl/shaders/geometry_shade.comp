@@ -18,6 +18,12 @@ layout(std430, binding = 7) readonly buffer EnvironmentTexels { float environmen
 layout(location = 7) uniform ivec2 uEnvSize;
 layout(location = 8) uniform vec2 uEnvParams;  // rotation (turns), intensity
 #include "geometry_shade.h"
+// The object's base colour map (src/shared/texture.h): its texels, size
+// (width 0: none) and the rasterised texture coordinates.
+layout(std430, binding = 8) readonly buffer TextureTexels { float textureTexels[]; };
+layout(std430, binding = 6) readonly buffer ObjectUv { float objectUv[]; };  // W*H*2, with a texture
+layout(location = 20) uniform ivec2 uTexSize;
+#include "texture.h"
 
 layout(local_size_x = 64) in;
 
@@ -56,7 +62,10 @@ void main() {
     precise vec3 n = nv.x * right + nv.y * up + nv.z * back;
     const EnvironmentMap env = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y);
     if (uMode == 0) {
-        color[i] = vec4(geometryRadiance(n, v, uLight, uBase, uMaterial.x, uMaterial.y, env), 1.0);
+        precise vec3 base = uBase;
+        if (uTexSize.x > 0)
+            base = uBase * textureSample(TextureMap(uTexSize.x, uTexSize.y), objectUv[2 * i], objectUv[2 * i + 1]);
+        color[i] = vec4(geometryRadiance(n, v, uLight, base, uMaterial.x, uMaterial.y, env), 1.0);
         depth[i] = z;
     } else {
         const vec4 c = color[i];

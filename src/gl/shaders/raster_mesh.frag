@@ -7,11 +7,12 @@
 // buffer (a reversed linear depth: relative precision is the same at every
 // distance, so the order of two surfaces is that of their eye depths as the
 // CPU compares them). The targets get the linear eye depth and the
-// renormalised interpolated normal.
+// renormalised interpolated normal, and the texture coordinates.
 #include "frame_params.h"
 
 in float vEyeDepth;
 in vec3 vNormal;
+in vec2 vUv;
 
 // W*H eye depth of the scene, row 0 = the top (a GpuImage).
 layout(std430, binding = 1) readonly buffer SceneDepth { float sceneDepth[]; };
@@ -19,6 +20,7 @@ layout(location = 0) uniform int uHasScene;
 
 layout(location = 0) out float outDepth;
 layout(location = 1) out vec4 outNormal;
+layout(location = 2) out vec2 outUv;
 
 void main() {
     const int x = int(gl_FragCoord.x);
@@ -29,4 +31,5 @@ void main() {
     outDepth = z;
     const float len = length(vNormal);
     outNormal = vec4(len > 0.0 ? vNormal / len : vec3(0.0), 0.0);
+    outUv = vUv;
 }

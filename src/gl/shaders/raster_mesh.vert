@@ -15,6 +15,7 @@
 
 layout(location = 0) in vec3 aPosition;  // world, metres
 layout(location = 1) in vec3 aNormal;    // world, unit, out of the fluid
+layout(location = 2) in vec2 aUv;        // texture coordinates (a constant (0, 0) when the mesh has none)
 
 out gl_PerVertex {
     vec4 gl_Position;
@@ -22,10 +23,12 @@ out gl_PerVertex {
 };
 out float vEyeDepth;
 out vec3 vNormal;
+out vec2 vUv;
 
 void main() {
     const vec3 d = aPosition - P.eye.xyz;
     const vec3 v = vec3(dot(d, P.right.xyz), dot(d, P.up.xyz), dot(d, P.back.xyz));
+    vUv = aUv;
     vNormal = vec3(dot(aNormal, P.right.xyz), dot(aNormal, P.up.xyz), dot(aNormal, P.back.xyz));
     const float w = -v.z;
     vEyeDepth = w;

@@ -74,3 +74,46 @@ with open('lines_only.obj','w') as o:
     o.write("# no triangles: a polyline only\nv 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n")
 with open('broken.stl','w') as o:
     o.write("solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0\n")
+# A textured unit quad: x and z in [0, 1] at y = 0, facing +y, texture
+# coordinates u = x, v = 1 - z (so the image's top edge lies at z = 0), and a
+# 4 x 4 PNG of four 2 x 2 blocks (sRGB): red top-left, green top-right, blue
+# bottom-left, white bottom-right. As OBJ + MTL + PNG beside it, and as glTF
+# with the PNG embedded (a data URI).
+import zlib
+def png(w, h, rows):
+    def chunk(t, d): return struct.pack('>I', len(d)) + t + d + struct.pack('>I', zlib.crc32(t + d) & 0xffffffff)
+    raw = b''.join(b'\x00' + bytes(r) for r in rows)
+    return b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, 2, 0, 0, 0)) + \
+        chunk(b'IDAT', zlib.compress(raw)) + chunk(b'IEND', b'')
+R, G, B, W = (255, 0, 0), (0, 255, 0), (0, 0, 255), (255, 255, 255)
+rows = [sum([R, R, G, G], ()), sum([R, R, G, G], ()), sum([B, B, W, W], ()), sum([B, B, W, W], ())]
+checker = png(4, 4, rows)
+with open('checker.png', 'wb') as o: o.write(checker)
+QV = [(0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)]
+QT = [(0, 1), (1, 1), (1, 0), (0, 0)]
+with open('textured_quad.obj', 'w') as o:
+    o.write("# A unit quad at y = 0 facing +y with texture coordinates and a base colour map (textured_quad.mtl, checker.png).\n")
+    o.write("mtllib textured_quad.mtl\n")
+    for v in QV: o.write("v %g %g %g\n" % v)
+    for t in QT: o.write("vt %g %g\n" % t)
+    o.write("vn 0 1 0\nusemtl checker\nf 1/1/1 4/4/1 3/3/1 2/2/1\n")
+with open('textured_quad.mtl', 'w') as o:
+    o.write("# Kd beside a map: the map is the colour.\nnewmtl checker\nKd 0.8 0.8 0.8\nmap_Kd checker.png\n")
+pos = b''.join(struct.pack('<3f', *v) for v in QV)
+nrm = b''.join(struct.pack('<3f', 0, 1, 0) for v in QV)
+uv = b''.join(struct.pack('<2f', t[0], 1 - t[1]) for t in QT)  # glTF's v runs down the image
+idx = struct.pack('<6H', 0, 3, 2, 0, 2, 1)
+buf = pos + nrm + uv + idx
+gl = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0}]}],
+      "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0}}],
+      "textures": [{"source": 0}],
+      "images": [{"uri": "data:image/png;base64," + base64.b64encode(checker).decode()}],
+      "buffers": [{"byteLength": len(buf), "uri": "data:application/octet-stream;base64," + base64.b64encode(buf).decode()}],
+      "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+                      {"buffer": 0, "byteOffset": 96, "byteLength": 32}, {"buffer": 0, "byteOffset": 128, "byteLength": 12}],
+      "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 0, 1]},
+                    {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+                    {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
+                    {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}]}
+with open('textured_quad.gltf', 'w') as o: json.dump(gl, o)
