@@ -156,9 +156,11 @@ TEST(EnvironmentMap, ReaderErrorsNameTheFile) {
     auto grey = readEnvironmentMap(dir / "grey.exr");
     ASSERT_FALSE(grey.ok());
     EXPECT_NE(grey.error().message.find("RGB"), std::string::npos) << grey.error().describe();
+    // Radiance pictures are read (io_environment_hdr_test.cpp); a missing one
+    // is an error naming it like any other.
     auto hdr = readEnvironmentMap(dir / "sky.hdr");
     ASSERT_FALSE(hdr.ok());
-    EXPECT_NE(hdr.error().message.find(".hdr"), std::string::npos);
+    EXPECT_NE(hdr.error().describe().find("sky.hdr"), std::string::npos) << hdr.error().describe();
 }
 
 TEST(EnvironmentMap, TheTestMapReads) {
