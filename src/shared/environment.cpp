@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace meniscus::shared {
 
@@ -20,6 +21,14 @@ void environmentIrradianceSh(const float* texels, int width, int height, float r
     // sin(theta) dtheta dphi over it: (cos theta0 - cos theta1) 2 pi / W.
     double sum[9][3] = {};
     const double dphi = 2.0 * pi / double(width);
+    // The columns' azimuths, once (not per texel).
+    std::vector<double> sinPhi(static_cast<std::size_t>(width)), cosPhi(static_cast<std::size_t>(width));
+    for (int i = 0; i < width; ++i) {
+        const double u = (double(i) + 0.5) / double(width);
+        const double phi = 2.0 * pi * (u - 0.5 + double(rotation));
+        sinPhi[std::size_t(i)] = std::sin(phi);
+        cosPhi[std::size_t(i)] = std::cos(phi);
+    }
     for (int j = 0; j < height; ++j) {
         const double t0 = pi * double(j) / double(height), t1 = pi * double(j + 1) / double(height);
         const double theta = pi * (double(j) + 0.5) / double(height);
@@ -27,9 +36,8 @@ void environmentIrradianceSh(const float* texels, int width, int height, float r
         const double st = std::sin(theta), ct = std::cos(theta);
         double row[9][3] = {};
         for (int i = 0; i < width; ++i) {
-            const double u = (double(i) + 0.5) / double(width);
-            const double phi = 2.0 * pi * (u - 0.5 + double(rotation));
-            const float x = float(st * std::sin(phi)), y = float(ct), z = float(-st * std::cos(phi));
+            const float x = float(st * sinPhi[std::size_t(i)]), y = float(ct);
+            const float z = float(-st * cosPhi[std::size_t(i)]);
             const float* t = texels + 3 * (std::size_t(j) * std::size_t(width) + std::size_t(i));
             for (int k = 0; k < 9; ++k) {
                 const double b = environmentShBasis(k, x, y, z);
