@@ -286,7 +286,40 @@ def dualsphysics_seeds():
         put(reader, "dualsphysics_" + name, open(os.path.join(src, name), "rb").read())
 
 
+def hdr_seeds():
+    """Radiance .hdr environment maps (src/io/radiance_hdr.cpp): flat, adaptive
+    run-length and old-style repeat scanlines, an EXPOSURE line, #?RGBE."""
+    def header(w, h, extra=b""):
+        return b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n" + extra + b"\n-Y %d +X %d\n" % (h, w)
+
+    def rle_row(row):
+        out = bytes([2, 2, len(row) >> 8, len(row) & 0xFF])
+        for c in range(4):
+            vals = [p[c] for p in row]
+            x = 0
+            while x < len(vals):
+                run = 1
+                while x + run < len(vals) and run < 127 and vals[x + run] == vals[x]:
+                    run += 1
+                if run >= 3:
+                    out += bytes([128 + run, vals[x]])
+                    x += run
+                else:
+                    n = min(run, 128)
+                    out += bytes([n]) + bytes(vals[x:x + n])
+                    x += n
+        return out
+
+    rows = [[(min(255, 16 * x + y), 200 if x < 6 else 40, 7 * y, 128 + (x // 4)) for x in range(12)] for y in range(4)]
+    put("environment_hdr", "flat.hdr", header(3, 2) + bytes(range(60, 84)))
+    put("environment_hdr", "rle.hdr", header(12, 4) + b"".join(rle_row(r) for r in rows))
+    put("environment_hdr", "exposure.hdr", header(12, 4, b"EXPOSURE=2.5\n") + b"".join(rle_row(r) for r in rows))
+    put("environment_hdr", "old_rle.hdr", header(300, 1) + bytes([10, 20, 30, 140, 1, 1, 1, 43, 1, 1, 1, 1]))
+    put("environment_hdr", "rgbe.hdr", b"#?RGBE\n\n-Y 1 +X 2\n" + bytes([64, 64, 64, 137, 1, 2, 3, 0]))
+
+
 def main():
+    hdr_seeds()
     pvd_seeds()
     dualsphysics_seeds()
     mesh_seeds()

@@ -91,7 +91,8 @@ render world_objects21 --geometry '{"sphere": {"center": [-1.2, 0.22, 0.15], "ra
     --geometry '{"box": {"min": [0.55, 0, -0.7], "max": [0.85, 0.5, -0.4]}, "material": {"color": [0.95, 0.8, 0.5], "metalness": 1, "roughness": 0.2}}' \
     --geometry '{"box": {"min": [-2.05, 0, -0.8], "max": [-1.55, 0.7, 0.8]}, "material": {"glass": true}}'
 # An environment map (the test map: a warm sky, a green ground band, a sun)
-# for the background and the reflections of the liquid and of a chrome ball.
+# for the background, the reflections of the liquid and of a chrome ball, and
+# the ambient light (the floor's warm tint).
 render world_environment21 --environment tests/data/environment/sky_128x64.exr --background floor --elevation 12 \
     --geometry '{"sphere": {"center": [-1.2, 0.3, 0.15], "radius": 0.2}, "material": {"color": [0.95, 0.95, 0.95], "metalness": 1, "roughness": 0.05}}'
 glass=$(mktemp -d)

@@ -41,14 +41,31 @@ TEST(CliEnvironment, BadFilesAreErrorsNamingThem) {
     writeText(dir / "broken.exr", "v/1 but not really an OpenEXR file");
     EXPECT_NE(runCli(base + " --environment " + shellQuote(dir / "broken.exr"), &out), 0);
     EXPECT_NE(out.find("broken.exr"), std::string::npos) << out;
+    // A Radiance picture cut short in its header.
     writeText(dir / "sky.hdr", "#?RADIANCE\n");
     EXPECT_NE(runCli(base + " --environment " + shellQuote(dir / "sky.hdr"), &out), 0);
-    EXPECT_NE(out.find(".hdr"), std::string::npos) << out;
+    EXPECT_NE(out.find("sky.hdr"), std::string::npos) << out;
+    EXPECT_NE(out.find("header"), std::string::npos) << out;
     EXPECT_NE(runCli(base + " --environment " + shellQuote(testData("environment/sky_128x64.exr")) +
                          " --environment-intensity -1",
                      &out),
               0);
     EXPECT_FALSE(fs::exists(dir / "f.png"));
+}
+
+// A Radiance .hdr map renders like an OpenEXR one: a 2 x 1 picture, flat.
+TEST(CliEnvironment, RadianceHdrMapsRender) {
+    const fs::path dir = tempDir();
+    const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
+    writeText(dir / "sky.hdr", std::string("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n") +
+                                   std::string("\x40\x60\x80\x81\x40\x60\x80\x81", 8));
+    std::string out;
+    EXPECT_EQ(runCli("render " + shellQuote(in) + " --width 64 --height 36 --environment " +
+                         shellQuote(dir / "sky.hdr") + " -o " + shellQuote(dir / "f.png"),
+                     &out),
+              0)
+        << out;
+    EXPECT_TRUE(fs::exists(dir / "f.png"));
 }
 
 // A scene file's `environment` key is a path relative to the scene file and

@@ -324,7 +324,9 @@ TEST_F(GlBackend, SceneGeometryMatchesCpu) {
 // The HDR environment map (docs/pipeline.md#environment-map) in place of the
 // sky on both backends: the background of the studio with walls, of the
 // floor alone, the transparent background's fill, and the reflections of a
-// metal box and a glass box; the map turned and brightened.
+// metal box and a glass box; the map turned and brightened. Its ambient light
+// (the irradiance's spherical harmonics) on the studio, the geometry, a
+// half-opaque liquid with foam and under the shadows (variant 4).
 TEST_F(GlBackend, EnvironmentMapMatchesCpu) {
     Frame f = realFrameSettings();
     ASSERT_FALSE(f.positions.empty());
@@ -348,15 +350,26 @@ TEST_F(GlBackend, EnvironmentMapMatchesCpu) {
     glass.mesh = makeBoxMesh(c - glm::vec3(0.2f, 0.3f, 0.3f) * e, c + glm::vec3(0.3f, 0.2f, 0.3f) * e);
     glass.material.glass = true;
     g->objects.push_back(glass);
+    GeometryObject ball;  // rough and diffuse: lit mostly by the map's ambient
+    ball.name = "ball";
+    ball.mesh = makeSphereMesh(c + glm::vec3(0.0f, 0.0f, 0.45f * e.z), 0.12f * e.y);
+    ball.material.baseColor = {0.8f, 0.8f, 0.8f};
+    ball.material.roughness = 0.9f;
+    g->objects.push_back(ball);
     auto gl = Renderer::create(BackendChoice::Gl);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
     Renderer cpu;
-    // 0: the studio; 1: the floor alone; 2: no background; 3: with the geometry.
-    for (int variant = 0; variant < 4; ++variant) {
+    // 0: the studio; 1: the floor alone; 2: no background; 3: with the geometry;
+    // 4: the geometry, shadows, a half-opaque liquid with foam.
+    const ShadowMode shadows = f.settings.shadows;
+    for (int variant = 0; variant < 5; ++variant) {
         SCOPED_TRACE(variant);
         f.settings.scene.walls = variant != 1;
         f.settings.scene.background = variant != 2;
-        f.settings.geometry = variant == 3 ? g : nullptr;
+        f.settings.geometry = variant >= 3 ? g : nullptr;
+        f.settings.shadows = variant == 4 ? ShadowMode::On : shadows;
+        f.settings.shading.material.opacity = variant == 4 ? 0.5f : 0.0f;
+        f.settings.noise.enabled = variant == 4;
         auto a = cpu.render(f.positions, f.settings);
         auto b = gl->render(f.positions, f.settings);
         ASSERT_TRUE(a.ok()) << a.error().describe();

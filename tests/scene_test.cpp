@@ -392,7 +392,7 @@ TEST(Scene, FloorOnlyStudioIsTheSameFloorFromEverySide) {
     down.width = 200;
     down.height = 200;
     const cpu::SceneLayer top = cpu::castScene(down, ref);
-    const float lit = shared::studioShading(ref).litFloor;
+    const float lit = shared::studioShading(ref).litFloor.x;  // grey without a map
     const glm::vec3 light = lit * shared::kStudioFloorLight, dark = lit * shared::kStudioFloorDark;
     auto colourAt = [&](float dx, float dz) {
         const glm::vec2 px = down.projectView(down.toView(down.target + glm::vec3(dx, 0.0f, dz)));

@@ -24,10 +24,12 @@ inline constexpr int kMaxEnvironmentWidth = 16384;
 inline constexpr int kMaxEnvironmentHeight = 8192;
 inline constexpr std::uintmax_t kMaxEnvironmentFileBytes = std::uintmax_t(1) << 30;  // 1 GiB
 
-// Reads an equirectangular OpenEXR file (.exr) with R, G and B channels (any
-// pixel type, converted to float; a missing channel is an error). Non-finite
-// and negative values become 0. Radiance .hdr files are not read (an error
-// says so). Errors name the file; no exception escapes.
+// Reads an equirectangular map: an OpenEXR file (.exr) with R, G and B
+// channels (any pixel type, converted to float; a missing channel is an
+// error), or a Radiance RGBE picture (.hdr or .pic: flat or run-length
+// scanlines in the standard -Y H +X W orientation, EXPOSURE divided out; CIE
+// XYZ pictures are refused). Non-finite and negative values become 0. Errors
+// name the file; no exception escapes.
 Result<EnvironmentImage> readEnvironmentMap(const std::filesystem::path& path);
 
 }  // namespace meniscus

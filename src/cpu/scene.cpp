@@ -95,13 +95,14 @@ void castRow(const CastConstants c, int y, int width, float* depthRow, glm::vec4
                 return odd ? (onFloor ? c.floorDark[ch] : c.wallDark[ch])
                            : (onFloor ? c.floorLight[ch] : c.wallLight[ch]);
             };
-            const float lit = onFloor ? c.sh.litFloor : plane == 1 ? c.sh.litWallX : c.sh.litWallZ;
+            auto lit = [&](int ch) {
+                return onFloor ? c.sh.litFloor[ch] : plane == 1 ? c.sh.litWallX[ch] : c.sh.litWallZ[ch];
+            };
             const float ao =
                 Walls ? 1.0f - 0.25f * (studioCornerFall(a, c.sh.aoScale) + studioCornerFall(b, c.sh.aoScale)) : 1.0f;
-            const float shade = lit * ao;
-            red[k] = pick(0) * shade;
-            green[k] = pick(1) * shade;
-            blue[k] = pick(2) * shade;
+            red[k] = pick(0) * (lit(0) * ao);
+            green[k] = pick(1) * (lit(1) * ao);
+            blue[k] = pick(2) * (lit(2) * ao);
             // The weight of the sky: -1 where no plane is hit.
             const float reach = Walls ? std::max(a, b) : studioFloorRadius(a, b);
             fade[k] = plane >= 0 ? std::clamp((reach - c.sh.fadeStart) * c.sh.invFade, 0.0f, 1.0f) : -1.0f;
@@ -143,7 +144,7 @@ SceneLayer castScene(const Camera& camera, const shared::Studio& studio, const s
     c.nX = studio.wallXNormal;
     c.nZ = studio.wallZNormal;
     c.topY = studio.wallTopY;
-    c.sh = shared::studioShading(studio);
+    c.sh = shared::studioShading(studio, environment);
     c.env = environment;
     for (int ch = 0; ch < 3; ++ch) {
         c.floorLight[ch] = shared::kStudioFloorLight[ch];

@@ -182,6 +182,7 @@ struct Batch {
     float er[kBatch], eg[kBatch], eb[kBatch];  // Beer-Lambert share exp(-k T)
     float F[kBatch];                           // Fresnel weight after the opaque mix
     float ground[kBatch];                      // the reflected direction's groundShare (layer split only)
+    float lr[kBatch], lg[kBatch], lb[kBatch];  // with a map: the opaque materials' and foam's light per colour
 };
 
 // (forward) the two instances of the shading of a batch.
@@ -366,11 +367,25 @@ inline void shadeBatchImpl(const Setup& S, int y, int n, Batch& B) {
         B.eb[i] = eb;
         const float m = 1.0f - nv, m2 = m * m;
         float F = f0 + (1.0f - f0) * (m2 * m2 * m);  // schlickFresnel
-        // Opaque materials: toward a Lambert-lit fluid colour (op = 0: a unchanged).
-        const float lit = kOpaqueAmbient + (1.0f - kOpaqueAmbient) * std::max(nl, 0.0f);
-        ar = op > 0.0f ? ar * (1.0f - op) + fc.x * lit * op : ar;
-        ag = op > 0.0f ? ag * (1.0f - op) + fc.y * lit * op : ag;
-        ab = op > 0.0f ? ab * (1.0f - op) + fc.z * lit * op : ab;
+        // Opaque materials: toward a Lambert-lit fluid colour (op = 0: a unchanged),
+        // the ambient share from the map (its E(n) / pi at the world normal) with one.
+        float litR, litG, litB;
+        if constexpr (Env) {
+            const glm::vec3 amb = shared::environmentAmbient(nx * X.x + ny * Y.x + nz * Z.x, nx * X.y + ny * Y.y + nz * Z.y,
+                                                             nx * X.z + ny * Y.z + nz * Z.z, S.env);
+            const float key = (1.0f - kOpaqueAmbient) * std::max(nl, 0.0f);
+            litR = amb.x + key;
+            litG = amb.y + key;
+            litB = amb.z + key;
+            B.lr[i] = litR;
+            B.lg[i] = litG;
+            B.lb[i] = litB;
+        } else {
+            litR = litG = litB = kOpaqueAmbient + (1.0f - kOpaqueAmbient) * std::max(nl, 0.0f);
+        }
+        ar = op > 0.0f ? ar * (1.0f - op) + fc.x * litR * op : ar;
+        ag = op > 0.0f ? ag * (1.0f - op) + fc.y * litG * op : ag;
+        ab = op > 0.0f ? ab * (1.0f - op) + fc.z * litB * op : ab;
         F = op > 0.0f ? F * (1.0f - op) : F;
         B.F[i] = F;
 
@@ -422,8 +437,14 @@ inline void shadeBatchImpl(const Setup& S, int y, int n, Batch& B) {
     if (S.noise || S.whitening) {
         for (int i = 0; i < n; ++i) {
             glm::vec3 c(B.cr[i], B.cg[i], B.cb[i]);
-            c = shared::noiseWithFoam(c, B.foam[i], B.nl[i], S.foamColor, kOpaqueAmbient);
-            c = shared::noiseWithFoam(c, B.white[i], B.nl[i], S.whiteColor, kOpaqueAmbient);
+            if constexpr (Env) {
+                const glm::vec3 lit(B.lr[i], B.lg[i], B.lb[i]);
+                c = shared::noiseWithFoamLit(c, B.foam[i], lit, S.foamColor);
+                c = shared::noiseWithFoamLit(c, B.white[i], lit, S.whiteColor);
+            } else {
+                c = shared::noiseWithFoam(c, B.foam[i], B.nl[i], S.foamColor, kOpaqueAmbient);
+                c = shared::noiseWithFoam(c, B.white[i], B.nl[i], S.whiteColor, kOpaqueAmbient);
+            }
             B.cr[i] = c.x;
             B.cg[i] = c.y;
             B.cb[i] = c.z;

@@ -15,6 +15,7 @@
 #include "core/shadow_camera.h"
 #include "cpu/filter_util.h"
 #include "cpu/raster_mesh.h"
+#include "shared/environment.h"
 #include "shared/shadow.h"
 #include "shared/sky.h"
 #include "shared/studio_shade.h"
@@ -86,8 +87,12 @@ void runShadows(Backend& b, const StageIo& io) {
             else if (lightRaw.at(t.x, t.y) < dp - bias)
                 lit = shared::liquidTransmittance(k, lightThickness.at(t.x, t.y));
             glm::vec4& out = color.at(x, y);
+            // With an HDR map the ambient is its irradiance E(n) / pi at the normal.
             const glm::vec3 rgb =
-                shared::shadowedColor(glm::vec3(out), shared::kStudioAmbient, shared::kStudioKey, nl, lit);
+                s.environment.enabled()
+                    ? shared::shadowedColorRgb(glm::vec3(out), shared::environmentAmbient(n.x, n.y, n.z, s.environment),
+                                               shared::kStudioKey, nl, lit)
+                    : shared::shadowedColor(glm::vec3(out), shared::kStudioAmbient, shared::kStudioKey, nl, lit);
             out = glm::vec4(rgb, out.a);
         }
     });

@@ -42,19 +42,23 @@ struct EnvironmentGpu {
         image = std::move(keep);
     }
     // Binds the texels and sets the program's uniforms at `sizeLoc` (ivec2:
-    // width, 0 without a map; height) and `sizeLoc + 1` (vec2: rotation in
-    // turns, intensity). The program must be in use.
-    void bind(GLint sizeLoc) const {
+    // width, 0 without a map; height), `sizeLoc + 1` (vec2: rotation in
+    // turns, intensity) and `irradianceLoc` (vec3[9], 9 locations: the
+    // irradiance's coefficients). The program must be in use.
+    void bind(GLint sizeLoc, GLint irradianceLoc) const {
         texels.bind(kEnvironmentBinding);
         glUniform2i(sizeLoc, map.enabled() ? map.width : 0, map.enabled() ? map.height : 1);
         glUniform2f(sizeLoc + 1, map.rotation, map.intensity);
+        glUniform3fv(irradianceLoc, 9, &map.irradiance[0].x);
     }
 };
 
 // For a pass run without one (tests of a single pass): no map.
-inline void bindNoEnvironment(GLint sizeLoc) {
+inline void bindNoEnvironment(GLint sizeLoc, GLint irradianceLoc) {
     glUniform2i(sizeLoc, 0, 1);
     glUniform2f(sizeLoc + 1, 0.0f, 1.0f);
+    const glm::vec3 zero[9] = {};
+    glUniform3fv(irradianceLoc, 9, &zero[0].x);
 }
 
 }  // namespace meniscus::gl

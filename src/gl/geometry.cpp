@@ -64,8 +64,8 @@ void GeometryDrawer::drawObject(const FrameParams& frame, const TriangleMesh& me
     glUniform3f(4, m.tint.x, m.tint.y, m.tint.z);
     glUniform2f(5, m.ior, m.thicknessM);
     glUniform1i(6, limit ? 1 : 0);
-    if (environment) environment->bind(7);
-    else bindNoEnvironment(7);
+    if (environment) environment->bind(7, 9);
+    else bindNoEnvironment(7, 9);
     objectDepth_.bind(1);
     objectNormal_.bind(2);
     color.bind(3);

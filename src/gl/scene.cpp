@@ -39,17 +39,19 @@ void SceneCaster::run(const FrameParams& frame, const shared::Studio& studio, Gp
         return;
     }
     // As castScene: the per-image constants from the one shared function.
-    const shared::StudioShading sh = shared::studioShading(studio);
+    const shared::StudioShading sh =
+        shared::studioShading(studio, environment ? environment->map : shared::EnvironmentMap{});
     glUseProgram(program_.id());
     glUniform4f(0, studio.floorY, studio.wallX, studio.wallZ, studio.wallTopY);
     glUniform2f(1, studio.wallXNormal, studio.wallZNormal);
     glUniform4f(2, sh.invChecker, sh.aoScale, sh.fadeStart, sh.invFade);
-    glUniform3f(3, sh.litFloor, sh.litWallX, sh.litWallZ);
+    const glm::vec3 lit[3] = {sh.litFloor, sh.litWallX, sh.litWallZ};
+    glUniform3fv(18, 3, &lit[0].x);
     glUniform1i(4, kRows);
     glUniform3f(5, sh.sunDir.x, sh.sunDir.y, sh.sunDir.z);
     glUniform1i(6, studio.walls ? 1 : 0);
-    if (environment) environment->bind(7);
-    else bindNoEnvironment(7);
+    if (environment) environment->bind(7, 9);
+    else bindNoEnvironment(7, 9);
     color.bind(1);
     depth.bind(2);
     glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint((H + kRows - 1) / kRows), 1);

@@ -81,8 +81,8 @@ void Shading::run(const FrameParams& frame, const GpuImage& sceneColor, const Gp
         glUniform3f(7, noiseParams->foamColor.x, noiseParams->foamColor.y, noiseParams->foamColor.z);
     }
     glUniform1i(11, layer ? 1 : 0);
-    if (environment) environment->bind(12);
-    else bindNoEnvironment(12);
+    if (environment) environment->bind(12, 16);
+    else bindNoEnvironment(12, 16);
     glUniform1i(8, white ? 1 : 0);
     if (white) {
         glUniform1f(9, whiteningParams->strength);

@@ -81,6 +81,7 @@ void runShadows(GlBackend& g, const StageIo& io) {
     g.img(Slot::LightDepth).bind(3);
     g.img(Slot::LightRaw).bind(4);
     g.img(Slot::LightThickness).bind(5);
+    g.environment().bind(7, 9);  // the map's ambient (docs/pipeline.md#environment-map)
     glDispatchCompute(ceilDiv(GLuint(W), kGroup), GLuint(H), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);

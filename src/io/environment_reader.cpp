@@ -2,18 +2,24 @@
 // equirectangular OpenEXR image into linear RGB floats, bounded (the file's
 // size and the image's pixel count are checked before anything is allocated)
 // and with OpenEXR's exceptions caught, so a bad file is an Error naming it.
+// Radiance .hdr pictures are decoded by radiance_hdr.cpp, bounded the same.
 #include "meniscus/environment.h"
 
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <fstream>
+#include <new>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
+
+#include "radiance_hdr.h"
 
 namespace meniscus {
 
@@ -21,8 +27,6 @@ Result<EnvironmentImage> readEnvironmentMap(const std::filesystem::path& path) {
     const std::string name = path.string();
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (ext == ".hdr")
-        return makeError(name, "Radiance .hdr environment maps are not read; convert it to OpenEXR (.exr)");
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) return makeError(name, "environment map: no such file");
     const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
@@ -30,6 +34,23 @@ Result<EnvironmentImage> readEnvironmentMap(const std::filesystem::path& path) {
     if (bytes > kMaxEnvironmentFileBytes)
         return makeError(name, "environment map: " + std::to_string(bytes) + " bytes, more than the limit of " +
                                    std::to_string(kMaxEnvironmentFileBytes));
+    if (ext == ".hdr" || ext == ".pic") {
+        // The whole file (at most the limit above), then decoded in memory.
+        std::vector<std::uint8_t> data;
+        try {
+            data.resize(std::size_t(bytes));
+            std::ifstream in(path, std::ios::binary);
+            if (!in.read(reinterpret_cast<char*>(data.data()), std::streamsize(data.size())))
+                return makeError(name, "environment map: cannot read the file");
+        } catch (const std::exception&) {
+            return makeError(name, "environment map: cannot read the file (out of memory)");
+        }
+        try {
+            return io::decodeRadianceHdr(data.data(), data.size(), name);
+        } catch (const std::bad_alloc&) {
+            return makeError(name, "environment map: out of memory");
+        }
+    }
     try {
         Imf::InputFile file(name.c_str());
         const Imf::Header& header = file.header();

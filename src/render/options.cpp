@@ -213,8 +213,9 @@ std::vector<RenderOptionSpec> makeRenderTable() {
                           [](R& o) -> OptionRef { return &o.background; }),
                       {"auto", "studio", "floor", "none"}));
     t.push_back(row("environment", G::Look, "",
-                    "An HDR environment map, an equirectangular OpenEXR file (.exr, linear RGB, at most 16384x8192): "
-                    "the background and what the liquid and the geometry reflect, instead of the procedural sky "
+                    "An HDR environment map, an equirectangular OpenEXR (.exr) or Radiance RGBE (.hdr) file "
+                    "(linear RGB, at most 16384x8192): the background, what the liquid and the geometry reflect, and "
+                    "the ambient light of the studio, the geometry and the liquid, instead of the procedural sky "
                     "(docs/pipeline.md#environment-map)",
                     [](R& o) -> OptionRef { return &o.environment; }));
     t.push_back(ranged(row("environment-rotation", G::Look, "degrees",

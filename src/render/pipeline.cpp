@@ -44,6 +44,7 @@
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
 #include "render/stages.h"
+#include "shared/environment.h"
 #include "shared/raster_mesh.h"
 #include "shared/studio.h"
 #include "shared/surface_noise.h"
@@ -541,6 +542,12 @@ struct HostFrame {
     std::vector<Ellipsoids> ellipsoids;  // drawn shapes: one set per fluid drawn (centres: anisotropy only)
     std::vector<float> radii;            // one fluid's own radii, contiguous
     std::vector<SphField> fields;        // with the ray cast: one per fluid drawn
+    // The environment map's irradiance coefficients (shared/environment.h),
+    // projected once per map and rotation: the map they belong to (held, so
+    // that no other map takes its address) and its rotation in turns.
+    std::shared_ptr<const EnvironmentImage> irradianceMap;
+    float irradianceRotation = 0.0f;
+    glm::vec3 irradiance[9] = {};
     // This frame's.
     const ParticleView* particles = nullptr;  // the body of water (every particle without the spray)
     std::span<const glm::vec3> positions;     // its positions, contiguous (anisotropy, one fluid: the smoothed centres)
@@ -809,6 +816,15 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         f.environment.height = s.scene.environment->height;
         f.environment.rotation = s.scene.environmentRotationDeg / 360.0f;
         f.environment.intensity = s.scene.environmentIntensity;
+        // The ambient light from the map (docs/pipeline.md#environment-map):
+        // projected when the map or its rotation changes, scaled per frame.
+        if (h.irradianceMap != s.scene.environment || h.irradianceRotation != f.environment.rotation) {
+            shared::environmentIrradianceSh(f.environment.texels, f.environment.width, f.environment.height,
+                                            f.environment.rotation, 1.0f, h.irradiance);
+            h.irradianceMap = s.scene.environment;
+            h.irradianceRotation = f.environment.rotation;
+        }
+        for (int k = 0; k < 9; ++k) f.environment.irradiance[k] = h.irradiance[k] * f.environment.intensity;
     }
     if (drawsShadows(s)) f.shadow = shadowLight(f);
     f.fluidDivisor = divisor;

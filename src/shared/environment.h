@@ -14,6 +14,24 @@
 // Bilinear between the four nearest texel centres, wrapping in u (the seam at
 // u = 0 joins the first and last columns) and clamped in v (the poles).
 //
+// With a map the diffuse ambient light comes from it too: the irradiance
+// E(n) of the map (the cosine-weighted integral of its radiance over the
+// hemisphere around n) as 9 spherical-harmonic coefficients per colour,
+// Ramamoorthi & Hanrahan 2001, "An Efficient Representation for Irradiance
+// Environment Maps" (SIGGRAPH 2001): the map projected once on the real
+// spherical harmonics Y_lm of bands l <= 2 (environmentShBasis below),
+// L_lm = sum over texels of L Y_lm(d) dw, dw the texel's solid angle (the
+// integral of sin(theta) dtheta dphi over it), then convolved with the clamped
+// cosine, whose band factors are A0 = pi, A1 = 2 pi / 3, A2 = pi / 4, so
+//   E(n) = sum_lm A_l L_lm Y_lm(n)      (their eq. 7 and 12),
+// accurate to a few percent for any map (the cosine lobe has little energy
+// above band 2). The host projects (environmentIrradianceSh, C++ only, in
+// environment.cpp) with the rotation and the intensity applied, and stores
+// A_l L_lm in EnvironmentMap::irradiance; both backends evaluate
+// environmentIrradiance. A Lambertian surface of albedo a then reflects
+// a E(n) / pi of it (environmentAmbient), in place of the studio's constant
+// ambient when no map is given.
+//
 // Texel reads differ between the languages: C++ reads EnvironmentMap::texels,
 // GLSL the storage buffer `environmentTexels` that a shader including this
 // header declares first (a GLSL function cannot take a pointer). Both are
@@ -45,6 +63,9 @@ struct EnvironmentMap {
     int width = 0, height = 0;
     float rotation = 0.0f;   // turns about +y (degrees / 360)
     float intensity = 1.0f;  // multiplies every texel
+    // The irradiance's coefficients A_l L_lm (environmentShBasis' order), of
+    // the map as seen (rotated, times the intensity): environmentIrradianceSh.
+    glm::vec3 irradiance[9] = {};
     bool enabled() const { return texels != nullptr && width > 0 && height > 0; }
 };
 #define MENISCUS_ENV_INLINE inline
@@ -56,6 +77,7 @@ struct EnvironmentMap {
 struct EnvironmentMap {
     int width, height;
     float rotation, intensity;
+    vec3 irradiance[9];
 };
 #define MENISCUS_ENV_INLINE
 #define MENISCUS_ENV_EXACT precise
@@ -138,6 +160,47 @@ MENISCUS_ENV_INLINE vec3 environmentReflection(float dx, float dy, float dz, Env
     MENISCUS_ENV_EXACT float g = groundShare(dx, dy, dz);
     return e * (1.0f - g) + behind * g;
 }
+
+// The real spherical harmonic k = l (l + 1) + m, bands l <= 2, at the unit
+// direction (x, y, z) (Ramamoorthi & Hanrahan 2001, eq. 3, taken in the world
+// axes as they are: the paper's z is up, here y is, which does not matter as
+// long as the projection and the evaluation share the frame):
+// Y00; Y1-1, Y10, Y11; Y2-2, Y2-1, Y20, Y21, Y22.
+MENISCUS_ENV_INLINE float environmentShBasis(int k, float x, float y, float z) {
+    return k == 0   ? 0.282095f
+           : k == 1 ? 0.488603f * y
+           : k == 2 ? 0.488603f * z
+           : k == 3 ? 0.488603f * x
+           : k == 4 ? 1.092548f * (x * y)
+           : k == 5 ? 1.092548f * (y * z)
+           : k == 6 ? 0.315392f * (3.0f * (z * z) - 1.0f)
+           : k == 7 ? 1.092548f * (x * z)
+                    : 0.546274f * (x * x - y * y);
+}
+
+// The irradiance E(n) of the map (times its intensity, with its rotation)
+// at the unit normal (nx, ny, nz): sum of irradiance[k] Y_k(n), from the
+// coefficients the host projected; at least 0 (the band-limited fit can ring
+// a little below 0 over a black region).
+MENISCUS_ENV_INLINE vec3 environmentIrradiance(float nx, float ny, float nz, EnvironmentMap env) {
+    vec3 e = vec3(0.0f, 0.0f, 0.0f);
+    for (int k = 0; k < 9; ++k) e = e + env.irradiance[k] * environmentShBasis(k, nx, ny, nz);
+    return vec3(max(e.x, 0.0f), max(e.y, 0.0f), max(e.z, 0.0f));
+}
+
+// The diffuse ambient a Lambertian surface of albedo 1 with unit normal n
+// reflects under the map: E(n) / pi (a constant map of radiance L gives L).
+MENISCUS_ENV_INLINE vec3 environmentAmbient(float nx, float ny, float nz, EnvironmentMap env) {
+    return environmentIrradiance(nx, ny, nz, env) * (1.0f / MENISCUS_ENV_PI);
+}
+
+#ifdef __cplusplus
+// The coefficients A_l L_lm of environmentIrradiance for the W x H map
+// `texels` (RGB, row after row from the top, this file's convention) turned
+// by `rotation` (turns about +y) and times `intensity`, into out[9].
+void environmentIrradianceSh(const float* texels, int width, int height, float rotation, float intensity,
+                             vec3 out[9]);
+#endif
 
 #ifdef __cplusplus
 }  // namespace meniscus::shared

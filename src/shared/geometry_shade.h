@@ -4,8 +4,9 @@
 // shaders/geometry_shade.comp both call geometryRadiance.
 //
 // The lighting is the studio's own (studio_shade.h: a sky-like ambient plus
-// one key light, kStudioAmbient + kStudioKey n.l) so the user's objects sit in
-// the same light as the floor and walls; on top of it the metalness /
+// one key light, kStudioAmbient + kStudioKey n.l; with an HDR map the ambient
+// is the map's, environment.h's environmentAmbient E(n) / pi, per colour) so
+// the user's objects sit in the same light as the floor and walls; on top of it the metalness /
 // roughness description of real-time physically based materials (Karis 2013,
 // "Real Shading in Unreal Engine 4"): the diffuse albedo is the base colour
 // times (1 - metalness); the specular reflectance F0 is 0.04 for a dielectric
@@ -90,8 +91,8 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryEnvironment(float rx, float ry, float rz, 
 // v: unit world direction toward the eye; light: unit world direction toward
 // the key light (the sky's sun, sunDirection); base: linear base colour;
 // roughness, metalness in [0, 1]; envMap: the HDR environment map reflected
-// (width 0: the procedural sky). The ambient term stays the studio's
-// kStudioAmbient with or without a map.
+// (width 0: the procedural sky). The ambient term is the studio's
+// kStudioAmbient without a map, the map's irradiance E(n) / pi with one.
 MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 base, float roughness,
                                                float metalness, EnvironmentMap envMap) {
     MENISCUS_GEOMETRY_EXACT vec3 f = geometryFacing(n, v);
@@ -100,8 +101,12 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 
     MENISCUS_GEOMETRY_EXACT float nz = f.z;
     MENISCUS_GEOMETRY_EXACT float nv = clamp(nx * v.x + ny * v.y + nz * v.z, 0.0f, 1.0f);
     MENISCUS_GEOMETRY_EXACT float nl = max(nx * light.x + ny * light.y + nz * light.z, 0.0f);
-    // The studio's lighting of a plane facing n.
-    MENISCUS_GEOMETRY_EXACT float lit = kStudioAmbient + kStudioKey * nl;
+    // The studio's lighting of a plane facing n, per colour: the ambient
+    // (the map's E(n) / pi with one) plus the key light.
+    MENISCUS_GEOMETRY_EXACT float key = kStudioKey * nl;
+    MENISCUS_GEOMETRY_EXACT vec3 lit = envMap.width > 0 ? environmentAmbient(nx, ny, nz, envMap) + vec3(key, key, key)
+                                                       : vec3(kStudioAmbient + key, kStudioAmbient + key,
+                                                              kStudioAmbient + key);
     // Schlick's Fresnel with the metalness' F0.
     MENISCUS_GEOMETRY_EXACT float m = 1.0f - nv;
     MENISCUS_GEOMETRY_EXACT float m2 = m * m;
@@ -135,12 +140,15 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 
     MENISCUS_GEOMETRY_EXACT float highlight = kStudioKey * lobe;
     // Diffuse + specular: the glossy share mirrors the environment, the rest
     // reflects the studio's light diffusely, plus the highlight.
-    MENISCUS_GEOMETRY_EXACT float spec = (1.0f - gloss) * lit + highlight;
-    MENISCUS_GEOMETRY_EXACT float dr = base.x * diel * lit;
-    MENISCUS_GEOMETRY_EXACT float dg = base.y * diel * lit;
-    MENISCUS_GEOMETRY_EXACT float db = base.z * diel * lit;
-    return vec3(dr * (1.0f - fr) + fr * (gloss * env.x + spec), dg * (1.0f - fg) + fg * (gloss * env.y + spec),
-                db * (1.0f - fb) + fb * (gloss * env.z + spec));
+    MENISCUS_GEOMETRY_EXACT float rough = 1.0f - gloss;
+    MENISCUS_GEOMETRY_EXACT float sr = rough * lit.x + highlight;
+    MENISCUS_GEOMETRY_EXACT float sg = rough * lit.y + highlight;
+    MENISCUS_GEOMETRY_EXACT float sb = rough * lit.z + highlight;
+    MENISCUS_GEOMETRY_EXACT float dr = base.x * diel * lit.x;
+    MENISCUS_GEOMETRY_EXACT float dg = base.y * diel * lit.y;
+    MENISCUS_GEOMETRY_EXACT float db = base.z * diel * lit.z;
+    return vec3(dr * (1.0f - fr) + fr * (gloss * env.x + sr), dg * (1.0f - fg) + fg * (gloss * env.y + sg),
+                db * (1.0f - fb) + fb * (gloss * env.z + sb));
 }
 
 // Glass (GeometryMaterial::glass): a thin transparent wall over `below`, the

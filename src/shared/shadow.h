@@ -119,6 +119,19 @@ MENISCUS_SHADOW_INLINE vec3 shadowedColor(vec3 c, float a, float k, float nl, ve
     return out_;
 }
 
+// shadowedColor with the ambient given per colour (an HDR map's E(n) / pi:
+// environment.h, docs/pipeline.md#environment-map): c (a + k nl lit) /
+// (a + k nl) per channel. A channel with no light at all (a + k nl = 0) keeps c.
+MENISCUS_SHADOW_INLINE vec3 shadowedColorRgb(vec3 c, vec3 a, float k, float nl, vec3 lit) {
+    MENISCUS_SHADOW_EXACT float key = k * nl;
+    MENISCUS_SHADOW_EXACT vec3 full = a + vec3(key, key, key);
+    MENISCUS_SHADOW_EXACT vec3 part = a + key * lit;
+    MENISCUS_SHADOW_EXACT vec3 out_ = vec3(full.x > 0.0f ? c.x * (part.x / full.x) : c.x,
+                                           full.y > 0.0f ? c.y * (part.y / full.y) : c.y,
+                                           full.z > 0.0f ? c.z * (part.z / full.z) : c.z);
+    return out_;
+}
+
 // Beer-Lambert: the key light's transmittance through `thickness` metres of
 // liquid of absorption k (1/m, per channel).
 MENISCUS_SHADOW_INLINE vec3 liquidTransmittance(vec3 k, float thickness) {

@@ -64,7 +64,7 @@ Studio makeStudio(const Bounds& particleBox, float radius, const Camera& camera,
     return s;
 }
 
-StudioShading studioShading(const Studio& studio) {
+StudioShading studioShading(const Studio& studio, const EnvironmentMap& environment) {
     StudioShading sh;
     sh.invChecker = 1.0f / studio.checkerM;
     sh.aoScale = studio.checkerM;
@@ -72,9 +72,16 @@ StudioShading studioShading(const Studio& studio) {
     sh.invFade = 1.0f / (kStudioFadeLengthSquares * studio.checkerM);
     // Flat: each plane has one normal (+y; +-x and +-z toward the camera side).
     const glm::vec3 l = studio.lightDirWorld;
-    sh.litFloor = kStudioAmbient + kStudioKey * std::max(0.0f, l.y);
-    sh.litWallX = kStudioAmbient + kStudioKey * std::max(0.0f, studio.wallXNormal * l.x);
-    sh.litWallZ = kStudioAmbient + kStudioKey * std::max(0.0f, studio.wallZNormal * l.z);
+    // The ambient: the studio's constant, or the map's irradiance at the
+    // plane's normal (docs/pipeline.md#environment-map).
+    auto lit = [&](glm::vec3 n, float nl) {
+        const float key = kStudioKey * std::max(0.0f, nl);
+        return environment.enabled() ? environmentAmbient(n.x, n.y, n.z, environment) + glm::vec3(key)
+                                     : glm::vec3(kStudioAmbient + key);
+    };
+    sh.litFloor = lit({0.0f, 1.0f, 0.0f}, l.y);
+    sh.litWallX = lit({studio.wallXNormal, 0.0f, 0.0f}, studio.wallXNormal * l.x);
+    sh.litWallZ = lit({0.0f, 0.0f, studio.wallZNormal}, studio.wallZNormal * l.z);
     sh.sunDir = studio.lightDirWorld;
     return sh;
 }

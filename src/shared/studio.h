@@ -10,6 +10,7 @@
 #include "meniscus/camera.h"
 #include "meniscus/params.h"
 #include "meniscus/types.h"
+#include "shared/environment.h"
 
 namespace meniscus::shared {
 
@@ -49,9 +50,12 @@ struct StudioShading {
     float invChecker;              // 1 / checkerM
     float aoScale;                 // corner darkening reach (one square), metres
     float fadeStart, invFade;      // far fade into the sky: start (metres) and 1 / length
-    float litFloor, litWallX, litWallZ;  // flat lighting per plane (kStudioAmbient + kStudioKey * n.l)
+    // Flat lighting per plane, per colour: ambient + kStudioKey * n.l, the
+    // ambient kStudioAmbient, or with an HDR map its irradiance E(n) / pi
+    // (environment.h's environmentAmbient at the plane's normal).
+    glm::vec3 litFloor, litWallX, litWallZ;
     glm::vec3 sunDir;              // the sky's sun (unit, world)
 };
-StudioShading studioShading(const Studio& studio);
+StudioShading studioShading(const Studio& studio, const EnvironmentMap& environment = {});
 
 }  // namespace meniscus::shared

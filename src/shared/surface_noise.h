@@ -228,6 +228,17 @@ MENISCUS_SN_INLINE vec3 noiseWithFoam(vec3 c, float cover, float nl, vec3 foam, 
     return o;
 }
 
+// noiseWithFoam with the foam's light given per colour, `lit` (with an HDR
+// map: its ambient E(n) / pi plus the key light's share, environment.h and
+// docs/pipeline.md#environment-map).
+MENISCUS_SN_INLINE vec3 noiseWithFoamLit(vec3 c, float cover, vec3 lit, vec3 foam) {
+    MENISCUS_SN_EXACT float keep = 1.0f - cover;
+    MENISCUS_SN_EXACT vec3 fl = lit * cover;
+    MENISCUS_SN_EXACT vec3 o =
+        vec3(c.x * keep + foam.x * fl.x, c.y * keep + foam.y * fl.y, c.z * keep + foam.z * fl.z);
+    return o;
+}
+
 #ifdef __cplusplus
 // The noise's third coordinate of a particle (host side; both backends read
 // it per particle): its id modulo kNoiseIdPeriod, as a float.

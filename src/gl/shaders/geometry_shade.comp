@@ -17,6 +17,7 @@
 layout(std430, binding = 7) readonly buffer EnvironmentTexels { float environmentTexels[]; };
 layout(location = 7) uniform ivec2 uEnvSize;
 layout(location = 8) uniform vec2 uEnvParams;  // rotation (turns), intensity
+layout(location = 9) uniform vec3 uEnvIrradiance[9];  // its irradiance (9 locations, 9-17)
 #include "geometry_shade.h"
 // The object's base colour map (src/shared/texture.h): its texels, size
 // (width 0: none) and the rasterised texture coordinates.
@@ -60,7 +61,7 @@ void main() {
     precise vec3 v = -d * invLen;
     const vec3 nv = vec3(objectNormal[3 * i], objectNormal[3 * i + 1], objectNormal[3 * i + 2]);
     precise vec3 n = nv.x * right + nv.y * up + nv.z * back;
-    const EnvironmentMap env = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y);
+    const EnvironmentMap env = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y, uEnvIrradiance);
     if (uMode == 0) {
         precise vec3 base = uBase;
         if (uTexSize.x > 0)

@@ -25,6 +25,7 @@
 layout(std430, binding = 7) readonly buffer EnvironmentTexels { float environmentTexels[]; };
 layout(location = 7) uniform ivec2 uEnvSize;
 layout(location = 8) uniform vec2 uEnvParams;  // rotation (turns), intensity
+layout(location = 9) uniform vec3 uEnvIrradiance[9];  // its irradiance (9 locations, 9-17)
 #include "environment.h"
 
 layout(local_size_x = 64) in;
@@ -35,7 +36,7 @@ layout(std430, binding = 2) writeonly buffer Depth { float depth[]; };  // W*H, 
 layout(location = 0) uniform vec4 uPlanes;   // floorY, wallX, wallZ, wallTopY
 layout(location = 1) uniform vec2 uNormals;  // wallXNormal, wallZNormal (+1 / -1)
 layout(location = 2) uniform vec4 uChecker;  // 1/checkerM, corner darkening scale, fade start, 1/fade length
-layout(location = 3) uniform vec3 uLit;      // flat lighting of floor, wall x, wall z
+layout(location = 18) uniform vec3 uLit[3];  // flat lighting of floor, wall x, wall z, per colour (18-20)
 layout(location = 4) uniform int uRows;      // rows per invocation
 layout(location = 5) uniform vec3 uSun;      // the sky's sun, unit world (studio.lightDirWorld)
 // 0: the floor alone (studio.walls false): uPlanes.yz is the box's centre, the
@@ -101,15 +102,15 @@ void main() {
         const bool onFloor = plane == 0;
         const vec3 base = odd ? (onFloor ? kStudioFloorDark : kStudioWallDark)
                               : (onFloor ? kStudioFloorLight : kStudioWallLight);
-        const float lit = onFloor ? uLit.x : plane == 1 ? uLit.y : uLit.z;
+        const vec3 lit = onFloor ? uLit[0] : plane == 1 ? uLit[1] : uLit[2];
         precise float ao = walls ? 1.0 - 0.25 * (studioCornerFall(a, aoScale) + studioCornerFall(b, aoScale)) : 1.0;
-        precise float shade = lit * ao;
+        precise vec3 shade = lit * ao;
         precise vec3 c = base * shade;
         // The weight of the sky: -1 where no plane is hit; the far floor fades
         // into the sky (hides the checker's aliasing there).
         const float reach = walls ? max(a, b) : studioFloorRadius(a, b);
         precise float fade = plane >= 0 ? clamp((reach - fadeStart) * invFade, 0.0, 1.0) : -1.0;
-        const EnvironmentMap env = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y);
+        const EnvironmentMap env = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y, uEnvIrradiance);
         const vec3 sky = env.width > 0 ? environmentMapRadiance(Dx, Dy, Dz, env) : skyRadiance(Dx, Dy, Dz, uSun);
         precise vec3 blend = c * (1.0 - fade) + sky * fade;  // glm::mix's formula
         const vec3 rgb = fade == 0.0 ? c : fade < 0.0 ? sky : blend;

@@ -41,6 +41,7 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 7) readonly buffer EnvironmentTexels { float environmentTexels[]; };
 layout(location = 12) uniform ivec2 uEnvSize;
 layout(location = 13) uniform vec2 uEnvParams;  // rotation (turns), intensity
+layout(location = 16) uniform vec3 uEnvIrradiance[9];  // its irradiance (9 locations, 16-24)
 #include "environment.h"
 
 // Reads through buffer textures, the write through an image buffer: llvmpipe
@@ -146,7 +147,7 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out
     if (s.a < 1.0) {
         precise vec3 dir = vec3(rx * X.x + ryc * Y.x + -1.0 * Z.x, rx * X.y + ryc * Y.y + -1.0 * Z.y,
                                 rx * X.z + ryc * Y.z + -1.0 * Z.z);
-        const EnvironmentMap env = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y);
+        const EnvironmentMap env = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y, uEnvIrradiance);
         const vec3 sky = env.width > 0 ? environmentMapRadiance(dir.x, dir.y, dir.z, env)
                                        : skyRadiance(dir.x, dir.y, dir.z, uSun);
         precise float ta = 1.0 - s.a;
@@ -161,8 +162,18 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out
     precise float m = 1.0 - nv;
     precise float m2 = m * m;
     precise float F = f0 + (1.0 - f0) * (m2 * m2 * m);  // schlickFresnel
-    // Opaque materials: toward a Lambert-lit fluid colour (op = 0: a unchanged).
-    precise float lit = kOpaqueAmbient + (1.0 - kOpaqueAmbient) * max(nl, 0.0);
+    // Opaque materials: toward a Lambert-lit fluid colour (op = 0: a unchanged),
+    // the ambient share from the map (its E(n) / pi at the world normal) with one.
+    const EnvironmentMap envMap = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y, uEnvIrradiance);
+    precise vec3 lit;
+    if (envMap.width > 0) {
+        precise vec3 nw = vec3(n.x * X.x + n.y * Y.x + n.z * Z.x, n.x * X.y + n.y * Y.y + n.z * Z.y,
+                               n.x * X.z + n.y * Y.z + n.z * Z.z);
+        precise float key = (1.0 - kOpaqueAmbient) * max(nl, 0.0);
+        lit = environmentAmbient(nw.x, nw.y, nw.z, envMap) + vec3(key);
+    } else {
+        lit = vec3(kOpaqueAmbient + (1.0 - kOpaqueAmbient) * max(nl, 0.0));
+    }
     if (op > 0.0) {
         a = a * (1.0 - op) + fc * lit * op;
         F = F * (1.0 - op);
@@ -172,7 +183,6 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out
     precise vec3 e = tn * n - v;
     precise vec3 ew = vec3(e.x * X.x + e.y * Y.x + e.z * Z.x, e.x * X.y + e.y * Y.y + e.z * Z.y,
                            e.x * X.z + e.y * Y.z + e.z * Z.z);
-    const EnvironmentMap envMap = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y);
     const vec3 b = envMap.width > 0 ? environmentReflection(ew.x, ew.y, ew.z, envMap, a)
                                     : reflectionRadiance(ew.x, ew.y, ew.z, uSun, a);  // below the horizon: a
     const float ground = groundShare(ew.x, ew.y, ew.z);
@@ -191,14 +201,16 @@ vec3 shade(int x, int y, float z, float rx, float ryc, int k, out vec3 back, out
     float foam = 0.0;
     if (uFoam != 0) {
         foam = noiseFoamCover(texelFetch(noise, k).x, uFoamThreshold, uFoamGain);
-        c = noiseWithFoam(c, foam, nl, uFoamColor, kOpaqueAmbient);
+        c = envMap.width > 0 ? noiseWithFoamLit(c, foam, lit, uFoamColor)
+                             : noiseWithFoam(c, foam, nl, uFoamColor, kOpaqueAmbient);
     }
     // 7. White water where the surface is fast (docs/pipeline.md#noise-and-foam,
     // Instant Liquids §4).
     precise float white = 0.0;
     if (uWhite != 0) {
         white = uWhiteStrength * texelFetch(whitening, k).x;
-        c = noiseWithFoam(c, white, nl, uWhiteColor, kOpaqueAmbient);
+        c = envMap.width > 0 ? noiseWithFoamLit(c, white, lit, uWhiteColor)
+                             : noiseWithFoam(c, white, nl, uWhiteColor, kOpaqueAmbient);
     }
     back = s.rgb;
     through = fluidTransmittance(absorb, op > 0.0 ? 1.0 - op : 1.0, F, ground, foam, white);

@@ -9,6 +9,11 @@
 #include "frame_params.h"
 #include "studio_shade.h"
 #include "shadow.h"
+layout(std430, binding = 7) readonly buffer EnvironmentTexels { float environmentTexels[]; };
+layout(location = 7) uniform ivec2 uEnvSize;            // the HDR map (width 0: none)
+layout(location = 8) uniform vec2 uEnvParams;           // rotation (turns), intensity
+layout(location = 9) uniform vec3 uEnvIrradiance[9];    // its irradiance (9 locations, 9-17)
+#include "environment.h"
 
 layout(local_size_x = 64) in;
 
@@ -54,5 +59,9 @@ void main() {
     if (dp > lightDepth[j] + bias) lit = vec3(0.0);
     else if (lightRaw[j] < dp - bias) lit = liquidTransmittance(uAbsorption, lightThickness[j]);
     const vec4 c = color[i];
-    color[i] = vec4(shadowedColor(c.rgb, kStudioAmbient, kStudioKey, nl, lit), c.a);
+    // With an HDR map the ambient is its irradiance E(n) / pi at the normal.
+    const EnvironmentMap env = EnvironmentMap(uEnvSize.x, uEnvSize.y, uEnvParams.x, uEnvParams.y, uEnvIrradiance);
+    const vec3 rgb = env.width > 0 ? shadowedColorRgb(c.rgb, environmentAmbient(n.x, n.y, n.z, env), kStudioKey, nl, lit)
+                                   : shadowedColor(c.rgb, kStudioAmbient, kStudioKey, nl, lit);
+    color[i] = vec4(rgb, c.a);
 }
