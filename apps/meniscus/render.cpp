@@ -545,6 +545,10 @@ int renderParts(Cluster& cluster, const RenderJob& o, RenderSettings& settings) 
         std::cerr << "meniscus: " << parts.size() << " part" << (parts.size() == 1 ? "" : "s") << " of " << o.input
                   << (cluster.size() > 1 ? " over " + std::to_string(cluster.size()) + " processes" : std::string())
                   << "\n";
+    // DualSPHysics' boundary particles of this process's parts (--boundary-particles).
+    auto walls = prepareBoundary(set, o, settings.geometry, o.input);
+    if (!walls) return fail(walls.error().describe());
+    settings.geometry = std::move(*walls);
     return renderFrames(cluster, o, *frames, *motion, settings,
                         [&](std::size_t) -> Result<ParticleSet> { return std::move(set); });
 }
@@ -635,11 +639,20 @@ int runRenderOn(Cluster& cluster, const RenderJob& options, const ParticleSet* e
     // Split by particles: every process reads the whole frame (its neighbours
     // give the anisotropic kernels) and splats its index range of it.
     const bool byParticles = settings.compositor != nullptr;
+    // Each frame's DualSPHysics boundary particles (--boundary-particles) are
+    // taken out of the liquid as it is read; as walls, drawn with the options'
+    // geometry (prepareBoundary).
+    const std::shared_ptr<const SceneGeometry> optionGeometry = settings.geometry;
     return renderFrames(cluster, o, *frames, *motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
         // (Frames before firstIndex did not load when fixForSequence tried them.)
         Result<ParticleSet> set = i == firstIndex ? std::move(*first)
                                   : still         ? Result<ParticleSet>(*still)
                                                   : frames->loadChecked(i);
+        if (set) {
+            auto geometry = prepareBoundary(*set, o, optionGeometry, frames->name(i));
+            if (!geometry) return geometry.error();
+            settings.geometry = std::move(*geometry);
+        }
         if (set && byParticles) {
             const IndexRange r = shareRange(set->size(), cluster.rank(), cluster.size());
             settings.share = ParticleRange{r.begin, r.end};

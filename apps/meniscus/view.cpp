@@ -243,6 +243,15 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
 
     // The camera is framed for the picture's real size.
     std::shared_ptr<const ParticleSet> current;  // what is on screen
+    // `current` as drawn: its DualSPHysics boundary particles taken out for
+    // this look (--boundary-particles) and the settings' geometry with their walls.
+    struct Boundary {
+        std::shared_ptr<const ParticleSet> of;
+        std::shared_ptr<const SceneGeometry> base;
+        std::string mode, cutAway;
+        std::shared_ptr<const ParticleSet> liquid;
+        std::shared_ptr<const SceneGeometry> geometry;
+    } boundary;
     std::unique_ptr<FramePrefetch> prefetch;     // the input's frames, read ahead (after the window: joined first)
     std::size_t index = 0;
     RenderJob look = o.render;  // the look as options, as the panels change it
@@ -504,8 +513,22 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
             }
             if (stale || (o.frames > 0 && !live)) {
                 settings.frameIndex = live ? std::int64_t(liveNumber) : std::int64_t(index);  // the noise's turbulence
+                // The frame's DualSPHysics boundary particles (--boundary-particles,
+                // prepareBoundary), taken out once per frame, look and geometry.
+                if (current != boundary.of || settings.geometry != boundary.base ||
+                    look.boundaryParticles != boundary.mode || look.cutAway != boundary.cutAway) {
+                    auto liquid = std::make_shared<ParticleSet>(*current);
+                    const std::string name = prefetch ? prefetch->frames().name(index) : std::string("the frame");
+                    auto geometry = prepareBoundary(*liquid, look, settings.geometry, name);
+                    if (!geometry) return fail(geometry.error().describe());
+                    boundary = {current, settings.geometry, look.boundaryParticles, look.cutAway, std::move(liquid),
+                                std::move(*geometry)};
+                }
+                RenderSettings drawn = settings;
+                drawn.geometry = boundary.geometry;
                 const auto start = Clock::now();
-                if (auto st = renderer.draw(ParticleView::of(*current), settings, ui && panels ? &model.stages : nullptr);
+                if (auto st = renderer.draw(ParticleView::of(*boundary.liquid), drawn,
+                                            ui && panels ? &model.stages : nullptr);
                     !st)
                     return fail(st.error().describe());
                 const auto end = Clock::now();
