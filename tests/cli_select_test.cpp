@@ -133,6 +133,16 @@ TEST(CliSelect, BoundaryParticlesAsWallsLiquidOrHidden) {
     EXPECT_EQ(render(kVtk, "vtk.png", ""), walls);
     // A --select that keeps the fluid alone leaves no wall to draw.
     EXPECT_EQ(render(kCsv, "sel_walls.png", " --select 'Type==fluid' --boundary-particles walls"), hidden);
+    // A file of boundary particles alone (as DualSPHysics' PartBound): the walls, no liquid.
+    std::string bound;
+    std::stringstream lines(text.str());
+    int n = 0;
+    for (std::string line; std::getline(lines, line); ++n)
+        if (n == 0 || line.substr(line.size() - 3) != ";3;") bound += line + "\n";
+    writeText(dir / "bound.csv", bound);
+    const auto walled = render(dir / "bound.csv", "bound.png", "");
+    EXPECT_FALSE(walled.empty());
+    EXPECT_EQ(out.find("warning"), std::string::npos) << out;
     // Not a mode: said naming the option.
     EXPECT_NE(runCli("render " + shellQuote(kCsv) + " -o " + shellQuote(dir / "x.png") +
                          " --boundary-particles solid" + kSmall, &out), 0);

@@ -414,7 +414,10 @@ Result<ParticleSet> fixForSequence(const RenderJob& o, const Frames& frames, Ren
     auto walls = prepareBoundary(liquid, o, settings.geometry, firstName);
     if (!walls) return walls.error();
     std::string note;
-    const auto resolved = resolveRadius(o.radius, [&] { return defaultRadius(liquid); }, &note);
+    // (A frame of boundary particles alone, such as DualSPHysics' PartBound, has
+    // no liquid to estimate from: its own particles' radius, never drawn.)
+    const auto resolved =
+        resolveRadius(o.radius, [&] { return defaultRadius(liquid.size() > 0 ? liquid : *first); }, &note);
     if (!note.empty()) {
         std::cerr << "meniscus: " << note << "\n";
         if (!smoothingLength.empty()) printSmoothingLengthNote(smoothingLength, frames.hPerSpacing);
