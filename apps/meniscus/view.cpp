@@ -21,6 +21,7 @@
 #include "meniscus/window.h"
 #include "view_ui.h"
 #endif
+#include "meniscus/boundary.h"
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
 #include "meniscus/renderer.h"
@@ -517,12 +518,16 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
                 // prepareBoundary), taken out once per frame, look and geometry.
                 if (current != boundary.of || settings.geometry != boundary.base ||
                     look.boundaryParticles != boundary.mode || look.cutAway != boundary.cutAway) {
-                    auto liquid = std::make_shared<ParticleSet>(*current);
-                    const std::string name = prefetch ? prefetch->frames().name(index) : std::string("the frame");
-                    auto geometry = prepareBoundary(*liquid, look, settings.geometry, name);
-                    if (!geometry) return fail(geometry.error().describe());
-                    boundary = {current, settings.geometry, look.boundaryParticles, look.cutAway, std::move(liquid),
-                                std::move(*geometry)};
+                    boundary = {current, settings.geometry, look.boundaryParticles, look.cutAway, current,
+                                settings.geometry};
+                    if (look.boundaryParticles != "liquid" && dualSphysicsTypeAttribute(*current)) {  // else no copy
+                        auto liquid = std::make_shared<ParticleSet>(*current);
+                        const std::string name = prefetch ? prefetch->frames().name(index) : std::string("the frame");
+                        auto geometry = prepareBoundary(*liquid, look, settings.geometry, name);
+                        if (!geometry) return fail(geometry.error().describe());
+                        boundary.liquid = std::move(liquid);
+                        boundary.geometry = std::move(*geometry);
+                    }
                 }
                 RenderSettings drawn = settings;
                 drawn.geometry = boundary.geometry;

@@ -83,10 +83,11 @@ void orientAwayFrom(TriangleMesh& mesh, const glm::vec3& centre);
 
 // Meshes of fixed boundaries kept by the particles' positions (a hash of
 // their bytes, their count and the spacing), so a sequence whose walls never
-// move meshes them once. The last kEntries are kept (bounded memory).
+// move meshes them once. The last kEntries are kept (bounded memory: a
+// sequence has one tank; the viewer may switch between two inputs).
 class BoundaryMeshCache {
 public:
-    static constexpr std::size_t kEntries = 4;
+    static constexpr std::size_t kEntries = 2;
     // The mesh of `positions` (meshBoundaryParticles), from the cache when the
     // same positions were meshed before.
     Result<std::shared_ptr<const TriangleMesh>> mesh(std::span<const glm::vec3> positions);
