@@ -256,6 +256,37 @@ TEST(Boundary, TheCacheMeshesTheSamePositionsOnce) {
     EXPECT_EQ(cache.meshed(), 3u + BoundaryMeshCache::kEntries);
 }
 
+// A sequence whose tank stands still meshes it once, through the one place
+// frames are made ready (prepareBoundary); a moved tank is meshed again.
+TEST(Boundary, ASequencesFixedWallsAreMeshedOnce) {
+    RenderOptions o;
+    // Metres aside: positions no other test (nor an earlier run of this one)
+    // has put in the process-wide cache.
+    static int runs = 0;
+    const float offset = 1.0f + float(runs++);
+    const auto aside = [offset] {
+        ParticleSet set = tankFrame();
+        for (glm::vec3& p : set.positions) p.x += offset;
+        return set;
+    };
+    const std::size_t before = boundaryMeshCache().meshed();
+    std::shared_ptr<const SceneGeometry> first;
+    for (int frame = 0; frame < 3; ++frame) {
+        ParticleSet set = aside();
+        for (std::size_t k = wallCount(); k < set.size(); ++k) set.positions[k].y += 0.001f * float(frame);  // the fluid moves
+        auto g = prepareBoundary(set, o, nullptr, "frame");
+        ASSERT_TRUE(g) << g.error().describe();
+        ASSERT_EQ((*g)->objects.size(), 1u);
+        if (!first) first = *g;
+        EXPECT_EQ((*g)->objects[0].mesh.positions, first->objects[0].mesh.positions);
+    }
+    EXPECT_EQ(boundaryMeshCache().meshed(), before + 1);
+    ParticleSet moved = aside();
+    moved.positions[0].x -= 0.002f;
+    ASSERT_TRUE(prepareBoundary(moved, o, nullptr, "frame"));
+    EXPECT_EQ(boundaryMeshCache().meshed(), before + 2);
+}
+
 // The cut-away orientation: every triangle's outside faces away from the
 // liquid, so the faces the eye sees the outside of are the near walls'.
 TEST(Boundary, PrepareBoundaryAddsAnOpaqueCutAwayTank) {

@@ -105,6 +105,10 @@ private:
     std::size_t meshed_ = 0;
 };
 
+// The process-wide cache prepareBoundary (options.h) keeps the fixed walls'
+// meshes in: every frame of a sequence, and the viewer, share it.
+BoundaryMeshCache& boundaryMeshCache();
+
 // 64-bit FNV-1a of the positions' bytes (the cache's key).
 std::uint64_t hashPositions(std::span<const glm::vec3> positions);
 

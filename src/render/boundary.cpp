@@ -178,6 +178,11 @@ std::size_t BoundaryMeshCache::meshed() const {
     return meshed_;
 }
 
+BoundaryMeshCache& boundaryMeshCache() {
+    static BoundaryMeshCache cache;
+    return cache;
+}
+
 Result<SceneGeometry> boundaryGeometry(const BoundaryParticles& boundary, bool cutAway, const glm::vec3& liquidCentre,
                                        BoundaryMeshCache* cache) {
     SceneGeometry out;
@@ -227,14 +232,13 @@ Result<std::shared_ptr<const SceneGeometry>> prepareBoundary(ParticleSet& set, c
     auto boundary = takeBoundaryParticles(set, name);
     if (!boundary) return boundary.error();
     if (mode == BoundaryMode::Hidden || boundary->empty()) return base;
-    // The fixed walls of a sequence are meshed once: the last few kept.
-    static BoundaryMeshCache cache;
     const Bounds liquid = computeBounds(set.positions);
     Bounds all = liquid;
     for (const glm::vec3& p : boundary->fixed) all.extend(p);
     for (const glm::vec3& p : boundary->moving) all.extend(p);
     const glm::vec3 centre = liquid.empty() ? 0.5f * (all.min + all.max) : 0.5f * (liquid.min + liquid.max);
-    auto walls = boundaryGeometry(*boundary, o.cutAway == "on", centre, &cache);
+    // The fixed walls of a sequence are meshed once: the last few kept.
+    auto walls = boundaryGeometry(*boundary, o.cutAway == "on", centre, &boundaryMeshCache());
     if (!walls) return makeError(name, "--boundary-particles walls: " + walls.error().message);
     auto combined = std::make_shared<SceneGeometry>(base ? *base : SceneGeometry{});
     combined->append(std::move(*walls));
