@@ -133,6 +133,12 @@ TEST(CliSelect, BoundaryParticlesAsWallsLiquidOrHidden) {
     EXPECT_EQ(render(kVtk, "vtk.png", ""), walls);
     // A --select that keeps the fluid alone leaves no wall to draw.
     EXPECT_EQ(render(kCsv, "sel_walls.png", " --select 'Type==fluid' --boundary-particles walls"), hidden);
+    // A render scene file's key, as the option.
+    writeText(dir / "scene.json", "{\"particles\": " + std::string("\"") + kCsv.string() +
+                                      "\", \"output\": \"scene.png\", \"render\": {\"width\": 80, \"height\": 60, "
+                                      "\"backend\": \"cpu\", \"up\": [0, 0, 1], \"boundary_particles\": \"hidden\"}}");
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "scene.json"), &out), 0) << out;
+    EXPECT_EQ(readBytes(dir / "scene.png"), hidden) << "the scene file's boundary_particles";
     // A file of boundary particles alone (as DualSPHysics' PartBound): the walls, no liquid.
     std::string bound;
     std::stringstream lines(text.str());
