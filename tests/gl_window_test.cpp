@@ -393,10 +393,11 @@ TEST_F(GlWindow, SceneGeometryIsListedAndAnObjectCanBeHidden) {
 // walls as `render` draws them, and as the liquid with --boundary-particles liquid.
 TEST_F(GlWindow, DualSphysicsBoundaryParticlesAreWallsAsRenderDrawsThem) {
     const auto dir = tempDir();
-    const std::string frame = testData("dualsphysics/PartCsv_0000.csv").string() + " --up 0,0,1 --width 320 --height 240";
+    // (Tall enough for the panel to show the list of objects, which the script clicks.)
+    const std::string frame = testData("dualsphysics/PartCsv_0000.csv").string() + " --up 0,0,1 --width 640 --height 480";
     std::string out;
     const auto shot = [&](const std::string& more, const std::string& name) {
-        EXPECT_EQ(runCommand(viewerCommand(frame + more + " --frames 2 --screenshot " + (dir / name).string()), &out), 0)
+        EXPECT_EQ(runCommand(viewerCommand(frame + more + " --frames 3 --screenshot " + (dir / name).string()), &out), 0)
             << out;
         return dir / name;
     };
@@ -410,6 +411,11 @@ TEST_F(GlWindow, DualSphysicsBoundaryParticlesAreWallsAsRenderDrawsThem) {
     const auto liquid = shot(" --boundary-particles liquid", "liquid.png");
     EXPECT_LE(comparePng(liquid, render(" --boundary-particles liquid", "liquid_r.png")).worst, 1);
     EXPECT_GT(comparePng(walls, liquid).off, 0.005) << "the walls are not the liquid";
+    // Listed under "Scene geometry" with the options' objects: unticked, the
+    // fixed walls are gone (and stay gone from frame to frame).
+    const auto unticked = shot(" --input-script 'click:boundary particles (fixed)##geometry0'", "unticked.png");
+    EXPECT_GT(comparePng(walls, unticked).off, 0.002) << "the fixed walls should be gone";
+    EXPECT_NE(out.find("hiding boundary particles (fixed)"), std::string::npos) << out;
 }
 
 // The panels: a scripted click on the radius slider changes the picture, prints
