@@ -95,6 +95,17 @@ render world_objects21 --geometry '{"sphere": {"center": [-1.2, 0.22, 0.15], "ra
 # the ambient light (the floor's warm tint).
 render world_environment21 --environment tests/data/environment/sky_128x64.exr --background floor --elevation 12 \
     --geometry '{"sphere": {"center": [-1.2, 0.3, 0.15], "radius": 0.2}, "material": {"color": [0.95, 0.95, 0.95], "metalness": 1, "roughness": 0.05}}'
+# DualSPHysics' boundary particles (docs/geometry.md#dualsphysics-boundaries):
+# frame 21 written as a DualSPHysics CSV inside an open tank of one layer of
+# fixed boundary particles (scripts/make_dualsphysics_tank.py), drawn as walls
+# (the default) and, for comparison, as the liquid.
+dsph=$(mktemp -d)
+build/meniscus convert "$in" "$dsph/fluid.ply" >/dev/null 2>&1
+python3 scripts/make_dualsphysics_tank.py "$dsph/fluid.ply" "$dsph/PartCsv_0021.csv"
+build/meniscus render "$dsph/PartCsv_0021.csv" --up 0,0,1 -o docs/images/dualsphysics_walls21.png --width 640 --height 360 --backend cpu
+build/meniscus render "$dsph/PartCsv_0021.csv" --up 0,0,1 -o docs/images/dualsphysics_liquid21.png --width 640 --height 360 --backend cpu \
+    --boundary-particles liquid
+rm -r "$dsph"
 glass=$(mktemp -d)
 build/meniscus simulate scenes/glass.json --duration 3 -o "$glass/f_%04d.bgeo" --render "$glass/img_%04d.png" \
     --width 640 --height 360 --backend cpu 2>/dev/null

@@ -389,6 +389,35 @@ TEST_F(GlWindow, SceneGeometryIsListedAndAnObjectCanBeHidden) {
     EXPECT_LE(comparePng(dir / "hidden.png", render(frame + look + " --geometry " + tank, "tank_r.png")).worst, 1);
 }
 
+// DualSPHysics' boundary particles in the viewer (prepareBoundary): drawn as
+// walls as `render` draws them, and as the liquid with --boundary-particles liquid.
+TEST_F(GlWindow, DualSphysicsBoundaryParticlesAreWallsAsRenderDrawsThem) {
+    const auto dir = tempDir();
+    // (Tall enough for the panel to show the list of objects, which the script clicks.)
+    const std::string frame = testData("dualsphysics/PartCsv_0000.csv").string() + " --up 0,0,1 --width 640 --height 480";
+    std::string out;
+    const auto shot = [&](const std::string& more, const std::string& name) {
+        EXPECT_EQ(runCommand(viewerCommand(frame + more + " --frames 3 --screenshot " + (dir / name).string()), &out), 0)
+            << out;
+        return dir / name;
+    };
+    const auto render = [&](const std::string& more, const std::string& name) {
+        EXPECT_EQ(runCommand(cliPath() + " render " + frame + more + " --backend gl -o " + (dir / name).string(), &out), 0)
+            << out;
+        return dir / name;
+    };
+    const auto walls = shot("", "walls.png");
+    EXPECT_LE(comparePng(walls, render("", "walls_r.png")).worst, 1);
+    const auto liquid = shot(" --boundary-particles liquid", "liquid.png");
+    EXPECT_LE(comparePng(liquid, render(" --boundary-particles liquid", "liquid_r.png")).worst, 1);
+    EXPECT_GT(comparePng(walls, liquid).off, 0.005) << "the walls are not the liquid";
+    // Listed under "Scene geometry" with the options' objects: unticked, the
+    // fixed walls are gone (and stay gone from frame to frame).
+    const auto unticked = shot(" --input-script 'click:boundary particles (fixed)##geometry0'", "unticked.png");
+    EXPECT_GT(comparePng(walls, unticked).off, 0.002) << "the fixed walls should be gone";
+    EXPECT_NE(out.find("hiding boundary particles (fixed)"), std::string::npos) << out;
+}
+
 // The panels: a scripted click on the radius slider changes the picture, prints
 // the `render` option that makes it, and the picture is what `render` with that
 // option writes; after an orbit, "save" writes a scene file that `render` turns

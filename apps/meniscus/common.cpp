@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "help_format.h"
+#include "meniscus/boundary.h"
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
@@ -26,11 +27,12 @@ namespace meniscus::app {
 namespace {
 
 // The camera (chooseCamera), radius and studio box for a whole sequence.
+// `geometry` is what is framed with the points (the settings' own when null).
 Status fixCamera(const RenderJob& o, const std::vector<glm::vec3>& samplePoints, float radius,
-                 const Bounds& studio, RenderSettings& settings) {
+                 const Bounds& studio, RenderSettings& settings, const SceneGeometry* geometry = nullptr) {
     Bounds box = studio;
     std::vector<glm::vec3> points = samplePoints;
-    frameGeometry(settings.geometry.get(), points, &box);
+    frameGeometry(geometry ? geometry : settings.geometry.get(), points, &box);
     auto camera = chooseCamera(o, points, radius);
     if (!camera) return camera.error();
     settings.camera = *camera;
@@ -410,8 +412,16 @@ Result<ParticleSet> fixForSequence(const RenderJob& o, const Frames& frames, Ren
     if (!first) return first.error();
     if (firstIndex) *firstIndex = f;
     const std::string firstName = frames.name(f);
+    // DualSPHysics' boundary particles (--boundary-particles): the radius and
+    // the framing are the liquid's, the first frame's walls framed as geometry.
+    ParticleSet liquid = *first;
+    auto walls = prepareBoundary(liquid, o, settings.geometry, firstName);
+    if (!walls) return walls.error();
     std::string note;
-    const auto resolved = resolveRadius(o.radius, [&] { return defaultRadius(*first); }, &note);
+    // (A frame of boundary particles alone, such as DualSPHysics' PartBound, has
+    // no liquid to estimate from: its own particles' radius, never drawn.)
+    const auto resolved =
+        resolveRadius(o.radius, [&] { return defaultRadius(liquid.size() > 0 ? liquid : *first); }, &note);
     if (!note.empty()) {
         std::cerr << "meniscus: " << note << "\n";
         if (!smoothingLength.empty()) printSmoothingLengthNote(smoothingLength, frames.hPerSpacing);
@@ -422,7 +432,7 @@ Result<ParticleSet> fixForSequence(const RenderJob& o, const Frames& frames, Ren
     const auto addSample = [&](const std::vector<glm::vec3>& p) { sampleFramePoints(p, samplePoints); };
     const std::size_t count = frames.repeat ? 1 : frames.count();  // a repeated file: nothing more to sample
     if (!o.eye && o.cameraPath.empty()) {
-        addSample(first->positions);
+        addSample(liquid.positions);
         const std::size_t last = defaults::kSequenceFramingFrames - 1;
         for (std::size_t k = 1; count > 1 && k <= last; ++k) {
             const std::size_t i = k * (count - 1) / last;
@@ -430,11 +440,15 @@ Result<ParticleSet> fixForSequence(const RenderJob& o, const Frames& frames, Ren
             auto s = frames.loadChecked(i);
             if (!s && skip) continue;
             if (!s) return s.error();
+            if (o.boundaryParticles != "liquid") {  // the liquid's particles only
+                auto taken = takeBoundaryParticles(*s, frames.name(i));
+                if (!taken) return taken.error();
+            }
             addSample(s->positions);
         }
     }
     // The studio is built around the first frame and stays put for the sequence.
-    if (auto st = fixCamera(o, samplePoints, radius, computeBounds(first->positions), settings); !st)
+    if (auto st = fixCamera(o, samplePoints, radius, computeBounds(liquid.positions), settings, walls->get()); !st)
         return st.error();
     return first;
 }

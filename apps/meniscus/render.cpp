@@ -66,6 +66,7 @@
 #include "cluster.h"
 #include "help_format.h"
 #include "mesh.h"
+#include "meniscus/boundary.h"
 #include "meniscus/io.h"
 #include "meniscus/particle_view.h"
 #include "meniscus/particles.h"
@@ -545,6 +546,24 @@ int renderParts(Cluster& cluster, const RenderJob& o, RenderSettings& settings) 
         std::cerr << "meniscus: " << parts.size() << " part" << (parts.size() == 1 ? "" : "s") << " of " << o.input
                   << (cluster.size() > 1 ? " over " + std::to_string(cluster.size()) + " processes" : std::string())
                   << "\n";
+    // DualSPHysics' boundary particles (--boundary-particles) taken out of
+    // this process's parts; as walls, every process's gathered and meshed
+    // (the root draws the geometry of the composited picture).
+    if (o.boundaryParticles != "liquid") {
+        auto taken = takeBoundaryParticles(set, o.input);
+        if (!cluster.allOk(bool(taken))) return taken ? 1 : fail(taken.error().describe());
+        if (auto st = cluster.allGather(taken->fixed); !st) return fail(st.error().describe());
+        if (auto st = cluster.allGather(taken->moving); !st) return fail(st.error().describe());
+        const Bounds liquid = cluster.allBounds(computeBounds(set.positions));
+        if (o.boundaryParticles == "walls" && !taken->empty()) {
+            Bounds all = liquid;
+            for (const glm::vec3& p : taken->fixed) all.extend(p);
+            const glm::vec3 centre = liquid.empty() ? all.center() : liquid.center();
+            auto walls = boundaryGeometry(*taken, o.cutAway == "on", centre, nullptr);
+            if (!walls) return fail(Error{o.input, walls.error().message}.describe());
+            addGeometry(settings, std::move(*walls), o.cutAway == "on");
+        }
+    }
     return renderFrames(cluster, o, *frames, *motion, settings,
                         [&](std::size_t) -> Result<ParticleSet> { return std::move(set); });
 }
@@ -635,11 +654,20 @@ int runRenderOn(Cluster& cluster, const RenderJob& options, const ParticleSet* e
     // Split by particles: every process reads the whole frame (its neighbours
     // give the anisotropic kernels) and splats its index range of it.
     const bool byParticles = settings.compositor != nullptr;
+    // Each frame's DualSPHysics boundary particles (--boundary-particles) are
+    // taken out of the liquid as it is read; as walls, drawn with the options'
+    // geometry (prepareBoundary).
+    const std::shared_ptr<const SceneGeometry> optionGeometry = settings.geometry;
     return renderFrames(cluster, o, *frames, *motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
         // (Frames before firstIndex did not load when fixForSequence tried them.)
         Result<ParticleSet> set = i == firstIndex ? std::move(*first)
                                   : still         ? Result<ParticleSet>(*still)
                                                   : frames->loadChecked(i);
+        if (set) {
+            auto geometry = prepareBoundary(*set, o, optionGeometry, frames->name(i));
+            if (!geometry) return geometry.error();
+            settings.geometry = std::move(*geometry);
+        }
         if (set && byParticles) {
             const IndexRange r = shareRange(set->size(), cluster.rank(), cluster.size());
             settings.share = ParticleRange{r.begin, r.end};

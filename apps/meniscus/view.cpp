@@ -11,6 +11,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -21,6 +22,7 @@
 #include "meniscus/window.h"
 #include "view_ui.h"
 #endif
+#include "meniscus/boundary.h"
 #include "meniscus/camera.h"
 #include "meniscus/io.h"
 #include "meniscus/renderer.h"
@@ -243,6 +245,16 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
 
     // The camera is framed for the picture's real size.
     std::shared_ptr<const ParticleSet> current;  // what is on screen
+    // `current` as drawn: its DualSPHysics boundary particles taken out for
+    // this look (--boundary-particles) and the settings' geometry with their walls.
+    struct Boundary {
+        std::shared_ptr<const ParticleSet> of;
+        std::shared_ptr<const SceneGeometry> base;
+        std::string mode, cutAway;
+        std::shared_ptr<const ParticleSet> liquid;
+        std::shared_ptr<const SceneGeometry> geometry;
+    } boundary;
+    std::set<std::string> wallsHidden;  // the walls unticked in the panel, by name
     std::unique_ptr<FramePrefetch> prefetch;     // the input's frames, read ahead (after the window: joined first)
     std::size_t index = 0;
     RenderJob look = o.render;  // the look as options, as the panels change it
@@ -370,16 +382,49 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         model.message = "copied " + line;
     };
 
+    // The shown frame's DualSPHysics boundary particles (--boundary-particles,
+    // prepareBoundary), taken out once per frame, look and geometry.
+    const auto refreshBoundary = [&]() -> Status {
+        if (!current) return okStatus();
+        if (current != boundary.of || settings.geometry != boundary.base ||
+            look.boundaryParticles != boundary.mode || look.cutAway != boundary.cutAway) {
+            boundary = {current, settings.geometry, look.boundaryParticles, look.cutAway, current,
+                        settings.geometry};
+            if (look.boundaryParticles != "liquid" && dualSphysicsTypeAttribute(*current)) {  // else no copy
+                auto liquid = std::make_shared<ParticleSet>(*current);
+                const std::string name = prefetch ? prefetch->frames().name(index) : std::string("the frame");
+                auto geometry = prepareBoundary(*liquid, look, settings.geometry, name);
+                if (!geometry) return geometry.error();
+                boundary.liquid = std::move(liquid);
+                boundary.geometry = std::move(*geometry);
+                const std::size_t own = settings.geometry ? settings.geometry->objects.size() : 0;
+                if (!wallsHidden.empty() && boundary.geometry->objects.size() > own) {
+                    auto shown = std::make_shared<SceneGeometry>(*boundary.geometry);
+                    for (std::size_t k = own; k < shown->objects.size(); ++k)
+                        if (wallsHidden.count(shown->objects[k].name)) shown->objects[k].visible = false;
+                    boundary.geometry = std::move(shown);
+                }
+            }
+        }
+        return okStatus();
+    };
+
     // The scene geometry's objects as the panel shows them: a new list of
     // objects is listed all as the settings have them; an object unticked
     // stays hidden when the look changes (which reads the geometry again).
+    // The list is the options' objects (settings.geometry), then the shown
+    // frame's DualSPHysics walls (prepareBoundary puts them after those), which
+    // stay hidden by name (wallsHidden) from frame to frame.
     const auto applyVisibility = [&]() -> bool {
-        if (!settings.geometry) {
+        const bool walls = boundary.geometry && boundary.base == settings.geometry;
+        const SceneGeometry* listed = walls ? boundary.geometry.get() : settings.geometry.get();
+        if (!listed) {
             model.geometryNames.clear();
             model.geometryShown.clear();
             return false;
         }
-        const std::vector<GeometryObject>& objects = settings.geometry->objects;
+        const std::vector<GeometryObject>& objects = listed->objects;
+        const std::size_t own = settings.geometry ? settings.geometry->objects.size() : 0;
         std::vector<std::string> names;
         for (const GeometryObject& g : objects) names.push_back(g.name);
         if (names != model.geometryNames) {
@@ -391,14 +436,20 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         bool same = true;
         for (std::size_t k = 0; k < objects.size(); ++k) same = same && objects[k].visible == (model.geometryShown[k] != 0);
         if (same) return false;
-        auto shown = std::make_shared<SceneGeometry>(*settings.geometry);
+        auto shown = settings.geometry ? std::make_shared<SceneGeometry>(*settings.geometry) : nullptr;
         for (std::size_t k = 0; k < objects.size(); ++k) {
-            shown->objects[k].visible = model.geometryShown[k] != 0;
-            if (shown->objects[k].visible != objects[k].visible)
-                std::cerr << "meniscus: " << (shown->objects[k].visible ? "showing " : "hiding ") << objects[k].name
-                          << "\n";
+            const bool visible = model.geometryShown[k] != 0;
+            if (visible == objects[k].visible) continue;
+            std::cerr << "meniscus: " << (visible ? "showing " : "hiding ") << objects[k].name << "\n";
+            if (k < own) {
+                shown->objects[k].visible = visible;
+                continue;
+            }
+            if (visible) wallsHidden.erase(objects[k].name);
+            else wallsHidden.insert(objects[k].name);
+            boundary.of = nullptr;  // made again at the next draw
         }
-        settings.geometry = std::move(shown);
+        settings.geometry = std::move(shown);  // the walls are made again over it, hidden as the panel says
         return true;
     };
 
@@ -412,6 +463,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     using Clock = std::chrono::steady_clock;
     Clock::time_point nextFrameDue = Clock::now(), lastShown = Clock::now();
     while (!win.shouldClose()) {
+        if (auto st = refreshBoundary(); !st) return fail(st.error().describe());  // the walls listed from the first frame
         if (applyVisibility()) stale = true;
         WindowInput in = win.takeInput();
         // What the panels take is theirs (a script's events are meant for the picture).
@@ -504,8 +556,12 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
             }
             if (stale || (o.frames > 0 && !live)) {
                 settings.frameIndex = live ? std::int64_t(liveNumber) : std::int64_t(index);  // the noise's turbulence
+                if (auto st = refreshBoundary(); !st) return fail(st.error().describe());
+                RenderSettings drawn = settings;
+                drawn.geometry = boundary.geometry;
                 const auto start = Clock::now();
-                if (auto st = renderer.draw(ParticleView::of(*current), settings, ui && panels ? &model.stages : nullptr);
+                if (auto st = renderer.draw(ParticleView::of(*boundary.liquid), drawn,
+                                            ui && panels ? &model.stages : nullptr);
                     !st)
                     return fail(st.error().describe());
                 const auto end = Clock::now();

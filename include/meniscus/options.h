@@ -109,6 +109,10 @@ struct RenderOptions {
     // The key light's shadows (RenderSettings::shadows, docs/geometry.md#shadows):
     // auto (on with visible scene geometry), on, off.
     std::string shadows = "auto";
+    // DualSPHysics' boundary particles (Type 0 to 2, include/meniscus/boundary.h)
+    // of a frame that has the Type attribute: walls (meshed, drawn as opaque
+    // scene geometry), liquid (drawn as the liquid) or hidden (dropped).
+    std::string boundaryParticles = "walls";
     // The stages' own parameters (params.h), as the pipeline takes them: the
     // surface noise and foam, the whitening, the spray, the silhouette
     // (each off unless its `enabled`), the thickness floor, the ray cast's
@@ -409,6 +413,18 @@ void frameGeometry(const SceneGeometry* geometry, std::vector<glm::vec3>& sample
 // `settings`' geometry with `more`'s objects after its own (a simulation's
 // colliders and domain); `cutAway` false draws every wall of them.
 void addGeometry(RenderSettings& settings, SceneGeometry more, bool cutAway);
+
+// A frame read from a file made ready for rendering with the options
+// (render, view and every face alike): when it has DualSPHysics' Type
+// attribute and --boundary-particles is not liquid, its boundary particles
+// are taken out of `set` (takeBoundaryParticles); as walls they are meshed
+// (the fixed ones once per sequence, kept by their positions) and the
+// returned geometry is `base` with their objects after its own, else `base`
+// itself. The fixed walls are a cut-away container under --cut-away on.
+// Errors name `name` (the file).
+Result<std::shared_ptr<const SceneGeometry>> prepareBoundary(ParticleSet& set, const RenderOptions& o,
+                                                             std::shared_ptr<const SceneGeometry> base,
+                                                             const std::string& name);
 
 // The scene with the options' overrides (duration, fps, radius, solver; unset
 // ones leave the scene's); an error naming the option at fault.

@@ -200,6 +200,13 @@ std::vector<RenderOptionSpec> makeRenderTable() {
                           "(on when --geometry draws an object), on, off",
                           [](R& o) -> OptionRef { return &o.shadows; }),
                       {"auto", "on", "off"}));
+    t.push_back(oneOf(row("boundary-particles", G::Look, "",
+                          "DualSPHysics' boundary particles (Type 0 fixed, 1 moving, 2 floating) of a file with its "
+                          "Type attribute: walls (taken out of the liquid and drawn as opaque surfaces meshed around "
+                          "them at their own spacing; the fixed ones a container cut away as --cut-away says), liquid "
+                          "(drawn as the liquid, as any particle), hidden (dropped). --select applies first",
+                          [](R& o) -> OptionRef { return &o.boundaryParticles; }),
+                      {"walls", "liquid", "hidden"}));
     // Extras.
     t.push_back(row("fluid-attribute", G::Extras, "",
                     "Several fluids: the integer particle attribute giving each particle's fluid, 0 to 3 (default: "
@@ -373,6 +380,7 @@ std::vector<RenderOptionSpec> makeRenderTable() {
         {"background", "Scene and light"},
         {"cut-away", "Scene and light"},
         {"shadows", "Scene and light"},
+        {"boundary-particles", "Scene and light"},
         {"light", "Scene and light", -1.0f, 1.0f},
         {"noise", "Noise and foam"},
         {"noise-bump", "Noise and foam", 0.0f, 1.0f},
