@@ -22,6 +22,9 @@ libFuzzer starts from every layout the readers know, with real values:
                  and DualSPHysics' CSV (tests/data/dualsphysics, also its VTK for vtk).
   mesh_obj, mesh_ply  small meshes (mesh_reader.cpp): what writeMesh writes, and
                  hand-made files in the forms other tools write.
+  texture        not written here: tests/data/geometry/checker.png (make_geometry.py)
+                 and two 8 x 8 gradient JPEGs, baseline and progressive, written once
+                 by libjpeg 6.2 (quality 90).
 Deterministic: running it again gives the same files.
 
 Run from anywhere:  /usr/bin/python3 fuzz/make_corpus.py

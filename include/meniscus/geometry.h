@@ -147,6 +147,14 @@ Result<GeometryObject> readGeometryMesh(const std::filesystem::path& file);
 // not found from memory; textures embedded in the file are read.
 Result<GeometryObject> parseGeometryMesh(ByteView data, const std::string& name);
 
+// Decodes a texture image in memory, a PNG or a JPEG (told apart by their
+// signatures, whatever the name says): 8-bit sRGB samples (a 16-bit PNG
+// reduced to 8 bits, grey made RGB, alpha dropped) turned linear (IEC
+// 61966-2-1). `name` names the image in errors. The size is read from the
+// header and checked against geometry_limits::kMaxTextureSidePx and
+// kMaxTexturePixels before any pixel is allocated.
+Result<GeometryTexture> decodeTexture(ByteView data, const std::string& name);
+
 // Moves `mesh` by the affine transform `m` (positions) and its inverse
 // transpose (normals, renormalised); a transform that mirrors (negative
 // determinant) reverses every triangle's winding, so triangles stay

@@ -30,7 +30,6 @@
 #include <nlohmann/json.hpp>
 
 #include "meniscus/geometry.h"
-#include "io/image_decode.h"
 #include "meniscus/io.h"
 
 namespace meniscus {
@@ -115,7 +114,7 @@ Result<std::shared_ptr<const GeometryTexture>> readTexture(const aiScene* scene,
         const std::string label = fs::path(name).filename().string() + "#" + path;
         if (t->mHeight == 0) {  // compressed: mWidth bytes of a PNG, a JPEG, ...
             if (!t->pcData) return makeError(name, "its embedded texture " + path + " has no data");
-            auto img = io::decodeTexture(ByteView(reinterpret_cast<const std::uint8_t*>(t->pcData), t->mWidth), label);
+            auto img = decodeTexture(ByteView(reinterpret_cast<const std::uint8_t*>(t->pcData), t->mWidth), label);
             if (!img) return makeError(name, "its texture " + img.error().file + " " + img.error().message);
             return Shared(std::make_shared<GeometryTexture>(std::move(*img)));
         }
@@ -152,7 +151,7 @@ Result<std::shared_ptr<const GeometryTexture>> readTexture(const aiScene* scene,
     std::ifstream in(file, std::ios::binary);
     in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
     if (!in || std::uintmax_t(in.gcount()) != size) return makeError(name, "its texture " + shown + " cannot be read");
-    auto img = io::decodeTexture(bytes, shown);
+    auto img = decodeTexture(bytes, shown);
     if (!img) return makeError(name, "its texture " + shown + " " + img.error().message);
     return Shared(std::make_shared<GeometryTexture>(std::move(*img)));
 }

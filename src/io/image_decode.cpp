@@ -1,10 +1,10 @@
-// Texture images (image_decode.h). PNG: libpng's simplified API
+// Texture images (decodeTexture, include/meniscus/geometry.h). PNG: libpng's simplified API
 // (png_image_begin_read_from_memory reads the header, png_image_finish_read
 // the pixels into our buffer as 8-bit RGB). JPEG: libjpeg (jpeg_mem_src,
 // JCS_RGB output), its fatal errors turned into a return by the longjmp its
 // documentation prescribes (libjpeg.txt, "Error handling"), from a frame that
 // owns no C++ object.
-#include "io/image_decode.h"
+#include "meniscus/geometry.h"
 
 #include <array>
 #include <cmath>
@@ -19,7 +19,7 @@
 #include <jpeglib.h>
 #include <png.h>
 
-namespace meniscus::io {
+namespace meniscus {
 
 namespace {
 
@@ -184,4 +184,4 @@ Result<GeometryTexture> decodeTexture(ByteView data, const std::string& name) {
     }
 }
 
-}  // namespace meniscus::io
+}  // namespace meniscus
