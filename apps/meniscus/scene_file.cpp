@@ -155,14 +155,19 @@ Result<json> parseJson(std::string_view text, const std::string& path, const Jso
 }
 
 // A camera path's JSON text; errors start with `where` ("--camera-path: ").
-Result<std::vector<CameraKey>> cameraPathOf(std::string_view text, const std::string& where, float defaultFov) {
-    if (auto fits = checkJsonText(text, "", json_limits::kCameraPath); !fits)
-        return makeUsageError("", where + fits.error().message);
+// A file's text that is too large, too deep or not JSON is the data's error
+// (exit 1); text given as the option's value, and wrong keys, the option's (2).
+Result<std::vector<CameraKey>> cameraPathOf(std::string_view text, const std::string& where, float defaultFov,
+                                            bool file) {
+    const auto unreadable = [&](const std::string& message) {
+        return file ? makeError("", where + message) : makeUsageError("", where + message);
+    };
+    if (auto fits = checkJsonText(text, "", json_limits::kCameraPath); !fits) return unreadable(fits.error().message);
     json root;
     try {
         root = json::parse(text.begin(), text.end());
     } catch (const json::exception& e) {
-        return makeUsageError("", where + "not valid JSON: " + e.what());
+        return unreadable(std::string("not valid JSON: ") + e.what());
     }
     if (!root.is_array() || root.empty())
         return makeUsageError("", where + "expected a list of at least one key, [{\"time\": 0, \"eye\": [x, y, z], "
@@ -196,7 +201,7 @@ Result<std::vector<CameraKey>> cameraPathOf(std::string_view text, const std::st
 }  // namespace
 
 Result<std::vector<CameraKey>> cameraPathFromText(std::string_view text, float defaultFov) {
-    return cameraPathOf(text, "--camera-path: ", defaultFov);
+    return cameraPathOf(text, "--camera-path: ", defaultFov, false);
 }
 
 Result<std::vector<CameraKey>> readCameraPath(const std::string& spec, float defaultFov) {
@@ -205,8 +210,8 @@ Result<std::vector<CameraKey>> readCameraPath(const std::string& spec, float def
     // Errors name the option and the file.
     const std::string where = "--camera-path " + spec + ": ";
     auto text = readJsonText(spec, json_limits::kCameraPath);
-    if (!text) return makeUsageError("", where + text.error().message);
-    return cameraPathOf(*text, where, defaultFov);
+    if (!text) return makeError("", where + text.error().message);
+    return cameraPathOf(*text, where, defaultFov, true);
 }
 
 bool isJsonFile(const std::string& path) { return std::filesystem::path(path).extension() == ".json"; }

@@ -66,9 +66,11 @@ Status applyTypedSettings(const SceneArgs& args, meniscus::RenderOptions& o, Job
 // metres in the data's coordinates), in increasing time: the text itself
 // (starting with '[', as a scene file's camera.path passes it) or a file
 // holding it. Errors start with "--camera-path" (withSceneKey then names the
-// scene file's key) and name the file, the key's number and the field; all
-// are the option's (Error::usage). The text is read within
-// json_limits::kCameraPath.
+// scene file's key) and name the file, the key's number and the field. The
+// text is read within json_limits::kCameraPath; a file that cannot be read,
+// too large or too deep, or not JSON is the data's error, wrong keys and
+// values (and any fault of text given as the value) the option's
+// (Error::usage).
 Result<std::vector<CameraKey>> readCameraPath(const std::string& spec, float defaultFov);
 // The same for the JSON text itself, whatever it starts with.
 Result<std::vector<CameraKey>> cameraPathFromText(std::string_view text, float defaultFov);
