@@ -438,7 +438,6 @@ std::vector<MesherOptionSpec> makeMesherTable() {
 
 std::vector<JobOptionSpec> makeJobTable() {
     using J = JobOptions;
-    constexpr double inf = std::numeric_limits<double>::infinity();
     std::vector<JobOptionSpec> t;
     t.push_back(row<J>("backend", G::Performance, "",
                      "Where the stages run: cpu, gl (OpenGL 4.3 through headless EGL) or auto (gl on a GPU; cpu, "
@@ -550,7 +549,6 @@ std::vector<MeshOptionSpec> makeMeshTable() {
 
 std::vector<SimulateOptionSpec> makeSimulateTable() {
     using S = SimulateOptions;
-    constexpr double inf = std::numeric_limits<double>::infinity();
     std::vector<SimulateOptionSpec> t;
     t.push_back(noDefault(ranged(row<S>("duration", G::Simulation, "s",
                                         "Simulated time in seconds (default: the scene's)",
