@@ -122,7 +122,7 @@ TEST(CliCameraPath, BadPathsAndOptionMixesAreErrorsThatSayWhere) {
         std::ofstream(dir / "scene.json") << R"({"particles": "f.bgeo", "output": "p_%d.png", "frames": 2,)"
                                           << R"( "camera": {"path": )" << path << "}}";
         std::string out;
-        EXPECT_EQ(runCli("render " + shellQuote(dir / "scene.json"), &out), 1) << out;
+        EXPECT_EQ(runCli("render " + shellQuote(dir / "scene.json"), &out), 2) << out;  // the file's values
         return out;
     };
     std::string out = scene(R"([{"time": 1, "eye": [1, 1, 1], "target": [0, 0, 0]},)"
@@ -138,9 +138,9 @@ TEST(CliCameraPath, BadPathsAndOptionMixesAreErrorsThatSayWhere) {
     EXPECT_NE(out.find("camera.path"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "p_0.png"));
 
-    EXPECT_EQ(runCli(render(dir, "x.png", "--turntable"), &out), 1) << out;  // one frame: nothing to turn over
+    EXPECT_EQ(runCli(render(dir, "x.png", "--turntable"), &out), 2) << out;  // one frame: nothing to turn over
     EXPECT_NE(out.find("--frames"), std::string::npos) << out;
-    EXPECT_EQ(runCli(render(dir, "x_%d.png", "--turntable --orbit 10 --frames 2"), &out), 1) << out;
+    EXPECT_EQ(runCli(render(dir, "x_%d.png", "--turntable --orbit 10 --frames 2"), &out), 2) << out;
     EXPECT_NE(out.find("--orbit and --turntable"), std::string::npos) << out;
     EXPECT_EQ(runCli(render(dir, "x_%d.png", kCamera + " --camera-path " + shellQuote(dir / "none.json") + " --frames 2"),
                      &out),
@@ -150,7 +150,7 @@ TEST(CliCameraPath, BadPathsAndOptionMixesAreErrorsThatSayWhere) {
     // --frames repeats one file; a sequence renders its own frames.
     fs::copy_file(dir / "f.bgeo", dir / "g_1.bgeo");
     fs::copy_file(dir / "f.bgeo", dir / "g_2.bgeo");
-    EXPECT_EQ(runCli("render " + shellQuote(dir / "g_*.bgeo") + " -o " + shellQuote(dir / "y_%d.png") + " --frames 5", &out), 1)
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "g_*.bgeo") + " -o " + shellQuote(dir / "y_%d.png") + " --frames 5", &out), 2)
         << out;
     EXPECT_NE(out.find("--frames"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "x_0.png"));

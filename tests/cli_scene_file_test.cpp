@@ -136,7 +136,7 @@ TEST(SceneFile, UpStandsZUpDataTheRightWay) {
               0)
         << out;
     EXPECT_EQ(readBytes(dir / "ye.png"), readBytes(dir / "ze.png"));
-    EXPECT_EQ(runCli("render " + shellQuote(dir / "z.ply") + opts + shellQuote(dir / "x.png") + " --up 0,0,0", &out), 1);
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "z.ply") + opts + shellQuote(dir / "x.png") + " --up 0,0,0", &out), 2);
     EXPECT_NE(out.find("--up 0,0,0: expected the up axis"), std::string::npos) << out;
 }
 
@@ -148,18 +148,19 @@ TEST(SceneFile, ErrorsNameTheKey) {
         int rc;
     };
     const Case cases[] = {
-        {R"({"particles": "f.bgeo", "output": "x.png", "render": {"colour": 3}})", "render.colour: unknown key", 1},
-        // A value the option refuses: the file is at fault (exit 1), named with the key.
-        {R"({"particles": "f.bgeo", "output": "x.png", "render": {"width": 0}})", "render.width: --width", 1},
+        {R"({"particles": "f.bgeo", "output": "x.png", "render": {"colour": 3}})", "render.colour: unknown key", 2},
+        // A key or value the option refuses: the settings are at fault (exit 2, as on
+        // the command line), named with the key; a file that cannot be read, 1.
+        {R"({"particles": "f.bgeo", "output": "x.png", "render": {"width": 0}})", "render.width: --width", 2},
         {R"({"particles": "f.bgeo", "output": "x.png", "render": {"filter": "foo"}})",
-         "render.filter: --filter foo: expected one of", 1},
+         "render.filter: --filter foo: expected one of", 2},
         {R"({"particles": "f.bgeo", "output": "x.png", "camera": {"eye": "here", "target": [0, 0, 0]}})",
-         "camera.eye: --eye: expected three numbers x,y,z", 1},
-        {R"({"particles": "f.bgeo", "output": "x.png", "noise": "yes"})", "noise: expected true or false", 1},
-        {R"({"particles": "f.bgeo", "output": "x.png", "material": {"ior": 0.5}})", "material.ior: --ior", 1},
-        {R"({"particles": "f.bgeo", "output": "x.png", "light": {"colour": [1, 1, 1]}})", "light: expected", 1},
-        {R"({"particles": 3, "output": "x.png"})", "particles: expected the particle file", 1},
-        {R"({"output": "x.png"})", "needs \"particles\"", 1},
+         "camera.eye: --eye: expected three numbers x,y,z", 2},
+        {R"({"particles": "f.bgeo", "output": "x.png", "noise": "yes"})", "noise: expected true or false", 2},
+        {R"({"particles": "f.bgeo", "output": "x.png", "material": {"ior": 0.5}})", "material.ior: --ior", 2},
+        {R"({"particles": "f.bgeo", "output": "x.png", "light": {"colour": [1, 1, 1]}})", "light: expected", 2},
+        {R"({"particles": 3, "output": "x.png"})", "particles: expected the particle file", 2},
+        {R"({"output": "x.png"})", "needs \"particles\"", 2},
         {R"({"particles": "f.bgeo", "output": "x.png",)", "not valid JSON", 1},
         {R"({"particles": "missing.bgeo", "output": "x.png"})", "missing.bgeo", 1},
     };

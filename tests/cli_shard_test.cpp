@@ -105,10 +105,10 @@ TEST(CliShard, BadSharesAreErrorsNamingTheOption) {
     const fs::path dir = sequenceDir("shard_errors");
     std::string out;
     for (const char* bad : {"3/3", "a/b", "1", "-1/2", "0/0", "1/2/3", "1/2x"}) {
-        EXPECT_EQ(runCli(render(dir / "in", dir / "f_%02d.png", std::string("--shard '") + bad + "'"), &out), 1) << bad;
+        EXPECT_EQ(runCli(render(dir / "in", dir / "f_%02d.png", std::string("--shard '") + bad + "'"), &out), 2) << bad;
         EXPECT_NE(out.find("--shard"), std::string::npos) << out;
     }
-    EXPECT_EQ(runCli(render(dir / "in", dir / "f.mp4", "--shard 0/2"), &out), 1);
+    EXPECT_EQ(runCli(render(dir / "in", dir / "f.mp4", "--shard 0/2"), &out), 2);
     EXPECT_NE(out.find("--shard"), std::string::npos) << out;
     EXPECT_TRUE(names(dir).size() == 1u) << "only in/ is there";
 }

@@ -82,7 +82,7 @@ TEST(CliSimulate, BadScenesAndOutputsFailCleanly) {
     const fs::path dir = tempDir();
     std::string out;
     std::ofstream(dir / "typo.json") << R"({"version": 1, "domain": {"min": [0,0,0], "max": [1,1,1]}, "fluid": [], "raduis": 0.01})";
-    EXPECT_EQ(runCli("simulate " + shellQuote(dir / "typo.json") + " -o " + shellQuote(dir / "f_%04d.bgeo"), &out), 1);
+    EXPECT_EQ(runCli("simulate " + shellQuote(dir / "typo.json") + " -o " + shellQuote(dir / "f_%04d.bgeo"), &out), 2);
     EXPECT_NE(out.find("typo.json"), std::string::npos) << out;
     EXPECT_NE(out.find("raduis"), std::string::npos) << out;
     EXPECT_EQ(runCli("simulate " + shellQuote(dir / "missing.json") + " -o " + shellQuote(dir / "f_%04d.bgeo"), &out), 1);
@@ -189,7 +189,7 @@ TEST(CliSimulate, RenderTakesASimulationSceneAsItsParticles) {
     EXPECT_EQ(runCli("render " + shellQuote(dir / "f/f_0001.bgeo") + " -o " + shellQuote(dir / "x.png") +
                          " --duration 1" + size,
                      &out),
-              1);
+              2);
     EXPECT_NE(out.find("--duration: sets how long a simulation scene runs"), std::string::npos) << out;
 
     // The same through a render scene file naming the simulation as its particles.
@@ -204,7 +204,7 @@ TEST(CliSimulate, RenderTakesASimulationSceneAsItsParticles) {
     // --select picks particles of files: with a simulation it is an error, not ignored.
     EXPECT_EQ(runCli("render " + shellQuote(scene) + " -o " + shellQuote(dir / "s_%02d.png") + " --select 'density>0'" + size,
                      &out),
-              1);
+              2);
     EXPECT_NE(out.find("--select"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "s_00.png"));
 }

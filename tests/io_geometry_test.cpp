@@ -379,7 +379,7 @@ TEST(GeometryJson, DeepNestingAndHugeTextAreRefusedBeforeParsing) {
     const std::string inString = R"({"sphere": {"radius": 1}, "name": ")" + std::string(1000, '[') + "\"}";
     EXPECT_TRUE(parseGeometry(inString, "s.json", {}).ok());
     const std::string huge(geometry_limits::kMaxJsonBytes + 1, ' ');
-    expectError(parseGeometry(huge, "huge.json", {}), "huge.json", "bytes");
+    expectError(parseGeometry(huge, "huge.json", {}), "huge.json", "larger than the 16 MiB a geometry JSON file may be");
 }
 
 TEST(GeometryRead, SpecIsInlineJsonAListFileOrAMeshFile) {

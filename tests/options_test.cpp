@@ -268,7 +268,7 @@ TEST(OptionTable, TheOtherCommandsOptionsSetTypedAndRefused) {
     ASSERT_TRUE(setOptionIn(simulateOptionTable(), s, "stats", true));
     refused(setOptionIn(simulateOptionTable(), s, "solver", std::string("lbm")), "--solver", "dfsph");
     refused(setOptionIn(simulateOptionTable(), s, "fps", -3.0), "--fps", "positive");
-    refused(setOptionIn(simulateOptionTable(), s, "duration", -2.0), "--duration", "not negative");
+    refused(setOptionIn(simulateOptionTable(), s, "duration", -2.0), "--duration", "expected a number in [0, 1e+06]");
     refused(setOptionIn(simulateOptionTable(), s, "frames", 2.0), "frames", "duration");  // lists the names
     EXPECT_EQ(s.solver, "pbf") << "unchanged on an error";
     sim::Scene scene;

@@ -482,7 +482,9 @@ const std::vector<BadScene>& badScenes() {
         {"number overflow", {}, "{\"duration\": 1e400}", "", "number overflow"},
         {"repeated key", {}, "{\"params\": {\"radius\": 0.01, \"radius\": 0.02}}", "params.radius", "repeated key"},
         {"repeated key in an array", {}, "{\"fluid\": [{}, {\"box\": 1, \"box\": 2}]}", "fluid[1].box", "repeated key"},
-        {"too deep", {}, "{\"a\": [[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]}", "a[0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0]", "nested deeper than 16"},
+        {"too deep", {}, "{\"a\": [[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]}", "", "nested deeper than 16 levels (line 1, column 22)"},
+        {"fps past counting", [](json& j) { j["fps"] = 3e38; }, nullptr, "fps", "must be at most 1000, got 3e+38"},
+        {"duration past counting", [](json& j) { j["duration"] = 3e38; }, nullptr, "duration", "must be at most 1e+06 s"},
     };
     return cases;
 }
@@ -552,7 +554,21 @@ TEST(SimSceneErrors, ReadSceneNamesTheFile) {
     test::writeText(dir / "big.json", big);
     auto tooBig = readScene(dir / "big.json");
     ASSERT_FALSE(tooBig.ok());
-    EXPECT_NE(tooBig.error().describe().find("a scene file is at most"), std::string::npos) << tooBig.error().describe();
+    EXPECT_NE(tooBig.error().describe().find("larger than the 4 MiB a simulation scene may be"), std::string::npos)
+        << tooBig.error().describe();
+}
+
+// A field's value is the settings' error (Error::usage: the CLI exits 2);
+// text that is not JSON is the data's (1).
+TEST(SimSceneErrors, ValuesAreUsageErrorsSyntaxIsNot) {
+    json j = baseScene();
+    j["fps"] = -1;
+    auto bad = parseScene(j.dump(), "v.json");
+    ASSERT_FALSE(bad.ok());
+    EXPECT_TRUE(bad.error().usage) << bad.error().describe();
+    auto broken = parseScene("{\"fps\": ", "s.json");
+    ASSERT_FALSE(broken.ok());
+    EXPECT_FALSE(broken.error().usage) << broken.error().describe();
 }
 
 // ---- the docs -----------------------------------------------------------------

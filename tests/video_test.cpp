@@ -226,9 +226,9 @@ TEST(Video, CliRendersASequenceWithGapsToAnMp4) {
         }
     }
     // Odd sizes and --resume are refused with the reason; no file appears.
-    EXPECT_EQ(test::runCommand(cli + "-o '" + (dir / "odd.mp4").string() + "' --width 161", &out), 1);
+    EXPECT_EQ(test::runCommand(cli + "-o '" + (dir / "odd.mp4").string() + "' --width 161", &out), 2);
     EXPECT_NE(out.find("even width and height"), std::string::npos) << out;
-    EXPECT_EQ(test::runCommand(cli + "-o '" + (dir / "r.mp4").string() + "' --width 160 --resume", &out), 1);
+    EXPECT_EQ(test::runCommand(cli + "-o '" + (dir / "r.mp4").string() + "' --width 160 --resume", &out), 2);
     EXPECT_FALSE(fs::exists(dir / "odd.mp4"));
     EXPECT_FALSE(fs::exists(dir / "r.mp4"));
 }

@@ -76,6 +76,16 @@ int fail(const std::string& line) {
     return 1;
 }
 
+int failUsage(const std::string& line) {
+    std::cerr << "meniscus: error: " << line << "\n";
+    return 2;
+}
+
+int fail(const Error& error) {
+    std::cerr << "meniscus: error: " << error.describe() << "\n";
+    return error.usage ? 2 : 1;
+}
+
 void printWarnings(const ParticleSet& set) {
     for (const auto& w : set.warnings) std::cerr << "meniscus: warning: " << w << "\n";
 }
@@ -145,7 +155,10 @@ CLI::Option* addTableOption(CLI::App* cmd, const std::string& name, OptionGroup 
             using T = std::remove_pointer_t<decltype(p)>;
             if constexpr (std::is_same_v<T, int> || std::is_same_v<T, float> || std::is_same_v<T, double> ||
                           std::is_same_v<T, std::uint64_t> || std::is_same_v<T, std::vector<float>>) {
-                if (limits.positive) opt->check(CLI::PositiveNumber);
+                if (limits.positive) {
+                    opt->check(CLI::PositiveNumber);
+                    if (std::isfinite(limits.max)) opt->check(CLI::Range(0.0, limits.max));
+                }
                 else if (limits.min == 0.0 && std::isinf(limits.max)) opt->check(CLI::NonNegativeNumber);
                 else if (!std::isnan(limits.min) && !std::isnan(limits.max)) {
                     if constexpr (std::is_same_v<T, int>) opt->check(CLI::Range(int(limits.min), int(limits.max)));

@@ -33,6 +33,11 @@ namespace meniscus::app {
 
 // "meniscus: error: LINE" on stderr; returns the exit code 1.
 int fail(const std::string& line);
+// The error, described, on stderr; returns its exit code: 2 for the
+// caller's settings (Error::usage), else 1 (docs/usage.md#errors).
+int fail(const Error& error);
+// "meniscus: error: LINE" for a wrong option or setting; returns the exit code 2.
+int failUsage(const std::string& line);
 void printWarnings(const ParticleSet& set);
 
 bool isPng(const std::string& path);

@@ -70,28 +70,28 @@ void caption(Image<glm::vec4>& image, int x0, int width, const std::string& top,
 int runCompare(const RenderJob& o) {
     if (!isPng(o.output)) return fail(o.output + ": output must end in .png");
     if (!o.fluidAttribute.empty())
-        return fail("--fluid-attribute: compare draws one fluid (the mesh path has no fluids of its own)");
+        return failUsage("--fluid-attribute: compare draws one fluid (the mesh path has no fluids of its own)");
     auto parsed = settingsFromOptions(o);
-    if (!parsed) return fail(parsed.error().describe());
+    if (!parsed) return fail(parsed.error());
     RenderSettings settings = std::move(*parsed);
     settings.colorOnly = true;
     auto frames = openFrames(o.input, nullptr, o.hPerSpacing);
-    if (!frames) return fail(frames.error().describe());
+    if (!frames) return fail(frames.error());
     if (frames->count() != 1) return fail(o.input + ": compare takes one frame, not a sequence");
-    if (auto st = frames->setSelection(o.select); !st) return fail(st.error().describe());
+    if (auto st = frames->setSelection(o.select); !st) return fail(st.error());
     auto up = upRotation(o.up);
-    if (!up) return fail(up.error().describe());
+    if (!up) return fail(up.error());
     frames->up = *up;
     auto set = fixForSequence(o, *frames, settings);
-    if (!set) return fail(set.error().describe());
+    if (!set) return fail(set.error());
 
     auto made = makeRenderer(o);
-    if (!made) return fail(made.error().describe());
+    if (!made) return fail(made.error());
     Renderer renderer = std::move(*made);
 
     Aovs screen, meshed;
     auto screenMs = timedRender(renderer, *set, settings, &screen);
-    if (!screenMs) return fail(screenMs.error().describe());
+    if (!screenMs) return fail(screenMs.error());
 
     const MeshParams params = mesherParams(o.mesher, settings.radiusM, 0);
     MeshStats stats;
@@ -99,7 +99,7 @@ int runCompare(const RenderJob& o) {
     if (!mesh) return fail(Error{frames->files[0].string(), mesh.error().message}.describe());
     settings.mesh = &*mesh;
     auto meshMs = timedRender(renderer, *set, settings, &meshed);
-    if (!meshMs) return fail(meshMs.error().describe());
+    if (!meshMs) return fail(meshMs.error());
 
     const int w = o.width, h = o.height;
     Image<glm::vec4> both(2 * w, h);
@@ -117,7 +117,7 @@ int runCompare(const RenderJob& o) {
                   double(o.mesher.cubeSize), mesh->triangleCount());
     std::snprintf(bottom, sizeof bottom, "MESHING %.1f MS + RENDER %.1f MS (%s)", stats.msTotal, *meshMs, backend.c_str());
     caption(both, w, w, top, bottom);
-    if (auto st = writePng(o.output, both, false); !st) return fail(st.error().describe());
+    if (auto st = writePng(o.output, both, false); !st) return fail(st.error());
 
     std::printf("| path | meshing | rendering | total |\n| --- | --- | --- | --- |\n");
     std::printf("| screen space (%s) | - | %.1f ms | %.1f ms |\n", o.filter.c_str(), *screenMs, *screenMs);

@@ -56,21 +56,21 @@ CLI::App* addConvertCommand(CLI::App& app, ConvertOptions& o) {
 
 int runConvert(const ConvertOptions& o) {
     auto format = writableFormatOf(o.output);
-    if (!format) return fail(format.error().describe());
+    if (!format) return fail(format.error());
     auto filter = parseSelection(o.select);
-    if (!filter) return fail(filter.error().describe());
+    if (!filter) return fail(filter.error());
     auto files = expandSequence(o.input);
-    if (!files) return fail(files.error().describe());
+    if (!files) return fail(files.error());
     Frames frames;
     frames.files = std::move(*files);
-    if (auto st = frames.checkOutput(o.output, "out_%04d.vtu"); !st) return fail(st.error().describe());
+    if (auto st = frames.checkOutput(o.output, "out_%04d.vtu"); !st) return fail(st.error());
 
     if (!o.pvd.empty() && !isPvdName(o.pvd)) return fail(o.pvd + ": --pvd must end in .pvd");
     // The times a .pvd collection gives its frames; else each frame's number (its position when it has none).
     std::vector<double> times;
     if (isPvdName(o.input)) {
         auto pvd = readPvd(o.input);
-        if (!pvd) return fail(pvd.error().describe());
+        if (!pvd) return fail(pvd.error());
         times = pvd->times;
     }
     for (std::size_t i = times.size(); i < frames.count(); ++i) {
@@ -83,23 +83,23 @@ int runConvert(const ConvertOptions& o) {
     for (std::size_t i = 0; i < frames.count(); ++i) {
         const std::filesystem::path& in = frames.files[i];
         auto out = frames.outputName(o.output, i);
-        if (!out) return fail(out.error().describe());
+        if (!out) return fail(out.error());
         if (sameFile(in, *out)) return fail(*out + ": is the input " + in.string() + "; give another output name");
-        if (auto st = makeOutputFolders(*out); !st) return fail(st.error().describe());
+        if (auto st = makeOutputFolders(*out); !st) return fail(st.error());
         // A frame with no particles (a simulation before its emitter started) is written as an empty file.
         auto set = readParticles(in, ParticleFormat::Auto, true);
-        if (!set) return fail(set.error().describe());
+        if (!set) return fail(set.error());
         printWarnings(*set);
         if (set->size() > 0)
-            if (auto st = applySelection(*set, *filter, in.string()); !st) return fail(st.error().describe());
-        if (auto st = writeParticles(*out, *set, *format); !st) return fail(st.error().describe());
+            if (auto st = applySelection(*set, *filter, in.string()); !st) return fail(st.error());
+        if (auto st = writeParticles(*out, *set, *format); !st) return fail(st.error());
         progress.step(i + 1, *out + " (" + std::to_string(set->size()) + " particles)");
         written.push_back(*out);
     }
     if (!o.pvd.empty()) {
         times.resize(written.size());
-        if (auto st = makeOutputFolders(o.pvd); !st) return fail(st.error().describe());
-        if (auto st = writePvd(o.pvd, written, times); !st) return fail(st.error().describe());
+        if (auto st = makeOutputFolders(o.pvd); !st) return fail(st.error());
+        if (auto st = writePvd(o.pvd, written, times); !st) return fail(st.error());
     }
     return 0;
 }

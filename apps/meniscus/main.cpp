@@ -1,6 +1,7 @@
 // The `meniscus` command line: argument parsing and messages only; the work is
 // done by the library. Errors: one line on stderr naming the file and the
-// problem, exit code 1 (2 for bad usage).
+// problem; exit code 1 for the data or the run, 2 for the command line or a scene
+// file's values (Error::usage), 130/143 interrupted (docs/usage.md#errors).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -140,14 +141,14 @@ struct InfoOptions {
 
 int runInfo(const InfoOptions& o) {
     auto frames = expandSequence(o.input);
-    if (!frames) return fail(frames.error().describe());
+    if (!frames) return fail(frames.error());
     auto set = readParticles(frames->front());
-    if (!set) return fail(set.error().describe());
+    if (!set) return fail(set.error());
     const std::size_t fileAttributes = set->attributes.size();  // listed; a radius from h is not the file's
     const auto smoothingLength = addRadiusFromSmoothingLength(*set, o.hPerSpacing);
-    if (!smoothingLength) return fail(smoothingLength.error().describe());
+    if (!smoothingLength) return fail(smoothingLength.error());
     printWarnings(*set);
-    if (auto st = checkCoordinates(set->positions, frames->front().string()); !st) return fail(st.error().describe());
+    if (auto st = checkCoordinates(set->positions, frames->front().string()); !st) return fail(st.error());
 
     // PySPH's files hold several particle arrays, of which one is shown: list them all.
     std::vector<ParticleArrayInfo> arrays;
@@ -307,10 +308,10 @@ int main(int argc, char** argv) {
     // `render scene.json`: the file's settings become arguments, the command line's own win.
     std::vector<std::string> words(argv, argv + argc);
     auto expanded = withSceneFile(words, *renderCmd, *renderCmd, render);
-    if (!expanded) return fail(expanded.error().describe());
+    if (!expanded) return fail(expanded.error());
     if (render.sceneFile.empty())
         expanded = withSceneFile(*expanded, *renderCmd, *viewCmd, view.render);
-    if (!expanded) return fail(expanded.error().describe());
+    if (!expanded) return fail(expanded.error());
     std::vector<char*> args;
     for (std::string& w : *expanded) args.push_back(w.data());
     // Bad usage exits 2, as docs/usage.md#errors says (CLI11's own codes are 100 and up).
@@ -349,13 +350,13 @@ int main(int argc, char** argv) {
     if (*renderCmd) return runRender(render, nullptr);
     if (*demoCmd) {
         auto set = parseParticles(demoFrameBytes(), kDemoFrameName);
-        if (!set) return fail(set.error().describe());
+        if (!set) return fail(set.error());
         return runRender(demo, &set.value());
     }
     if (*viewCmd) {
         if (!view.render.input.empty() || !view.simulate.empty()) return runView(view, nullptr);
         auto set = parseParticles(demoFrameBytes(), kDemoFrameName);
-        if (!set) return fail(set.error().describe());
+        if (!set) return fail(set.error());
         if (view.render.radius == 0.0f) view.render.radius = kDemoRadiusM;
         return runView(view, &set.value());
     }

@@ -38,14 +38,14 @@ CLI::App* addMeshCommand(CLI::App& app, MeshJob& o) {
 
 int runMesh(const MeshJob& o, int threads) {
     const Result<MeshFormat> format = meshFormatOf(o.output);
-    if (!format) return fail(format.error().describe());
+    if (!format) return fail(format.error());
     auto frames = openFrames(o.input, nullptr, o.hPerSpacing);
-    if (!frames) return fail(frames.error().describe());
-    if (auto st = frames->setSelection(o.select); !st) return fail(st.error().describe());
+    if (!frames) return fail(frames.error());
+    if (auto st = frames->setSelection(o.select); !st) return fail(st.error());
     const std::size_t count = frames->count();
-    if (auto st = frames->checkOutput(o.output, "mesh_%04d.ply"); !st) return fail(st.error().describe());
+    if (auto st = frames->checkOutput(o.output, "mesh_%04d.ply"); !st) return fail(st.error());
 
-    if (auto st = checkOptions(mesherOptionTable(), o.mesher); !st) return fail(st.error().describe());
+    if (auto st = checkOptions(mesherOptionTable(), o.mesher); !st) return fail(st.error());
     MeshParams params = mesherParams(o.mesher, 0.0f, threads);
 
     const bool tty = ::isatty(STDERR_FILENO) == 1;
@@ -53,10 +53,10 @@ int runMesh(const MeshJob& o, int threads) {
     for (std::size_t i = 0; i < count; ++i) {
         std::string smoothingLength;
         auto set = frames->load(i, &smoothingLength);
-        if (!set) return fail(set.error().describe());
+        if (!set) return fail(set.error());
         printWarnings(*set);
         const std::string name = frames->files[i].string();
-        if (auto st = checkCoordinates(set->positions, name); !st) return fail(st.error().describe());
+        if (auto st = checkCoordinates(set->positions, name); !st) return fail(st.error());
         if (i == 0) {
             // One radius for the whole sequence, so the surface does not breathe.
             std::string note;
@@ -72,10 +72,10 @@ int runMesh(const MeshJob& o, int threads) {
         auto mesh = extractSurface(ParticleView::of(*set), params, &stats);
         if (!mesh) return fail(Error{name, mesh.error().message}.describe());
         auto formatted = frames->outputName(o.output, i);
-        if (!formatted) return fail(formatted.error().describe());
+        if (!formatted) return fail(formatted.error());
         const std::string out = *formatted;
-        if (auto st = makeOutputFolders(out); !st) return fail(st.error().describe());
-        if (auto st = writeMesh(out, *mesh, *format); !st) return fail(st.error().describe());
+        if (auto st = makeOutputFolders(out); !st) return fail(st.error());
+        if (auto st = writeMesh(out, *mesh, *format); !st) return fail(st.error());
         if (o.stats)
             std::fprintf(stderr,
                          "meniscus: %s: %zu particles, %zu blocks (%zu with surface, %zu rounds), %zu cubes, %zu "

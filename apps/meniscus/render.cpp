@@ -9,7 +9,7 @@
 //    written under a temporary name and renamed, so a file there was written
 //    whole) is not rendered again. Not for a movie, which is written whole.
 //  - Ctrl-C (SIGINT, SIGTERM): the frame in progress finishes, the run stops
-//    there with exit 130; finished frames stay, a movie is not written (its
+//    there with exit 130 (143 for SIGTERM); finished frames stay, a movie is not written (its
 //    temporary file is removed). Further Ctrl-Cs change nothing (a tool may
 //    signal the process and its group both), so no partial file is ever left.
 //  - A moving camera (--orbit, --turntable, --camera-path): frame i is at
@@ -84,9 +84,10 @@ namespace {
 
 volatile std::sig_atomic_t gInterrupted = 0;
 
-extern "C" void onInterrupt(int) {
+// The signal that stopped the run (SIGINT, SIGTERM); 128 + it is the exit code.
+extern "C" void onInterrupt(int signal) {
     if (gInterrupted) return;  // again (or sent to the whole process group as well): already stopping
-    gInterrupted = 1;
+    gInterrupted = signal;
     static const char note[] = "\nmeniscus: stopping after the frame in progress\n";
     [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, note, sizeof note - 1);  // async-signal-safe
 }
@@ -223,18 +224,24 @@ Status renderFrame(const RenderJob& o, const Frames& frames, std::size_t i, Resu
     return outputs.write(i, *aovs, !settings.scene.background);
 }
 
+// `e` naming the scene file's key when the option came from one; still the
+// same kind of error (Error::usage).
+Error keyed(const Error& e, const RenderJob& o) {
+    return Error{"", withSceneKey(e.describe(), o.sceneFile, o.sceneKeys), e.usage};
+}
+
 // The camera's motion over `count` frames at `fps` (--orbit, --turntable,
 // --camera-path), shared by files and simulations; errors name the scene
 // file's key when the option came from one.
 Result<CameraMotion> motionFromOptions(const RenderJob& o, std::size_t count, double fps) {
     const auto failure = [&](const std::string& message) {
-        return makeError("", withSceneKey(message, o.sceneFile, o.sceneKeys));
+        return makeUsageError("", withSceneKey(message, o.sceneFile, o.sceneKeys));
     };
     if (o.orbit != 0.0 && o.turntable) return failure("--orbit and --turntable: give one or the other");
     if (o.turntable && count == 1)
         return failure("--turntable turns once over the sequence: for a single file give --frames N");
     auto path = cameraPathFromOptions(o);
-    if (!path) return failure(path.error().describe());
+    if (!path) return keyed(path.error(), o);
     return CameraMotion{std::move(*path), o.orbit, o.turntable, count, fps};
 }
 
@@ -245,7 +252,7 @@ Result<IndexRange> shareOf(const std::string& shard, std::size_t count) {
     char slash = 0, extra = 0;
     if (std::sscanf(shard.c_str(), "%lld %c %lld %c", &i, &slash, &n, &extra) != 3 || slash != '/' || n < 1 ||
         i < 0 || i >= n)
-        return makeError("", "--shard " + shard + ": give I/N with 0 <= I < N (e.g. --shard 3/8, or "
+        return makeUsageError("", "--shard " + shard + ": give I/N with 0 <= I < N (e.g. --shard 3/8, or "
                              "$SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT)");
     return shareRange(count, std::size_t(i), std::size_t(n));
 }
@@ -268,13 +275,13 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
         settings.scene.wallsSeenFrom = cameraForFrame(start, motion, 0).eye;
     }
     auto made = makeRenderer(o);
-    if (!made) return fail(made.error().describe());
+    if (!made) return fail(made.error());
     Renderer renderer = std::move(*made);
     auto outputs = Outputs::open(o, settings, frames, writer);
-    if (!outputs) return fail(outputs.error().describe());
+    if (!outputs) return fail(outputs.error());
 
     auto share = shareOf(o.shard, count);
-    if (!share) return fail(share.error().describe());
+    if (!share) return fail(share.error());
     if (!o.shard.empty())
         std::cerr << "meniscus: shard " << o.shard << ": frames " << share->begin + 1 << " to " << share->end << " of "
                   << count << "\n";
@@ -282,7 +289,7 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
     std::vector<char> rendered(share->end, 0);
     for (std::size_t i = share->begin; i < share->end; ++i) {
         auto name = outputs->name(i);
-        if (!name) return fail(name.error().describe());
+        if (!name) return fail(name.error());
         rendered[i] = !(o.resume && outputComplete(*name));
     }
     // The turbulence tracker's memory, in frames (0: nothing carries over):
@@ -301,7 +308,7 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
     ProgressBar progress(share->end - share->begin, "rendering");
     for (std::size_t i = 0; i < share->end; ++i) {
         auto name = outputs->name(i);
-        if (!name) return fail(name.error().describe());
+        if (!name) return fail(name.error());
         if (!rendered[i]) {
             if (i >= share->begin) {
                 ++resumed;
@@ -336,7 +343,7 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
         }
         if (!st) {
             if (o.onError != "skip") {
-                if (count <= 1) return fail(st.error().describe());
+                if (count <= 1) return fail(st.error());
                 // Of a sequence: say how to go on past such frames.
                 return fail(st.error().describe() + " (frame " + std::to_string(i + 1) + " of " +
                             std::to_string(count) + "; --on-error skip renders the others and lists the failed ones)");
@@ -351,10 +358,10 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
             std::cerr << "\nmeniscus: interrupted after frame " << i + 1 << " of " << count
                       << (outputs->movie() ? "; no movie written" : "; the frames written are complete (--resume goes on)")
                       << "\n";
-            return 130;
+            return 128 + int(gInterrupted);  // 130 for Ctrl-C, 143 for SIGTERM
         }
     }
-    if (auto st = outputs->finish(); !st) return fail(st.error().describe());
+    if (auto st = outputs->finish(); !st) return fail(st.error());
 
     if (!writer) {
         return failed.empty() ? 0 : 1;
@@ -389,19 +396,19 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
 // the simulation's (--radius sets it).
 int renderSimulation(Cluster& cluster, const RenderJob& o, RenderSettings& settings) {
     if (auto up = upRotation(o.up); !up || !up->identity)
-        return fail("--up " + vec3Text(o.up) + ": a simulation's up is +y (gravity along -y); --up turns files");
-    if (o.frames > 0) return fail("--frames: " + o.input + " is a simulation, whose frames are its own");
+        return fail(makeUsageError("", "--up " + vec3Text(o.up) + ": a simulation's up is +y (gravity along -y); --up turns files"));
+    if (o.frames > 0) return fail(makeUsageError("", "--frames: " + o.input + " is a simulation, whose frames are its own"));
     SimulateJob so;
     if (!o.select.empty())
-        return fail("--select " + o.select + ": picks particles of files; " + o.input +
-                    " is a simulation scene, whose particles are all its fluid");
+        return fail(makeUsageError("", "--select " + o.select + ": picks particles of files; " + o.input +
+                                           " is a simulation scene, whose particles are all its fluid"));
     so.scene = o.input;
     so.radius = o.radius;
     so.duration = o.duration;
     auto scene = sceneFromOptions(so);
-    if (!scene) return fail(scene.error().describe());
+    if (!scene) return fail(scene.error());
     auto made = sim::Simulator::create(*scene);
-    if (!made) return fail(made.error().describe());
+    if (!made) return fail(made.error());
     sim::Simulator& simulator = **made;
     Frames frames;
     frames.simulation = o.input;
@@ -411,11 +418,11 @@ int renderSimulation(Cluster& cluster, const RenderJob& o, RenderSettings& setti
     RenderJob timed = o;
     if (o.fps == defaults::kVideoFps) timed.fps = scene->fps;
     auto motion = motionFromOptions(o, frames.count(), timed.fps);
-    if (!motion) return fail(motion.error().describe());
+    if (!motion) return fail(motion.error());
     if (!isMp4(o.output))
-        if (auto st = frames.checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error().describe());
+        if (auto st = frames.checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error());
     if (auto st = fixForScene(o, *scene, settings); !st)
-        return fail(withSceneKey(st.error().describe(), o.sceneFile, o.sceneKeys));
+        return fail(keyed(st.error(), o));
     settings.colorOnly = !isExr(o.output);
     std::cerr << "meniscus: simulating " << o.input << ": " << simulator.size() << " particles, r = "
               << scene->params.radius << " m, " << sim::solverName(scene->params.solver) << ", " << scene->duration
@@ -479,7 +486,7 @@ int renderParts(Cluster& cluster, const RenderJob& o, RenderSettings& settings) 
     if (o.input.find('%') != o.input.rfind('%') && std::regex_search(o.input, std::regex("%[^r0-9]|%0[0-9]+[^0-9r]")))
         return fail(o.input + ": a %r pattern names the part files of one frame; a sequence of parts is not supported "
                               "(render each frame's parts on their own)");
-    if (o.frames > 0) return fail("--frames: " + o.input + " names the parts of one frame (%r)");
+    if (o.frames > 0) return failUsage("--frames: " + o.input + " names the parts of one frame (%r)");
     // What needs every particle on one process (a neighbourhood, or the
     // root drawing all of them after the composite) is not there with parts.
     const std::pair<bool, const char*> whole[] = {{settings.anisotropy.enabled, "--anisotropy on"},
@@ -500,17 +507,17 @@ int renderParts(Cluster& cluster, const RenderJob& o, RenderSettings& settings) 
         return fail(first + ": no such file (the first part of " + o.input + ", %r = 0)");
     }
     auto frames = openFrames(parts[0], nullptr, o.hPerSpacing);
-    if (!frames) return fail(frames.error().describe());
-    if (auto st = frames->addFluids(o); !st) return fail(st.error().describe());
-    if (!frames->moreFluids.empty()) return fail("--fluid: " + o.input + " names the parts of one frame (%r)");
+    if (!frames) return fail(frames.error());
+    if (auto st = frames->addFluids(o); !st) return fail(st.error());
+    if (!frames->moreFluids.empty()) return failUsage("--fluid: " + o.input + " names the parts of one frame (%r)");
     auto up = upRotation(o.up);
-    if (!up) return fail(withSceneKey(up.error().describe(), o.sceneFile, o.sceneKeys));
+    if (!up) return fail(keyed(up.error(), o));
     frames->up = *up;
     auto motion = motionFromOptions(o, 1, o.fps);
-    if (!motion) return fail(motion.error().describe());
+    if (!motion) return fail(motion.error());
     // Radius (part 0's), and a first camera and studio that the parts' own replace below.
     auto first = fixForSequence(o, *frames, settings, nullptr);
-    if (!first) return fail(withSceneKey(first.error().describe(), o.sceneFile, o.sceneKeys));
+    if (!first) return fail(keyed(first.error(), o));
     // This process's parts, joined; their samples and bounds.
     const IndexRange mine = shareRange(parts.size(), cluster.rank(), cluster.size());
     ParticleSet set;
@@ -532,11 +539,11 @@ int renderParts(Cluster& cluster, const RenderJob& o, RenderSettings& settings) 
         }
     }
     if (!cluster.allOk(ok)) return 1;
-    if (auto st = cluster.allGather(samples); !st) return fail(st.error().describe());
+    if (auto st = cluster.allGather(samples); !st) return fail(st.error());
     box = cluster.allBounds(box);
     if (!o.eye && o.cameraPath.empty()) {
         auto camera = chooseCamera(o, samples, settings.radiusM);
-        if (!camera) return fail(camera.error().describe());
+        if (!camera) return fail(camera.error());
         settings.camera = *camera;
     }
     settings.scene.studioBounds = box;
@@ -572,52 +579,54 @@ int runRenderOn(Cluster& cluster, const RenderJob& options, const ParticleSet* e
     RenderJob o = options;
     if (!isPng(o.output) && !isExr(o.output) && !isMp4(o.output))
         return fail(o.output + ": output must end in .png, .exr or .mp4");
-    if (o.resume && isMp4(o.output)) return fail("--resume: a movie is written whole; resume numbered images");
+    if (o.resume && isMp4(o.output)) return failUsage("--resume: a movie is written whole; resume numbered images");
     if (!o.shard.empty() && isMp4(o.output))
-        return fail("--shard: a movie is written whole; shard numbered images (and join them with ffmpeg)");
+        return fail(makeUsageError("", "--shard: a movie is written whole; shard numbered images (and join them with ffmpeg)"));
     std::signal(SIGINT, onInterrupt);  // from here on Ctrl-C stops after the frame in progress
     std::signal(SIGTERM, onInterrupt);
     auto parsed = settingsFromOptions(o);
-    if (!parsed) return fail(withSceneKey(parsed.error().describe(), o.sceneFile, o.sceneKeys));
+    if (!parsed) return fail(keyed(parsed.error(), o));
     RenderSettings settings = std::move(*parsed);
     const bool parts = !embedded && std::regex_search(o.input, std::regex("%(0[0-9]+)?r"));
     const bool simulation = !parts && isJsonFile(o.input);
 
     auto frames = simulation || parts ? Result<Frames>(Frames{}) : openFrames(o.input, embedded, o.hPerSpacing);
-    if (!frames) return fail(frames.error().describe());
+    if (!frames) return fail(frames.error());
     // Several processes (mpirun): frames or particles to each (--split).
     const std::size_t inputFrames = o.frames > 0 ? o.frames : frames->count();
     auto split = splitMode(o, simulation ? 2 : inputFrames, parts);
-    if (!split) return fail(split.error().describe());
+    if (!split) return fail(split.error());
     if (cluster.size() > 1 && cluster.root())
         std::cerr << "meniscus: " << cluster.size() << " processes, split by " << *split << "\n";
     if (cluster.size() > 1 && *split == "frames") {
-        if (!o.shard.empty()) return fail("--shard: under mpirun the processes split the frames themselves; leave it out");
+        if (!o.shard.empty())
+            return fail(makeUsageError("", "--shard: under mpirun the processes split the frames themselves; leave it out"));
         if (isMp4(o.output))
             return fail("-o " + o.output + ": a movie is written whole by one process; under mpirun write numbered "
                         "images (and join them with ffmpeg), or --split particles");
         o.shard = std::to_string(cluster.rank()) + "/" + std::to_string(cluster.size());
     }
     if (o.duration >= 0.0 && !simulation)
-        return fail("--duration: sets how long a simulation scene runs; " +
+        return failUsage("--duration: sets how long a simulation scene runs; " +
                     (o.input.empty() ? std::string("the demo frame") : o.input) +
                     " is particle data, whose frames are its own");
     if (simulation) {
-        if (cluster.size() > 1 && *split != "frames") return fail("--split particles: " + o.input + " is a simulation; split its frames");
+        if (cluster.size() > 1 && *split != "frames") return failUsage("--split particles: " + o.input + " is a simulation; split its frames");
         return renderSimulation(cluster, o, settings);
     }
     if (parts) return renderParts(cluster, o, settings);
     if (cluster.size() > 1 && *split == "particles") settings.compositor = cluster.compositor();
-    if (auto st = frames->addFluids(o); !st) return fail(st.error().describe());
+    if (auto st = frames->addFluids(o); !st) return fail(st.error());
     frames->renumber = o.renumber;
     auto up = upRotation(o.up);
-    if (!up) return fail(withSceneKey(up.error().describe(), o.sceneFile, o.sceneKeys));
+    if (!up) return fail(keyed(up.error(), o));
     frames->up = *up;
     if (o.frames > 0) {
         if (frames->count() != 1)
-            return fail(withSceneKey("--frames renders a single input file as N frames; " + o.input + " has " +
-                                         std::to_string(frames->count()) + ", each rendered once (leave out --frames)",
-                                     o.sceneFile, o.sceneKeys));
+            return fail(makeUsageError("", withSceneKey("--frames renders a single input file as N frames; " + o.input +
+                                                            " has " + std::to_string(frames->count()) +
+                                                            ", each rendered once (leave out --frames)",
+                                                        o.sceneFile, o.sceneKeys)));
         frames->repeat = o.frames;
     }
     const std::size_t count = frames->count();
@@ -625,7 +634,7 @@ int runRenderOn(Cluster& cluster, const RenderJob& options, const ParticleSet* e
     // .pvd's timesteps), else at the default, which the log says.
     if (isMp4(o.output) && o.fps == defaults::kVideoFps && !embedded && o.frames == 0) {
         auto rate = frameRateOfInput(o.input);
-        if (!rate) return fail(rate.error().describe());
+        if (!rate) return fail(rate.error());
         const bool usable = *rate && **rate >= 0.001 && **rate <= 1000.0;
         if (usable) o.fps = **rate;
         if (cluster.root())
@@ -635,14 +644,14 @@ int runRenderOn(Cluster& cluster, const RenderJob& options, const ParticleSet* e
                       << "\n";
     }
     auto motion = motionFromOptions(o, count, o.fps);
-    if (!motion) return fail(motion.error().describe());
+    if (!motion) return fail(motion.error());
     if (!isMp4(o.output))
-        if (auto st = frames->checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error().describe());
+        if (auto st = frames->checkOutput(o.output, "out_%04d.png"); !st) return fail(st.error());
 
     // Radius and camera are fixed once per sequence, so the animation does not flicker.
     std::size_t firstIndex = 0;
     auto first = fixForSequence(o, *frames, settings, &firstIndex);
-    if (!first) return fail(withSceneKey(first.error().describe(), o.sceneFile, o.sceneKeys));
+    if (!first) return fail(keyed(first.error(), o));
     // A repeated file is read once.
     std::optional<ParticleSet> still;
     if (frames->repeat) still = *first;
@@ -680,7 +689,7 @@ int runRenderOn(Cluster& cluster, const RenderJob& options, const ParticleSet* e
 
 int runRender(const RenderJob& o, const ParticleSet* embedded) {
     auto cluster = Cluster::start();
-    if (!cluster) return fail(cluster.error().describe());
+    if (!cluster) return fail(cluster.error());
     const int code = runRenderOn(**cluster, o, embedded);
     // One process's failure ends the job: the others would wait for it in a
     // composite, or go on rendering frames of a run that failed.

@@ -5,11 +5,11 @@
 #include <cctype>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+
+#include "meniscus/json_text.h"
 
 namespace meniscus::app {
 namespace {
@@ -45,7 +45,10 @@ public:
         return (std::filesystem::path(file_).parent_path() / q).lexically_normal().string();
     }
 
-    Error fail(const std::string& key, const std::string& what) const { return makeError(file_, key + ": " + what); }
+    // A key or its value is wrong: the settings' error (exit 2), not the data's.
+    Error fail(const std::string& key, const std::string& what) const {
+        return makeUsageError(file_, key + ": " + what);
+    }
 
     // One setting: `key` (its path in the file, for errors) naming option `name`.
     Status add(const std::string& key, const std::string& name, const json& v) {
@@ -140,73 +143,89 @@ private:
     SceneArgs out_;
 };
 
-Result<json> readJson(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return makeError(path, "cannot open the file");
-    std::stringstream text;
-    text << in.rdbuf();
+// JSON text within `limits` (its size and nesting checked before it is
+// parsed, so no value is deeper than the recursive code below can take).
+Result<json> parseJson(std::string_view text, const std::string& path, const JsonLimits& limits) {
+    if (auto fits = checkJsonText(text, path, limits); !fits) return fits.error();
     try {
-        return json::parse(text.str());
+        return json::parse(text.begin(), text.end());
     } catch (const json::exception& e) {
         return makeError(path, std::string("not valid JSON: ") + e.what());
     }
 }
 
-
-}  // namespace
-
-Result<std::vector<CameraKey>> readCameraPath(const std::string& spec, float defaultFov) {
-    const std::size_t first = spec.find_first_not_of(" \t\r\n");
-    const bool inline_ = first != std::string::npos && spec[first] == '[';
-    // Errors name the option, and the file when the path is in one.
-    const std::string where = inline_ ? "--camera-path: " : "--camera-path " + spec + ": ";
+// A camera path's JSON text; errors start with `where` ("--camera-path: ").
+// A file's text that is too large, too deep or not JSON is the data's error
+// (exit 1); text given as the option's value, and wrong keys, the option's (2).
+Result<std::vector<CameraKey>> cameraPathOf(std::string_view text, const std::string& where, float defaultFov,
+                                            bool file) {
+    const auto unreadable = [&](const std::string& message) {
+        return file ? makeError("", where + message) : makeUsageError("", where + message);
+    };
+    if (auto fits = checkJsonText(text, "", json_limits::kCameraPath); !fits) return unreadable(fits.error().message);
     json root;
-    if (inline_) {
-        try {
-            root = json::parse(spec);
-        } catch (const json::exception& e) {
-            return makeError("", where + "not valid JSON: " + e.what());
-        }
-    } else {
-        auto read = readJson(spec);
-        if (!read) return makeError("", where + read.error().message);
-        root = std::move(*read);
+    try {
+        root = json::parse(text.begin(), text.end());
+    } catch (const json::exception& e) {
+        return unreadable(std::string("not valid JSON: ") + e.what());
     }
     if (!root.is_array() || root.empty())
-        return makeError("", where + "expected a list of at least one key, [{\"time\": 0, \"eye\": [x, y, z], "
+        return makeUsageError("", where + "expected a list of at least one key, [{\"time\": 0, \"eye\": [x, y, z], "
                                      "\"target\": [x, y, z], \"fov\": 40}, ...]");
     std::vector<CameraKey> keys;
     for (std::size_t k = 0; k < root.size(); ++k) {
         const json& e = root[k];
         const std::string which = where + "key " + std::to_string(k + 1) + ": ";
-        if (!e.is_object()) return makeError("", which + "expected an object {\"time\": ..., \"eye\": ..., ...}");
+        if (!e.is_object()) return makeUsageError("", which + "expected an object {\"time\": ..., \"eye\": ..., ...}");
         CameraKey key;
         key.fovYDegrees = defaultFov;
         for (const auto& [name, v] : e.items()) {
             if (name != "time" && name != "eye" && name != "target" && name != "fov")
-                return makeError("", which + "unknown field \"" + name + "\" (expected time, eye, target, fov)");
+                return makeUsageError("", which + "unknown field \"" + name + "\" (expected time, eye, target, fov)");
             const bool vector = name == "eye" || name == "target";
             const bool ok = vector ? readVec3(v, name == "eye" ? key.eye : key.target) : v.is_number();
             if (!ok)
-                return makeError("", which + name + ": expected " +
+                return makeUsageError("", which + name + ": expected " +
                                          (vector ? "[x, y, z] in metres" : name == "time" ? "seconds" : "degrees"));
             if (name == "time") key.timeS = v.get<double>();
             if (name == "fov") key.fovYDegrees = v.get<float>();
         }
         for (const char* need : {"time", "eye", "target"})
-            if (!e.contains(need)) return makeError("", which + "needs \"" + need + "\"");
+            if (!e.contains(need)) return makeUsageError("", which + "needs \"" + need + "\"");
         keys.push_back(key);
     }
-    if (std::string bad = checkCameraPath(keys); !bad.empty()) return makeError("", where + bad);
+    if (std::string bad = checkCameraPath(keys); !bad.empty()) return makeUsageError("", where + bad);
     return keys;
+}
+
+}  // namespace
+
+Result<std::vector<CameraKey>> cameraPathFromText(std::string_view text, float defaultFov) {
+    return cameraPathOf(text, "--camera-path: ", defaultFov, false);
+}
+
+Result<std::vector<CameraKey>> readCameraPath(const std::string& spec, float defaultFov) {
+    const std::size_t first = spec.find_first_not_of(" \t\r\n");
+    if (first != std::string::npos && spec[first] == '[') return cameraPathFromText(spec, defaultFov);
+    // Errors name the option and the file.
+    const std::string where = "--camera-path " + spec + ": ";
+    auto text = readJsonText(spec, json_limits::kCameraPath);
+    if (!text) return makeError("", where + text.error().message);
+    return cameraPathOf(*text, where, defaultFov, true);
 }
 
 bool isJsonFile(const std::string& path) { return std::filesystem::path(path).extension() == ".json"; }
 
 Result<SceneArgs> sceneFileArgs(const std::string& path, CLI::App& render) {
-    auto root = readJson(path);
+    auto text = readJsonText(path, json_limits::kRenderScene);
+    if (!text) return text.error();
+    return sceneTextArgs(*text, path, render);
+}
+
+Result<SceneArgs> sceneTextArgs(std::string_view text, const std::string& path, CLI::App& render) {
+    auto root = parseJson(text, path, json_limits::kRenderScene);
     if (!root) return root.error();
-    if (!root->is_object()) return makeError(path, "a scene file is a JSON object ({\"particles\": ..., ...})");
+    if (!root->is_object()) return makeUsageError(path, "a scene file is a JSON object ({\"particles\": ..., ...})");
     Converter c(path, render);
     // A simulation scene (docs/scenes.md: a domain and fluid or emitters) is
     // the particles themselves: render simulates it.
@@ -216,7 +235,7 @@ Result<SceneArgs> sceneFileArgs(const std::string& path, CLI::App& render) {
         return simulation;
     }
     if (!root->contains("particles"))
-        return makeError(path, "a render scene file needs \"particles\": a particle file, folder or pattern, or a "
+        return makeUsageError(path, "a render scene file needs \"particles\": a particle file, folder or pattern, or a "
                                "simulation scene (docs/scenes.md)");
     const json& particles = (*root)["particles"];
     if (!particles.is_string() || particles.get<std::string>().empty())
@@ -262,7 +281,7 @@ Status applyTypedSettings(const SceneArgs& args, meniscus::RenderOptions& o, Job
         if (!accepts(t.option)) continue;
         const Status st = findJobOption(t.option) ? setJobOption(job, t.option, t.value)
                                                   : setRenderOption(o, t.option, t.value);
-        if (!st) return makeError(file, t.key + ": " + st.error().message);
+        if (!st) return makeUsageError(file, t.key + ": " + st.error().message);
     }
     return okStatus();
 }

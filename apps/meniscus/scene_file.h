@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "meniscus/camera_path.h"
@@ -47,7 +48,13 @@ struct SceneArgs {
 // The file's settings as arguments of `render` (whose options `render`
 // declares): an error naming the file and the key for an unknown key, a value
 // of the wrong kind, or JSON that does not parse.
+// The file is read within json_limits::kRenderScene (json_text.h): one that
+// cannot be read, too large or too deep, or not JSON is an error of the
+// data's (exit 1); a wrong key or value is the settings' (Error::usage, 2).
 Result<SceneArgs> sceneFileArgs(const std::string& path, CLI::App& render);
+// The same for the file's text, already read; `path` names it and its folder
+// is the one relative paths are taken from.
+Result<SceneArgs> sceneTextArgs(std::string_view text, const std::string& path, CLI::App& render);
 
 // The typed settings of `args` set on `o` and `job` (those `accepts` takes:
 // a subcommand's own options); an error naming `file` and the key.
@@ -59,8 +66,14 @@ Status applyTypedSettings(const SceneArgs& args, meniscus::RenderOptions& o, Job
 // metres in the data's coordinates), in increasing time: the text itself
 // (starting with '[', as a scene file's camera.path passes it) or a file
 // holding it. Errors start with "--camera-path" (withSceneKey then names the
-// scene file's key) and name the file, the key's number and the field.
+// scene file's key) and name the file, the key's number and the field. The
+// text is read within json_limits::kCameraPath; a file that cannot be read,
+// too large or too deep, or not JSON is the data's error, wrong keys and
+// values (and any fault of text given as the value) the option's
+// (Error::usage).
 Result<std::vector<CameraKey>> readCameraPath(const std::string& spec, float defaultFov);
+// The same for the JSON text itself, whatever it starts with.
+Result<std::vector<CameraKey>> cameraPathFromText(std::string_view text, float defaultFov);
 
 // `message` (about an option, "--width: ...") prefixed with the file and key
 // that set that option, when one did.

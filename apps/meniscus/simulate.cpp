@@ -164,18 +164,18 @@ Bounds domainBounds(const sim::Scene& scene) {
 
 int runSimulate(const SimulateJob& o) {
     if (auto up = upRotation(o.image.up); !up || !up->identity)
-        return fail("--up " + vec3Text(o.image.up) + ": the simulator's up is +y (gravity along -y); --up turns files for render");
+        return failUsage("--up " + vec3Text(o.image.up) + ": the simulator's up is +y (gravity along -y); --up turns files for render");
     auto scene = sceneFromOptions(o);
-    if (!scene) return fail(scene.error().describe());
+    if (!scene) return fail(scene.error());
     sim::Scene& sc = *scene;
     if (o.output.find('%') == std::string::npos)
         return fail(o.output + ": the output needs a frame number pattern, e.g. out/frame_%04d.bgeo");
     auto format = writableFormatOf(o.output);
-    if (!format) return fail(format.error().describe());
+    if (!format) return fail(format.error());
     std::optional<FrameImages> images;
     if (!o.render.empty()) {
         auto opened = openImages(o, sc);
-        if (!opened) return fail(opened.error().describe());
+        if (!opened) return fail(opened.error());
         images.emplace(std::move(*opened));
         const Camera& c = images->settings.camera;
         std::fprintf(stderr,
@@ -186,7 +186,7 @@ int runSimulate(const SimulateJob& o) {
     }
 
     auto made = sim::Simulator::create(sc);
-    if (!made) return fail(made.error().describe());
+    if (!made) return fail(made.error());
     sim::Simulator& simulator = **made;
     const long frames = long(std::floor(sc.duration * sc.fps + 1e-9));  // after frame 0
     auto nameOf = [&](long k) { return formatFramePattern(o.output, k); };
@@ -197,14 +197,14 @@ int runSimulate(const SimulateJob& o) {
         long last = -1;
         for (long k = 0; k <= frames; ++k) {
             auto name = nameOf(k);
-            if (!name) return fail(name.error().describe());
+            if (!name) return fail(name.error());
             if (!std::filesystem::exists(*name)) break;
             last = k;
         }
         if (last >= 0) {
             auto name = nameOf(last);
             auto set = readParticles(*name, ParticleFormat::Auto, true);  // an emitter's first frames are empty
-            if (!set) return fail(set.error().describe());
+            if (!set) return fail(set.error());
             if (auto st = simulator.restore(*set, double(last) / sc.fps); !st)
                 return fail(Error{*name, st.error().message}.describe());
             std::cerr << "meniscus: resuming after " << *name << " (t = " << double(last) / sc.fps << " s)\n";
@@ -213,7 +213,7 @@ int runSimulate(const SimulateJob& o) {
     }
     for (const std::string* pattern : {&o.output, &o.render})
         if (!pattern->empty() && !isMp4(*pattern))
-            if (auto st = makeParentFolder(*pattern); !st) return fail(st.error().describe());
+            if (auto st = makeParentFolder(*pattern); !st) return fail(st.error());
     std::cerr << "meniscus: " << sc.name << ": " << simulator.size() << " particles, r = " << sc.params.radius
               << " m, " << sim::solverName(sc.params.solver) << ", " << sc.duration << " s at " << sc.fps << " fps\n";
     const bool tty = ::isatty(STDERR_FILENO) == 1;
@@ -221,15 +221,15 @@ int runSimulate(const SimulateJob& o) {
     const auto start = std::chrono::steady_clock::now();
     for (long k = first; k <= frames; ++k) {
         const std::size_t stepsBefore = simulator.totals().steps;
-        if (auto st = simulator.advanceTo(double(k) / sc.fps); !st) return fail(st.error().describe());
+        if (auto st = simulator.advanceTo(double(k) / sc.fps); !st) return fail(st.error());
         auto name = nameOf(k);
-        if (!name) return fail(name.error().describe());
+        if (!name) return fail(name.error());
         const ParticleSet set = simulator.particles();
-        if (auto st = writeParticles(*name, set, *format); !st) return fail(st.error().describe());
+        if (auto st = writeParticles(*name, set, *format); !st) return fail(st.error());
         std::string imageNote;
         if (images) {
             auto image = writeFrameImage(*images, set, k);
-            if (!image) return fail(image.error().describe());
+            if (!image) return fail(image.error());
             imageNote = " and " + *image;
         }
         const sim::Totals& T = simulator.totals();
@@ -250,7 +250,7 @@ int runSimulate(const SimulateJob& o) {
     }
 #ifdef MENISCUS_HAVE_FFMPEG
     if (images && images->movie) {
-        if (auto st = images->movie->finish(); !st) return fail(st.error().describe());
+        if (auto st = images->movie->finish(); !st) return fail(st.error());
         std::cerr << "meniscus: wrote " << o.render << " (" << images->movie->frames() << " frames, H.264, " << sc.fps
                   << " fps)\n";
     }
@@ -259,12 +259,12 @@ int runSimulate(const SimulateJob& o) {
     std::vector<double> times;
     for (long k = 0; k <= frames; ++k) {
         auto name = nameOf(k);
-        if (!name) return fail(name.error().describe());
+        if (!name) return fail(name.error());
         written.emplace_back(*name);
         times.push_back(double(k) / sc.fps);
     }
     const std::filesystem::path pvd = pvdBeside(o.output);
-    if (auto st = writePvd(pvd, written, times); !st) return fail(st.error().describe());
+    if (auto st = writePvd(pvd, written, times); !st) return fail(st.error());
     std::cerr << "meniscus: wrote " << pvd.string() << " (the frames' times, " << sc.fps
               << " fps: a time series for ParaView, and render's movie rate)\n";
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -183,16 +183,16 @@ std::string cameraOptions(const Camera& camera, const glm::vec3& upAxis) {
 
 int runView(const ViewOptions& o, const ParticleSet* embedded) {
     if (o.render.surface == "mesh")
-        return fail("--surface mesh: the viewer draws the screen-space or ray-cast surface; `meniscus render "
+        return failUsage("--surface mesh: the viewer draws the screen-space or ray-cast surface; `meniscus render "
                     "--surface mesh` (or `meniscus mesh`) extracts meshes");
     auto parsed = settingsFromOptions(o.render);
-    if (!parsed) return fail(parsed.error().describe());
+    if (!parsed) return fail(parsed.error());
     RenderSettings settings = std::move(*parsed);
     if (!o.screenshot.empty() && !isPng(o.screenshot)) return fail(o.screenshot + ": --screenshot must end in .png");
     if (!o.screenshotWindow.empty() && !isPng(o.screenshotWindow))
         return fail(o.screenshotWindow + ": --screenshot-window must end in .png");
     auto script = parseInputScript(o.inputScript);
-    if (!script) return fail(script.error().describe());
+    if (!script) return fail(script.error());
 
     // A scene simulated live is checked before any window; an input's errors
     // come before the window too (its frames are framed for the window's own size below).
@@ -201,20 +201,20 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     std::unique_ptr<sim::Simulator> simulator;
     if (!o.simulate.empty()) {
         if (!o.render.select.empty())
-            return fail("--select " + o.render.select + ": picks particles of files; --simulate shows a simulation, "
+            return failUsage("--select " + o.render.select + ": picks particles of files; --simulate shows a simulation, "
                         "whose particles are all its fluid");
         SimulateJob so = o.live;
         so.scene = o.simulate;
         so.radius = o.render.radius;  // one radius: the simulation's and the picture's
         auto read = sceneFromOptions(so);
-        if (!read) return fail(read.error().describe());
+        if (!read) return fail(read.error());
         auto made = sim::Simulator::create(*read);
-        if (!made) return fail(made.error().describe());
+        if (!made) return fail(made.error());
         scene = std::move(*read);
         simulator = std::move(*made);
     } else {
         auto opened = openSequence(o.render, embedded);
-        if (!opened) return fail(opened.error().describe());
+        if (!opened) return fail(opened.error());
         input = std::move(*opened);
     }
 
@@ -294,16 +294,16 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
             sized.height = fb.y;
         }
         if (auto st = fixForScene(sized, *scene, settings); !st)
-            return fail(st.error().describe());
+            return fail(st.error());
         estimatedRadius = settings.radiusM;
         homeCamera = settings.camera;
     } else if (auto st = open(o.render, std::move(input)); !st) {
-        return fail(st.error().describe());
+        return fail(st.error());
     }
     const std::size_t count0 = prefetch ? prefetch->frames().count() : 1;
 
     auto made = Renderer::createOnCurrentGlContext();  // after the window, so destroyed before it
-    if (!made) return fail(made.error().describe());
+    if (!made) return fail(made.error());
     Renderer renderer = std::move(*made);
     ui = ViewerUi::create(win);  // null in a build without Dear ImGui
     std::cerr << "meniscus: viewing on " << renderer.backendName() << ": drag to orbit, scroll to zoom, "
@@ -472,12 +472,12 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
         if (scripted < script->size()) {  // as if the user had done it during the last frame
             const ScriptEvent& e = (*script)[scripted];
             if (!e.widget.empty()) {
-                if (!ui) return fail("--input-script: click:" + e.widget + " needs the panels (a build with Dear ImGui)");
+                if (!ui) return failUsage("--input-script: click:" + e.widget + " needs the panels (a build with Dear ImGui)");
                 if (ui->scriptPointer(e.widget, e.at, e.down)) {
                     ++scripted;
                     scriptWait = 0;
                 } else if (++scriptWait > kScriptWidgetFrames) {
-                    return fail("--input-script: no widget labelled '" + e.widget + "' is shown");
+                    return failUsage("--input-script: no widget labelled '" + e.widget + "' is shown");
                 }
             } else {
                 ++scripted;
@@ -563,7 +563,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
                 if (auto st = renderer.draw(ParticleView::of(*boundary.liquid), drawn,
                                             ui && panels ? &model.stages : nullptr);
                     !st)
-                    return fail(st.error().describe());
+                    return fail(st.error());
                 const auto end = Clock::now();
                 model.drawMs = std::chrono::duration<double, std::milli>(end - start).count();
                 const double gap = std::chrono::duration<double>(end - lastShown).count();
@@ -574,7 +574,7 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
                 in.damaged = true;
             }
             if (in.damaged || (ui && uiFrames > 0)) {
-                if (auto st = renderer.present(full.x, full.y, area.left); !st) return fail(st.error().describe());
+                if (auto st = renderer.present(full.x, full.y, area.left); !st) return fail(st.error());
                 if (ui) {
                     model.look = look;
                     model.radiusM = settings.radiusM;
@@ -638,15 +638,15 @@ int runView(const ViewOptions& o, const ParticleSet* embedded) {
     const glm::ivec2 size = win.framebufferSize();
     const Area area = pictureArea();
     if (!o.screenshot.empty()) {  // the picture alone, beside the panels
-        if (auto st = renderer.present(size.x, size.y, area.left); !st) return fail(st.error().describe());
+        if (auto st = renderer.present(size.x, size.y, area.left); !st) return fail(st.error());
         if (auto st = writePng(o.screenshot, cropColumns(win.readPixels(), area.left, area.size.x), false); !st)
-            return fail(st.error().describe());
+            return fail(st.error());
         std::cerr << "meniscus: wrote " << o.screenshot << "\n";
     }
     if (!o.screenshotWindow.empty()) {
-        if (auto st = renderer.present(size.x, size.y, area.left); !st) return fail(st.error().describe());
+        if (auto st = renderer.present(size.x, size.y, area.left); !st) return fail(st.error());
         if (ui) ui->frame(model, panels);
-        if (auto st = writePng(o.screenshotWindow, win.readPixels(), false); !st) return fail(st.error().describe());
+        if (auto st = writePng(o.screenshotWindow, win.readPixels(), false); !st) return fail(st.error());
         std::cerr << "meniscus: wrote " << o.screenshotWindow << "\n";
     }
     return 0;

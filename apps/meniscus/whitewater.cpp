@@ -38,13 +38,13 @@ CLI::App* addWhitewaterCommand(CLI::App& app, WhitewaterJob& o) {
 
 int runWhitewater(const WhitewaterJob& o) {
     const auto made = whitewaterParams(o);
-    if (!made) return fail(made.error().describe());
+    if (!made) return fail(made.error());
 
     auto frames = openFrames(o.input, nullptr);
-    if (!frames) return fail(frames.error().describe());
-    if (auto st = frames->setSelection(o.select); !st) return fail(st.error().describe());
+    if (!frames) return fail(frames.error());
+    if (auto st = frames->setSelection(o.select); !st) return fail(st.error());
     const std::size_t count = frames->count();
-    if (auto st = frames->checkOutput(o.output, "diffuse_%04d.bgeo"); !st) return fail(st.error().describe());
+    if (auto st = frames->checkOutput(o.output, "diffuse_%04d.bgeo"); !st) return fail(st.error());
     auto load = [&](std::size_t i) -> Result<ParticleSet> {
         auto set = frames->load(i);
         if (!set) return set.error();
@@ -56,7 +56,7 @@ int runWhitewater(const WhitewaterJob& o) {
     };
 
     auto first = load(0);
-    if (!first) return fail(first.error().describe());
+    if (!first) return fail(first.error());
     printWarnings(*first);
     std::string note;
     const auto resolved = resolveRadius(o.radius, [&] { return defaultRadius(*first); }, &note);
@@ -67,7 +67,7 @@ int runWhitewater(const WhitewaterJob& o) {
     if (dt == 0.0) {
         if (count < 2) return fail("whitewater: one frame has no time between frames; give --fps");
         auto second = load(1);
-        if (!second) return fail(second.error().describe());
+        if (!second) return fail(second.error());
         auto est = sim::estimateFrameInterval(ParticleView::of(*first), ParticleView::of(*second));
         if (!est) return fail(Error{frames->files[1].string(), est.error().message + " (give --fps)"}.describe());
         dt = *est;
@@ -82,7 +82,7 @@ int runWhitewater(const WhitewaterJob& o) {
         ProgressBar progress(count, "measuring");
         for (std::size_t i = 0; i < count; ++i) {
             auto set = i == 0 ? Result<ParticleSet>(*first) : load(i);
-            if (!set) return fail(set.error().describe());
+            if (!set) return fail(set.error());
             auto pot = sim::computePotentials(ParticleView::of(*set), radius, params);
             if (!pot) return fail(Error{frames->files[i].string(), pot.error().message}.describe());
             maxima.push_back(sim::maximaOf(*pot));
@@ -97,18 +97,18 @@ int runWhitewater(const WhitewaterJob& o) {
     }
 
     auto gen = sim::WhitewaterGenerator::create(params, radius);
-    if (!gen) return fail(gen.error().describe());
+    if (!gen) return fail(gen.error());
     ProgressBar progress(count, "whitewater");
     for (std::size_t i = 0; i < count; ++i) {
         auto set = i == 0 ? std::move(first) : load(i);
-        if (!set) return fail(set.error().describe());
+        if (!set) return fail(set.error());
         const std::string name = frames->files[i].string();
         auto stats = gen->step(ParticleView::of(*set), dt);
         if (!stats) return fail(Error{name, stats.error().message}.describe());
         auto out = frames->outputName(o.output, i);
-        if (!out) return fail(out.error().describe());
-        if (auto st = makeOutputFolders(*out); !st) return fail(st.error().describe());
-        if (auto st = writeParticles(*out, sim::toParticleSet(gen->particles())); !st) return fail(st.error().describe());
+        if (!out) return fail(out.error());
+        if (auto st = makeOutputFolders(*out); !st) return fail(st.error());
+        if (auto st = writeParticles(*out, sim::toParticleSet(gen->particles())); !st) return fail(st.error());
         if (tty && count > 1) progress.update(i + 1);
         else
             std::fprintf(stderr,

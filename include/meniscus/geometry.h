@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include "meniscus/json_text.h"
 #include "meniscus/mesh.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
@@ -34,11 +35,11 @@ inline constexpr std::uintmax_t kMaxMeshFileBytes = std::uintmax_t(1) << 30;  //
 // A mesh file's triangles, all its meshes together: more is refused before
 // the merged mesh is allocated (2^28 triangles are ~10 GiB as drawn).
 inline constexpr std::size_t kMaxTriangles = std::size_t(1) << 28;
-// A geometry JSON file or text (ours or SPlisHSPlasH's): more is refused unread.
-inline constexpr std::uintmax_t kMaxJsonBytes = std::uintmax_t(16) << 20;  // 16 MiB
-// JSON nested deeper than this is refused before any value is built (a deeply
-// nested document can overflow the stack of a recursive reader).
-inline constexpr int kMaxJsonDepth = 64;
+// A geometry JSON file or text (ours or SPlisHSPlasH's): more is refused
+// unread, and nesting deeper than kMaxJsonDepth before any value is built
+// (json_text.h, json_limits::kGeometry, says so for every kind of JSON).
+inline constexpr std::uintmax_t kMaxJsonBytes = json_limits::kGeometry.maxBytes;  // 16 MiB
+inline constexpr int kMaxJsonDepth = json_limits::kGeometry.maxDepth;
 // A texture image: at most this many pixels a side and in all (2^25 pixels are
 // 384 MiB as linear RGB floats), and a texture file at most this many bytes.
 inline constexpr int kMaxTextureSidePx = 16384;
@@ -129,6 +130,12 @@ Result<SceneGeometry> readGeometry(const std::string& spec, const std::filesyste
 // then rotate, then translate.
 Result<SceneGeometry> parseGeometry(std::string_view jsonText, const std::string& source,
                                     const std::filesystem::path& baseDir);
+
+// A SPlisHSPlasH scene file's text, as readGeometry reads the file: its rigid
+// bodies and boundaries, their geometry files taken from `baseDir`. `source`
+// names the text in errors; text that is not such a scene is an error.
+Result<SceneGeometry> parseSplishSplashScene(std::string_view jsonText, const std::string& source,
+                                             const std::filesystem::path& baseDir);
 
 // One mesh file through Assimp: every mesh of the file merged into one
 // TriangleMesh in the file's world coordinates (its node transforms applied),

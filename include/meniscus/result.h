@@ -11,6 +11,10 @@ namespace meniscus {
 struct Error {
     std::string file;     // the file the problem is in; empty when none applies
     std::string message;  // what is wrong, in words a user can act on
+    // The caller's settings are wrong (an option's value, a scene file's
+    // setting), not the data or the run: the CLI exits 2 for such an error,
+    // 1 for the others (docs/usage.md#errors).
+    bool usage = false;
 
     // One line: "FILE: MESSAGE", or just "MESSAGE".
     std::string describe() const { return file.empty() ? message : file + ": " + message; }
@@ -18,6 +22,10 @@ struct Error {
 
 inline Error makeError(std::string file, std::string message) {
     return Error{std::move(file), std::move(message)};
+}
+// An error in the caller's settings (Error::usage).
+inline Error makeUsageError(std::string file, std::string message) {
+    return Error{std::move(file), std::move(message), true};
 }
 
 template <class T>

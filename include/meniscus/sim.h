@@ -119,9 +119,16 @@ struct Scene {
     std::vector<Collider> colliders;
     std::vector<Emitter> emitters;
     std::vector<Drain> drains;
-    double duration = 1.0;       // s
-    double fps = defaults::kSimFps;  // frames written per simulated second
+    double duration = 1.0;       // s, in [0, kMaxDuration]
+    double fps = defaults::kSimFps;  // frames written per simulated second, in (0, kMaxFps]
 };
+
+// The largest duration and frame rate a scene (or simulate's, render's
+// --duration and --fps) may ask for, so the frame count, duration x fps, is
+// at most 1e9 and always a whole number the loops can count to: 10^6 s is
+// eleven days of simulated time, 1000 frames a second a slow motion of 40x.
+inline constexpr double kMaxDuration = 1e6;  // s
+inline constexpr double kMaxFps = 1000.0;    // 1/s
 
 // JSON scene (docs/scenes.md): a malformed file is an error naming the file,
 // the field and the problem.

@@ -57,6 +57,11 @@ class ReadTest(unittest.TestCase):
                 meniscus.read(bad)
             self.assertNotIsInstance(e.exception, FileNotFoundError)
             self.assertIn("bad.bgeo", str(e.exception))
+        # A device has no end to read to: said so, not "file is empty".
+        if os.path.exists("/dev/zero"):
+            with self.assertRaises(OSError) as e:
+                meniscus.read("/dev/zero")
+            self.assertIn("/dev/zero: is not a regular file", str(e.exception))
 
     def test_nan_rows_dropped_with_a_warning(self):
         with tempfile.TemporaryDirectory() as d:

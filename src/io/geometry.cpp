@@ -31,6 +31,7 @@
 
 #include "meniscus/geometry.h"
 #include "meniscus/io.h"
+#include "meniscus/json_text.h"
 
 namespace meniscus {
 namespace {
@@ -423,52 +424,15 @@ std::string child(const std::string& path, std::string_view key) {
 }
 std::string element(const std::string& path, std::size_t i) { return path + "[" + std::to_string(i) + "]"; }
 
-// Nesting deeper than the limit is refused by a scan of the brackets outside
-// strings, before nlohmann-json builds anything.
-std::optional<std::string> tooDeep(std::string_view text) {
-    int depth = 0;
-    bool inString = false, escaped = false;
-    for (char c : text) {
-        if (inString) {
-            if (escaped) escaped = false;
-            else if (c == '\\') escaped = true;
-            else if (c == '"') inString = false;
-            continue;
-        }
-        if (c == '"') inString = true;
-        else if (c == '{' || c == '[') {
-            if (++depth > lim::kMaxJsonDepth)
-                return "nested deeper than " + std::to_string(lim::kMaxJsonDepth) + " levels";
-        } else if (c == '}' || c == ']') --depth;
-    }
-    return std::nullopt;
-}
-
+// Size and nesting are checked before nlohmann-json builds anything
+// (json_text.h: the limits of geometry JSON).
 json parseJson(std::string_view text, const std::string& source) {
-    if (text.size() > lim::kMaxJsonBytes)
-        fail(source, "", "is " + std::to_string(text.size()) + " bytes; geometry JSON is at most " +
-                             std::to_string(lim::kMaxJsonBytes) + " bytes");
-    if (auto deep = tooDeep(text)) fail(source, "", *deep);
+    if (auto fits = checkJsonText(text, source, json_limits::kGeometry); !fits) fail(source, "", fits.error().message);
     try {
         return json::parse(text.begin(), text.end());
     } catch (const json::exception& e) {
         fail(source, "", std::string("not valid JSON: ") + e.what());
     }
-}
-
-Result<std::string> readText(const fs::path& path) {
-    const std::string name = path.string();
-    std::error_code ec;
-    if (!fs::exists(path, ec)) return makeError(name, "no such file");
-    if (!fs::is_regular_file(path, ec)) return makeError(name, "is not a regular file");
-    const std::uintmax_t size = fs::file_size(path, ec);
-    if (ec) return makeError(name, "cannot be read: " + ec.message());
-    if (size > lim::kMaxJsonBytes)
-        return makeError(name, "is " + std::to_string(size) + " bytes; a geometry JSON file is at most " +
-                                   std::to_string(lim::kMaxJsonBytes) + " bytes");
-    auto bytes = readFileBytes(path);
-    if (!bytes) return bytes.error();
-    return std::string(bytes->begin(), bytes->end());
 }
 
 // Typed reads; `path` names the value in errors.
@@ -783,7 +747,7 @@ SceneGeometry readGeometryFile(const fs::path& path, int nesting, bool splishSpl
         g.objects.push_back(checkedMesh(readGeometryMesh(path)));
         return g;
     }
-    auto text = readText(path);
+    auto text = readJsonText(path, json_limits::kGeometry);
     if (!text) throw Failure{text.error().file, text.error().message};
     const json root = parseJson(text.value(), name);
     if (isSplishSplash(root)) return readSplishSplash(root, name, path.parent_path());
@@ -810,6 +774,15 @@ Result<SceneGeometry> guarded(const std::string& source, F&& f) {
 
 Result<SceneGeometry> parseGeometry(std::string_view jsonText, const std::string& source, const fs::path& baseDir) {
     return guarded(source, [&] { return parseList(parseJson(jsonText, source), source, baseDir, 0); });
+}
+
+Result<SceneGeometry> parseSplishSplashScene(std::string_view jsonText, const std::string& source,
+                                             const fs::path& baseDir) {
+    return guarded(source, [&] {
+        const json root = parseJson(jsonText, source);
+        if (!isSplishSplash(root)) fail(source, "", "not a SPlisHSPlasH scene (no \"RigidBodies\" or \"Boundaries\")");
+        return readSplishSplash(root, source, baseDir);
+    });
 }
 
 Result<SceneGeometry> readGeometry(const std::string& spec, const fs::path& baseDir) {

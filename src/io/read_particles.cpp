@@ -70,6 +70,9 @@ Result<std::vector<std::uint8_t>> readFileBytes(const std::filesystem::path& pat
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return makeError(path.string(), "no such file");
     if (std::filesystem::is_directory(path, ec)) return makeError(path.string(), "is a directory, not a file");
+    // A device or a pipe has no size to read up to (/dev/zero never ends).
+    if (!std::filesystem::is_regular_file(path, ec))
+        return makeError(path.string(), "is not a regular file (a device or a pipe); give a file");
     std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in) return makeError(path.string(), "cannot open for reading");
     const std::streamoff size = in.tellg();

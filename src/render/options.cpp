@@ -101,8 +101,9 @@ std::vector<RenderOptionSpec> makeRenderTable() {
                     "The data's up axis x,y,z (0,0,1 for z-up data such as DualSPHysics'): the particles, --eye and "
                     "--target are turned so it points up in the picture, the studio's floor below",
                     [](R& o) -> OptionRef { return &o.up; }));
-    t.push_back(row("fov", G::Camera, "degrees", "Vertical field of view in degrees",
-                    [](R& o) -> OptionRef { return &o.fov; }));
+    t.push_back(positive(row("fov", G::Camera, "degrees", "Vertical field of view in degrees",
+                             [](R& o) -> OptionRef { return &o.fov; })));
+    t.back().limits.max = 179.0;  // as a camera path's fov between keys
     t.push_back(ranged(row("azimuth", G::Camera, "degrees",
                            "Automatic camera: the direction it looks from, degrees around the vertical (0: from +z, "
                            "90: from +x)",
@@ -418,12 +419,16 @@ std::vector<RenderOptionSpec> makeRenderTable() {
 std::vector<MesherOptionSpec> makeMesherTable() {
     using M = MesherOptions;
     std::vector<MesherOptionSpec> t;
-    t.push_back(row<M>("cube-size", G::Surface, "radii", "Marching-cubes cube edge, in particle radii (0.05 to 8)",
-                     [](M& o) -> OptionRef { return &o.cubeSize; }));
-    t.push_back(row<M>("iso", G::Surface, "",
-                     "Iso level as a fraction of the field inside fluid at rest (a 2r lattice); 0.5 puts a flat face 1 "
-                     "r beyond the outermost particle centres",
-                     [](M& o) -> OptionRef { return &o.iso; }));
+    // The ranges are the mesher's own (extractSurface), checked here so a bad
+    // value is the option's error.
+    t.push_back(ranged(row<M>("cube-size", G::Surface, "radii", "Marching-cubes cube edge, in particle radii (0.05 to 8)",
+                              [](M& o) -> OptionRef { return &o.cubeSize; }),
+                       0.05, 8.0));
+    t.push_back(positive(row<M>("iso", G::Surface, "",
+                                "Iso level as a fraction of the field inside fluid at rest (a 2r lattice); 0.5 puts a "
+                                "flat face 1 r beyond the outermost particle centres",
+                                [](M& o) -> OptionRef { return &o.iso; })));
+    t.back().limits.max = 2.0;
     t.back().widget = {"Surface", 0.05f, 0.95f, false, false, false, {}, "surface=raycast"};  // the ray cast's level
     t.push_back(row<M>("field", G::Surface, "",
                      "sph: the SPH density, cubic spline of support 4 r (the surface refsurf ray-traces); thesis: "
@@ -433,14 +438,15 @@ std::vector<MesherOptionSpec> makeMesherTable() {
     t.push_back(row<M>("support", G::Surface, "radii", "Field support (h or Rc) in particle radii, 1 to 16 (default: the field's)",
                      [](M& o) -> OptionRef { return &o.support; }));
     t.back().noDefault = true;
-    t.push_back(row<M>("block", G::Surface, "cubes", "Block edge in cubes (4 to 256); blocks run in parallel",
-                     [](M& o) -> OptionRef { return &o.block; }));
+    t.back().limits.min = 1.0, t.back().limits.max = 16.0, t.back().limits.unset = 0.0;  // 0: the field's
+    t.push_back(ranged(row<M>("block", G::Surface, "cubes", "Block edge in cubes (4 to 256); blocks run in parallel",
+                              [](M& o) -> OptionRef { return &o.block; }),
+                       4, 256));
     return t;
 }
 
 std::vector<JobOptionSpec> makeJobTable() {
     using J = JobOptions;
-    constexpr double inf = std::numeric_limits<double>::infinity();
     std::vector<JobOptionSpec> t;
     t.push_back(row<J>("backend", G::Performance, "",
                      "Where the stages run: cpu, gl (OpenGL 4.3 through headless EGL) or auto (gl on a GPU; cpu, "
@@ -472,7 +478,7 @@ std::vector<JobOptionSpec> makeJobTable() {
                      "Frames per second: an .mp4 output's frame rate, and a moving camera's clock (frame i at i / fps "
                      "seconds)",
                      [](J& o) -> OptionRef { return &o.fps; }));
-    t.back().limits.min = 0.001, t.back().limits.max = 1000.0;
+    t.back().limits.min = 0.001, t.back().limits.max = sim::kMaxFps;
     t.push_back(row<J>("crf", G::Movie, "",
                      "An .mp4 output's quality: x264's constant rate factor, 0 (lossless) to 51 (worst); 18 looks "
                      "lossless",
@@ -482,7 +488,8 @@ std::vector<JobOptionSpec> makeJobTable() {
                      "A simulation scene as the input: simulated time in seconds, a frame every 1/fps (default: the "
                      "scene's), as simulate --duration",
                      [](J& o) -> OptionRef { return &o.duration; }));
-    t.back().limits.min = 0.0, t.back().limits.max = inf, t.back().limits.unset = -1.0, t.back().noDefault = true;
+    t.back().limits.min = 0.0, t.back().limits.max = sim::kMaxDuration, t.back().limits.unset = -1.0;
+    t.back().noDefault = true;
     t.push_back(row<J>("renumber", G::Output, "",
                      "Number the output images 0, 1, 2, ... in order instead of by the input files' own numbers",
                      [](J& o) -> OptionRef { return &o.renumber; }));
@@ -551,17 +558,16 @@ std::vector<MeshOptionSpec> makeMeshTable() {
 
 std::vector<SimulateOptionSpec> makeSimulateTable() {
     using S = SimulateOptions;
-    constexpr double inf = std::numeric_limits<double>::infinity();
     std::vector<SimulateOptionSpec> t;
     t.push_back(noDefault(ranged(row<S>("duration", G::Simulation, "s",
                                         "Simulated time in seconds (default: the scene's)",
                                         [](S& o) -> OptionRef { return &o.duration; }),
-                                 0.0, inf)));
+                                 0.0, sim::kMaxDuration)));
     t.back().limits.unset = -1.0;  // the scene's
     t.push_back(noDefault(positive(row<S>("fps", G::Simulation, "1/s",
                                           "Frames written per simulated second (default: the scene's)",
                                           [](S& o) -> OptionRef { return &o.fps; }))));
-    t.back().limits.unset = -1.0;
+    t.back().limits.max = sim::kMaxFps, t.back().limits.unset = -1.0;
     t.push_back(noDefault(positive(row<S>("radius", G::Simulation, "m",
                                           "Particle radius r in metres; spacing 2r, kernel support 4r (default: the "
                                           "scene's)",
@@ -844,7 +850,7 @@ Status checkOptionValue(const std::string& name, const OptionRef& ref, const Opt
     const double lo = limits.min, hi = limits.max;
     const std::vector<std::string>& choices = limits.choices;
     const auto bad = [&](const std::string& text, const std::string& why) {
-        return makeError("", option + " " + text + ": " + why);
+        return makeUsageError("", option + " " + text + ": " + why);
     };
     return std::visit(
         [&](auto* p) -> Status {
@@ -876,6 +882,8 @@ Status checkOptionValue(const std::string& name, const OptionRef& ref, const Opt
                     return bad(*p, "expected one of " + list);
                 }
             } else if constexpr (std::is_same_v<T, std::optional<glm::vec3>>) {
+                if (*p && !(std::isfinite((**p).x) && std::isfinite((**p).y) && std::isfinite((**p).z)))
+                    return bad(vec3Text(**p), "expected three finite numbers");
                 if (*p && !std::isnan(lo))
                     for (int k = 0; k < 3; ++k)
                         if (!inRange((**p)[k], lo, std::isnan(hi) ? HUGE_VAL : hi))
@@ -890,7 +898,7 @@ Status setOptionValue(const std::string& name, const OptionRef& ref, const Optio
                       const OptionLimits& limits) {
     const std::string option = "--" + name;
     const std::vector<std::string>& choices = limits.choices;
-    const auto wrong = [&](const char* expected) { return makeError("", option + ": expected " + std::string(expected)); };
+    const auto wrong = [&](const char* expected) { return makeUsageError("", option + ": expected " + std::string(expected)); };
     const bool isBool = std::holds_alternative<bool>(value);
     const bool isNumber = std::holds_alternative<std::int64_t>(value) || std::holds_alternative<double>(value);
     const double number = std::holds_alternative<std::int64_t>(value) ? double(std::get<std::int64_t>(value))
@@ -972,7 +980,7 @@ Status setOptionValue(const std::string& name, const OptionRef& ref, const Optio
 
 Status setJobOption(JobOptions& o, std::string_view name, const OptionValue& value) {
     if (const JobOptionSpec* s = findJobOption(name)) return setOption(*s, o, value);
-    return makeError("", "unknown option '" + std::string(name) + "'");
+    return makeUsageError("", "unknown option '" + std::string(name) + "'");
 }
 
 Status setRenderOption(RenderOptions& o, std::string_view name, const OptionValue& value) {
@@ -981,7 +989,7 @@ Status setRenderOption(RenderOptions& o, std::string_view name, const OptionValu
     std::string names;
     for (const RenderOptionSpec& s : renderOptionTable()) names += (names.empty() ? "" : ", ") + keywordName(s.name);
     for (const MesherOptionSpec& s : mesherOptionTable()) names += ", " + keywordName(s.name);
-    return makeError("", "unknown option '" + std::string(name) + "' (the options are: " + names + ")");
+    return makeUsageError("", "unknown option '" + std::string(name) + "' (the options are: " + names + ")");
 }
 
 Status applySimulateOptions(const SimulateOptions& o, sim::Scene& scene) {
@@ -990,7 +998,7 @@ Status applySimulateOptions(const SimulateOptions& o, sim::Scene& scene) {
     if (o.fps > 0.0) scene.fps = o.fps;
     if (o.radius > 0.0f) scene.params.radius = o.radius;
     if (!o.solver.empty() && !sim::solverFromName(o.solver, &scene.params.solver))
-        return makeError("", "--solver " + o.solver + ": expected dfsph, sph, pbf or ballistic");
+        return makeUsageError("", "--solver " + o.solver + ": expected dfsph, sph, pbf or ballistic");
     return okStatus();
 }
 
@@ -1003,7 +1011,7 @@ Result<WhitewaterParams> whitewaterParams(const WhitewaterOptions& o) {
         p.energyMin = o.limits[4], p.energyMax = o.limits[5];
         // A maximum of 0 would ask for the automatic limits.
         if (p.trappedAirMax == 0.0f || p.waveCrestMax == 0.0f || p.energyMax == 0.0f)
-            return makeError("", "--limits: every maximum must be above its minimum");
+            return makeUsageError("", "--limits: every maximum must be above its minimum");
     }
     p.scale = o.scale;
     p.trappedAirRate = o.trappedAirRate;
@@ -1014,7 +1022,7 @@ Result<WhitewaterParams> whitewaterParams(const WhitewaterOptions& o) {
     if (o.gravity.size() == 3) p.gravity = {o.gravity[0], o.gravity[1], o.gravity[2]};
     if (o.box.size() == 6) {
         if (!(o.box[0] < o.box[3] && o.box[1] < o.box[4] && o.box[2] < o.box[5]))
-            return makeError("", "--box: each minimum must be below its maximum");
+            return makeUsageError("", "--box: each minimum must be below its maximum");
         p.box.extend({o.box[0], o.box[1], o.box[2]});
         p.box.extend({o.box[3], o.box[4], o.box[5]});
     }
@@ -1022,7 +1030,7 @@ Result<WhitewaterParams> whitewaterParams(const WhitewaterOptions& o) {
     p.bubbleAbove = o.bubbleAbove;
     p.maxParticles = std::size_t(o.maxParticles);
     p.seed = o.seed;
-    if (std::string bad = sim::checkWhitewaterParams(p); !bad.empty()) return makeError("", "whitewater: " + bad);
+    if (std::string bad = sim::checkWhitewaterParams(p); !bad.empty()) return makeUsageError("", "whitewater: " + bad);
     return p;
 }
 
@@ -1146,13 +1154,13 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
     if (auto st = checkRenderOptions(o); !st) return st.error();
     RenderSettings s;
     static_cast<StageParams&>(s) = o.stages;  // the stages' parameters whole; the filter and shading below
-    if (!viewFromName(o.view, &s.view)) return makeError("", "--view " + o.view + ": expected one of " + viewNames());
+    if (!viewFromName(o.view, &s.view)) return makeUsageError("", "--view " + o.view + ": expected one of " + viewNames());
     if (!filterFromName(o.filter, &s.filter))
-        return makeError("", "--filter " + o.filter + ": expected one of " + filterNames());
+        return makeUsageError("", "--filter " + o.filter + ": expected one of " + filterNames());
     if (o.iterations >= 0) setFilterIterations(s.filter, o.iterations);
     if (o.separable) {
         auto* nr = std::get_if<NarrowRangeParams>(&s.filter);
-        if (!nr) return makeError("", "--separable applies to --filter narrow-range only");
+        if (!nr) return makeUsageError("", "--separable applies to --filter narrow-range only");
         nr->separable = true;
     }
     // One preset, or one per fluid (comma-separated: fluid 0's, fluid 1's, ...).
@@ -1164,12 +1172,12 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
         at = comma + 1;
     }
     if (names.size() > std::size_t(kMaxFluids))
-        return makeError("", "--material: " + std::to_string(names.size()) + " materials for at most " +
+        return makeUsageError("", "--material: " + std::to_string(names.size()) + " materials for at most " +
                                  std::to_string(kMaxFluids) + " fluids");
     for (const std::string& n : names) {
         Material m;
         if (!materialPreset(n, &m))
-            return makeError("", "--material " + n + ": expected one of " + materialPresetNames());
+            return makeUsageError("", "--material " + n + ": expected one of " + materialPresetNames());
         if (o.fluidColor) m.fluidColor = *o.fluidColor;
         if (o.absorption) m.absorptionPerM = *o.absorption;
         if (!std::isnan(o.ior)) m.ior = o.ior;
@@ -1181,7 +1189,7 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
     }
     s.shading.material = s.fluidMaterials.front();
     if (o.light) {
-        if (!(glm::length(*o.light) > 0.0f)) return makeError("", "--light " + vec3Text(*o.light) + ": not zero");
+        if (!(glm::length(*o.light) > 0.0f)) return makeUsageError("", "--light " + vec3Text(*o.light) + ": the direction toward the light cannot be zero (e.g. 1,2,1)");
         s.shading.lightDirWorld = *o.light;
     }
     s.scene.background = o.background != "none";
@@ -1196,54 +1204,54 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
     const bool noise = o.stages.noise.enabled, whiten = o.stages.whitening.enabled;
     const bool spray = o.stages.spray.enabled, silhouette = o.stages.silhouette.enabled;
     if (noise)
-        if (std::string bad = checkNoiseParams(s.noise); !bad.empty()) return makeError("", "--noise: " + bad);
+        if (std::string bad = checkNoiseParams(s.noise); !bad.empty()) return makeUsageError("", "--noise: " + bad);
     if ((s.view == View::Noise || s.view == View::Foam) && !noise)
-        return makeError("", "--view " + o.view + " shows the surface noise: add --noise");
+        return makeUsageError("", "--view " + o.view + " shows the surface noise: add --noise");
     if (whiten)
-        if (std::string bad = checkWhiteningParams(s.whitening); !bad.empty()) return makeError("", "--whiten: " + bad);
+        if (std::string bad = checkWhiteningParams(s.whitening); !bad.empty()) return makeUsageError("", "--whiten: " + bad);
     if (s.view == View::Whitening && !whiten)
-        return makeError("", "--view whitening shows the velocity whitening: add --whiten");
+        return makeUsageError("", "--view whitening shows the velocity whitening: add --whiten");
     if (spray)
-        if (std::string bad = checkSprayParams(s.spray); !bad.empty()) return makeError("", "--spray: " + bad);
+        if (std::string bad = checkSprayParams(s.spray); !bad.empty()) return makeUsageError("", "--spray: " + bad);
     if (s.view == View::Spray && !spray && !diffuse)
-        return makeError("", "--view spray shows the spray drops: add --spray (or --diffuse)");
+        return makeUsageError("", "--view spray shows the spray drops: add --spray (or --diffuse)");
     if (silhouette)
-        if (std::string bad = checkSilhouetteParams(s.silhouette); !bad.empty()) return makeError("", "--silhouette: " + bad);
+        if (std::string bad = checkSilhouetteParams(s.silhouette); !bad.empty()) return makeUsageError("", "--silhouette: " + bad);
     if (s.view == View::Silhouette && !silhouette)
-        return makeError("", "--view silhouette shows the silhouette map: add --silhouette");
+        return makeUsageError("", "--view silhouette shows the silhouette map: add --silhouette");
     s.particleRadii = o.radius == 0.0f;  // an explicit radius replaces the file's own radii
     s.anisotropy = o.anisotropyParams;
     s.anisotropy.enabled = o.anisotropy == "on";
     if (s.anisotropy.enabled)
         if (std::string bad = checkAnisotropyParams(s.anisotropy); !bad.empty())
-            return makeError("", "--anisotropy: " + bad);
+            return makeUsageError("", "--anisotropy: " + bad);
     s.holeFill.enabled = o.fillHoles > 0.0f;
     if (s.holeFill.enabled) s.holeFill.maxSpanRadii = o.fillHoles;
     if (std::string bad = checkHoleFillParams(s.holeFill, s.thickness); !bad.empty())
-        return makeError("", std::string(bad.rfind("thickness", 0) == 0 ? "--min-thickness: " : "--fill-holes: ") +
+        return makeUsageError("", std::string(bad.rfind("thickness", 0) == 0 ? "--min-thickness: " : "--fill-holes: ") +
                                  bad);
     s.raycast.enabled = o.surface == "raycast";
     if (s.raycast.enabled) {
         if (o.mesher.field != "sph")
-            return makeError("", "--surface raycast: the ray cast finds the SPH surface: --field " + o.mesher.field +
+            return makeUsageError("", "--surface raycast: the ray cast finds the SPH surface: --field " + o.mesher.field +
                                      " is for --surface mesh");
         s.raycast.iso = o.mesher.iso;
         if (o.mesher.support > 0.0f) s.raycast.supportRadii = o.mesher.support;
         if (std::string bad = checkRaycastParams(s.raycast); !bad.empty())
-            return makeError("", "--surface raycast: " + bad);
+            return makeUsageError("", "--surface raycast: " + bad);
     }
     if (o.fluidScale != 1.0f && o.fluidScale != 0.5f && o.fluidScale != 0.25f)
-        return makeError("", "--fluid-scale: expected 1, 0.5 or 0.25");
+        return makeUsageError("", "--fluid-scale: expected 1, 0.5 or 0.25");
     if (o.fluidScale != 1.0f && o.surface == "mesh")
-        return makeError("", "--fluid-scale applies to the screen-space surface, not --surface mesh");
+        return makeUsageError("", "--fluid-scale applies to the screen-space surface, not --surface mesh");
     s.fluidScale = o.fluidScale;
     s.shadows = o.shadows == "on" ? ShadowMode::On : o.shadows == "off" ? ShadowMode::Off : ShadowMode::Auto;
     if (!o.fluidAttribute.empty() && o.surface == "mesh")
-        return makeError("", "--fluid-attribute, --fluid: several fluids are drawn by the screen-space surface, not "
+        return makeUsageError("", "--fluid-attribute, --fluid: several fluids are drawn by the screen-space surface, not "
                              "--surface mesh");
-    if (!(o.radius >= 0.0f)) return makeError("", "--radius must be a positive number of metres");
+    if (!(o.radius >= 0.0f)) return makeUsageError("", "--radius must be a positive number of metres");
     if (o.radius != 0.0f)
-        if (auto st = checkRadius(o.radius); !st) return makeError("", "--radius: " + st.error().message);
+        if (auto st = checkRadius(o.radius); !st) return makeUsageError("", "--radius: " + st.error().message);
     if (!o.geometry.empty()) {
         auto geometry = renderGeometry(o.geometry, o.up, o.cutAway == "on");
         if (!geometry) return geometry.error();
@@ -1278,7 +1286,7 @@ UpRotation UpRotation::inverse() const {
 
 Result<UpRotation> upRotation(const glm::vec3& u) {
     if (!std::isfinite(u.x) || !std::isfinite(u.y) || !std::isfinite(u.z) || glm::length(u) == 0.0f)
-        return makeError("", "--up " + vec3Text(u) + ": expected the up axis as three numbers x,y,z, not all zero");
+        return makeUsageError("", "--up " + vec3Text(u) + ": expected the up axis as three numbers x,y,z, not all zero");
     const glm::vec3 n = glm::normalize(u), y(0.0f, 1.0f, 0.0f);
     UpRotation r;
     const glm::vec3 a = glm::cross(n, y);
@@ -1301,8 +1309,8 @@ Result<UpRotation> upRotation(const glm::vec3& u) {
 Result<float> resolveRadius(float optionRadius, const std::function<RadiusEstimate()>& estimate, std::string* note) {
     if (note) note->clear();
     if (optionRadius != 0.0f) {
-        if (!(optionRadius > 0.0f)) return makeError("", "--radius must be a positive number of metres");
-        if (auto st = checkRadius(optionRadius); !st) return makeError("", "--radius: " + st.error().message);
+        if (!(optionRadius > 0.0f)) return makeUsageError("", "--radius must be a positive number of metres");
+        if (auto st = checkRadius(optionRadius); !st) return makeUsageError("", "--radius: " + st.error().message);
         return optionRadius;
     }
     const RadiusEstimate est = estimate();
@@ -1325,7 +1333,7 @@ Result<Camera> chooseCamera(const RenderOptions& o, std::span<const glm::vec3> s
     cam.fovYDegrees = o.fov;
     cam.nearM = defaults::kNearM;
     cam.farM = defaults::kFarM;
-    if (o.eye.has_value() != o.target.has_value()) return makeError("", "give both --eye and --target, or neither");
+    if (o.eye.has_value() != o.target.has_value()) return makeUsageError("", "give both --eye and --target, or neither");
     if (o.eye) {
         auto up = upRotation(o.up);
         if (!up) return up.error();
@@ -1346,7 +1354,8 @@ Result<Camera> chooseCamera(const RenderOptions& o, std::span<const glm::vec3> s
         }
         if (outsideCount) *outsideCount = outside;
     }
-    if (auto st = validateCamera(cam); !st) return st.error();
+    // The eye and target given (not framed on the data) are the caller's settings.
+    if (auto st = validateCamera(cam); !st) return o.eye ? makeUsageError("", st.error().message) : st.error();
     return cam;
 }
 

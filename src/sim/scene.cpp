@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "meniscus/io.h"
+#include "meniscus/json_text.h"
 #include "meniscus/sim.h"
 
 namespace meniscus::sim {
@@ -25,11 +26,9 @@ using nlohmann::json;
 namespace fs = std::filesystem;
 
 constexpr int kSceneVersion = 1;
-// A scene is a few KB; more than this is not a scene (and is not read into memory).
-constexpr std::uintmax_t kMaxSceneBytes = std::uintmax_t(4) << 20;
-// The deepest real nesting is 5 (fluid[0].box.min[0]); deeper input is refused
-// before it is built.
-constexpr int kMaxDepth = 16;
+// A scene's size and nesting: json_limits::kSimulationScene (json_text.h),
+// checked before the text is read into memory or parsed.
+constexpr int kMaxDepth = json_limits::kSimulationScene.maxDepth;
 constexpr int kMaxInt = 1 << 30;
 
 // Thrown inside the reader for a bad field, caught in parseScene: the field
@@ -425,7 +424,10 @@ Scene sceneFromJson(const json& root, const std::string& name) {
     std::string description;
     readString(top, "description", description);
     readDouble(top, "duration", scene.duration, Bound::NonNegative);
+    if (!(scene.duration <= kMaxDuration))
+        fail(top.path("duration"), "must be at most " + num(kMaxDuration) + " s, got " + num(scene.duration));
     readDouble(top, "fps", scene.fps, Bound::Positive);
+    if (!(scene.fps <= kMaxFps)) fail(top.path("fps"), "must be at most " + num(kMaxFps) + ", got " + num(scene.fps));
 
     const json noParams = json::object();
     const json* paramsValue = top.get("params");
@@ -502,6 +504,7 @@ std::string parserMessage(std::string what) {
 }  // namespace
 
 Result<Scene> parseScene(std::string_view text, const std::string& name) {
+    if (auto fits = checkJsonText(text, name, json_limits::kSimulationScene); !fits) return fits.error();
     try {
         json root;
         try {
@@ -513,7 +516,8 @@ Result<Scene> parseScene(std::string_view text, const std::string& name) {
         }
         return sceneFromJson(root, name);
     } catch (const SceneFailure& f) {
-        return makeError(name, f.path.empty() ? f.message : f.path + ": " + f.message);
+        // A field's value (or a key) is wrong: the settings' error, not the data's.
+        return makeUsageError(name, f.path.empty() ? f.message : f.path + ": " + f.message);
     } catch (const std::bad_alloc&) {
         return makeError(name, "out of memory while reading the scene");
     } catch (const std::exception& e) {
@@ -523,23 +527,18 @@ Result<Scene> parseScene(std::string_view text, const std::string& name) {
 
 Result<Scene> readScene(const std::filesystem::path& path) {
     const std::string name = path.string();
-    std::error_code ec;
-    const std::uintmax_t size = fs::file_size(path, ec);
-    if (!ec && size > kMaxSceneBytes)
-        return makeError(name, "is " + std::to_string(size) + " bytes; a scene file is at most " +
-                                   std::to_string(kMaxSceneBytes) + " bytes");
-    auto bytes = readFileBytes(path);
-    if (!bytes) return bytes.error();
-    const std::vector<std::uint8_t>& b = bytes.value();
-    auto scene = parseScene(std::string_view(reinterpret_cast<const char*>(b.data()), b.size()), name);
+    auto text = readJsonText(path, json_limits::kSimulationScene);
+    if (!text) return text.error();
+    auto scene = parseScene(*text, name);
     if (!scene) return scene;
+    std::error_code ec;
     // Mesh paths are resolved against the scene's folder; say now, naming the
     // field, if one is not there, rather than when the simulator starts.
     const auto& colliders = scene.value().colliders;
     for (std::size_t i = 0; i < colliders.size(); ++i) {
         if (colliders[i].kind != Collider::Kind::Mesh) continue;
         if (!fs::is_regular_file(colliders[i].mesh, ec))
-            return makeError(name, element("colliders", i) + ".mesh: no such file " + colliders[i].mesh.string());
+            return makeUsageError(name, element("colliders", i) + ".mesh: no such file " + colliders[i].mesh.string());
     }
     return scene;
 }

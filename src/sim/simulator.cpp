@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <string>
 
@@ -79,9 +80,14 @@ float restVolume(float r, float h, W&& w, float* neighbours) {
 
 Status validate(const Scene& sc) {
     const std::string file = sc.file.string();
-    auto bad = [&](const std::string& m) -> Status { return makeError(file, m); };
+    // The scene's values are wrong: the settings' error (Error::usage), not the data's.
+    auto bad = [&](const std::string& m) -> Status { return makeUsageError(file, m); };
     const SimParams& p = sc.params;
-    if (!(p.radius >= 1e-6f && p.radius <= 10.0f)) return bad("radius " + std::to_string(p.radius) + " m is not in [1e-6, 10] m");
+    if (!(p.radius >= 1e-6f && p.radius <= 10.0f)) {
+        char radius[32];
+        std::snprintf(radius, sizeof radius, "%g", double(p.radius));
+        return bad("radius " + std::string(radius) + " m is not in [1e-6, 10] m");
+    }
     if (!boxOk(sc.domain)) return bad("the domain box " + vecStr(sc.domain.min) + " - " + vecStr(sc.domain.max) + " is empty or not finite");
     if (glm::any(glm::lessThan(sc.domain.max - sc.domain.min, glm::vec3(8.0f * p.radius))))
         return bad("the domain is narrower than 8 particle radii (twice the kernel support) on some axis");

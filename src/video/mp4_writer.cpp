@@ -94,14 +94,15 @@ std::size_t VideoWriter::frames() const { return impl_ ? impl_->count : 0; }
 Result<VideoWriter> VideoWriter::open(const std::filesystem::path& path, int width, int height,
                                       const VideoParams& params) {
     const std::string name = path.string();
+    // The caller's settings (Error::usage): the size, the rate and the quality.
     if (width <= 0 || height <= 0 || width % 2 != 0 || height % 2 != 0)
-        return makeError(name, "an H.264 movie needs an even width and height, not " + std::to_string(width) + "x" +
+        return makeUsageError(name, "an H.264 movie needs an even width and height, not " + std::to_string(width) + "x" +
                                    std::to_string(height) + " (4:2:0 chroma: one sample per 2x2 pixels)");
     if (!(params.fps > 0.0 && params.fps <= 1000.0))
-        return makeError(name, "the frame rate must be in (0, 1000] frames per second, not " +
+        return makeUsageError(name, "the frame rate must be in (0, 1000] frames per second, not " +
                                    std::to_string(params.fps));
     if (params.crf < 0 || params.crf > 51)
-        return makeError(name, "the CRF must be 0 (lossless) to 51, not " + std::to_string(params.crf));
+        return makeUsageError(name, "the CRF must be 0 (lossless) to 51, not " + std::to_string(params.crf));
     try {
         auto pending = PendingFile::begin(path);
         if (!pending) return pending.error();
