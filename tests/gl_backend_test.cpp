@@ -380,8 +380,9 @@ TEST_F(GlBackend, EnvironmentMapMatchesCpu) {
 
 // Shadows (docs/geometry.md#shadows): the real frame in its SPlisHSPlasH
 // tank with a box over the liquid, the key light's maps and the shadows on
-// both backends, every AOV within the pipeline's tolerances; the liquid's
-// shadow alone (no geometry, shadows on) too.
+// both backends, every AOV within the pipeline's tolerances, the same
+// renderers drawing again and after the box moved; the liquid's shadow alone
+// (no geometry, shadows on) too.
 TEST_F(GlBackend, ShadowsMatchCpu) {
     Frame f = realFrameSettings();
     ASSERT_FALSE(f.positions.empty());
@@ -400,8 +401,13 @@ TEST_F(GlBackend, ShadowsMatchCpu) {
     auto gl = Renderer::create(BackendChoice::Gl);
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
     Renderer cpu;
-    for (int k = 0; k < 2; ++k) {
-        if (k == 1) f.settings.geometry = nullptr;
+    // The same renderers again (the casters' depth kept), with the box moved
+    // (another geometry object: drawn again), then without geometry.
+    auto moved = std::make_shared<SceneGeometry>(*g);
+    moved->objects.back().mesh = makeBoxMesh(c + glm::vec3(0.0f, 0.5f, -0.3f) * e, c + glm::vec3(0.3f, 0.6f, 0.1f) * e);
+    for (int k = 0; k < 4; ++k) {
+        if (k == 2) f.settings.geometry = moved;
+        if (k == 3) f.settings.geometry = nullptr;
         std::vector<StageTime> times;
         auto a = cpu.render(f.positions, f.settings, &times);
         auto b = gl->render(f.positions, f.settings);

@@ -115,6 +115,9 @@ struct SceneGeometry {
 // Relative paths inside a file are taken from that file's folder; inline
 // text's from `baseDir`. Errors name the file and the problem.
 Result<SceneGeometry> readGeometry(const std::string& spec, const std::filesystem::path& baseDir = {});
+// Whether readGeometry takes `spec` as inline JSON text: its first character
+// other than blanks is '{' or '['.
+bool isInlineGeometry(std::string_view spec);
 
 // Parses the scene file's `geometry` value: one object or a list of them, as
 // JSON text. `source` names where the text came from, for errors. Each object:

@@ -7,6 +7,7 @@
 // maps (shared/shadow.h, the CPU's formulas): the key light's share taken
 // away behind the geometry, attenuated by Beer-Lambert's law behind the liquid.
 #include <limits>
+#include <memory>
 
 #include "core/shadow_camera.h"
 #include "gl/dispatch.h"
@@ -31,6 +32,13 @@ struct ShadowPasses {
     Program shade;
     GpuImage normal;  // the rasteriser's normals, unread
     TriangleMesh casters;
+    // The geometry's depth from the light, kept (as the CPU's
+    // CpuBackend::casterDepth) while the geometry object and the light's
+    // camera stay: a still scene rasterises (and uploads) its casters once.
+    GpuImage casterDepth;
+    std::shared_ptr<const SceneGeometry> casterGeometry;
+    Camera casterCamera;
+    bool casterValid = false;
 
     static Result<ShadowPasses> create() {
         ShadowPasses p;
@@ -48,13 +56,20 @@ struct ShadowPasses {
 void runShadowMap(GlBackend& g, const StageIo& io) {
     const FrameSettings& s = g.frame();
     ShadowPasses& p = g.pass<ShadowPasses>();
-    shadowCasters(s.geometry.get(), s.camera.eye, p.casters);
+    if (!p.casterValid || p.casterGeometry != s.geometry || !(p.casterCamera == s.camera)) {
+        shadowCasters(s.geometry.get(), s.camera.eye, p.casters);
+        if (p.casters.empty())
+            p.casterDepth.upload(Image<float>(s.camera.width, s.camera.height, std::numeric_limits<float>::infinity()));
+        else
+            p.raster.run(g.params(), p.casters, nullptr, p.casterDepth, p.normal);
+        p.casters = {};  // the triangles live on the GPU now
+        p.casterGeometry = s.geometry;
+        p.casterCamera = s.camera;
+        p.casterValid = true;
+    }
     g.forget(io.at.sceneDepth);
-    if (p.casters.empty())
-        g.img(io.at.sceneDepth)
-            .upload(Image<float>(s.camera.width, s.camera.height, std::numeric_limits<float>::infinity()));
-    else
-        p.raster.run(g.params(), p.casters, nullptr, g.img(io.at.sceneDepth), p.normal);
+    g.img(io.at.sceneDepth).copyFrom(p.casterDepth);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     kSplatStage.run(g, io);
 }
 

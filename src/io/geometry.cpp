@@ -785,10 +785,15 @@ Result<SceneGeometry> parseSplishSplashScene(std::string_view jsonText, const st
     });
 }
 
-Result<SceneGeometry> readGeometry(const std::string& spec, const fs::path& baseDir) {
+bool isInlineGeometry(std::string_view spec) {
     const std::size_t first = spec.find_first_not_of(" \t\r\n");
-    if (first == std::string::npos) return makeError("", "no geometry given (an empty file name)");
-    if (spec[first] == '{' || spec[first] == '[') return parseGeometry(spec, "inline geometry", baseDir);
+    return first != std::string_view::npos && (spec[first] == '{' || spec[first] == '[');
+}
+
+Result<SceneGeometry> readGeometry(const std::string& spec, const fs::path& baseDir) {
+    if (spec.find_first_not_of(" \t\r\n") == std::string::npos)
+        return makeError("", "no geometry given (an empty file name)");
+    if (isInlineGeometry(spec)) return parseGeometry(spec, "inline geometry", baseDir);
     const fs::path path = resolve(baseDir, spec);
     return guarded(path.string(), [&] { return readGeometryFile(path, 0); });
 }

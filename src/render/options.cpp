@@ -1042,7 +1042,7 @@ std::string geometryKey(const std::string& spec) {
     std::string key = spec;
     std::error_code ec;
     const std::filesystem::path path(spec);
-    if (!spec.empty() && spec.front() != '{' && spec.front() != '[' && std::filesystem::is_regular_file(path, ec)) {
+    if (!isInlineGeometry(spec) && std::filesystem::is_regular_file(path, ec)) {
         key += '\n' + std::to_string(std::filesystem::file_size(path, ec));
         key += '\n' + std::to_string(std::filesystem::last_write_time(path, ec).time_since_epoch().count());
     }
@@ -1093,8 +1093,7 @@ Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<st
     for (const std::string& spec : specs) {
         auto one = readGeometry(spec);
         if (!one) {
-            const bool inline_ = !spec.empty() && (spec.front() == '{' || spec.front() == '[');
-            return makeError(one.error().file, (inline_ ? "--geometry: " : "--geometry " + spec + ": ") +
+            return makeError(one.error().file, (isInlineGeometry(spec) ? "--geometry: " : "--geometry " + spec + ": ") +
                                                    one.error().message);
         }
         all->append(std::move(*one));
