@@ -90,6 +90,9 @@ render world_tank21 --geometry "$tank"
 render world_objects21 --geometry '{"sphere": {"center": [-1.2, 0.22, 0.15], "radius": 0.16}, "material": {"color": [0.8, 0.25, 0.08], "roughness": 0.4}}' \
     --geometry '{"box": {"min": [0.55, 0, -0.7], "max": [0.85, 0.5, -0.4]}, "material": {"color": [0.95, 0.8, 0.5], "metalness": 1, "roughness": 0.2}}' \
     --geometry '{"box": {"min": [-2.05, 0, -0.8], "max": [-1.55, 0.7, 0.8]}, "material": {"glass": true}}'
+# A mesh file's base colour map: the checker quad of tests/data/geometry
+# (OBJ + MTL + PNG) stood up behind the liquid.
+render world_texture21 --geometry '{"file": "tests/data/geometry/textured_quad.obj", "scale": [1.6, 1, 0.8], "rotate": {"axis": [1, 0, 0], "degrees": -90}, "translate": [-1.3, 0, -0.45]}'
 # An environment map (the test map: a warm sky, a green ground band, a sun)
 # for the background, the reflections of the liquid and of a chrome ball, and
 # the ambient light (the floor's warm tint).
