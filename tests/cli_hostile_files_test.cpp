@@ -2,12 +2,14 @@
 //  - a particle file is checked from its first bytes (its magic, header or
 //    first line) before the rest is read, and a file larger than a particle
 //    file may be is refused unread: a huge file of zeros with any particle
-//    extension is refused quickly, in little memory, naming the file (exit 1,
-//    docs/usage.md#errors).
+//    extension is refused quickly, in little memory, naming the file (exit 1);
+//  - an output that is a link to a device or a FIFO is refused (exit 2) and
+//    the device or FIFO stays as it was (docs/usage.md#errors).
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include <sys/stat.h>
 
 #include <gtest/gtest.h>
 
@@ -71,3 +73,37 @@ TEST(CliHostileFiles, ParticleFileOverTheLimitIsRefusedUnread) {
     fs::remove(file);
 }
 
+// Regression: an output that was a symbolic link to a device was replaced by
+// a regular file (as root, `-o` through a link to /dev/null replaced
+// /dev/null). Refused now before anything is written, as the command line's
+// mistake (exit 2); the device or FIFO stays.
+TEST(CliHostileFiles, OutputLinkedToADeviceOrAFifoIsRefused) {
+    const fs::path dir = dirWithFrame("hostile_output_link");
+    ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0600), 0);
+    fs::create_symlink(dir / "fifo", dir / "o.png");
+    const std::string render = "render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "o.png") +
+                               " --width 32 --height 24 --backend cpu";
+    std::string out;
+    // A FIFO first: where it is refused, so is a device, and /dev/null below
+    // is never at risk on a build that does not refuse.
+    ASSERT_EQ(runCli(render, &out), 2) << out;
+    ASSERT_TRUE(has(out, (dir / "o.png").string() + ": is a link to a named pipe (FIFO), not a file; choose "
+                                                    "another output"))
+        << out;
+    ASSERT_TRUE(fs::is_fifo(dir / "fifo"));
+    ASSERT_TRUE(fs::is_symlink(fs::symlink_status(dir / "o.png")));
+    fs::remove(dir / "o.png");
+    ASSERT_TRUE(fs::is_character_file(fs::symlink_status("/dev/null")));
+    fs::create_symlink("/dev/null", dir / "o.png");
+    EXPECT_EQ(runCli(render, &out), 2) << out;
+    EXPECT_TRUE(has(out, (dir / "o.png").string() + ": is a link to a device, not a file; choose another output"))
+        << out;
+    EXPECT_TRUE(fs::is_character_file(fs::symlink_status("/dev/null")));
+    EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir / "o.png")));
+    // A link to a regular file is written through: the link stays.
+    fs::remove(dir / "o.png");
+    fs::create_symlink("real.png", dir / "o.png");
+    EXPECT_EQ(runCli(render, &out), 0) << out;
+    EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir / "o.png")));
+    EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(dir / "real.png")));
+}
