@@ -150,8 +150,8 @@ Status checkParticleHead(ByteView head, const std::string& name, ParticleFormat 
                     return makeError(name, "not a text file (a NUL byte at offset " + std::to_string(i) + ")");
             return okStatus();
         case ParticleFormat::Hdf5:
-            // The signature may follow a user block of up to a few KiB and
-            // more; the HDF5 reader checks it.
+            // The signature may follow a user block (at 512, 1024, 2048, ...
+            // bytes, past the first bytes read here): the HDF5 reader checks it.
             return okStatus();
         case ParticleFormat::Npz:
             if (startsWith(head, "PK\x03\x04") || startsWith(head, "PK\x05\x06")) return okStatus();
