@@ -1,8 +1,13 @@
 // Outputs are written to a temporary file and renamed (src/io/atomic_file.cpp);
-// a symbolic link as the output is written through, so it stays a link.
+// a symbolic link as the output is written through, so it stays a link; an
+// output that is not a regular file (a device, a FIFO, a folder), named or
+// linked to, is refused before anything is written.
 #include <gtest/gtest.h>
 
 #include <filesystem>
+
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 
 #include "io/atomic_file.h"
 #include "test_util.h"
@@ -52,6 +57,54 @@ TEST(AtomicFile, WritesThroughASymbolicLink) {
     ASSERT_TRUE(writeText(dir / "dangling.txt", "fresh").ok());
     EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir / "dangling.txt")));
     EXPECT_EQ(readText(dir / "real" / "fresh.txt"), "fresh");
+}
+
+// Regression: an output that was a link to a FIFO or a device was replaced by
+// a regular file (the rename went over the FIFO or the device node). Refused
+// now, as the command line's mistake, before the write and any rename.
+TEST(AtomicFile, RefusesToReplaceWhatIsNotARegularFile) {
+    const fs::path dir = test::tempDir() / "atomic_not_a_file";
+    fs::remove_all(dir);
+    fs::create_directories(dir / "folder");
+    ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0600), 0);
+    fs::create_symlink(dir / "fifo", dir / "to_fifo.png");
+    bool wrote = false;
+    const auto write = [&](const fs::path& path) {
+        return writeAtomically(path, [&](const fs::path& tmp) {
+            wrote = true;
+            test::writeText(tmp, "x");
+            return okStatus();
+        });
+    };
+    auto st = write(dir / "to_fifo.png");
+    ASSERT_FALSE(st.ok());
+    EXPECT_TRUE(st.error().usage);
+    EXPECT_NE(st.error().describe().find("to_fifo.png: is a link to a named pipe (FIFO), not a file; choose "
+                                         "another output"),
+              std::string::npos)
+        << st.error().describe();
+    EXPECT_FALSE(wrote);
+    EXPECT_TRUE(fs::is_fifo(dir / "fifo"));
+    st = write(dir / "fifo");  // named itself
+    ASSERT_FALSE(st.ok());
+    EXPECT_NE(st.error().describe().find("is a named pipe (FIFO), not a file"), std::string::npos);
+    EXPECT_TRUE(fs::is_fifo(dir / "fifo"));
+    st = write(dir / "folder");
+    ASSERT_FALSE(st.ok());
+    EXPECT_NE(st.error().describe().find("is a directory, not a file"), std::string::npos);
+    EXPECT_TRUE(fs::is_directory(dir / "folder"));
+    // A device node of its own, a copy of /dev/null (root can make one).
+    if (::mknod((dir / "null").c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0) {
+        fs::create_symlink(dir / "null", dir / "to_null.png");
+        st = write(dir / "to_null.png");
+        ASSERT_FALSE(st.ok());
+        EXPECT_NE(st.error().describe().find("is a link to a device, not a file"), std::string::npos);
+        EXPECT_TRUE(fs::is_character_file(fs::symlink_status(dir / "null")));
+    }
+    EXPECT_FALSE(wrote);
+    // Nothing left behind: no temporary beside any of them.
+    for (const auto& e : fs::directory_iterator(dir))
+        EXPECT_NE(e.path().filename().string().rfind(".", 0), 0u) << e.path();
 }
 
 }  // namespace

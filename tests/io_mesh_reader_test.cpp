@@ -266,5 +266,23 @@ TEST(MeshMalformed, FileProblems) {
     EXPECT_EQ(ok(readMesh(dir / "TRI.OBJ")).triangleCount(), 1u);
 }
 
+// Regression: a mesh file was read into memory whole before any check (a
+// 3 GB file of zeros took 3 GB); it is refused from its first bytes now.
+TEST(MeshReader, HugeFileOfZerosIsRefusedFromItsFirstBytes) {
+    const fs::path dir = tempDir() / "mesh_zeros";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    for (const auto& [file, message] : {std::pair<std::string, std::string>{"z.obj", "not a text file (a NUL byte"},
+                                        std::pair<std::string, std::string>{"z.ply", "not a PLY file"}}) {
+        test::writeText(dir / file, "");
+        fs::resize_file(dir / file, std::uintmax_t(3) << 30);  // sparse
+        const auto mesh = readMesh(dir / file);
+        ASSERT_FALSE(mesh.ok()) << file;
+        EXPECT_NE(mesh.error().describe().find((dir / file).string() + ": " + message), std::string::npos)
+            << mesh.error().describe();
+        fs::remove(dir / file);
+    }
+}
+
 }  // namespace
 }  // namespace meniscus

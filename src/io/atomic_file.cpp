@@ -13,6 +13,40 @@
 
 namespace meniscus {
 
+namespace {
+
+// What an existing output that is not a regular file is, for the refusal;
+// empty where it is absent or a regular file (those are written).
+std::string notAFile(const std::filesystem::path& dest) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status st = fs::symlink_status(dest, ec);
+    switch (st.type()) {
+        case fs::file_type::not_found:
+        case fs::file_type::none:
+        case fs::file_type::regular: return {};
+        case fs::file_type::directory: return "a directory";
+        case fs::file_type::character:
+        case fs::file_type::block: return "a device";
+        case fs::file_type::fifo: return "a named pipe (FIFO)";
+        case fs::file_type::socket: return "a socket";
+        default: return "not a regular file";
+    }
+}
+
+// The refusal of an output that is (or links to) something other than a
+// regular file: replacing it by a file (a rename over /dev/null, say) would
+// be wrong; it is the command line's output that is wrong (Error::usage).
+Status checkReplaceable(const std::filesystem::path& path, const std::filesystem::path& dest) {
+    const std::string what = notAFile(dest);
+    if (what.empty()) return okStatus();
+    const bool linked = path != dest;
+    return makeUsageError(path.string(), std::string(linked ? "is a link to " : "is ") + what +
+                                             ", not a file; choose another output");
+}
+
+}  // namespace
+
 Result<PendingFile> PendingFile::begin(const std::filesystem::path& path) {
     namespace fs = std::filesystem;
     static std::atomic<unsigned> counter{0};
@@ -27,6 +61,9 @@ Result<PendingFile> PendingFile::begin(const std::filesystem::path& path) {
         if (ec) return makeError(path.string(), "cannot follow the symbolic link: " + ec.message());
         dest = (target.is_absolute() ? target : dest.parent_path() / target).lexically_normal();
     }
+    // Only a regular file (or nothing) is replaced: never a device, a pipe,
+    // a socket or a folder, whether named or linked to.
+    if (auto st = checkReplaceable(path, dest); !st) return st.error();
     // Same directory, so the rename is atomic; hidden, so a sequence glob never picks it up.
     const fs::path dir = dest.has_parent_path() ? dest.parent_path() : fs::path(".");
     fs::path tmp = dir / ("." + dest.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
@@ -61,6 +98,12 @@ void PendingFile::discard() {
 
 Status PendingFile::commit() {
     if (tmp_.empty()) return makeError(path_.string(), "nothing to commit (already committed or discarded)");
+    // Checked again just before the rename: the output may have changed
+    // since begin().
+    if (auto st = checkReplaceable(path_, dest_); !st) {
+        discard();
+        return st;
+    }
     std::error_code ec;
     std::filesystem::rename(tmp_, dest_, ec);
     if (ec) {

@@ -5,16 +5,39 @@
 // style (io.h): run.h5part/Step#3, dam_break_2d_100.hdf5/fluid, out.npz/fluid.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "meniscus/io.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
 
 namespace meniscus::io_util {
+
+// The most a particle file may hold to be read into memory whole: as much as
+// a .bgeo.gz may inflate to (gzip.cpp); any larger file is refused unread.
+inline constexpr std::uint64_t kMaxParticleFileBytes = std::uint64_t(4) << 30;  // 4 GiB
+// The most a ParaView collection (.pvd, an index of file names) may hold.
+inline constexpr std::uint64_t kMaxPvdFileBytes = std::uint64_t(64) << 20;  // 64 MiB
+// How much of a file readFileChecked reads first, for its signature.
+inline constexpr std::size_t kHeadBytes = 4096;
+
+// A file read into memory whole, checked from its first bytes: the first
+// kHeadBytes (or fewer, in a smaller file) go to `checkHead`, whose error is
+// returned before anything more is read, and a file over `maxBytes` is
+// refused unread. Errors name the file.
+Result<std::vector<std::uint8_t>> readFileChecked(const std::filesystem::path& path, std::uint64_t maxBytes,
+                                                  const std::function<Status(ByteView head)>& checkHead);
+
+// The first bytes of a particle file checked against its format: the magic
+// of a binary format, XML for .vtu/.vtp, 'ply' on the first line, text (no
+// NUL byte) for .csv and .xyz. Auto: known by `head` or refused.
+Status checkParticleHead(ByteView head, const std::string& name, ParticleFormat format);
 
 // By extension, any case: .h5part, .h5, .hdf5 (HDF5) and .npz.
 bool isHdf5Name(std::string_view fileName);

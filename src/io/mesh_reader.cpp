@@ -26,8 +26,10 @@
 #include <cstdio>
 #include <limits>
 
+#include "io/containers.h"
 #include "io/io_util.h"
 #include "io/ply_format.h"
+#include "meniscus/geometry.h"
 #include "meniscus/io.h"
 
 namespace meniscus {
@@ -289,7 +291,12 @@ Result<TriangleMesh> parsePlyMesh(ByteView data, const std::string& name) {
 Result<TriangleMesh> readMesh(const std::filesystem::path& path) {
     const auto format = meshFormatOf(path);
     if (!format) return makeError(path.string(), "a mesh file must end in .obj or .ply");
-    auto bytes = readFileBytes(path);
+    // Checked from its first bytes ('ply' on line 1, or text), and read
+    // whole only within the size a mesh file may have (geometry.h).
+    const bool obj = *format == MeshFormat::Obj;
+    auto bytes = io_util::readFileChecked(path, geometry_limits::kMaxMeshFileBytes, [&](ByteView head) {
+        return io_util::checkParticleHead(head, path.string(), obj ? ParticleFormat::Xyz : ParticleFormat::Ply);
+    });
     if (!bytes) return bytes.error();
     return *format == MeshFormat::Obj ? parseObjMesh(*bytes, path.string()) : parsePlyMesh(*bytes, path.string());
 }

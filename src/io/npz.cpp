@@ -673,7 +673,8 @@ Result<ParticleSet> parseNpz(ByteView data, const std::string& name, const std::
 
 Result<std::vector<ParticleArrayInfo>> io_util::listNpzParticleArrays(const std::filesystem::path& path) {
     const std::string name = path.string();
-    auto bytes = readFileBytes(path);
+    auto bytes = readFileChecked(path, kMaxParticleFileBytes,
+                                 [&](ByteView head) { return checkParticleHead(head, name, ParticleFormat::Npz); });
     if (!bytes) return bytes.error();
     try {
         std::vector<std::pair<std::string, std::uint64_t>> list;

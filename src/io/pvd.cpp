@@ -156,7 +156,13 @@ Result<PvdCollection> parsePvd(ByteView data, const std::string& name, const fs:
 }
 
 Result<PvdCollection> readPvd(const fs::path& path) {
-    auto bytes = readFileBytes(path);
+    // An index of file names: small, and XML from its first byte.
+    auto bytes = io_util::readFileChecked(path, io_util::kMaxPvdFileBytes, [&](ByteView head) -> Status {
+        std::size_t i = head.size() >= 3 && head[0] == 0xEF && head[1] == 0xBB && head[2] == 0xBF ? 3 : 0;
+        while (i < head.size() && (head[i] == ' ' || head[i] == '\t' || head[i] == '\r' || head[i] == '\n')) ++i;
+        if (head.empty() || (i < head.size() && head[i] == '<')) return okStatus();
+        return makeError(path.string(), "not a ParaView collection (not XML: the file does not start with '<')");
+    });
     if (!bytes) return bytes.error();
     auto pvd = parsePvd(ByteView(bytes->data(), bytes->size()), path.string(), path.parent_path());
     if (!pvd) return pvd;
