@@ -50,4 +50,11 @@ const TriangleMesh& facesSeenFrom(const TriangleMesh& m, const glm::vec3& eye, F
     return *scratch;
 }
 
+const GeometryTexture* drawnTexture(const GeometryObject& object) {
+    const GeometryTexture* t = object.material.baseColorTexture.get();
+    const bool whole = t && t->width > 0 && t->height > 0 &&
+                       t->rgb.size() == std::size_t(t->width) * std::size_t(t->height) * 3;
+    return whole && !object.material.glass && object.uvs.size() == object.mesh.positions.size() ? t : nullptr;
+}
+
 }  // namespace meniscus

@@ -38,6 +38,11 @@ const TriangleMesh& facesSeenFrom(const TriangleMesh& mesh, const glm::vec3& eye
 std::span<const std::uint32_t> facesSeenFrom(const TriangleMesh& mesh, const glm::vec3& eye, Faces faces,
                                              std::vector<std::uint32_t>* scratch);
 
+// The base colour map `object` is drawn with, or null: an opaque object whose
+// material has a whole texture (3 W H texels) and whose mesh has one texture
+// coordinate per vertex.
+const GeometryTexture* drawnTexture(const GeometryObject& object);
+
 // The faces the scene layer draws of `object`: of a cut-away container
 // (GeometryObject::cutaway) and of glass only the back faces (a tank seen
 // from outside loses the walls between the camera and the liquid, and its

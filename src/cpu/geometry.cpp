@@ -26,18 +26,18 @@ enum class Blend {
 
 // One object's raster (rasteriseMesh against `depth`) shaded into `color`
 // (and `depth` when opaque) where nearer than `depth` and, when given,
-// `alsoBehind` (the liquid's depth, for glass fronts).
-void shadeRaster(const Camera& camera, const MeshRaster& r, const GeometryMaterial& mat, const glm::vec3& light,
+// `alsoBehind` (the liquid's depth, for glass fronts); an opaque object's
+// base colour times `baseMap` (drawnTexture) at the raster's coordinates.
+void shadeRaster(const Camera& camera, const MeshRaster& r, const GeometryMaterial& mat, const GeometryTexture* baseMap,
+                 const glm::vec3& light,
                  const shared::EnvironmentMap& env, Blend blend, const Image<float>* alsoBehind, Image<glm::vec4>& color, const Image<float>& depthIn,
                  Image<float>* depthOut) {
     const int W = camera.width, H = camera.height;
     const glm::vec3 right = camera.right(), up = camera.trueUp(), back = camera.back();
     const float invF = 1.0f / camera.focalPx(), halfW = 0.5f * float(W), halfH = 0.5f * float(H);
-    // The base colour map, where the raster has texture coordinates.
+    // The base colour map (drawnTexture), where the raster has texture coordinates.
     shared::TextureMap texture;
-    if (const GeometryTexture* t = mat.baseColorTexture.get();
-        t && t->width > 0 && t->height > 0 && t->rgb.size() == std::size_t(t->width) * std::size_t(t->height) * 3)
-        texture = {t->rgb.data(), t->width, t->height};
+    if (baseMap) texture = {baseMap->rgb.data(), baseMap->width, baseMap->height};
     const bool textured = texture.enabled() && r.uv.width == W && r.uv.height == H;
     // Flattened: the shading formulas inlined into the row's loop.
     forEachRow(H, [&](int y) __attribute__((flatten)) {
@@ -76,7 +76,7 @@ void shadeRaster(const Camera& camera, const MeshRaster& r, const GeometryMateri
 MeshRef objectFaces(const GeometryObject& object, std::span<const std::uint32_t> faces) {
     const TriangleMesh& m = object.mesh;
     MeshRef ref{m.positions, m.normals, faces};
-    if (object.material.baseColorTexture && object.uvs.size() == m.positions.size()) ref.uvs = object.uvs;
+    if (drawnTexture(object)) ref.uvs = object.uvs;
     return ref;
 }
 
@@ -96,7 +96,8 @@ void drawGeometry(const Camera& camera, const SceneGeometry& geometry, const sha
             const TriangleMesh& m = object.mesh;
             rasteriseMesh(camera, objectFaces(object, facesSeenFrom(m, camera.eye, sceneFaces(object), &scratch)),
                           &depth, r);
-            shadeRaster(camera, r, object.material, light, environment, glass ? Blend::Glass : Blend::Opaque, nullptr,
+            shadeRaster(camera, r, object.material, drawnTexture(object), light, environment,
+                        glass ? Blend::Glass : Blend::Opaque, nullptr,
                         color,
                         depth, &depth);
         }
@@ -113,7 +114,7 @@ void drawGlassFronts(const Camera& camera, const SceneGeometry& geometry, const 
         if (!drawsObject(object) || !object.material.glass) continue;
         const TriangleMesh& m = object.mesh;
         rasteriseMesh(camera, objectFaces(object, facesSeenFrom(m, camera.eye, Faces::Front, &scratch)), &sceneDepth, r);
-        shadeRaster(camera, r, object.material, light, environment, Blend::Glass, &liquidDepth, color, sceneDepth,
+        shadeRaster(camera, r, object.material, nullptr, light, environment, Blend::Glass, &liquidDepth, color, sceneDepth,
                     nullptr);
     }
 }

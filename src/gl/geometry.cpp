@@ -35,12 +35,10 @@ void GeometryDrawer::drawObject(const FrameParams& frame, const TriangleMesh& me
                                 GpuImage& depth, const EnvironmentGpu* environment) {
     const int W = frame.size.x, H = frame.size.y;
     const GeometryMaterial& m = object.material;
-    // The base colour map, as the CPU draws it: an opaque object with one
-    // texture coordinate per vertex and a whole image.
-    const GeometryTexture* t = m.baseColorTexture.get();
-    const bool textured = mode == 0 && t && t->width > 0 && t->height > 0 &&
-                          t->rgb.size() == std::size_t(t->width) * std::size_t(t->height) * 3 &&
-                          object.uvs.size() == mesh.positions.size();
+    // The base colour map, as the CPU draws it (drawnTexture); `mesh` has the
+    // object's vertices (facesSeenFrom keeps them), so its coordinates fit.
+    const GeometryTexture* t = drawnTexture(object);
+    const bool textured = t != nullptr;
     raster_.run(frame, mesh, &depth, objectDepth_, objectNormal_, textured ? &object.uvs : nullptr,
                 textured ? &objectUv_ : nullptr);
     if (textured && uploaded_ != m.baseColorTexture) {

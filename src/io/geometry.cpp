@@ -29,6 +29,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "io/containers.h"
 #include "meniscus/geometry.h"
 #include "meniscus/io.h"
 #include "meniscus/json_text.h"
@@ -141,18 +142,10 @@ Result<std::shared_ptr<const GeometryTexture>> readTexture(const aiScene* scene,
     std::replace(rel.begin(), rel.end(), '\\', '/');  // Windows exporters' separators
     const fs::path file = fs::path(name).parent_path() / rel;
     const std::string shown = file.string();
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec)) return makeError(name, "its texture " + shown + ": no such file");
-    const std::uintmax_t size = fs::file_size(file, ec);
-    if (ec) return makeError(name, "its texture " + shown + " cannot be read: " + ec.message());
-    if (size > lim::kMaxTextureFileBytes)
-        return makeError(name, "its texture " + shown + " is " + std::to_string(size) + " bytes; a texture file is at most " +
-                                   std::to_string(lim::kMaxTextureFileBytes));
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
-    std::ifstream in(file, std::ios::binary);
-    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
-    if (!in || std::uintmax_t(in.gcount()) != size) return makeError(name, "its texture " + shown + " cannot be read");
-    auto img = decodeTexture(bytes, shown);
+    // Read whole within the cap, refused unread beyond it (io_util::readFileChecked).
+    auto bytes = io_util::readFileChecked(file, lim::kMaxTextureFileBytes, nullptr);
+    if (!bytes) return makeError(name, "its texture " + shown + ": " + bytes.error().message);
+    auto img = decodeTexture(*bytes, shown);
     if (!img) return makeError(name, "its texture " + shown + " " + img.error().message);
     return Shared(std::make_shared<GeometryTexture>(std::move(*img)));
 }
