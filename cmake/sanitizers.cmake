@@ -22,12 +22,17 @@ if(MENISCUS_FUZZ)
                         "this is ${CMAKE_CXX_COMPILER_ID}")
   endif()
   # -Wno-unknown-warning-option: the project's GCC-only -Wno-restrict.
-  add_compile_options(${MENISCUS_SANITIZER_FLAGS} -fsanitize=fuzzer-no-link -Wno-unknown-warning-option)
-  add_link_options(-fsanitize=address,undefined)
-  message(STATUS "meniscus: fuzz build (libFuzzer, ASan, UBSan)")
-elseif(MENISCUS_SANITIZE)
+  add_compile_options(-fsanitize=fuzzer-no-link -Wno-unknown-warning-option)
+  message(STATUS "meniscus: fuzz targets (libFuzzer)")
+endif()
+# Both options together are one build: CI's sanitizer build (scripts/test_sanitizers.sh)
+# compiles everything once with clang and builds the fuzz targets beside the tests,
+# instead of compiling the library a third time for scripts/fuzz.sh.
+if(MENISCUS_FUZZ OR MENISCUS_SANITIZE)
   add_compile_options(${MENISCUS_SANITIZER_FLAGS})
   add_link_options(-fsanitize=address,undefined)
+endif()
+if(MENISCUS_SANITIZE)
   # Libraries stay loaded until exit, so LeakSanitizer can name what Mesa, GLFW and
   # X11 leak (the why is in the file); linked into every executable: the
   # top-level CMakeLists.txt calls link_libraries() with it after the module
