@@ -222,18 +222,20 @@ TEST(SceneFile, GeometryKeyMatchesTheOptionAndErrorsNameTheFile) {
         << out;
     EXPECT_EQ(readBytes(dir / "a.png"), readBytes(dir / "l.png"));
 
-    // Errors: a missing mesh file, bad JSON, an unknown key.
-    EXPECT_NE(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "e.png") +
+    // Errors (docs/usage.md#errors): a missing mesh file is the data's (exit 1);
+    // an unknown key of an inline object is the option's value (exit 2, as any
+    // bad option value).
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "e.png") +
                          " --geometry " + shellQuote(dir / "nothing.obj"),
                      &out),
-              0);
+              1);
     EXPECT_NE(out.find("--geometry"), std::string::npos) << out;
     EXPECT_NE(out.find("nothing.obj"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "e.png"));
-    EXPECT_NE(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "e.png") +
+    EXPECT_EQ(runCli("render " + shellQuote(dir / "f.bgeo") + " -o " + shellQuote(dir / "e.png") +
                          " --geometry " + shellQuote(R"({"box": {"min": [0, 0, 0], "max": [1, 1, 1]}, "colour": 1})"),
                      &out),
-              0);
+              2);
     EXPECT_NE(out.find("colour"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "e.png"));
 }

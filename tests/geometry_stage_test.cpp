@@ -395,4 +395,8 @@ TEST(GeometryOptions, RenderGeometryTurnsCutsAndCaches) {
     ASSERT_FALSE(missing.ok());
     EXPECT_NE(missing.error().describe().find("--geometry /no/such/tank.stl"), std::string::npos)
         << missing.error().describe();
+    EXPECT_FALSE(missing.error().usage);  // the data's error, not the option's
+    auto wrong = renderGeometry({R"({"sphere": {"radius": -1}})"}, {0.0f, 1.0f, 0.0f});
+    ASSERT_FALSE(wrong.ok());
+    EXPECT_TRUE(wrong.error().usage) << wrong.error().describe();  // a value of the option: exit 2
 }

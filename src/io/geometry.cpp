@@ -400,10 +400,14 @@ Result<GeometryObject> parseGeometryMesh(ByteView data, const std::string& name)
 namespace {
 
 // Thrown inside the JSON readers, caught at their door: the file, the key
-// path (`[1].material.roughness`) and what is wrong.
+// path (`[1].material.roughness`) and what is wrong. A wrong value or key of a
+// geometry list (fail) is an error in the caller's settings (Error::usage: the
+// CLI exits 2, as for any option's value); a mesh or texture file that cannot
+// be read keeps the kind its reader gave it (the data's: exit 1).
 struct Failure {
     std::string file;
     std::string message;
+    bool usage = true;
 };
 [[noreturn]] void fail(const std::string& file, const std::string& path, const std::string& message) {
     throw Failure{file, path.empty() ? message : path + ": " + message};
@@ -530,7 +534,7 @@ fs::path resolve(const fs::path& baseDir, const std::string& name) {
 }
 
 GeometryObject checkedMesh(Result<GeometryObject> r) {
-    if (!r) throw Failure{r.error().file, r.error().message};
+    if (!r) throw Failure{r.error().file, r.error().message, r.error().usage};
     return std::move(r.value());
 }
 
@@ -741,7 +745,7 @@ SceneGeometry readGeometryFile(const fs::path& path, int nesting, bool splishSpl
         return g;
     }
     auto text = readJsonText(path, json_limits::kGeometry);
-    if (!text) throw Failure{text.error().file, text.error().message};
+    if (!text) throw Failure{text.error().file, text.error().message, text.error().usage};
     const json root = parseJson(text.value(), name);
     if (isSplishSplash(root)) return readSplishSplash(root, name, path.parent_path());
     if (splishSplashOnly) fail(name, "", "not a SPlisHSPlasH scene (no \"RigidBodies\" or \"Boundaries\")");
@@ -753,7 +757,7 @@ Result<SceneGeometry> guarded(const std::string& source, F&& f) {
     try {
         return f();
     } catch (const Failure& e) {
-        return makeError(e.file, e.message);
+        return Error{e.file, e.message, e.usage};
     } catch (const std::bad_alloc&) {
         return makeError(source, "ran out of memory while reading geometry");
     } catch (const std::exception& e) {

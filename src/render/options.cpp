@@ -1093,8 +1093,9 @@ Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<st
     for (const std::string& spec : specs) {
         auto one = readGeometry(spec);
         if (!one) {
-            return makeError(one.error().file, (isInlineGeometry(spec) ? "--geometry: " : "--geometry " + spec + ": ") +
-                                                   one.error().message);
+            return Error{one.error().file,
+                         (isInlineGeometry(spec) ? "--geometry: " : "--geometry " + spec + ": ") + one.error().message,
+                         one.error().usage};
         }
         all->append(std::move(*one));
     }
