@@ -398,7 +398,8 @@ TEST_F(GlBackend, SceneGeometryStaysOnTheGpu) {
 // floor alone, the transparent background's fill, and the reflections of a
 // metal box and a glass box; the map turned and brightened. Its ambient light
 // (the irradiance's spherical harmonics) on the studio, the geometry, a
-// half-opaque liquid with foam and under the shadows (variant 4).
+// half-opaque liquid with foam, the spray's drops and under the shadows
+// (variant 4).
 TEST_F(GlBackend, EnvironmentMapMatchesCpu) {
     Frame f = realFrameSettings();
     ASSERT_FALSE(f.positions.empty());
@@ -432,7 +433,7 @@ TEST_F(GlBackend, EnvironmentMapMatchesCpu) {
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
     Renderer cpu;
     // 0: the studio; 1: the floor alone; 2: no background; 3: with the geometry;
-    // 4: the geometry, shadows, a half-opaque liquid with foam.
+    // 4: the geometry, shadows, a half-opaque liquid with foam, spray.
     const ShadowMode shadows = f.settings.shadows;
     for (int variant = 0; variant < 5; ++variant) {
         SCOPED_TRACE(variant);
@@ -442,6 +443,7 @@ TEST_F(GlBackend, EnvironmentMapMatchesCpu) {
         f.settings.shadows = variant == 4 ? ShadowMode::On : shadows;
         f.settings.shading.material.opacity = variant == 4 ? 0.5f : 0.0f;
         f.settings.noise.enabled = variant == 4;
+        f.settings.spray.enabled = variant == 4;  // drops lit by the map (shared::sprayLight)
         auto a = cpu.render(f.positions, f.settings);
         auto b = gl->render(f.positions, f.settings);
         ASSERT_TRUE(a.ok()) << a.error().describe();
