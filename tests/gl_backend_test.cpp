@@ -327,7 +327,8 @@ TEST_F(GlBackend, SceneGeometryMatchesCpu) {
 // a second frame with the same geometry and camera uploads nothing and draws
 // the same picture; a camera move uploads only the indices of the faces the
 // cut-away tank shows from the new eye (the ball's faces are all drawn, the
-// shadow casters are seen from the light); another geometry object is
+// shadow casters are seen from the light), a turned light only the casters'
+// indices from its new eye; another geometry object is
 // uploaded and drawn where the CPU draws it. Every frame within the
 // pipeline's tolerances of the CPU's.
 TEST_F(GlBackend, SceneGeometryStaysOnTheGpu) {
@@ -380,6 +381,13 @@ TEST_F(GlBackend, SceneGeometryStaysOnTheGpu) {
     const Image<glm::vec4> m = frame("the camera moved", &moved);
     EXPECT_GT(moved, 0u);  // the tank's and the glass's faces seen from the new eye
     EXPECT_LE(moved, (tank.mesh.indices.size() + 2 * glass.mesh.indices.size()) * sizeof(std::uint32_t));
+    // The light turned: the shadow casters seen from the light's new eye,
+    // only their indices sent (the tank's and the ball's, the glass casts none).
+    f.settings.shading.lightDirWorld = glm::normalize(glm::vec3(0.3f, 1.0f, 0.4f));
+    std::uint64_t lit = 0;
+    frame("the light turned", &lit);
+    EXPECT_GT(lit, 0u);
+    EXPECT_LE(lit, (tank.mesh.indices.size() + ball.mesh.indices.size()) * sizeof(std::uint32_t));
     // Another geometry object (the ball moved): uploaded, and drawn where it
     // now is (as the CPU draws it, expectSame), then kept again.
     auto shifted = std::make_shared<SceneGeometry>(*g);

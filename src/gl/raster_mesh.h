@@ -37,7 +37,7 @@ struct GpuIndices {
 
 // The bytes of vertices and indices GpuMesh::upload and GpuIndices::upload
 // sent to the GPU in this process (the tests' check that a still scene's
-// geometry stays on the GPU). Counted on the GL thread.
+// geometry stays on the GPU).
 std::uint64_t meshUploadBytes();
 
 // Owns the programs, the mesh's buffers and the draw's targets; reuse one
@@ -53,7 +53,8 @@ public:
     // the camera of the bound frame block (binding 0, uploaded by the caller
     // from `frame`). Fragments at or behind `sceneDepth` (when W x H x 1) are
     // not drawn. The mesh must be valid (the Renderer checks it) and is
-    // uploaded on every call (the liquid's mesh changes every frame). Asynchronous: nothing waits for the GPU here.
+    // uploaded on every call (the liquid's mesh changes every frame).
+    // Asynchronous: nothing waits for the GPU here.
     // With `uvs` (one per vertex) and `uv`, the texture coordinates too (W x H
     // x 2, perspective-correct, (0,0) where none), as cpu::rasteriseMesh's.
     void run(const FrameParams& frame, const TriangleMesh& mesh, const GpuImage* sceneDepth, GpuImage& depth,
