@@ -19,6 +19,7 @@
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
+#include "gl/raster_mesh.h"
 #include "render/stages.h"
 #include "test_util.h"
 
@@ -321,12 +322,92 @@ TEST_F(GlBackend, SceneGeometryMatchesCpu) {
     }
 }
 
+// The scene geometry's meshes stay on the GPU while the geometry is the same
+// object (gl/geometry.cpp, gl/shadow.cpp; docs/performance.md#scene-geometry):
+// a second frame with the same geometry and camera uploads nothing and draws
+// the same picture; a camera move uploads only the indices of the faces the
+// cut-away tank shows from the new eye (the ball's faces are all drawn, the
+// shadow casters are seen from the light), a turned light only the casters'
+// indices from its new eye; another geometry object is
+// uploaded and drawn where the CPU draws it. Every frame within the
+// pipeline's tolerances of the CPU's.
+TEST_F(GlBackend, SceneGeometryStaysOnTheGpu) {
+    Frame f = realFrameSettings();
+    ASSERT_FALSE(f.positions.empty());
+    Bounds box;
+    for (const glm::vec3& p : f.positions) box.extend(p);
+    const glm::vec3 c = box.center(), e = box.extent();
+    auto g = std::make_shared<SceneGeometry>();
+    GeometryObject tank;
+    tank.name = "tank";
+    tank.mesh = makeBoxMesh(box.min - 0.05f * e, box.max + glm::vec3(0.05f, 0.3f, 0.05f) * e);
+    tank.cutaway = true;
+    g->objects.push_back(tank);
+    GeometryObject ball;
+    ball.name = "ball";
+    ball.mesh = makeSphereMesh(c + glm::vec3(0.0f, 0.0f, 0.45f * e.z), 0.12f * e.y);
+    ball.material.baseColor = {0.7f, 0.2f, 0.1f};
+    g->objects.push_back(ball);
+    GeometryObject glass;
+    glass.name = "glass";
+    glass.mesh = makeBoxMesh(c - glm::vec3(0.2f, 0.3f, 0.3f) * e, c + glm::vec3(0.3f, 0.2f, 0.3f) * e);
+    glass.material.glass = true;
+    g->objects.push_back(glass);
+    std::size_t vertexBytes = 0;
+    for (const GeometryObject& o : g->objects) vertexBytes += 2 * o.mesh.positions.size() * sizeof(glm::vec3);
+    f.settings.geometry = g;
+    f.settings.shadows = ShadowMode::On;
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    Renderer cpu;
+    auto frame = [&](const char* what, std::uint64_t* uploaded) {
+        SCOPED_TRACE(what);
+        const std::uint64_t before = gl::meshUploadBytes();
+        auto b = gl->render(f.positions, f.settings);
+        *uploaded = gl::meshUploadBytes() - before;
+        auto a = cpu.render(f.positions, f.settings);
+        EXPECT_TRUE(a.ok() && b.ok());
+        if (a.ok() && b.ok()) expectSame(*a, *b, f.settings.radiusM);
+        std::printf("%s: %llu bytes of meshes uploaded\n", what, static_cast<unsigned long long>(*uploaded));
+        return b.ok() ? b->color : Image<glm::vec4>{};
+    };
+    std::uint64_t first = 0, second = 0, moved = 0, other = 0;
+    const Image<glm::vec4> a = frame("first frame", &first);
+    EXPECT_GE(first, vertexBytes);  // every object's vertices and normals (and the casters')
+    const Image<glm::vec4> b = frame("the same geometry again", &second);
+    EXPECT_EQ(second, 0u);
+    EXPECT_EQ(differingBits(a, b), 0);
+    f.settings.camera.eye += 0.02f * glm::length(e) * f.settings.camera.right();
+    const Image<glm::vec4> m = frame("the camera moved", &moved);
+    EXPECT_GT(moved, 0u);  // the tank's and the glass's faces seen from the new eye
+    EXPECT_LE(moved, (tank.mesh.indices.size() + 2 * glass.mesh.indices.size()) * sizeof(std::uint32_t));
+    // The light turned: the shadow casters seen from the light's new eye,
+    // only their indices sent (the tank's and the ball's, the glass casts none).
+    f.settings.shading.lightDirWorld = glm::normalize(glm::vec3(0.3f, 1.0f, 0.4f));
+    std::uint64_t lit = 0;
+    frame("the light turned", &lit);
+    EXPECT_GT(lit, 0u);
+    EXPECT_LE(lit, (tank.mesh.indices.size() + ball.mesh.indices.size()) * sizeof(std::uint32_t));
+    // Another geometry object (the ball moved): uploaded, and drawn where it
+    // now is (as the CPU draws it, expectSame), then kept again.
+    auto shifted = std::make_shared<SceneGeometry>(*g);
+    shifted->objects[1].mesh = makeSphereMesh(c + glm::vec3(0.25f * e.x, 0.0f, 0.45f * e.z), 0.12f * e.y);
+    f.settings.geometry = shifted;
+    const Image<glm::vec4> n = frame("another geometry object, the ball moved", &other);
+    EXPECT_GE(other, vertexBytes);
+    EXPECT_GT(differingBits(m, n), 200);
+    std::uint64_t again = 0;
+    frame("the new geometry again", &again);
+    EXPECT_EQ(again, 0u);
+}
+
 // The HDR environment map (docs/pipeline.md#environment-map) in place of the
 // sky on both backends: the background of the studio with walls, of the
 // floor alone, the transparent background's fill, and the reflections of a
 // metal box and a glass box; the map turned and brightened. Its ambient light
 // (the irradiance's spherical harmonics) on the studio, the geometry, a
-// half-opaque liquid with foam and under the shadows (variant 4).
+// half-opaque liquid with foam, the spray's drops and under the shadows
+// (variant 4).
 TEST_F(GlBackend, EnvironmentMapMatchesCpu) {
     Frame f = realFrameSettings();
     ASSERT_FALSE(f.positions.empty());
@@ -360,7 +441,7 @@ TEST_F(GlBackend, EnvironmentMapMatchesCpu) {
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
     Renderer cpu;
     // 0: the studio; 1: the floor alone; 2: no background; 3: with the geometry;
-    // 4: the geometry, shadows, a half-opaque liquid with foam.
+    // 4: the geometry, shadows, a half-opaque liquid with foam, spray.
     const ShadowMode shadows = f.settings.shadows;
     for (int variant = 0; variant < 5; ++variant) {
         SCOPED_TRACE(variant);
@@ -370,6 +451,7 @@ TEST_F(GlBackend, EnvironmentMapMatchesCpu) {
         f.settings.shadows = variant == 4 ? ShadowMode::On : shadows;
         f.settings.shading.material.opacity = variant == 4 ? 0.5f : 0.0f;
         f.settings.noise.enabled = variant == 4;
+        f.settings.spray.enabled = variant == 4;  // drops lit by the map (shared::sprayLight)
         auto a = cpu.render(f.positions, f.settings);
         auto b = gl->render(f.positions, f.settings);
         ASSERT_TRUE(a.ok()) << a.error().describe();

@@ -34,6 +34,8 @@
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
+#include "shared/environment.h"
+#include "shared/shading.h"
 #include "shared/spray.h"
 #include "test_util.h"
 
@@ -245,6 +247,53 @@ TEST_F(GlSpray, OtherParametersAreTheCpuBits) {
     p.streakSeconds = 0.0f;
     p.opacity = 0.2f;
     expectBitIdentical(s, p, true, true, "drops of 0.3 r, no streak, opacity 0.2");
+}
+
+// With an HDR map the drops take its ambient (shared::sprayLight, on the
+// host for both backends): the same bits as the CPU's, and a constant map of
+// radiance L tinted toward red moves the drops' colour by (L - the studio's
+// ambient) times their cover (its E(n) / pi is L; the key light's share is
+// the same with or without the map).
+TEST_F(GlSpray, EnvironmentMapLightsTheDropsAsTheCpu) {
+    const Scene s = makeScene();
+    SprayParams p;
+    p.color = glm::vec3(1.0f);
+    const glm::vec3 L{0.9f, 0.5f, 0.2f};
+    const int mw = 16, mh = 8;
+    std::vector<float> texels;
+    for (int k = 0; k < mw * mh; ++k) texels.insert(texels.end(), {L.x, L.y, L.z});
+    shared::EnvironmentMap env;
+    env.texels = texels.data();
+    env.width = mw;
+    env.height = mh;
+    shared::environmentIrradianceSh(texels.data(), mw, mh, 0.0f, 1.0f, env.irradiance);
+    Image<glm::vec4> cpuColor = s.color;
+    const Image<float> cpuCover = cpu::drawSpray(s.camera, s.drops, s.velocities, s.radius, s.depth, &s.sceneDepth, p,
+                                                 s.light, cpuColor, env);
+    Image<glm::vec4> studioColor = s.color;
+    cpu::drawSpray(s.camera, s.drops, s.velocities, s.radius, s.depth, &s.sceneDepth, p, s.light, studioColor);
+    auto stage = gl::SprayDrops::create();
+    ASSERT_TRUE(stage.ok()) << stage.error().describe();
+    gl::GpuImage depth, scene, color, cover;
+    depth.upload(s.depth);
+    scene.upload(s.sceneDepth);
+    color.upload(s.color);
+    stage->run(s.camera, s.drops, s.velocities, s.radius, p, s.light, depth, &scene, color, cover, env);
+    const Image<glm::vec4> glColor = color.download<glm::vec4>();
+    EXPECT_EQ(differingBits(cpuCover, cover.download<float>()), 0);
+    EXPECT_EQ(differingBits(cpuColor, glColor), 0);
+    // The tint, at the most covered pixel.
+    std::size_t best = 0;
+    for (std::size_t k = 0; k < cpuCover.pixels.size(); ++k)
+        if (cpuCover.pixels[k] > cpuCover.pixels[best]) best = k;
+    const float c = cpuCover.pixels[best];
+    ASSERT_GT(c, 0.3f);
+    const glm::vec4 d = (glColor.pixels[best] - studioColor.pixels[best]) / c;
+    std::printf("most covered pixel: cover %.3f, colour moved by the map %.4f %.4f %.4f per cover\n", c, d.x, d.y, d.z);
+    const float ambient = shared::kOpaqueAmbient;
+    EXPECT_NEAR(d.x, L.x - ambient, 0.01f);
+    EXPECT_NEAR(d.y, L.y - ambient, 0.01f);
+    EXPECT_NEAR(d.z, L.z - ambient, 0.01f);
 }
 
 TEST_F(GlSpray, NoDropsOrMismatchedImagesLeaveTheColour) {

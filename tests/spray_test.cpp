@@ -2,7 +2,7 @@
 // by density against hand-made density fields, the SPH estimate without a
 // density attribute, and the drops drawn on the CPU (src/cpu/spray.cpp): hidden
 // behind nearer fluid, streaked along their velocity, the same bits in any
-// order.
+// order, lit by an HDR environment map's ambient.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -13,6 +13,8 @@
 #include "core/spray.h"
 #include "cpu/spray.h"
 #include "meniscus/renderer.h"
+#include "shared/environment.h"
+#include "shared/shading.h"
 #include "shared/spray.h"
 #include "test_util.h"
 
@@ -90,6 +92,49 @@ TEST(SprayDrops, HiddenBehindNearerFluid) {
     EXPECT_GT(c1.at(cx, cy), c1.at(cx + 2, cy));
     EXPECT_NEAR(c1.at(cx - 1, cy), c1.at(cx, cy), 0.05f);  // symmetric about the centre (pixel centres at +1/2)
     EXPECT_GT(color.at(cx, cy).x, before.at(cx, cy).x);  // toward the light drop colour
+}
+
+// With an HDR map the drops take its ambient (shared::sprayLight): with the
+// key light behind them (n.l < 0 for a drop's mean normal, toward the eye)
+// white drops over black show cover times the map's E(n) / pi, which for a
+// constant map of radiance L is L (its projection on the spherical harmonics
+// is exact in band 0 and 0 above): a tinted map tints them. Without a map
+// they are grey, the studio's kOpaqueAmbient.
+TEST(SprayDrops, LitByTheEnvironmentMapsAmbient) {
+    const Camera cam = straightCamera();
+    const std::vector<glm::vec3> drops{{0.0f, 0.0f, -0.5f}};
+    const glm::vec3 L{0.9f, 0.5f, 0.2f};
+    const int mw = 16, mh = 8;
+    std::vector<float> texels;
+    for (int k = 0; k < mw * mh; ++k) texels.insert(texels.end(), {L.x, L.y, L.z});
+    shared::EnvironmentMap env;
+    env.texels = texels.data();
+    env.width = mw;
+    env.height = mh;
+    shared::environmentIrradianceSh(texels.data(), mw, mh, 0.0f, 1.0f, env.irradiance);
+    SprayParams p = onParams();
+    p.color = glm::vec3(1.0f);
+    const glm::vec3 behindTheDrops = -cam.back();
+    const Image<float> fluid(cam.width, cam.height, 0.6f);
+    Image<glm::vec4> tinted(cam.width, cam.height, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f)), grey = tinted;
+    const Image<float> c1 = cpu::drawSpray(cam, drops, {}, kR, fluid, nullptr, p, behindTheDrops, tinted, env);
+    const Image<float> c0 = cpu::drawSpray(cam, drops, {}, kR, fluid, nullptr, p, behindTheDrops, grey);
+    const int cx = cam.width / 2, cy = cam.height / 2;
+    const float c = c1.at(cx, cy);
+    ASSERT_GT(c, 0.3f);
+    EXPECT_EQ(c0.at(cx, cy), c);  // the light changes the colour, not the cover
+    const glm::vec4 t = tinted.at(cx, cy), g = grey.at(cx, cy);
+    EXPECT_NEAR(t.x / c, L.x, 0.01f);
+    EXPECT_NEAR(t.y / c, L.y, 0.01f);
+    EXPECT_NEAR(t.z / c, L.z, 0.01f);
+    EXPECT_NEAR(g.x / c, shared::kOpaqueAmbient, 1e-5f);
+    EXPECT_EQ(g.x, g.y);
+    EXPECT_EQ(g.y, g.z);
+    // The key light facing the drops adds its share, white, to both.
+    Image<glm::vec4> lit(cam.width, cam.height, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+    cpu::drawSpray(cam, drops, {}, kR, fluid, nullptr, p, cam.back(), lit, env);
+    EXPECT_NEAR(lit.at(cx, cy).x / c, L.x + (1.0f - shared::kOpaqueAmbient), 0.01f);
+    EXPECT_NEAR(lit.at(cx, cy).z / c, L.z + (1.0f - shared::kOpaqueAmbient), 0.01f);
 }
 
 TEST(SprayDrops, StreakedAlongTheirVelocityAndFainter) {

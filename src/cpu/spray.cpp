@@ -17,19 +17,15 @@
 #include <tbb/parallel_for.h>
 
 #include "cpu/surface_sprites.h"
-#include "shared/shading.h"
 #include "shared/spray.h"
+#include "shared/studio.h"
 
 namespace meniscus::cpu {
-
-float sprayLightZ(const Camera& camera, const glm::vec3& lightDirWorld) {
-    return shared::sprayLightZ(lightDirWorld, camera.back());
-}
 
 Image<float> drawSpray(const Camera& camera, std::span<const glm::vec3> positionsWorld,
                        std::span<const glm::vec3> velocitiesWorld, float radius, const Image<float>& depth,
                        const Image<float>* sceneDepth, const SprayParams& p, const glm::vec3& lightDirWorld,
-                       Image<glm::vec4>& color) {
+                       Image<glm::vec4>& color, const shared::EnvironmentMap& environment) {
     const int W = camera.width, H = camera.height;
     Image<float> cover(W, H, 0.0f);
     if (depth.width != W || depth.height != H || color.width != W || color.height != H) return cover;
@@ -55,7 +51,7 @@ Image<float> drawSpray(const Camera& camera, std::span<const glm::vec3> position
     tiles.tilesY = (H + kSpriteTilePx - 1) / kSpriteTilePx;
     binIntoTiles(rects, on, tiles.tilesX, tiles.tilesY, tiles.start, tiles.items);
 
-    const float lightZ = sprayLightZ(camera, lightDirWorld);
+    const glm::vec3 lit = shared::sprayLight(lightDirWorld, back, environment);
     const std::size_t count = tiles.start.size() - 1;
     tbb::parallel_for(std::size_t(0), count, [&](std::size_t t) {
         if (tiles.start[t] == tiles.start[t + 1]) return;
@@ -76,7 +72,7 @@ Image<float> drawSpray(const Camera& camera, std::span<const glm::vec3> position
                 if (s <= 0) continue;
                 const float c = shared::sprayCover(s);
                 glm::vec4& px = color.at(x, y);
-                const glm::vec3 rgb = shared::sprayOver(glm::vec3(px), c, p.color, lightZ, shared::kOpaqueAmbient);
+                const glm::vec3 rgb = shared::sprayOver(glm::vec3(px), c, p.color, lit);
                 px = glm::vec4(rgb, shared::sprayAlphaOver(px.a, c));
                 cover.at(x, y) = c;
             }
@@ -97,7 +93,7 @@ void runSpray(Backend& b, const StageIo& io) {
     Image<glm::vec4>& color = c.colorToPaint(io.at.color);
     c.scalarOut(io.at.spray) = drawSpray(s.camera, s.sprayPositions, s.sprayVelocities, s.radius,
                                          c.scalar(io.at.depth), &c.scalar(io.at.sceneDepth), s.spray,
-                                         s.shading.lightDirWorld, color);
+                                         s.shading.lightDirWorld, color, s.environment);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "meniscus/camera.h"
 #include "meniscus/params.h"
 #include "meniscus/types.h"
+#include "shared/environment.h"
 
 namespace meniscus::cpu {
 
@@ -18,15 +19,12 @@ namespace meniscus::cpu {
 // empty: round drops) over `color` in place, each hidden where the fluid's
 // `depth` or the `sceneDepth` (when given, camera-sized) is nearer than the
 // drop's centre, and returns their cover per pixel (0 = none). The drops'
-// colour is lit by lightDirWorld. Exact: the same image for any thread count.
+// colour is lit by lightDirWorld and the ambient, the studio's or, with an
+// HDR `environment`, its irradiance (shared::sprayLight, the GL twin's too).
+// Exact: the same image for any thread count.
 Image<float> drawSpray(const Camera& camera, std::span<const glm::vec3> positionsWorld,
                        std::span<const glm::vec3> velocitiesWorld, float radius, const Image<float>& depth,
                        const Image<float>* sceneDepth, const SprayParams& params, const glm::vec3& lightDirWorld,
-                       Image<glm::vec4>& color);
-
-// The drops' light term: the view-space z of the unit light direction (a
-// drop's mean normal faces the eye), computed once on the host for both
-// backends (shared::sprayLightZ, which the GL twin calls as well).
-float sprayLightZ(const Camera& camera, const glm::vec3& lightDirWorld);
+                       Image<glm::vec4>& color, const shared::EnvironmentMap& environment = {});
 
 }  // namespace meniscus::cpu

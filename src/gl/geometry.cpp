@@ -8,7 +8,6 @@
 #include "gl/geometry.h"
 #include "gl/gl_backend.h"
 
-#include "core/geometry_draw.h"
 #include "gl/dispatch.h"
 #include "gl/shaders.h"
 #include "shared/sky.h"
@@ -30,26 +29,54 @@ Result<GeometryDrawer> GeometryDrawer::create() {
     return d;
 }
 
-void GeometryDrawer::drawObject(const FrameParams& frame, const TriangleMesh& mesh, const GeometryObject& object,
-                                const glm::vec3& light, int mode, const GpuImage* limit, GpuImage& color,
-                                GpuImage& depth, const EnvironmentGpu* environment) {
+GeometryDrawer::ObjectOnGpu& GeometryDrawer::onGpu(const std::shared_ptr<const SceneGeometry>& geometry,
+                                                   std::size_t index) {
+    if (geometry_ != geometry) {
+        objects_.clear();
+        objects_.resize(geometry->objects.size());
+        geometry_ = geometry;
+    }
+    ObjectOnGpu& gpu = objects_[index];
+    const GeometryObject& object = geometry->objects[index];
+    if (!gpu.meshValid) {
+        // The texture coordinates only of an object drawn textured (drawnTexture).
+        const GeometryTexture* t = drawnTexture(object);
+        gpu.mesh.upload(object.mesh, t ? &object.uvs : nullptr);
+        gpu.meshValid = true;
+    }
+    return gpu;
+}
+
+void GeometryDrawer::keepFaces(KeptFaces& kept, const GeometryObject& object, const glm::vec3& eye, Faces faces) {
+    // All the faces do not depend on the eye; the others on which side of
+    // each face's plane it is.
+    if (kept.valid && kept.faces == faces && (faces == Faces::All || kept.eye == eye)) return;
+    kept.indices.upload(facesSeenFrom(object.mesh, eye, faces, &scratch_));
+    kept.faces = faces;
+    kept.eye = eye;
+    kept.valid = true;
+}
+
+void GeometryDrawer::drawObject(const FrameParams& frame, ObjectOnGpu& gpu, const GpuIndices& faces,
+                                const GeometryObject& object, const glm::vec3& light, int mode,
+                                const GpuImage* limit, GpuImage& color, GpuImage& depth,
+                                const EnvironmentGpu* environment) {
     const int W = frame.size.x, H = frame.size.y;
     const GeometryMaterial& m = object.material;
-    // The base colour map, as the CPU draws it (drawnTexture); `mesh` has the
-    // object's vertices (facesSeenFrom keeps them), so its coordinates fit.
+    // The base colour map, as the CPU draws it (drawnTexture); the kept
+    // faces index the object's own vertices, so its coordinates fit.
     const GeometryTexture* t = drawnTexture(object);
     const bool textured = t != nullptr;
-    raster_.run(frame, mesh, &depth, objectDepth_, objectNormal_, textured ? &object.uvs : nullptr,
-                textured ? &objectUv_ : nullptr);
-    if (textured && uploaded_ != m.baseColorTexture) {
-        texture_.upload(t->rgb.data(), GLsizeiptr(t->rgb.size() * sizeof(float)));
-        uploaded_ = m.baseColorTexture;
+    raster_.run(frame, gpu.mesh, faces, &depth, objectDepth_, objectNormal_, textured ? &objectUv_ : nullptr);
+    if (textured && !gpu.textureValid) {
+        gpu.texture.upload(t->rgb.data(), GLsizeiptr(t->rgb.size() * sizeof(float)));
+        gpu.textureValid = true;
     }
     glUseProgram(shade_.id());
     glUniform2i(20, textured ? t->width : 0, textured ? t->height : 0);
     if (textured) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, objectUv_.buffer.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, texture_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, gpu.texture.id());
     } else {
         // Unread without a texture, but bound: the shader declares them.
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, objectDepth_.buffer.id());
@@ -74,30 +101,37 @@ void GeometryDrawer::drawObject(const FrameParams& frame, const TriangleMesh& me
     glUseProgram(0);
 }
 
-void GeometryDrawer::run(const FrameParams& frame, const glm::vec3& eye, const SceneGeometry& geometry,
-                         const shared::Studio& studio, GpuImage& color, GpuImage& depth,
-                         const EnvironmentGpu* environment) {
-    if (frame.size.x <= 0 || frame.size.y <= 0) return;
+void GeometryDrawer::run(const FrameParams& frame, const glm::vec3& eye,
+                         const std::shared_ptr<const SceneGeometry>& geometry, const shared::Studio& studio,
+                         GpuImage& color, GpuImage& depth, const EnvironmentGpu* environment) {
+    if (frame.size.x <= 0 || frame.size.y <= 0 || !geometry) return;
     // The same bits as the CPU's: computed once on the host.
     const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
     // The opaque objects, then glass's back faces over them (as the CPU).
     for (const bool glass : {false, true})
-        for (const GeometryObject& object : geometry.objects) {
+        for (std::size_t i = 0; i < geometry->objects.size(); ++i) {
+            const GeometryObject& object = geometry->objects[i];
             if (!drawsObject(object) || object.material.glass != glass) continue;
-            const TriangleMesh& mesh = facesSeenFrom(object.mesh, eye, sceneFaces(object), &scratch_);
-            drawObject(frame, mesh, object, light, glass ? 1 : 0, nullptr, color, depth, environment);
+            ObjectOnGpu& gpu = onGpu(geometry, i);
+            keepFaces(gpu.scene, object, eye, sceneFaces(object));
+            drawObject(frame, gpu, gpu.scene.indices, object, light, glass ? 1 : 0, nullptr, color, depth,
+                       environment);
         }
 }
 
-void GeometryDrawer::runGlassFronts(const FrameParams& frame, const glm::vec3& eye, const SceneGeometry& geometry,
-                                    const shared::Studio& studio, const GpuImage& liquidDepth, GpuImage& sceneDepth,
-                                    GpuImage& color, const EnvironmentGpu* environment) {
-    if (frame.size.x <= 0 || frame.size.y <= 0) return;
+void GeometryDrawer::runGlassFronts(const FrameParams& frame, const glm::vec3& eye,
+                                    const std::shared_ptr<const SceneGeometry>& geometry,
+                                    const shared::Studio& studio, const GpuImage& liquidDepth,
+                                    GpuImage& sceneDepth, GpuImage& color, const EnvironmentGpu* environment) {
+    if (frame.size.x <= 0 || frame.size.y <= 0 || !geometry) return;
     const glm::vec3 light = shared::sunDirection(studio.lightDirWorld);
-    for (const GeometryObject& object : geometry.objects) {
+    for (std::size_t i = 0; i < geometry->objects.size(); ++i) {
+        const GeometryObject& object = geometry->objects[i];
         if (!drawsObject(object) || !object.material.glass) continue;
-        const TriangleMesh& mesh = facesSeenFrom(object.mesh, eye, Faces::Front, &scratch_);
-        drawObject(frame, mesh, object, light, 1, &liquidDepth, color, sceneDepth, environment);
+        ObjectOnGpu& gpu = onGpu(geometry, i);
+        keepFaces(gpu.fronts, object, eye, Faces::Front);
+        drawObject(frame, gpu, gpu.fronts.indices, object, light, 1, &liquidDepth, color, sceneDepth,
+                   environment);
     }
 }
 
@@ -112,7 +146,7 @@ void runGeometry(GlBackend& g, const StageIo& io) {
     if (!s.geometry) return;
     g.forget(io.at.sceneColor);
     g.forget(io.at.sceneDepth);
-    g.pass<GeometryDrawer>().run(g.params(), s.camera.eye, *s.geometry, s.studio, g.img(io.at.sceneColor),
+    g.pass<GeometryDrawer>().run(g.params(), s.camera.eye, s.geometry, s.studio, g.img(io.at.sceneColor),
                                  g.img(io.at.sceneDepth), &g.environment());
 }
 
@@ -121,7 +155,7 @@ void runGeometry(GlBackend& g, const StageIo& io) {
 void runGlass(GlBackend& g, const StageIo& io) {
     const FrameSettings& s = g.frame();
     if (!s.geometry) return;
-    g.pass<GeometryDrawer>().runGlassFronts(g.params(), s.camera.eye, *s.geometry, s.studio, g.img(io.at.depth),
+    g.pass<GeometryDrawer>().runGlassFronts(g.params(), s.camera.eye, s.geometry, s.studio, g.img(io.at.depth),
                                             g.img(io.at.sceneDepth), g.img(io.at.color), &g.environment());
 }
 

@@ -9,6 +9,7 @@
 #include "gl/raster_mesh.h"
 #include "gl/gl_backend.h"
 
+#include <atomic>
 #include <cstdint>
 #include <limits>
 
@@ -39,10 +40,43 @@ Result<MeshRasteriser> MeshRasteriser::create() {
     return m;
 }
 
+namespace {
+std::atomic<std::uint64_t> uploadedBytes{0};
+}  // namespace
+
+std::uint64_t meshUploadBytes() { return uploadedBytes; }
+
+void GpuMesh::upload(const TriangleMesh& mesh, const std::vector<glm::vec2>* texcoords) {
+    // As they are: glm::vec3 is three packed floats, glm::vec2 two.
+    static_assert(sizeof(glm::vec3) == 3 * sizeof(float) && sizeof(glm::vec2) == 2 * sizeof(float));
+    const auto vertexBytes = GLsizeiptr(mesh.positions.size() * sizeof(glm::vec3));
+    positions.upload(mesh.positions.data(), vertexBytes);
+    normals.upload(mesh.normals.data(), GLsizeiptr(mesh.normals.size() * sizeof(glm::vec3)));
+    uploadedBytes += std::uint64_t(vertexBytes) + mesh.normals.size() * sizeof(glm::vec3);
+    hasUv = texcoords && texcoords->size() == mesh.positions.size();
+    if (hasUv) {
+        uvs.upload(texcoords->data(), GLsizeiptr(texcoords->size() * sizeof(glm::vec2)));
+        uploadedBytes += texcoords->size() * sizeof(glm::vec2);
+    }
+}
+
+void GpuIndices::upload(std::span<const std::uint32_t> indices) {
+    buffer.upload(indices.data(), GLsizeiptr(indices.size_bytes()));
+    count = GLsizei(indices.size());
+    uploadedBytes += indices.size_bytes();
+}
+
 void MeshRasteriser::run(const FrameParams& frame, const TriangleMesh& mesh, const GpuImage* sceneDepth,
                          GpuImage& depth, GpuImage& normal, const std::vector<glm::vec2>* uvs, GpuImage* uv) {
+    mesh_.upload(mesh, uv ? uvs : nullptr);
+    indices_.upload(mesh.indices);
+    run(frame, mesh_, indices_, sceneDepth, depth, normal, uv);
+}
+
+void MeshRasteriser::run(const FrameParams& frame, const GpuMesh& mesh, const GpuIndices& indices,
+                         const GpuImage* sceneDepth, GpuImage& depth, GpuImage& normal, GpuImage* uv) {
     const int W = frame.size.x, H = frame.size.y;
-    const bool withUv = uv && uvs && uvs->size() == mesh.positions.size();
+    const bool withUv = uv && mesh.hasUv;
     depth.resize(W, H, 1);
     normal.resize(W, H, 3);
     if (withUv) uv->resize(W, H, 2);
@@ -73,22 +107,16 @@ void MeshRasteriser::run(const FrameParams& frame, const TriangleMesh& mesh, con
         targetH_ = H;
     }
 
-    // The mesh, uploaded as it is (glm::vec3 is three packed floats).
-    static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
-    positions_.upload(mesh.positions.data(), GLsizeiptr(mesh.positions.size() * sizeof(glm::vec3)));
-    normals_.upload(mesh.normals.data(), GLsizeiptr(mesh.normals.size() * sizeof(glm::vec3)));
-    indices_.upload(mesh.indices.data(), GLsizeiptr(mesh.indices.size() * sizeof(std::uint32_t)));
+    // The mesh's arrays.
     glBindVertexArray(vertexArray_.id());
-    glBindBuffer(GL_ARRAY_BUFFER, positions_.id());
+    glBindBuffer(GL_ARRAY_BUFFER, mesh.positions.id());
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-    glBindBuffer(GL_ARRAY_BUFFER, normals_.id());
+    glBindBuffer(GL_ARRAY_BUFFER, mesh.normals.id());
     glEnableVertexAttribArray(1);
     glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
     if (withUv) {
-        static_assert(sizeof(glm::vec2) == 2 * sizeof(float));
-        uvs_.upload(uvs->data(), GLsizeiptr(uvs->size() * sizeof(glm::vec2)));
-        glBindBuffer(GL_ARRAY_BUFFER, uvs_.id());
+        glBindBuffer(GL_ARRAY_BUFFER, mesh.uvs.id());
         glEnableVertexAttribArray(2);
         glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
     } else {
@@ -96,7 +124,7 @@ void MeshRasteriser::run(const FrameParams& frame, const TriangleMesh& mesh, con
         glVertexAttrib2f(2, 0.0f, 0.0f);
     }
     glBindBuffer(GL_ARRAY_BUFFER, 0);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_.id());
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices.buffer.id());
 
     // The draw: no fluid (+inf, (0,0,0)) where no triangle lands; reversed
     // depth (near / eye depth, cleared to 0, GL_GREATER keeps the nearest and,
@@ -124,8 +152,7 @@ void MeshRasteriser::run(const FrameParams& frame, const TriangleMesh& mesh, con
     glUniform1i(0, hasScene ? 1 : 0);
     if (hasScene) sceneDepth->bind(1);
     else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, empty_.id());
-    if (!mesh.indices.empty())
-        glDrawElements(GL_TRIANGLES, GLsizei(mesh.indices.size()), GL_UNSIGNED_INT, nullptr);
+    if (indices.count > 0) glDrawElements(GL_TRIANGLES, indices.count, GL_UNSIGNED_INT, nullptr);
     glDisable(GL_CLIP_DISTANCE0);
     glDisable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);

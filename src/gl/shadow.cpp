@@ -34,8 +34,14 @@ struct ShadowPasses {
     TriangleMesh casters;
     // The geometry's depth from the light, kept (as the CPU's
     // CpuBackend::casterDepth) while the geometry object and the light's
-    // camera stay: a still scene rasterises (and uploads) its casters once.
+    // camera stay: a still scene rasterises its casters once. Their vertices
+    // stay on the GPU while the geometry object does (a light's camera that
+    // moves, as the liquid's bounds grow, sends only the indices of the
+    // faces it sees).
     GpuImage casterDepth;
+    GpuMesh casterMesh;
+    bool casterMeshValid = false;  // casterMesh holds casterGeometry's vertices
+    GpuIndices casterFaces;
     std::shared_ptr<const SceneGeometry> casterGeometry;
     Camera casterCamera;
     bool casterValid = false;
@@ -57,11 +63,18 @@ void runShadowMap(GlBackend& g, const StageIo& io) {
     const FrameSettings& s = g.frame();
     ShadowPasses& p = g.pass<ShadowPasses>();
     if (!p.casterValid || p.casterGeometry != s.geometry || !(p.casterCamera == s.camera)) {
+        if (p.casterGeometry != s.geometry) p.casterMeshValid = false;
         shadowCasters(s.geometry.get(), s.camera.eye, p.casters);
-        if (p.casters.empty())
+        if (p.casters.empty()) {
             p.casterDepth.upload(Image<float>(s.camera.width, s.camera.height, std::numeric_limits<float>::infinity()));
-        else
-            p.raster.run(g.params(), p.casters, nullptr, p.casterDepth, p.normal);
+        } else {
+            // The vertices (every drawn opaque object's, whatever the light's
+            // eye) only for a new geometry object; the faces for this eye.
+            if (!p.casterMeshValid) p.casterMesh.upload(p.casters);
+            p.casterMeshValid = true;
+            p.casterFaces.upload(p.casters.indices);
+            p.raster.run(g.params(), p.casterMesh, p.casterFaces, nullptr, p.casterDepth, p.normal);
+        }
         p.casters = {};  // the triangles live on the GPU now
         p.casterGeometry = s.geometry;
         p.casterCamera = s.camera;

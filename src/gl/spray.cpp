@@ -21,6 +21,7 @@
 #include "gl/dispatch.h"
 #include "gl/shaders.h"
 #include "shared/spray.h"
+#include "shared/studio.h"
 
 namespace meniscus::gl {
 
@@ -58,7 +59,7 @@ Result<SprayDrops> SprayDrops::create() {
 void SprayDrops::run(const Camera& camera, std::span<const glm::vec3> positionsWorld,
                      std::span<const glm::vec3> velocitiesWorld, float radius, const SprayParams& p,
                      const glm::vec3& lightDirWorld, const GpuImage& depth, const GpuImage* sceneDepth,
-                     GpuImage& color, GpuImage& cover) {
+                     GpuImage& color, GpuImage& cover, const shared::EnvironmentMap& environment) {
     const int W = camera.width, H = camera.height;
     drawn_ = chunks_ = 0;
     cover.resize(W, H, 1);
@@ -145,7 +146,8 @@ void SprayDrops::run(const Camera& camera, std::span<const glm::vec3> positionsW
     glBindImageTexture(1, coverTex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     glUniform1ui(0, pixels);
     glUniform3f(1, p.color.x, p.color.y, p.color.z);
-    glUniform1f(2, shared::sprayLightZ(lightDirWorld, back));
+    const glm::vec3 lit = shared::sprayLight(lightDirWorld, back, environment);
+    glUniform3f(2, lit.x, lit.y, lit.z);
     glDispatchCompute(gridGroups(pixels, kGroup * kResolvePerInvocation), 1, 1);
     glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
@@ -173,7 +175,7 @@ void runSpray(GlBackend& g, const StageIo& io) {
     const FrameSettings& s = g.frame();
     g.pass<SprayDrops>().run(s.camera, s.sprayPositions, s.sprayVelocities, s.radius, s.spray,
                              s.shading.lightDirWorld, g.img(at.depth), &g.img(at.sceneDepth), g.img(at.color),
-                             g.img(at.spray));
+                             g.img(at.spray), g.frame().environment);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "meniscus/camera.h"
 #include "meniscus/params.h"
 #include "meniscus/result.h"
+#include "shared/environment.h"
 
 namespace meniscus::gl {
 
@@ -29,7 +30,9 @@ public:
     // and velocities, m/s; velocities may be empty: round drops) laid over
     // `color` (W x H x 4, the camera's size) in place, each hidden where the
     // fluid's `depth` or the `sceneDepth` (when given and camera-sized) is
-    // nearer than its centre, lit by lightDirWorld; `cover` (resized to
+    // nearer than its centre, lit by lightDirWorld and the ambient (with an
+    // HDR `environment`, its irradiance: shared::sprayLight, computed on the
+    // host as the CPU's); `cover` (resized to
     // W x H x 1) gets their cover per pixel, 0 where none. A depth or colour
     // of another size leaves the colour as it is and the cover 0, as on the
     // CPU. The drops are projected on the host (the CPU's code, so the same
@@ -37,7 +40,7 @@ public:
     void run(const Camera& camera, std::span<const glm::vec3> positionsWorld,
              std::span<const glm::vec3> velocitiesWorld, float radius, const SprayParams& params,
              const glm::vec3& lightDirWorld, const GpuImage& depth, const GpuImage* sceneDepth, GpuImage& color,
-             GpuImage& cover);
+             GpuImage& cover, const shared::EnvironmentMap& environment = {});
 
     // The last run()'s drops with pixels on screen, and the work items they
     // were cut into (spray_splat.comp's invocations). For the tests.

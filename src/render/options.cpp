@@ -223,8 +223,8 @@ std::vector<RenderOptionSpec> makeRenderTable() {
     t.push_back(row("environment", G::Look, "",
                     "An HDR environment map, an equirectangular OpenEXR (.exr) or Radiance RGBE (.hdr) file "
                     "(linear RGB, at most 16384x8192): the background, what the liquid and the geometry reflect, and "
-                    "the ambient light of the studio, the geometry and the liquid, instead of the procedural sky "
-                    "(docs/pipeline.md#environment-map)",
+                    "the ambient light of the studio, the geometry, the liquid and the spray, instead of the "
+                    "procedural sky (docs/pipeline.md#environment-map)",
                     [](R& o) -> OptionRef { return &o.environment; }));
     t.push_back(ranged(row("environment-rotation", G::Look, "degrees",
                            "The environment map's turn about the vertical axis, degrees",

@@ -11,8 +11,9 @@
 // centre at u = (i + 0.5) / W, v = (j + 0.5) / H. `rotation` turns the picture
 // about +y: what a direction of angle atan2(x, -z) = phi showed, the direction
 // of phi + 2 pi rotation shows after it (seen from above, from -z toward +x).
-// Bilinear between the four nearest texel centres, wrapping in u (the seam at
-// u = 0 joins the first and last columns) and clamped in v (the poles).
+// Bilinear between the four nearest texel centres (bilinear.h's mix),
+// wrapping in u (the seam at u = 0 joins the first and last columns) and
+// clamped in v (the poles).
 //
 // With a map the diffuse ambient light comes from it too: the irradiance
 // E(n) of the map (the cosine-weighted integral of its radiance over the
@@ -43,7 +44,8 @@
 #ifndef MENISCUS_SHARED_ENVIRONMENT_H
 #define MENISCUS_SHARED_ENVIRONMENT_H
 
-#include "sky.h"  // groundShare
+#include "bilinear.h"  // bilinearMix
+#include "sky.h"       // groundShare
 
 #ifdef __cplusplus
 #include <algorithm>
@@ -144,9 +146,7 @@ MENISCUS_ENV_INLINE vec3 environmentMapRadiance(float dx, float dy, float dz, En
     MENISCUS_ENV_EXACT vec3 c10 = environmentTexel(env, i1, j0);
     MENISCUS_ENV_EXACT vec3 c01 = environmentTexel(env, i0, j1);
     MENISCUS_ENV_EXACT vec3 c11 = environmentTexel(env, i1, j1);
-    MENISCUS_ENV_EXACT vec3 top = c00 * (1.0f - tu) + c10 * tu;
-    MENISCUS_ENV_EXACT vec3 bottom = c01 * (1.0f - tu) + c11 * tu;
-    MENISCUS_ENV_EXACT vec3 c = top * (1.0f - tv) + bottom * tv;
+    MENISCUS_ENV_EXACT vec3 c = bilinearMix(c00, c10, c01, c11, tu, tv);
     return c * env.intensity;
 }
 

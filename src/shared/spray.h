@@ -100,10 +100,11 @@ MENISCUS_SP_INLINE float sprayCover(int sum) {
     return c;
 }
 
-// The colour under cover `cover` of drops lit like the foam (sky fill
-// `ambient` plus the key light's n.l, n toward the eye for a drop's mean).
-MENISCUS_SP_INLINE vec3 sprayOver(vec3 c, float cover, vec3 drop, float lightZ, float ambient) {
-    return noiseWithFoam(c, cover, lightZ, drop, ambient);
+// The colour under cover `cover` of drops of colour `drop` lit by `lit` per
+// colour (studio.h's sprayLight, once per image on the host: the ambient,
+// the studio's or an HDR map's, plus the key light's share), as the foam is.
+MENISCUS_SP_INLINE vec3 sprayOver(vec3 c, float cover, vec3 drop, vec3 lit) {
+    return noiseWithFoamLit(c, cover, lit, drop);
 }
 
 // The alpha under cover `cover` laid over alpha `a` (the "over" operator's).
@@ -127,10 +128,10 @@ inline bool sprayDropOfWorld(vec3 p, vec3 v, vec3 eye, vec3 right, vec3 up, vec3
     return true;
 }
 
-// The drops' light term (host side, once per frame for both backends): the
-// view-space z of the unit light direction, as a drop's mean normal faces the
-// eye; `back` is the camera's view z axis in world space (Camera::back()).
-// No light direction: lit face on.
+// The drops' key-light term (host side, once per frame for both backends,
+// through studio.h's sprayLight): the view-space z of the unit light
+// direction, as a drop's mean normal faces the eye; `back` is the camera's
+// view z axis in world space (Camera::back()). No light direction: lit face on.
 inline float sprayLightZ(vec3 lightDirWorld, vec3 back) {
     const float len = glm::length(lightDirWorld);
     return len > 0.0f ? glm::dot(lightDirWorld / len, back) : 1.0f;

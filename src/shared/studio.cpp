@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "shared/shading.h"
 #include "shared/sky.h"
+#include "shared/spray.h"
 #include "shared/studio_shade.h"
 
 namespace meniscus::shared {
@@ -84,6 +86,12 @@ StudioShading studioShading(const Studio& studio, const EnvironmentMap& environm
     sh.litWallZ = lit({0.0f, 0.0f, studio.wallZNormal}, studio.wallZNormal * l.z);
     sh.sunDir = studio.lightDirWorld;
     return sh;
+}
+
+glm::vec3 sprayLight(const glm::vec3& lightDirWorld, const glm::vec3& back, const EnvironmentMap& environment) {
+    const float key = (1.0f - kOpaqueAmbient) * std::max(sprayLightZ(lightDirWorld, back), 0.0f);
+    return environment.enabled() ? environmentAmbient(back.x, back.y, back.z, environment) + glm::vec3(key)
+                                 : glm::vec3(kOpaqueAmbient + key);
 }
 
 }  // namespace meniscus::shared

@@ -58,4 +58,12 @@ struct StudioShading {
 };
 StudioShading studioShading(const Studio& studio, const EnvironmentMap& environment = {});
 
+// The spray drops' light per colour (spray.h's sprayOver), once per image for
+// both backends, as the liquid's foam is lit (docs/pipeline.md#noise-and-foam):
+// a drop's mean normal n faces the eye (`back`, Camera::back()), so the
+// ambient is the map's E(n) / pi at that normal with an HDR map (environment.h's
+// environmentAmbient; the studio's kOpaqueAmbient without one), plus the key
+// light's share (1 - kOpaqueAmbient) max(n.l, 0) (spray.h's sprayLightZ).
+glm::vec3 sprayLight(const glm::vec3& lightDirWorld, const glm::vec3& back, const EnvironmentMap& environment = {});
+
 }  // namespace meniscus::shared

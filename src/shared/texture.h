@@ -1,7 +1,7 @@
 // A scene object's base colour map (GeometryMaterial::baseColorTexture),
 // sampled once for C++ and GLSL like environment.h: bilinear between the
-// four nearest texel centres, repeated beyond [0, 1] in both directions (the
-// wrap glTF and OBJ files assume by default).
+// four nearest texel centres (bilinear.h's mix), repeated beyond [0, 1] in
+// both directions (the wrap glTF and OBJ files assume by default).
 //
 // Convention: texture coordinates (u, v) with (0, 0) at the image's
 // bottom-left corner and (1, 1) at its top-right (Assimp's, for every format);
@@ -16,6 +16,8 @@
 // intermediate is `precise`, matching the CPU's plain IEEE arithmetic.
 #ifndef MENISCUS_SHARED_TEXTURE_H
 #define MENISCUS_SHARED_TEXTURE_H
+
+#include "bilinear.h"  // bilinearMix
 
 #ifdef __cplusplus
 #include <cmath>
@@ -77,9 +79,7 @@ MENISCUS_TEX_INLINE vec3 textureSample(TextureMap tex, float u, float v) {
     MENISCUS_TEX_EXACT vec3 c10 = textureTexel(tex, i1, j0);
     MENISCUS_TEX_EXACT vec3 c01 = textureTexel(tex, i0, j1);
     MENISCUS_TEX_EXACT vec3 c11 = textureTexel(tex, i1, j1);
-    MENISCUS_TEX_EXACT vec3 top = c00 * (1.0f - tx) + c10 * tx;
-    MENISCUS_TEX_EXACT vec3 bottom = c01 * (1.0f - tx) + c11 * tx;
-    return top * (1.0f - ty) + bottom * ty;
+    return bilinearMix(c00, c10, c01, c11, tx, ty);
 }
 
 #ifdef __cplusplus

@@ -8,7 +8,6 @@
 // CPU's, `precise`); elsewhere the colour is left as it is and the cover is 0.
 // Formulas: src/shared/spray.h.
 #extension GL_GOOGLE_include_directive : require
-#include "shading.h"
 #include "spray.h"
 
 layout(local_size_x = 64) in;
@@ -21,7 +20,7 @@ layout(r32f, binding = 1) writeonly uniform imageBuffer cover;  // W*H cover, 0 
 
 layout(location = 0) uniform uint uPixels;    // W*H
 layout(location = 1) uniform vec3 uDropColor;  // SprayParams::color
-layout(location = 2) uniform float uLightZ;   // shared::sprayLightZ (host)
+layout(location = 2) uniform vec3 uLit;       // shared::sprayLight (host): ambient plus key, per colour
 
 void main() {
     for (uint k = gl_GlobalInvocationID.x; k < uPixels; k += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
@@ -32,7 +31,7 @@ void main() {
         }
         const float c = sprayCover(s);
         const vec4 px = imageLoad(color, int(k));
-        const vec3 rgb = sprayOver(px.rgb, c, uDropColor, uLightZ, kOpaqueAmbient);
+        const vec3 rgb = sprayOver(px.rgb, c, uDropColor, uLit);
         imageStore(color, int(k), vec4(rgb, sprayAlphaOver(px.a, c)));
         imageStore(cover, int(k), vec4(c));
     }
