@@ -48,6 +48,7 @@
 #include "render.h"
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <cmath>
 #include <fstream>
@@ -287,13 +288,19 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
     std::size_t written = 0, resumed = 0;
     ProgressBar progress(share->end - share->begin, "rendering");
     for (std::size_t i = 0; i < share->end; ++i) {
-        // Ctrl-C or SIGTERM: stop before the next frame (the one in progress finished).
-        if (interrupted())
-            return stopInterrupted(i > share->begin ? "after frame " + std::to_string(i) + " of " + std::to_string(count)
-                                                    : "before the first frame",
-                                   outputs->movie() ? "no movie written (a movie is written whole: run it again)"
-                                                    : "the frames written are whole: the same command with --resume "
-                                                      "renders the rest");
+        // Ctrl-C or SIGTERM: stop before the next frame (the one in progress
+        // finished). Composited, the processes agree first (mpirun signals
+        // each at its own moment; one stopping alone would leave the others
+        // waiting in the composite).
+        if (composited ? !cluster.allOk(!interrupted()) : interrupted()) {
+            const int code =
+                stopInterrupted(i > share->begin ? "after frame " + std::to_string(i) + " of " + std::to_string(count)
+                                                 : "before the first frame",
+                                outputs->movie() ? "no movie written (a movie is written whole: run it again)"
+                                                 : "the frames written are whole: the same command with --resume "
+                                                   "renders the rest");
+            return code ? code : 128 + SIGINT;  // another process was signalled
+        }
         auto name = outputs->name(i);
         if (!name) return fail(name.error());
         if (!rendered[i]) {
@@ -672,8 +679,10 @@ int runRender(const RenderJob& o, const ParticleSet* embedded) {
     if (!cluster) return fail(cluster.error());
     const int code = runRenderOn(**cluster, o, embedded);
     // One process's failure ends the job: the others would wait for it in a
-    // composite, or go on rendering frames of a run that failed.
-    if (code != 0 && (*cluster)->size() > 1) {
+    // composite, or go on rendering frames of a run that failed. Not an
+    // interrupted one: the others, signalled too, finish their frames in
+    // progress (an abort would kill them mid-write).
+    if (code != 0 && !interrupted() && (*cluster)->size() > 1) {
         std::cerr.flush();
         (*cluster)->abort(code);
     }
