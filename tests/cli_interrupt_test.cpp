@@ -262,10 +262,15 @@ TEST(CliInterrupt, AnOutputFolderThatCannotBeMadeFailsFirst) {
         "simulate " + shellQuote(scene) + " -o " + shellQuote(bad / "f_%04d.bgeo"),
         "simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "s" / "f_%04d.bgeo") + " --render " +
             shellQuote(bad / "i_%04d.png"),
+        "simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "s" / "f_%04d.bgeo") + " --render " +
+            shellQuote(bad / "m.mp4"),
+        "render " + in + " -o " + shellQuote(bad / "m.mp4") + " --width 32 --height 18 --backend cpu",
     };
     for (const std::string& c : commands) {
         std::string out;
-        EXPECT_EQ(runCli(c, &out), 2) << c << "\n" << out;
+        const int rc = runCli(c, &out);
+        if (out.find("this build has no movies") != std::string::npos) continue;
+        EXPECT_EQ(rc, 2) << c << "\n" << out;
         EXPECT_NE(out.find("cannot make the folder"), std::string::npos) << c << "\n" << out;
         EXPECT_EQ(out.find("wrote"), std::string::npos) << c << "\n" << out;
         EXPECT_FALSE(fs::exists(dir / "s" / "f_0000.bgeo")) << "nothing simulated";

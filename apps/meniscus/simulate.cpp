@@ -65,7 +65,7 @@ Result<FrameImages> openImages(const SimulateJob& o, const sim::Scene& sc) {
     FrameImages images{o.render, std::move(*settings), std::move(*renderer)};
 #ifdef MENISCUS_HAVE_FFMPEG
     if (movie) {
-        if (auto st = makeOutputFolders(o.render); !st) return st.error();
+        if (auto st = prepareOutputFolder(o.render); !st) return st.error();  // a bad folder: exit 2
         const Camera& c = images.settings.camera;
         auto writer = VideoWriter::open(o.render, c.width, c.height, VideoParams{sc.fps, o.image.crf});
         if (!writer) return writer.error();
