@@ -5,11 +5,16 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <set>
+
+#include <unistd.h>
 
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 
 #include "io/atomic_file.h"
+#include "meniscus/io.h"
+#include "meniscus/temporaries.h"
 #include "test_util.h"
 
 namespace meniscus {
@@ -105,6 +110,40 @@ TEST(AtomicFile, RefusesToReplaceWhatIsNotARegularFile) {
     // Nothing left behind: no temporary beside any of them.
     for (const auto& e : fs::directory_iterator(dir))
         EXPECT_NE(e.path().filename().string().rfind(".", 0), 0u) << e.path();
+}
+
+// A killed run's temporary (PendingFile's name with a PID no process has) is
+// removed; a live process's, a name off the pattern, a folder or a link of
+// that name, and a temporary newer than `olderThan` stay.
+TEST(AtomicFile, RemovesOnlyTheTemporariesOfDeadProcesses) {
+    const fs::path dir = test::tempDir();
+    // The name begin() gives, from this (live) process.
+    auto pending = PendingFile::begin(dir / "f.png");
+    ASSERT_TRUE(pending.ok());
+    test::writeText(pending->tmp(), "in progress");
+    const std::string pid = std::to_string(::getpid());
+    for (const char* name : {".f_0035.png.tmp999999_0", ".out.mp4.tmp999998_12", ".x.tmp999999_0", "x.png.tmp999999_0",
+                             ".x.png.tmp999999_", ".x.png.tmp999999_0.bak", ".x.png.tmp_0", ".tmp999999_0",
+                             ".x.png.tmp99999999999_0"})
+        test::writeText(dir / name, "partial");
+    fs::create_directories(dir / ".d.png.tmp999999_0");
+    fs::create_symlink(dir / "x.png.tmp999999_0", dir / ".l.png.tmp999999_0");
+    const auto removed = removeStaleTemporaries(dir);
+    std::set<std::string> names;
+    for (const fs::path& p : removed) names.insert(p.filename().string());
+    EXPECT_EQ(names, (std::set<std::string>{".f_0035.png.tmp999999_0", ".out.mp4.tmp999998_12", ".x.tmp999999_0"}));
+    for (const std::string& name : names) EXPECT_FALSE(fs::exists(dir / name)) << name;
+    EXPECT_TRUE(fs::exists(pending->tmp())) << "this process's temporary stays";
+    for (const char* name : {"x.png.tmp999999_0", ".x.png.tmp999999_", ".x.png.tmp999999_0.bak", ".x.png.tmp_0",
+                             ".tmp999999_0", ".x.png.tmp99999999999_0", ".d.png.tmp999999_0"})
+        EXPECT_TRUE(fs::exists(dir / name)) << name;
+    EXPECT_TRUE(fs::is_symlink(dir / ".l.png.tmp999999_0"));
+    // For a folder shared with other machines: only one unchanged for the age given.
+    test::writeText(dir / ".g.png.tmp999999_0", "partial");
+    EXPECT_TRUE(removeStaleTemporaries(dir, std::chrono::hours(1)).empty());
+    fs::last_write_time(dir / ".g.png.tmp999999_0", fs::file_time_type::clock::now() - std::chrono::hours(2));
+    EXPECT_EQ(removeStaleTemporaries(dir, std::chrono::hours(1)).size(), 1u);
+    EXPECT_TRUE(removeStaleTemporaries(dir / "missing").empty());
 }
 
 }  // namespace

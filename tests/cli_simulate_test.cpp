@@ -99,7 +99,8 @@ TEST(CliSimulate, BadScenesAndOutputsFailCleanly) {
 // --render: one image per frame with the frame's number, all seen by one
 // camera (framed on the tank, logged once): a pixel of empty tank far from
 // the fluid is the same in every image, while the fluid's pixels change as
-// the column falls. --resume renders on from the resumed frame.
+// the column falls. --resume renders the missing pictures and on from the
+// resumed frame.
 TEST(CliSimulate, RenderWritesAnImagePerFrameFromOneCamera) {
     const fs::path dir = tempDir();
     const fs::path scene = writeSmallScene(dir);
@@ -135,7 +136,11 @@ TEST(CliSimulate, RenderWritesAnImagePerFrameFromOneCamera) {
     for (std::size_t i = 0; i < images[0].bytes.size(); ++i) changed += images[0].bytes[i] != images[5].bytes[i];
     EXPECT_GT(changed, 100u) << "the fluid moved between frame 0 and frame 5";
 
-    // Interrupted after frame 2: --resume writes and renders frames 3..5 only.
+    // Interrupted after frame 2, frame 1's picture lost: --resume renders the
+    // missing picture from frame 1's particles (the same bytes), and writes
+    // and renders frames 3..5.
+    const auto picture1 = readBytes(dir / "img/i_0001.png");
+    const auto time0 = fs::last_write_time(dir / "img/i_0000.png");
     for (int k = 3; k <= 5; ++k) {
         char name[32];
         std::snprintf(name, sizeof name, "f/f_%04d.bgeo", k);
@@ -146,7 +151,9 @@ TEST(CliSimulate, RenderWritesAnImagePerFrameFromOneCamera) {
     fs::remove(dir / "img/i_0001.png");
     ASSERT_EQ(runCli(args + " --resume", &out), 0) << out;
     EXPECT_TRUE(fs::exists(dir / "img/i_0005.png"));
-    EXPECT_FALSE(fs::exists(dir / "img/i_0001.png")) << "frames before the resume point are not rendered again";
+    EXPECT_TRUE(readBytes(dir / "img/i_0001.png") == picture1) << "the missing picture, as the whole run drew it";
+    EXPECT_EQ(fs::last_write_time(dir / "img/i_0000.png"), time0) << "complete pictures are not rendered again";
+    EXPECT_NE(out.find("rendered the missing " + (dir / "img/i_0001.png").string()), std::string::npos) << out;
 }
 
 // `render` takes a simulation scene as its input, directly or as a render

@@ -12,6 +12,7 @@
 
 #include "common.h"
 #include "help_format.h"
+#include "interrupt.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "progress.h"
@@ -50,6 +51,7 @@ CLI::App* addConvertCommand(CLI::App& app, ConvertOptions& o) {
                     "frame number")
         ->group(group::kOutput);
     addSelectOption(cmd, o.select);
+    addRow(cmd, *findIn(meshOptionTable(), "resume"), &o.resume);  // one --resume for mesh and convert
     useGroupedHelp(cmd, {group::kInput, group::kOutput});
     return cmd;
 }
@@ -78,13 +80,29 @@ int runConvert(const ConvertOptions& o) {
         times.push_back(n >= 0 ? double(n) : double(i));
     }
     std::vector<std::filesystem::path> written;
+    if (frames.count() > 0) {
+        auto first = frames.outputName(o.output, 0);
+        if (!first) return fail(first.error());
+        if (auto st = prepareOutputFolder(*first); !st) return fail(st.error());
+    }
+    installInterruptHandler("frame");  // from here on Ctrl-C stops after the frame in progress
 
     ProgressBar progress(frames.count(), "converting");
     for (std::size_t i = 0; i < frames.count(); ++i) {
+        if (interrupted())
+            return stopInterrupted(i ? "after frame " + std::to_string(i) + " of " + std::to_string(frames.count())
+                                     : "before the first frame",
+                                   "the files written are whole: the same command with --resume writes the rest" +
+                                       std::string(o.pvd.empty() ? "" : " and the .pvd"));
         const std::filesystem::path& in = frames.files[i];
         auto out = frames.outputName(o.output, i);
         if (!out) return fail(out.error());
         if (sameFile(in, *out)) return fail(*out + ": is the input " + in.string() + "; give another output name");
+        if (o.resume && particlesComplete(*out)) {  // written whole by the interrupted run
+            progress.step(i + 1, *out + " (complete, kept)");
+            written.push_back(*out);
+            continue;
+        }
         if (auto st = makeOutputFolders(*out); !st) return fail(st.error());
         // A frame with no particles (a simulation before its emitter started) is written as an empty file.
         auto set = readParticles(in, ParticleFormat::Auto, true);

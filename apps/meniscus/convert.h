@@ -16,6 +16,7 @@ struct ConvertOptions {
     std::string output;
     std::string pvd;     // --pvd: a ParaView collection of the outputs
     std::string select;  // --select: only the particles that match
+    bool resume = false; // --resume: outputs already complete stay (mesh's option, meshOptionTable)
 };
 
 CLI::App* addConvertCommand(CLI::App& app, ConvertOptions& o);

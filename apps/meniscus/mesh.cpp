@@ -8,6 +8,7 @@
 
 #include "common.h"
 #include "help_format.h"
+#include "interrupt.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "meniscus/surface.h"
@@ -28,7 +29,7 @@ CLI::App* addMeshCommand(CLI::App& app, MeshJob& o) {
                     "Output .ply (binary, default) or .obj; for a sequence a pattern like mesh_%04d.ply")
         ->group(group::kOutput)
         ->required();
-    addRows(cmd, meshOptionTable(), o);  // --radius under Input, --stats under Output
+    addRows(cmd, meshOptionTable(), o);  // --radius under Input, --stats and --resume under Output
     addSmoothingLengthOption(cmd, o.hPerSpacing);
     addSelectOption(cmd, o.select);
     addMesherTableOptions(cmd, o.mesher);
@@ -47,10 +48,32 @@ int runMesh(const MeshJob& o, int threads) {
 
     if (auto st = checkOptions(mesherOptionTable(), o.mesher); !st) return fail(st.error());
     MeshParams params = mesherParams(o.mesher, 0.0f, threads);
+    if (count > 0) {
+        auto first = frames->outputName(o.output, 0);
+        if (!first) return fail(first.error());
+        if (auto st = prepareOutputFolder(*first); !st) return fail(st.error());
+    }
+    installInterruptHandler("mesh");  // from here on Ctrl-C stops after the mesh in progress
 
     const bool tty = ::isatty(STDERR_FILENO) == 1;
     ProgressBar progress(count, "meshing");
+    std::size_t kept = 0;
     for (std::size_t i = 0; i < count; ++i) {
+        if (interrupted())
+            return stopInterrupted(i ? "after mesh " + std::to_string(i) + " of " + std::to_string(count)
+                                     : "before the first mesh",
+                                   "the meshes written are whole: the same command with --resume writes the rest");
+        auto formatted = frames->outputName(o.output, i);
+        if (!formatted) return fail(formatted.error());
+        const std::string out = *formatted;
+        // --resume: a complete mesh stays; frame 0 is still read for the radius.
+        const bool keep = o.resume && meshComplete(out);
+        if (keep && i > 0) {
+            ++kept;
+            if (tty && count > 1) progress.update(i + 1);
+            else std::cerr << "meniscus: kept " << out << " (complete)\n";
+            continue;
+        }
         std::string smoothingLength;
         auto set = frames->load(i, &smoothingLength);
         if (!set) return fail(set.error());
@@ -68,12 +91,14 @@ int runMesh(const MeshJob& o, int threads) {
             if (!radius) return fail(Error{name, radius.error().message}.describe());
             params.radiusM = *radius;
         }
+        if (keep) {
+            ++kept;
+            std::cerr << "meniscus: kept " << out << " (complete)\n";
+            continue;
+        }
         MeshStats stats;
         auto mesh = extractSurface(ParticleView::of(*set), params, &stats);
         if (!mesh) return fail(Error{name, mesh.error().message}.describe());
-        auto formatted = frames->outputName(o.output, i);
-        if (!formatted) return fail(formatted.error());
-        const std::string out = *formatted;
         if (auto st = makeOutputFolders(out); !st) return fail(st.error());
         if (auto st = writeMesh(out, *mesh, *format); !st) return fail(st.error());
         if (o.stats)
@@ -91,7 +116,9 @@ int runMesh(const MeshJob& o, int threads) {
             std::cerr << "meniscus: wrote " << out << " (" << mesh->vertexCount() << " vertices, "
                       << mesh->triangleCount() << " triangles, " << int(stats.msTotal + 0.5) << " ms)\n";
     }
-    if (count > 1 && tty) std::cerr << "meniscus: wrote " << count << " meshes to " << o.output << "\n";
+    if (count > 1 && tty)
+        std::cerr << "meniscus: wrote " << count - kept << " meshes to " << o.output
+                  << (kept ? " (" + std::to_string(kept) + " already complete, kept)" : std::string()) << "\n";
     return 0;
 }
 

@@ -8,10 +8,11 @@
 //    ending in its IEND chunk, an EXR with its magic number; every output is
 //    written under a temporary name and renamed, so a file there was written
 //    whole) is not rendered again. Not for a movie, which is written whole.
-//  - Ctrl-C (SIGINT, SIGTERM): the frame in progress finishes, the run stops
-//    there with exit 130 (143 for SIGTERM); finished frames stay, a movie is not written (its
-//    temporary file is removed). Further Ctrl-Cs change nothing (a tool may
-//    signal the process and its group both), so no partial file is ever left.
+//  - Ctrl-C (SIGINT, SIGTERM; interrupt.h): the frame in progress finishes,
+//    the run stops there with exit 130 (143 for SIGTERM); finished frames
+//    stay, a movie is not written (its temporary file is removed). Further
+//    Ctrl-Cs change nothing (a tool may signal the process and its group
+//    both), so no partial file is ever left.
 //  - A moving camera (--orbit, --turntable, --camera-path): frame i is at
 //    i / --fps seconds; the path gives eye, target and fov, then --orbit or
 //    --turntable turns the eye about the vertical through the target. The
@@ -65,6 +66,7 @@
 
 #include "cluster.h"
 #include "help_format.h"
+#include "interrupt.h"
 #include "mesh.h"
 #include "meniscus/boundary.h"
 #include "meniscus/io.h"
@@ -82,16 +84,6 @@
 namespace meniscus::app {
 namespace {
 
-volatile std::sig_atomic_t gInterrupted = 0;
-
-// The signal that stopped the run (SIGINT, SIGTERM); 128 + it is the exit code.
-extern "C" void onInterrupt(int signal) {
-    if (gInterrupted) return;  // again (or sent to the whole process group as well): already stopping
-    gInterrupted = signal;
-    static const char note[] = "\nmeniscus: stopping after the frame in progress\n";
-    [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, note, sizeof note - 1);  // async-signal-safe
-}
-
 // A diffuse particle set as the renderer's layer: its positions, velocities
 // (copied into `velocity`) and kinds (the whitewater `type`), as views.
 DiffuseLayer layerOf(const ParticleSet& set, std::vector<glm::vec3>& velocity) {
@@ -105,25 +97,6 @@ DiffuseLayer layerOf(const ParticleSet& set, std::vector<glm::vec3>& velocity) {
     if (type && type->type == AttributeType::Int && type->components == 1 && type->count() == set.size())
         layer.kind = type->ints;
     return layer;
-}
-
-// Whether `path` holds a whole image of ours: a PNG ending in its IEND chunk,
-// an EXR starting with the OpenEXR magic number.
-bool outputComplete(const std::string& path) {
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) return false;
-    const std::streamoff size = in.tellg();
-    if (isExr(path)) {
-        char magic[4] = {};
-        in.seekg(0);
-        return size >= 4 && in.read(magic, 4) && magic[0] == 0x76 && magic[1] == 0x2f && magic[2] == 0x31 &&
-               magic[3] == 0x01;
-    }
-    static const unsigned char iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
-    unsigned char tail[12] = {};
-    if (size < 12 + 8) return false;
-    in.seekg(size - 12);
-    return bool(in.read(reinterpret_cast<char*>(tail), 12)) && std::equal(tail, tail + 12, iend);
 }
 
 // Where the frames go: numbered images, or one movie opened before the first.
@@ -274,6 +247,14 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
     } else if (motion.moves() && o.background == "studio") {
         settings.scene.wallsSeenFrom = cameraForFrame(start, motion, 0).eye;
     }
+    // The output's folder, checked (and a killed run's temporaries swept)
+    // before the renderer starts; with shards or processes on other machines
+    // writing there too, only temporaries an hour old are swept.
+    if (writer && count > 0) {
+        auto first = isMp4(o.output) ? Result<std::string>(o.output) : frames.outputName(o.output, 0);
+        if (!first) return fail(first.error());
+        if (auto st = prepareOutputFolder(*first, !o.shard.empty() || cluster.size() > 1); !st) return fail(st.error());
+    }
     auto made = makeRenderer(o);
     if (!made) return fail(made.error());
     Renderer renderer = std::move(*made);
@@ -290,7 +271,7 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
     for (std::size_t i = share->begin; i < share->end; ++i) {
         auto name = outputs->name(i);
         if (!name) return fail(name.error());
-        rendered[i] = !(o.resume && outputComplete(*name));
+        rendered[i] = !(o.resume && imageComplete(*name));
     }
     // The turbulence tracker's memory, in frames (0: nothing carries over):
     // a frame not rendered is drawn and dropped when one of the `memory`
@@ -307,6 +288,19 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
     std::size_t written = 0, resumed = 0;
     ProgressBar progress(share->end - share->begin, "rendering");
     for (std::size_t i = 0; i < share->end; ++i) {
+        // Ctrl-C or SIGTERM: stop before the next frame (the one in progress
+        // finished). Composited, the processes agree first (mpirun signals
+        // each at its own moment; one stopping alone would leave the others
+        // waiting in the composite).
+        if (composited ? !cluster.allOk(!interrupted()) : interrupted()) {
+            const int code =
+                stopInterrupted(i > share->begin ? "after frame " + std::to_string(i) + " of " + std::to_string(count)
+                                                 : "before the first frame",
+                                outputs->movie() ? "no movie written (a movie is written whole: run it again)"
+                                                 : "the frames written are whole: the same command with --resume "
+                                                   "renders the rest");
+            return code ? code : 128 + SIGINT;  // another process was signalled
+        }
         auto name = outputs->name(i);
         if (!name) return fail(name.error());
         if (!rendered[i]) {
@@ -353,12 +347,6 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
         } else {
             ++written;
             if (writer) progress.step(i + 1 - share->begin, *name);
-        }
-        if (gInterrupted) {
-            std::cerr << "\nmeniscus: interrupted after frame " << i + 1 << " of " << count
-                      << (outputs->movie() ? "; no movie written" : "; the frames written are complete (--resume goes on)")
-                      << "\n";
-            return 128 + int(gInterrupted);  // 130 for Ctrl-C, 143 for SIGTERM
         }
     }
     if (auto st = outputs->finish(); !st) return fail(st.error());
@@ -582,8 +570,7 @@ int runRenderOn(Cluster& cluster, const RenderJob& options, const ParticleSet* e
     if (o.resume && isMp4(o.output)) return failUsage("--resume: a movie is written whole; resume numbered images");
     if (!o.shard.empty() && isMp4(o.output))
         return fail(makeUsageError("", "--shard: a movie is written whole; shard numbered images (and join them with ffmpeg)"));
-    std::signal(SIGINT, onInterrupt);  // from here on Ctrl-C stops after the frame in progress
-    std::signal(SIGTERM, onInterrupt);
+    installInterruptHandler("frame");  // from here on Ctrl-C stops after the frame in progress
     auto parsed = settingsFromOptions(o);
     if (!parsed) return fail(keyed(parsed.error(), o));
     RenderSettings settings = std::move(*parsed);
@@ -692,8 +679,10 @@ int runRender(const RenderJob& o, const ParticleSet* embedded) {
     if (!cluster) return fail(cluster.error());
     const int code = runRenderOn(**cluster, o, embedded);
     // One process's failure ends the job: the others would wait for it in a
-    // composite, or go on rendering frames of a run that failed.
-    if (code != 0 && (*cluster)->size() > 1) {
+    // composite, or go on rendering frames of a run that failed. Not an
+    // interrupted one: the others, signalled too, finish their frames in
+    // progress (an abort would kill them mid-write).
+    if (code != 0 && !interrupted() && (*cluster)->size() > 1) {
         std::cerr.flush();
         (*cluster)->abort(code);
     }

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "help_format.h"
+#include "interrupt.h"
 #include "meniscus/io.h"
 #include "meniscus/particle_view.h"
 #include "meniscus/renderer.h"
@@ -64,7 +65,7 @@ Result<FrameImages> openImages(const SimulateJob& o, const sim::Scene& sc) {
     FrameImages images{o.render, std::move(*settings), std::move(*renderer)};
 #ifdef MENISCUS_HAVE_FFMPEG
     if (movie) {
-        if (auto st = makeOutputFolders(o.render); !st) return st.error();
+        if (auto st = prepareOutputFolder(o.render); !st) return st.error();  // a bad folder: exit 2
         const Camera& c = images.settings.camera;
         auto writer = VideoWriter::open(o.render, c.width, c.height, VideoParams{sc.fps, o.image.crf});
         if (!writer) return writer.error();
@@ -93,11 +94,43 @@ Result<std::string> writeFrameImage(FrameImages& images, const ParticleSet& set,
     return *name;
 }
 
-// The folder of a pattern's frame 0, made if missing.
-Status makeParentFolder(const std::string& pattern) {
-    auto name = formatFramePattern(pattern, 0);
-    if (!name) return name.error();
-    return makeOutputFolders(*name);
+// --resume with --render: the pictures of frames 0 .. last (whose particles
+// were written) that are missing or cut short, rendered from the particle
+// files. With the surface noise, whose turbulence compares consecutive
+// frames, the frames before a missing one within the tracker's memory, and
+// those before the first frame still to simulate, are drawn and dropped
+// first, so each picture is the uninterrupted run's. Returns how many were
+// written; stops early (with the count so far) when interrupted.
+Result<long> renderMissingImages(FrameImages& images, const std::string& output, long last) {
+    const long memory =
+        images.settings.noise.enabled ? long(std::max(images.settings.noise.turbulence.holdFrames, 0)) + 1 : 0;
+    std::vector<char> missing(std::size_t(last + 1), 0);
+    for (long k = 0; k <= last; ++k) {
+        auto name = formatFramePattern(images.pattern, k);
+        if (!name) return name.error();
+        missing[std::size_t(k)] = !imageComplete(*name);
+    }
+    long written = 0;
+    for (long k = 0; k <= last && !interrupted(); ++k) {
+        bool feeds = k > last - memory;  // the turbulence of the first frame simulated next
+        for (long j = k + 1; j <= std::min(last, k + memory); ++j) feeds = feeds || missing[std::size_t(j)];
+        if (!missing[std::size_t(k)] && !feeds) continue;
+        auto particles = formatFramePattern(output, k);
+        if (!particles) return particles.error();
+        auto set = readParticles(*particles, ParticleFormat::Auto, true);  // an emitter's first frames are empty
+        if (!set) return set.error();
+        if (!missing[std::size_t(k)]) {  // drawn for the turbulence, not written
+            images.settings.frameIndex = k;
+            if (auto aovs = images.renderer.render(ParticleView::of(*set), images.settings); !aovs)
+                return Error{*particles, aovs.error().message};
+            continue;
+        }
+        auto image = writeFrameImage(images, *set, k);
+        if (!image) return image.error();
+        std::cerr << "meniscus: rendered the missing " << *image << " from " << *particles << "\n";
+        ++written;
+    }
+    return written;
 }
 
 // The frames' times beside them, as a ParaView collection named after the
@@ -185,9 +218,15 @@ int runSimulate(const SimulateJob& o) {
                      c.eye.z, c.target.x, c.target.y, c.target.z);
     }
 
+    // The outputs' folders, checked (and a killed run's temporaries swept) before anything is simulated.
+    for (const std::string* pattern : {&o.output, &o.render})
+        if (!pattern->empty())
+            if (auto st = prepareOutputFolder(*pattern); !st) return fail(st.error());
+
     auto made = sim::Simulator::create(sc);
     if (!made) return fail(made.error());
     sim::Simulator& simulator = **made;
+    installInterruptHandler("frame");  // from here on Ctrl-C stops between the simulator's steps
     const long frames = long(std::floor(sc.duration * sc.fps + 1e-9));  // after frame 0
     auto nameOf = [&](long k) { return formatFramePattern(o.output, k); };
 
@@ -210,10 +249,26 @@ int runSimulate(const SimulateJob& o) {
             std::cerr << "meniscus: resuming after " << *name << " (t = " << double(last) / sc.fps << " s)\n";
             first = last + 1;
         }
+        // The pictures an interrupted run had not rendered yet for the frames it wrote.
+        if (images && last >= 0) {
+            auto rendered = renderMissingImages(*images, o.output, last);
+            if (!rendered) return fail(rendered.error());
+        }
     }
-    for (const std::string* pattern : {&o.output, &o.render})
-        if (!pattern->empty() && !isMp4(*pattern))
-            if (auto st = makeParentFolder(*pattern); !st) return fail(st.error());
+    // Where the run stopped and how to go on (Ctrl-C, SIGTERM).
+    const auto stopped = [&](long k) {
+        const std::string then = images && isMp4(o.render)
+                                     ? "no movie written (a movie is written whole: run it again)"
+                                     : "the frames written are whole: the same command with --resume goes on";
+        if (k == 0) return stopInterrupted("before frame 0", then);
+        auto name = nameOf(k - 1);
+        char time[32];
+        std::snprintf(time, sizeof time, "%g", double(k - 1) / sc.fps);
+        return stopInterrupted("after frame " + std::to_string(k - 1) + " (" + (name ? *name : o.output) + ", t = " +
+                                   time + " s); frame " + std::to_string(k) + ", in progress, is not written",
+                               then);
+    };
+    if (interrupted()) return stopped(first);
     std::cerr << "meniscus: " << sc.name << ": " << simulator.size() << " particles, r = " << sc.params.radius
               << " m, " << sim::solverName(sc.params.solver) << ", " << sc.duration << " s at " << sc.fps << " fps\n";
     const bool tty = ::isatty(STDERR_FILENO) == 1;
@@ -221,7 +276,13 @@ int runSimulate(const SimulateJob& o) {
     const auto start = std::chrono::steady_clock::now();
     for (long k = first; k <= frames; ++k) {
         const std::size_t stepsBefore = simulator.totals().steps;
-        if (auto st = simulator.advanceTo(double(k) / sc.fps); !st) return fail(st.error());
+        // Step by step, so a signal stops the run between two steps: the frame
+        // in progress is dropped whole (--resume simulates it again).
+        const double t = double(k) / sc.fps;
+        while (simulator.time() < t) {
+            if (interrupted()) return stopped(k);
+            if (auto st = simulator.step(t); !st) return fail(st.error());
+        }
         auto name = nameOf(k);
         if (!name) return fail(name.error());
         const ParticleSet set = simulator.particles();

@@ -10,6 +10,7 @@
 
 #include "common.h"
 #include "help_format.h"
+#include "interrupt.h"
 #include "meniscus/io.h"
 #include "meniscus/particles.h"
 #include "meniscus/whitewater.h"
@@ -45,6 +46,13 @@ int runWhitewater(const WhitewaterJob& o) {
     if (auto st = frames->setSelection(o.select); !st) return fail(st.error());
     const std::size_t count = frames->count();
     if (auto st = frames->checkOutput(o.output, "diffuse_%04d.bgeo"); !st) return fail(st.error());
+    if (count > 0) {
+        auto firstOut = frames->outputName(o.output, 0);
+        if (!firstOut) return fail(firstOut.error());
+        if (auto st = prepareOutputFolder(*firstOut); !st) return fail(st.error());
+    }
+    installInterruptHandler("frame");  // from here on Ctrl-C stops after the frame in progress
+    const std::string resumeNote = "the frames written are whole: the same command with --resume writes the rest";
     auto load = [&](std::size_t i) -> Result<ParticleSet> {
         auto set = frames->load(i);
         if (!set) return set.error();
@@ -81,6 +89,7 @@ int runWhitewater(const WhitewaterJob& o) {
         std::vector<sim::PotentialMaxima> maxima;
         ProgressBar progress(count, "measuring");
         for (std::size_t i = 0; i < count; ++i) {
+            if (interrupted()) return stopInterrupted("while measuring the potentials", "nothing was written: run the command again");
             auto set = i == 0 ? Result<ParticleSet>(*first) : load(i);
             if (!set) return fail(set.error());
             auto pot = sim::computePotentials(ParticleView::of(*set), radius, params);
@@ -99,7 +108,12 @@ int runWhitewater(const WhitewaterJob& o) {
     auto gen = sim::WhitewaterGenerator::create(params, radius);
     if (!gen) return fail(gen.error());
     ProgressBar progress(count, "whitewater");
+    std::size_t kept = 0;
     for (std::size_t i = 0; i < count; ++i) {
+        if (interrupted())
+            return stopInterrupted(i ? "after frame " + std::to_string(i) + " of " + std::to_string(count)
+                                     : "before the first frame",
+                                   resumeNote);
         auto set = i == 0 ? std::move(first) : load(i);
         if (!set) return fail(set.error());
         const std::string name = frames->files[i].string();
@@ -107,6 +121,14 @@ int runWhitewater(const WhitewaterJob& o) {
         if (!stats) return fail(Error{name, stats.error().message}.describe());
         auto out = frames->outputName(o.output, i);
         if (!out) return fail(out.error());
+        // --resume: a complete frame stays; the generator stepped through it
+        // above, as its particles carry over to the next frame.
+        if (o.resume && particlesComplete(*out)) {
+            ++kept;
+            if (tty && count > 1) progress.update(i + 1);
+            else std::cerr << "meniscus: kept " << *out << " (complete)\n";
+            continue;
+        }
         if (auto st = makeOutputFolders(*out); !st) return fail(st.error());
         if (auto st = writeParticles(*out, sim::toParticleSet(gen->particles())); !st) return fail(st.error());
         if (tty && count > 1) progress.update(i + 1);
@@ -117,7 +139,9 @@ int runWhitewater(const WhitewaterJob& o) {
                          out->c_str(), stats->spray, stats->foam, stats->bubbles, stats->generated, stats->removed,
                          stats->msPotentials, stats->msAdvect, stats->msGenerate);
     }
-    if (count > 1 && tty) std::cerr << "meniscus: wrote " << count << " diffuse frames to " << o.output << "\n";
+    if (count > 1 && tty)
+        std::cerr << "meniscus: wrote " << count - kept << " diffuse frames to " << o.output
+                  << (kept ? " (" + std::to_string(kept) + " already complete, kept)" : std::string()) << "\n";
     return 0;
 }
 

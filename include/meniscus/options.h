@@ -172,6 +172,7 @@ struct JobOptions {
 struct MeshOptions {
     float radius = 0.0f;  // metres; 0 = the file's radii, else estimated (resolveRadius)
     bool stats = false;   // each frame's phases, sizes and peak memory on stderr
+    bool resume = false;  // leave outputs that are already complete (convert's --resume too)
 };
 
 // `simulate`'s options besides the images' look (simulateOptionTable); view
@@ -220,6 +221,7 @@ struct WhitewaterOptions {
     int bubbleAbove = WhitewaterParams{}.bubbleAbove;
     std::uint64_t maxParticles = WhitewaterParams{}.maxParticles;
     std::uint64_t seed = WhitewaterParams{}.seed;
+    bool resume = false;  // leave output frames that are already complete
 };
 
 // ---------------------------------------------------------------- the table
@@ -292,7 +294,7 @@ std::span<const MesherOptionSpec> mesherOptionTable();
 // The job's: backend, diffuse, fluid, select, fps, crf, duration, renumber,
 // on-error, resume, shard, split, orbit, turntable, camera-path, frames.
 std::span<const JobOptionSpec> jobOptionTable();
-// mesh's: radius, stats.
+// mesh's: radius, stats, resume (convert binds its resume too).
 std::span<const MeshOptionSpec> meshOptionTable();
 // simulate's: duration, fps, radius, solver, resume, stats, render.
 std::span<const SimulateOptionSpec> simulateOptionTable();
@@ -300,7 +302,7 @@ std::span<const SimulateOptionSpec> simulateOptionTable();
 std::span<const ViewerOptionSpec> viewerOptionTable();
 // whitewater's: radius, fps, limits, scale, trapped-air-rate, wave-crest-rate,
 // lifetime, buoyancy, drag, gravity, box, spray-below, bubble-above,
-// max-particles, seed.
+// max-particles, seed, resume.
 std::span<const WhitewaterOptionSpec> whitewaterOptionTable();
 
 // "noise_bump" or "noise-bump" -> the table's entry; nullptr when none.

@@ -3,13 +3,18 @@
 #include "atomic_file.h"
 
 #include <atomic>
+#include <cerrno>
+#include <chrono>
 #include <exception>
 #include <string>
 #include <system_error>
+#include <vector>
 
+#include <signal.h>
 #include <unistd.h>
 
 #include "meniscus/io.h"
+#include "meniscus/temporaries.h"
 
 namespace meniscus {
 
@@ -137,6 +142,52 @@ Status writeAtomically(const std::filesystem::path& path,
     }
     if (!st.ok()) return st;  // the pending file removes the temporary
     return pending->commit();
+}
+
+namespace {
+
+// The PID in a temporary's name `.<name>.tmp<PID>_<N>` (begin()'s), or -1
+// when `file` is not exactly such a name.
+long temporaryPid(const std::string& file) {
+    if (file.size() < 2 || file[0] != '.') return -1;
+    const std::size_t underscore = file.rfind('_');
+    if (underscore == std::string::npos || underscore + 1 == file.size()) return -1;
+    for (std::size_t i = underscore + 1; i < file.size(); ++i)
+        if (file[i] < '0' || file[i] > '9') return -1;
+    std::size_t digits = underscore;
+    while (digits > 0 && file[digits - 1] >= '0' && file[digits - 1] <= '9') --digits;
+    if (digits == underscore || underscore - digits > 9 || digits < 5) return -1;  // ".x.tmp" at least before
+    if (file.compare(digits - 4, 4, ".tmp") != 0 || digits - 4 < 2) return -1;  // a name between '.' and ".tmp"
+    return std::stol(file.substr(digits, underscore - digits));
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> removeStaleTemporaries(const std::filesystem::path& folder,
+                                                          std::chrono::seconds olderThan) {
+    namespace fs = std::filesystem;
+    std::vector<fs::path> removed;
+    std::error_code ec;
+    fs::directory_iterator it(folder.empty() ? fs::path(".") : folder, ec);
+    if (ec) return removed;
+    const auto now = fs::file_time_type::clock::now();
+    for (; it != fs::directory_iterator(); it.increment(ec)) {
+        if (ec) break;
+        const fs::path& file = it->path();
+        const long pid = temporaryPid(file.filename().string());
+        if (pid <= 0) continue;
+        std::error_code fileEc;
+        if (!fs::is_regular_file(fs::symlink_status(file, fileEc))) continue;  // only files, never a link's target
+        // A PID that names a live process (ours, another run's, another
+        // user's: EPERM) keeps its file; only "no such process" removes it.
+        if (::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;
+        if (olderThan.count() > 0) {
+            const auto changed = fs::last_write_time(file, fileEc);
+            if (fileEc || now - changed < olderThan) continue;
+        }
+        if (fs::remove(file, fileEc)) removed.push_back(file);
+    }
+    return removed;
 }
 
 }  // namespace meniscus

@@ -553,6 +553,10 @@ std::vector<MeshOptionSpec> makeMeshTable() {
     t.push_back(flagRow(row<M>("stats", G::Output, "",
                                "Print the extraction's phases, sizes and peak memory for each frame",
                                [](M& o) -> OptionRef { return &o.stats; })));
+    t.push_back(flagRow(row<M>("resume", G::Output, "",
+                               "Leave the outputs that already exist and are complete (after an interrupted run) "
+                               "and write only the others, the same bytes as a whole run",
+                               [](M& o) -> OptionRef { return &o.resume; })));
     return t;
 }
 
@@ -665,6 +669,11 @@ std::vector<WhitewaterOptionSpec> makeWhitewaterTable() {
                        1, 1e9));
     t.push_back(row<W>("seed", G::Generation, "", "Seed of the random numbers",
                        [](W& o) -> OptionRef { return &o.seed; }));
+    t.push_back(flagRow(row<W>("resume", G::Output, "",
+                               "Leave the output frames that already exist and are complete (after an interrupted "
+                               "run) and write only the others, the same bytes as a whole run (the generator still "
+                               "steps through every frame: its particles carry over from frame to frame)",
+                               [](W& o) -> OptionRef { return &o.resume; })));
     return t;
 }
 
