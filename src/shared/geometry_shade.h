@@ -63,6 +63,14 @@ MENISCUS_GEOMETRY_INLINE float geometryLobe(float nl, float nh, float s) {
     return lit ? (s + 8.0f) * 0.0397887358f * pow(nh, s) * nl : 0.0f;
 }
 
+// The lobe's exponent s = 2 / alpha^2 - 2 for a roughness, alpha = roughness^2
+// (at least MENISCUS_GEOMETRY_MIN_ALPHA).
+MENISCUS_GEOMETRY_INLINE float geometryExponent(float roughness) {
+    MENISCUS_GEOMETRY_EXACT float alpha = max(roughness * roughness, MENISCUS_GEOMETRY_MIN_ALPHA);
+    MENISCUS_GEOMETRY_EXACT float s = 2.0f / (alpha * alpha) - 2.0f;
+    return s;
+}
+
 // n turned toward the viewer v (the inside of a cut-away tank, a glass's far
 // wall): multiplying by +-1 is exact, so n.v of the result is |n.v| bit for bit.
 MENISCUS_GEOMETRY_INLINE vec3 geometryFacing(vec3 n, vec3 v) {
@@ -80,6 +88,12 @@ MENISCUS_GEOMETRY_INLINE float geometryHalfway(vec3 n, vec3 v, vec3 light) {
     return hLen > 0.0f ? max((n.x * hx + n.y * hy + n.z * hz) / hLen, 0.0f) : 0.0f;
 }
 
+// n.l, the key light's cosine at the (facing) normal n, >= 0.
+MENISCUS_GEOMETRY_INLINE float geometryKeyCosine(vec3 n, vec3 light) {
+    MENISCUS_GEOMETRY_EXACT float nl = max(n.x * light.x + n.y * light.y + n.z * light.z, 0.0f);
+    return nl;
+}
+
 // What a mirror reflects along (rx, ry, rz): the HDR map (environment.h) when
 // one is given, else the procedural sky.
 MENISCUS_GEOMETRY_INLINE vec3 geometryEnvironment(float rx, float ry, float rz, vec3 light, EnvironmentMap envMap) {
@@ -93,14 +107,18 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryEnvironment(float rx, float ry, float rz, 
 // roughness, metalness in [0, 1]; envMap: the HDR environment map reflected
 // (width 0: the procedural sky). The ambient term is the studio's
 // kStudioAmbient without a map, the map's irradiance E(n) / pi with one.
-MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 base, float roughness,
-                                               float metalness, EnvironmentMap envMap) {
+// geometryRadianceWithLobe is the same with the key light's lobe given
+// (geometryLobe of the facing normal's geometryKeyCosine and geometryHalfway,
+// exponent geometryExponent(roughness)): the CPU evaluates the lobe's pow
+// apart, for the points it can reach, and the rest in vector lanes.
+MENISCUS_GEOMETRY_INLINE vec3 geometryRadianceWithLobe(vec3 n, vec3 v, vec3 light, vec3 base, float roughness,
+                                                       float metalness, EnvironmentMap envMap, float lobe) {
     MENISCUS_GEOMETRY_EXACT vec3 f = geometryFacing(n, v);
     MENISCUS_GEOMETRY_EXACT float nx = f.x;
     MENISCUS_GEOMETRY_EXACT float ny = f.y;
     MENISCUS_GEOMETRY_EXACT float nz = f.z;
     MENISCUS_GEOMETRY_EXACT float nv = clamp(nx * v.x + ny * v.y + nz * v.z, 0.0f, 1.0f);
-    MENISCUS_GEOMETRY_EXACT float nl = max(nx * light.x + ny * light.y + nz * light.z, 0.0f);
+    MENISCUS_GEOMETRY_EXACT float nl = geometryKeyCosine(f, light);
     // The studio's lighting of a plane facing n, per colour: the ambient
     // (the map's E(n) / pi with one) plus the key light.
     MENISCUS_GEOMETRY_EXACT float key = kStudioKey * nl;
@@ -133,10 +151,6 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 
     MENISCUS_GEOMETRY_EXACT float sm2 = sm * sm;
     MENISCUS_GEOMETRY_EXACT float gloss = sm2 * sm2;
     // The key light's highlight: normalised Blinn-Phong, (s + 8) / (8 pi) (n.h)^s n.l.
-    MENISCUS_GEOMETRY_EXACT float nh = geometryHalfway(f, v, light);
-    MENISCUS_GEOMETRY_EXACT float alpha = max(roughness * roughness, MENISCUS_GEOMETRY_MIN_ALPHA);
-    MENISCUS_GEOMETRY_EXACT float s = 2.0f / (alpha * alpha) - 2.0f;
-    MENISCUS_GEOMETRY_EXACT float lobe = geometryLobe(nl, nh, s);
     MENISCUS_GEOMETRY_EXACT float highlight = kStudioKey * lobe;
     // Diffuse + specular: the glossy share mirrors the environment, the rest
     // reflects the studio's light diffusely, plus the highlight.
@@ -149,6 +163,14 @@ MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 
     MENISCUS_GEOMETRY_EXACT float db = base.z * diel * lit.z;
     return vec3(dr * (1.0f - fr) + fr * (gloss * env.x + sr), dg * (1.0f - fg) + fg * (gloss * env.y + sg),
                 db * (1.0f - fb) + fb * (gloss * env.z + sb));
+}
+MENISCUS_GEOMETRY_INLINE vec3 geometryRadiance(vec3 n, vec3 v, vec3 light, vec3 base, float roughness,
+                                               float metalness, EnvironmentMap envMap) {
+    MENISCUS_GEOMETRY_EXACT vec3 f = geometryFacing(n, v);
+    MENISCUS_GEOMETRY_EXACT float nl = geometryKeyCosine(f, light);
+    MENISCUS_GEOMETRY_EXACT float nh = geometryHalfway(f, v, light);
+    MENISCUS_GEOMETRY_EXACT float lobe = geometryLobe(nl, nh, geometryExponent(roughness));
+    return geometryRadianceWithLobe(n, v, light, base, roughness, metalness, envMap, lobe);
 }
 
 // Glass (GeometryMaterial::glass): a thin transparent wall over `below`, the
@@ -181,10 +203,9 @@ MENISCUS_GEOMETRY_INLINE vec3 glassRadiance(vec3 below, vec3 n, vec3 v, vec3 lig
     MENISCUS_GEOMETRY_EXACT float tb = pow(max(tint.z, 1.0e-6f), path);
     MENISCUS_GEOMETRY_EXACT float tn = 2.0f * nv;
     MENISCUS_GEOMETRY_EXACT vec3 env = geometryEnvironment(tn * nx - v.x, tn * ny - v.y, tn * nz - v.z, light, envMap);
-    MENISCUS_GEOMETRY_EXACT float nl = max(nx * light.x + ny * light.y + nz * light.z, 0.0f);
+    MENISCUS_GEOMETRY_EXACT float nl = geometryKeyCosine(f, light);
     MENISCUS_GEOMETRY_EXACT float nh = geometryHalfway(f, v, light);
-    MENISCUS_GEOMETRY_EXACT float s = 2.0f / (MENISCUS_GEOMETRY_MIN_ALPHA * MENISCUS_GEOMETRY_MIN_ALPHA) - 2.0f;
-    MENISCUS_GEOMETRY_EXACT float lobe = geometryLobe(nl, nh, s);
+    MENISCUS_GEOMETRY_EXACT float lobe = geometryLobe(nl, nh, geometryExponent(0.0f));
     MENISCUS_GEOMETRY_EXACT float highlight = kStudioKey * F * lobe;
     MENISCUS_GEOMETRY_EXACT float keep = 1.0f - F;
     return vec3(below.x * tr * keep + F * env.x + highlight, below.y * tg * keep + F * env.y + highlight,
