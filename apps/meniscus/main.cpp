@@ -4,6 +4,7 @@
 // file's values (Error::usage), 130/143 interrupted (docs/usage.md#errors).
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -17,6 +18,7 @@
 #include "common.h"
 #include "help_format.h"
 #include "meniscus/io.h"
+#include "meniscus/memory_budget.h"
 #include "meniscus/params.h"
 #include "meniscus/particles.h"
 #include "compare.h"
@@ -304,6 +306,18 @@ int main(int argc, char** argv) {
                   << "meniscus render IN -o OUT " << misplaced << " ...); only --threads, --help and --version "
                   << "come before the subcommand\n";
         return 2;
+    }
+    // MENISCUS_MEMORY_LIMIT (bytes) lowers the memory budget below the
+    // system's limits (docs/usage.md#errors), e.g. to test the refusals or to
+    // leave room for other programs.
+    if (const char* cap = std::getenv("MENISCUS_MEMORY_LIMIT"); cap != nullptr && *cap != '\0') {
+        char* end = nullptr;
+        const unsigned long long bytes = std::strtoull(cap, &end, 10);
+        if (*end != '\0' || bytes == 0 || cap[0] == '-') {
+            std::cerr << "meniscus: error: MENISCUS_MEMORY_LIMIT=" << cap << ": a positive number of bytes is needed\n";
+            return 2;
+        }
+        setProgramMemoryCap(bytes, "MENISCUS_MEMORY_LIMIT");
     }
     // `render scene.json`: the file's settings become arguments, the command line's own win.
     std::vector<std::string> words(argv, argv + argc);

@@ -104,10 +104,10 @@ int runMesh(const MeshJob& o, int threads) {
         if (o.stats)
             std::fprintf(stderr,
                          "meniscus: %s: %zu particles, %zu blocks (%zu with surface, %zu rounds), %zu cubes, %zu "
-                         "corners, peak %.1f MB (one block %.2f MB), %d threads; blocks %.1f ms, extract %.1f ms, "
+                         "corners, peak %.1f MB (estimated %.1f MB; one block %.2f MB), %d threads; blocks %.1f ms, extract %.1f ms, "
                          "weld and normals %.1f ms, total %.1f ms\n",
                          name.c_str(), stats.particles, stats.blocks, stats.blocksWithSurface, stats.rounds,
-                         stats.cubesVisited, stats.cornersEvaluated, double(stats.peakBytes) / 1e6,
+                         stats.cubesVisited, stats.cornersEvaluated, double(stats.peakBytes) / 1e6, double(stats.estimatedBytes) / 1e6,
                          double(stats.peakBlockBytes) / 1e6, stats.threads, stats.msBlocks, stats.msExtract,
                          stats.msMerge, stats.msTotal);
         // On a terminal a bar; otherwise (a log) one line per frame.

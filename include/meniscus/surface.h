@@ -34,6 +34,7 @@ struct MeshStats {
     std::size_t cornersEvaluated = 0;  // field evaluations (corners recomputed after a slice was freed count again)
     std::size_t peakBlockBytes = 0;    // largest working memory of one block (slices, lookup cache, vertex map)
     std::size_t peakBytes = 0;         // bound on the peak: threads x the largest block's working memory + the blocks' results + the mesh
+    std::size_t estimatedBytes = 0;    // the estimate made from the particles before extracting (checked against the memory budget)
     int threads = 0;
     float cubeSizeM = 0.0f;
     float supportM = 0.0f;

@@ -20,6 +20,7 @@
 #include "io/attribute_names.h"
 #include "io/gzip_stream.h"
 #include "io/io_util.h"
+#include "io/point_memory.h"
 #include "meniscus/io.h"
 
 namespace meniscus {
@@ -198,9 +199,20 @@ std::size_t recordWords(const std::vector<AttrInfo>& attrs) {
     return words;
 }
 
+// Bytes allocatePoints holds per point: the position (12), each float
+// component 4 and each integer one 8 (Attribute::ints is int64).
+std::uint64_t heldBytesPerPoint(const std::vector<AttrInfo>& attrs) {
+    std::uint64_t bytes = sizeof(glm::vec3);
+    for (const auto& a : attrs)
+        bytes += std::uint64_t(a.size) * (a.type == kInt || a.type == kIndex ? sizeof(std::int64_t) : sizeof(float));
+    return bytes;
+}
+
 // The particle set with every array sized for n points (called only once the
-// bytes for n points are known to exist).
+// bytes for n points are known to exist, and refused when they do not fit in
+// the memory budget).
 ParticleSet allocatePoints(std::size_t n, const std::vector<AttrInfo>& attrs) {
+    io_util::checkPointMemory(n, heldBytesPerPoint(attrs));
     ParticleSet set;
     set.positions.resize(n);
     for (const auto& a : attrs) {
@@ -301,6 +313,9 @@ ParticleSet parseCompressed(ByteView gz, const std::string& name) {
     const std::uint64_t possible = kMaxDeflateRatio * std::uint64_t(gz.size());
     if (n > possible / recordBytes) failRoom(h, recordBytes, possible / recordBytes);
     const std::uint64_t pointBytes = n * recordBytes;
+    // And the points it may hold must fit in memory: refused before pass 1
+    // spends seconds inflating them.
+    io_util::checkPointMemory(n, heldBytesPerPoint(attrs));
 
     // Pass 1: are the points there, and does the stream end soon after?
     const std::uint64_t buffered = in.remaining();

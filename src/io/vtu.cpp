@@ -77,6 +77,7 @@
 
 #include "io/attribute_names.h"
 #include "io/io_util.h"
+#include "io/point_memory.h"
 #include "meniscus/io.h"
 
 namespace meniscus {
@@ -624,6 +625,29 @@ Attribute readDataArray(const tinyxml2::XMLElement* e, std::uint64_t tuples, con
 // ---------------------------------------------------------------- attribute names
 
 // The point arrays of one piece, named as the ParticleSet will hold them.
+// Bytes per point the reader holds at a piece's peak: the positions (12)
+// and the Points array they are copied from (3 floats, 12), each point
+// array's values as an Attribute (a float component 4, an integer one 8),
+// and the largest array's decoded bytes once more (readDataArray's buffer
+// before it becomes values). Arrays readPointData would skip count too.
+std::uint64_t pieceBytesPerPoint(const tinyxml2::XMLElement* piece) {
+    std::uint64_t held = 2 * sizeof(glm::vec3), largestRaw = 0;
+    auto add = [&](const tinyxml2::XMLElement* e, bool asFloat) {
+        const char* typeName = e->Attribute("type");
+        const ScalarInfo* t = typeName ? findScalar(typeName) : nullptr;
+        const char* compText = e->Attribute("NumberOfComponents");
+        const auto comps = compText ? parseCount(compText) : std::optional<std::uint64_t>(1);
+        if (!t || !comps || *comps == 0 || *comps > 4096) return;  // readDataArray refuses it
+        if (!asFloat) held += *comps * (t->isFloat ? sizeof(float) : sizeof(std::int64_t));
+        largestRaw = std::max<std::uint64_t>(largestRaw, *comps * t->size);
+    };
+    if (const auto* points = piece->FirstChildElement("Points"))
+        if (const auto* e = points->FirstChildElement("DataArray")) add(e, true);
+    if (const auto* pd = piece->FirstChildElement("PointData"))
+        for (const auto* e = pd->FirstChildElement("DataArray"); e; e = e->NextSiblingElement("DataArray")) add(e, false);
+    return held + largestRaw;
+}
+
 std::vector<Attribute> readPointData(const tinyxml2::XMLElement* piece, std::uint64_t tuples, const FileLayout& f,
                                      const std::string& where, std::vector<std::string>& warnings) {
     std::vector<Attribute> attrs;
@@ -837,6 +861,8 @@ ParticleSet parseDocument(ByteView data) {
         const char* npText = piece->Attribute("NumberOfPoints");
         const auto np = parseCount(npText);
         if (!np) fail("missing or bad NumberOfPoints " + inQuotes(npText ? npText : "") + where);
+        io_util::checkPointMemory(set.positions.size() + std::min<std::uint64_t>(*np, std::uint64_t(1) << 62),
+                                  pieceBytesPerPoint(piece));
 
         // Points.
         Attribute positions;

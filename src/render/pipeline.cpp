@@ -599,8 +599,8 @@ Status hostFluidSplit(HostRun& r) {
     const std::vector<FluidSplit::Group>& groups = h.fluids.groups;
     h.several = groups.size() > 1;
     if (h.several)  // (one fluid was checked before the stages)
-        if (auto st = checkFrameMemory(s.camera.width, s.camera.height, physicalMemoryBytes(), s.noise.enabled,
-                                       s.whitening.enabled, int(groups.size()));
+        if (auto st = checkFrameMemory(s.camera.width, s.camera.height, availableMemory(), s.noise.enabled,
+                                       s.whitening.enabled, int(groups.size()), s.colorOnly);
             !st)
             return st;
     if (h.several && s.mesh)
@@ -732,11 +732,18 @@ std::string Renderer::backendName() const { return backend_->name(); }
 Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std::vector<StageTime>* timings) {
     if (auto st = validateCamera(s.camera); !st) return st.error();
     if (auto st = checkRadius(s.radiusM); !st) return st;
-    if (auto st = checkFrameMemory(s.camera.width, s.camera.height, physicalMemoryBytes(), s.noise.enabled,
-                                   s.whitening.enabled);
+    if (auto st = checkFrameMemory(s.camera.width, s.camera.height, availableMemory(), s.noise.enabled,
+                                   s.whitening.enabled, 1, s.colorOnly);
         !st)
         return st;
     if (auto st = all.validate(); !st) return st;
+    if (auto st = checkRenderMemory(all.size(),
+                                    renderBytesPerParticle(all, s.anisotropy.enabled, s.raycast.enabled, s.noise.enabled),
+                                    s.camera.width, s.camera.height,
+                                    frameBytes(s.camera.width, s.camera.height, s.noise.enabled, s.whitening.enabled,
+                                               1, s.colorOnly));
+        !st)
+        return st;
     if (s.mesh)
         if (auto st = checkMesh(*s.mesh); !st) return st;
     // Each stage's parameters, and what the view needs of them (render/stages.cpp).

@@ -14,6 +14,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "meniscus/io.h"
+#include "meniscus/memory_budget.h"
 #include "sim/state.h"
 #include "sim/timer.h"
 
@@ -78,6 +79,15 @@ float restVolume(float r, float h, W&& w, float* neighbours) {
     return float(1.0 / sum);
 }
 
+// Particles one layer of emitter e holds (emitLayer's count): `rate` per
+// second over a layer's 2r of outflow, or the disc's pi R^2 / (2r)^2.
+double layerParticles(const Emitter& e, float r) {
+    const double spacing = 2.0 * double(r);
+    if (e.rate > 0.0f) return std::max(1.0, std::round(double(e.rate) * spacing / double(e.speed)));
+    const double radius = e.radius > 0.0f ? double(e.radius) : 4.0 * double(r);
+    return std::max(1.0, std::round(3.14159265358979 * radius * radius / (spacing * spacing)));
+}
+
 Status validate(const Scene& sc) {
     const std::string file = sc.file.string();
     // The scene's values are wrong: the settings' error (Error::usage), not the data's.
@@ -117,10 +127,7 @@ Status validate(const Scene& sc) {
         if (!(e.speed > 0.0f) || !(e.radius >= 0.0f) || !(e.rate >= 0.0f) || !(e.end >= e.start))
             return bad("emitters[" + std::to_string(i) + "]: need speed > 0, radius >= 0, rate >= 0, end >= start");
         // One layer (every 2r / speed) holds rate * 2r / speed particles, or the disc's pi R^2 / (2r)^2.
-        const double spacing = 2.0 * double(p.radius);
-        const double layer = e.rate > 0.0f ? double(e.rate) * spacing / double(e.speed)
-                                           : 3.14159265 * double(e.radius) * double(e.radius) / (spacing * spacing);
-        if (!(layer <= 1e7))
+        if (!(layerParticles(e, p.radius) <= 1e7))
             return bad("emitters[" + std::to_string(i) + "]: more than 10^7 particles per layer; lower the rate or radius");
     }
     for (std::size_t i = 0; i < sc.colliders.size(); ++i) {
@@ -135,7 +142,35 @@ Status validate(const Scene& sc) {
     return okStatus();
 }
 
+// The most particles the emitters can hold at once: every layer from start
+// to the end of the run, or with a lifetime those of the last `lifetime`
+// seconds (drains are not foreseen); never more than the domain holds at the
+// rest spacing (an incompressible fluid cannot be packed closer).
+double emittedBound(const Scene& sc) {
+    const float r = sc.params.radius;
+    double total = 0.0;
+    for (const Emitter& e : sc.emitters) {
+        const double period = 2.0 * double(r) / double(e.speed);
+        double span = std::min(double(e.end), sc.duration) - double(e.start);
+        if (span < 0.0) continue;
+        if (sc.params.lifetime > 0.0f) span = std::min(span, double(sc.params.lifetime));
+        total += (std::floor(span / period) + 1.0) * layerParticles(e, r);
+    }
+    const glm::dvec3 size = glm::dvec3(sc.domain.max - sc.domain.min) / (2.0 * double(r));
+    return std::min(total, size.x * size.y * size.z);
+}
+
 }  // namespace
+
+std::uint64_t simulatorBytesPerParticle(Solver solver, float neighbours) {
+    const std::uint64_t fixed = 64 + 68 + 32 + 24 + 80 + (solver == Solver::Pbf ? 24 : 0);
+    return fixed + std::uint64_t(std::ceil(1.5 * double(neighbours) * double(sizeof(Neighbour))));
+}
+
+std::uint64_t simulatorGridBytes(const Box& domain, float h) {
+    const glm::dvec3 cells = glm::ceil(glm::dvec3(domain.max - domain.min) / double(h)) + 2.0;
+    return std::uint64_t(cells.x * cells.y * cells.z) * sizeof(std::uint32_t);
+}
 
 // ---------------------------------------------------------------- Impl
 
@@ -223,15 +258,8 @@ void emitLayer(Simulator::Impl& s, const Emitter& e, float shift) {
     const float spacing = 2.0f * s.r;
     // Points on a Vogel spiral, one per (2r)^2 of the disc: the rate sets the
     // count per layer (layers leave every 2r / speed seconds), else the radius.
-    int count;
-    float radius;
-    if (e.rate > 0.0f) {
-        count = std::max(1, int(std::lround(e.rate * spacing / e.speed)));
-        radius = spacing * std::sqrt(float(count) / kPi);
-    } else {
-        radius = e.radius > 0.0f ? e.radius : 4.0f * s.r;
-        count = std::max(1, int(std::lround(kPi * radius * radius / (spacing * spacing))));
-    }
+    const int count = int(layerParticles(e, s.r));
+    const float radius = e.rate > 0.0f ? spacing * std::sqrt(float(count) / kPi) : e.radius > 0.0f ? e.radius : 4.0f * s.r;
     const float golden = kPi * (3.0f - std::sqrt(5.0f));
     for (int k = 0; k < count; ++k) {
         const float rr = radius * std::sqrt((float(k) + 0.5f) / float(count));
@@ -353,6 +381,18 @@ Result<std::unique_ptr<Simulator>> Simulator::create(const Scene& scene) {
             if (total > kMaxParticles)
                 return makeError(scene.file.string(), "the fluid blocks need more than 2^28 particles at radius " +
                                                           std::to_string(s->r) + " m; use a larger radius");
+        }
+        // The memory of the largest the run gets, before any particle is made.
+        {
+            const double most = double(total) + emittedBound(scene);
+            const std::uint64_t need =
+                std::uint64_t(most * double(simulatorBytesPerParticle(s->p.solver, s->fullNeighbours))) +
+                simulatorGridBytes(scene.domain, s->h);
+            char what[160];
+            std::snprintf(what, sizeof what, "simulating %.3g particles at radius %g m", most, double(s->r));
+            if (auto st = checkMemory(need, what, "use a larger radius, smaller fluid blocks or fewer emitted particles");
+                !st)
+                return makeError(scene.file.string(), st.error().message);
         }
         for (const FluidBlock& f : scene.fluid) {
             const auto a = lattice(f);

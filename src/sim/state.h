@@ -74,6 +74,24 @@ struct Simulator::Impl {
     double cflStep(double until, float soundSpeed) const;
 };
 
+// Bytes the simulator holds per particle at a step's peak, array by array
+// (the Impl above; its owner, so a new array adds its bytes here):
+//   state: x, v, a 36, density 4, id 8, age 4, kappaWarm and kappaVWarm 8,
+//   pressure 4                                                            64
+//   solver scratch: alpha, kappa, rhoAdv, kernelSum, kappaDivergence 20,
+//   wall 16, DFSPH's x4 and v4 32 (PBF: predicted and correction, 24)      68
+//   the grid's per-point arrays (cellOfPoint, sorted, slot 12; sortedAxis
+//   12) and the lists' first and counts 8                                 32
+//   a re-sort's z-order and the one array being permuted (16 at most)     24
+//   a written frame: particles()'s copy (positions 12, id 8, velocity 12,
+//   density 4, pressure 4) and the writer's bytes of it (about as many)    80
+// plus the neighbour lists, `neighbours` entries of 8 bytes (Neighbour)
+// each, in per-chunk vectors that grow by doubling (1.5 on average).
+std::uint64_t simulatorBytesPerParticle(Solver solver, float neighbours);
+// The bytes of the dense neighbour grid over the domain (CellGrid's cell
+// starts, 4 bytes a cell of the support h).
+std::uint64_t simulatorGridBytes(const Box& domain, float h);
+
 // The "standard" SPH viscosity of SPlisHSPlasH and of Koschier et al.'s SPH
 // tutorial (Eurographics 2019, eq. 103, after Monaghan 2005):
 //   a_i = 2 (d + 2) nu sum_j (m_j / rho_j) (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) grad W_ij,

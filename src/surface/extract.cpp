@@ -21,6 +21,7 @@
 #include <tbb/parallel_sort.h>
 #include <tbb/task_arena.h>
 
+#include "meniscus/memory_budget.h"
 #include "meniscus/particles.h"
 #include "surface/field.h"
 #include "surface/grid.h"
@@ -140,6 +141,81 @@ Result<Prepared> subdivide(std::span<const glm::vec3> pos, const surface::Field&
     return out;
 }
 
+// ---------------------------------------------------------------- memory
+// What an extraction holds at its peak, estimated from the particles before
+// anything large is allocated (checked against the memory budget, and printed
+// by --stats). The surface is what costs: the march visits the cubes the
+// surface crosses, about (|n_x| + |n_y| + |n_z|) A / c^2 of them for area A
+// and cube edge c, and a voxel surface's faces over-count a smooth surface's
+// area by the same mean projection, so
+//   surface cubes ~ kCubesPerFace x exposed faces of the particles'
+//                   occupancy in cells of 4r x (4r / c)^2
+// (an exposed face: an occupied cell's face whose neighbour is empty; 4r,
+// the support, fills a fluid's inside, where 2r cells leave holes between
+// the particles). kCubesPerFace is measured: 0.76 on frame 21 of the
+// dam break (117,649 particles; 239,986 cubes at c = r against 317,632),
+// 0.69 on the demo frame (6,859; 30,721 against 44,672): lone drops'
+// six faces over-count their small round surfaces.
+constexpr double kCubesPerFace = 0.72;
+// Per surface cube: kVerticesPerCube mesh vertices (measured, as below), and
+// twice as many triangles (a closed mesh, Euler).
+constexpr double kVerticesPerCube = 1.0;
+// Bytes per vertex at the weld, when the blocks' outputs and the mesh are
+// both alive (marching_slices.h's BlockOutput and weld.cpp):
+//   block output: vertex 12, edge key 8, seam flag 1, normal sum 12, and two
+//   triangles' 24 bytes of local indices, in vectors grown by doubling
+//   (x 1.5 on average)                                                  85.5
+//   the weld's remap 4; the mesh: position 12, normal 12, indices 24       52
+constexpr double kBytesPerVertex = 1.5 * (33.0 + 24.0) + 4.0 + 48.0;
+// Per particle: the contiguous copy (12), and per (block, particle) pair the
+// sort key (8, reserved for 2 pairs a particle at least) and the block's
+// index list (4).
+constexpr double kBytesPerParticle = 12.0;
+constexpr double kBytesPerPair = 8.0 + 4.0;
+
+std::uint64_t exposedFaces(std::span<const glm::vec3> pos, float cell) {
+    Bounds box;
+    for (const glm::vec3& q : pos) box.extend(q);
+    if (box.empty()) return 0;
+    // 21 bits a coordinate: cells no smaller than a 2^20th of the span.
+    cell = std::max(cell, std::max({box.extent().x, box.extent().y, box.extent().z}) / float(1 << 20));
+    std::vector<std::uint64_t> keys(pos.size());
+    auto key = [](std::uint64_t x, std::uint64_t y, std::uint64_t z) { return (z << 42) | (y << 21) | x; };
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+        const glm::vec3 c = (pos[i] - box.min) / cell;
+        keys[i] = key(std::uint64_t(c.x) + 1, std::uint64_t(c.y) + 1, std::uint64_t(c.z) + 1);
+    }
+    tbb::parallel_sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    const std::uint64_t mask = (std::uint64_t(1) << 21) - 1;
+    std::uint64_t faces = 0;
+    for (const std::uint64_t k : keys) {
+        const std::uint64_t x = k & mask, y = (k >> 21) & mask, z = k >> 42;
+        for (const std::uint64_t n : {key(x - 1, y, z), key(x + 1, y, z), key(x, y - 1, z), key(x, y + 1, z),
+                                      key(x, y, z - 1), key(x, y, z + 1)})
+            faces += !std::binary_search(keys.begin(), keys.end(), n);
+    }
+    return faces;
+}
+
+std::uint64_t estimateMeshBytes(std::span<const glm::vec3> pos, const surface::Field& field, const MeshParams& p,
+                                int threads) {
+    const double c = double(p.cubeSizeRadii) * double(p.radiusM), cell = 4.0 * double(p.radiusM);
+    const double cubes = kCubesPerFace * double(exposedFaces(pos, float(cell))) * (cell / c) * (cell / c);
+    // (block, particle) pairs: along each axis a particle's reach (the
+    // support plus two cubes, each side) crosses into the next block with
+    // probability 2 margin / block edge.
+    const double margin = double(field.support) + 2.0 * c, edge = double(p.blockCubes) * c;
+    const double perAxis = 1.0 + std::min(2.0 * margin / edge, 1e6);
+    const double pairs = std::max(2.0, perAxis * perAxis * perAxis) * double(pos.size());
+    // One marcher per thread: n+1 slices of (n+1)^2 corner values and the
+    // three edge maps' ints (marching_slices.h), at most.
+    const double n1 = double(p.blockCubes) + 1.0;
+    const double marchers = double(threads) * n1 * n1 * n1 * 4.0 * 4.0;
+    return std::uint64_t(cubes * kVerticesPerCube * kBytesPerVertex + double(pos.size()) * kBytesPerParticle +
+                         pairs * kBytesPerPair + marchers);
+}
+
 Result<TriangleMesh> extract(const ParticleView& particles, const MeshParams& p, MeshStats& stats) {
     const auto t0 = Clock::now();
     if (auto st = checkParams(p); !st) return st.error();
@@ -155,6 +231,13 @@ Result<TriangleMesh> extract(const ParticleView& particles, const MeshParams& p,
     stats.cubeSizeM = p.cubeSizeRadii * p.radiusM;
     stats.supportM = field.support;
     stats.isoAbsolute = double(field.isoRaw);
+    stats.estimatedBytes = estimateMeshBytes(pos, field, p, stats.threads);
+    {
+        char what[160];
+        std::snprintf(what, sizeof what, "meshing %zu particles at a cube size of %.3g radii (%.3g mm)", pos.size(),
+                      double(p.cubeSizeRadii), 1e3 * double(p.cubeSizeRadii) * double(p.radiusM));
+        if (auto st = checkMemory(stats.estimatedBytes, what, "raise --cube-size"); !st) return st.error();
+    }
 
     auto prepared = subdivide(pos, field, p);
     if (!prepared) return prepared.error();
