@@ -179,8 +179,11 @@ TEST(CliMemoryBudget, SimulationsTooLargeAreRefusedBeforeMakingParticles) {
 }
 
 // A 1 MB gzip BGEO honestly holding 67 million points: the reader refuses
-// its arrays under a budget they do not fit; with room for them, the
-// renderer's own per-particle arrays are refused before the stages run.
+// its arrays under a budget they do not fit (once a streaming pass has shown
+// the points are there: a count is never trusted before its bytes); with room
+// for them, the renderer's own per-particle arrays are refused before the
+// stages run. A zlib .vtu of 89 million points is refused before its blocks
+// are inflated (their sizes in its header are checked against the data).
 TEST(CliMemoryBudget, HugeCompressedParticleFilesAreRefused) {
     const fs::path dir = tempDir();
     writeHugeBgeoGz(dir / "huge.bgeo.gz");
@@ -193,7 +196,7 @@ TEST(CliMemoryBudget, HugeCompressedParticleFilesAreRefused) {
     EXPECT_TRUE(has(out, "huge.bgeo.gz: holding its 67108864 points (12 bytes each while reading) needs about 805 MB"))
         << out;
     EXPECT_TRUE(has(out, "this process may use 500 MB (MENISCUS_MEMORY_LIMIT)")) << out;
-    EXPECT_LT(seconds, 10.0) << "refused only after " << seconds << " s";
+    EXPECT_LT(seconds, 30.0) << "refused only after " << seconds << " s";
     EXPECT_EQ(runUnder(k8GB, render, &out, &seconds), 1) << out;
     EXPECT_TRUE(has(out, "rendering 67108864 particles")) << out;
     EXPECT_TRUE(has(out, "this process may use 8.0 GB (MENISCUS_MEMORY_LIMIT)")) << out;

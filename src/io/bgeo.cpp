@@ -313,9 +313,6 @@ ParticleSet parseCompressed(ByteView gz, const std::string& name) {
     const std::uint64_t possible = kMaxDeflateRatio * std::uint64_t(gz.size());
     if (n > possible / recordBytes) failRoom(h, recordBytes, possible / recordBytes);
     const std::uint64_t pointBytes = n * recordBytes;
-    // And the points it may hold must fit in memory: refused before pass 1
-    // spends seconds inflating them.
-    io_util::checkPointMemory(n, heldBytesPerPoint(attrs));
 
     // Pass 1: are the points there, and does the stream end soon after?
     const std::uint64_t buffered = in.remaining();

@@ -368,9 +368,19 @@ void decodeLzmaBlock(const std::vector<std::uint8_t>& comp, std::uint64_t want, 
     if (s.avail_in != 0) error(str(s.avail_in) + " bytes after the end of the .xz stream");
 }
 
+// What a piece's points will hold (pieceBytesPerPoint), checked against the
+// memory budget once an array's count is known to be backed by its bytes
+// (the header's sizes match and fit the data), before its buffer is allocated.
+struct PointBudget {
+    std::uint64_t points = 0, bytesPerPoint = 0;
+    void check() const {
+        if (points != 0) io_util::checkPointMemory(points, bytesPerPoint);
+    }
+};
+
 // The array's data bytes (header consumed, blocks inflated); exactly expectedBytes long.
 std::vector<std::uint8_t> readBinaryArray(ByteSource& src, const FileLayout& f, std::size_t expectedBytes,
-                                          const std::string& what) {
+                                          const std::string& what, const PointBudget& budget) {
     auto mismatch = [&](std::uint64_t has) {
         fail(what + ": count mismatch: data holds " + str(has) + " bytes, NumberOfPoints needs " + str(expectedBytes));
     };
@@ -380,6 +390,7 @@ std::vector<std::uint8_t> readBinaryArray(ByteSource& src, const FileLayout& f, 
         if (nbytes > src.maxBytesLeft())
             fail(what + ": truncated data (header says " + str(nbytes) + " bytes, at most " + str(src.maxBytesLeft()) +
                  " left)");
+        budget.check();
         std::vector<std::uint8_t> out(nbytes);
         src.read(out.data(), out.size());
         return out;
@@ -432,6 +443,7 @@ std::vector<std::uint8_t> readBinaryArray(ByteSource& src, const FileLayout& f, 
 
     // LZMA: the output grows as the streams decode (its ratio bound is too loose
     // to allocate on); the others: the whole array at once.
+    budget.check();
     std::vector<std::uint8_t> out(f.compressor == Compressor::LZMA ? 0 : total);
     std::vector<std::uint8_t> comp;
     std::uint64_t offset = 0;
@@ -564,7 +576,8 @@ std::optional<std::uint64_t> parseCount(const char* s) {
 // Reads one DataArray of `tuples` tuples. The result's type is Float for
 // float-typed arrays (and always when wantFloat), Int otherwise.
 Attribute readDataArray(const tinyxml2::XMLElement* e, std::uint64_t tuples, const FileLayout& f,
-                        const std::string& what, bool wantFloat, int requiredComponents = 0) {
+                        const std::string& what, bool wantFloat, int requiredComponents = 0,
+                        const PointBudget& budget = {}) {
     const char* typeName = e->Attribute("type");
     const ScalarInfo* t = typeName ? findScalar(typeName) : nullptr;
     if (!t) fail(what + ": unsupported type " + inQuotes(typeName ? typeName : "(none)"));
@@ -599,7 +612,7 @@ Attribute readDataArray(const tinyxml2::XMLElement* e, std::uint64_t tuples, con
     if (fmt == "binary") {
         const std::string text = elementText(e);
         Base64Source src(text, what);
-        raw = readBinaryArray(src, f, std::size_t(bytes), what);
+        raw = readBinaryArray(src, f, std::size_t(bytes), what, budget);
     } else if (fmt == "appended") {
         if (!f.hasAppended) fail(what + ": format=\"appended\" but the file has no <AppendedData> section");
         const auto offset = parseCount(e->Attribute("offset"));
@@ -610,10 +623,10 @@ Attribute readDataArray(const tinyxml2::XMLElement* e, std::uint64_t tuples, con
         const ByteView at = f.appended.subspan(std::size_t(*offset));
         if (f.appendedBase64) {
             Base64Source src(std::string_view(reinterpret_cast<const char*>(at.data()), at.size()), what);
-            raw = readBinaryArray(src, f, std::size_t(bytes), what);
+            raw = readBinaryArray(src, f, std::size_t(bytes), what, budget);
         } else {
             RawSource src(at, what);
-            raw = readBinaryArray(src, f, std::size_t(bytes), what);
+            raw = readBinaryArray(src, f, std::size_t(bytes), what, budget);
         }
     } else {
         fail(what + ": unsupported format " + inQuotes(fmt) + " (expected ascii, binary or appended)");
@@ -649,7 +662,8 @@ std::uint64_t pieceBytesPerPoint(const tinyxml2::XMLElement* piece) {
 }
 
 std::vector<Attribute> readPointData(const tinyxml2::XMLElement* piece, std::uint64_t tuples, const FileLayout& f,
-                                     const std::string& where, std::vector<std::string>& warnings) {
+                                     const std::string& where, std::vector<std::string>& warnings,
+                                     const PointBudget& budget) {
     std::vector<Attribute> attrs;
     const tinyxml2::XMLElement* pd = piece->FirstChildElement("PointData");
     if (!pd) return attrs;
@@ -663,7 +677,7 @@ std::vector<Attribute> readPointData(const tinyxml2::XMLElement* piece, std::uin
             warnings.push_back("skipped " + what + " of unsupported type " + inQuotes(typeName ? typeName : "(none)"));
             continue;
         }
-        Attribute a = readDataArray(e, tuples, f, what, false);
+        Attribute a = readDataArray(e, tuples, f, what, false, 0, budget);
         // The alias table every reader shares (io/attribute_names.h): Vel,
         // Rhop, Idp (DualSPHysics), Velocity, rho, ID, ... (any case).
         std::string name(io_util::canonicalArrayName(original, a.components));
@@ -861,8 +875,8 @@ ParticleSet parseDocument(ByteView data) {
         const char* npText = piece->Attribute("NumberOfPoints");
         const auto np = parseCount(npText);
         if (!np) fail("missing or bad NumberOfPoints " + inQuotes(npText ? npText : "") + where);
-        io_util::checkPointMemory(set.positions.size() + std::min<std::uint64_t>(*np, std::uint64_t(1) << 62),
-                                  pieceBytesPerPoint(piece));
+        const PointBudget budget{set.positions.size() + std::min<std::uint64_t>(*np, std::uint64_t(1) << 62),
+                                 pieceBytesPerPoint(piece)};
 
         // Points.
         Attribute positions;
@@ -871,9 +885,9 @@ ParticleSet parseDocument(ByteView data) {
         if (!pointsArray) {
             if (*np > 0) fail("missing Points" + where);
         } else {
-            positions = readDataArray(pointsArray, *np, f, "Points" + where, true, 3);
+            positions = readDataArray(pointsArray, *np, f, "Points" + where, true, 3, budget);
         }
-        std::vector<Attribute> attrs = readPointData(piece, *np, f, where, set.warnings);
+        std::vector<Attribute> attrs = readPointData(piece, *np, f, where, set.warnings, budget);
 
         // Append this piece.
         if (set.positions.size() + *np > std::numeric_limits<std::size_t>::max() / sizeof(glm::vec3))
