@@ -6,7 +6,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/frame_memory.h"
 #include "meniscus/memory_budget.h"
+#include "meniscus/surface.h"
+#include "test_util.h"
 
 namespace meniscus {
 namespace {
@@ -112,6 +115,52 @@ TEST(MemoryBudget, RefusesWithBothFiguresAndTheRemedy) {
     EXPECT_TRUE(checkMemory(~std::uint64_t(0), "x", "y", 1.0, {0, ""}).ok());  // unknown budget
     EXPECT_EQ(formatBytes(812'000'000), "812 MB");
     EXPECT_EQ(formatBytes(40'000), "40 kB");
+}
+
+// The render's per-particle bytes grow with the stages that keep arrays, and
+// a PNG's frame lacks the other AOVs' host copies.
+TEST(MemoryBudget, RenderEstimates) {
+    EXPECT_EQ(frameBytes(100, 100, false, false, 1, true), frameBytes(100, 100) - 100u * 100u * 20u);
+    const std::vector<glm::vec3> p(10, glm::vec3(0.0f));
+    const ParticleView v(p);
+    const std::uint64_t plain = renderBytesPerParticle(v, false, false, false);
+    EXPECT_GE(plain, 12u + 12u + 16u);  // the positions, the splat's centres and rectangles
+    EXPECT_EQ(renderBytesPerParticle(v, true, false, false), plain + 132u);  // shapes, centres, view ellipsoids
+    EXPECT_GT(renderBytesPerParticle(v, false, true, false), plain);
+    const Status st = checkRenderMemory(67108864, 180, 64, 48, frameBytes(64, 48, false, false, 1, true),
+                                        {8'000'000'000, "cgroup memory.max"});
+    ASSERT_FALSE(st.ok());
+    EXPECT_EQ(st.error().message,
+              "rendering 67108864 particles into a 64x48 frame needs about 12.1 GB; this process may use 8.0 GB "
+              "(cgroup memory.max), and this at most 80% of it; select fewer particles (--select) or use a larger "
+              "machine");
+}
+
+// The mesher estimates its peak from the particles before extracting: the
+// surface's cubes grow as 1 / c^2, and under a small budget it is refused
+// with the cube size to raise.
+TEST(MemoryBudget, TheMesherEstimatesBeforeExtracting) {
+    const std::vector<glm::vec3> ball = test::ballOfParticles(glm::vec3(0.0f), 0.2f, 0.02f);
+    MeshParams p;
+    p.radiusM = 0.01f;
+    p.threads = 1;
+    MeshStats coarse, fine;
+    p.cubeSizeRadii = 1.0f;
+    ASSERT_TRUE(extractSurface(ParticleView(ball), p, &coarse).ok());
+    p.cubeSizeRadii = 0.25f;
+    ASSERT_TRUE(extractSurface(ParticleView(ball), p, &fine).ok());
+    EXPECT_GT(coarse.estimatedBytes, 0u);
+    EXPECT_GT(double(fine.estimatedBytes), 6.0 * double(coarse.estimatedBytes));
+    setProgramMemoryCap(coarse.estimatedBytes, "TEST_CAP");
+    const auto refused = extractSurface(ParticleView(ball), p);
+    setProgramMemoryCap(0, "");
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("meshing " + std::to_string(ball.size()) +
+                                          " particles at a cube size of 0.25 radii (2.5 mm) needs about"),
+              std::string::npos)
+        << refused.error().message;
+    EXPECT_NE(refused.error().message.find("(TEST_CAP)"), std::string::npos) << refused.error().message;
+    EXPECT_NE(refused.error().message.find("raise --cube-size"), std::string::npos) << refused.error().message;
 }
 
 }  // namespace
