@@ -64,17 +64,26 @@ struct Frame {
     glm::vec3 right, up, back, eye;
 };
 
-// A vertex ready to draw: view space, and (in front of the near plane and
-// inside the guard band) its pixel coordinates in fixed point.
+// A vertex ready to draw, in two records: what the coverage passes read
+// (the rectangles, the bins' tests and the edge functions: 12 bytes) and what
+// only the attribute planes and the clipper read, so the passes over every
+// triangle stream a sixth of the memory.
+struct Fixed {
+    std::int32_t fx, fy;   // pixel coordinates (row 0 at the top) * kOne, rounded (when drawable)
+    std::uint32_t outside; // bit k: outside clip plane k
+};
 struct Vertex {
     glm::vec3 view;
     glm::vec3 normal;      // view space, as given (unit for mesh vertices)
     glm::vec2 uv;          // texture coordinates (0 without)
-    std::int32_t fx, fy;   // pixel coordinates (row 0 at the top) * kOne, rounded
-    std::uint32_t outside; // bit k: outside clip plane k
     // When drawable: the unsnapped pixel coordinates (project) and 1/w, made
     // once per vertex for the attribute planes of every triangle using it.
     double sx, sy, q;
+};
+// One corner of a triangle to draw: its two records.
+struct Corner {
+    const Fixed* f;
+    const Vertex* v;
 };
 
 // Continuous pixel coordinates of a view-space point in front of the eye.
@@ -107,27 +116,29 @@ inline std::int32_t roundToInt(double v) {
 // every plane or made by the clipper on one (`onPlane`: rounding may leave it
 // an ulp outside), its projection. Not inlined, for the same reason as
 // planeValues: a shared vertex is the same bits everywhere.
-[[gnu::noinline]] Vertex makeVertex(const Frame& fr, const glm::vec3& view, const glm::vec3& normal,
-                                    const glm::vec2& uv, bool onPlane = false) {
-    Vertex v{view, normal, uv, 0, 0, 0, 0.0, 0.0, 0.0};
+[[gnu::noinline]] void makeVertex(const Frame& fr, const glm::vec3& view, const glm::vec3& normal,
+                                  const glm::vec2& uv, Fixed& f, Vertex& v, bool onPlane = false) {
+    v = Vertex{view, normal, uv, 0.0, 0.0, 0.0};
+    f = Fixed{0, 0, 0};
     double d[kPlanes];
     planeValues(fr, view, d);
-    for (int k = 0; k < kPlanes; ++k) v.outside |= std::uint32_t(d[k] < 0.0) << k;
-    if (v.outside == 0 || onPlane) {
+    for (int k = 0; k < kPlanes; ++k) f.outside |= std::uint32_t(d[k] < 0.0) << k;
+    if (f.outside == 0 || onPlane) {
         const glm::dvec2 s = project(fr, view);
-        v.fx = roundToInt(s.x * double(kOne));
-        v.fy = roundToInt(s.y * double(kOne));
+        f.fx = roundToInt(s.x * double(kOne));
+        f.fy = roundToInt(s.y * double(kOne));
         v.sx = s.x;
         v.sy = s.y;
         v.q = -1.0 / double(view.z);
     }
-    return v;
 }
 
 // The part of a triangle to draw, as a convex polygon of drawable vertices.
 struct Polygon {
+    Fixed f[kMaxPolygon];
     Vertex v[kMaxPolygon];
     int n = 0;
+    Corner at(int i) const { return {&f[i], &v[i]}; }
 };
 
 // Sutherland-Hodgman against plane k. The cut point of an edge is made from
@@ -142,29 +153,35 @@ void clipPolygon(const Frame& fr, int k, Polygon& p) {
         planeValues(fr, b.view, pb);
         const double da = pa[k], db = pb[k];
         const bool ina = da >= 0.0, inb = db >= 0.0;
-        if (ina) out.v[out.n++] = a;
+        if (ina) {
+            out.f[out.n] = p.f[i];
+            out.v[out.n++] = a;
+        }
         if (ina != inb) {
             const Vertex& in = ina ? a : b;
             const Vertex& ou = ina ? b : a;
             const double di = ina ? da : db, dout = ina ? db : da;
             const float t = float(di / (di - dout));
-            out.v[out.n++] =
-                makeVertex(fr, in.view + t * (ou.view - in.view), in.normal + t * (ou.normal - in.normal),
-                           in.uv + t * (ou.uv - in.uv), true);
+            makeVertex(fr, in.view + t * (ou.view - in.view), in.normal + t * (ou.normal - in.normal),
+                       in.uv + t * (ou.uv - in.uv), out.f[out.n], out.v[out.n], true);
+            ++out.n;
         }
     }
     p = out;
 }
 
 // Triangle (a, b, c) clipped to what can be drawn; n < 3 when nothing is left.
-void drawablePolygon(const Frame& fr, const Vertex& a, const Vertex& b, const Vertex& c, Polygon& p) {
+void drawablePolygon(const Frame& fr, const Corner& a, const Corner& b, const Corner& c, Polygon& p) {
     p.n = 0;
-    if (a.outside & b.outside & c.outside) return;  // wholly outside one plane
-    p.v[0] = a;
-    p.v[1] = b;
-    p.v[2] = c;
+    if (a.f->outside & b.f->outside & c.f->outside) return;  // wholly outside one plane
+    p.f[0] = *a.f;
+    p.f[1] = *b.f;
+    p.f[2] = *c.f;
+    p.v[0] = *a.v;
+    p.v[1] = *b.v;
+    p.v[2] = *c.v;
     p.n = 3;
-    const std::uint32_t any = a.outside | b.outside | c.outside;
+    const std::uint32_t any = a.f->outside | b.f->outside | c.f->outside;
     // A plane no vertex is outside of cuts nothing (the planes bound convex
     // half-spaces), so only the planes some vertex is outside of are clipped.
     for (int k = 0; k < kPlanes && p.n >= 3; ++k)
@@ -177,16 +194,12 @@ struct Rect {
     bool empty() const { return x0 >= x1 || y0 >= y1; }
 };
 
-// Smallest pixel index whose centre is at or right of fixed coordinate v.
-inline std::int64_t firstCentre(std::int64_t v) {
-    const std::int64_t a = v - kHalf + (kOne - 1);
-    return a >= 0 ? a / kOne : -((-a + kOne - 1) / kOne);
-}
-// Largest pixel index whose centre is at or left of fixed coordinate v.
-inline std::int64_t lastCentre(std::int64_t v) {
-    const std::int64_t a = v - kHalf;
-    return a >= 0 ? a / kOne : -((-a + kOne - 1) / kOne);
-}
+// Smallest pixel index whose centre is at or right of fixed coordinate v:
+// floor((v - 1/2 + 1 - 2^-8) px). An arithmetic right shift is floor division
+// by a power of two for negative values too (C++20), without a branch.
+inline std::int64_t firstCentre(std::int64_t v) { return (v - kHalf + (kOne - 1)) >> kRasterSubpixelBits; }
+// Largest pixel index whose centre is at or left of fixed coordinate v: floor(v - 1/2 px).
+inline std::int64_t lastCentre(std::int64_t v) { return (v - kHalf) >> kRasterSubpixelBits; }
 
 // The pixels whose centres lie in the fixed-point box [x0, x1] x [y0, y1], cut to the image.
 Rect centresIn(const Frame& fr, std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1) {
@@ -224,9 +237,12 @@ struct Edge {
 
 // Perspective-correct attributes of one triangle: planes over the unsnapped
 // screen positions (double), relative to vertex a, A(p) = A(a) + gx (px - a.x)
-// + gy (py - a.y), for A = 1/w, n/w and uv/w (k = 0, 1..3 and 4..5).
+// + gy (py - a.y), for A = 1/w, n/w and uv/w (k = 0, 1..3 and 4..5; the
+// last two only when the mesh has texture coordinates: each attribute's plane
+// is made on its own, so leaving some out changes none of the others' bits).
+template <bool kUv>
 struct Planes {
-    static constexpr int kAttributes = 6;
+    static constexpr int kAttributes = kUv ? 6 : 4;
     double sx0, sy0, qMin, qMax;
     double base[kAttributes], gx[kAttributes], gy[kAttributes];
     Planes(const Vertex& a, const Vertex& b, const Vertex& c) {
@@ -242,9 +258,9 @@ struct Planes {
         qMin = std::min({qa, qb, qc});
         qMax = std::max({qa, qb, qc});
         const glm::dvec3 na = glm::dvec3(a.normal) * qa, nb = glm::dvec3(b.normal) * qb, nc = glm::dvec3(c.normal) * qc;
-        const double va[kAttributes] = {qa, na.x, na.y, na.z, double(a.uv.x) * qa, double(a.uv.y) * qa};
-        const double vb[kAttributes] = {qb, nb.x, nb.y, nb.z, double(b.uv.x) * qb, double(b.uv.y) * qb};
-        const double vc[kAttributes] = {qc, nc.x, nc.y, nc.z, double(c.uv.x) * qc, double(c.uv.y) * qc};
+        const double va[6] = {qa, na.x, na.y, na.z, double(a.uv.x) * qa, double(a.uv.y) * qa};
+        const double vb[6] = {qb, nb.x, nb.y, nb.z, double(b.uv.x) * qb, double(b.uv.y) * qb};
+        const double vc[6] = {qc, nc.x, nc.y, nc.z, double(c.uv.x) * qc, double(c.uv.y) * qc};
         for (int k = 0; k < kAttributes; ++k) {
             base[k] = va[k];
             gx[k] = (vb[k] - va[k]) * l1x + (vc[k] - va[k]) * l2x;
@@ -254,27 +270,34 @@ struct Planes {
     double at(int k, double dx, double dy) const { return base[k] + gx[k] * dx + gy[k] * dy; }
 };
 
-// Draws triangle (a, b, c), drawable vertices, into the pixels of `tile`.
-template <bool kCount>
-void drawTriangle(const Frame& fr, const Vertex* a, const Vertex* b, const Vertex* c, const Rect& tile,
-                  const Targets& out) {
-    const std::int64_t area = (std::int64_t(b->fx) - a->fx) * (std::int64_t(c->fy) - a->fy) -
-                              (std::int64_t(b->fy) - a->fy) * (std::int64_t(c->fx) - a->fx);
-    if (area == 0) return;  // degenerate after snapping: covers no centre
-    if (area < 0) std::swap(b, c);
-    const int x0 = int(std::max<std::int64_t>(tile.x0, firstCentre(std::min({a->fx, b->fx, c->fx}))));
-    const int x1 = int(std::min<std::int64_t>(tile.x1, lastCentre(std::max({a->fx, b->fx, c->fx})) + 1));
-    const int y0 = int(std::max<std::int64_t>(tile.y0, firstCentre(std::min({a->fy, b->fy, c->fy}))));
-    const int y1 = int(std::min<std::int64_t>(tile.y1, lastCentre(std::max({a->fy, b->fy, c->fy})) + 1));
-    if (x0 >= x1 || y0 >= y1) return;
+// Twice the signed area of the snapped triangle (a, b, c), the edge function of
+// a -> b at c: zero when degenerate, its sign the triangle's orientation.
+inline std::int64_t snappedArea(const Fixed& a, const Fixed& b, const Fixed& c) {
+    return (std::int64_t(b.fx) - a.fx) * (std::int64_t(c.fy) - a.fy) -
+           (std::int64_t(b.fy) - a.fy) * (std::int64_t(c.fx) - a.fx);
+}
 
+// The pixels whose centres lie in the fixed-point box of (a, b, c), cut to `clip`.
+inline Rect centreBox(const Fixed& a, const Fixed& b, const Fixed& c, const Rect& clip) {
+    return {int(std::max<std::int64_t>(clip.x0, firstCentre(std::min({a.fx, b.fx, c.fx})))),
+            int(std::max<std::int64_t>(clip.y0, firstCentre(std::min({a.fy, b.fy, c.fy})))),
+            int(std::min<std::int64_t>(clip.x1, lastCentre(std::max({a.fx, b.fx, c.fx})) + 1)),
+            int(std::min<std::int64_t>(clip.y1, lastCentre(std::max({a.fy, b.fy, c.fy})) + 1))};
+}
+
+// Draws triangle (a, b, c), drawable vertices of non-zero snapped `area`, at
+// the pixel centres of `box` (its centre box cut to the tile, not empty).
+template <bool kCount, bool kUv>
+void drawTriangle(Corner a, Corner b, Corner c, std::int64_t area, const Rect& box, const Targets& out) {
+    if (area < 0) std::swap(b, c);
+    const int x0 = box.x0, x1 = box.x1, y0 = box.y0, y1 = box.y1;
     const std::int64_t px = std::int64_t(x0) * kOne + kHalf, py = std::int64_t(y0) * kOne + kHalf;
-    Edge e0(b->fx, b->fy, c->fx, c->fy, px, py);  // opposite a
-    Edge e1(c->fx, c->fy, a->fx, a->fy, px, py);  // opposite b
-    Edge e2(a->fx, a->fy, b->fx, b->fy, px, py);  // opposite c
+    Edge e0(b.f->fx, b.f->fy, c.f->fx, c.f->fy, px, py);  // opposite a
+    Edge e1(c.f->fx, c.f->fy, a.f->fx, a.f->fy, px, py);  // opposite b
+    Edge e2(a.f->fx, a.f->fy, b.f->fx, b.f->fy, px, py);  // opposite c
     // Most triangles of a fine mesh cover no pixel centre: the planes are
     // made at the first one covered.
-    std::optional<Planes> planes;
+    std::optional<Planes<kUv>> planes;
     for (int y = y0; y < y1; ++y) {
         std::int64_t w0 = e0.row, w1 = e1.row, w2 = e2.row;
         const std::size_t rowStart = std::size_t(y) * std::size_t(out.width);
@@ -282,8 +305,8 @@ void drawTriangle(const Frame& fr, const Vertex* a, const Vertex* b, const Verte
             if ((w0 | w1 | w2) < 0) continue;  // outside (some biased edge function negative)
             const std::size_t idx = rowStart + std::size_t(x);
             if constexpr (kCount) ++out.coverage[idx];
-            if (!planes) planes.emplace(*a, *b, *c);
-            const Planes& P = *planes;
+            if (!planes) planes.emplace(*a.v, *b.v, *c.v);
+            const Planes<kUv>& P = *planes;
             const double dx = (double(x) + 0.5) - P.sx0, dy = (double(y) + 0.5) - P.sy0;
             // Inside the triangle 1/w lies between its vertex values; the clamp
             // only catches the extrapolation of centres the snapping let in.
@@ -294,7 +317,7 @@ void drawTriangle(const Frame& fr, const Vertex* a, const Vertex* b, const Verte
             const double nx = P.at(1, dx, dy), ny = P.at(2, dx, dy), nz = P.at(3, dx, dy);
             const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
             out.normal[idx] = len > 0.0 ? glm::vec3(float(nx / len), float(ny / len), float(nz / len)) : glm::vec3(0.0f);
-            if (out.uv) out.uv[idx] = glm::vec2(float(P.at(4, dx, dy) / q), float(P.at(5, dx, dy) / q));
+            if constexpr (kUv) out.uv[idx] = glm::vec2(float(P.at(4, dx, dy) / q), float(P.at(5, dx, dy) / q));
         }
         e0.row += e0.stepY;
         e1.row += e1.stepY;
@@ -303,16 +326,37 @@ void drawTriangle(const Frame& fr, const Vertex* a, const Vertex* b, const Verte
 }
 
 // Per-tile index lists of one batch of triangles, in triangle order.
+// Per triangle of a batch, made once by the rectangle pass for the bins and
+// the drawing: the pixels whose centres its drawable part's box holds, cut to
+// the image (empty: not drawn, also a triangle degenerate after snapping),
+// and whether it is drawn whole (its box is then the drawing's box too) or as
+// its clipped polygon's fan (x0 stored as ~x0 < 0; each fan triangle's own box
+// is made when drawn).
+struct Box {
+    Rect r;
+    bool clipped() const { return r.x0 < 0; }
+    Rect pixels() const { return clipped() ? Rect{~r.x0, r.y0, r.x1, r.y1} : r; }
+    bool empty() const { return pixels().empty(); }
+    Rect tiles() const {
+        const Rect p = pixels();
+        return {p.x0 / kTile, p.y0 / kTile, (p.x1 - 1) / kTile + 1, (p.y1 - 1) / kTile + 1};
+    }
+};
+
 struct Bins {
     int tilesX = 0, tilesY = 0;
-    std::vector<Rect> tiles;            // per triangle of the batch: its tile rectangle (empty: not drawn)
+    std::vector<Box> boxes;             // per triangle of the batch
     std::vector<std::uint32_t> start;   // tilesX * tilesY + 1 offsets into items
     std::vector<std::uint32_t> items;   // triangle indices
 };
 
-std::size_t tileCount(const Rect& r) { return r.empty() ? 0 : std::size_t(r.x1 - r.x0) * std::size_t(r.y1 - r.y0); }
+std::size_t tileCount(const Box& b) {
+    if (b.empty()) return 0;
+    const Rect r = b.tiles();
+    return std::size_t(r.x1 - r.x0) * std::size_t(r.y1 - r.y0);
+}
 
-// Bins triangles [first, first + count) whose tile rectangles are tiles[0..count):
+// Bins triangles [first, first + count) whose boxes are boxes[0..count):
 // fixed slices of them count their tiles in parallel, a prefix sum over (tile,
 // slice) gives every slice its range of each bin, and the slices fill them in
 // parallel, so every bin lists its triangles in index order.
@@ -324,8 +368,9 @@ void fillBins(Bins& bins, std::size_t first, std::size_t count) {
         tbb::parallel_for(std::size_t(0), kSlices, [&](std::size_t s) {
             std::uint32_t* slice = &next[s * tiles];
             for (std::size_t k = count * s / kSlices; k < count * (s + 1) / kSlices; ++k) {
-                const Rect& r = bins.tiles[k];
-                if (r.empty()) continue;
+                const Box& b = bins.boxes[k];
+                if (b.empty()) continue;
+                const Rect r = b.tiles();
                 for (int ty = r.y0; ty < r.y1; ++ty)
                     for (int tx = r.x0; tx < r.x1; ++tx) fn(slice[std::size_t(ty) * bins.tilesX + tx], k);
             }
@@ -346,6 +391,7 @@ void fillBins(Bins& bins, std::size_t first, std::size_t count) {
 }  // namespace
 
 struct RasterWorkspace::Data {
+    std::vector<Fixed> fixed;
     std::vector<Vertex> verts;
     Bins bins;
 };
@@ -357,67 +403,75 @@ RasterWorkspace& RasterWorkspace::operator=(RasterWorkspace&&) noexcept = defaul
 
 namespace {
 
-template <bool kCount>
+template <bool kCount, bool kUv>
 void rasterise(const Frame& fr, const MeshRef& mesh, const Targets& out, RasterWorkspace::Data& work) {
     // Every vertex to view space and the screen once (the workspace's
     // memory reused: a frame of a million vertices does not fault it in again).
     const std::size_t nv = mesh.positions.size();
+    std::vector<Fixed>& fixed = work.fixed;
     std::vector<Vertex>& verts = work.verts;
+    fixed.resize(nv);
     verts.resize(nv);
     tbb::parallel_for(std::size_t(0), nv, [&](std::size_t i) {
         const glm::vec3 d = mesh.positions[i] - fr.eye, n = mesh.normals[i];
-        verts[i] = makeVertex(fr, {glm::dot(d, fr.right), glm::dot(d, fr.up), glm::dot(d, fr.back)},
-                              {glm::dot(n, fr.right), glm::dot(n, fr.up), glm::dot(n, fr.back)},
-                              mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[i]);
+        makeVertex(fr, {glm::dot(d, fr.right), glm::dot(d, fr.up), glm::dot(d, fr.back)},
+                   {glm::dot(n, fr.right), glm::dot(n, fr.up), glm::dot(n, fr.back)},
+                   kUv ? mesh.uvs[i] : glm::vec2(0.0f), fixed[i], verts[i]);
     });
     const std::uint32_t* idx = mesh.indices.data();
-    // Triangle t: its vertices, or null when an index is out of range; and
-    // whether it needs clipping (some vertex outside a plane).
-    auto corners = [&](std::size_t t, const Vertex* v[3]) {
-        for (int j = 0; j < 3; ++j) {
-            const std::uint32_t i = idx[3 * t + j];
-            if (i >= nv) return false;
-            v[j] = &verts[i];
-        }
-        return true;
+    // Triangle t's vertex indices, false when one is out of range.
+    auto corners = [&](std::size_t t, std::uint32_t v[3]) {
+        v[0] = idx[3 * t];
+        v[1] = idx[3 * t + 1];
+        v[2] = idx[3 * t + 2];
+        return v[0] < nv && v[1] < nv && v[2] < nv;
     };
-    // Calls draw(a, b, c) for each triangle of t's drawable part: t itself
-    // when no vertex is outside a plane, else the fan of its clipped polygon.
-    auto forDrawable = [&](std::size_t t, auto&& draw) {
-        const Vertex* v[3];
+    auto corner = [&](std::uint32_t i) { return Corner{&fixed[i], &verts[i]}; };
+    // Calls draw(a, b, c) for each triangle of the fan of t's clipped polygon.
+    auto forClipped = [&](std::size_t t, auto&& draw) {
+        std::uint32_t v[3];
         if (!corners(t, v)) return;
-        if ((v[0]->outside | v[1]->outside | v[2]->outside) == 0) return draw(v[0], v[1], v[2]);
         Polygon p;
-        drawablePolygon(fr, *v[0], *v[1], *v[2], p);
-        for (int i = 1; i + 1 < p.n; ++i) draw(&p.v[0], &p.v[i], &p.v[i + 1]);
+        drawablePolygon(fr, corner(v[0]), corner(v[1]), corner(v[2]), p);
+        for (int i = 1; i + 1 < p.n; ++i) draw(p.at(0), p.at(i), p.at(i + 1));
     };
+    const Rect image{0, 0, fr.width, fr.height};
 
     Bins& bins = work.bins;
     bins.tilesX = (fr.width + kTile - 1) / kTile;
     bins.tilesY = (fr.height + kTile - 1) / kTile;
     const std::size_t triangles = mesh.triangleCount();
     for (std::size_t first = 0; first < triangles;) {
-        // Tile rectangles of the next triangles, in parallel.
+        // Boxes of the next triangles, in parallel.
         const std::size_t look = std::min(kMaxBatch, triangles - first);
-        bins.tiles.resize(look);
+        bins.boxes.resize(look);
         tbb::parallel_for(std::size_t(0), look, [&](std::size_t k) {
+            std::uint32_t v[3];
+            Box& box = bins.boxes[k];
+            box.r = Rect{};
+            if (!corners(first + k, v)) return;
+            const Fixed &a = fixed[v[0]], &b = fixed[v[1]], &c = fixed[v[2]];
+            if ((a.outside | b.outside | c.outside) == 0) {
+                // Drawn whole: its box, unless it is degenerate after snapping (no centre).
+                if (snappedArea(a, b, c) != 0) box.r = centreBox(a, b, c, image);
+                return;
+            }
             std::int64_t x0 = std::numeric_limits<std::int64_t>::max(), y0 = x0, x1 = -x0, y1 = -x0;
-            forDrawable(first + k, [&](const Vertex* a, const Vertex* b, const Vertex* c) {
-                for (const Vertex* v : {a, b, c}) {
-                    x0 = std::min<std::int64_t>(x0, v->fx);
-                    x1 = std::max<std::int64_t>(x1, v->fx);
-                    y0 = std::min<std::int64_t>(y0, v->fy);
-                    y1 = std::max<std::int64_t>(y1, v->fy);
+            forClipped(first + k, [&](const Corner& pa, const Corner& pb, const Corner& pc) {
+                for (const Fixed* f : {pa.f, pb.f, pc.f}) {
+                    x0 = std::min<std::int64_t>(x0, f->fx);
+                    x1 = std::max<std::int64_t>(x1, f->fx);
+                    y0 = std::min<std::int64_t>(y0, f->fy);
+                    y1 = std::max<std::int64_t>(y1, f->fy);
                 }
             });
             const Rect r = x0 <= x1 ? centresIn(fr, x0, y0, x1, y1) : Rect{};
-            bins.tiles[k] = r.empty() ? Rect{}
-                                      : Rect{r.x0 / kTile, r.y0 / kTile, (r.x1 - 1) / kTile + 1, (r.y1 - 1) / kTile + 1};
+            if (!r.empty()) box.r = Rect{~r.x0, r.y0, r.x1, r.y1};
         });
         // The batch: as many as fit the bin budget (at least one triangle).
         std::size_t count = 0, entries = 0;
         for (; count < look; ++count) {
-            const std::size_t c = tileCount(bins.tiles[count]);
+            const std::size_t c = tileCount(bins.boxes[count]);
             if (count > 0 && entries + c > kMaxBinEntries) break;
             entries += c;
         }
@@ -428,10 +482,26 @@ void rasterise(const Frame& fr, const MeshRef& mesh, const Targets& out, RasterW
             const int tx = t % bins.tilesX, ty = t / bins.tilesX;
             const Rect tile{tx * kTile, ty * kTile, std::min(fr.width, (tx + 1) * kTile),
                             std::min(fr.height, (ty + 1) * kTile)};
-            for (std::uint32_t k = bins.start[t]; k < bins.start[t + 1]; ++k)
-                forDrawable(bins.items[k], [&](const Vertex* a, const Vertex* b, const Vertex* c) {
-                    drawTriangle<kCount>(fr, a, b, c, tile, out);
+            for (std::uint32_t k = bins.start[t]; k < bins.start[t + 1]; ++k) {
+                const std::uint32_t tri = bins.items[k];
+                const Box& box = bins.boxes[tri - first];
+                if (!box.clipped()) {
+                    const Rect r{std::max(box.r.x0, tile.x0), std::max(box.r.y0, tile.y0), std::min(box.r.x1, tile.x1),
+                                 std::min(box.r.y1, tile.y1)};
+                    if (r.empty()) continue;
+                    std::uint32_t v[3];
+                    corners(tri, v);
+                    const Corner a = corner(v[0]), b = corner(v[1]), c = corner(v[2]);
+                    drawTriangle<kCount, kUv>(a, b, c, snappedArea(*a.f, *b.f, *c.f), r, out);
+                    continue;
+                }
+                forClipped(tri, [&](const Corner& a, const Corner& b, const Corner& c) {
+                    const std::int64_t area = snappedArea(*a.f, *b.f, *c.f);
+                    if (area == 0) return;  // degenerate after snapping: covers no centre
+                    const Rect r = centreBox(*a.f, *b.f, *c.f, tile);
+                    if (!r.empty()) drawTriangle<kCount, kUv>(a, b, c, area, r, out);
                 });
+            }
         });
         first += count;
     }
@@ -490,8 +560,9 @@ void rasteriseMesh(const Camera& camera, const MeshRef& mesh, const Image<float>
     if (mesh.normals.size() == mesh.positions.size() && W > 0 && H > 0) {
         MeshRef m = mesh;
         if (!withUv) m.uvs = {};
-        if (count) rasterise<true>(fr, m, t, out.work.data());
-        else rasterise<false>(fr, m, t, out.work.data());
+        RasterWorkspace::Data& w = out.work.data();
+        if (count) withUv ? rasterise<true, true>(fr, m, t, w) : rasterise<true, false>(fr, m, t, w);
+        else withUv ? rasterise<false, true>(fr, m, t, w) : rasterise<false, false>(fr, m, t, w);
     }
     if (hasScene)
         tbb::parallel_for(0, H, [&](int y) {
