@@ -50,7 +50,7 @@ public:
 private:
     Cluster() = default;
     int rank_ = 0, size_ = 1;
-    bool started_ = false;
+    [[maybe_unused]] bool started_ = false;  // read only where MPI is built in
     struct Mpi;
     std::unique_ptr<Mpi> mpi_;
 };

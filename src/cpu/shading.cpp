@@ -238,8 +238,8 @@ void marchBatch(const Setup& S, int y, int n, Batch& B) {
         for (int i = 0; i < n; ++i) {
             const bool on = B.lo[i] < B.hi[i];  // crossed: bisect its step
             const bool behind = shared::refractionIsBehind(B.mw[i], B.zs[i]);
-            B.hi[i] = on & behind ? B.ms[i] : B.hi[i];
-            B.lo[i] = on & !behind ? B.ms[i] : B.lo[i];
+            B.hi[i] = (on & behind) ? B.ms[i] : B.hi[i];
+            B.lo[i] = (on & !behind) ? B.ms[i] : B.lo[i];
         }
     }
     for (int i = 0; i < n; ++i) {

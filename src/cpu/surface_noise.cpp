@@ -50,7 +50,7 @@ void addSpriteSpan(const Sprite& s, int x0, int n, int y, const NoiseParams& p, 
     for (int i = 0; i < m; ++i) {
         const glm::vec2 o = shared::noiseSpriteOffset(s.sprite, x0 + i, y);
         const float s2 = o.x * o.x + o.y * o.y;
-        inside[i] = (s2 < 1.0f) & (i < n) ? ~0u : 0u;
+        inside[i] = ((s2 < 1.0f) & (i < n)) ? ~0u : 0u;
         sx[i] = o.x * p.frequency;
         sy[i] = o.y * p.frequency;
         g[i] = shared::noiseSpriteGaussian(s2, p.sigma);

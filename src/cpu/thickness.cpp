@@ -54,7 +54,6 @@ namespace meniscus::cpu {
 
 namespace {
 
-constexpr float kInfinity = std::numeric_limits<float>::infinity();
 using detail::FloatV;
 using detail::kLanes;
 
