@@ -122,3 +122,25 @@ TEST(CliHostileFiles, OutputLinkedToADeviceOrAFifoIsRefused) {
     EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir / "o.png")));
     EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(dir / "real.png")));
 }
+
+// A write the system refuses (a full disk; here the process's file-size limit,
+// `ulimit -f`, which makes write() fail with EFBIG once SIGXFSZ is ignored,
+// the same path as ENOSPC without needing a small disk) is an error in the
+// system's words naming the output ("write failed: File too large", not
+// libpng's bare "Write Error"), exit 1, and leaves neither the output nor a
+// temporary behind.
+TEST(CliHostileFiles, AFailedWriteSaysWhyAndLeavesNothing) {
+    const fs::path dir = dirWithFrame("hostile_failed_write");
+    std::string out;
+    // 16 KiB: the particle file is read, a 640x480 PNG of the frame does not fit.
+    const int rc = runCommand("trap '' XFSZ; ulimit -f 16; " + cliPath() + " render " + shellQuote(dir / "f.bgeo") +
+                                  " -o " + shellQuote(dir / "o.png") + " --width 640 --height 480 --backend cpu",
+                              &out);
+    EXPECT_EQ(rc, 1) << out;
+    EXPECT_TRUE(has(out, (dir / "o.png").string() + ": write failed: File too large")) << out;
+    EXPECT_FALSE(has(out, "Write Error")) << out;
+    for (const auto& entry : fs::directory_iterator(dir))
+        EXPECT_NE(entry.path().extension(), ".png") << entry.path();
+    for (const auto& entry : fs::directory_iterator(dir))
+        EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
+}

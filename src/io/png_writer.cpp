@@ -41,6 +41,7 @@ png_byte encodeLinear(float value) {
 struct PngErrorState {
     char message[256];
     char warning[256];  // the last warning, often the detail behind an error
+    int writeErrno;     // the system's reason a write failed (ENOSPC, EFBIG, EIO), 0 when none
 };
 
 void onPngError(png_structp png, png_const_charp msg) {
@@ -53,6 +54,18 @@ void onPngWarning(png_structp png, png_const_charp msg) {
     auto* state = static_cast<PngErrorState*>(png_get_error_ptr(png));
     std::snprintf(state->warning, sizeof state->warning, "%s", msg ? msg : "");
 }
+
+// libpng's own writer says only "Write Error" when fwrite fails; this one
+// keeps the system's reason (a full disk: "No space left on device").
+void onPngWrite(png_structp png, png_bytep data, std::size_t size) {
+    auto* fp = static_cast<std::FILE*>(png_get_io_ptr(png));
+    if (std::fwrite(data, 1, size, fp) != size) {
+        auto* state = static_cast<PngErrorState*>(png_get_error_ptr(png));
+        state->writeErrno = errno ? errno : EIO;
+        png_error(png, "write failed");
+    }
+}
+void onPngFlush(png_structp png) { std::fflush(static_cast<std::FILE*>(png_get_io_ptr(png))); }
 
 // All libpng calls. No objects with non-trivial destructors live in this
 // frame, so the longjmp out of onPngError is safe. Returns false on error with
@@ -74,7 +87,7 @@ bool writePngRows(std::FILE* fp, int width, int height, int channels, const png_
         png_destroy_write_struct(&png, &info);
         return false;
     }
-    png_init_io(png, fp);
+    png_set_write_fn(png, fp, onPngWrite, onPngFlush);
     png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8,
                  channels == 4 ? PNG_COLOR_TYPE_RGB_ALPHA : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
@@ -100,6 +113,7 @@ Status writeEncoded(const std::filesystem::path& path, int width, int height, in
         const bool flushed = std::fflush(fp) == 0 && !std::ferror(fp);
         const int flushErrno = errno;
         const bool closed = std::fclose(fp) == 0;
+        if (!ok && err.writeErrno) return makeError(name, std::string("write failed: ") + std::strerror(err.writeErrno));
         if (!ok) {
             std::string why = std::string("PNG write failed: ") + err.message;
             if (err.warning[0]) why += std::string(" (") + err.warning + ")";
