@@ -262,18 +262,10 @@ TEST_F(GlBackend, NoParticlesGivesTheSceneAsOnTheCpu) {
     expectSame(*a, *b, s.radiusM);
 }
 
-// Scene geometry (docs/geometry.md): the real frame inside a cut-away tank,
-// a rough sphere in front of it, a polished metal box behind it, a glass
-// box around part of it and a textured wall behind it all; every
-// AOV within the pipeline's tolerances, the geometry's own pixels among the
-// colours (the mesh path's rasteriser on both sides, the shared shading
-// formula). The same renderer again (the studio's cache under the geometry)
-// and after the geometry is taken away.
-TEST_F(GlBackend, SceneGeometryMatchesCpu) {
-    Frame f = realFrameSettings();
-    ASSERT_FALSE(f.positions.empty());
-    Bounds box;
-    for (const glm::vec3& p : f.positions) box.extend(p);
+// The geometry the scene-geometry tests share, around the liquid's bounds: a
+// cut-away tank, a rough ball in front of the liquid and a glass box through
+// it (its back faces in the scene layer, its front faces over the liquid).
+static std::shared_ptr<SceneGeometry> tankBallAndGlass(const Bounds& box) {
     const glm::vec3 c = box.center(), e = box.extent();
     auto g = std::make_shared<SceneGeometry>();
     GeometryObject tank;
@@ -287,6 +279,29 @@ TEST_F(GlBackend, SceneGeometryMatchesCpu) {
     ball.material.baseColor = {0.7f, 0.2f, 0.1f};
     ball.material.roughness = 0.8f;
     g->objects.push_back(ball);
+    GeometryObject glass;
+    glass.name = "glass";
+    glass.mesh = makeBoxMesh(c - glm::vec3(0.2f, 0.3f, 0.3f) * e, c + glm::vec3(0.3f, 0.2f, 0.3f) * e);
+    glass.material.glass = true;
+    g->objects.push_back(glass);
+    return g;
+}
+
+// Scene geometry (docs/geometry.md): the real frame inside a cut-away tank,
+// a rough sphere in front of it, a polished metal box behind it, a glass
+// box around part of it and a textured wall behind it all; every
+// AOV within the pipeline's tolerances, the geometry's own pixels among the
+// colours (the mesh path's rasteriser on both sides, the shared shading
+// formula). The same renderer again (the studio's cache under the geometry)
+// and after the geometry is taken away.
+TEST_F(GlBackend, SceneGeometryMatchesCpu) {
+    Frame f = realFrameSettings();
+    ASSERT_FALSE(f.positions.empty());
+    Bounds box;
+    for (const glm::vec3& p : f.positions) box.extend(p);
+    const glm::vec3 c = box.center(), e = box.extent();
+    auto g = tankBallAndGlass(box);
+    g->objects[2].material.tint = {0.5f, 0.9f, 0.8f};
     GeometryObject metal;
     metal.name = "metal";
     metal.mesh = makeBoxMesh(c - glm::vec3(0.3f, 0.2f, 0.2f) * e, c - glm::vec3(0.1f, 0.0f, 0.0f) * e);
@@ -294,12 +309,6 @@ TEST_F(GlBackend, SceneGeometryMatchesCpu) {
     metal.material.roughness = 0.15f;
     metal.material.baseColor = {0.9f, 0.8f, 0.5f};
     g->objects.push_back(metal);
-    GeometryObject glass;  // its back faces in the scene layer, its front faces over the liquid
-    glass.name = "glass";
-    glass.mesh = makeBoxMesh(c - glm::vec3(0.2f, 0.3f, 0.3f) * e, c + glm::vec3(0.3f, 0.2f, 0.3f) * e);
-    glass.material.glass = true;
-    glass.material.tint = {0.5f, 0.9f, 0.8f};
-    g->objects.push_back(glass);
     // A textured quad (tests/data/geometry: the checker's four colours) as a
     // wall behind the liquid, its map repeated twice across it.
     auto quad = readGeometryMesh(testData("geometry/textured_quad.obj"));
@@ -337,22 +346,8 @@ TEST_F(GlBackend, SceneGeometryStaysOnTheGpu) {
     Bounds box;
     for (const glm::vec3& p : f.positions) box.extend(p);
     const glm::vec3 c = box.center(), e = box.extent();
-    auto g = std::make_shared<SceneGeometry>();
-    GeometryObject tank;
-    tank.name = "tank";
-    tank.mesh = makeBoxMesh(box.min - 0.05f * e, box.max + glm::vec3(0.05f, 0.3f, 0.05f) * e);
-    tank.cutaway = true;
-    g->objects.push_back(tank);
-    GeometryObject ball;
-    ball.name = "ball";
-    ball.mesh = makeSphereMesh(c + glm::vec3(0.0f, 0.0f, 0.45f * e.z), 0.12f * e.y);
-    ball.material.baseColor = {0.7f, 0.2f, 0.1f};
-    g->objects.push_back(ball);
-    GeometryObject glass;
-    glass.name = "glass";
-    glass.mesh = makeBoxMesh(c - glm::vec3(0.2f, 0.3f, 0.3f) * e, c + glm::vec3(0.3f, 0.2f, 0.3f) * e);
-    glass.material.glass = true;
-    g->objects.push_back(glass);
+    auto g = tankBallAndGlass(box);
+    const GeometryObject &tank = g->objects[0], &ball = g->objects[1], &glass = g->objects[2];
     std::size_t vertexBytes = 0;
     for (const GeometryObject& o : g->objects) vertexBytes += 2 * o.mesh.positions.size() * sizeof(glm::vec3);
     f.settings.geometry = g;
