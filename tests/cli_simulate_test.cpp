@@ -63,10 +63,14 @@ TEST(CliSimulate, SameFilesForAnyThreadCountAndResumeContinues) {
     ASSERT_EQ(runCli("--threads 1 simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "a/f_%04d.bgeo"), &out), 0) << out;
     ASSERT_EQ(runCli("--threads 2 simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "b/f_%04d.bgeo"), &out), 0) << out;
     EXPECT_TRUE(readBytes(dir / "a/f_0005.bgeo") == readBytes(dir / "b/f_0005.bgeo"));
-    // Interrupted after frame 2: --resume writes 3..5 from frame 2's particles.
+    // Frames 3..5 lost, and the solver's checkpoint is of frame 5: --resume
+    // says it cannot use it and writes 3..5 from frame 2's particles.
     fs::remove(dir / "b/f_0003.bgeo"), fs::remove(dir / "b/f_0004.bgeo"), fs::remove(dir / "b/f_0005.bgeo");
     ASSERT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "b/f_%04d.bgeo") + " --resume", &out), 0) << out;
     EXPECT_NE(out.find("resuming after"), std::string::npos) << out;
+    EXPECT_NE(out.find((dir / "b/.f.checkpoint").string() + ": not a usable checkpoint: it is of frame 5, after the last frame file (2)"),
+              std::string::npos)
+        << out;
     EXPECT_EQ(out.find("f_0001.bgeo"), std::string::npos) << "frames before the resume point are not rewritten";
     auto resumed = meniscus::readParticles(dir / "b/f_0005.bgeo");
     auto straight = meniscus::readParticles(dir / "a/f_0005.bgeo");
@@ -251,6 +255,8 @@ TEST(CliSimulate, ResumeFromAnEmptyFrame) {
         << out;
     ASSERT_TRUE(fs::exists(dir / "b/f_0000.bgeo"));
     ASSERT_FALSE(meniscus::readParticles(dir / "b/f_0000.bgeo").ok()) << "the frame is empty";
+    // Without the solver's checkpoint (tested below), from the particle file.
+    ASSERT_TRUE(fs::remove(dir / "b/.f.checkpoint"));
     ASSERT_EQ(runCli("simulate " + shellQuote(scene) + " -o " + shellQuote(dir / "b/f_%04d.bgeo") + " --resume", &out), 0) << out;
     EXPECT_NE(out.find("resuming after"), std::string::npos) << out;
     auto resumed = meniscus::readParticles(dir / "b/f_0003.bgeo");
@@ -260,4 +266,47 @@ TEST(CliSimulate, ResumeFromAnEmptyFrame) {
     EXPECT_GT(straight->size(), 0u);
     EXPECT_EQ(resumed->size(), straight->size());
     EXPECT_TRUE(readBytes(dir / "a/f_0003.bgeo") == readBytes(dir / "b/f_0003.bgeo"));
+}
+
+// A nozzle, a drain and a lifetime (ids, ages, the emitter's clock, removals,
+// z-order re-sorts and DFSPH's warm start all carry over): stopped by
+// --duration after frame 3, --resume with the scene's duration goes on from
+// the solver's checkpoint (.f.checkpoint) and every frame has the bytes of a
+// run never stopped. A damaged checkpoint is said, naming it, and resume
+// falls back to the last particle file.
+TEST(CliSimulate, ResumeFromTheCheckpointIsExactWithAnEmitter) {
+    const fs::path dir = tempDir();
+    const fs::path scene = dir / "nozzle.json";
+    std::ofstream(scene) << R"({
+  "version": 1, "name": "nozzle", "duration": 0.16, "fps": 50,
+  "params": { "radius": 0.01, "lifetime": 0.1 },
+  "domain": { "min": [0, 0, 0], "max": [0.3, 0.3, 0.3] },
+  "fluid": [ { "box": { "min": [0, 0, 0], "max": [0.3, 0.05, 0.3] } } ],
+  "emitters": [ { "position": [0.15, 0.25, 0.15], "direction": [0, -1, 0], "radius": 0.03, "speed": 1.0 } ],
+  "drains": [ { "box": { "min": [0, 0, 0], "max": [0.05, 0.3, 0.05] } } ]
+})";
+    const auto run = [&](const std::string& where, const std::string& more) {
+        return "simulate " + shellQuote(scene) + " -o " + shellQuote(dir / where / "f_%04d.bgeo") + more;
+    };
+    std::string out;
+    ASSERT_EQ(runCli(run("a", ""), &out), 0) << out;
+    ASSERT_EQ(runCli(run("b", " --duration 0.06"), &out), 0) << out;
+    ASSERT_TRUE(fs::exists(dir / "b/.f.checkpoint"));
+    ASSERT_FALSE(fs::exists(dir / "b/f_0004.bgeo"));
+    ASSERT_EQ(runCli(run("b", " --resume"), &out), 0) << out;
+    EXPECT_NE(out.find("resuming exactly after frame 3"), std::string::npos) << out;
+    for (int k = 0; k <= 8; ++k) {
+        char name[32];
+        std::snprintf(name, sizeof name, "f_%04d.bgeo", k);
+        EXPECT_TRUE(readBytes(dir / "a" / name) == readBytes(dir / "b" / name)) << name << " differs";
+    }
+    EXPECT_TRUE(readBytes(dir / "a/f.pvd") == readBytes(dir / "b/f.pvd"));
+    // A checkpoint cut short: said, and the run goes on from the particle file.
+    ASSERT_EQ(runCli(run("c", " --duration 0.06"), &out), 0) << out;
+    const auto whole = readBytes(dir / "c/.f.checkpoint");
+    writeBytes(dir / "c/.f.checkpoint", std::vector<std::uint8_t>(whole.begin(), whole.begin() + std::ptrdiff_t(whole.size() / 2)));
+    ASSERT_EQ(runCli(run("c", " --resume"), &out), 0) << out;
+    EXPECT_NE(out.find("warning: " + (dir / "c/.f.checkpoint").string() + ": not a usable checkpoint"), std::string::npos) << out;
+    EXPECT_NE(out.find("resuming after " + (dir / "c/f_0003.bgeo").string()), std::string::npos) << out;
+    EXPECT_TRUE(fs::exists(dir / "c/f_0008.bgeo"));
 }

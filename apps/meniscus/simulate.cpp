@@ -145,6 +145,36 @@ std::filesystem::path pvdBeside(const std::string& pattern) {
     return p.parent_path() / ((stem.empty() ? std::string("frames") : stem) + ".pvd");
 }
 
+// The solver's checkpoint of the last frame written, hidden beside the frames
+// and named as their .pvd (out/fluid_%04d.vtu -> out/.fluid.checkpoint): what
+// --resume goes on from exactly (Simulator::saveCheckpoint).
+std::filesystem::path checkpointBeside(const std::string& pattern) {
+    const std::filesystem::path pvd = pvdBeside(pattern);
+    return pvd.parent_path() / ("." + pvd.stem().string() + ".checkpoint");
+}
+
+// --resume: the checkpoint of a frame at most `last` loaded; its frame, or -1
+// (said why) where there is none to use. A damaged or foreign checkpoint is
+// not an error: the frames written are whole, and the run goes on from the
+// last of them as a run without a checkpoint does (the same flow, not the
+// same bits).
+long resumeFromCheckpoint(sim::Simulator& simulator, const std::string& pattern, long last) {
+    const std::filesystem::path path = checkpointBeside(pattern);
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+        std::cerr << "meniscus: no solver checkpoint " << path.string()
+                  << ": resuming from the particle file (the same flow, not the same bits)\n";
+        return -1;
+    }
+    auto frame = simulator.loadCheckpoint(path, last);
+    if (!frame) {
+        std::cerr << "meniscus: warning: " << frame.error().describe()
+                  << "; resuming from the particle file (the same flow, not the same bits)\n";
+        return -1;
+    }
+    return long(*frame);
+}
+
 }  // namespace
 
 CLI::Option* addSolverOption(CLI::App* cmd, std::string& solver) {
@@ -240,7 +270,14 @@ int runSimulate(const SimulateJob& o) {
             if (!std::filesystem::exists(*name)) break;
             last = k;
         }
-        if (last >= 0) {
+        // The solver's checkpoint, exact; frames after its own are simulated again (the same bytes).
+        const long exact = last >= 0 ? resumeFromCheckpoint(simulator, o.output, last) : -1;
+        if (exact >= 0) {
+            last = exact;
+            std::cerr << "meniscus: resuming exactly after frame " << last << " from the solver's checkpoint (t = "
+                      << simulator.time() << " s)\n";
+            first = last + 1;
+        } else if (last >= 0) {
             auto name = nameOf(last);
             auto set = readParticles(*name, ParticleFormat::Auto, true);  // an emitter's first frames are empty
             if (!set) return fail(set.error());
@@ -287,6 +324,7 @@ int runSimulate(const SimulateJob& o) {
         if (!name) return fail(name.error());
         const ParticleSet set = simulator.particles();
         if (auto st = writeParticles(*name, set, *format); !st) return fail(st.error());
+        if (auto st = simulator.saveCheckpoint(checkpointBeside(o.output), k); !st) return fail(st.error());
         std::string imageNote;
         if (images) {
             auto image = writeFrameImage(*images, set, k);

@@ -186,6 +186,19 @@ public:
     // Restores particles (positions, velocities, ids) and the time, e.g. to
     // resume from a written frame; the boundaries stay.
     Status restore(const ParticleSet& set, double time);
+    // The whole state a step reads from the steps before it (the particles in
+    // their order with accelerations, ages and DFSPH's warm start; dt, t, the
+    // step count, the next id, the emitters' clocks), tagged with `frame`,
+    // written atomically to `path` in a small versioned binary format
+    // (src/sim/checkpoint.cpp). A run loaded from it makes the same bits as
+    // one never stopped.
+    Status saveCheckpoint(const std::filesystem::path& path, std::int64_t frame) const;
+    // Loads a checkpoint saveCheckpoint wrote for the same scene settings,
+    // solver, frame rate and vector path, of a frame at most `lastFrame`;
+    // returns its frame. A file cut short, damaged, of another version or
+    // scene, or of a later frame is an error naming the file, and the state
+    // is left as it was.
+    Result<std::int64_t> loadCheckpoint(const std::filesystem::path& path, std::int64_t lastFrame);
 
     const StepStats& lastStep() const;
     const Totals& totals() const;

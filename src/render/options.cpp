@@ -585,8 +585,9 @@ std::vector<SimulateOptionSpec> makeSimulateTable() {
                                 {"dfsph", "sph", "pbf", "ballistic"})));
     t.back().limits.emptyUnset = true;  // the scene's
     t.push_back(flagRow(row<S>("resume", G::Output, "",
-                               "Continue from the last frame already written under the output pattern (its particles "
-                               "and time)",
+                               "Continue from the last frame already written under the output pattern, to the same "
+                               "bytes as a run never stopped (from the solver's checkpoint beside the frames, "
+                               ".STEM.checkpoint; without a usable one, from the frame's particles and time)",
                                [](S& o) -> OptionRef { return &o.resume; })));
     t.push_back(flagRow(row<S>("stats", G::Output, "", "Print each frame's steps, solver iterations and time per phase",
                                [](S& o) -> OptionRef { return &o.stats; })));
