@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include <sys/stat.h>
 
@@ -126,21 +127,28 @@ TEST(CliHostileFiles, OutputLinkedToADeviceOrAFifoIsRefused) {
 // A write the system refuses (a full disk; here the process's file-size limit,
 // `ulimit -f`, which makes write() fail with EFBIG once SIGXFSZ is ignored,
 // the same path as ENOSPC without needing a small disk) is an error in the
-// system's words naming the output ("write failed: File too large", not
-// libpng's bare "Write Error"), exit 1, and leaves neither the output nor a
-// temporary behind.
+// system's words naming the output ("File too large", not libpng's bare
+// "Write Error"), exit 1, and leaves neither the output nor a temporary
+// behind: pictures (PNG, EXR), particle files and meshes.
 TEST(CliHostileFiles, AFailedWriteSaysWhyAndLeavesNothing) {
     const fs::path dir = dirWithFrame("hostile_failed_write");
-    std::string out;
-    // 16 KiB: the particle file is read, a 640x480 PNG of the frame does not fit.
-    const int rc = runCommand("trap '' XFSZ; ulimit -f 16; " + cliPath() + " render " + shellQuote(dir / "f.bgeo") +
-                                  " -o " + shellQuote(dir / "o.png") + " --width 640 --height 480 --backend cpu",
-                              &out);
-    EXPECT_EQ(rc, 1) << out;
-    EXPECT_TRUE(has(out, (dir / "o.png").string() + ": write failed: File too large")) << out;
-    EXPECT_FALSE(has(out, "Write Error")) << out;
-    for (const auto& entry : fs::directory_iterator(dir))
-        EXPECT_NE(entry.path().extension(), ".png") << entry.path();
+    const std::string in = shellQuote(dir / "f.bgeo");
+    // 16 KiB: the particle file is read; none of these outputs fits.
+    const std::pair<std::string, std::string> runs[] = {
+        {"o.png", "render " + in + " -o " + shellQuote(dir / "o.png") + " --width 640 --height 480 --backend cpu"},
+        {"o.exr", "render " + in + " -o " + shellQuote(dir / "o.exr") + " --width 640 --height 480 --backend cpu"},
+        {"c.vtu", "convert " + in + " " + shellQuote(dir / "c.vtu")},
+        {"m.obj", "mesh " + in + " -o " + shellQuote(dir / "m.obj")},
+    };
+    for (const auto& [name, args] : runs) {
+        SCOPED_TRACE(name);
+        std::string out;
+        EXPECT_EQ(runCommand("trap '' XFSZ; ulimit -f 16; " + cliPath() + " " + args, &out), 1) << out;
+        EXPECT_TRUE(has(out, (dir / name).string() + ": ")) << out;
+        EXPECT_TRUE(has(out, "File too large")) << out;
+        EXPECT_FALSE(has(out, "Write Error")) << out;
+        EXPECT_FALSE(fs::exists(dir / name));
+    }
     for (const auto& entry : fs::directory_iterator(dir))
         EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
 }

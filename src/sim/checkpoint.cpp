@@ -36,7 +36,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "io/atomic_file.h"
+#include "meniscus/io.h"  // PendingFile: write-then-rename
 #include "sim/state.h"
 
 namespace meniscus::sim {
@@ -185,32 +185,34 @@ bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.
 Status Simulator::saveCheckpoint(const std::filesystem::path& path, std::int64_t frame) const {
     const Impl& s = *impl_;
     try {
-        return writeAtomically(path, [&](const std::filesystem::path& tmp) -> Status {
-            std::FILE* f = std::fopen(tmp.c_str(), "wb");
-            if (!f) return makeError(path.string(), "cannot create the checkpoint");
-            try {
-                Out out(f);
-                out.bytes(kMagic, 8);
-                out.put(kVersion), out.put(std::uint32_t(kHeaderBytes));
-                out.put(fingerprint(s)), out.put(std::int64_t(frame)), out.put(s.t), out.put(s.dt), out.put(s.nextId);
-                out.put(std::uint64_t(s.n())), out.put(std::uint64_t(s.emitterNext.size()));
-                const Totals& T = s.totals;
-                for (std::size_t v : {T.steps, T.particleSteps, T.densityIterations, T.divergenceIterations, T.emitted,
-                                      T.drained, T.expired, T.guardCorrections})
-                    out.put(std::uint64_t(v));
-                for (double v : {T.simulatedS, T.msNeighbours, T.msDensity, T.msPressure, T.msForces, T.msAdvect})
-                    out.put(v);
-                out.array(s.emitterNext);
-                out.array(s.x), out.array(s.v), out.array(s.a), out.array(s.density), out.array(s.pressure);
-                out.array(s.id), out.array(s.age), out.array(s.kappaWarm), out.array(s.kappaVWarm);
-                out.finish();
-            } catch (...) {
-                std::fclose(f);
-                throw;
-            }
-            if (std::fclose(f) != 0) return makeError(path.string(), "could not write the checkpoint (disk full?)");
-            return okStatus();
-        });
+        // Written whole under a hidden temporary name, then renamed: a run
+        // stopped mid-write leaves the previous checkpoint, never half of one.
+        auto pending = PendingFile::begin(path);
+        if (!pending) return pending.error();
+        std::FILE* f = std::fopen(pending->tmp().c_str(), "wb");
+        if (!f) return makeError(path.string(), "cannot create the checkpoint");
+        try {
+            Out out(f);
+            out.bytes(kMagic, 8);
+            out.put(kVersion), out.put(std::uint32_t(kHeaderBytes));
+            out.put(fingerprint(s)), out.put(std::int64_t(frame)), out.put(s.t), out.put(s.dt), out.put(s.nextId);
+            out.put(std::uint64_t(s.n())), out.put(std::uint64_t(s.emitterNext.size()));
+            const Totals& T = s.totals;
+            for (std::size_t v : {T.steps, T.particleSteps, T.densityIterations, T.divergenceIterations, T.emitted,
+                                  T.drained, T.expired, T.guardCorrections})
+                out.put(std::uint64_t(v));
+            for (double v : {T.simulatedS, T.msNeighbours, T.msDensity, T.msPressure, T.msForces, T.msAdvect})
+                out.put(v);
+            out.array(s.emitterNext);
+            out.array(s.x), out.array(s.v), out.array(s.a), out.array(s.density), out.array(s.pressure);
+            out.array(s.id), out.array(s.age), out.array(s.kappaWarm), out.array(s.kappaVWarm);
+            out.finish();
+        } catch (...) {
+            std::fclose(f);
+            throw;
+        }
+        if (std::fclose(f) != 0) return makeError(path.string(), "could not write the checkpoint (disk full?)");
+        return pending->commit();
     } catch (const std::exception& e) {
         return makeError(path.string(), e.what());
     }
