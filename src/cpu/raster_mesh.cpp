@@ -382,32 +382,30 @@ struct Box {
     }
 };
 
-// Eight lanes of 32-bit integers and of doubles, for the box pass below.
-typedef std::int32_t Int8 __attribute__((vector_size(32)));
-typedef double Double8 __attribute__((vector_size(64)));
 
-[[gnu::always_inline]] inline Int8 min8(const Int8& a, const Int8& b) { return a < b ? a : b; }
-[[gnu::always_inline]] inline Int8 max8(const Int8& a, const Int8& b) { return a < b ? b : a; }
+[[gnu::always_inline]] inline Int4 min4(const Int4& a, const Int4& b) { return a < b ? a : b; }
+[[gnu::always_inline]] inline Int4 max4(const Int4& a, const Int4& b) { return a < b ? b : a; }
 
 // The boxes of triangles [first + k0, first + k1) of a batch (boxes[k] is
-// triangle first + k's), eight at a time: for a triangle with every vertex
+// triangle first + k's), four at a time: for a triangle with every vertex
 // inside the clip planes its centreBox in the image, or an empty Rect when it
 // is degenerate after snapping or has an index out of range. A triangle that
 // needs clipping gets an empty Rect and its k is appended to `clipped`, for the
 // caller's scalar clipper. The integer arithmetic is the scalar functions' in
 // 32 bits: drawable fixed coordinates lie within the guard band, |v| < 2^25,
 // so nothing overflows; the snapped area's two products (|.| < 2^52) are exact
-// in doubles, so their comparison is the 64-bit one's.
+// in doubles, so their comparison is the 64-bit one's. (Four lanes, not eight:
+// GCC compares eight doubles, two AVX2 registers, one lane at a time.)
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
 __attribute__((target_clones("avx2", "default")))
 #endif
 void triangleBoxes(const std::uint32_t* idx, std::size_t nv, const Fixed* fixed, std::size_t first, std::size_t k0,
                    std::size_t k1, int width, int height, Box* boxes, std::vector<std::size_t>& clipped) {
     static const Fixed kNone{0, 0, 0};  // the corners of a triangle with an index out of range: degenerate
-    for (std::size_t b0 = k0; b0 < k1; b0 += 8) {
-        const int n = int(std::min<std::size_t>(8, k1 - b0));
-        Int8 ax, ay, bx, by, cx, cy, out;
-        for (int l = 0; l < 8; ++l) {
+    for (std::size_t b0 = k0; b0 < k1; b0 += 4) {
+        const int n = int(std::min<std::size_t>(4, k1 - b0));
+        Int4 ax, ay, bx, by, cx, cy, out;
+        for (int l = 0; l < 4; ++l) {
             const std::size_t t = first + b0 + std::size_t(std::min(l, n - 1));
             const std::uint32_t v0 = idx[3 * t], v1 = idx[3 * t + 1], v2 = idx[3 * t + 2];
             const bool ok = v0 < nv && v1 < nv && v2 < nv;
@@ -417,13 +415,13 @@ void triangleBoxes(const std::uint32_t* idx, std::size_t nv, const Fixed* fixed,
             ax[l] = a.fx, ay[l] = a.fy, bx[l] = b.fx, by[l] = b.fy, cx[l] = c.fx, cy[l] = c.fy;
             out[l] = std::int32_t(a.outside | b.outside | c.outside);
         }
-        const Double8 p = __builtin_convertvector(bx - ax, Double8) * __builtin_convertvector(cy - ay, Double8);
-        const Double8 q = __builtin_convertvector(by - ay, Double8) * __builtin_convertvector(cx - ax, Double8);
-        const Int8 degenerate = __builtin_convertvector(p == q, Int8);
-        const Int8 x0 = max8(Int8{} + 0, (min8(ax, min8(bx, cx)) - std::int32_t(kHalf) + std::int32_t(kOne - 1)) >> kRasterSubpixelBits);
-        const Int8 y0 = max8(Int8{} + 0, (min8(ay, min8(by, cy)) - std::int32_t(kHalf) + std::int32_t(kOne - 1)) >> kRasterSubpixelBits);
-        const Int8 x1 = min8(Int8{} + width, ((max8(ax, max8(bx, cx)) - std::int32_t(kHalf)) >> kRasterSubpixelBits) + 1);
-        const Int8 y1 = min8(Int8{} + height, ((max8(ay, max8(by, cy)) - std::int32_t(kHalf)) >> kRasterSubpixelBits) + 1);
+        const Double4 p = __builtin_convertvector(bx - ax, Double4) * __builtin_convertvector(cy - ay, Double4);
+        const Double4 q = __builtin_convertvector(by - ay, Double4) * __builtin_convertvector(cx - ax, Double4);
+        const Mask4 degenerate = p == q;
+        const Int4 x0 = max4(Int4{} + 0, (min4(ax, min4(bx, cx)) - std::int32_t(kHalf) + std::int32_t(kOne - 1)) >> kRasterSubpixelBits);
+        const Int4 y0 = max4(Int4{} + 0, (min4(ay, min4(by, cy)) - std::int32_t(kHalf) + std::int32_t(kOne - 1)) >> kRasterSubpixelBits);
+        const Int4 x1 = min4(Int4{} + width, ((max4(ax, max4(bx, cx)) - std::int32_t(kHalf)) >> kRasterSubpixelBits) + 1);
+        const Int4 y1 = min4(Int4{} + height, ((max4(ay, max4(by, cy)) - std::int32_t(kHalf)) >> kRasterSubpixelBits) + 1);
         for (int l = 0; l < n; ++l) {
             Box& box = boxes[b0 + std::size_t(l)];
             if (out[l] != 0) {
