@@ -36,6 +36,7 @@
 #include <utility>
 #include <vector>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "shared/raster_mesh.h"
@@ -135,6 +136,79 @@ inline std::int32_t roundToInt(double v) {
         v.sx = s.x;
         v.sy = s.y;
         v.q = -1.0 / double(view.z);
+    }
+}
+
+// The helpers on vectors below are always inlined into the functions over
+// lanes, so no vector crosses a call: GCC's note that a 32-byte vector is
+// passed differently with AVX does not apply. (It is given at the end of the
+// file, so it is off from here to the end.)
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+// Four doubles and their comparison masks, four 32-bit integers: the vertex
+// pass below does four vertices per operation (one AVX2 register, or two SSE2
+// ones). Each lane is the IEEE result of its own operands, so the same bits as
+// the scalar makeVertex, whose operations it repeats in its order.
+typedef double Double4 __attribute__((vector_size(32)));
+typedef std::int64_t Mask4 __attribute__((vector_size(32)));
+typedef std::int32_t Int4 __attribute__((vector_size(16)));
+
+// roundToInt over four lanes.
+[[gnu::always_inline]] inline Int4 roundToInt4(const Double4& v) {
+    const Double4 r = v + 0.5;
+    const Int4 i = __builtin_convertvector(r, Int4);  // truncates toward zero
+    return i + __builtin_convertvector(__builtin_convertvector(i, Double4) > r, Int4);  // mask -1 where rounded up
+}
+
+// makeVertex for the mesh's vertices [begin, end), four at a time: view space
+// per vertex, then the clip-plane values, the outcodes, the projection (its
+// divisions x/w, y/w and -1/z four to a register) and the rounding per lane.
+// `uvs` may be null (then (0, 0)). No FMA: the lanes' products and sums stay
+// separately rounded as in the scalar code.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void makeVertices(const Frame& fr, const glm::vec3* positions, const glm::vec3* normals, const glm::vec2* uvs,
+                  std::size_t begin, std::size_t end, Fixed* fixed, Vertex* verts) {
+    const double gxScale = fr.halfW + kGuardPx, gyScale = fr.halfH + kGuardPx;
+    for (std::size_t i0 = begin; i0 < end; i0 += 4) {
+        const int n = int(std::min<std::size_t>(4, end - i0));
+        Double4 vx, vy, vz;
+        for (int l = 0; l < 4; ++l) {
+            const std::size_t i = i0 + std::size_t(std::min(l, n - 1));  // a short block repeats its last
+            const glm::vec3 d = positions[i] - fr.eye, nn = normals[i];
+            const glm::vec3 view{glm::dot(d, fr.right), glm::dot(d, fr.up), glm::dot(d, fr.back)};
+            vx[l] = double(view.x);
+            vy[l] = double(view.y);
+            vz[l] = double(view.z);
+            if (l < n) {
+                Vertex& v = verts[i];
+                v.view = view;
+                v.normal = {glm::dot(nn, fr.right), glm::dot(nn, fr.up), glm::dot(nn, fr.back)};
+                v.uv = uvs ? uvs[i] : glm::vec2(0.0f);
+            }
+        }
+        // planeValues
+        const Double4 w = -vz, x = fr.f * vx, y = fr.f * vy;
+        const Double4 gx = gxScale * w, gy = gyScale * w;
+        const Mask4 out = ((w - fr.nearM < 0.0) & 1) | ((gx + x < 0.0) & 2) | ((gx - x < 0.0) & 4) |
+                          ((gy - y < 0.0) & 8) | ((gy + y < 0.0) & 16);
+        // project, and the rest of makeVertex
+        const Double4 sx = fr.halfW + x / w, sy = fr.halfH - y / w;
+        const Int4 fx = roundToInt4(sx * double(kOne)), fy = roundToInt4(sy * double(kOne));
+        const Double4 q = -1.0 / vz;
+        for (int l = 0; l < n; ++l) {
+            Fixed& f = fixed[i0 + std::size_t(l)];
+            Vertex& v = verts[i0 + std::size_t(l)];
+            f.outside = std::uint32_t(out[l]);
+            const bool drawable = f.outside == 0;
+            f.fx = drawable ? fx[l] : 0;
+            f.fy = drawable ? fy[l] : 0;
+            v.sx = drawable ? sx[l] : 0.0;
+            v.sy = drawable ? sy[l] : 0.0;
+            v.q = drawable ? q[l] : 0.0;
+        }
     }
 }
 
@@ -290,6 +364,76 @@ inline Rect centreBox(const Fixed& a, const Fixed& b, const Fixed& c, const Rect
             int(std::min<std::int64_t>(clip.y1, lastCentre(std::max({a.fy, b.fy, c.fy})) + 1))};
 }
 
+// Per-tile index lists of one batch of triangles, in triangle order.
+// Per triangle of a batch, made once by the rectangle pass for the bins and
+// the drawing: the pixels whose centres its drawable part's box holds, cut to
+// the image (empty: not drawn, also a triangle degenerate after snapping),
+// and whether it is drawn whole (its box is then the drawing's box too) or as
+// its clipped polygon's fan (x0 stored as ~x0 < 0; each fan triangle's own box
+// is made when drawn).
+struct Box {
+    Rect r;
+    bool clipped() const { return r.x0 < 0; }
+    Rect pixels() const { return clipped() ? Rect{~r.x0, r.y0, r.x1, r.y1} : r; }
+    bool empty() const { return pixels().empty(); }
+    Rect tiles() const {
+        const Rect p = pixels();
+        return {p.x0 / kTile, p.y0 / kTile, (p.x1 - 1) / kTile + 1, (p.y1 - 1) / kTile + 1};
+    }
+};
+
+
+[[gnu::always_inline]] inline Int4 min4(const Int4& a, const Int4& b) { return a < b ? a : b; }
+[[gnu::always_inline]] inline Int4 max4(const Int4& a, const Int4& b) { return a < b ? b : a; }
+
+// The boxes of triangles [first + k0, first + k1) of a batch (boxes[k] is
+// triangle first + k's), four at a time: for a triangle with every vertex
+// inside the clip planes its centreBox in the image, or an empty Rect when it
+// is degenerate after snapping or has an index out of range. A triangle that
+// needs clipping gets an empty Rect and its k is appended to `clipped`, for the
+// caller's scalar clipper. The integer arithmetic is the scalar functions' in
+// 32 bits: drawable fixed coordinates lie within the guard band, |v| < 2^25,
+// so nothing overflows; the snapped area's two products (|.| < 2^52) are exact
+// in doubles, so their comparison is the 64-bit one's. (Four lanes, not eight:
+// GCC compares eight doubles, two AVX2 registers, one lane at a time.)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void triangleBoxes(const std::uint32_t* idx, std::size_t nv, const Fixed* fixed, std::size_t first, std::size_t k0,
+                   std::size_t k1, int width, int height, Box* boxes, std::vector<std::size_t>& clipped) {
+    static const Fixed kNone{0, 0, 0};  // the corners of a triangle with an index out of range: degenerate
+    for (std::size_t b0 = k0; b0 < k1; b0 += 4) {
+        const int n = int(std::min<std::size_t>(4, k1 - b0));
+        Int4 ax, ay, bx, by, cx, cy, out;
+        for (int l = 0; l < 4; ++l) {
+            const std::size_t t = first + b0 + std::size_t(std::min(l, n - 1));
+            const std::uint32_t v0 = idx[3 * t], v1 = idx[3 * t + 1], v2 = idx[3 * t + 2];
+            const bool ok = v0 < nv && v1 < nv && v2 < nv;
+            const Fixed& a = ok ? fixed[v0] : kNone;
+            const Fixed& b = ok ? fixed[v1] : kNone;
+            const Fixed& c = ok ? fixed[v2] : kNone;
+            ax[l] = a.fx, ay[l] = a.fy, bx[l] = b.fx, by[l] = b.fy, cx[l] = c.fx, cy[l] = c.fy;
+            out[l] = std::int32_t(a.outside | b.outside | c.outside);
+        }
+        const Double4 p = __builtin_convertvector(bx - ax, Double4) * __builtin_convertvector(cy - ay, Double4);
+        const Double4 q = __builtin_convertvector(by - ay, Double4) * __builtin_convertvector(cx - ax, Double4);
+        const Mask4 degenerate = p == q;
+        const Int4 x0 = max4(Int4{} + 0, (min4(ax, min4(bx, cx)) - std::int32_t(kHalf) + std::int32_t(kOne - 1)) >> kRasterSubpixelBits);
+        const Int4 y0 = max4(Int4{} + 0, (min4(ay, min4(by, cy)) - std::int32_t(kHalf) + std::int32_t(kOne - 1)) >> kRasterSubpixelBits);
+        const Int4 x1 = min4(Int4{} + width, ((max4(ax, max4(bx, cx)) - std::int32_t(kHalf)) >> kRasterSubpixelBits) + 1);
+        const Int4 y1 = min4(Int4{} + height, ((max4(ay, max4(by, cy)) - std::int32_t(kHalf)) >> kRasterSubpixelBits) + 1);
+        for (int l = 0; l < n; ++l) {
+            Box& box = boxes[b0 + std::size_t(l)];
+            if (out[l] != 0) {
+                box.r = Rect{};
+                clipped.push_back(b0 + std::size_t(l));
+            } else {
+                box.r = degenerate[l] ? Rect{} : Rect{x0[l], y0[l], x1[l], y1[l]};
+            }
+        }
+    }
+}
+
 // Draws triangle (a, b, c), drawable vertices of non-zero snapped `area`, at
 // the pixel centres of `box` (its centre box cut to the tile, not empty).
 template <bool kCount, bool kUv>
@@ -333,24 +477,6 @@ void drawTriangle(Corner a, Corner b, Corner c, std::int64_t area, const Rect& b
         e2.row += e2.stepY;
     }
 }
-
-// Per-tile index lists of one batch of triangles, in triangle order.
-// Per triangle of a batch, made once by the rectangle pass for the bins and
-// the drawing: the pixels whose centres its drawable part's box holds, cut to
-// the image (empty: not drawn, also a triangle degenerate after snapping),
-// and whether it is drawn whole (its box is then the drawing's box too) or as
-// its clipped polygon's fan (x0 stored as ~x0 < 0; each fan triangle's own box
-// is made when drawn).
-struct Box {
-    Rect r;
-    bool clipped() const { return r.x0 < 0; }
-    Rect pixels() const { return clipped() ? Rect{~r.x0, r.y0, r.x1, r.y1} : r; }
-    bool empty() const { return pixels().empty(); }
-    Rect tiles() const {
-        const Rect p = pixels();
-        return {p.x0 / kTile, p.y0 / kTile, (p.x1 - 1) / kTile + 1, (p.y1 - 1) / kTile + 1};
-    }
-};
 
 struct Bins {
     int tilesX = 0, tilesY = 0;
@@ -421,11 +547,9 @@ void rasterise(const Frame& fr, const MeshRef& mesh, const Targets& out, RasterW
     std::vector<Vertex>& verts = work.verts;
     fixed.resize(nv);
     verts.resize(nv);
-    tbb::parallel_for(std::size_t(0), nv, [&](std::size_t i) {
-        const glm::vec3 d = mesh.positions[i] - fr.eye, n = mesh.normals[i];
-        makeVertex(fr, {glm::dot(d, fr.right), glm::dot(d, fr.up), glm::dot(d, fr.back)},
-                   {glm::dot(n, fr.right), glm::dot(n, fr.up), glm::dot(n, fr.back)},
-                   kUv ? mesh.uvs[i] : glm::vec2(0.0f), fixed[i], verts[i]);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        makeVertices(fr, mesh.positions.data(), mesh.normals.data(), kUv ? mesh.uvs.data() : nullptr, r.begin(),
+                     r.end(), fixed.data(), verts.data());
     });
     const std::uint32_t* idx = mesh.indices.data();
     // Triangle t's vertex indices, false when one is out of range.
@@ -444,7 +568,6 @@ void rasterise(const Frame& fr, const MeshRef& mesh, const Targets& out, RasterW
         drawablePolygon(fr, corner(v[0]), corner(v[1]), corner(v[2]), p);
         for (int i = 1; i + 1 < p.n; ++i) draw(p.at(0), p.at(i), p.at(i + 1));
     };
-    const Rect image{0, 0, fr.width, fr.height};
 
     Bins& bins = work.bins;
     bins.tilesX = (fr.width + kTile - 1) / kTile;
@@ -454,28 +577,23 @@ void rasterise(const Frame& fr, const MeshRef& mesh, const Targets& out, RasterW
         // Boxes of the next triangles, in parallel.
         const std::size_t look = std::min(kMaxBatch, triangles - first);
         bins.boxes.resize(look);
-        tbb::parallel_for(std::size_t(0), look, [&](std::size_t k) {
-            std::uint32_t v[3];
-            Box& box = bins.boxes[k];
-            box.r = Rect{};
-            if (!corners(first + k, v)) return;
-            const Fixed &a = fixed[v[0]], &b = fixed[v[1]], &c = fixed[v[2]];
-            if ((a.outside | b.outside | c.outside) == 0) {
-                // Drawn whole: its box, unless it is degenerate after snapping (no centre).
-                if (snappedArea(a, b, c) != 0) box.r = centreBox(a, b, c, image);
-                return;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, look, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+            std::vector<std::size_t> clipped;
+            triangleBoxes(idx, nv, fixed.data(), first, range.begin(), range.end(), fr.width, fr.height,
+                          bins.boxes.data(), clipped);
+            for (const std::size_t k : clipped) {
+                std::int64_t x0 = std::numeric_limits<std::int64_t>::max(), y0 = x0, x1 = -x0, y1 = -x0;
+                forClipped(first + k, [&](const Corner& pa, const Corner& pb, const Corner& pc) {
+                    for (const Fixed* f : {pa.f, pb.f, pc.f}) {
+                        x0 = std::min<std::int64_t>(x0, f->fx);
+                        x1 = std::max<std::int64_t>(x1, f->fx);
+                        y0 = std::min<std::int64_t>(y0, f->fy);
+                        y1 = std::max<std::int64_t>(y1, f->fy);
+                    }
+                });
+                const Rect r = x0 <= x1 ? centresIn(fr, x0, y0, x1, y1) : Rect{};
+                if (!r.empty()) bins.boxes[k].r = Rect{~r.x0, r.y0, r.x1, r.y1};
             }
-            std::int64_t x0 = std::numeric_limits<std::int64_t>::max(), y0 = x0, x1 = -x0, y1 = -x0;
-            forClipped(first + k, [&](const Corner& pa, const Corner& pb, const Corner& pc) {
-                for (const Fixed* f : {pa.f, pb.f, pc.f}) {
-                    x0 = std::min<std::int64_t>(x0, f->fx);
-                    x1 = std::max<std::int64_t>(x1, f->fx);
-                    y0 = std::min<std::int64_t>(y0, f->fy);
-                    y1 = std::max<std::int64_t>(y1, f->fy);
-                }
-            });
-            const Rect r = x0 <= x1 ? centresIn(fr, x0, y0, x1, y1) : Rect{};
-            if (!r.empty()) box.r = Rect{~r.x0, r.y0, r.x1, r.y1};
         });
         // The batch: as many as fit the bin budget (at least one triangle).
         std::size_t count = 0, entries = 0;
