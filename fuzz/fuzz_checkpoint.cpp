@@ -49,7 +49,12 @@ const char* kScene = R"({
 struct Fixture {
     sim::Scene scene;
     std::vector<std::uint8_t> real;  // a checkpoint of the scene after a few steps
+    fs::path realFile;               // ... as a file, to reset the simulator from
     fs::path file;                   // where each input is written for the reader
+    // One simulator for every input (making one builds the walls' density
+    // maps, which would take most of each run): a refused checkpoint leaves
+    // it as it was (checked), an accepted one is undone by loading realFile.
+    std::unique_ptr<sim::Simulator> sim;
 };
 
 std::unique_ptr<sim::Simulator> make(const sim::Scene& scene) {
@@ -78,11 +83,12 @@ Fixture& fixture() {
         const fs::path dir = fs::temp_directory_path() / ("meniscus_fuzz_checkpoint_" + std::to_string(::getpid()));
         fs::create_directories(dir);
         f->file = dir / ".fuzz.checkpoint";
-        auto sim = make(f->scene);
-        if (!sim->advanceTo(0.06).ok() || !sim->saveCheckpoint(f->file, 2).ok())
-            fuzz::broken("the real checkpoint cannot be written", f->file.string());
-        f->real = readAll(f->file);
-        if (f->real.size() < 64) fuzz::broken("the real checkpoint is too short", f->file.string());
+        f->realFile = dir / ".real.checkpoint";
+        f->sim = make(f->scene);
+        if (!f->sim->advanceTo(0.06).ok() || !f->sim->saveCheckpoint(f->realFile, 2).ok())
+            fuzz::broken("the real checkpoint cannot be written", f->realFile.string());
+        f->real = readAll(f->realFile);
+        if (f->real.size() < 64) fuzz::broken("the real checkpoint is too short", f->realFile.string());
         std::atexit([] {
             std::error_code ec;
             fs::remove_all(fixture().file.parent_path(), ec);
@@ -122,7 +128,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (!file.empty()) std::fwrite(file.data(), 1, file.size(), f);
         std::fclose(f);
     }
-    auto sim = make(fx.scene);
+    sim::Simulator* sim = fx.sim.get();
     const std::size_t before = sim->size();
     const double t = sim->time();
     const auto frame = sim->loadCheckpoint(fx.file, kLastFrame);
@@ -130,6 +136,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (sim->size() != before || sim->time() != t) fuzz::broken("a refused checkpoint changed the simulator", "");
         return 0;
     }
+    struct Reset {
+        Fixture& fx;
+        ~Reset() {
+            if (!fx.sim->loadCheckpoint(fx.realFile, kLastFrame).ok())
+                fuzz::broken("the real checkpoint no longer loads", fx.realFile.string());
+        }
+    } reset{fx};
     if (*frame < 0 || *frame > kLastFrame) fuzz::broken("a checkpoint after the last frame was accepted", "");
     const sim::Box& box = fx.scene.domain;
     for (const glm::vec3& p : sim->positions())
