@@ -26,6 +26,7 @@
 //   trailer u64 FNV-1a of every byte before it
 // The counts are checked against the file's size before anything is
 // allocated, and the state is replaced only once the whole file has parsed.
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -294,10 +295,30 @@ Result<std::int64_t> Simulator::loadCheckpoint(const std::filesystem::path& path
         in.array(emitterNext, emitters);
         in.array(x, n), in.array(v, n), in.array(a, n), in.array(density, n), in.array(pressure, n);
         in.array(id, n), in.array(age, n), in.array(kappaWarm, n), in.array(kappaVWarm, n);
-        for (std::size_t i = 0; i < n; ++i)
+        // Every value a step reads must be one a step could have written: a
+        // NaN acceleration or warm start would spread to the positions, and
+        // from there to the grid's cell indices.
+        for (std::size_t i = 0; i < n; ++i) {
             if (!finite3(x[i]) || !finite3(v[i]) || !glm::all(glm::lessThanEqual(s.scene.domain.min, x[i])) ||
                 !glm::all(glm::lessThanEqual(x[i], s.scene.domain.max)))
                 return bad("particle " + std::to_string(i) + " is outside the domain or not finite");
+            if (!finite3(a[i]) || !std::isfinite(density[i]) || !std::isfinite(pressure[i]) ||
+                !(age[i] >= 0.0f) || !std::isfinite(age[i]) || !std::isfinite(kappaWarm[i]) ||
+                !std::isfinite(kappaVWarm[i]) || id[i] < 0)
+                return bad("particle " + std::to_string(i) + " has a value no step writes (not finite, or a negative age or id)");
+        }
+        // An emitter's next layer is due no earlier than its start and within
+        // a layer's period of the time (emit() keeps it so): the first layer
+        // after the resume is placed (t - next) * speed along the nozzle, which
+        // must stay a layer's length, not run off to infinity.
+        for (std::size_t k = 0; k < emitterNext.size(); ++k) {
+            const Emitter& e = s.scene.emitters[k];
+            const double period = 2.0 * s.r / e.speed, next = emitterNext[k];
+            const double lo = std::max(double(e.start), t - period), hi = std::max(double(e.start), t + period);
+            const double slack = 1e-9 * std::max(1.0, std::abs(hi));
+            if (!std::isfinite(next) || next < lo - slack || next > hi + slack)
+                return bad("emitter " + std::to_string(k) + "'s next layer time does not fit the checkpoint's time");
+        }
         In tot(bytes);
         for (std::size_t k = 0; k < 9; ++k) tot.get<std::uint64_t>();  // magic .. emitters
         Totals T;

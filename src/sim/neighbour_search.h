@@ -28,9 +28,12 @@ public:
 
     glm::ivec3 cellOf(const glm::vec3& p) const {
         const glm::vec3 c = glm::floor((p - origin_) * invCell_);
-        // Clamp in float first: a far point must not overflow the int conversion.
+        // Clamp in float first: a far point must not overflow the int
+        // conversion. max(0, c) is (0 < c ? c : 0), so a NaN (a diverged run,
+        // stopped by the step's check after this) lands in cell 0 instead of
+        // being converted, which is undefined; for numbers it is clamp().
         const glm::vec3 hi = glm::vec3(dims_ - 1);
-        return glm::ivec3(glm::clamp(c, glm::vec3(0.0f), hi));
+        return glm::ivec3(glm::min(hi, glm::max(glm::vec3(0.0f), c)));
     }
     std::size_t linear(const glm::ivec3& c) const {
         return (std::size_t(c.z) * std::size_t(dims_.y) + std::size_t(c.y)) * std::size_t(dims_.x) + std::size_t(c.x);

@@ -462,9 +462,10 @@ Status Simulator::step(double until) {
             },
             [](std::size_t l, std::size_t r) { return l + r; });
         for (std::size_t i = 0; i < s.n(); ++i)
-            if (!finite(s.v[i]))
+            if (!finite(s.v[i]) || !finite(s.x[i]))
                 return makeError(s.scene.file.string(), "the simulation diverged at t = " + std::to_string(s.t) +
-                                                            " s (a non-finite velocity); try a smaller max_dt or cfl");
+                                                            " s (a non-finite velocity or position); try a smaller "
+                                                            "max_dt or cfl");
         s.t += s.dt;
         s.totals.guardCorrections += corrected;
         emit(s);
