@@ -259,14 +259,8 @@ TEST_F(GlSpray, EnvironmentMapLightsTheDropsAsTheCpu) {
     SprayParams p;
     p.color = glm::vec3(1.0f);
     const glm::vec3 L{0.9f, 0.5f, 0.2f};
-    const int mw = 16, mh = 8;
-    std::vector<float> texels;
-    for (int k = 0; k < mw * mh; ++k) texels.insert(texels.end(), {L.x, L.y, L.z});
-    shared::EnvironmentMap env;
-    env.texels = texels.data();
-    env.width = mw;
-    env.height = mh;
-    shared::environmentIrradianceSh(texels.data(), mw, mh, 0.0f, 1.0f, env.irradiance);
+    const ConstantEnvironment constant(L);
+    const shared::EnvironmentMap& env = constant.map;
     Image<glm::vec4> cpuColor = s.color;
     const Image<float> cpuCover = cpu::drawSpray(s.camera, s.drops, s.velocities, s.radius, s.depth, &s.sceneDepth, p,
                                                  s.light, cpuColor, env);

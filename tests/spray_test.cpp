@@ -104,14 +104,8 @@ TEST(SprayDrops, LitByTheEnvironmentMapsAmbient) {
     const Camera cam = straightCamera();
     const std::vector<glm::vec3> drops{{0.0f, 0.0f, -0.5f}};
     const glm::vec3 L{0.9f, 0.5f, 0.2f};
-    const int mw = 16, mh = 8;
-    std::vector<float> texels;
-    for (int k = 0; k < mw * mh; ++k) texels.insert(texels.end(), {L.x, L.y, L.z});
-    shared::EnvironmentMap env;
-    env.texels = texels.data();
-    env.width = mw;
-    env.height = mh;
-    shared::environmentIrradianceSh(texels.data(), mw, mh, 0.0f, 1.0f, env.irradiance);
+    const test::ConstantEnvironment constant(L);
+    const shared::EnvironmentMap& env = constant.map;
     SprayParams p = onParams();
     p.color = glm::vec3(1.0f);
     const glm::vec3 behindTheDrops = -cam.back();

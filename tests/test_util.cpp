@@ -327,4 +327,12 @@ float hash01(std::uint32_t i, std::uint32_t salt) {
     return float(h % 100000u) / 100000.0f;
 }
 
+ConstantEnvironment::ConstantEnvironment(glm::vec3 radiance, int width, int height) {
+    for (int k = 0; k < width * height; ++k) texels.insert(texels.end(), {radiance.x, radiance.y, radiance.z});
+    map.texels = texels.data();
+    map.width = width;
+    map.height = height;
+    shared::environmentIrradianceSh(texels.data(), width, height, 0.0f, 1.0f, map.irradiance);
+}
+
 }  // namespace meniscus::test

@@ -19,6 +19,7 @@
 #include "meniscus/camera.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
+#include "shared/environment.h"
 
 namespace meniscus::test {
 
@@ -152,5 +153,17 @@ int differingBits(const Image<T>& a, const Image<T>& b) {
         n += std::memcmp(&a.pixels[k], &b.pixels[k], sizeof(T)) != 0;
     return n + int(a.size() > b.size() ? a.size() - b.size() : b.size() - a.size());
 }
+
+// An environment map of one radiance everywhere (width x height texels) with
+// its irradiance: a constant map of radiance L lights a surface by L in every
+// direction, so tests can tell its light from the studio's. It owns its
+// texels (the map points into them), so it is neither copied nor moved.
+struct ConstantEnvironment {
+    explicit ConstantEnvironment(glm::vec3 radiance, int width = 16, int height = 8);
+    ConstantEnvironment(const ConstantEnvironment&) = delete;
+    ConstantEnvironment& operator=(const ConstantEnvironment&) = delete;
+    std::vector<float> texels;
+    shared::EnvironmentMap map;
+};
 
 }  // namespace meniscus::test

@@ -12,6 +12,8 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include "shared/text_lines.h"
+
 namespace meniscus {
 
 namespace {
@@ -72,12 +74,8 @@ std::uint64_t parseCgroupMemoryLimit(std::string_view text) {
 }
 
 std::string cgroupPathOf(std::string_view text, bool v1) {
-    std::size_t at = 0;
-    while (at < text.size()) {
-        std::size_t end = text.find('\n', at);
-        if (end == std::string_view::npos) end = text.size();
-        const std::string_view line = text.substr(at, end - at);
-        at = end + 1;
+    shared::TextLines lines(text);
+    for (std::string_view line; lines.next(line);) {
         // hierarchy-ID:controller-list:cgroup-path
         const std::size_t c1 = line.find(':');
         if (c1 == std::string_view::npos) continue;

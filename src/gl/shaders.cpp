@@ -6,6 +6,8 @@
 #include <set>
 #include <sstream>
 
+#include "shared/text_lines.h"
+
 namespace meniscus::gl {
 
 namespace {
@@ -28,12 +30,8 @@ Status appendResolved(std::string_view fileName, std::set<std::string>& seen, st
     const std::string_view text = overridden.empty() ? shaderSource(fileName) : std::string_view(overridden);
     if (text.empty()) return makeError(std::string(fileName), "shader file not embedded in the build");
     seen.insert(std::string(fileName));
-    std::size_t pos = 0;
-    while (pos < text.size()) {
-        std::size_t end = text.find('\n', pos);
-        if (end == std::string_view::npos) end = text.size();
-        const std::string_view line = text.substr(pos, end - pos);
-        pos = end + 1;
+    shared::TextLines lines(text);
+    for (std::string_view line; lines.next(line);) {
         const std::size_t first = line.find_first_not_of(" \t");
         const std::string_view trimmed = first == std::string_view::npos ? std::string_view{} : line.substr(first);
         if (trimmed.starts_with("#extension GL_GOOGLE_include_directive")) {

@@ -13,6 +13,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "io/io_util.h"
@@ -157,6 +158,15 @@ void applyCanonicalNames(std::vector<Attribute>& attrs) {
         const bool fits = target == kAttrId ? floatIdsToInt(a) : a.type == AttributeType::Float;
         if (fits) a.name = std::string(target);
     }
+}
+
+std::size_t appendAttribute(std::vector<Attribute>& attrs, std::string name, AttributeType type, int components) {
+    Attribute a;
+    a.name = std::move(name);
+    a.type = type;
+    a.components = components;
+    attrs.push_back(std::move(a));
+    return attrs.size() - 1;
 }
 
 }  // namespace meniscus::io_util

@@ -72,6 +72,10 @@ std::string nonCanonicalName(std::string name, std::string_view suffix);
 // false, and `a` unchanged, otherwise.
 bool floatIdsToInt(Attribute& a);
 
+// For readers with one column per scalar (CSV, PLY): appends an empty
+// attribute of that name, type and component count to `attrs`; its index.
+std::size_t appendAttribute(std::vector<Attribute>& attrs, std::string name, AttributeType type, int components);
+
 // For readers with whole arrays (BGEO, legacy VTK, VTK XML): renames, in
 // order, each attribute whose name canonicalArrayName maps to a canonical
 // one, when its type fits (velocity and density Float; id Int, or Float

@@ -33,6 +33,7 @@
 #include "meniscus/geometry.h"
 #include "meniscus/io.h"
 #include "meniscus/json_text.h"
+#include "shared/text_lines.h"
 
 namespace meniscus {
 namespace {
@@ -316,12 +317,8 @@ std::string extensionOf(const std::string& name) { return lower(fs::path(name).e
 // takes it most of a minute).
 std::optional<std::string> implausiblePly(std::string_view head, std::uintmax_t size) {
     if (head.substr(0, 3) != "ply") return std::nullopt;
-    std::size_t pos = 0;
-    while (pos < head.size()) {
-        std::size_t end = head.find('\n', pos);
-        if (end == std::string_view::npos) end = head.size();
-        const std::string_view line = head.substr(pos, end - pos);
-        pos = end + 1;
+    shared::TextLines lines(head);
+    for (std::string_view line; lines.next(line);) {
         if (line.substr(0, 10) == "end_header") break;
         if (line.substr(0, 8) != "element ") continue;
         const std::size_t space = line.rfind(' ');

@@ -50,15 +50,6 @@ struct VertexLayout {
     std::vector<std::string> warnings;
 };
 
-std::size_t addAttribute(VertexLayout& layout, std::string attrName, AttributeType type, int components) {
-    Attribute a;
-    a.name = std::move(attrName);
-    a.type = type;
-    a.components = components;
-    layout.attributes.push_back(std::move(a));
-    return layout.attributes.size() - 1;
-}
-
 // How many properties from index i on are named BASE_0, BASE_1, ... (scalars
 // of one kind, integer or float), when p[i] is BASE_0 and BASE is free; the
 // particle writer stores a k-component attribute so. 0 when there is no run.
@@ -122,16 +113,19 @@ Result<VertexLayout> planVertexLayout(const Element& vertex, const std::string& 
         }
         col.slot = Slot::Attribute;
         if (hasVelocity && (pi == vel[0] || pi == vel[1] || pi == vel[2])) {
-            if (!velocityAttr) velocityAttr = addAttribute(layout, std::string(kAttrVelocity), AttributeType::Float, 3);
+            if (!velocityAttr)
+                velocityAttr =
+                    io_util::appendAttribute(layout.attributes, std::string(kAttrVelocity), AttributeType::Float, 3);
             col.attribute = *velocityAttr;
             col.component = pi == vel[0] ? 0 : pi == vel[1] ? 1 : 2;
         } else if (pi == density) {
-            col.attribute = addAttribute(layout, std::string(kAttrDensity), AttributeType::Float, 1);
+            col.attribute =
+                io_util::appendAttribute(layout.attributes, std::string(kAttrDensity), AttributeType::Float, 1);
         } else if (pi == id) {
-            col.attribute = addAttribute(layout, std::string(kAttrId), AttributeType::Int, 1);
+            col.attribute = io_util::appendAttribute(layout.attributes, std::string(kAttrId), AttributeType::Int, 1);
         } else if (const int k = componentRun(vertex, i); k > 0) {
-            const std::size_t a = addAttribute(layout, p.name.substr(0, p.name.size() - 2),
-                                               col.fromInteger ? AttributeType::Int : AttributeType::Float, k);
+            const std::size_t a = io_util::appendAttribute(layout.attributes, p.name.substr(0, p.name.size() - 2),
+                                                           col.fromInteger ? AttributeType::Int : AttributeType::Float, k);
             for (int c = 0; c < k; ++c) {
                 Column& part = layout.columns[i + std::size_t(c)];
                 part = {Slot::Attribute, a, c, col.fromInteger};
@@ -141,8 +135,8 @@ Result<VertexLayout> planVertexLayout(const Element& vertex, const std::string& 
             // Kept by name; a name that would clash with a canonical attribute
             // (a second density column, a scalar "velocity") gets a suffix.
             std::string attrName = io_util::nonCanonicalName(p.name, "_ply");
-            col.attribute = addAttribute(layout, attrName,
-                                         col.fromInteger ? AttributeType::Int : AttributeType::Float, 1);
+            col.attribute = io_util::appendAttribute(layout.attributes, attrName,
+                                                     col.fromInteger ? AttributeType::Int : AttributeType::Float, 1);
         }
     }
     return layout;

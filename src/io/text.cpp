@@ -138,15 +138,6 @@ struct CsvLayout {
     std::vector<Attribute> attributes;
 };
 
-std::size_t addAttribute(CsvLayout& layout, std::string attrName, AttributeType type, int components) {
-    Attribute a;
-    a.name = std::move(attrName);
-    a.type = type;
-    a.components = components;
-    layout.attributes.push_back(std::move(a));
-    return layout.attributes.size() - 1;
-}
-
 // The error for a header without a complete set of position columns: the
 // first of x, y, z that no column names in any of the table's spellings.
 Error missingPositionError(const std::vector<std::string>& names, const std::string& name) {
@@ -181,13 +172,16 @@ Result<CsvLayout> planCsvLayout(const std::vector<std::string>& names, const std
         if (ii == pos[0] || ii == pos[1] || ii == pos[2]) {
             col.slot = ii == pos[0] ? Slot::PosX : ii == pos[1] ? Slot::PosY : Slot::PosZ;
         } else if (roles.hasVelocity() && (ii == vel[0] || ii == vel[1] || ii == vel[2])) {
-            if (!velocityAttr) velocityAttr = addAttribute(layout, std::string(kAttrVelocity), AttributeType::Float, 3);
+            if (!velocityAttr)
+                velocityAttr =
+                    io_util::appendAttribute(layout.attributes, std::string(kAttrVelocity), AttributeType::Float, 3);
             col.attribute = *velocityAttr;
             col.component = ii == vel[0] ? 0 : ii == vel[1] ? 1 : 2;
         } else if (ii == roles.density) {
-            col.attribute = addAttribute(layout, std::string(kAttrDensity), AttributeType::Float, 1);
+            col.attribute =
+                io_util::appendAttribute(layout.attributes, std::string(kAttrDensity), AttributeType::Float, 1);
         } else if (ii == roles.id) {
-            col.attribute = addAttribute(layout, std::string(kAttrId), AttributeType::Int, 1);
+            col.attribute = io_util::appendAttribute(layout.attributes, std::string(kAttrId), AttributeType::Int, 1);
         } else {
             // Kept by its name without the unit ("Press [Pa]" -> "Press"), which
             // --select and the fluid index then use.
@@ -195,7 +189,7 @@ Result<CsvLayout> planCsvLayout(const std::vector<std::string>& names, const std
             if (attrName.empty()) attrName = names[i];
             for (const Attribute& a : layout.attributes)
                 if (a.name == attrName) return makeError(name, "CSV header names column '" + attrName + "' twice");
-            col.attribute = addAttribute(layout, attrName, AttributeType::Float, 1);
+            col.attribute = io_util::appendAttribute(layout.attributes, attrName, AttributeType::Float, 1);
         }
     }
     return layout;
