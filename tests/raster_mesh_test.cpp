@@ -37,22 +37,9 @@ double angleDeg(glm::dvec3 a, glm::dvec3 b) {
 }
 
 // View-space ray of pixel (x, y) in double (docs/conventions.md#conventions).
-glm::dvec3 rayAt(const Camera& cam, double px, double py) {
+glm::dvec3 rayOf(const Camera& cam, int x, int y) {
     const double f = cam.focalPx();
-    return {(px - 0.5 * cam.width) / f, -(py - 0.5 * cam.height) / f, -1.0};
-}
-glm::dvec3 rayOf(const Camera& cam, int x, int y) { return rayAt(cam, x + 0.5, y + 0.5); }
-
-// The rasteriser snaps the vertices to 1/256 px (rounding: at most half of
-// that in x and in y) and interpolates the attributes of the snapped
-// triangle, so a centre's depth and normal are the surface's at a point up
-// to this far from the centre in x and in y: the rays through the four
-// corners of that square bound them (1/w is affine in screen space).
-constexpr double kSnapPx = 0.5 / 256.0;
-template <class Fn>
-void forSnapCorners(const Camera& cam, int x, int y, Fn&& fn) {
-    for (const double dy : {-kSnapPx, kSnapPx})
-        for (const double dx : {-kSnapPx, kSnapPx}) fn(rayAt(cam, x + 0.5 + dx, y + 0.5 + dy));
+    return {(x + 0.5 - 0.5 * cam.width) / f, -(y + 0.5 - 0.5 * cam.height) / f, -1.0};
 }
 
 // Eye depths where the ray (ray.z = -1) enters and leaves the sphere
@@ -97,8 +84,7 @@ TEST(RasterMesh, SphereMatchesTheAnalyticSphere) {
     constexpr double kRel = 2e-6;
     // The normal of a point on a flat triangle, interpolated from the radial
     // vertex normals, is radial: only rounding (float vertices, float depth)
-    // is left, beyond the spread of the normals at the points the snapping
-    // may have moved the centre to (forSnapCorners). On the silhouette ring (rays that miss the inner sphere: the
+    // is left. On the silhouette ring (rays that miss the inner sphere: the
     // triangles are seen edge-on, a few pixels thin) a centre the 1/256 px
     // snapping let in is extrapolated and its 1/w clamped to the triangle's
     // range, which tilts the reconstructed point: 1 degree there.
@@ -136,21 +122,12 @@ TEST(RasterMesh, SphereMatchesTheAnalyticSphere) {
             // The mesh lies in the shell between the spheres: its nearest hit
             // is no nearer than the outer sphere's and no farther than the
             // inner sphere's entry (or the outer one's exit for grazing rays).
-            // (Over the points the snapping may have moved the centre to.)
-            double zLo = zIn, zHi = inner ? zInnerIn : (outer ? zOut : 0.0), snapDeg = 0.0;
-            forSnapCorners(cam, x, y, [&](const glm::dvec3& d) {
-                double i0 = 0, o0 = 0, i1 = 0, o1 = 0;
-                if (!raySphere(d, c, R, &i0, &o0)) return;
-                const bool in1 = raySphere(d, c, R - e, &i1, &o1);
-                zLo = std::min(zLo, i0);
-                zHi = std::max(zHi, in1 ? i1 : o0);
-                if (outer) snapDeg = std::max(snapDeg, angleDeg(zIn * ray - c, i0 * d - c));
-            });
-            if (outer && !(z >= zLo * (1 - kRel) && z <= zHi * (1 + kRel))) ++depthBad;
+            const double zMax = inner ? zInnerIn : (outer ? zOut : 0.0);
+            if (outer && !(z >= zIn * (1 - kRel) && z <= zMax * (1 + kRel))) ++depthBad;
             const double deg = angleDeg(glm::dvec3(r.normal.at(x, y)), double(z) * ray - c);
             worstDeg = std::max(worstDeg, inner ? deg : 0.0);
             worstRingDeg = std::max(worstRingDeg, inner ? 0.0 : deg);
-            normalBad += !(deg <= (inner ? kMaxDeg + snapDeg : kMaxRingDeg));
+            normalBad += !(deg <= (inner ? kMaxDeg : kMaxRingDeg));
         }
     std::printf("chord error %.3g R; %d covered; depth out of the shell %d; normals max %.3g deg (ring %.3g, %d over);"
                 " outside the disc %d, inner disc missed %d\n",
@@ -297,16 +274,7 @@ TEST(RasterMesh, TriangleCrossingTheNearPlane) {
                 if (has != in && l.x > margin && l.y > margin && l.z > margin && std::abs(z - nearM) > 2.0 * foot)
                     ++coverageBad;
                 if (!has || !in) continue;
-                // Within 1e-5 of the depths at the points the snapping may
-                // have moved the centre to.
-                double zLo = z, zHi = z;
-                forSnapCorners(cam, x, y, [&](const glm::dvec3& d) {
-                    if (d.y >= 0.0) return;
-                    zLo = std::min(zLo, h / d.y);
-                    zHi = std::max(zHi, h / d.y);
-                });
-                const double zr = r.depth.at(x, y);
-                const double rel = std::max({0.0, (zLo - zr) / zLo, (zr - zHi) / zHi});
+                const double rel = std::abs(r.depth.at(x, y) - z) / z;
                 worstRel = std::max(worstRel, rel);
                 depthBad += !(rel <= 1e-5);
                 const glm::dvec3 n = l.x * glm::dvec3(m.normals[0]) + l.y * glm::dvec3(m.normals[1]) +
@@ -315,7 +283,7 @@ TEST(RasterMesh, TriangleCrossingTheNearPlane) {
                 worstDeg = std::max(worstDeg, deg);
                 normalBad += !(deg <= 0.01);
             }
-        std::printf("near %.2f: %d covered (%d expected), depth rel max %.3g beyond the snapped range, normals max %.3g deg\n", nearM, covered,
+        std::printf("near %.2f: %d covered (%d expected), depth rel max %.3g, normals max %.3g deg\n", nearM, covered,
                     expected, worstRel, worstDeg);
         EXPECT_GT(covered, 2000);
         EXPECT_EQ(coverageBad, 0);

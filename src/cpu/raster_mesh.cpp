@@ -12,8 +12,7 @@
 // n/w are affine in screen space (Heckbert & Moreton, "Interpolation for
 // Polygon Texture Mapping and Shading", 1991), so the eye depth is 1 / (1/w)
 // and the normal is the interpolated n/w renormalised; the affine weights are
-// the edge functions at the centre over the snapped area (the snapped
-// vertices carry the attributes, as on a GPU).
+// the unsnapped triangle's edge functions at the centre over its area.
 //
 // Clipping is done in view space, where attributes are linear: against the near
 // plane (eye depth >= near; a triangle crossing it keeps its front part) and
@@ -80,9 +79,9 @@ struct Vertex {
     glm::vec3 view;
     glm::vec3 normal;      // view space, as given (unit for mesh vertices)
     glm::vec2 uv;          // texture coordinates (0 without)
-    // When drawable: 1/w, made once per vertex for the attributes of every
-    // triangle using it.
-    double q;
+    // When drawable: the unsnapped pixel coordinates (project) and 1/w, made
+    // once per vertex for the attributes of every triangle using it.
+    double sx, sy, q;
 };
 // One corner of a triangle to draw: its two records.
 struct Corner {
@@ -122,7 +121,7 @@ inline std::int32_t roundToInt(double v) {
 // planeValues: a shared vertex is the same bits everywhere.
 [[gnu::noinline]] void makeVertex(const Frame& fr, const glm::vec3& view, const glm::vec3& normal,
                                   const glm::vec2& uv, Fixed& f, Vertex& v, bool onPlane = false) {
-    v = Vertex{view, normal, uv, 0.0};
+    v = Vertex{view, normal, uv, 0.0, 0.0, 0.0};
     f = Fixed{0, 0, 0};
     double d[kPlanes];
     planeValues(fr, view, d);
@@ -132,6 +131,8 @@ inline std::int32_t roundToInt(double v) {
         const glm::dvec2 s = project(fr, view, v.q);
         f.fx = roundToInt(s.x * double(kOne));
         f.fy = roundToInt(s.y * double(kOne));
+        v.sx = s.x;
+        v.sy = s.y;
     }
 }
 
@@ -201,6 +202,8 @@ void makeVertices(const Frame& fr, const glm::vec3* positions, const glm::vec3* 
             const bool drawable = f.outside == 0;
             f.fx = drawable ? fx[l] : 0;
             f.fy = drawable ? fy[l] : 0;
+            v.sx = drawable ? sx[l] : 0.0;
+            v.sy = drawable ? sy[l] : 0.0;
             v.q = drawable ? q[l] : 0.0;
         }
     }
@@ -299,12 +302,10 @@ struct Targets {
 // the bias makes "inside" one sign test.
 struct Edge {
     std::int64_t row, stepX, stepY;  // E at the first centre of the box (biased), per pixel in x, in y
-    std::int64_t bias;               // E = biased value + bias
     Edge(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by, std::int64_t px, std::int64_t py) {
         const std::int64_t dx = bx - ax, dy = by - ay;
         const bool topLeft = dy < 0 || (dy == 0 && dx > 0);
-        bias = topLeft ? 0 : 1;
-        row = dx * (py - ay) - dy * (px - ax) - bias;
+        row = dx * (py - ay) - dy * (px - ax) - (topLeft ? 0 : 1);
         stepX = -dy * kOne;
         stepY = dx * kOne;
     }
@@ -397,41 +398,61 @@ void triangleBoxes(const std::uint32_t* idx, std::size_t nv, const Fixed* fixed,
 
 // Draws triangle (a, b, c), drawable vertices of non-zero snapped `area`, at
 // the pixel centres of `box` (its centre box cut to the tile, not empty).
-// The attributes come from the edge functions themselves: at a covered centre
-// the unbiased values (E_bc, E_ca, E_ab) are exact integers, the snapped
-// triangle's barycentric coordinates times its area (Pineda 1988), so with
-// b_i = E_i q_i (q = 1/w) the perspective-correct interpolation (Heckbert &
-// Moreton 1991) is 1/w = sum b_i / area, n ~ sum b_i n_i (renormalised: its
-// scale drops out) and uv = sum b_i uv_i / sum b_i: one division and one
-// square root per fragment and no per-triangle planes (what GPUs do: the
-// attributes of the snapped vertices).
+// The coverage is the snapped edge functions'; the attributes are
+// interpolated perspective-correctly (Heckbert & Moreton 1991) with the
+// unsnapped triangle's edge functions at the centre, e_i = its barycentric
+// coordinates times its doubled area d (Pineda 1988): with b_i = e_i q_i
+// (q = 1/w), 1/w = sum b_i / d, n ~ sum b_i n_i (renormalised: its scale
+// drops out) and uv = sum b_i uv_i / sum b_i, so one division and one square
+// root per fragment and no division per triangle.
 template <bool kCount, bool kUv>
 void drawTriangle(Corner a, Corner b, Corner c, std::int64_t area, const Rect& box, const Targets& out) {
-    if (area < 0) {
-        std::swap(b, c);
-        area = -area;
-    }
+    if (area < 0) std::swap(b, c);
     const int x0 = box.x0, x1 = box.x1, y0 = box.y0, y1 = box.y1;
     const std::int64_t px = std::int64_t(x0) * kOne + kHalf, py = std::int64_t(y0) * kOne + kHalf;
     Edge e0(b.f->fx, b.f->fy, c.f->fx, c.f->fy, px, py);  // opposite a
     Edge e1(c.f->fx, c.f->fy, a.f->fx, a.f->fy, px, py);  // opposite b
     Edge e2(a.f->fx, a.f->fy, b.f->fx, b.f->fy, px, py);  // opposite c
-    const double qa = a.v->q, qb = b.v->q, qc = c.v->q, dArea = double(area);
+    const Vertex &va = *a.v, &vb = *b.v, &vc = *c.v;
+    // The unsnapped edges, e_i(p) = k_i + dx_i (p.y - o_i.y) - dy_i (p.x - o_i.x),
+    // as k_i + dx_i (p.y - o_i.y) + dy_i o_i.x per row, minus dy_i p.x per centre.
+    double dx[3] = {vc.sx - vb.sx, va.sx - vc.sx, vb.sx - va.sx};
+    double dy[3] = {vc.sy - vb.sy, va.sy - vc.sy, vb.sy - va.sy};
+    const double ox[3] = {vb.sx, vc.sx, va.sx}, oy[3] = {vb.sy, vc.sy, va.sy};
+    double d = dx[2] * (vc.sy - va.sy) - dy[2] * (vc.sx - va.sx);
+    double k[3] = {0.0, 0.0, 0.0};
+    if (d < 0.0) {  // snapping turned the triangle over
+        for (int i = 0; i < 3; ++i) dx[i] = -dx[i], dy[i] = -dy[i];
+        d = -d;
+    }
+    if (!(d > 0.0)) {  // degenerate unsnapped: a's values hold across it
+        for (int i = 0; i < 3; ++i) dx[i] = dy[i] = 0.0;
+        k[0] = d = 1.0;
+    }
+    const double qa = va.q, qb = vb.q, qc = vc.q;
+    // Inside the triangle the eye depth lies between its vertex values; the
+    // clamp only catches the extrapolation of centres the snapping let in.
+    const double zMin = -double(std::max({va.view.z, vb.view.z, vc.view.z}));
+    const double zMax = -double(std::min({va.view.z, vb.view.z, vc.view.z}));
     for (int y = y0; y < y1; ++y) {
         std::int64_t w0 = e0.row, w1 = e1.row, w2 = e2.row;
         const std::size_t rowStart = std::size_t(y) * std::size_t(out.width);
+        const double cy = double(y) + 0.5;
+        const double ra = k[0] + dx[0] * (cy - oy[0]) + dy[0] * ox[0];
+        const double rb = k[1] + dx[1] * (cy - oy[1]) + dy[1] * ox[1];
+        const double rc = k[2] + dx[2] * (cy - oy[2]) + dy[2] * ox[2];
         for (int x = x0; x < x1; ++x, w0 += e0.stepX, w1 += e1.stepX, w2 += e2.stepX) {
             if ((w0 | w1 | w2) < 0) continue;  // outside (some biased edge function negative)
             const std::size_t idx = rowStart + std::size_t(x);
             if constexpr (kCount) ++out.coverage[idx];
-            const double ba = double(w0 + e0.bias) * qa, bb = double(w1 + e1.bias) * qb,
-                         bc = double(w2 + e2.bias) * qc;
-            const double sum = ba + bb + bc;  // area / w, > 0 (a convex combination of positive 1/w)
-            const double inv = 1.0 / sum;
-            const float z = float(dArea * inv);
+            const double cx = double(x) + 0.5;
+            const double la = ra - dy[0] * cx, lb = rb - dy[1] * cx, lc = rc - dy[2] * cx;
+            const double ba = la * qa, bb = lb * qb, bc = lc * qc;
+            const double inv = 1.0 / (ba + bb + bc);
+            const float z = float(std::clamp(d * inv, zMin, zMax));
             if (!(z < out.depth[idx])) continue;  // strict: the first of equal depths stays
             out.depth[idx] = z;
-            const glm::vec3 &na = a.v->normal, &nb = b.v->normal, &nc = c.v->normal;
+            const glm::vec3 &na = va.normal, &nb = vb.normal, &nc = vc.normal;
             const double nx = ba * double(na.x) + bb * double(nb.x) + bc * double(nc.x);
             const double ny = ba * double(na.y) + bb * double(nb.y) + bc * double(nc.y);
             const double nz = ba * double(na.z) + bb * double(nb.z) + bc * double(nc.z);
@@ -439,7 +460,7 @@ void drawTriangle(Corner a, Corner b, Corner c, std::int64_t area, const Rect& b
             const double s = len2 > 0.0 ? 1.0 / std::sqrt(len2) : 0.0;
             out.normal[idx] = glm::vec3(float(nx * s), float(ny * s), float(nz * s));
             if constexpr (kUv) {
-                const glm::vec2 &ua = a.v->uv, &ub = b.v->uv, &uc = c.v->uv;
+                const glm::vec2 &ua = va.uv, &ub = vb.uv, &uc = vc.uv;
                 const double u = ba * double(ua.x) + bb * double(ub.x) + bc * double(uc.x);
                 const double v = ba * double(ua.y) + bb * double(ub.y) + bc * double(uc.y);
                 out.uv[idx] = glm::vec2(float(u * inv), float(v * inv));
