@@ -65,10 +65,12 @@ struct Scratch {
 // bytes at a time, since the runs of covered and uncovered pixels are long.
 int nextOther(const std::uint8_t* c, int x, int n, std::uint8_t v) {
     const std::uint64_t all = v ? 0x0101010101010101ull : 0u;
-    for (; x + 8 <= n; x += 8) {
-        std::uint64_t w;
-        std::memcpy(&w, c + x, sizeof w);
-        if (const std::uint64_t d = w ^ all) return x + std::countr_zero(d) / 8;  // x86-64: little-endian
+    if constexpr (std::endian::native == std::endian::little) {  // byte i of the word is c[x + i]
+        for (; x + 8 <= n; x += 8) {
+            std::uint64_t w;
+            std::memcpy(&w, c + x, sizeof w);
+            if (const std::uint64_t d = w ^ all) return x + std::countr_zero(d) / 8;
+        }
     }
     while (x < n && c[x] == v) ++x;
     return x;
