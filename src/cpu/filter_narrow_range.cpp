@@ -115,17 +115,20 @@ void filterN(const float* c, const std::vector<Tap>& taps, float tau, float behi
     for (const Tap& t : taps) {
         std::memcpy(&a, c + t.offset, sizeof a);
         std::memcpy(&b, c - t.offset, sizeof b);
-        const auto frontA = a < lower, frontB = b < lower;
+        // Not in front: the depths are never NaN, so `a >= lower` is
+        // !(a < lower), and one mask per tap serves the weights and the range.
+        const auto inA = a >= lower, inB = b >= lower;
         const auto behindA = a > upper, behindB = b > upper;
         const T da = behindA ? dBehind : a - z0;
         const T db = behindB ? dBehind : b - z0;
         // A tap in front drops the pair (keeps the mean unbiased).
-        sum += (frontA | frontB) ? zero : t.w * (da + db);
-        wsum += (frontA | frontB) ? zero : zero + t.w;
+        const auto keep = inA & inB;
+        sum += keep ? t.w * (da + db) : zero;
+        wsum += keep ? zero + t.w : zero;
         // Range extension by inside taps. A front tap never raises `upper`
         // and a behind tap never lowers `lower` (the range is at least 2τ
         // wide), so each bound needs only one mask.
-        const T la = frontA ? lower : a - tau, lb = frontB ? lower : b - tau;
+        const T la = inA ? a - tau : lower, lb = inB ? b - tau : lower;
         const T ua = behindA ? upper : a + tau, ub = behindB ? upper : b + tau;
         lower = la < lower ? la : lower;
         lower = lb < lower ? lb : lower;
