@@ -1,7 +1,8 @@
 // CPU hole filling, docs/pipeline.md#hole-filling (the rule and formulas:
 // src/shared/hole_fill.h). Per row in parallel; the nearest covered pixels
-// along the row (two scans of the row) and the column (two sweeps of blocks of
-// columns) come without a walk, so the row and the column turn most of the
+// along the row (the ends of the row's runs of uncovered pixels, found eight
+// coverage bytes at a time) and the column (two sweeps of blocks of columns
+// over the coverage bytes) come without a walk, so the row and the column turn most of the
 // background away at once; only pixels they close, one of them narrowly, walk
 // the diagonals. A pass reads the splat as it came into the pass: its fills
 // are kept per row and written once every row is done, so a filled pixel
