@@ -46,6 +46,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "cpu/filter_util.h"
@@ -114,17 +115,20 @@ void filterN(const float* c, const std::vector<Tap>& taps, float tau, float behi
     for (const Tap& t : taps) {
         std::memcpy(&a, c + t.offset, sizeof a);
         std::memcpy(&b, c - t.offset, sizeof b);
-        const auto frontA = a < lower, frontB = b < lower;
+        // Not in front: the depths are never NaN, so `a >= lower` is
+        // !(a < lower), and one mask per tap serves the weights and the range.
+        const auto inA = a >= lower, inB = b >= lower;
         const auto behindA = a > upper, behindB = b > upper;
         const T da = behindA ? dBehind : a - z0;
         const T db = behindB ? dBehind : b - z0;
         // A tap in front drops the pair (keeps the mean unbiased).
-        sum += (frontA | frontB) ? zero : t.w * (da + db);
-        wsum += (frontA | frontB) ? zero : zero + t.w;
+        const auto keep = inA & inB;
+        sum += keep ? t.w * (da + db) : zero;
+        wsum += keep ? zero + t.w : zero;
         // Range extension by inside taps. A front tap never raises `upper`
         // and a behind tap never lowers `lower` (the range is at least 2τ
         // wide), so each bound needs only one mask.
-        const T la = frontA ? lower : a - tau, lb = frontB ? lower : b - tau;
+        const T la = inA ? a - tau : lower, lb = inB ? b - tau : lower;
         const T ua = behindA ? upper : a + tau, ub = behindB ? upper : b + tau;
         lower = la < lower ? la : lower;
         lower = lb < lower ? lb : lower;
@@ -141,9 +145,9 @@ int kernelPx(float z, const Setup& s) { return isFluid(z) ? projectedRadiusPx(s.
 // One pass over the padded buffers: dst = narrow-range(src) using `taps`.
 // kLanes adjacent pixels are filtered at once with the kernel of the first; the
 // leading ones that share that kernel radius are kept (at least the first),
-// the rest are redone in the next step with their own kernel.
-void pass(const std::vector<float>& src, std::vector<float>& dst, int W, int H, int pad, const TapTables& taps,
-          const Setup& s) {
+// the rest are redone in the next step with their own kernel. Every pixel of
+// dst's image area is written; its frame is left as it is.
+void pass(const float* src, float* dst, int W, int H, int pad, const TapTables& taps, const Setup& s) {
     const std::ptrdiff_t PW = W + 2 * pad;
     forEachRow(H, [&](int y) {
         const std::size_t row = std::size_t(y + pad) * PW + pad;
@@ -181,34 +185,59 @@ Image<float> filterNarrowRange(const Image<float>& depth, const Camera& camera, 
     // The filtered depth never gets nearer than the nearest input depth (every
     // accepted value is an input depth or lies behind z0), so the kernel radius
     // at the nearest pixel bounds all iterations. Kernels wider than the image
-    // are pointless, which also bounds the padding.
+    // are pointless, which also bounds the padding. (The minimum per row in
+    // parallel, then over the rows: a min does not depend on the order.)
+    std::vector<float> rowMin(std::size_t(H), kInf);
+    forEachRow(H, [&](int y) {
+        const float* in = &depth.pixels[std::size_t(y) * W];
+        float m = kInf;
+        for (int x = 0; x < W; ++x) m = std::min(m, in[x]);
+        rowMin[std::size_t(y)] = m;
+    });
     float zMin = kInf;
-    for (float z : depth.pixels) zMin = std::min(zMin, z);  // order-independent
+    for (float z : rowMin) zMin = std::min(zMin, z);
     if (!isFluid(zMin)) return depth;
     s.Rmax = projectedRadiusPx(s.world, s.f, zMin, std::max(0, std::min(p.maxKernelPx, std::max(W, H))));
     if (s.Rmax == 0) return depth;
 
     // Padded copies with a −inf frame: taps there are "in front" and are dropped
     // with their mirror. Rmax + kLanes - 1 wide: lane loads reach further right.
+    // Left uninitialised and written row by row in parallel (a serial fill of
+    // both would cost more than the copy): `a` the frame and the depth, `b`
+    // only the frame, since every pass writes the whole image area.
     const int pad = s.Rmax + kLanes - 1;
     const std::ptrdiff_t PW = W + 2 * pad;
-    std::vector<float> a(std::size_t(PW) * std::size_t(H + 2 * pad), -kInf);
-    forEachRow(H, [&](int y) {
-        const float* in = &depth.pixels[std::size_t(y) * W];
-        std::copy(in, in + W, &a[std::size_t(y + pad) * PW + pad]);
+    const std::size_t padded = std::size_t(PW) * std::size_t(H + 2 * pad);
+    std::unique_ptr<float[]> a(new float[padded]), b(new float[padded]);
+    tbb::parallel_for(tbb::blocked_range<int>(0, H + 2 * pad, 4), [&](const tbb::blocked_range<int>& rows) {
+        for (int py = rows.begin(); py < rows.end(); ++py) {
+            float* ra = &a[std::size_t(py) * PW];
+            float* rb = &b[std::size_t(py) * PW];
+            const int y = py - pad;
+            if (y < 0 || y >= H) {
+                std::fill(ra, ra + PW, -kInf);
+                std::fill(rb, rb + PW, -kInf);
+                continue;
+            }
+            const float* in = &depth.pixels[std::size_t(y) * W];
+            std::fill(ra, ra + pad, -kInf);
+            std::copy(in, in + W, ra + pad);
+            std::fill(ra + pad + W, ra + PW, -kInf);
+            std::fill(rb, rb + pad, -kInf);
+            std::fill(rb + pad + W, rb + PW, -kInf);
+        }
     });
-    std::vector<float> b = a;
 
     if (p.separable) {
         const TapTables tx = tapTables1D(s.Rmax, 1), ty = tapTables1D(s.Rmax, PW);
         for (int it = 0; it < p.iterations; ++it) {
-            pass(a, b, W, H, pad, tx, s);
-            pass(b, a, W, H, pad, ty, s);
+            pass(a.get(), b.get(), W, H, pad, tx, s);
+            pass(b.get(), a.get(), W, H, pad, ty, s);
         }
     } else {
         const TapTables t2 = tapTables2D(s.Rmax, PW);
         for (int it = 0; it < p.iterations; ++it) {
-            pass(a, b, W, H, pad, t2, s);
+            pass(a.get(), b.get(), W, H, pad, t2, s);
             std::swap(a, b);
         }
     }

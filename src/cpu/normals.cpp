@@ -8,7 +8,8 @@
 // selected) so GCC vectorises each row (target_clones: AVX2 or the SSE2
 // baseline; the same IEEE operations in either, no FMA); non-fluid lanes
 // between the first and last fluid pixel of a row are computed too and written
-// as (0,0,0); outside that span the zero-filled output is kept.
+// as (0,0,0); outside that span the row loop writes (0,0,0), so a frame's
+// normals reuse the last frame's buffer without a serial zero fill.
 #include "cpu/normals.h"
 #include "cpu/cpu_backend.h"
 
@@ -42,8 +43,8 @@ __attribute__((target_clones("avx2", "default"), flatten))
 void normalsRow(const float* row, const float* up, const float* down, const float* rx, float ryc, float ryu,
                 float ryd, int w, float jump, float* dst) {
     constexpr float kInf = INFINITY;
-    // Only the span from the first to the last fluid pixel of the row: the rest
-    // stays (0,0,0) from the zero-filled output (most of a frame is background).
+    // Only the span from the first to the last fluid pixel of the row: the
+    // caller writes the rest (0,0,0) (most of a frame is background).
     int first = 0, last = w - 1;
     while (first < w && !(row[first] < kInf)) ++first;
     if (first == w) return;
@@ -65,13 +66,20 @@ void normalsRow(const float* row, const float* up, const float* down, const floa
 
 }  // namespace
 
-Image<glm::vec3> computeNormals(const Image<float>& depth, const Camera& camera, float radius, float jumpRadii) {
+void computeNormals(const Image<float>& depth, const Camera& camera, float radius, float jumpRadii,
+                    Image<glm::vec3>& out) {
     const int w = depth.width, h = depth.height;
-    if (w <= 0 || h <= 0) return Image<glm::vec3>(w, h);
-    Image<glm::vec3> out;  // every pixel is written below
-    out.width = w;
-    out.height = h;
-    resizeFresh(out.pixels, std::size_t(w) * std::size_t(h));
+    if (w <= 0 || h <= 0) {
+        out = Image<glm::vec3>(w, h);
+        return;
+    }
+    // Every pixel is written below: the rows' spans by normalsRow, the rest
+    // (0,0,0) by the row loop, so a buffer of the right size is reused as it is.
+    if (out.width != w || out.height != h || out.pixels.size() != std::size_t(w) * std::size_t(h)) {
+        out.width = w;
+        out.height = h;
+        resizeFresh(out.pixels, std::size_t(w) * std::size_t(h));
+    }
 
     // Ray components per column / row, computed exactly as Camera::pixelRay does,
     // so P(x, y) = z * (rx[x], ry[y], -1) equals camera.unproject(x+0.5, y+0.5, z).
@@ -87,10 +95,22 @@ Image<glm::vec3> computeNormals(const Image<float>& depth, const Camera& camera,
         const float* row = &depth.pixels[std::size_t(y) * std::size_t(w)];
         const float* up = y > 0 ? row - w : infRow.data();
         const float* down = y + 1 < h ? row + w : infRow.data();
-        float* dst = &out.pixels[std::size_t(y) * std::size_t(w)].x;
+        glm::vec3* px = &out.pixels[std::size_t(y) * std::size_t(w)];
+        // (0,0,0) outside the span from the first to the last fluid pixel
+        // (normalsRow writes the span, non-fluid pixels in it included).
+        int first = 0, last = w - 1;
+        while (first < w && !(row[first] < INFINITY)) ++first;
+        while (last >= first && !(row[last] < INFINITY)) --last;
+        std::fill(px, px + first, glm::vec3(0.0f));
+        std::fill(px + last + 1, px + w, glm::vec3(0.0f));
         normalsRow(row, up, down, rx.data(), ry[std::size_t(y + 1)], ry[std::size_t(y)], ry[std::size_t(y + 2)], w,
-                   jump, dst);
+                   jump, &px->x);
     });
+}
+
+Image<glm::vec3> computeNormals(const Image<float>& depth, const Camera& camera, float radius, float jumpRadii) {
+    Image<glm::vec3> out;
+    computeNormals(depth, camera, radius, jumpRadii, out);
     return out;
 }
 
@@ -102,7 +122,7 @@ namespace {
 void runNormals(Backend& b, const StageIo& io) {
     CpuBackend& c = CpuBackend::of(b);
     const FrameSettings& s = c.frame();
-    c.vec3(io.at.normal) = computeNormals(c.scalar(io.at.depth), s.camera, s.radius, defaults::kDepthJumpRadii);
+    computeNormals(c.scalar(io.at.depth), s.camera, s.radius, defaults::kDepthJumpRadii, c.vec3(io.at.normal));
 }
 
 }  // namespace

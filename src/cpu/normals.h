@@ -14,4 +14,10 @@ namespace meniscus::cpu {
 // with the smaller |dz| is used. Bit-identical for any thread count.
 Image<glm::vec3> computeNormals(const Image<float>& depth, const Camera& camera, float radius, float jumpRadii);
 
+// The same into `out`, reusing its pixels when it already has depth's size
+// (a frame's normals over the last frame's: no allocation, and every pixel is
+// written in the parallel row loop instead of zero-filled first on one thread).
+void computeNormals(const Image<float>& depth, const Camera& camera, float radius, float jumpRadii,
+                    Image<glm::vec3>& out);
+
 }  // namespace meniscus::cpu
