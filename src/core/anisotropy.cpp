@@ -25,7 +25,10 @@
 
 #include "core/dense_grid.h"
 #include "core/hash_grid.h"
-#include "core/lanes.h"
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
 
 
 
@@ -33,18 +36,52 @@ namespace meniscus {
 
 namespace {
 
-// The neighbour loop runs over four candidates at a time (core/lanes.h).
-using F4 = lanes::FloatV;
-using I4 = lanes::IntV;
-constexpr std::size_t kLanes = lanes::kLanes;
+// The neighbour sums run eight particles at a time, in GCC vector types: one
+// AVX register where the CPU has AVX2, two SSE registers on the baseline
+// (the loop is compiled for both, picked at run time). Both do the same IEEE
+// operations in the same lanes (no FMA), so the bits are the same on every
+// x86-64 machine.
+constexpr int kLanes = 8;
+using F8 = float __attribute__((vector_size(4 * kLanes)));
+using I8 = std::int32_t __attribute__((vector_size(4 * kLanes)));
 constexpr float kFar = 1e18f;  // padding: |d|^2 ~ 3e36 stays finite, outside any R
-inline double hsum(F4 v) { return (double(v[0]) + double(v[1])) + (double(v[2]) + double(v[3])); }
+inline double hsum(F8 v) {
+    return ((double(v[0]) + double(v[1])) + (double(v[2]) + double(v[3]))) +
+           ((double(v[4]) + double(v[5])) + (double(v[6]) + double(v[7])));
+}
+
+// Lane-wise IEEE square roots (correctly rounded, as std::sqrt): two SSE
+// halves (split and joined in registers), or one AVX instruction.
+struct SqrtBase {
+    static F8 apply(F8 v) {
+#if defined(__SSE__)
+        using H = float __attribute__((vector_size(16)));
+        const H lo = H(_mm_sqrt_ps(__m128(__builtin_shufflevector(v, v, 0, 1, 2, 3))));
+        const H hi = H(_mm_sqrt_ps(__m128(__builtin_shufflevector(v, v, 4, 5, 6, 7))));
+        return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
+#else
+        for (int l = 0; l < kLanes; ++l) v[l] = std::sqrt(v[l]);
+        return v;
+#endif
+    }
+};
+#if defined(__x86_64__) || defined(__i386__)
+#define MENISCUS_ANISOTROPY_AVX2 1
+struct SqrtAvx2 {
+    // Not always_inline: GCC inlines it once the loop sits in the AVX2 function.
+    __attribute__((target("avx2"))) static F8 apply(F8 v) { return F8(_mm256_sqrt_ps(__m256(v))); }
+};
+#endif
 
 // A matrix from its unit axes (columns of r) and values along them: r diag(v) r^T.
+// Symmetric: each of the 6 distinct entries once.
 glm::mat3 fromAxes(const glm::dmat3& r, const glm::dvec3& v) {
-    glm::dmat3 out(0.0);
-    for (int k = 0; k < 3; ++k) out += v[k] * glm::outerProduct(r[k], r[k]);
-    return glm::mat3(out);
+    glm::mat3 out;
+    for (int i = 0; i < 3; ++i)
+        for (int j = i; j < 3; ++j)
+            out[i][j] = out[j][i] =
+                float((v[0] * (r[0][i] * r[0][j]) + v[1] * (r[1][i] * r[1][j])) + v[2] * (r[2][i] * r[2][j]));
+    return out;
 }
 
 }  // namespace
@@ -83,7 +120,7 @@ bool eigenvector(const glm::dmat3& a, double lambda, double scale, glm::dvec3& v
         if (glm::dot(c[k], c[k]) > glm::dot(c[best], c[best])) best = k;
     const double len2 = glm::dot(c[best], c[best]);
     if (!(len2 > 1e-20 * scale * scale * scale * scale)) return false;
-    v = c[best] / std::sqrt(len2);
+    v = c[best] * (1.0 / std::sqrt(len2));
     return true;
 }
 
@@ -105,11 +142,16 @@ void symmetricEigen(const glm::dmat3& a, glm::dvec3& values, glm::dmat3& vectors
         vectors = glm::dmat3(1.0);
         return;
     }
-    const glm::dmat3 bm = (a - q * glm::dmat3(1.0)) / p;
+    const glm::dmat3 bm = (a - q * glm::dmat3(1.0)) * (1.0 / p);
     const double r = std::clamp(glm::determinant(bm) / 2.0, -1.0, 1.0);
-    const double phi = std::acos(r) / 3.0;
-    constexpr double kThird = 2.0943951023931954923;  // 2 pi / 3
-    const double e1 = q + 2.0 * p * std::cos(phi), e3 = q + 2.0 * p * std::cos(phi + kThird);
+    // phi in [0, pi/3]; cos(phi + 2 pi/3) = -(cos phi + sqrt 3 sin phi) / 2,
+    // with sin phi >= 0 from cos phi (one libm call instead of two; where
+    // the root loses digits, phi ~ 0, e3 is the middle-close one and is
+    // recomputed below from the 2 x 2 problem).
+    const double cphi = std::cos(std::acos(r) / 3.0);
+    const double sphi = std::sqrt(std::max(1.0 - cphi * cphi, 0.0));
+    constexpr double kSqrt3 = 1.7320508075688772935;
+    const double e1 = q + 2.0 * p * cphi, e3 = q - p * (cphi + kSqrt3 * sphi);
     values = glm::dvec3(e1, 3.0 * q - e1 - e3, e3);  // e1 >= e2 >= e3
     // Eigenvectors (after J. Kopp, "Efficient numerical diagonalization of
     // hermitian 3x3 matrices", 2008): the one of the eigenvalue farthest from
@@ -123,10 +165,23 @@ void symmetricEigen(const glm::dmat3& a, glm::dvec3& values, glm::dmat3& vectors
         return;
     }
     const glm::dvec3 u = orthogonal(v), w = glm::cross(v, u);
-    const double auu = glm::dot(u, a * u), auw = glm::dot(u, a * w), aww = glm::dot(w, a * w);
-    // The rotation by theta with tan(2 theta) = 2 auw / (auu - aww) diagonalises [[auu, auw], [auw, aww]].
-    const double theta = 0.5 * std::atan2(2.0 * auw, auu - aww);
-    const double c = std::cos(theta), s = std::sin(theta);
+    const glm::dvec3 au = a * u, aw = a * w;
+    const double auu = glm::dot(u, au), auw = glm::dot(u, aw), aww = glm::dot(w, aw);
+    // The rotation by theta with tan(2 theta) = 2 auw / (auu - aww)
+    // diagonalises [[auu, auw], [auw, aww]]: theta = atan2(2 auw, auu - aww) / 2
+    // in (-pi/2, pi/2], its cosine and sine from the double angle's by the
+    // half-angle formulas (no trigonometric call).
+    const double c2x = auu - aww, s2x = 2.0 * auw, h = std::sqrt(c2x * c2x + s2x * s2x);
+    double c = 1.0, s = 0.0;
+    if (h > 0.0) {
+        const double c2 = c2x * (1.0 / h), s2 = s2x * (1.0 / h);
+        if (c2 >= 0.0) {
+            c = std::sqrt(0.5 * (1.0 + c2)), s = s2 / (2.0 * c);
+        } else {
+            s = std::sqrt(0.5 * (1.0 - c2)), c = s2 / (2.0 * s);
+            if (std::signbit(s2)) s = -s, c = -c;  // theta in (-pi/2, 0)
+        }
+    }
     glm::dvec3 x = c * u + s * w, y = -s * u + c * w;  // eigenvalues: the larger along x
     const double ex = glm::dot(x, a * x), ey = glm::dot(y, a * y);
     if (firstApart) {
@@ -148,54 +203,196 @@ namespace {
 // (1/2) (R^4/4 - R^4/7) / (R^3/3 - R^3/6) / R = 9/28.
 constexpr double kHalfSpaceOffset = 9.0 / 28.0;
 
-// One particle's ellipsoid from its candidate neighbours (ranges of the
-// sorted points): returns whether it is isolated.
-struct Pca {
-    float R2, invR3;
-    const AnisotropyParams& params;
+// A run [b, e) of candidates in the sorted coordinate arrays.
+struct Span {
+    std::uint32_t b, e;
+};
 
-    // The candidates: points [b, e) of each range of the SoA arrays xs, ys,
-    // zs (padded past the last point, so a whole vector may be loaded at the
-    // end of a range; the lanes past it are masked).
-    // `radius`: the particle's own radius (its volume, and its size alone).
-    bool operator()(const glm::vec3& p, float radius, const float* xs, const float* ys, const float* zs,
-                    std::span<const std::pair<std::uint32_t, std::uint32_t>> ranges, glm::vec3& centre,
-                    EllipsoidShape& shape) const {
-        // Weighted sums of the offsets d = x_j - x_i: W, sum w d, sum w d d^T,
-        // lane by lane in float, then added up in a fixed order.
-        F4 W{}, sx{}, sy{}, sz{}, sxx{}, sxy{}, sxz{}, syy{}, syz{}, szz{};
-        I4 inside{};
-        const I4 lane = {0, 1, 2, 3};
-        for (const auto& [b, e] : ranges)
+// The weighted sums of one particle's neighbourhood (d = x_j - x_i):
+// W = sum w, s = sum w d, c = sum w d d^T (xx, xy, xz, yy, yz, zz), and
+// how many candidates lie within R (the particle itself included).
+struct Sums {
+    double W, s[3], c[6];
+    int count;
+};
+
+// One particle's neighbours, in two passes over its candidates. First the
+// offsets d = x_j - x_i and |d|^2 of the candidates within R, packed in
+// candidate order into `near` (four arrays of `cap` floats: x, y, z, |d|^2;
+// each pass-one vector writes all its lanes, so cap >= candidates + kLanes);
+// then the weighted sums over those alone (the square root of the weight
+// only for them: about 33 of 220 candidates in the bulk), lane by lane in
+// float, lane = position in `near` mod kLanes, added up in a fixed order.
+// The packing is the same in both builds (AVX2: a permutation from a table
+// per lane mask; baseline: lane by lane), and so are the sums.
+struct Near {
+    float* v;  // x[cap], y[cap], z[cap], d2[cap]
+    std::size_t cap;
+};
+
+inline I8 laneIndex() {
+    I8 l;
+    for (int k = 0; k < kLanes; ++k) l[k] = k;
+    return l;
+}
+
+// The first pass, baseline: returns how many candidates lie within R.
+std::uint32_t packNearBase(const float* xs, const float* ys, const float* zs, const Span* spans, int spanCount,
+                           const glm::vec3& p, float R2, const Near& near) {
+    float* nx = near.v;
+    float* ny = nx + near.cap;
+    float* nz = ny + near.cap;
+    float* nd = nz + near.cap;
+    std::uint32_t n = 0;
+    const I8 lane = laneIndex();
+    for (int r = 0; r < spanCount; ++r) {
+        const std::uint32_t b = spans[r].b, e = spans[r].e;
         for (std::uint32_t k = b; k < e; k += kLanes) {
-            F4 dx, dy, dz;
+            F8 dx, dy, dz;
             std::memcpy(&dx, xs + k, sizeof dx);
             std::memcpy(&dy, ys + k, sizeof dy);
             std::memcpy(&dz, zs + k, sizeof dz);
             dx -= p.x, dy -= p.y, dz -= p.z;
-            const F4 d2 = dx * dx + dy * dy + dz * dz;
-            const I4 in = (d2 < R2) & (lane < std::int32_t(e - k));
-            const F4 w = lanes::selectV(in, 1.0f - d2 * lanes::sqrtV(d2) * invR3);  // 1 - (|d| / R)^3 (Yu & Turk eq. 11)
-            inside -= in;  // `in` is -1 where true
-            const F4 wx = w * dx, wy = w * dy, wz = w * dz;
-            W += w, sx += wx, sy += wy, sz += wz;
-            sxx += wx * dx, sxy += wx * dy, sxz += wx * dz;
-            syy += wy * dy, syz += wy * dz, szz += wz * dz;
+            const F8 d2 = dx * dx + dy * dy + dz * dz;
+            const I8 in = (d2 < R2) & (lane < std::int32_t(e - k));
+            for (int l = 0; l < kLanes; ++l) {
+                nx[n] = dx[l], ny[n] = dy[l], nz[n] = dz[l], nd[n] = d2[l];
+                n += std::uint32_t(in[l] & 1);
+            }
         }
-        const int count = (inside[0] + inside[1]) + (inside[2] + inside[3]);
-        const double Wd = hsum(W);  // >= 1: the particle itself
-        const glm::dvec3 mu = glm::dvec3(hsum(sx), hsum(sy), hsum(sz)) / Wd;
+    }
+    return n;
+}
+
+#if MENISCUS_ANISOTROPY_AVX2
+// For each 8-bit lane mask, the lanes set, in order, as a permutation.
+struct PackTable {
+    alignas(32) std::int32_t perm[256][8];
+    PackTable() {
+        for (int m = 0; m < 256; ++m) {
+            int n = 0;
+            for (int l = 0; l < 8; ++l)
+                if (m & (1 << l)) perm[m][n++] = l;
+            while (n < 8) perm[m][n++] = 0;
+        }
+    }
+};
+const PackTable kPack;
+
+// The first pass, AVX2: the same offsets (the same operations in the same
+// order, no FMA), packed with a permutation.
+__attribute__((target("avx2"))) std::uint32_t packNearAvx2(const float* xs, const float* ys, const float* zs,
+                                                           const Span* spans, int spanCount, const glm::vec3& p,
+                                                           float R2, const Near& near) {
+    float* nx = near.v;
+    float* ny = nx + near.cap;
+    float* nz = ny + near.cap;
+    float* nd = nz + near.cap;
+    std::uint32_t n = 0;
+    const __m256 px = _mm256_set1_ps(p.x), py = _mm256_set1_ps(p.y), pz = _mm256_set1_ps(p.z);
+    const __m256 r2 = _mm256_set1_ps(R2);
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    for (int r = 0; r < spanCount; ++r) {
+        const std::uint32_t b = spans[r].b, e = spans[r].e;
+        for (std::uint32_t k = b; k < e; k += kLanes) {
+            const __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(xs + k), px);
+            const __m256 dy = _mm256_sub_ps(_mm256_loadu_ps(ys + k), py);
+            const __m256 dz = _mm256_sub_ps(_mm256_loadu_ps(zs + k), pz);
+            const __m256 d2 =
+                _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+            const __m256 valid = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(std::int32_t(e - k)), lane));
+            const int mask = _mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(d2, r2, _CMP_LT_OQ), valid));
+            const __m256i perm = _mm256_load_si256(reinterpret_cast<const __m256i*>(kPack.perm[mask]));
+            _mm256_storeu_ps(nx + n, _mm256_permutevar8x32_ps(dx, perm));
+            _mm256_storeu_ps(ny + n, _mm256_permutevar8x32_ps(dy, perm));
+            _mm256_storeu_ps(nz + n, _mm256_permutevar8x32_ps(dz, perm));
+            _mm256_storeu_ps(nd + n, _mm256_permutevar8x32_ps(d2, perm));
+            n += std::uint32_t(__builtin_popcount(unsigned(mask)));
+        }
+    }
+    return n;
+}
+#endif
+
+// The second pass: the sums over the n packed neighbours.
+template <class Sqrt>
+__attribute__((always_inline)) inline void nearSumsT(const Near& near, std::uint32_t n, float invR3, Sums& out) {
+    const float* nx = near.v;
+    const float* ny = nx + near.cap;
+    const float* nz = ny + near.cap;
+    const float* nd = nz + near.cap;
+    F8 W{}, sx{}, sy{}, sz{}, sxx{}, sxy{}, sxz{}, syy{}, syz{}, szz{};
+    const I8 lane = laneIndex();
+    for (std::uint32_t k = 0; k < n; k += kLanes) {
+        F8 dx, dy, dz, d2;
+        std::memcpy(&dx, nx + k, sizeof dx);
+        std::memcpy(&dy, ny + k, sizeof dy);
+        std::memcpy(&dz, nz + k, sizeof dz);
+        std::memcpy(&d2, nd + k, sizeof d2);
+        const I8 in = lane < std::int32_t(n - k);
+        // Past n: the lanes' offsets are zeroed (packNear's caller), their weights masked.
+        const F8 w = F8(I8(1.0f - d2 * Sqrt::apply(d2) * invR3) & in);  // 1 - (|d| / R)^3 (Yu & Turk eq. 11)
+        const F8 wx = w * dx, wy = w * dy, wz = w * dz;
+        W += w, sx += wx, sy += wy, sz += wz;
+        sxx += wx * dx, sxy += wx * dy, sxz += wx * dz;
+        syy += wy * dy, syz += wy * dz, szz += wz * dz;
+    }
+    out.count = int(n);
+    out.W = hsum(W);
+    out.s[0] = hsum(sx), out.s[1] = hsum(sy), out.s[2] = hsum(sz);
+    out.c[0] = hsum(sxx), out.c[1] = hsum(sxy), out.c[2] = hsum(sxz);
+    out.c[3] = hsum(syy), out.c[4] = hsum(syz), out.c[5] = hsum(szz);
+}
+void nearSumsBase(const Near& near, std::uint32_t n, float invR3, Sums& out) {
+    nearSumsT<SqrtBase>(near, n, invR3, out);
+}
+#if MENISCUS_ANISOTROPY_AVX2
+__attribute__((target("avx2"))) void nearSumsAvx2(const Near& near, std::uint32_t n, float invR3, Sums& out) {
+    nearSumsT<SqrtAvx2>(near, n, invR3, out);
+}
+const bool kHasAvx2 = __builtin_cpu_supports("avx2");
+#endif
+
+// Both passes for the particle at p.
+void neighbourSums(const float* xs, const float* ys, const float* zs, const Span* spans, int spanCount,
+                   const glm::vec3& p, float R2, float invR3, const Near& near, Sums& out) {
+    std::uint32_t n;
+#if MENISCUS_ANISOTROPY_AVX2
+    if (kHasAvx2)
+        n = packNearAvx2(xs, ys, zs, spans, spanCount, p, R2, near);
+    else
+#endif
+        n = packNearBase(xs, ys, zs, spans, spanCount, p, R2, near);
+    for (int a = 0; a < 4; ++a) std::fill_n(near.v + a * near.cap + n, kLanes, 0.0f);
+#if MENISCUS_ANISOTROPY_AVX2
+    if (kHasAvx2) return nearSumsAvx2(near, n, invR3, out);
+#endif
+    nearSumsBase(near, n, invR3, out);
+}
+
+// One particle's ellipsoid from its neighbourhood's sums: returns whether
+// it is isolated. `radius`: the particle's own radius (its volume, and its
+// size alone).
+struct Pca {
+    float R2, invR3;
+    const AnisotropyParams& params;
+
+    bool operator()(const glm::vec3& p, float radius, const Sums& sums, glm::vec3& centre, EllipsoidShape& shape) const {
+        const double Wd = sums.W;  // >= 1: the particle itself
+        const glm::dvec3 mu = glm::dvec3(sums.s[0], sums.s[1], sums.s[2]) * (1.0 / Wd);
         centre = glm::vec3(glm::dvec3(p) + double(params.smoothing) * mu);  // Yu & Turk eq. 6
-        if (count - 1 < params.minNeighbours) {
+        if (sums.count - 1 < params.minNeighbours) {
             shape = sphereShape(params.kn * radius);
             return true;
         }
-        const double cxx = hsum(sxx), cxy = hsum(sxy), cxz = hsum(sxz);
-        const double cyy = hsum(syy), cyz = hsum(syz), czz = hsum(szz);
+        const double cxx = sums.c[0], cxy = sums.c[1], cxz = sums.c[2];
+        const double cyy = sums.c[3], cyz = sums.c[4], czz = sums.c[5];
         glm::dmat3 cov;  // Yu & Turk eq. 9, about the weighted mean
-        cov[0] = glm::dvec3(cxx, cxy, cxz) / Wd - mu.x * mu;
-        cov[1] = glm::dvec3(cxy, cyy, cyz) / Wd - mu.y * mu;
-        cov[2] = glm::dvec3(cxz, cyz, czz) / Wd - mu.z * mu;
+        const double inv = 1.0 / Wd;
+        cov[0][0] = cxx * inv - mu.x * mu.x, cov[1][1] = cyy * inv - mu.y * mu.y, cov[2][2] = czz * inv - mu.z * mu.z;
+        cov[0][1] = cov[1][0] = cxy * inv - mu.x * mu.y;
+        cov[0][2] = cov[2][0] = cxz * inv - mu.x * mu.z;
+        cov[1][2] = cov[2][1] = cyz * inv - mu.y * mu.z;
         glm::dvec3 sigma;
         glm::dmat3 axes;
         symmetricEigen(cov, sigma, axes);
@@ -248,29 +445,37 @@ void computeAnisotropy(std::span<const glm::vec3> positions, float radius, const
         xs.assign(pts.size() + kLanes, kFar), ys.assign(pts.size() + kLanes, kFar), zs.assign(pts.size() + kLanes, kFar);
         for (std::size_t k = 0; k < pts.size(); ++k) xs[k] = pts[k].x, ys[k] = pts[k].y, zs[k] = pts[k].z;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 64), [&](const auto& block) {
-            std::vector<std::pair<std::uint32_t, std::uint32_t>> near;
+            std::vector<Span> spans;
+            std::vector<float> buffer;
             for (std::size_t c = block.begin(); c != block.end(); ++c) {
                 const auto [b, e] = range(c);
                 if (b == e) continue;
-                near.clear();
-                ranges(c, near);
+                spans.clear();
+                ranges(c, spans);
+                std::size_t candidates = 0;
+                for (const Span& s : spans) candidates += s.e - s.b;
+                const Near near{nullptr, candidates + 2 * kLanes};
+                if (buffer.size() < 4 * near.cap) buffer.resize(4 * near.cap);
+                const Near at{buffer.data(), near.cap};
                 for (std::uint32_t s = b; s < e; ++s) {
                     const std::uint32_t i = order[s];
-                    isolated[i] = pca(pts[s], own ? radii[i] : radius, xs.data(), ys.data(), zs.data(), near,
-                                      out.centres[i], out.shapes[i]);
+                    Sums sums;
+                    neighbourSums(xs.data(), ys.data(), zs.data(), spans.data(), int(spans.size()), pts[s], pca.R2,
+                                  pca.invR3, at, sums);
+                    isolated[i] = pca(pts[s], own ? radii[i] : radius, sums, out.centres[i], out.shapes[i]);
                 }
             }
         });
     };
-    using Ranges = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+    using Spans = std::vector<Span>;
     detail::DenseGrid dense;
     if (dense.build(positions, R, 8 * n + (std::size_t(1) << 20))) {
         // Dense: a row of three cells is one range of points.
         run(
             dense.cellCount(), dense.points(), dense.order(),
-            [&](std::size_t c, Ranges& near) {
+            [&](std::size_t c, Spans& near) {
                 dense.forRowsNear(dense.coords(c), 1, [&](std::uint32_t b, std::uint32_t e) {
-                    if (b < e) near.emplace_back(b, e);
+                    if (b < e) near.push_back({b, e});
                 });
             },
             [&](std::size_t c) { return std::pair(dense.begin(c), dense.begin(c + 1)); });
@@ -279,13 +484,13 @@ void computeAnisotropy(std::span<const glm::vec3> positions, float radius, const
         const detail::HashGrid grid(positions, double(R), glm::dvec3(positions[0]));
         run(
             grid.cellCount(), grid.points(), grid.order(),
-            [&](std::size_t c, Ranges& near) {
+            [&](std::size_t c, Spans& near) {
                 const detail::HashGrid::Key key = grid.cellKey(c);
                 for (int z = -1; z <= 1; ++z)
                     for (int y = -1; y <= 1; ++y)
                         for (int x = -1; x <= 1; ++x)
                             grid.forCellRange({key[0] + x, key[1] + y, key[2] + z},
-                                              [&](std::uint32_t b, std::uint32_t e) { near.emplace_back(b, e); });
+                                              [&](std::uint32_t b, std::uint32_t e) { near.push_back({b, e}); });
             },
             [&](std::size_t c) { return std::pair(grid.cellBegin(c), grid.cellEnd(c)); });
     }
