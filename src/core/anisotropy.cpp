@@ -44,6 +44,9 @@ namespace {
 constexpr int kLanes = 8;
 using F8 = float __attribute__((vector_size(4 * kLanes)));
 using I8 = std::int32_t __attribute__((vector_size(4 * kLanes)));
+// The eigen solve runs four particles at a time in double lanes.
+using D4 = double __attribute__((vector_size(32)));
+using M4 = std::int64_t __attribute__((vector_size(32)));
 constexpr float kFar = 1e18f;  // padding: |d|^2 ~ 3e36 stays finite, outside any R
 inline double hsum(F8 v) {
     return ((double(v[0]) + double(v[1])) + (double(v[2]) + double(v[3]))) +
@@ -64,12 +67,24 @@ struct SqrtBase {
         return v;
 #endif
     }
+    static D4 apply(D4 v) {
+#if defined(__SSE2__)
+        using H = double __attribute__((vector_size(16)));
+        const H lo = H(_mm_sqrt_pd(__m128d(__builtin_shufflevector(v, v, 0, 1))));
+        const H hi = H(_mm_sqrt_pd(__m128d(__builtin_shufflevector(v, v, 2, 3))));
+        return __builtin_shufflevector(lo, hi, 0, 1, 2, 3);
+#else
+        for (int l = 0; l < 4; ++l) v[l] = std::sqrt(v[l]);
+        return v;
+#endif
+    }
 };
 #if defined(__x86_64__) || defined(__i386__)
 #define MENISCUS_ANISOTROPY_AVX2 1
 struct SqrtAvx2 {
     // Not always_inline: GCC inlines it once the loop sits in the AVX2 function.
     __attribute__((target("avx2"))) static F8 apply(F8 v) { return F8(_mm256_sqrt_ps(__m256(v))); }
+    __attribute__((target("avx2"))) static D4 apply(D4 v) { return D4(_mm256_sqrt_pd(__m256d(v))); }
 };
 #endif
 
@@ -102,98 +117,132 @@ EllipsoidShape ellipsoidShape(const glm::mat3& axes, const glm::vec3& a) {
 
 namespace {
 
-// A unit vector orthogonal to the unit vector v.
-glm::dvec3 orthogonal(const glm::dvec3& v) {
-    const glm::dvec3 other = std::abs(v.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-    return glm::normalize(glm::cross(v, other));
+inline D4 vmax(D4 a, D4 b) { return a < b ? b : a; }  // std::max, lane by lane
+inline D4 vmin(D4 a, D4 b) { return b < a ? b : a; }  // std::min
+inline D4 vabs(D4 a) { return a < 0.0 ? -a : a; }
+struct V3 {
+    D4 x, y, z;
+};
+inline V3 operator*(D4 s, const V3& v) { return {s * v.x, s * v.y, s * v.z}; }
+inline V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline D4 dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline V3 cross(const V3& a, const V3& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
+inline V3 select(M4 m, const V3& a, const V3& b) { return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z}; }
 
-// A unit eigenvector of a for the eigenvalue lambda: the longest cross
-// product of two rows of a - lambda I (they span the orthogonal complement
-// when lambda is simple). False when all are ~0 (lambda is not simple).
-bool eigenvector(const glm::dmat3& a, double lambda, double scale, glm::dvec3& v) {
-    const glm::dmat3 b = a - lambda * glm::dmat3(1.0);
-    const glm::dvec3 r0(b[0][0], b[1][0], b[2][0]), r1(b[0][1], b[1][1], b[2][1]), r2(b[0][2], b[1][2], b[2][2]);
-    const glm::dvec3 c[3] = {glm::cross(r0, r1), glm::cross(r0, r2), glm::cross(r1, r2)};
-    int best = 0;
-    for (int k = 1; k < 3; ++k)
-        if (glm::dot(c[k], c[k]) > glm::dot(c[best], c[best])) best = k;
-    const double len2 = glm::dot(c[best], c[best]);
-    if (!(len2 > 1e-20 * scale * scale * scale * scale)) return false;
-    v = c[best] * (1.0 / std::sqrt(len2));
-    return true;
+// The eigen-decomposition of four symmetric matrices at once, one per lane
+// (a: xx, xy, xz, yy, yz, zz): every lane takes the same operations, the
+// special cases are lane selections, so a lane's result does not depend on
+// the others. See symmetricEigen (anisotropy.h) for what it returns.
+template <class Sqrt>
+__attribute__((always_inline)) inline void eigenLanesT(const D4* a, D4* values, V3* vectors) {
+    const D4 a00 = a[0], a01 = a[1], a02 = a[2], a11 = a[3], a12 = a[4], a22 = a[5];
+    // Eigenvalues in closed form (O. K. Smith, "Eigenvalues of a symmetric
+    // 3 x 3 matrix", CACM 4(4) 1961): with q = tr(a)/3 and p the scale of
+    // a - qI, B = (a - qI)/p has eigenvalues 2 cos(phi + 2 pi k / 3), where
+    // cos(3 phi) = det(B) / 2.
+    const D4 p1 = a01 * a01 + a02 * a02 + a12 * a12;
+    const D4 q = (a00 + a11 + a22) / 3.0;
+    const D4 d0 = a00 - q, d1 = a11 - q, d2 = a22 - q;
+    const D4 p = Sqrt::apply((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * p1) / 6.0);
+    const D4 scale = vmax(vmax(vmax(vabs(a00), vabs(a11)), vmax(vabs(a22), Sqrt::apply(p1))), D4{} + 1e-300);
+    const M4 identity = ~(p > 1e-12 * scale);  // a multiple of the identity: any frame
+    const D4 ip = 1.0 / p;
+    const D4 b00 = d0 * ip, b11 = d1 * ip, b22 = d2 * ip, b01 = a01 * ip, b02 = a02 * ip, b12 = a12 * ip;
+    const D4 det = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
+    const D4 r = identity ? D4{} : vmax(vmin(det * 0.5, D4{} + 1.0), D4{} - 1.0);
+    // phi in [0, pi/3]; cos(phi + 2 pi/3) = -(cos phi + sqrt 3 sin phi) / 2,
+    // with sin phi >= 0 from cos phi (where the root loses digits, phi ~ 0,
+    // e3 is the one next to e2 and is recomputed below from the 2 x 2 problem).
+    D4 cphi;
+    for (int l = 0; l < 4; ++l) cphi[l] = std::cos(std::acos(r[l]) / 3.0);
+    const D4 sphi = Sqrt::apply(vmax(1.0 - cphi * cphi, D4{}));
+    constexpr double kSqrt3 = 1.7320508075688772935;
+    const D4 e1 = q + 2.0 * p * cphi, e3 = q - p * (cphi + kSqrt3 * sphi), e2 = 3.0 * q - e1 - e3;  // e1 >= e2 >= e3
+    // Eigenvectors (after J. Kopp, "Efficient numerical diagonalization of
+    // hermitian 3x3 matrices", 2008): the one of the eigenvalue farthest from
+    // the middle one (it is simple) as the longest cross product of two rows
+    // of a - lambda I (they span its orthogonal complement); the other two by
+    // diagonalising a in the plane orthogonal to it (a 2 x 2 rotation).
+    const M4 firstApart = (e1 - e2) >= (e2 - e3);
+    const D4 lambda = firstApart ? e1 : e3;
+    const V3 r0{a00 - lambda, a01, a02}, r1{a01, a11 - lambda, a12}, r2{a02, a12, a22 - lambda};
+    const V3 c0 = cross(r0, r1), c1 = cross(r0, r2), c2 = cross(r1, r2);
+    const D4 n0 = dot(c0, c0), n1 = dot(c1, c1), n2 = dot(c2, c2);
+    const M4 take1 = n1 > n0;
+    V3 best = select(take1, c1, c0);
+    D4 len2 = take1 ? n1 : n0;
+    const M4 take2 = n2 > len2;
+    best = select(take2, c2, best), len2 = take2 ? n2 : len2;
+    const M4 notSimple = ~(len2 > 1e-20 * scale * scale * scale * scale);  // any frame
+    const V3 v = (1.0 / Sqrt::apply(len2)) * best;
+    // A unit vector orthogonal to v, and a third.
+    const M4 smallX = vabs(v.x) < 0.6;
+    const V3 t{smallX ? D4{} : -v.z, smallX ? v.z : D4{}, smallX ? -v.y : v.x};  // v x e_x or v x e_y
+    const V3 u = (1.0 / Sqrt::apply(dot(t, t))) * t, w = cross(v, u);
+    auto times = [&](const V3& x) {
+        return V3{a00 * x.x + a01 * x.y + a02 * x.z, a01 * x.x + a11 * x.y + a12 * x.z,
+                  a02 * x.x + a12 * x.y + a22 * x.z};
+    };
+    const V3 au = times(u), aw = times(w);
+    const D4 auu = dot(u, au), auw = dot(u, aw), aww = dot(w, aw);
+    // The rotation by theta with tan(2 theta) = 2 auw / (auu - aww)
+    // diagonalises [[auu, auw], [auw, aww]]: theta = atan2(2 auw, auu - aww) / 2
+    // in (-pi/2, pi/2], its cosine and sine from the double angle's by the
+    // half-angle formulas.
+    const D4 c2x = auu - aww, s2x = 2.0 * auw, h = Sqrt::apply(c2x * c2x + s2x * s2x);
+    const D4 ih = 1.0 / h;
+    const D4 cos2 = c2x * ih, sin2 = s2x * ih;
+    const D4 cA = Sqrt::apply(0.5 * (1.0 + cos2)), sA = sin2 / (2.0 * cA);         // cos 2 theta >= 0
+    const D4 sB0 = Sqrt::apply(0.5 * (1.0 - cos2)), cB0 = sin2 / (2.0 * sB0);      // < 0
+    const M4 negative = M4(sin2) < 0;                                               // its sign bit: theta < 0
+    const M4 firstForm = cos2 >= 0.0, turn = h > 0.0;
+    const D4 c = turn ? (firstForm ? cA : (negative ? -cB0 : cB0)) : D4{} + 1.0;
+    const D4 s = turn ? (firstForm ? sA : (negative ? -sB0 : sB0)) : D4{};
+    const V3 x = c * u + s * w, y = (-s) * u + c * w;  // eigenvalues: the larger along x
+    const D4 ex = dot(x, times(x)), ey = dot(y, times(y));
+    const M4 swap = ex < ey;
+    const V3 big = select(swap, y, x), small = select(swap, x, y);
+    const D4 eBig = vmax(ex, ey), eSmall = vmin(ex, ey);
+    values[0] = firstApart ? e1 : eBig, values[1] = firstApart ? eBig : eSmall, values[2] = firstApart ? eSmall : e3;
+    vectors[0] = select(firstApart, v, big), vectors[1] = select(firstApart, big, small);
+    vectors[2] = select(firstApart, small, v);
+    const M4 left = dot(cross(vectors[0], vectors[1]), vectors[2]) < 0.0;  // make it right-handed
+    vectors[2] = select(left, (D4{} - 1.0) * vectors[2], vectors[2]);
+    const M4 anyFrame = identity | notSimple;
+    const D4 zero{}, one = zero + 1.0;
+    vectors[0] = select(anyFrame, V3{one, zero, zero}, vectors[0]);
+    vectors[1] = select(anyFrame, V3{zero, one, zero}, vectors[1]);
+    vectors[2] = select(anyFrame, V3{zero, zero, one}, vectors[2]);
+    for (int k = 0; k < 3; ++k) values[k] = identity ? q : (notSimple ? (k == 0 ? e1 : k == 1 ? e2 : e3) : values[k]);
+}
+void eigenLanesBase(const D4* a, D4* values, V3* vectors) { eigenLanesT<SqrtBase>(a, values, vectors); }
+#if MENISCUS_ANISOTROPY_AVX2
+__attribute__((target("avx2"))) void eigenLanesAvx2(const D4* a, D4* values, V3* vectors) {
+    eigenLanesT<SqrtAvx2>(a, values, vectors);
+}
+const bool kHasAvx2 = __builtin_cpu_supports("avx2");
+#endif
+void eigenLanes(const D4* a, D4* values, V3* vectors) {
+#if MENISCUS_ANISOTROPY_AVX2
+    if (kHasAvx2) return eigenLanesAvx2(a, values, vectors);
+#endif
+    eigenLanesBase(a, values, vectors);
 }
 
 }  // namespace
 
 void symmetricEigen(const glm::dmat3& a, glm::dvec3& values, glm::dmat3& vectors) {
-    // Eigenvalues in closed form (O. K. Smith, "Eigenvalues of a symmetric
-    // 3 x 3 matrix", CACM 4(4) 1961): with q = tr(a)/3 and p the scale of
-    // a - qI, B = (a - qI)/p has eigenvalues 2 cos(phi + 2 pi k / 3), where
-    // cos(3 phi) = det(B) / 2.
-    const double p1 = a[1][0] * a[1][0] + a[2][0] * a[2][0] + a[2][1] * a[2][1];
-    const double q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
-    const double p2 = (a[0][0] - q) * (a[0][0] - q) + (a[1][1] - q) * (a[1][1] - q) + (a[2][2] - q) * (a[2][2] - q) +
-                      2.0 * p1;
-    const double p = std::sqrt(p2 / 6.0);
-    const double scale = std::max({std::abs(a[0][0]), std::abs(a[1][1]), std::abs(a[2][2]), std::sqrt(p1), 1e-300});
-    if (!(p > 1e-12 * scale)) {  // a multiple of the identity: any frame
-        values = glm::dvec3(q);
-        vectors = glm::dmat3(1.0);
-        return;
-    }
-    const glm::dmat3 bm = (a - q * glm::dmat3(1.0)) * (1.0 / p);
-    const double r = std::clamp(glm::determinant(bm) / 2.0, -1.0, 1.0);
-    // phi in [0, pi/3]; cos(phi + 2 pi/3) = -(cos phi + sqrt 3 sin phi) / 2,
-    // with sin phi >= 0 from cos phi (one libm call instead of two; where
-    // the root loses digits, phi ~ 0, e3 is the middle-close one and is
-    // recomputed below from the 2 x 2 problem).
-    const double cphi = std::cos(std::acos(r) / 3.0);
-    const double sphi = std::sqrt(std::max(1.0 - cphi * cphi, 0.0));
-    constexpr double kSqrt3 = 1.7320508075688772935;
-    const double e1 = q + 2.0 * p * cphi, e3 = q - p * (cphi + kSqrt3 * sphi);
-    values = glm::dvec3(e1, 3.0 * q - e1 - e3, e3);  // e1 >= e2 >= e3
-    // Eigenvectors (after J. Kopp, "Efficient numerical diagonalization of
-    // hermitian 3x3 matrices", 2008): the one of the eigenvalue farthest from
-    // the middle one by cross products (it is simple), the other two by
-    // diagonalising a in the plane orthogonal to it (a 2 x 2 rotation).
-    const bool firstApart = values[0] - values[1] >= values[1] - values[2];
-    const int k = firstApart ? 0 : 2;
-    glm::dvec3 v;
-    if (!eigenvector(a, values[k], scale, v)) {
-        vectors = glm::dmat3(1.0);
-        return;
-    }
-    const glm::dvec3 u = orthogonal(v), w = glm::cross(v, u);
-    const glm::dvec3 au = a * u, aw = a * w;
-    const double auu = glm::dot(u, au), auw = glm::dot(u, aw), aww = glm::dot(w, aw);
-    // The rotation by theta with tan(2 theta) = 2 auw / (auu - aww)
-    // diagonalises [[auu, auw], [auw, aww]]: theta = atan2(2 auw, auu - aww) / 2
-    // in (-pi/2, pi/2], its cosine and sine from the double angle's by the
-    // half-angle formulas (no trigonometric call).
-    const double c2x = auu - aww, s2x = 2.0 * auw, h = std::sqrt(c2x * c2x + s2x * s2x);
-    double c = 1.0, s = 0.0;
-    if (h > 0.0) {
-        const double c2 = c2x * (1.0 / h), s2 = s2x * (1.0 / h);
-        if (c2 >= 0.0) {
-            c = std::sqrt(0.5 * (1.0 + c2)), s = s2 / (2.0 * c);
-        } else {
-            s = std::sqrt(0.5 * (1.0 - c2)), c = s2 / (2.0 * s);
-            if (std::signbit(s2)) s = -s, c = -c;  // theta in (-pi/2, 0)
-        }
-    }
-    glm::dvec3 x = c * u + s * w, y = -s * u + c * w;  // eigenvalues: the larger along x
-    const double ex = glm::dot(x, a * x), ey = glm::dot(y, a * y);
-    if (firstApart) {
-        values[1] = std::max(ex, ey), values[2] = std::min(ex, ey);
-        if (ex < ey) std::swap(x, y);
-        vectors = glm::dmat3(v, x, y);
-    } else {
-        values[0] = std::max(ex, ey), values[1] = std::min(ex, ey);
-        if (ex < ey) std::swap(x, y);
-        vectors = glm::dmat3(x, y, v);
-    }
-    if (glm::dot(glm::cross(vectors[0], vectors[1]), vectors[2]) < 0.0) vectors[2] = -vectors[2];
+    // Lane 0 of the four-lane solve (the same bits as in computeAnisotropy).
+    const D4 zero{};
+    const D4 in[6] = {zero + a[0][0], zero + 0.5 * (a[0][1] + a[1][0]), zero + 0.5 * (a[0][2] + a[2][0]),
+                      zero + a[1][1], zero + 0.5 * (a[1][2] + a[2][1]), zero + a[2][2]};
+    D4 v[3];
+    V3 r[3];
+    eigenLanes(in, v, r);
+    values = glm::dvec3(v[0][0], v[1][0], v[2][0]);
+    for (int k = 0; k < 3; ++k) vectors[k] = glm::dvec3(r[k].x[0], r[k].y[0], r[k].z[0]);
 }
 
 namespace {
@@ -350,7 +399,6 @@ void nearSumsBase(const Near& near, std::uint32_t n, float invR3, Sums& out) {
 __attribute__((target("avx2"))) void nearSumsAvx2(const Near& near, std::uint32_t n, float invR3, Sums& out) {
     nearSumsT<SqrtAvx2>(near, n, invR3, out);
 }
-const bool kHasAvx2 = __builtin_cpu_supports("avx2");
 #endif
 
 // Both passes for the particle at p.
@@ -370,41 +418,53 @@ void neighbourSums(const float* xs, const float* ys, const float* zs, const Span
     nearSumsBase(near, n, invR3, out);
 }
 
-// One particle's ellipsoid from its neighbourhood's sums: returns whether
-// it is isolated. `radius`: the particle's own radius (its volume, and its
-// size alone).
+// One particle's ellipsoid from its neighbourhood's sums, in two steps
+// around the eigen solve, which runs four particles at a time.
 struct Pca {
     float R2, invR3;
     const AnisotropyParams& params;
 
-    bool operator()(const glm::vec3& p, float radius, const Sums& sums, glm::vec3& centre, EllipsoidShape& shape) const {
+    // A particle waiting for its eigen solve.
+    struct Pending {
+        std::uint32_t i;  // input index
+        float radius;     // its own radius (its volume, and its size alone)
+        glm::dvec3 mu;    // weighted mean offset
+    };
+
+    // The centre; a lone particle's sphere (returns true); else its
+    // covariance (xx, xy, xz, yy, yz, zz) into lane `lane` of cov.
+    bool prepare(const glm::vec3& p, const Sums& sums, Pending& pending, glm::vec3& centre, EllipsoidShape& shape,
+                 D4* cov, int lane) const {
         const double Wd = sums.W;  // >= 1: the particle itself
-        const glm::dvec3 mu = glm::dvec3(sums.s[0], sums.s[1], sums.s[2]) * (1.0 / Wd);
+        const double inv = 1.0 / Wd;
+        const glm::dvec3 mu = glm::dvec3(sums.s[0], sums.s[1], sums.s[2]) * inv;
         centre = glm::vec3(glm::dvec3(p) + double(params.smoothing) * mu);  // Yu & Turk eq. 6
         if (sums.count - 1 < params.minNeighbours) {
-            shape = sphereShape(params.kn * radius);
+            shape = sphereShape(params.kn * pending.radius);
             return true;
         }
-        const double cxx = sums.c[0], cxy = sums.c[1], cxz = sums.c[2];
-        const double cyy = sums.c[3], cyz = sums.c[4], czz = sums.c[5];
-        glm::dmat3 cov;  // Yu & Turk eq. 9, about the weighted mean
-        const double inv = 1.0 / Wd;
-        cov[0][0] = cxx * inv - mu.x * mu.x, cov[1][1] = cyy * inv - mu.y * mu.y, cov[2][2] = czz * inv - mu.z * mu.z;
-        cov[0][1] = cov[1][0] = cxy * inv - mu.x * mu.y;
-        cov[0][2] = cov[2][0] = cxz * inv - mu.x * mu.z;
-        cov[1][2] = cov[2][1] = cyz * inv - mu.y * mu.z;
-        glm::dvec3 sigma;
-        glm::dmat3 axes;
-        symmetricEigen(cov, sigma, axes);
+        pending.mu = mu;
+        // Yu & Turk eq. 9, about the weighted mean.
+        cov[0][lane] = sums.c[0] * inv - mu.x * mu.x, cov[1][lane] = sums.c[1] * inv - mu.x * mu.y;
+        cov[2][lane] = sums.c[2] * inv - mu.x * mu.z, cov[3][lane] = sums.c[3] * inv - mu.y * mu.y;
+        cov[4][lane] = sums.c[4] * inv - mu.y * mu.z, cov[5][lane] = sums.c[5] * inv - mu.z * mu.z;
+        return false;
+    }
+
+    // The shape from the eigen-decomposition (sigma descending, unit axes);
+    // returns whether the particle counts as isolated.
+    bool finish(const Pending& pending, const glm::dvec3& sigma, const glm::dmat3& axes, glm::vec3& centre,
+                EllipsoidShape& shape) const {
+        const double radius = pending.radius;
         if (!(sigma[0] > 0.0)) {  // all neighbours on the particle itself
-            shape = sphereShape(params.kn * radius);
+            shape = sphereShape(params.kn * pending.radius);
             return true;
         }
         // Yu & Turk eq. 13: the smaller axes at least 1/kr of the largest;
         // then the volume of the sphere of radius r.
         const double floor = sigma[0] / double(params.kr);
         const glm::dvec3 s3(sigma[0], std::max(sigma[1], floor), std::max(sigma[2], floor));
-        const glm::dvec3 a = s3 * (double(radius) / std::cbrt(s3.x * s3.y * s3.z));
+        const glm::dvec3 a = s3 * (radius / std::cbrt(s3.x * s3.y * s3.z));
         shape = {fromAxes(axes, 1.0 / a), fromAxes(axes, a * a)};
         if (params.keepSurface && a.z < radius) {
             // At a free surface the neighbours' mean lies inward along the
@@ -412,9 +472,9 @@ struct Pca {
             // of the sphere's outer side. Move it out by that much, scaled by
             // how one-sided the neighbourhood is (a flat half-space's mean
             // offset is kHalfSpaceOffset R; a sheet's or the bulk's is ~0).
-            const double m = glm::dot(mu, axes[2]);
+            const double m = glm::dot(pending.mu, axes[2]);
             const double t = std::min(std::abs(m) / (kHalfSpaceOffset * std::sqrt(double(R2))), 1.0);
-            centre += glm::vec3((m > 0.0 ? -1.0 : 1.0) * t * (double(radius) - a.z) * axes[2]);
+            centre += glm::vec3((m > 0.0 ? -1.0 : 1.0) * t * (radius - a.z) * axes[2]);
         }
         return false;
     }
@@ -447,6 +507,23 @@ void computeAnisotropy(std::span<const glm::vec3> positions, float radius, const
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 64), [&](const auto& block) {
             std::vector<Span> spans;
             std::vector<float> buffer;
+            // Up to four particles waiting for the eigen solve.
+            Pca::Pending pending[4];
+            D4 cov[6] = {};
+            int waiting = 0;
+            auto solve = [&] {
+                D4 sigma[3];
+                V3 axes[3];
+                eigenLanes(cov, sigma, axes);
+                for (int l = 0; l < waiting; ++l) {
+                    const std::uint32_t i = pending[l].i;
+                    glm::dmat3 r;
+                    for (int k = 0; k < 3; ++k) r[k] = glm::dvec3(axes[k].x[l], axes[k].y[l], axes[k].z[l]);
+                    isolated[i] = pca.finish(pending[l], glm::dvec3(sigma[0][l], sigma[1][l], sigma[2][l]), r,
+                                             out.centres[i], out.shapes[i]);
+                }
+                waiting = 0;
+            };
             for (std::size_t c = block.begin(); c != block.end(); ++c) {
                 const auto [b, e] = range(c);
                 if (b == e) continue;
@@ -454,16 +531,27 @@ void computeAnisotropy(std::span<const glm::vec3> positions, float radius, const
                 ranges(c, spans);
                 std::size_t candidates = 0;
                 for (const Span& s : spans) candidates += s.e - s.b;
-                const Near near{nullptr, candidates + 2 * kLanes};
-                if (buffer.size() < 4 * near.cap) buffer.resize(4 * near.cap);
-                const Near at{buffer.data(), near.cap};
+                const std::size_t cap = candidates + 2 * kLanes;
+                if (buffer.size() < 4 * cap) buffer.resize(4 * cap);
+                const Near near{buffer.data(), cap};
                 for (std::uint32_t s = b; s < e; ++s) {
                     const std::uint32_t i = order[s];
                     Sums sums;
                     neighbourSums(xs.data(), ys.data(), zs.data(), spans.data(), int(spans.size()), pts[s], pca.R2,
-                                  pca.invR3, at, sums);
-                    isolated[i] = pca(pts[s], own ? radii[i] : radius, sums, out.centres[i], out.shapes[i]);
+                                  pca.invR3, near, sums);
+                    Pca::Pending& next = pending[waiting];
+                    next.i = i, next.radius = own ? radii[i] : radius;
+                    if (pca.prepare(pts[s], sums, next, out.centres[i], out.shapes[i], cov, waiting)) {
+                        isolated[i] = 1;
+                    } else if (++waiting == 4) {
+                        solve();
+                    }
                 }
+            }
+            if (waiting > 0) {
+                for (int l = waiting; l < 4; ++l)
+                    for (D4& v : cov) v[l] = v[0];
+                solve();
             }
         });
     };
