@@ -266,16 +266,16 @@ struct Sums {
 };
 
 // One particle's neighbours, in two passes over its candidates. First the
-// offsets d = x_j - x_i and |d|^2 of the candidates within R, packed in
-// candidate order into `near` (four arrays of `cap` floats: x, y, z, |d|^2;
-// each pass-one vector writes all its lanes, so cap >= candidates + kLanes);
-// then the weighted sums over those alone (the square root of the weight
-// only for them: about 33 of 220 candidates in the bulk), lane by lane in
+// offsets d = x_j - x_i of the candidates within R, packed in candidate
+// order into `near` (three arrays of `cap` floats: x, y, z; each pass-one
+// vector writes all its lanes, so cap >= candidates + kLanes); then the
+// weighted sums over those alone (|d|^2 again, and the square root of the
+// weight only for them: about 33 of 220 candidates in the bulk), lane by lane in
 // float, lane = position in `near` mod kLanes, added up in a fixed order.
 // The packing is the same in both builds (AVX2: a permutation from a table
 // per lane mask; baseline: lane by lane), and so are the sums.
 struct Near {
-    float* v;  // x[cap], y[cap], z[cap], d2[cap]
+    float* v;  // x[cap], y[cap], z[cap]
     std::size_t cap;
 };
 
@@ -291,7 +291,6 @@ std::uint32_t packNearBase(const float* xs, const float* ys, const float* zs, co
     float* nx = near.v;
     float* ny = nx + near.cap;
     float* nz = ny + near.cap;
-    float* nd = nz + near.cap;
     std::uint32_t n = 0;
     const I8 lane = laneIndex();
     for (int r = 0; r < spanCount; ++r) {
@@ -305,7 +304,7 @@ std::uint32_t packNearBase(const float* xs, const float* ys, const float* zs, co
             const F8 d2 = dx * dx + dy * dy + dz * dz;
             const I8 in = (d2 < R2) & (lane < std::int32_t(e - k));
             for (int l = 0; l < kLanes; ++l) {
-                nx[n] = dx[l], ny[n] = dy[l], nz[n] = dz[l], nd[n] = d2[l];
+                nx[n] = dx[l], ny[n] = dy[l], nz[n] = dz[l];
                 n += std::uint32_t(in[l] & 1);
             }
         }
@@ -336,7 +335,6 @@ __attribute__((target("avx2"))) std::uint32_t packNearAvx2(const float* xs, cons
     float* nx = near.v;
     float* ny = nx + near.cap;
     float* nz = ny + near.cap;
-    float* nd = nz + near.cap;
     std::uint32_t n = 0;
     const __m256 px = _mm256_set1_ps(p.x), py = _mm256_set1_ps(p.y), pz = _mm256_set1_ps(p.z);
     const __m256 r2 = _mm256_set1_ps(R2);
@@ -355,7 +353,6 @@ __attribute__((target("avx2"))) std::uint32_t packNearAvx2(const float* xs, cons
             _mm256_storeu_ps(nx + n, _mm256_permutevar8x32_ps(dx, perm));
             _mm256_storeu_ps(ny + n, _mm256_permutevar8x32_ps(dy, perm));
             _mm256_storeu_ps(nz + n, _mm256_permutevar8x32_ps(dz, perm));
-            _mm256_storeu_ps(nd + n, _mm256_permutevar8x32_ps(d2, perm));
             n += std::uint32_t(__builtin_popcount(unsigned(mask)));
         }
     }
@@ -369,15 +366,14 @@ __attribute__((always_inline)) inline void nearSumsT(const Near& near, std::uint
     const float* nx = near.v;
     const float* ny = nx + near.cap;
     const float* nz = ny + near.cap;
-    const float* nd = nz + near.cap;
     F8 W{}, sx{}, sy{}, sz{}, sxx{}, sxy{}, sxz{}, syy{}, syz{}, szz{};
     const I8 lane = laneIndex();
     for (std::uint32_t k = 0; k < n; k += kLanes) {
-        F8 dx, dy, dz, d2;
+        F8 dx, dy, dz;
         std::memcpy(&dx, nx + k, sizeof dx);
         std::memcpy(&dy, ny + k, sizeof dy);
         std::memcpy(&dz, nz + k, sizeof dz);
-        std::memcpy(&d2, nd + k, sizeof d2);
+        const F8 d2 = dx * dx + dy * dy + dz * dz;  // as the first pass has it
         const I8 in = lane < std::int32_t(n - k);
         // Past n: the lanes' offsets are zeroed (packNear's caller), their weights masked.
         const F8 w = F8(I8(1.0f - d2 * Sqrt::apply(d2) * invR3) & in);  // 1 - (|d| / R)^3 (Yu & Turk eq. 11)
@@ -411,7 +407,7 @@ void neighbourSums(const float* xs, const float* ys, const float* zs, const Span
     else
 #endif
         n = packNearBase(xs, ys, zs, spans, spanCount, p, R2, near);
-    for (int a = 0; a < 4; ++a) std::fill_n(near.v + a * near.cap + n, kLanes, 0.0f);
+    for (int a = 0; a < 3; ++a) std::fill_n(near.v + a * near.cap + n, kLanes, 0.0f);
 #if MENISCUS_ANISOTROPY_AVX2
     if (kHasAvx2) return nearSumsAvx2(near, n, invR3, out);
 #endif
@@ -532,7 +528,7 @@ void computeAnisotropy(std::span<const glm::vec3> positions, float radius, const
                 std::size_t candidates = 0;
                 for (const Span& s : spans) candidates += s.e - s.b;
                 const std::size_t cap = candidates + 2 * kLanes;
-                if (buffer.size() < 4 * cap) buffer.resize(4 * cap);
+                if (buffer.size() < 3 * cap) buffer.resize(3 * cap);
                 const Near near{buffer.data(), cap};
                 for (std::uint32_t s = b; s < e; ++s) {
                     const std::uint32_t i = order[s];
