@@ -9,11 +9,17 @@
 // hashed grid of core/hash_grid.h when far outliers would make it too
 // large) with cells of R, walked cell by cell: the candidates of the 3^3
 // cells around a cell, as ranges of the sorted points, serve all of that
-// cell's particles. The sums run in the grid's fixed order, so the result
-// does not depend on the thread count.
+// cell's particles. Per particle, a first pass packs the offsets of the
+// candidates within R (about 33 of 220 in the bulk), a second sums over
+// them alone; the eigen solve then runs four particles at a time in double
+// lanes. The sums run in the grid's fixed order and every lane's result
+// depends on its own particle only, so the result does not depend on the
+// thread count; the AVX2 and the baseline code do the same IEEE operations,
+// so it does not depend on the CPU either.
 #include "core/anisotropy.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -36,9 +42,15 @@ namespace meniscus {
 
 namespace {
 
-// The neighbour sums run eight particles at a time, in GCC vector types: one
-// AVX register where the CPU has AVX2, two SSE registers on the baseline
-// (the loop is compiled for both, picked at run time). Both do the same IEEE
+// The helpers on vectors below are always inlined into the functions over
+// lanes, so no vector crosses a call: GCC's note that a 32-byte vector is
+// passed differently with AVX does not apply (off from here to the end).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+// The neighbour passes run over eight candidates at a time, in GCC vector
+// types: one AVX register where the CPU has AVX2, two SSE registers on the
+// baseline (each loop is compiled for both, picked at run time). Both do the same IEEE
 // operations in the same lanes (no FMA), so the bits are the same on every
 // x86-64 machine.
 constexpr int kLanes = 8;
@@ -48,7 +60,7 @@ using I8 = std::int32_t __attribute__((vector_size(4 * kLanes)));
 using D4 = double __attribute__((vector_size(32)));
 using M4 = std::int64_t __attribute__((vector_size(32)));
 constexpr float kFar = 1e18f;  // padding: |d|^2 ~ 3e36 stays finite, outside any R
-inline double hsum(F8 v) {
+__attribute__((always_inline)) inline double hsum(F8 v) {
     return ((double(v[0]) + double(v[1])) + (double(v[2]) + double(v[3]))) +
            ((double(v[4]) + double(v[5])) + (double(v[6]) + double(v[7])));
 }
@@ -56,7 +68,7 @@ inline double hsum(F8 v) {
 // Lane-wise IEEE square roots (correctly rounded, as std::sqrt): two SSE
 // halves (split and joined in registers), or one AVX instruction.
 struct SqrtBase {
-    static F8 apply(F8 v) {
+    __attribute__((always_inline)) static F8 apply(F8 v) {
 #if defined(__SSE__)
         using H = float __attribute__((vector_size(16)));
         const H lo = H(_mm_sqrt_ps(__m128(__builtin_shufflevector(v, v, 0, 1, 2, 3))));
@@ -67,7 +79,7 @@ struct SqrtBase {
         return v;
 #endif
     }
-    static D4 apply(D4 v) {
+    __attribute__((always_inline)) static D4 apply(D4 v) {
 #if defined(__SSE2__)
         using H = double __attribute__((vector_size(16)));
         const H lo = H(_mm_sqrt_pd(__m128d(__builtin_shufflevector(v, v, 0, 1))));
@@ -117,19 +129,19 @@ EllipsoidShape ellipsoidShape(const glm::mat3& axes, const glm::vec3& a) {
 
 namespace {
 
-inline D4 vmax(D4 a, D4 b) { return a < b ? b : a; }  // std::max, lane by lane
-inline D4 vmin(D4 a, D4 b) { return b < a ? b : a; }  // std::min
-inline D4 vabs(D4 a) { return a < 0.0 ? -a : a; }
+__attribute__((always_inline)) inline D4 vmax(D4 a, D4 b) { return a < b ? b : a; }  // std::max, lane by lane
+__attribute__((always_inline)) inline D4 vmin(D4 a, D4 b) { return b < a ? b : a; }  // std::min
+__attribute__((always_inline)) inline D4 vabs(D4 a) { return a < 0.0 ? -a : a; }
 struct V3 {
     D4 x, y, z;
 };
-inline V3 operator*(D4 s, const V3& v) { return {s * v.x, s * v.y, s * v.z}; }
-inline V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline D4 dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline V3 cross(const V3& a, const V3& b) {
+__attribute__((always_inline)) inline V3 operator*(D4 s, const V3& v) { return {s * v.x, s * v.y, s * v.z}; }
+__attribute__((always_inline)) inline V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+__attribute__((always_inline)) inline D4 dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+__attribute__((always_inline)) inline V3 cross(const V3& a, const V3& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline V3 select(M4 m, const V3& a, const V3& b) { return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z}; }
+__attribute__((always_inline)) inline V3 select(M4 m, const V3& a, const V3& b) { return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z}; }
 
 // The eigen-decomposition of four symmetric matrices at once, one per lane
 // (a: xx, xy, xz, yy, yz, zz): every lane takes the same operations, the
@@ -181,7 +193,7 @@ __attribute__((always_inline)) inline void eigenLanesT(const D4* a, D4* values, 
     const M4 smallX = vabs(v.x) < 0.6;
     const V3 t{smallX ? D4{} : -v.z, smallX ? v.z : D4{}, smallX ? -v.y : v.x};  // v x e_x or v x e_y
     const V3 u = (1.0 / Sqrt::apply(dot(t, t))) * t, w = cross(v, u);
-    auto times = [&](const V3& x) {
+    auto times = [&](const V3& x) __attribute__((always_inline)) {
         return V3{a00 * x.x + a01 * x.y + a02 * x.z, a01 * x.x + a11 * x.y + a12 * x.z,
                   a02 * x.x + a12 * x.y + a22 * x.z};
     };
@@ -222,11 +234,13 @@ void eigenLanesBase(const D4* a, D4* values, V3* vectors) { eigenLanesT<SqrtBase
 __attribute__((target("avx2"))) void eigenLanesAvx2(const D4* a, D4* values, V3* vectors) {
     eigenLanesT<SqrtAvx2>(a, values, vectors);
 }
-const bool kHasAvx2 = __builtin_cpu_supports("avx2");
+const bool kCpuHasAvx2 = __builtin_cpu_supports("avx2");
+std::atomic<bool> gAllowAvx2{true};
+bool useAvx2() { return kCpuHasAvx2 && gAllowAvx2.load(std::memory_order_relaxed); }
 #endif
 void eigenLanes(const D4* a, D4* values, V3* vectors) {
 #if MENISCUS_ANISOTROPY_AVX2
-    if (kHasAvx2) return eigenLanesAvx2(a, values, vectors);
+    if (useAvx2()) return eigenLanesAvx2(a, values, vectors);
 #endif
     eigenLanesBase(a, values, vectors);
 }
@@ -279,7 +293,7 @@ struct Near {
     std::size_t cap;
 };
 
-inline I8 laneIndex() {
+__attribute__((always_inline)) inline I8 laneIndex() {
     I8 l;
     for (int k = 0; k < kLanes; ++k) l[k] = k;
     return l;
@@ -402,14 +416,14 @@ void neighbourSums(const float* xs, const float* ys, const float* zs, const Span
                    const glm::vec3& p, float R2, float invR3, const Near& near, Sums& out) {
     std::uint32_t n;
 #if MENISCUS_ANISOTROPY_AVX2
-    if (kHasAvx2)
+    if (useAvx2())
         n = packNearAvx2(xs, ys, zs, spans, spanCount, p, R2, near);
     else
 #endif
         n = packNearBase(xs, ys, zs, spans, spanCount, p, R2, near);
     for (int a = 0; a < 3; ++a) std::fill_n(near.v + a * near.cap + n, kLanes, 0.0f);
 #if MENISCUS_ANISOTROPY_AVX2
-    if (kHasAvx2) return nearSumsAvx2(near, n, invR3, out);
+    if (useAvx2()) return nearSumsAvx2(near, n, invR3, out);
 #endif
     nearSumsBase(near, n, invR3, out);
 }
@@ -580,6 +594,17 @@ void computeAnisotropy(std::span<const glm::vec3> positions, float radius, const
     }
     for (std::uint8_t v : isolated) out.isolated += v;
 }
+
+namespace detail {
+bool allowAnisotropyAvx2(bool allow) {
+#if MENISCUS_ANISOTROPY_AVX2
+    return gAllowAvx2.exchange(allow);
+#else
+    (void)allow;
+    return false;
+#endif
+}
+}  // namespace detail
 
 std::string checkAnisotropyParams(const AnisotropyParams& p) {
     if (!(p.neighbourRadii >= 2.0f && p.neighbourRadii <= 16.0f)) return "neighbourRadii: 2 to 16 particle radii";
