@@ -461,32 +461,59 @@ struct Pca {
         return false;
     }
 
-    // The shape from the eigen-decomposition (sigma descending, unit axes);
-    // returns whether the particle counts as isolated.
-    bool finish(const Pending& pending, const glm::dvec3& sigma, const glm::dmat3& axes, glm::vec3& centre,
-                EllipsoidShape& shape) const {
-        const double radius = pending.radius;
-        if (!(sigma[0] > 0.0)) {  // all neighbours on the particle itself
-            shape = sphereShape(params.kn * pending.radius);
-            return true;
+    // The shapes of up to four particles from their eigen-decompositions
+    // (lane l: sigma descending, unit axes), lane by lane in double; the
+    // result of each, and whether it counts as isolated, at its index.
+    void finish(const Pending* pending, int count, const D4* sigma, const V3* axes, glm::vec3* centres,
+                EllipsoidShape* shapes, std::uint8_t* isolated) const {
+        D4 radius, mux, muy, muz;
+        for (int l = 0; l < 4; ++l) {
+            const Pending& at = pending[l < count ? l : 0];
+            radius[l] = at.radius, mux[l] = at.mu.x, muy[l] = at.mu.y, muz[l] = at.mu.z;
         }
         // Yu & Turk eq. 13: the smaller axes at least 1/kr of the largest;
         // then the volume of the sphere of radius r.
-        const double floor = sigma[0] / double(params.kr);
-        const glm::dvec3 s3(sigma[0], std::max(sigma[1], floor), std::max(sigma[2], floor));
-        const glm::dvec3 a = s3 * (radius / std::cbrt(s3.x * s3.y * s3.z));
-        shape = {fromAxes(axes, 1.0 / a), fromAxes(axes, a * a)};
-        if (params.keepSurface && a.z < radius) {
-            // At a free surface the neighbours' mean lies inward along the
-            // shortest axis; the flattened ellipsoid would end a - a.z short
-            // of the sphere's outer side. Move it out by that much, scaled by
-            // how one-sided the neighbourhood is (a flat half-space's mean
-            // offset is kHalfSpaceOffset R; a sheet's or the bulk's is ~0).
-            const double m = glm::dot(pending.mu, axes[2]);
-            const double t = std::min(std::abs(m) / (kHalfSpaceOffset * std::sqrt(double(R2))), 1.0);
-            centre += glm::vec3((m > 0.0 ? -1.0 : 1.0) * t * (radius - a.z) * axes[2]);
+        const D4 floor = sigma[0] / double(params.kr);
+        const D4 s1 = vmax(sigma[1], floor), s2 = vmax(sigma[2], floor);
+        const D4 volume = sigma[0] * s1 * s2;
+        D4 k;
+        for (int l = 0; l < 4; ++l) k[l] = radius[l] / std::cbrt(volume[l]);
+        const D4 a[3] = {sigma[0] * k, s1 * k, s2 * k};
+        const D4 inv[3] = {1.0 / a[0], 1.0 / a[1], 1.0 / a[2]};
+        const D4 sq[3] = {a[0] * a[0], a[1] * a[1], a[2] * a[2]};
+        // m = R diag(1/a) R^T and q = R diag(a^2) R^T, each distinct entry once.
+        auto component = [&](const V3& v, int i) { return i == 0 ? v.x : i == 1 ? v.y : v.z; };
+        D4 m[3][3], q[3][3];
+        for (int i = 0; i < 3; ++i)
+            for (int j = i; j < 3; ++j) {
+                D4 e[3];
+                for (int c = 0; c < 3; ++c) e[c] = component(axes[c], i) * component(axes[c], j);
+                m[i][j] = m[j][i] = (inv[0] * e[0] + inv[1] * e[1]) + inv[2] * e[2];
+                q[i][j] = q[j][i] = (sq[0] * e[0] + sq[1] * e[1]) + sq[2] * e[2];
+            }
+        // At a free surface the neighbours' mean lies inward along the
+        // shortest axis; the flattened ellipsoid would end a - a.z short of
+        // the sphere's outer side. Move it out by that much, scaled by how
+        // one-sided the neighbourhood is (a flat half-space's mean offset is
+        // kHalfSpaceOffset R; a sheet's or the bulk's is ~0).
+        const D4 along = mux * axes[2].x + muy * axes[2].y + muz * axes[2].z;
+        const D4 t = vmin(vabs(along) / (kHalfSpaceOffset * std::sqrt(double(R2))), D4{} + 1.0);
+        const D4 f = (along > 0.0 ? D4{} - 1.0 : D4{} + 1.0) * t * (radius - a[2]);
+        const M4 move = a[2] < radius;
+        for (int l = 0; l < count; ++l) {
+            const std::uint32_t i = pending[l].i;
+            if (!(sigma[0][l] > 0.0)) {  // all neighbours on the particle itself
+                shapes[i] = sphereShape(params.kn * pending[l].radius);
+                isolated[i] = 1;
+                continue;
+            }
+            EllipsoidShape& shape = shapes[i];
+            for (int c = 0; c < 3; ++c)
+                for (int r = 0; r < 3; ++r) shape.m[c][r] = float(m[c][r][l]), shape.q[c][r] = float(q[c][r][l]);
+            if (params.keepSurface && move[l])
+                centres[i] += glm::vec3(glm::dvec3(f[l] * axes[2].x[l], f[l] * axes[2].y[l], f[l] * axes[2].z[l]));
+            isolated[i] = 0;
         }
-        return false;
     }
 };
 
@@ -525,13 +552,7 @@ void computeAnisotropy(std::span<const glm::vec3> positions, float radius, const
                 D4 sigma[3];
                 V3 axes[3];
                 eigenLanes(cov, sigma, axes);
-                for (int l = 0; l < waiting; ++l) {
-                    const std::uint32_t i = pending[l].i;
-                    glm::dmat3 r;
-                    for (int k = 0; k < 3; ++k) r[k] = glm::dvec3(axes[k].x[l], axes[k].y[l], axes[k].z[l]);
-                    isolated[i] = pca.finish(pending[l], glm::dvec3(sigma[0][l], sigma[1][l], sigma[2][l]), r,
-                                             out.centres[i], out.shapes[i]);
-                }
+                pca.finish(pending, waiting, sigma, axes, out.centres.data(), out.shapes.data(), isolated.data());
                 waiting = 0;
             };
             for (std::size_t c = block.begin(); c != block.end(); ++c) {
