@@ -317,6 +317,9 @@ std::uint32_t packNearBase(const float* xs, const float* ys, const float* zs, co
             dx -= p.x, dy -= p.y, dz -= p.z;
             const F8 d2 = dx * dx + dy * dy + dz * dz;
             const I8 in = (d2 < R2) & (lane < std::int32_t(e - k));
+            std::uint64_t words[4];
+            std::memcpy(words, &in, sizeof words);
+            if ((words[0] | words[1] | words[2] | words[3]) == 0) continue;  // most vectors: none within R
             for (int l = 0; l < kLanes; ++l) {
                 nx[n] = dx[l], ny[n] = dy[l], nz[n] = dz[l];
                 n += std::uint32_t(in[l] & 1);
