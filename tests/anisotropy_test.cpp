@@ -13,6 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include "core/anisotropy.h"
 #include "cpu/splat.h"
@@ -180,18 +181,24 @@ TEST(Anisotropy, ScaleInvariantAndTheSameForAnyThreadCount) {
     const std::vector<glm::vec3>& p = set->positions;
     const float r = 0.025f;
     AnisotropyParams params;
-    Ellipsoids one, two, scaled;
+    Ellipsoids one, scaled;
     {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
         computeAnisotropy(p, r, params, one);
     }
-    {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-        computeAnisotropy(p, r, params, two);
-    }
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        ASSERT_EQ(one.centres[i], two.centres[i]);
-        ASSERT_EQ(std::memcmp(&one.shapes[i], &two.shapes[i], sizeof(EllipsoidShape)), 0) << i;
+    for (int threads : {2, 3}) {
+        Ellipsoids more;
+        {
+            // An arena of that many slots: 3 threads even on a 2-core machine.
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+            tbb::task_arena arena(threads);
+            arena.execute([&] { computeAnisotropy(p, r, params, more); });
+        }
+        EXPECT_EQ(more.isolated, one.isolated);
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            ASSERT_EQ(std::memcmp(&one.centres[i], &more.centres[i], sizeof(glm::vec3)), 0) << i << " " << threads;
+            ASSERT_EQ(std::memcmp(&one.shapes[i], &more.shapes[i], sizeof(EllipsoidShape)), 0) << i << " " << threads;
+        }
     }
     // Scaling positions and radius by 4 (a power of two: exact) scales m by 1/4 and q by 16.
     std::vector<glm::vec3> big;
@@ -204,6 +211,45 @@ TEST(Anisotropy, ScaleInvariantAndTheSameForAnyThreadCount) {
                 ASSERT_NEAR(scaled.shapes[i].m[c][k], one.shapes[i].m[c][k] / 4.0f, 1e-3f / r) << i;
                 ASSERT_NEAR(scaled.shapes[i].q[c][k], one.shapes[i].q[c][k] * 16.0f, 1e-5f * 16.0f * r * r) << i;
             }
+}
+
+// The AVX2 code (where this CPU has it) and the baseline code give the same
+// bits: the same IEEE operations in the same lanes. (On a CPU without AVX2
+// both runs take the baseline and the test compares it with itself.)
+TEST(Anisotropy, BaselineAndAvx2CodeGiveTheSameBits) {
+    auto set = readParticles(test::testData("splishsplash/partio/ParticleData_Fluid_21.bgeo").string());
+    ASSERT_TRUE(set) << set.error().describe();
+    const std::vector<glm::vec3>& p = set->positions;
+    AnisotropyParams params;
+    params.smoothing = 0.5f;  // the centres too
+    Ellipsoids fast, base;
+    computeAnisotropy(p, 0.025f, params, fast);
+    const bool before = detail::allowAnisotropyAvx2(false);
+    computeAnisotropy(p, 0.025f, params, base);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<glm::dmat3> matrices;
+    for (int t = 0; t < 200; ++t) {
+        glm::dmat3 a;
+        for (int c = 0; c < 3; ++c)
+            for (int k = 0; k <= c; ++k) a[c][k] = a[k][c] = u(rng);
+        if (t % 3 == 1) a[1][1] = a[0][0], a[0][1] = a[1][0] = a[0][2] = a[2][0] = 0.0;  // a double eigenvalue
+        matrices.push_back(a);
+    }
+    std::vector<glm::dvec3> baseValues(matrices.size());
+    std::vector<glm::dmat3> baseVectors(matrices.size());
+    for (std::size_t t = 0; t < matrices.size(); ++t) symmetricEigen(matrices[t], baseValues[t], baseVectors[t]);
+    detail::allowAnisotropyAvx2(before);
+    ASSERT_EQ(fast.isolated, base.isolated);
+    ASSERT_EQ(std::memcmp(fast.centres.data(), base.centres.data(), p.size() * sizeof(glm::vec3)), 0);
+    ASSERT_EQ(std::memcmp(fast.shapes.data(), base.shapes.data(), p.size() * sizeof(EllipsoidShape)), 0);
+    for (std::size_t t = 0; t < matrices.size(); ++t) {
+        glm::dvec3 values;
+        glm::dmat3 vectors;
+        symmetricEigen(matrices[t], values, vectors);
+        ASSERT_EQ(std::memcmp(&values, &baseValues[t], sizeof values), 0) << t;
+        ASSERT_EQ(std::memcmp(&vectors, &baseVectors[t], sizeof vectors), 0) << t;
+    }
 }
 
 // ---- The ellipsoid splat ------------------------------------------------------

@@ -53,4 +53,11 @@ void computeAnisotropy(std::span<const glm::vec3> positions, float radius, const
 // right-handed frame; any frame for a multiple of the identity).
 void symmetricEigen(const glm::dmat3& a, glm::dvec3& values, glm::dmat3& vectors);
 
+namespace detail {
+// Whether computeAnisotropy and symmetricEigen may take their AVX2 code
+// where the CPU has it (the default) or must take the baseline code; returns
+// the previous setting. Both give the same bits (tested).
+bool allowAnisotropyAvx2(bool allow);
+}  // namespace detail
+
 }  // namespace meniscus
