@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <functional>
 #include <future>
@@ -221,8 +222,9 @@ ParticleSet tiled(const ParticleSet& in, int n, float gap) {
 // First one phase after another, each timed; then overlapped as the CLI
 // overlaps them (render.cpp: frame k + 1 read and frame k - 1 converted and
 // encoded on workers while frame k renders). One line per phase, its mean per
-// frame (the encoder's drain at the end counted in "encode"), then the wall
-// time per frame and the frames per second of both runs.
+// frame in wall time and in the process's CPU time (the encoder's drain at the
+// end counted in "encode"), then the wall time per frame and the frames per
+// second of both runs.
 int benchMovie(const std::string& input, Renderer& renderer, const RenderSettings& settings, int frames,
                const std::string& res, const std::string& where) {
     using Clock = std::chrono::steady_clock;
@@ -238,28 +240,46 @@ int benchMovie(const std::string& input, Renderer& renderer, const RenderSetting
     const auto open = [&]() { return VideoWriter::open(out, settings.camera.width, settings.camera.height); };
     std::size_t n = 0;
 
+    // The process's CPU time (every thread's), in ms: on a machine shared with
+    // other work a phase's wall time is whatever the scheduler gives it, its
+    // CPU time is its own.
+    const auto cpuMs = [] {
+        timespec t{};
+        ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+        return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+    };
     // One after another.
     double readMs = 0, renderMs = 0, readbackMs = 0, srgbMs = 0, encodeMs = 0;
+    double readCpu = 0, renderCpu = 0, srgbCpu = 0, encodeCpu = 0;
     auto movie = open();
     if (!check(movie ? okStatus() : Status(movie.error()))) return 1;
     const auto s0 = Clock::now();
+    const double sequentialCpu0 = cpuMs();
     for (int k = 0; k < frames; ++k) {
+        const double c0 = cpuMs();
         const auto t0 = Clock::now();
         auto set = readParticles(input);
         const auto t1 = Clock::now();
+        const double c1 = cpuMs();
         if (!check(set ? okStatus() : Status(set.error()))) return 1;
         n = set->size();
         std::vector<StageTime> times;
         auto aovs = renderer.render(ParticleView::of(*set), settings, &times);
         const auto t2 = Clock::now();
+        const double c2 = cpuMs();
         if (!check(aovs ? okStatus() : Status(aovs.error()))) return 1;
         double readback = 0;
         for (const StageTime& t : times)
             if (t.stage == "readback") readback += t.ms;
         const Image<glm::u8vec4> srgb = encodeSrgb8(aovs->color);
         const auto t3 = Clock::now();
+        const double c3 = cpuMs();
         if (!check(movie->add(srgb))) return 1;
         const auto t4 = Clock::now();
+        readCpu += c1 - c0;
+        renderCpu += c2 - c1;
+        srgbCpu += c3 - c2;
+        encodeCpu += cpuMs() - c3;
         readMs += ms(t0, t1);
         renderMs += ms(t1, t2) - readback;
         readbackMs += readback;
@@ -270,12 +290,15 @@ int benchMovie(const std::string& input, Renderer& renderer, const RenderSetting
     if (!check(movie->finish())) return 1;
     const auto s1 = Clock::now();
     encodeMs += ms(f0, s1);
-    const double sequentialMs = ms(s0, s1);
+    const double sequentialMs = ms(s0, s1), sequentialCpu = cpuMs() - sequentialCpu0;
+    // (x264 encodes on its own threads too: what they do after add() returns
+    // is counted in the phase that runs meanwhile; the total is exact.)
 
     // Overlapped.
     movie = open();
     if (!check(movie ? okStatus() : Status(movie.error()))) return 1;
     const auto o0 = Clock::now();
+    const double overlappedCpu0 = cpuMs();
     std::future<Result<ParticleSet>> reading = std::async(std::launch::async, [&] { return readParticles(input); });
     std::future<Status> writing;
     for (int k = 0; k < frames; ++k) {
@@ -289,20 +312,22 @@ int benchMovie(const std::string& input, Renderer& renderer, const RenderSetting
     }
     if (writing.valid() && !check(writing.get())) return 1;
     if (!check(movie->finish())) return 1;
-    const double overlappedMs = ms(o0, Clock::now());
+    const double overlappedMs = ms(o0, Clock::now()), overlappedCpu = cpuMs() - overlappedCpu0;
     std::error_code ec;
     std::filesystem::remove(out, ec);
 
-    const auto line = [&](const char* phase, double total) {
-        std::printf("%-34s %-10s %9zu particles  %-6s %9.2f ms\n", phase, res.c_str(), n, where.c_str(), total / frames);
+    const auto line = [&](const char* phase, double total, double cpu) {
+        std::printf("%-34s %-10s %9zu particles  %-6s %9.2f ms", phase, res.c_str(), n, where.c_str(), total / frames);
+        if (cpu >= 0) std::printf("  (CPU %.2f ms)", cpu / frames);
+        std::printf("\n");
     };
-    line("movie read", readMs);
-    line("movie render", renderMs);
-    line("movie readback", readbackMs);
-    line("movie 8-bit sRGB", srgbMs);
-    line("movie encode (H.264)", encodeMs);
-    line("movie sequential (wall)", sequentialMs);
-    line("movie overlapped (wall)", overlappedMs);
+    line("movie read", readMs, readCpu);
+    line("movie render", renderMs, renderCpu);
+    line("movie readback", readbackMs, -1);
+    line("movie 8-bit sRGB", srgbMs, srgbCpu);
+    line("movie encode (H.264)", encodeMs, encodeCpu);
+    line("movie sequential (wall)", sequentialMs, sequentialCpu);
+    line("movie overlapped (wall)", overlappedMs, overlappedCpu);
     std::printf("movie: %d frames, %.2f frames/s one after another, %.2f frames/s overlapped\n", frames,
                 1000.0 * frames / sequentialMs, 1000.0 * frames / overlappedMs);
     return 0;
