@@ -13,6 +13,16 @@
 //    stay, a movie is not written (its temporary file is removed). Further
 //    Ctrl-Cs change nothing (a tool may signal the process and its group
 //    both), so no partial file is ever left.
+//  - A sequence's steps overlap (renderFrames, overlapOutput): frame k + 1 is
+//    read on a worker (FramePrefetch, one frame ahead; not with --resume or
+//    --shard, whose frames are read or not as the loop decides) and frame
+//    k - 1 converted and written (or encoded into the movie) on another while
+//    frame k renders. Frame k - 1 is settled (counted, logged, or failed as
+//    --on-error says) before frame k is handed over, so the order, the
+//    messages, the exit codes and the bytes are those of one step after
+//    another (MENISCUS_RENDER_OVERLAP=0); Ctrl-C waits for the frame being
+//    written. Only warnings read with frame k may come before frame k - 1's
+//    progress line.
 //  - A moving camera (--orbit, --turntable, --camera-path): frame i is at
 //    i / --fps seconds; the path gives eye, target and fov, then --orbit or
 //    --turntable turns the eye about the vertical through the target. The
