@@ -1,7 +1,7 @@
 // bench: one line per stage with time (median of --repeat runs), size and
 // thread count. Speed is measured here, never asserted in tests.
 //   build/bench [INPUT] [--width 1280 --height 720 --repeat 9 --threads N --filter NAME --backend B]
-//               [--mesh-only | --no-mesh] [--openvdb PATH]
+//               [--mesh-only | --no-mesh] [--openvdb PATH] [--movie N]
 // INPUT defaults to the real 117,649-particle dam-break frame in data/. The
 // whole pipeline runs once per filter (all of them unless --filter is given)
 // and per backend (cpu and gl by default); each stage line is the median over
@@ -12,8 +12,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <functional>
+#include <future>
 #include <map>
 #include <memory>
 #include <string>
@@ -32,6 +34,9 @@
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
 #include "meniscus/surface.h"
+#ifdef MENISCUS_HAVE_FFMPEG
+#include "meniscus/video.h"
+#endif
 
 using namespace meniscus;
 
@@ -209,6 +214,126 @@ ParticleSet tiled(const ParticleSet& in, int n, float gap) {
     return out;
 }
 
+#ifdef MENISCUS_HAVE_FFMPEG
+// --movie N: a movie of N frames made as `meniscus render -o out.mp4` makes
+// one: each frame read from the input file (a sequence's reading: the same
+// file N times), rendered, converted to 8-bit sRGB and encoded by
+// VideoWriter (x264, its settings) into a temporary MP4, removed at the end.
+// First one phase after another, each timed; then overlapped as the CLI
+// overlaps them (render.cpp: frame k + 1 read and frame k - 1 converted and
+// encoded on workers while frame k renders). One line per phase, its mean per
+// frame in wall time and in the process's CPU time (the encoder's drain at the
+// end counted in "encode"), then the wall time per frame and the frames per
+// second of both runs.
+int benchMovie(const std::string& input, Renderer& renderer, const RenderSettings& settings, int frames,
+               const std::string& res, const std::string& where) {
+    using Clock = std::chrono::steady_clock;
+    const auto ms = [](Clock::time_point a, Clock::time_point b) {
+        return std::chrono::duration<double, std::milli>(b - a).count();
+    };
+    const std::filesystem::path out =
+        std::filesystem::temp_directory_path() / ("meniscus_bench_movie_" + std::to_string(::getpid()) + ".mp4");
+    const auto check = [](const Status& st) {
+        if (!st) std::fprintf(stderr, "bench: error: %s\n", st.error().describe().c_str());
+        return bool(st);
+    };
+    const auto open = [&]() { return VideoWriter::open(out, settings.camera.width, settings.camera.height); };
+    std::size_t n = 0;
+
+    // The process's CPU time (every thread's), in ms: on a machine shared with
+    // other work a phase's wall time is whatever the scheduler gives it, its
+    // CPU time is its own.
+    const auto cpuMs = [] {
+        timespec t{};
+        ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+        return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+    };
+    // One after another.
+    double readMs = 0, renderMs = 0, readbackMs = 0, srgbMs = 0, encodeMs = 0;
+    double readCpu = 0, renderCpu = 0, srgbCpu = 0, encodeCpu = 0;
+    auto movie = open();
+    if (!check(movie ? okStatus() : Status(movie.error()))) return 1;
+    const auto s0 = Clock::now();
+    const double sequentialCpu0 = cpuMs();
+    for (int k = 0; k < frames; ++k) {
+        const double c0 = cpuMs();
+        const auto t0 = Clock::now();
+        auto set = readParticles(input);
+        const auto t1 = Clock::now();
+        const double c1 = cpuMs();
+        if (!check(set ? okStatus() : Status(set.error()))) return 1;
+        n = set->size();
+        std::vector<StageTime> times;
+        auto aovs = renderer.render(ParticleView::of(*set), settings, &times);
+        const auto t2 = Clock::now();
+        const double c2 = cpuMs();
+        if (!check(aovs ? okStatus() : Status(aovs.error()))) return 1;
+        double readback = 0;
+        for (const StageTime& t : times)
+            if (t.stage == "readback") readback += t.ms;
+        const Image<glm::u8vec4> srgb = encodeSrgb8(aovs->color);
+        const auto t3 = Clock::now();
+        const double c3 = cpuMs();
+        if (!check(movie->add(srgb))) return 1;
+        const auto t4 = Clock::now();
+        readCpu += c1 - c0;
+        renderCpu += c2 - c1;
+        srgbCpu += c3 - c2;
+        encodeCpu += cpuMs() - c3;
+        readMs += ms(t0, t1);
+        renderMs += ms(t1, t2) - readback;
+        readbackMs += readback;
+        srgbMs += ms(t2, t3);
+        encodeMs += ms(t3, t4);
+    }
+    const auto f0 = Clock::now();
+    if (!check(movie->finish())) return 1;
+    const auto s1 = Clock::now();
+    encodeMs += ms(f0, s1);
+    const double sequentialMs = ms(s0, s1), sequentialCpu = cpuMs() - sequentialCpu0;
+    // (x264 encodes on its own threads too: what they do after add() returns
+    // is counted in the phase that runs meanwhile; the total is exact.)
+
+    // Overlapped.
+    movie = open();
+    if (!check(movie ? okStatus() : Status(movie.error()))) return 1;
+    const auto o0 = Clock::now();
+    const double overlappedCpu0 = cpuMs();
+    std::future<Result<ParticleSet>> reading = std::async(std::launch::async, [&] { return readParticles(input); });
+    std::future<Status> writing;
+    for (int k = 0; k < frames; ++k) {
+        auto set = reading.get();
+        if (!check(set ? okStatus() : Status(set.error()))) return 1;
+        if (k + 1 < frames) reading = std::async(std::launch::async, [&] { return readParticles(input); });
+        auto aovs = renderer.render(ParticleView::of(*set), settings);
+        if (!check(aovs ? okStatus() : Status(aovs.error()))) return 1;
+        if (writing.valid() && !check(writing.get())) return 1;
+        writing = std::async(std::launch::async, [&movie, a = std::move(*aovs)] { return movie->add(encodeSrgb8(a.color)); });
+    }
+    if (writing.valid() && !check(writing.get())) return 1;
+    if (!check(movie->finish())) return 1;
+    const double overlappedMs = ms(o0, Clock::now()), overlappedCpu = cpuMs() - overlappedCpu0;
+    std::error_code ec;
+    std::filesystem::remove(out, ec);
+
+    const auto line = [&](const char* phase, double total, double cpu) {
+        std::printf("%-34s %-10s %9zu particles  %-6s %9.2f ms", phase, res.c_str(), n, where.c_str(), total / frames);
+        if (cpu >= 0) std::printf("  (CPU %.2f ms)", cpu / frames);
+        std::printf("\n");
+    };
+    line("movie read", readMs, readCpu);
+    line("movie render", renderMs, renderCpu);
+    line("movie readback", readbackMs, -1);
+    line("movie 8-bit sRGB", srgbMs, srgbCpu);
+    line("movie encode (H.264)", encodeMs, encodeCpu);
+    line("movie sequential (wall)", sequentialMs, sequentialCpu);
+    line("movie overlapped (wall)", overlappedMs, overlappedCpu);
+    std::printf("movie: %d frames, %.2f frames/s one after another, %.2f frames/s overlapped\n", frames,
+                1000.0 * frames / sequentialMs, 1000.0 * frames / overlappedMs);
+    return 0;
+}
+#endif
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -289,7 +414,23 @@ int main(int argc, char** argv) {
     app.add_option("--openvdb", openvdb,
                    "The OpenVDB peer binary (scripts/build_openvdb_peer.sh builds build/openvdb_mesh), run on the same "
                    "frame at the same voxel size");
+    int movie = 0;
+    app.add_option("--movie", movie,
+                   "Time a movie of N frames instead (the input read N times, rendered with the first --filter, "
+                   "converted to 8 bits and encoded to H.264): each phase, then the frames/s of wall one after "
+                   "another and overlapped as `meniscus render -o out.mp4` does")
+        ->check(CLI::NonNegativeNumber);
     CLI11_PARSE(app, argc, argv);
+#ifndef MENISCUS_HAVE_FFMPEG
+    if (movie > 0) {
+        std::fprintf(stderr, "bench: error: --movie: this build has no movies (FFmpeg was not found)\n");
+        return 2;
+    }
+#endif
+    if (movie > 0 && (tile > 1 || fluids > 1)) {
+        std::fprintf(stderr, "bench: error: --movie renders the input as read: leave out --tile and --fluids\n");
+        return 2;
+    }
 
     std::unique_ptr<tbb::global_control> limit;
     if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
@@ -323,7 +464,7 @@ int main(int argc, char** argv) {
         std::printf("%-34s %-10s %9zu particles\n", ("tile " + std::to_string(tile) + "x" + std::to_string(tile)).c_str(), "-", n);
     }
 
-    if (!noMesh) {
+    if (!noMesh && movie == 0) {
         if (int rc = benchMesh(*set, radius.radius, std::max(1, repeat / 3), nThreads, openvdb); rc != 0) return rc;
         if (meshOnly) return 0;
     }
@@ -389,7 +530,7 @@ int main(int argc, char** argv) {
     // So is the geometry drawn over it. A moving camera pays both every
     // frame: one CPU Renderer, its camera moved a hair between runs (its
     // images reused, as in a movie with a moving camera).
-    {
+    if (movie == 0) {
         std::map<std::string, std::vector<double>> ms;
         Renderer moving;
         RenderSettings nudged = settings;
@@ -449,6 +590,9 @@ int main(int argc, char** argv) {
             settings.fluidMaterials.emplace_back();
             materialPreset(m, &settings.fluidMaterials.back());
         }
+#ifdef MENISCUS_HAVE_FFMPEG
+        if (movie > 0) return benchMovie(input, renderers.front().second, settings, movie, res, renderers.front().first);
+#endif
         // Per backend: stage -> run times, and the stage order.
         std::vector<std::map<std::string, std::vector<double>>> perStage(renderers.size());
         std::vector<std::string> order;

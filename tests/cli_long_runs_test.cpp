@@ -1,7 +1,8 @@
 // Long runs of `meniscus render`: a corrupt frame skipped and listed
 // (--on-error skip) or ending the run (the default), --resume leaving complete
-// outputs, --renumber, a progress line per frame when stderr is a log, and
-// Ctrl-C leaving only whole files.
+// outputs, --renumber, a progress line per frame when stderr is a log,
+// Ctrl-C leaving only whole files, and the overlapped run (frames read ahead
+// and written on workers) giving the sequential run's files and errors.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -148,5 +149,94 @@ TEST(CliLongRuns, InterruptLeavesOnlyWholeFiles) {
         }
         fs::remove_all(dir / "out");
         fs::create_directories(dir / "out");
+    }
+}
+
+namespace {
+
+// The real small dam break's frames 1, 9, 21, 61 as DIR/in/f_1.bgeo ..
+// f_4.bgeo (distinct pictures), the ones in `corrupt` replaced by bytes no
+// reader takes. Returns DIR, emptied first.
+fs::path distinctSequence(const std::string& name, std::vector<int> corrupt = {}) {
+    const fs::path dir = tempDir() / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir / "in");
+    const int source[] = {1, 9, 21, 61};
+    for (int i = 1; i <= 4; ++i) {
+        const fs::path f = dir / "in" / ("f_" + std::to_string(i) + ".bgeo");
+        if (std::find(corrupt.begin(), corrupt.end(), i) != corrupt.end())
+            std::ofstream(f, std::ios::binary) << "Bgeo garbage, not a frame";
+        else
+            fs::create_symlink(
+                testData("splishsplash/partio/ParticleData_Fluid_" + std::to_string(source[i - 1]) + ".bgeo"), f);
+    }
+    return dir;
+}
+
+// `render` of DIR/in into DIR/OUT (emptied first), overlapped or, with
+// MENISCUS_RENDER_OVERLAP=0, one step after another; its exit code.
+int renderInto(const fs::path& dir, const std::string& out, const std::string& output, bool overlap,
+               const std::string& more, std::string* log) {
+    fs::remove_all(dir / out);
+    fs::create_directories(dir / out);
+    return runCommand(std::string(overlap ? "" : "MENISCUS_RENDER_OVERLAP=0 ") + cliPath() + " render " +
+                          shellQuote(dir / "in" / "f_*.bgeo") + " -o " + shellQuote(dir / out / output) +
+                          " --width 160 --height 90 --backend cpu" + more,
+                      log);
+}
+
+// The log's lines without the progress lines' timings ("in 0.12 s, ETA
+// 0:01"), and with DIR/OUT/ read as DIR/x/.
+std::vector<std::string> logLines(std::string log, const fs::path& dir, const std::string& out) {
+    const std::string folder = (dir / out).string() + "/";
+    for (std::size_t at; (at = log.find(folder)) != std::string::npos;) log.replace(at, folder.size(), "OUT/");
+    std::vector<std::string> lines;
+    std::size_t start = 0;
+    while (start < log.size()) {
+        std::size_t end = log.find('\n', start);
+        if (end == std::string::npos) end = log.size();
+        std::string line = log.substr(start, end - start);
+        if (const std::size_t in = line.rfind(" in "); line.rfind("meniscus: rendering ", 0) == 0 && in != std::string::npos)
+            line.resize(in);
+        lines.push_back(line);
+        start = end + 1;
+    }
+    return lines;
+}
+
+}  // namespace
+
+// The overlapped run (frame k + 1 read on a worker and frame k - 1 written on
+// another while frame k renders) writes the sequential run's files byte for
+// byte, in order, with the same log; a frame that cannot be read ends it, or
+// is skipped, exactly as it does sequentially.
+TEST(CliLongRuns, TheOverlappedRunIsTheSequentialRunByteForByte) {
+    const fs::path dir = distinctSequence("long_overlap");
+    std::string seqLog, parLog;
+    ASSERT_EQ(renderInto(dir, "seq", "o_%04d.png", false, "", &seqLog), 0) << seqLog;
+    ASSERT_EQ(renderInto(dir, "par", "o_%04d.png", true, "", &parLog), 0) << parLog;
+    const auto files = listDir(dir / "seq");
+    ASSERT_EQ(files, (std::vector<std::string>{"o_0001.png", "o_0002.png", "o_0003.png", "o_0004.png"}));
+    EXPECT_EQ(listDir(dir / "par"), files);
+    for (const std::string& f : files) EXPECT_EQ(readBytes(dir / "seq" / f), readBytes(dir / "par" / f)) << f;
+    EXPECT_NE(readBytes(dir / "seq" / files[0]), readBytes(dir / "seq" / files[1]));  // distinct frames
+    EXPECT_EQ(logLines(seqLog, dir, "seq"), logLines(parLog, dir, "par")) << seqLog << "\n---\n" << parLog;
+
+    // Frame 3 unreadable (a given camera: the automatic one would sample it
+    // before any frame): the default stops after frame 2, --on-error skip
+    // leaves it out, the same way both ways.
+    const fs::path bad = distinctSequence("long_overlap_bad", {3});
+    const std::string camera = " --eye 2.5,2.1,2.9 --target 0.43,0.45,0";
+    for (const std::string& more : {camera, camera + " --on-error skip"}) {
+        EXPECT_EQ(renderInto(bad, "seq", "o_%04d.png", false, more, &seqLog), 1) << seqLog;
+        EXPECT_EQ(renderInto(bad, "par", "o_%04d.png", true, more, &parLog), 1) << parLog;
+        const auto written = listDir(bad / "seq");
+        const std::vector<std::string> stop = {"o_0001.png", "o_0002.png"},
+                                        skip = {"o_0001.png", "o_0002.png", "o_0004.png"};
+        EXPECT_EQ(written, more == camera ? stop : skip) << seqLog;
+        EXPECT_EQ(listDir(bad / "par"), written);
+        for (const std::string& f : written) EXPECT_EQ(readBytes(bad / "seq" / f), readBytes(bad / "par" / f)) << f;
+        EXPECT_EQ(logLines(seqLog, bad, "seq"), logLines(parLog, bad, "par")) << seqLog << "\n---\n" << parLog;
+        EXPECT_NE(parLog.find((bad / "in" / "f_3.bgeo").string()), std::string::npos) << parLog;
     }
 }

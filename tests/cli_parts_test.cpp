@@ -187,6 +187,38 @@ TEST(FramePrefetch, AFrameThatCannotBeReadIsAnErrorNotACrash) {
     EXPECT_NE(bad.error.find("f_0002.bgeo"), std::string::npos) << bad.error;
 }
 
+// `meniscus render`'s use: no wrapping, the caller's first frame not read
+// again, each frame taken (the same particles and errors as Frames gives)
+// with at most `ahead` frames read beside it, none past the last.
+TEST(FramePrefetch, TakesASequenceOnceInOrder) {
+    const auto dir = tempDir();
+    for (int i : {1, 2, 4})
+        std::filesystem::copy_file(testData("splishsplash/partio/ParticleData_Fluid_21.bgeo"),
+                                   dir / ("f_000" + std::to_string(i) + ".bgeo"));
+    writeText(dir / "f_0003.bgeo", "not a bgeo file");
+    auto frames = openFrames((dir / "f_*.bgeo").string(), nullptr);
+    ASSERT_TRUE(frames);
+    ASSERT_EQ(frames->count(), 4u);
+    const ParticleSet direct = *frames->loadChecked(1);
+    const Error bad = frames->loadChecked(2).error();
+    std::atomic<int> reads{0};
+    FramePrefetch prefetch(*frames, [&] { ++reads; }, 1, nullptr, 0, false);
+    auto f1 = prefetch.take(1);  // frame 0 is the caller's: not read
+    ASSERT_TRUE(f1) << f1.error().describe();
+    EXPECT_EQ(f1->positions, direct.positions);
+    for (int t = 0; t < 2000 && !prefetch.get(2); ++t) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    EXPECT_TRUE(prefetch.get(2)) << "frame 2 was not read ahead";
+    EXPECT_FALSE(prefetch.get(1)) << "frame 1 was taken: not kept, not read again";
+    EXPECT_FALSE(prefetch.get(3)) << "more than one frame ahead";
+    auto f2 = prefetch.take(2);
+    ASSERT_FALSE(f2);
+    EXPECT_EQ(f2.error().describe(), bad.describe());
+    EXPECT_EQ(f2.error().usage, bad.usage);
+    EXPECT_TRUE(prefetch.take(3));
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    EXPECT_EQ(reads.load(), 3) << "frames 1, 2, 3: not frame 0, nor any frame twice or past the end";
+}
+
 // The viewer's timeline counts as the files do: SPlisHSPlasH's frames are
 // numbered from 1, so the third file of a sequence reads "3 (3 of 60)", and a
 // file with no number shows its place alone.

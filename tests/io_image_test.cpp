@@ -4,6 +4,8 @@
 // PNG row = EXR scanline at dataWindow.min.y), and that failures leave no
 // file (final or temporary) behind.
 #include <algorithm>
+#include <bit>
+#include <random>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -21,6 +23,7 @@
 #include <png.h>
 
 #include "meniscus/io.h"
+#include "shared/srgb.h"
 #include "test_util.h"
 
 namespace meniscus {
@@ -425,4 +428,41 @@ TEST(ExrWriter, OverwriteReplacesExistingFile) {
 }
 
 }  // namespace
+// encodeSrgb8's 8-bit sRGB (a table, png_writer.cpp) is the formula's,
+// lround(srgbEncode(x) * 255), on every float within 300 steps of each
+// level's edge, at both ends of every bucket of its table (a float's top 16
+// bits), on 200,000 random values and on the specials.
+TEST(Srgb8, TheTableGivesTheFormulasBytes) {
+    const auto formula = [](float x) { return std::uint8_t(std::lround(shared::srgbEncode(x) * 255.0)); };
+    std::vector<float> values = {0.0f, -0.0f, -1.0f, 1.0f, 2.0f, std::numeric_limits<float>::infinity(),
+                                 -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
+                                 std::numeric_limits<float>::denorm_min(), 0.0031308f, 1.0f - 1e-7f};
+    const std::uint32_t one = std::bit_cast<std::uint32_t>(1.0f);
+    for (int k = 0; k < 255; ++k) {  // each level's edge, by bisection on the formula
+        std::uint32_t lo = 0, hi = one;
+        while (hi - lo > 1) {
+            const std::uint32_t mid = lo + (hi - lo) / 2;
+            (formula(std::bit_cast<float>(mid)) > k ? hi : lo) = mid;
+        }
+        for (std::uint32_t b = hi - std::min<std::uint32_t>(hi, 300); b <= std::min(hi + 300, one); ++b)
+            values.push_back(std::bit_cast<float>(b));
+    }
+    for (std::uint32_t b = 0; b <= one; b += 1u << 16) {
+        values.push_back(std::bit_cast<float>(b));
+        if (b > 0) values.push_back(std::bit_cast<float>(b - 1));
+    }
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int i = 0; i < 200000; ++i) values.push_back(u(rng));
+    Image<glm::vec4> linear(int(values.size()), 1);
+    for (std::size_t i = 0; i < values.size(); ++i) linear.pixels[i] = glm::vec4(values[i], values[i], values[i], 1.0f);
+    const Image<glm::u8vec4> out = encodeSrgb8(linear);
+    std::size_t wrong = 0;
+    for (std::size_t i = 0; i < values.size(); ++i)
+        if (out.pixels[i].r != formula(values[i]) && ++wrong <= 5)
+            ADD_FAILURE() << "linear " << values[i] << " (bits " << std::bit_cast<std::uint32_t>(values[i]) << "): "
+                          << int(out.pixels[i].r) << ", the formula " << int(formula(values[i]));
+    EXPECT_EQ(wrong, 0u) << "of " << values.size();
+}
+
 }  // namespace meniscus

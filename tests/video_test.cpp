@@ -233,6 +233,37 @@ TEST(Video, CliRendersASequenceWithGapsToAnMp4) {
     EXPECT_FALSE(fs::exists(dir / "r.mp4"));
 }
 
+// The overlapped movie (frame k encoded on a worker while frame k + 1
+// renders, the next read ahead) is the sequential one byte for byte
+// (MENISCUS_RENDER_OVERLAP=0): x264 is given the same frames in the same
+// order, with a fixed thread count.
+TEST(Video, TheOverlappedMovieIsTheSequentialMovieByteForByte) {
+    const fs::path dir = test::tempDir() / "video_overlap";
+    fs::remove_all(dir);
+    fs::create_directories(dir / "in");
+    const fs::path data = test::testData("splishsplash/partio");
+    int k = 0;
+    for (int frame : {1, 9, 21, 61})
+        fs::copy_file(data / ("ParticleData_Fluid_" + std::to_string(frame) + ".bgeo"),
+                      dir / "in" / ("f_" + std::to_string(++k) + ".bgeo"));
+    const std::string args = std::string(MENISCUS_CLI) + " render '" + (dir / "in" / "f_*.bgeo").string() +
+                             "' --width 160 --height 90 --backend cpu --fps 12 -o ";
+    std::string out;
+    ASSERT_EQ(test::runCommand("MENISCUS_RENDER_OVERLAP=0 " + args + "'" + (dir / "seq.mp4").string() + "'", &out), 0)
+        << out;
+    ASSERT_EQ(test::runCommand(args + "'" + (dir / "par.mp4").string() + "'", &out), 0) << out;
+    EXPECT_NE(out.find("(4 frames, H.264, 12 fps)"), std::string::npos) << out;
+    const auto seq = test::readBytes(dir / "seq.mp4");
+    EXPECT_GT(seq.size(), 1000u);
+    EXPECT_EQ(seq, test::readBytes(dir / "par.mp4"));
+    const Decoded a = decode(dir / "seq.mp4"), b = decode(dir / "par.mp4");
+    EXPECT_EQ(a.frames, 4);
+    EXPECT_EQ(b.frames, 4);
+    ASSERT_FALSE(b.rgba.empty());
+    EXPECT_EQ(meanAbsDiff(a.rgba.front(), b.rgba.front()), 0.0);
+    EXPECT_GT(meanAbsDiff(b.rgba.front(), b.rgba.back()), 0.0);  // distinct frames
+}
+
 // A movie plays at the rate its data carries: a .pvd's timesteps 1/15 s apart
 // give 15 fps (SPlisHSPlasH's own output rate), said in the log; --fps still
 // wins; frames without time play at the default, and the log says so.

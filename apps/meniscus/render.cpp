@@ -13,6 +13,16 @@
 //    stay, a movie is not written (its temporary file is removed). Further
 //    Ctrl-Cs change nothing (a tool may signal the process and its group
 //    both), so no partial file is ever left.
+//  - A sequence's steps overlap (renderFrames, overlapOutput): frame k + 1 is
+//    read on a worker (FramePrefetch, one frame ahead; not with --resume or
+//    --shard, whose frames are read or not as the loop decides) and frame
+//    k - 1 converted and written (or encoded into the movie) on another while
+//    frame k renders. Frame k - 1 is settled (counted, logged, or failed as
+//    --on-error says) before frame k is handed over, so the order, the
+//    messages, the exit codes and the bytes are those of one step after
+//    another (MENISCUS_RENDER_OVERLAP=0); Ctrl-C waits for the frame being
+//    written. Only warnings read with frame k may come before frame k - 1's
+//    progress line.
 //  - A moving camera (--orbit, --turntable, --camera-path): frame i is at
 //    i / --fps seconds; the path gives eye, target and fov, then --orbit or
 //    --turntable turns the eye about the vertical through the target. The
@@ -49,10 +59,12 @@
 
 #include <algorithm>
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <future>
 #include <iostream>
 #include <optional>
 #include <regex>
@@ -65,11 +77,13 @@
 #include <CLI/CLI.hpp>
 
 #include "cluster.h"
+#include "frame_prefetch.h"
 #include "help_format.h"
 #include "interrupt.h"
 #include "mesh.h"
 #include "meniscus/boundary.h"
 #include "meniscus/io.h"
+#include "meniscus/memory_budget.h"
 #include "meniscus/particle_view.h"
 #include "meniscus/particles.h"
 #include "meniscus/renderer.h"
@@ -133,6 +147,30 @@ public:
         return writeImage(*n, aovs, withAlpha);
     }
 
+    // Frame i written (encoded into the movie, or its image file) on a
+    // worker while the caller renders the next frame; collect() waits for it
+    // and gives its status. One at a time: collect() before the next submit.
+    // Without `overlap` it is written here, at once.
+    void submit(std::size_t i, Aovs&& aovs, bool withAlpha, bool overlap) {
+        pendingFrame_ = i;
+        if (!overlap) {
+            done_ = write(i, aovs, withAlpha);
+            return;
+        }
+        pending_ = std::async(std::launch::async, [this, i, withAlpha, a = std::move(aovs)] {
+            return write(i, a, withAlpha);
+        });
+    }
+    // The submitted frame and its write's status, once written; nothing when
+    // none is pending.
+    std::optional<std::pair<std::size_t, Status>> collect() {
+        if (pending_.valid()) done_ = pending_.get();
+        if (!done_) return std::nullopt;
+        std::pair<std::size_t, Status> out{pendingFrame_, std::move(*done_)};
+        done_.reset();
+        return out;
+    }
+
     // The movie's end (nothing for images): the file appears under its name.
     Status finish() {
 #ifdef MENISCUS_HAVE_FFMPEG
@@ -154,12 +192,16 @@ private:
 #ifdef MENISCUS_HAVE_FFMPEG
     std::optional<VideoWriter> movie_;
 #endif
+    std::size_t pendingFrame_ = 0;
+    std::optional<Status> done_;     // the submitted frame's status, written at once
+    std::future<Status> pending_;    // the submitted frame's write on a worker (last: joined first)
 };
 
 // One frame: its particles (`set`, already read for the first), the mesh or
-// the diffuse layer when asked for, the render, the output.
+// the diffuse layer when asked for, the render, its picture in `picture`
+// when this process writes it.
 Status renderFrame(const RenderJob& o, const Frames& frames, std::size_t i, Result<ParticleSet> set,
-                   Renderer& renderer, RenderSettings& settings, Outputs& outputs) {
+                   Renderer& renderer, RenderSettings& settings, std::optional<Aovs>& picture) {
     if (!set) return set.error();
     printWarnings(*set);
     // The mesh path: this frame's isosurface replaces splat smoothing and normals.
@@ -194,7 +236,31 @@ Status renderFrame(const RenderJob& o, const Frames& frames, std::size_t i, Resu
     settings.diffuse = {};
     if (!aovs) return Error{aovs.error().file.empty() ? frames.name(i) : aovs.error().file, aovs.error().message};
     if (settings.compositor && !settings.compositor->root()) return okStatus();  // the root writes the picture
-    return outputs.write(i, *aovs, !settings.scene.background);
+    picture = std::move(*aovs);
+    return okStatus();
+}
+
+// Whether a sequence's reading, rendering and writing overlap (frame k + 1
+// read ahead and frame k - 1 written on workers while frame k renders),
+// holding `held` bytes beside the frame rendering: on, unless
+// MENISCUS_RENDER_OVERLAP=0 (the same bytes, one after another; the tests
+// compare the two), or unless `held` does not fit in half of the budget's
+// share that the memory checks leave over (1 - kJobShare): a run that close
+// to its limit goes one step after another, as before.
+bool overlapOutput(std::uint64_t held) {
+    const char* v = std::getenv("MENISCUS_RENDER_OVERLAP");
+    if (v && std::string(v) == "0") return false;
+    const MemoryBudget budget = availableMemory();
+    return budget.bytes == 0 || double(held) <= 0.5 * (1.0 - kJobShare) * double(budget.bytes);
+}
+
+// The last frame's colour while it is written (float RGBA and its 8-bit sRGB
+// copy), and a frame's particles as read (the reader's arrays).
+std::uint64_t colourBytes(const Camera& c) { return std::uint64_t(c.width) * std::uint64_t(c.height) * (16 + 4); }
+std::uint64_t particleBytes(const ParticleSet& set) {
+    std::uint64_t b = set.positions.size() * sizeof(glm::vec3);
+    for (const Attribute& a : set.attributes) b += a.floats.size() * sizeof(float) + a.ints.size() * sizeof(std::int64_t);
+    return b;
 }
 
 // `e` naming the scene file's key when the option came from one; still the
@@ -287,12 +353,39 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
     std::vector<std::pair<std::size_t, std::string>> failed;  // frame, error
     std::size_t written = 0, resumed = 0;
     ProgressBar progress(share->end - share->begin, "rendering");
+    // Frame i failed (read, render or write): the run stops with the exit
+    // code, or, with --on-error skip, the frame is listed and left out.
+    const auto failedFrame = [&](std::size_t i, const Error& e) -> std::optional<int> {
+        if (o.onError != "skip") {
+            if (count <= 1) return fail(e);
+            // Of a sequence: say how to go on past such frames.
+            return fail(e.describe() + " (frame " + std::to_string(i + 1) + " of " + std::to_string(count) +
+                        "; --on-error skip renders the others and lists the failed ones)");
+        }
+        failed.emplace_back(i, e.describe());
+        std::cerr << "meniscus: frame " << i + 1 << "/" << count << " skipped: " << e.describe() << "\n";
+        return std::nullopt;
+    };
+    // The frame submitted to the output, once written: counted and shown, or failed.
+    const auto settle = [&]() -> std::optional<int> {
+        auto done = outputs->collect();
+        if (!done) return std::nullopt;
+        if (!done->second) return failedFrame(done->first, done->second.error());
+        ++written;
+        if (writer) progress.step(done->first + 1 - share->begin, *outputs->name(done->first));
+        return std::nullopt;
+    };
+    // Overlapped (overlapOutput): frame i is written on a worker while frame
+    // i + 1 renders, and settled before frame i + 1 is submitted, so frames
+    // are written, counted, shown and failed in order, as sequentially.
+    const bool overlap = !composited && share->end - share->begin > 1 && overlapOutput(colourBytes(settings.camera));
     for (std::size_t i = 0; i < share->end; ++i) {
         // Ctrl-C or SIGTERM: stop before the next frame (the one in progress
-        // finished). Composited, the processes agree first (mpirun signals
-        // each at its own moment; one stopping alone would leave the others
-        // waiting in the composite).
+        // finished, its output written). Composited, the processes agree
+        // first (mpirun signals each at its own moment; one stopping alone
+        // would leave the others waiting in the composite).
         if (composited ? !cluster.allOk(!interrupted()) : interrupted()) {
+            if (auto code = settle()) return *code;
             const int code =
                 stopInterrupted(i > share->begin ? "after frame " + std::to_string(i) + " of " + std::to_string(count)
                                                  : "before the first frame",
@@ -304,6 +397,7 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
         auto name = outputs->name(i);
         if (!name) return fail(name.error());
         if (!rendered[i]) {
+            if (auto code = settle()) return *code;
             if (i >= share->begin) {
                 ++resumed;
                 if (writer) progress.step(i + 1 - share->begin, *name + " (complete, kept)");
@@ -328,7 +422,17 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
             if (set) set = makeError(frames.name(i), "could not be read by another process (its error is above)");
             readFailed = true;
         }
-        const Status st = renderFrame(o, frames, i, std::move(set), renderer, settings, *outputs);
+        std::optional<Aovs> picture;
+        Status st = renderFrame(o, frames, i, std::move(set), renderer, settings, picture);
+        // The frame before, written meanwhile: settled first, in order.
+        if (auto code = settle()) return *code;
+        if (st && picture) {
+            outputs->submit(i, std::move(*picture), !settings.scene.background, overlap);
+            if (!overlap) {
+                auto done = outputs->collect();  // written at once: part of the frame, as before
+                st = std::move(done->second);
+            }
+        }
         if (!st && composited && cluster.size() > 1 && !readFailed) {
             // Past the reading, a process's error leaves the others in the composite: end the job.
             std::cerr << "meniscus: error: " << st.error().describe() << " (process " << cluster.rank() << " of "
@@ -336,19 +440,13 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
             cluster.abort(1);
         }
         if (!st) {
-            if (o.onError != "skip") {
-                if (count <= 1) return fail(st.error());
-                // Of a sequence: say how to go on past such frames.
-                return fail(st.error().describe() + " (frame " + std::to_string(i + 1) + " of " +
-                            std::to_string(count) + "; --on-error skip renders the others and lists the failed ones)");
-            }
-            failed.emplace_back(i, st.error().describe());
-            std::cerr << "meniscus: frame " << i + 1 << "/" << count << " skipped: " << st.error().describe() << "\n";
-        } else {
+            if (auto code = failedFrame(i, st.error())) return *code;
+        } else if (!overlap || !picture) {
             ++written;
             if (writer) progress.step(i + 1 - share->begin, *name);
         }
     }
+    if (auto code = settle()) return *code;
     if (auto st = outputs->finish(); !st) return fail(st.error());
 
     if (!writer) {
@@ -654,10 +752,19 @@ int runRenderOn(Cluster& cluster, const RenderJob& options, const ParticleSet* e
     // taken out of the liquid as it is read; as walls, drawn with the options'
     // geometry (prepareBoundary).
     const std::shared_ptr<const SceneGeometry> optionGeometry = settings.geometry;
+    // A sequence rendered whole, in order (not --resume, not a shard, whose
+    // frames are read or not as the loop decides): frame i + 1 is read on a
+    // worker while frame i renders (one frame ahead: memory for one more
+    // frame's particles). The reader's result and error are the same.
+    std::optional<FramePrefetch> prefetch;
+    if (!still && !o.resume && o.shard.empty() && count > 1 &&
+        overlapOutput(colourBytes(settings.camera) + particleBytes(*first)))
+        prefetch.emplace(*frames, nullptr, 1, nullptr, firstIndex, false);
     return renderFrames(cluster, o, *frames, *motion, settings, [&](std::size_t i) -> Result<ParticleSet> {
         // (Frames before firstIndex did not load when fixForSequence tried them.)
         Result<ParticleSet> set = i == firstIndex ? std::move(*first)
                                   : still         ? Result<ParticleSet>(*still)
+                                  : prefetch      ? prefetch->take(i)
                                                   : frames->loadChecked(i);
         if (set) {
             auto geometry = prepareBoundary(*set, o, optionGeometry, frames->name(i));
