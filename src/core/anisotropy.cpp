@@ -26,6 +26,7 @@
 #include "core/dense_grid.h"
 #include "core/hash_grid.h"
 #include "core/lanes.h"
+#include "shared/anisotropy.h"
 
 
 
@@ -41,11 +42,7 @@ constexpr float kFar = 1e18f;  // padding: |d|^2 ~ 3e36 stays finite, outside an
 inline double hsum(F4 v) { return (double(v[0]) + double(v[1])) + (double(v[2]) + double(v[3])); }
 
 // A matrix from its unit axes (columns of r) and values along them: r diag(v) r^T.
-glm::mat3 fromAxes(const glm::dmat3& r, const glm::dvec3& v) {
-    glm::dmat3 out(0.0);
-    for (int k = 0; k < 3; ++k) out += v[k] * glm::outerProduct(r[k], r[k]);
-    return glm::mat3(out);
-}
+glm::mat3 fromAxes(const glm::dmat3& r, const glm::dvec3& v) { return glm::mat3(shared::anisotropyFromAxes(r, v)); }
 
 }  // namespace
 
@@ -63,90 +60,13 @@ EllipsoidShape ellipsoidShape(const glm::mat3& axes, const glm::vec3& a) {
     return {fromAxes(r, 1.0 / ad), fromAxes(r, ad * ad)};
 }
 
-namespace {
-
-// A unit vector orthogonal to the unit vector v.
-glm::dvec3 orthogonal(const glm::dvec3& v) {
-    const glm::dvec3 other = std::abs(v.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-    return glm::normalize(glm::cross(v, other));
-}
-
-// A unit eigenvector of a for the eigenvalue lambda: the longest cross
-// product of two rows of a - lambda I (they span the orthogonal complement
-// when lambda is simple). False when all are ~0 (lambda is not simple).
-bool eigenvector(const glm::dmat3& a, double lambda, double scale, glm::dvec3& v) {
-    const glm::dmat3 b = a - lambda * glm::dmat3(1.0);
-    const glm::dvec3 r0(b[0][0], b[1][0], b[2][0]), r1(b[0][1], b[1][1], b[2][1]), r2(b[0][2], b[1][2], b[2][2]);
-    const glm::dvec3 c[3] = {glm::cross(r0, r1), glm::cross(r0, r2), glm::cross(r1, r2)};
-    int best = 0;
-    for (int k = 1; k < 3; ++k)
-        if (glm::dot(c[k], c[k]) > glm::dot(c[best], c[best])) best = k;
-    const double len2 = glm::dot(c[best], c[best]);
-    if (!(len2 > 1e-20 * scale * scale * scale * scale)) return false;
-    v = c[best] / std::sqrt(len2);
-    return true;
-}
-
-}  // namespace
-
+// The formulas (Smith 1961, Kopp 2008) are src/shared/anisotropy.h's, shared
+// with the GPU's shaders/anisotropy.comp.
 void symmetricEigen(const glm::dmat3& a, glm::dvec3& values, glm::dmat3& vectors) {
-    // Eigenvalues in closed form (O. K. Smith, "Eigenvalues of a symmetric
-    // 3 x 3 matrix", CACM 4(4) 1961): with q = tr(a)/3 and p the scale of
-    // a - qI, B = (a - qI)/p has eigenvalues 2 cos(phi + 2 pi k / 3), where
-    // cos(3 phi) = det(B) / 2.
-    const double p1 = a[1][0] * a[1][0] + a[2][0] * a[2][0] + a[2][1] * a[2][1];
-    const double q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
-    const double p2 = (a[0][0] - q) * (a[0][0] - q) + (a[1][1] - q) * (a[1][1] - q) + (a[2][2] - q) * (a[2][2] - q) +
-                      2.0 * p1;
-    const double p = std::sqrt(p2 / 6.0);
-    const double scale = std::max({std::abs(a[0][0]), std::abs(a[1][1]), std::abs(a[2][2]), std::sqrt(p1), 1e-300});
-    if (!(p > 1e-12 * scale)) {  // a multiple of the identity: any frame
-        values = glm::dvec3(q);
-        vectors = glm::dmat3(1.0);
-        return;
-    }
-    const glm::dmat3 bm = (a - q * glm::dmat3(1.0)) / p;
-    const double r = std::clamp(glm::determinant(bm) / 2.0, -1.0, 1.0);
-    const double phi = std::acos(r) / 3.0;
-    constexpr double kThird = 2.0943951023931954923;  // 2 pi / 3
-    const double e1 = q + 2.0 * p * std::cos(phi), e3 = q + 2.0 * p * std::cos(phi + kThird);
-    values = glm::dvec3(e1, 3.0 * q - e1 - e3, e3);  // e1 >= e2 >= e3
-    // Eigenvectors (after J. Kopp, "Efficient numerical diagonalization of
-    // hermitian 3x3 matrices", 2008): the one of the eigenvalue farthest from
-    // the middle one by cross products (it is simple), the other two by
-    // diagonalising a in the plane orthogonal to it (a 2 x 2 rotation).
-    const bool firstApart = values[0] - values[1] >= values[1] - values[2];
-    const int k = firstApart ? 0 : 2;
-    glm::dvec3 v;
-    if (!eigenvector(a, values[k], scale, v)) {
-        vectors = glm::dmat3(1.0);
-        return;
-    }
-    const glm::dvec3 u = orthogonal(v), w = glm::cross(v, u);
-    const double auu = glm::dot(u, a * u), auw = glm::dot(u, a * w), aww = glm::dot(w, a * w);
-    // The rotation by theta with tan(2 theta) = 2 auw / (auu - aww) diagonalises [[auu, auw], [auw, aww]].
-    const double theta = 0.5 * std::atan2(2.0 * auw, auu - aww);
-    const double c = std::cos(theta), s = std::sin(theta);
-    glm::dvec3 x = c * u + s * w, y = -s * u + c * w;  // eigenvalues: the larger along x
-    const double ex = glm::dot(x, a * x), ey = glm::dot(y, a * y);
-    if (firstApart) {
-        values[1] = std::max(ex, ey), values[2] = std::min(ex, ey);
-        if (ex < ey) std::swap(x, y);
-        vectors = glm::dmat3(v, x, y);
-    } else {
-        values[0] = std::max(ex, ey), values[1] = std::min(ex, ey);
-        if (ex < ey) std::swap(x, y);
-        vectors = glm::dmat3(x, y, v);
-    }
-    if (glm::dot(glm::cross(vectors[0], vectors[1]), vectors[2]) < 0.0) vectors[2] = -vectors[2];
+    shared::anisotropyEigen(a, values, vectors);
 }
 
 namespace {
-
-// The weighted mean offset of a flat half-space's neighbourhood, in units of
-// R: with w = 1 - (d/R)^3, E_w[d cos theta] over the half ball =
-// (1/2) (R^4/4 - R^4/7) / (R^3/3 - R^3/6) / R = 9/28.
-constexpr double kHalfSpaceOffset = 9.0 / 28.0;
 
 // One particle's ellipsoid from its candidate neighbours (ranges of the
 // sorted points): returns whether it is isolated.
@@ -175,7 +95,7 @@ struct Pca {
             dx -= p.x, dy -= p.y, dz -= p.z;
             const F4 d2 = dx * dx + dy * dy + dz * dz;
             const I4 in = (d2 < R2) & (lane < std::int32_t(e - k));
-            const F4 w = lanes::selectV(in, 1.0f - d2 * lanes::sqrtV(d2) * invR3);  // 1 - (|d| / R)^3 (Yu & Turk eq. 11)
+            const F4 w = lanes::selectV(in, shared::anisotropyWeight(d2, lanes::sqrtV(d2), invR3));  // 1 - (|d| / R)^3 (Yu & Turk eq. 11)
             inside -= in;  // `in` is -1 where true
             const F4 wx = w * dx, wy = w * dy, wz = w * dz;
             W += w, sx += wx, sy += wy, sz += wz;
@@ -205,20 +125,10 @@ struct Pca {
         }
         // Yu & Turk eq. 13: the smaller axes at least 1/kr of the largest;
         // then the volume of the sphere of radius r.
-        const double floor = sigma[0] / double(params.kr);
-        const glm::dvec3 s3(sigma[0], std::max(sigma[1], floor), std::max(sigma[2], floor));
-        const glm::dvec3 a = s3 * (double(radius) / std::cbrt(s3.x * s3.y * s3.z));
+        const glm::dvec3 a = shared::anisotropyAxes(sigma, double(params.kr), double(radius));
         shape = {fromAxes(axes, 1.0 / a), fromAxes(axes, a * a)};
-        if (params.keepSurface && a.z < radius) {
-            // At a free surface the neighbours' mean lies inward along the
-            // shortest axis; the flattened ellipsoid would end a - a.z short
-            // of the sphere's outer side. Move it out by that much, scaled by
-            // how one-sided the neighbourhood is (a flat half-space's mean
-            // offset is kHalfSpaceOffset R; a sheet's or the bulk's is ~0).
-            const double m = glm::dot(mu, axes[2]);
-            const double t = std::min(std::abs(m) / (kHalfSpaceOffset * std::sqrt(double(R2))), 1.0);
-            centre += glm::vec3((m > 0.0 ? -1.0 : 1.0) * t * (double(radius) - a.z) * axes[2]);
-        }
+        if (params.keepSurface && a.z < radius)  // the free surface kept (shared/anisotropy.h)
+            centre += glm::vec3(shared::anisotropySurfaceShift(mu, axes[2], a.z, double(radius), std::sqrt(double(R2))));
         return false;
     }
 };
