@@ -234,3 +234,20 @@ TEST_F(GlAnisotropy, TheDefaultPipelineMatchesTheCpu) {
         EXPECT_EQ(device, 1);
     }
 }
+
+// Unset, the choice is the driver's: the host's ellipsoids on llvmpipe
+// (faster there, docs/performance.md), the GPU's on a hardware GPU.
+TEST_F(GlAnisotropy, TheDriverChoosesWhereByDefault) {
+    const RealFrame& f = realFrame();
+    ASSERT_FALSE(f.positions.empty());
+    unsetenv("MENISCUS_GL_HOST_ANISOTROPY");
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    RenderSettings s;
+    s.radiusM = f.radius;
+    s.camera = realFrameCamera(160, 90);
+    std::vector<StageTime> times;
+    ASSERT_TRUE(gl->render(f.positions, s, &times).ok());
+    const bool onGpu = std::any_of(times.begin(), times.end(), [](const StageTime& t) { return t.stage == "host: anisotropy"; });
+    EXPECT_EQ(onGpu, gl->backendName().find("llvmpipe") == std::string::npos) << gl->backendName();
+}

@@ -781,13 +781,18 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     if (!host_) host_ = std::make_unique<HostFrame>();
     HostFrame& h = *host_;
     h.begin(all);
-    // The GL backend makes the ellipsoids of one fluid itself; not for
-    // sort-last, whose shares splat slices of the shapes the host made.
-    // MENISCUS_GL_HOST_ANISOTROPY=1: the host's, bit for bit the CPU
-    // backend's (the GL parity tests of the stages after it).
+    // The GL backend makes the ellipsoids of one fluid itself on a hardware
+    // GPU; not for sort-last, whose shares splat slices of the shapes the
+    // host made, and not on Mesa's llvmpipe, which runs the GPU's neighbour
+    // walk an order of magnitude slower than the host's loop
+    // (docs/performance.md). MENISCUS_GL_HOST_ANISOTROPY=1 takes the host's
+    // (bit for bit the CPU backend's: the GL parity tests of the stages
+    // after it), =0 the GPU's (llvmpipe too: the tests of the GL passes).
     const char* hostAnisotropy = std::getenv("MENISCUS_GL_HOST_ANISOTROPY");
-    h.deviceAnisotropy = backend_->kind() == BackendKind::Gl && !s.compositor &&
-                         !(hostAnisotropy && std::string_view(hostAnisotropy) == "1");
+    const bool gpuAnisotropy = hostAnisotropy && *hostAnisotropy
+                                   ? std::string_view(hostAnisotropy) == "0"
+                                   : backend_->name().find("llvmpipe") == std::string::npos;
+    h.deviceAnisotropy = backend_->kind() == BackendKind::Gl && !s.compositor && gpuAnisotropy;
     HostRun hostRun{s, all, h};
     if (auto st = runHostStages(StageWhen{s}, hostRun); !st) return st;
     const ParticleView& particles = *h.particles;
