@@ -31,6 +31,8 @@ Result<Anisotropy> Anisotropy::create() {
     if (!pca) return pca.error();
     a.grid_ = std::move(*grid);
     a.pca_ = std::move(*pca);
+    a.sortedTex_ = makeTexture();
+    a.startsTex_ = makeTexture();
     return a;
 }
 
@@ -90,10 +92,21 @@ void Anisotropy::run(std::span<const glm::vec3> positions, float radius, const A
     glUniform1f(10, radius);
     glUniform1i(11, own ? 1 : 0);
     glUniform1f(12, shapeScale);
-    const GLuint pcaBuffers[] = {sorted_.id(), starts_.id(), radii_.id(), centres.id(), shapes.id()};
-    for (GLuint b = 0; b < 5; ++b) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, pcaBuffers[b]);
+    const GLuint pcaBuffers[] = {radii_.id(), centres.id(), shapes.id()};
+    for (GLuint b = 0; b < 3; ++b) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b + 2, pcaBuffers[b]);
+    attachBufferTexture(sortedTex_, GL_RGBA32F, sorted_, GLsizeiptr(n) * 16);
+    attachBufferTexture(startsTex_, GL_R32UI, starts_, GLsizeiptr(buckets + 1) * 4);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_BUFFER, startsTex_.id());
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_BUFFER, sortedTex_.id());
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glDispatchCompute(particleGroups, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindTexture(GL_TEXTURE_BUFFER, 0);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_BUFFER, 0);
+    glActiveTexture(GL_TEXTURE0);
     glUseProgram(0);
 }
 

@@ -34,6 +34,7 @@ public:
 private:
     Program grid_, pca_;
     Buffer positions_, radii_, counts_, starts_, chunks_, unsorted_, sorted_, bucketOf_;
+    Texture sortedTex_, startsTex_;  // anisotropy.comp reads sorted_ and starts_ as buffer textures
 };
 
 // One-shot convenience (tests): create, run, read the centres and shapes back.

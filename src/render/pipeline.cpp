@@ -784,10 +784,10 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     // The GL backend makes the ellipsoids of one fluid itself on a hardware
     // GPU; not for sort-last, whose shares splat slices of the shapes the
     // host made, and not on Mesa's llvmpipe, which runs the GPU's neighbour
-    // walk an order of magnitude slower than the host's loop
-    // (docs/performance.md). MENISCUS_GL_HOST_ANISOTROPY=1 takes the host's
-    // (bit for bit the CPU backend's: the GL parity tests of the stages
-    // after it), =0 the GPU's (llvmpipe too: the tests of the GL passes).
+    // walk 2-3x slower than the host's loop (docs/performance.md).
+    // MENISCUS_GL_HOST_ANISOTROPY=1 takes the host's (bit for bit the CPU
+    // backend's: the GL parity tests of the stages after it), =0 the GPU's
+    // (llvmpipe too: the tests of the GL passes).
     const char* hostAnisotropy = std::getenv("MENISCUS_GL_HOST_ANISOTROPY");
     const bool gpuAnisotropy = hostAnisotropy && *hostAnisotropy
                                    ? std::string_view(hostAnisotropy) == "0"

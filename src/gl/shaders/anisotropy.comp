@@ -4,8 +4,8 @@
 // fluids using anisotropic kernels", ACM TOG 32(1) 2013;
 // docs/pipeline.md#anisotropic-kernels) on the GPU: the GL twin of
 // src/core/anisotropy.cpp. One invocation per particle, taken in the grid's
-// order (anisotropy_grid.comp's `sorted`), walks the buckets of the 27 cells
-// around its own, each once, in a fixed order, and sums over the neighbours
+// order (anisotropy_grid.comp's `sorted`), walks the 27 cells around its
+// own (their buckets' particles of that cell), in a fixed order, and sums over the neighbours
 // j with |x_j - x_i| < R (itself included) the weights w = 1 - (|d| / R)^3,
 // w d and w d d^T (d = x_j - x_i in units of R, floats). Then, as the CPU:
 // the weighted mean offset mu, the covariance C = E_w[d d^T] - mu mu^T, its
@@ -23,8 +23,10 @@
 
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer Sorted { vec4 sorted[]; };    // xyz, particle index bits in w
-layout(std430, binding = 1) readonly buffer Starts { uint starts[]; };    // uBuckets + 1
+// Through buffer textures: llvmpipe gathers texel fetches in SIMD but reads
+// storage buffers lane by lane.
+layout(binding = 0) uniform samplerBuffer sorted;   // xyz, particle index bits in w
+layout(binding = 1) uniform usamplerBuffer starts;  // uBuckets + 1
 layout(std430, binding = 2) readonly buffer Radii { float radii[]; };     // own radii (uOwnRadii != 0)
 layout(std430, binding = 3) writeonly buffer Centres { float centres[]; };  // packed xyz
 layout(std430, binding = 4) writeonly buffer Shapes { vec4 shapes[]; };
@@ -52,7 +54,7 @@ void writeShape(uint i, mat3 m, mat3 q) {
 void main() {
     const uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     for (uint s = gl_GlobalInvocationID.x; s < uCount; s += stride) {
-        const vec4 self = sorted[s];
+        const vec4 self = texelFetch(sorted, int(s));
         const vec3 p = self.xyz;
         const uint i = floatBitsToUint(self.w);
         const float radius = uOwnRadii != 0 ? radii[i] : uRadius;
@@ -61,19 +63,17 @@ void main() {
         vec3 sd = vec3(0.0);
         float sxx = 0.0, sxy = 0.0, sxz = 0.0, syy = 0.0, syz = 0.0, szz = 0.0;
         int count = 0;
-        uint seen[27];
-        int nSeen = 0;
         for (int z = -1; z <= 1; ++z)
             for (int y = -1; y <= 1; ++y)
                 for (int x = -1; x <= 1; ++x) {
-                    const uint b = anisotropyBucket(cell + ivec3(x, y, z));
-                    bool again = false;
-                    for (int k = 0; k < nSeen; ++k) again = again || seen[k] == b;
-                    if (again) continue;
-                    seen[nSeen++] = b;
-                    const uint end = starts[b + 1u];
-                    for (uint t = starts[b]; t < end; ++t) {
-                        precise const vec3 d = sorted[t].xyz - p;
+                    const ivec3 at = cell + ivec3(x, y, z);
+                    const uint b = anisotropyBucket(at);
+                    const int end = int(texelFetch(starts, int(b + 1u)).x);
+                    for (int t = int(texelFetch(starts, int(b)).x); t < end; ++t) {
+                        const vec3 xj = texelFetch(sorted, t).xyz;
+                        // Only this cell's particles: cells sharing a bucket count once each.
+                        if (anisotropyCell(xj) != at) continue;
+                        precise const vec3 d = xj - p;
                         precise const float d2 = (d.x * d.x + d.y * d.y) + d.z * d.z;
                         if (!(d2 < uR2)) continue;
                         precise const float w = anisotropyWeight(d2, sqrt(d2), uInvR3);

@@ -4,8 +4,9 @@
 // coordinate is as precise as the positions themselves), hashed into
 // uBuckets (a power of two) buckets, so that far outliers need no dense
 // grid over the bounds. A neighbourhood's 27 cells may share buckets; the
-// walk visits each bucket once, and the distance test keeps only the
-// neighbours (every one of them lies in the 27 cells).
+// walk takes from each cell's bucket only that cell's particles, so each
+// candidate counts once, and the distance test keeps only the neighbours
+// (every one of them lies in the 27 cells).
 
 layout(location = 0) uniform uint uCount;    // particles
 layout(location = 1) uniform uint uBuckets;  // a power of two
