@@ -389,8 +389,9 @@ int main(int argc, char** argv) {
     app.add_flag("--silhouette", silhouette, "Also run the silhouette reduction stage (Instant Liquids' silhouette map)");
     std::string anisotropy = AnisotropyParams{}.enabled ? "on" : "off";
     app.add_option("--anisotropy", anisotropy,
-                   "Anisotropic kernels (Yu & Turk 2013), on or off: the anisotropy line (host, both backends) and "
-                   "the ellipsoid splat")
+                   "Anisotropic kernels (Yu & Turk 2013), on or off: the anisotropy line (the host's on the CPU "
+                   "backend, the GPU's passes on GL, whose host part is the 'host: anisotropy' line) and the "
+                   "ellipsoid splat")
         ->capture_default_str()
         ->check(CLI::IsMember({"on", "off"}));
     bool raycast = false;

@@ -38,17 +38,27 @@ class GlBackend : public GlTest {};
 //  - normals: 0.01 degrees at the 99th percentile (they follow the depth);
 //  - colour: at most 2 8-bit sRGB steps anywhere, and at most 0.1% of pixels off
 //    by more than 1 (exp/log of the driver vs the CPU's polynomials, thickness).
-void expectSame(const Aovs& cpu, const Aovs& gl, float r) {
+// With `ownEllipsoids` (the GL backend made the ellipsoids on the GPU,
+// gl/anisotropy.h: float against the CPU's double, tests/gl_anisotropy_test.cpp)
+// the inputs differ by rounding: the depth as there (1e-5 on all but 0.5% of
+// the pixels, none beyond 5e-3), the thickness 1e-3, the normals 0.05
+// degrees (measured on the real frame: 1.7e-4 and 0.02 degrees).
+void expectSame(const Aovs& cpu, const Aovs& gl, float r, bool ownEllipsoids = false) {
     const DepthDiff raw = compareDepth(cpu.rawDepth, gl.rawDepth), z = compareDepth(cpu.depth, gl.depth);
-    EXPECT_LE(raw.maxRel, 1e-5);
-    EXPECT_LE(z.maxRel, 1e-5);
+    if (ownEllipsoids) {
+        expectDepthNearlySame(cpu.rawDepth, gl.rawDepth, 1e-5, 5e-3, 5e-3);
+        expectDepthNearlySame(cpu.depth, gl.depth, 1e-5, 5e-3, 5e-3);
+    } else {
+        EXPECT_LE(raw.maxRel, 1e-5);
+        EXPECT_LE(z.maxRel, 1e-5);
+    }
     EXPECT_LE(raw.coverageDiffer, int(5e-4 * raw.coveredCpu) + 2);
     EXPECT_LE(z.coverageDiffer, int(5e-4 * z.coveredCpu) + 2);
     const double diameter = 2.0 * r * shared::thicknessWeight(r, ThicknessParams{});
     const ScalarDiff t = compareScalar(cpu.thickness, gl.thickness, diameter);
-    EXPECT_LE(t.maxRel, 1e-4);
+    EXPECT_LE(t.maxRel, ownEllipsoids ? 1e-3 : 1e-4);
     const NormalDiff n = compareNormals(cpu.normal, gl.normal, cpu.depth);
-    EXPECT_LE(n.p99Deg, 0.01);
+    EXPECT_LE(n.p99Deg, ownEllipsoids ? 0.05 : 0.01);
     const ColorDiff c = compareColor(cpu.color, gl.color);
     EXPECT_LE(c.maxSteps, 2);
     EXPECT_LE(c.fractionOver1, 1e-3);
@@ -158,6 +168,7 @@ TEST_F(GlBackend, AnisotropicKernelsMatchCpu) {
     ASSERT_TRUE(gl.ok()) << gl.error().describe();
     Renderer cpu;
     f.settings.anisotropy.enabled = true;
+    setenv("MENISCUS_GL_HOST_ANISOTROPY", "0", 1);  // the GL backend's own ellipsoids (GlTest's SetUp restores)
     std::vector<std::int64_t> fluid(f.positions.size());
     std::vector<float> radii(f.positions.size());
     for (std::size_t i = 0; i < fluid.size(); ++i) {
@@ -176,7 +187,8 @@ TEST_F(GlBackend, AnisotropicKernelsMatchCpu) {
         auto b = gl->render(view, f.settings);
         ASSERT_TRUE(a.ok()) << a.error().describe();
         ASSERT_TRUE(b.ok()) << b.error().describe();
-        expectSame(*a, *b, f.settings.radiusM);
+        // One fluid with anisotropy: the GL backend's own ellipsoids.
+        expectSame(*a, *b, f.settings.radiusM, f.settings.anisotropy.enabled && variant != 2);
     }
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstring>
+#include <cstdlib>
 
 #include <algorithm>
 #include <cmath>
@@ -53,6 +54,11 @@ protected:
         gl::Context* ctx = sharedGlContext(&why);
         if (!ctx) GTEST_SKIP() << "no GL context: " << why;
         if (auto st = ctx->makeCurrent(); !st) GTEST_SKIP() << "the GL context cannot be made current: " << st.error().describe();
+        // The stages' parity tests compare bit-identical inputs: the GL
+        // backend takes the host's ellipsoids, as the CPU backend. The tests
+        // of its own (gl/anisotropy.h: gl_anisotropy_test, and the pipeline
+        // with them) set this to 0.
+        setenv("MENISCUS_GL_HOST_ANISOTROPY", "1", 1);
     }
 };
 
@@ -113,6 +119,28 @@ inline DepthDiff compareDepth(const Image<float>& cpu, const Image<float>& gl) {
     }
     d.meanRel = both ? sum / both : 0.0;
     return d;
+}
+
+// The depth where the inputs differ by rounding (the GL backend's own
+// ellipsoids, gl/anisotropy.h, in float against the CPU's in double): a
+// grazing ray may meet another ellipsoid, and the smoothing spreads that, so
+// instead of a bound on every pixel at most `fraction` of the covered pixels
+// may differ by more than `rel`, and none by more than `cap` (relative).
+inline void expectDepthNearlySame(const Image<float>& cpu, const Image<float>& gl, double rel, double fraction,
+                                  double cap) {
+    int over = 0, covered = 0;
+    double worst = 0.0;
+    for (std::size_t k = 0; k < cpu.size() && k < gl.size(); ++k) {
+        const double a = cpu.pixels[k], b = gl.pixels[k];
+        if (!std::isfinite(a) || !std::isfinite(b)) continue;
+        ++covered;
+        const double d = std::abs(b - a) / std::abs(a);
+        over += d > rel;
+        worst = std::max(worst, d);
+    }
+    EXPECT_LE(over, int(fraction * covered) + 2) << "pixels beyond " << rel << " of " << covered;
+    EXPECT_LE(worst, cap);
+    std::printf("  depth: %d of %d pixels beyond %.0e, worst %.2g\n", over, covered, rel, worst);
 }
 
 // ---- Plain scalars (thickness) ----------------------------------------------

@@ -85,6 +85,17 @@ struct FrameSettings : StageParams {
     // beginFrame (this frame only), splatted for depth and thickness instead
     // of the spheres of `radius`; empty: spheres. The other stages keep the radius.
     std::span<const EllipsoidShape> shapes;
+    // Or, with deviceAnisotropy (a backend that computes the ellipsoids
+    // itself: GL, gl/anisotropy.h), `shapes` is empty and the backend makes
+    // them (and the smoothed centres) from beginFrame's positions with these
+    // parameters, the own radii deviceRadii (empty: `radius`), every shape
+    // scaled by deviceShapeScale (the ray cast's coverRadii; else 1).
+    const AnisotropyParams* deviceAnisotropy = nullptr;
+    std::span<const float> deviceRadii;
+    float deviceShapeScale = 1.0f;
+    // Whether the frame's stages are timed (the backend's own work in
+    // beginFrame is bracketed as a stage too).
+    bool timed = false;
     // The SPH surface, ray cast (docs/pipeline.md#ray-cast-surface), when
     // raycast.enabled: the particles' field (this frame only, the Renderer's)
     // the raycast stage reads.
@@ -149,6 +160,7 @@ struct FrameSettings : StageParams {
     void useFluid(const FluidSettings& fluid) {
         particles = fluid.particles;
         shapes = fluid.shapes;
+        deviceAnisotropy = nullptr;  // several fluids: the shapes come made
         field = fluid.field;
         shading = fluid.shading;
         noiseIdz = fluid.noiseIdz;

@@ -73,15 +73,32 @@ Status GlBackend::beginFrame(std::span<const glm::vec3> positions, const FrameSe
     }
     s_ = settings;
     upload();
-    splat_.uploadParticles(positions, settings.shapes);
     stage_ = 0;
-    return okStatus();
+    return uploadParticles(positions);
+}
+
+Status GlBackend::uploadParticles(std::span<const glm::vec3> positions) {
+    if (!s_.deviceAnisotropy) {
+        splat_.uploadParticles(positions, s_.shapes);
+        return okStatus();
+    }
+    if (!anisotropy_) {
+        auto a = Anisotropy::create();
+        if (!a) return a.error();
+        anisotropy_ = std::move(*a);
+    }
+    if (s_.timed) beginStage("anisotropy");
+    anisotropy_->run(positions, s_.radius, *s_.deviceAnisotropy, s_.deviceRadii, s_.deviceShapeScale,
+                     splat_.particleBuffer(), splat_.shapeBuffer());
+    splat_.useDeviceShapes(GLuint(positions.size()));
+    if (s_.timed) endStage();
+    return stageStatus("anisotropy");
 }
 
 void GlBackend::setFluid(std::span<const glm::vec3> positions, const FluidSettings& fluid) {
     s_.useFluid(fluid);
     upload();
-    splat_.uploadParticles(positions, fluid.shapes);
+    splat_.uploadParticles(positions, fluid.shapes);  // several fluids: the shapes come made
 }
 
 void GlBackend::setCamera(const Camera& camera) {

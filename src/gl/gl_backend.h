@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/backend.h"
+#include "gl/anisotropy.h"
 #include "gl/buffer_fill.h"
 #include "gl/context.h"
 #include "gl/environment.h"
@@ -110,11 +111,16 @@ private:
         std::chrono::steady_clock::time_point t0;
     };
     void upload();
+    // The particles into the splat's buffer: uploaded with their shapes, or
+    // with deviceAnisotropy their ellipsoids made here (timed as the
+    // anisotropy stage when the frame is timed).
+    Status uploadParticles(std::span<const glm::vec3> positions);
 
     std::unique_ptr<Context> ctx_;  // first: destroyed last; null on a window's context
     std::string renderer_;          // GL_RENDERER
     bool hasResetStatus_;           // glGetGraphicsResetStatus exists (asked once, not per stage)
     Splat splat_;
+    std::optional<Anisotropy> anisotropy_;  // made on first use
     std::unordered_map<std::type_index, std::shared_ptr<void>> passes_;
     std::optional<BufferFill> fill_;  // shader fills and copies; none: the driver's
     std::optional<Presenter> presenter_;

@@ -30,6 +30,16 @@ public:
     // and with `shapes` (one per position) their ellipsoids (anisotropic
     // kernels): run() then splats those instead of spheres of frame.radius.
     void uploadParticles(std::span<const glm::vec3> positionsWorld, std::span<const EllipsoidShape> shapes = {});
+    // The particles and their ellipsoids written on the GPU instead
+    // (gl/anisotropy.h: the smoothed centres into particleBuffer(), the
+    // shapes into shapeBuffer(), splat.comp's layouts): run() then splats
+    // `count` ellipsoids from those buffers, nothing uploaded.
+    Buffer& particleBuffer() { return positions_; }
+    Buffer& shapeBuffer() { return shapes_; }
+    void useDeviceShapes(GLuint count) {
+        count_ = count;
+        ellipsoids_ = true;
+    }
     // The uploaded positions (packed xyz floats) and their count, for the
     // stages that read them too (the surface noise): uploaded once per frame.
     const Buffer& particleBuffer() const { return positions_; }

@@ -28,10 +28,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <exception>
 #include <limits>
 #include <new>
 #include <string>
+#include <string_view>
 
 #include "core/anisotropy.h"
 #include "core/sph_field.h"
@@ -554,12 +556,14 @@ struct HostFrame {
     bool several = false;                     // several fluids
     bool ownRadii = false;                    // each particle drawn at its own radius
     bool shaped = false;                      // drawn as shapes (anisotropy, own radii or the ray cast)
+    bool deviceAnisotropy = false;            // the backend can make the ellipsoids (GL) for one fluid
+    bool shapesOnDevice = false;              // it makes this frame's (h.radii: the own radii)
     std::vector<StageTime> times;             // the host stages' times, in their order
 
     void begin(const ParticleView& all) {
         particles = &all;
         positions = {};
-        several = ownRadii = shaped = false;
+        several = ownRadii = shaped = shapesOnDevice = false;
         times.clear();
     }
 };
@@ -659,6 +663,15 @@ Status hostShapes(HostRun& r) {
         h.radii.clear();
         if (h.ownRadii)
             for (std::size_t i = 0; i < view.size(); ++i) h.radii.push_back(view.radius[i]);
+        if (anisotropic && h.deviceAnisotropy && !h.several) {
+            // The GL backend makes the ellipsoids and the smoothed centres
+            // from the positions (gl/anisotropy.h): nothing more here.
+            e.centres.clear();
+            e.shapes.clear();
+            h.shapesOnDevice = true;
+            h.times.push_back({"host: anisotropy", msSince(t0)});
+            return okStatus();
+        }
         if (anisotropic) {
             computeAnisotropy(pos, s.radiusM, s.anisotropy, e, h.radii);
         } else {
@@ -768,6 +781,18 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     if (!host_) host_ = std::make_unique<HostFrame>();
     HostFrame& h = *host_;
     h.begin(all);
+    // The GL backend makes the ellipsoids of one fluid itself on a hardware
+    // GPU; not for sort-last, whose shares splat slices of the shapes the
+    // host made, and not on Mesa's llvmpipe, which runs the GPU's neighbour
+    // walk 2-3x slower than the host's loop (docs/performance.md).
+    // MENISCUS_GL_HOST_ANISOTROPY=1 takes the host's (bit for bit the CPU
+    // backend's: the GL parity tests of the stages after it), =0 the GPU's
+    // (llvmpipe too: the tests of the GL passes).
+    const char* hostAnisotropy = std::getenv("MENISCUS_GL_HOST_ANISOTROPY");
+    const bool gpuAnisotropy = hostAnisotropy && *hostAnisotropy
+                                   ? std::string_view(hostAnisotropy) == "0"
+                                   : backend_->name().find("llvmpipe") == std::string::npos;
+    h.deviceAnisotropy = backend_->kind() == BackendKind::Gl && !s.compositor && gpuAnisotropy;
     HostRun hostRun{s, all, h};
     if (auto st = runHostStages(StageWhen{s}, hostRun); !st) return st;
     const ParticleView& particles = *h.particles;
@@ -786,6 +811,12 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     f.camera = s.camera;
     f.radius = s.radiusM;
     if (shaped && !several) f.shapes = h.ellipsoids[0].shapes;
+    if (h.shapesOnDevice) {
+        f.deviceAnisotropy = &s.anisotropy;
+        f.deviceRadii = h.radii;
+        f.deviceShapeScale = raycast ? s.raycast.coverRadii : 1.0f;
+    }
+    f.timed = timings != nullptr;
     if (raycast) {
         if (!several) f.field = &h.fields[0];
         // The larger shapes' chords, calibrated as spheres of coverRadii r at
