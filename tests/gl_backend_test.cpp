@@ -121,6 +121,41 @@ TEST_F(GlBackend, MaterialsBackgroundAndViewsMatchCpu) {
     }
 }
 
+// A backdrop (docs/compositing.md) composited on GL as on the CPU: a set of
+// stripes at two depths, one in front of part of the liquid and one behind
+// it, with "nothing" (a renderer's background) between them.
+TEST_F(GlBackend, BackdropMatchesCpu) {
+    Frame f = realFrameSettings();
+    ASSERT_FALSE(f.positions.empty());
+    const int W = f.settings.camera.width, H = f.settings.camera.height;
+    Renderer cpu;
+    auto plain = cpu.render(f.positions, f.settings);
+    ASSERT_TRUE(plain.ok());
+    float nearest = INFINITY, farthest = 0.0f;
+    for (float z : plain->rawDepth.pixels)
+        if (std::isfinite(z)) nearest = std::min(nearest, z), farthest = std::max(farthest, z);
+    ASSERT_LT(nearest, farthest);
+    std::vector<float> rgb, depth;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const int stripe = (x / 16) % 3;
+            rgb.insert(rgb.end(), {0.2f + 0.3f * float(stripe), 0.5f, 0.9f - 0.2f * float(y) / float(H)});
+            // Ray distances, so the conversion runs too.
+            const float z = stripe == 0 ? 0.5f * (nearest + farthest) : stripe == 1 ? 2.0f * farthest : INFINITY;
+            depth.push_back(z * glm::length(f.settings.camera.pixelRay(x + 0.5f, y + 0.5f)));
+        }
+    auto backdrop = makeBackdrop(W, H, rgb, 3, depth, *parseBackdropDepth("ray"));
+    ASSERT_TRUE(backdrop.ok());
+    f.settings.scene.backdrop = std::make_shared<const BackdropImage>(std::move(*backdrop));
+    auto gl = Renderer::create(BackendChoice::Gl);
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    auto a = cpu.render(f.positions, f.settings);
+    auto b = gl->render(f.positions, f.settings);
+    ASSERT_TRUE(a.ok() && b.ok());
+    expectSame(*a, *b, f.settings.radiusM);
+    EXPECT_GT(differingBits(a->color, plain->color), W * H / 2);  // the backdrop is in the picture
+}
+
 // colorOnly reads back only what the view pictures; the colour is the same.
 TEST_F(GlBackend, ColorOnlyMatchesCpuForEveryView) {
     Frame f = realFrameSettings();

@@ -64,7 +64,8 @@ public:
         // objects (camera.path's keys) is the option's JSON text.
         Result<OptionValue> value = makeError("", "");
         if (option == "geometry") value = geometryValue(v);
-        else if (option == "environment" && v.is_string()) value = OptionValue(path(v.get<std::string>()));
+        else if ((option == "environment" || option == "backdrop" || option == "backdrop-depth") && v.is_string())
+            value = OptionValue(path(v.get<std::string>()));
         else if (v.is_array() && !v.empty() && v.front().is_object()) value = OptionValue(v.dump());
         else value = typedValue(v);
         if (!value) return fail(key, value.error().message);

@@ -99,6 +99,13 @@ struct RenderOptions {
     std::string environment;
     float environmentRotation = 0.0f;
     float environmentIntensity = 1.0f;
+    // A backdrop (readBackdrop, docs/compositing.md): another renderer's picture
+    // of the set (colour, and its depth in the same file or in backdropDepth),
+    // made by this camera at this size, drawn in the studio's place; its depth
+    // values' meaning (parseBackdropDepth). Empty: the studio.
+    std::string backdrop;
+    std::string backdropDepth;
+    std::string backdropDepthKind = "linear";
     // Scene geometry drawn around the liquid (readGeometry, docs/geometry.md):
     // each a mesh file, a SPlisHSPlasH scene file, or geometry objects as JSON.
     std::vector<std::string> geometry;
@@ -400,6 +407,10 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse = fal
 // The environment map of --environment (readEnvironmentMap), the last one read
 // kept while the file stays the same.
 Result<std::shared_ptr<const EnvironmentImage>> renderEnvironment(const std::string& path);
+// The backdrop of --backdrop (readBackdrop), the last one read kept while its
+// files and depth kind stay the same.
+Result<std::shared_ptr<const BackdropImage>> renderBackdrop(const std::string& color, const std::string& depth,
+                                                            const std::string& depthKind);
 
 Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<std::string>& specs,
                                                             const glm::vec3& upAxis, bool cutAway = true);

@@ -14,6 +14,7 @@
 
 #include <glm/glm.hpp>
 
+#include "meniscus/backdrop.h"
 #include "meniscus/environment.h"
 #include "meniscus/types.h"
 
@@ -461,6 +462,11 @@ struct SceneParams {
     std::shared_ptr<const EnvironmentImage> environment;
     float environmentRotationDeg = 0.0f;  // about the vertical axis, degrees
     float environmentIntensity = 1.0f;    // multiplies the map's radiance
+    // A backdrop (include/meniscus/backdrop.h, docs/compositing.md): another
+    // renderer's colour and depth of the set, seen by this camera (the same
+    // size), in the studio's place; null: the studio. Shared: frames keep one
+    // copy.
+    std::shared_ptr<const BackdropImage> backdrop;
 };
 
 // ---- Shading (docs/pipeline.md#shading) -------------------------------------

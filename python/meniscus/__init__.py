@@ -21,6 +21,8 @@ import os as _os
 import sys as _sys
 import warnings as _warnings
 
+import numpy as _np
+
 from ._meniscus import (
     DEMO_RADIUS,
     Renderer,
@@ -71,6 +73,10 @@ def render(particles, radius=None, *, width=None, height=None, camera=None, filt
     default). backend: 'cpu', 'gl' or 'auto' (as the CLI's --backend).
     aovs: also return a dict of float32 AOV images (color, depth, raw_depth,
     normal, thickness, ...): (image, aovs).
+    background: (rgb, depth) numpy arrays of another renderer's picture of the
+    set, made by this camera (Renderer.render; docs/compositing.md); its size
+    is the picture's unless width and height are given. A string is the
+    studio setting instead ('studio', 'floor', 'none').
     settings: any `meniscus render` option by its Python name (noise=True,
     noise_bump=0.3, material='lava', fill_holes=0, anisotropy='off', up=(0, 0, 1),
     view='depth', ...); meniscus.settings() lists them.
@@ -81,10 +87,17 @@ def render(particles, radius=None, *, width=None, height=None, camera=None, filt
     """
     if filter is not None:
         settings["filter"] = filter
+    # background=(rgb, depth): a picture to composite into (Renderer.render);
+    # a string is the studio setting ('studio', 'floor', 'none', 'auto').
+    backdrop = None
+    if "background" in settings and not isinstance(settings["background"], str):
+        backdrop = settings.pop("background")
+        if width is None and height is None:
+            height, width = (int(n) for n in _np.shape(backdrop[1])[:2])
     size = {k: v for k, v in (("width", width), ("height", height)) if v is not None}
     r = Renderer(backend=backend, **size, **settings)
     return r.render(particles, radius=radius, camera=camera, aovs=aovs, velocity=velocity, density=density,
-                    id=id, fluid=fluid, color=color, radii=radii, studio=studio, frame=frame)
+                    id=id, fluid=fluid, color=color, radii=radii, studio=studio, frame=frame, background=backdrop)
 
 
 def _warn(message):

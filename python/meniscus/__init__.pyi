@@ -65,14 +65,16 @@ class Renderer:
                density: npt.ArrayLike | None = ..., id: npt.ArrayLike | None = ...,
                fluid: npt.ArrayLike | None = ..., color: npt.ArrayLike | None = ...,
                radii: npt.ArrayLike | None = ..., studio: Box | None = ...,
-               frame: int | None = ...) -> npt.NDArray[np.uint8]: ...
+               frame: int | None = ...,
+               background: Tuple[npt.ArrayLike, npt.ArrayLike] | None = ...) -> npt.NDArray[np.uint8]: ...
     @overload
     def render(self, particles: Particles, *, radius: float | None = ..., camera: Camera | None = ...,
                aovs: Literal[True], velocity: npt.ArrayLike | None = ...,
                density: npt.ArrayLike | None = ..., id: npt.ArrayLike | None = ...,
                fluid: npt.ArrayLike | None = ..., color: npt.ArrayLike | None = ...,
                radii: npt.ArrayLike | None = ..., studio: Box | None = ...,
-               frame: int | None = ...) -> Tuple[npt.NDArray[np.uint8], dict[str, npt.NDArray[np.float32]]]: ...
+               frame: int | None = ...,
+               background: Tuple[npt.ArrayLike, npt.ArrayLike] | None = ...) -> Tuple[npt.NDArray[np.uint8], dict[str, npt.NDArray[np.float32]]]: ...
 
 @overload
 def render(particles: Particles, radius: float | None = ..., *, width: int | None = ..., height: int | None = ...,
@@ -80,6 +82,7 @@ def render(particles: Particles, radius: float | None = ..., *, width: int | Non
            velocity: npt.ArrayLike | None = ..., density: npt.ArrayLike | None = ...,
            id: npt.ArrayLike | None = ..., fluid: npt.ArrayLike | None = ..., color: npt.ArrayLike | None = ...,
            radii: npt.ArrayLike | None = ..., studio: Box | None = ..., frame: int | None = ...,
+           background: str | Tuple[npt.ArrayLike, npt.ArrayLike] | None = ...,
            **settings: Setting) -> npt.NDArray[np.uint8]: ...
 @overload
 def render(particles: Particles, radius: float | None = ..., *, width: int | None = ..., height: int | None = ...,
@@ -87,6 +90,7 @@ def render(particles: Particles, radius: float | None = ..., *, width: int | Non
            velocity: npt.ArrayLike | None = ..., density: npt.ArrayLike | None = ...,
            id: npt.ArrayLike | None = ..., fluid: npt.ArrayLike | None = ..., color: npt.ArrayLike | None = ...,
            radii: npt.ArrayLike | None = ..., studio: Box | None = ..., frame: int | None = ...,
+           background: str | Tuple[npt.ArrayLike, npt.ArrayLike] | None = ...,
            **settings: Setting) -> Tuple[npt.NDArray[np.uint8], dict[str, npt.NDArray[np.float32]]]: ...
 
 @overload

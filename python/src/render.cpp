@@ -236,6 +236,37 @@ std::optional<Bounds> studioArg(pb::handle studio) {
     return box;
 }
 
+// background=(rgb, depth): the host's picture of the set as numpy arrays,
+// H x W x 3 (or 4, with alpha) linear floats and H x W depths whose meaning
+// is the backdrop_depth_kind setting (docs/compositing.md); None: the studio
+// (or the backdrop setting's files).
+std::shared_ptr<const BackdropImage> backgroundArg(pb::handle background, const RenderOptions& o) {
+    if (background.is_none()) return nullptr;
+    if (!pb::isinstance<pb::sequence>(background) || pb::isinstance<pb::str>(background) ||
+        pb::len(background) != 2)
+        throwValue("background: expected (rgb, depth), an H x W x 3 (or 4) array of linear colours and an H x W "
+                   "array of depths");
+    const auto seq = pb::reinterpret_borrow<pb::sequence>(background);
+    using Floats = pb::array_t<float, pb::array::c_style | pb::array::forcecast>;
+    const Floats rgb = Floats::ensure(seq[0]), depth = Floats::ensure(seq[1]);
+    if (!rgb || rgb.ndim() != 3 || (rgb.shape(2) != 3 && rgb.shape(2) != 4))
+        throwValue("background: the colour is an H x W x 3 (or H x W x 4) array of linear floats");
+    if (!depth || depth.ndim() != 2 || depth.shape(0) != rgb.shape(0) || depth.shape(1) != rgb.shape(1))
+        throwValue("background: the depth is an H x W array, the colour's H and W");
+    auto kind = parseBackdropDepth(o.backdropDepthKind);
+    if (!kind) throwValue("backdrop_depth_kind " + kind.error().message);
+    const long h = long(rgb.shape(0)), w = long(rgb.shape(1));
+    if (h > kMaxBackdropSidePx || w > kMaxBackdropSidePx)
+        throwValue("background: " + std::to_string(w) + "x" + std::to_string(h) + " pixels, more than " +
+                   std::to_string(kMaxBackdropSidePx) + " a side");
+    auto made = makeBackdrop(int(w), int(h), std::span<const float>(rgb.data(), std::size_t(rgb.size())),
+                             int(rgb.shape(2)), std::span<const float>(depth.data(), std::size_t(depth.size())),
+                             *kind);
+    if (!made) throwValue("background: " + made.error().message);
+    if (auto st = checkBackdropSize(*made, o.width, o.height); !st) throwValue("background: " + st.error().message);
+    return std::make_shared<const BackdropImage>(std::move(*made));
+}
+
 // The values the renderer would refuse, as ValueErrors naming the array (the
 // renderer's own errors are then about the run itself).
 void checkParticleValues(const Particles& p, bool ownRadii) {
@@ -273,7 +304,7 @@ public:
 
     pb::object render(pb::object particles, pb::object radius, pb::object camera, bool aovs, pb::object velocity,
                       pb::object density, pb::object id, pb::object fluid, pb::object color, pb::object radii,
-                      pb::object studio, pb::object frame) {
+                      pb::object studio, pb::object frame, pb::object background) {
         if (name_ != "cpu" && std::this_thread::get_id() != owner_)
             throwRuntime("a GL Renderer is bound to the thread that made it (its GL context is current there); "
                          "make one Renderer per thread");
@@ -288,6 +319,7 @@ public:
         auto parsed = renderSettings(o);
         if (!parsed) throwValue(parsed.error().describe());
         RenderSettings s = std::move(*parsed);
+        if (auto backdrop = backgroundArg(background, o)) s.scene.backdrop = std::move(backdrop);
         const Particles p = particlesArg(particles, {pb::reinterpret_borrow<pb::object>(velocity),
                                                      pb::reinterpret_borrow<pb::object>(density),
                                                      pb::reinterpret_borrow<pb::object>(id),
@@ -441,7 +473,7 @@ for the surface noise's turbulence.)")
              pb::arg("camera") = pb::none(), pb::arg("aovs") = false, pb::arg("velocity") = pb::none(),
              pb::arg("density") = pb::none(), pb::arg("id") = pb::none(), pb::arg("fluid") = pb::none(),
              pb::arg("color") = pb::none(), pb::arg("radii") = pb::none(), pb::arg("studio") = pb::none(),
-             pb::arg("frame") = pb::none(),
+             pb::arg("frame") = pb::none(), pb::arg("background") = pb::none(),
              R"(Render one frame; returns the 8-bit sRGB image, H x W x 4 uint8 (row 0 at the top).
 
 particles: N x 3 positions (float32 is used in place; float64 is converted
@@ -463,6 +495,12 @@ around (default: this frame's particles); fix it to keep it still over a
 sequence.
 frame: the frame's index in its sequence, for the noise's turbulence; None
 counts 0, 1, 2, ... over this renderer's calls.
+background: (rgb, depth), another renderer's picture of the set made by this
+camera at this size: rgb H x W x 3 (or 4, with alpha) linear floats, depth
+H x W, whose meaning the backdrop_depth_kind setting gives ('linear' eye
+depth, 'ray' distance, 'blender', 'window:NEAR,FAR'). It replaces the studio:
+the set hides the liquid where it is nearer, and the liquid refracts it
+(docs/compositing.md).
 
 The GIL is released while the frame renders. Positions must be finite (a
 NaN is a ValueError naming its row).)")

@@ -145,6 +145,33 @@ class RenderTest(unittest.TestCase):
         _, aovs = meniscus.render(p, width=W, height=H, backend="cpu", aovs=True, noise=True)
         self.assertEqual(aovs["noise"].shape, (H, W))
 
+    def test_background_arrays(self):
+        # One frame's picture (its colour and eye depth) as the set another frame
+        # is composited into by the same camera (docs/compositing.md).
+        first, second = (f["position"] for f in self.frames)
+        cam = meniscus.auto_camera(first, width=W, height=H)
+        _, aovs = meniscus.render(first, width=W, height=H, backend="cpu", camera=cam, aovs=True)
+        set_rgb, set_depth = aovs["color"], aovs["depth"]
+        plain = meniscus.render(second, width=W, height=H, backend="cpu", camera=cam)
+        over = meniscus.render(second, backend="cpu", camera=cam, background=(set_rgb[:, :, :3], set_depth))
+        self.assertEqual(over.shape, (H, W, 4))  # the arrays' size
+        self.assertFalse(np.array_equal(over, plain))
+        # Renderer.render takes it too; the same picture.
+        r = meniscus.Renderer(W, H, backend="cpu")
+        np.testing.assert_array_equal(r.render(second, camera=cam, background=(set_rgb[:, :, :3], set_depth)), over)
+        # With its alpha, and the depth's kind named: the same picture (alpha 1 over the studio).
+        np.testing.assert_array_equal(meniscus.render(second, backend="cpu", camera=cam, background=(set_rgb, set_depth),
+                                                      backdrop_depth_kind="linear"), over)
+        # Errors: another size, a wrong shape, not a pair; a string is the studio setting.
+        with self.assertRaisesRegex(ValueError, "the picture"):
+            meniscus.render(second, width=W + 2, height=H, backend="cpu", camera=cam, background=(set_rgb, set_depth))
+        with self.assertRaisesRegex(ValueError, "H x W x 3"):
+            meniscus.render(second, backend="cpu", camera=cam, background=(set_depth, set_depth))
+        with self.assertRaisesRegex(ValueError, "rgb, depth"):
+            r.render(second, camera=cam, background=set_rgb)
+        np.testing.assert_array_equal(meniscus.render(second, width=W, height=H, backend="cpu", camera=cam,
+                                                      background="studio"), plain)
+
     def test_auto_camera_round_trip(self):
         p = self.frames[0]["position"]
         cam = meniscus.auto_camera(p, width=W, height=H)

@@ -123,6 +123,10 @@ struct FrameSettings : StageParams {
     // with the map (the scene cast, the GPU copy) holds it too, so a new map
     // cannot take the old one's address while the cache compares addresses.
     std::shared_ptr<const EnvironmentImage> environmentImage;
+    // The backdrop (RenderSettings::scene.backdrop, its size checked by the
+    // Renderer), or null: the studio. The scene stage makes its layer
+    // (core/backdrop_layer.h) and keeps it while backdrop and camera stay.
+    std::shared_ptr<const BackdropImage> backdrop;
     // Reduced-resolution processing (docs/pipeline.md#reduced-resolution): the
     // divisor d of the fluid scale (1: off), and the depth jump (metres) the
     // upsampling does not blend across.

@@ -5,6 +5,8 @@
 
 #include <limits>
 
+#include "core/backdrop_layer.h"
+
 namespace meniscus::cpu {
 
 Status CpuBackend::beginFrame(std::span<const glm::vec3> positions, const FrameSettings& settings) {
@@ -68,8 +70,12 @@ void CpuBackend::castScene(Slot color, Slot depth) {
     const bool sameEnv = sceneEnv_.texels == env.texels && sceneEnv_.width == env.width &&
                          sceneEnv_.height == env.height && sceneEnv_.rotation == env.rotation &&
                          sceneEnv_.intensity == env.intensity;
-    if (!sceneValid_ || !(sceneCamera_ == s_.camera) || !(sceneStudio_ == s_.studio) || !sameEnv) {
-        scene_ = cpu::castScene(s_.camera, s_.studio, env);
+    if (!sceneValid_ || !(sceneCamera_ == s_.camera) || !(sceneStudio_ == s_.studio) || !sameEnv ||
+        sceneBackdrop_ != s_.backdrop) {
+        // A backdrop takes the studio's place (docs/compositing.md).
+        if (s_.backdrop) backdropLayer(s_.camera, *s_.backdrop, scene_.color, scene_.depth);
+        else scene_ = cpu::castScene(s_.camera, s_.studio, env);
+        sceneBackdrop_ = s_.backdrop;
         sceneEnv_ = env;
         sceneEnvImage_ = s_.environmentImage;
         sceneCamera_ = s_.camera;

@@ -86,6 +86,7 @@ private:
     shared::Studio sceneStudio_;
     shared::EnvironmentMap sceneEnv_;  // and the environment map
     std::shared_ptr<const EnvironmentImage> sceneEnvImage_;  // kept alive while cached (its address is the key)
+    std::shared_ptr<const BackdropImage> sceneBackdrop_;  // the backdrop the cast is of, or null (the studio)
     SceneLayer scene_;
     // The cast with the geometry drawn over it, for the geometry it was drawn with.
     SceneLayer withGeometry_;

@@ -111,7 +111,7 @@ bool GlBackend::sceneCached(Slot color, Slot depth) const {
     const bool sameEnv = sceneEnv_.texels == e.texels && sceneEnv_.width == e.width && sceneEnv_.height == e.height &&
                          sceneEnv_.rotation == e.rotation && sceneEnv_.intensity == e.intensity;
     return sceneValid_ && sameEnv && sceneCamera_ == s_.camera && sceneStudio_ == s_.studio &&
-           sceneSlots_ == std::pair(int(color), int(depth));
+           sceneBackdrop_ == s_.backdrop && sceneSlots_ == std::pair(int(color), int(depth));
 }
 
 void GlBackend::sceneCast(Slot color, Slot depth) {
@@ -120,6 +120,7 @@ void GlBackend::sceneCast(Slot color, Slot depth) {
     sceneStudio_ = s_.studio;
     sceneEnv_ = s_.environment;
     sceneEnvImage_ = s_.environmentImage;
+    sceneBackdrop_ = s_.backdrop;
     sceneSlots_ = {int(color), int(depth)};
 }
 

@@ -135,6 +135,7 @@ private:
     shared::Studio sceneStudio_;
     shared::EnvironmentMap sceneEnv_;  // the environment map of the cached cast
     std::shared_ptr<const EnvironmentImage> sceneEnvImage_;  // kept alive while cached (its address is the key)
+    std::shared_ptr<const BackdropImage> sceneBackdrop_;  // the backdrop the cast is of, or null (the studio)
     EnvironmentGpu env_;
     std::pair<int, int> sceneSlots_{-1, -1};
     std::vector<Timer> timers_;

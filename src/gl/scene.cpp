@@ -6,6 +6,7 @@
 // lighting, the sun) comes from the same shared::studioShading and is passed as
 // uniforms, so both see the same bits.
 #include "gl/scene.h"
+#include "core/backdrop_layer.h"
 #include "gl/gl_backend.h"
 
 #include "gl/shaders.h"
@@ -68,6 +69,17 @@ namespace {
 void runScene(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
     if (g.sceneCached(at.sceneColor, at.sceneDepth)) return;
+    if (const BackdropImage* backdrop = g.frame().backdrop.get()) {
+        // The backdrop's layer, made on the host as the CPU makes it
+        // (core/backdrop_layer.h) and uploaded once per camera and backdrop.
+        Image<glm::vec4> color;
+        Image<float> depth;
+        backdropLayer(g.frame().camera, *backdrop, color, depth);
+        g.img(at.sceneColor).upload(color);
+        g.img(at.sceneDepth).upload(depth);
+        g.sceneCast(at.sceneColor, at.sceneDepth);
+        return;
+    }
     g.pass<SceneCaster>().run(g.params(), g.frame().studio, g.img(at.sceneColor), g.img(at.sceneDepth),
                                  &g.environment());
     g.sceneCast(at.sceneColor, at.sceneDepth);

@@ -234,6 +234,20 @@ std::vector<RenderOptionSpec> makeRenderTable() {
                            "A multiplier of the environment map's radiance",
                            [](R& o) -> OptionRef { return &o.environmentIntensity; }),
                        0.0, 1000.0));
+    t.push_back(row("backdrop", G::Look, "",
+                    "Another renderer's picture of the set to put the liquid into: an OpenEXR (.exr) with R, G, B "
+                    "and its depth Z, or a PNG/JPEG with --backdrop-depth; made by this camera (--eye, --target, "
+                    "--fov) at this size (--width, --height). It replaces the studio: the set hides the liquid where "
+                    "it is nearer, and the liquid refracts and tints it (docs/compositing.md)",
+                    [](R& o) -> OptionRef { return &o.backdrop; }));
+    t.push_back(row("backdrop-depth", G::Look, "",
+                    "The backdrop's depth as its own OpenEXR file: its Z channel, or its only channel",
+                    [](R& o) -> OptionRef { return &o.backdropDepth; }));
+    t.push_back(row("backdrop-depth-kind", G::Look, "",
+                    "What the backdrop's depth values are: linear (metres from the camera's plane), ray (metres "
+                    "from the camera along the pixel's ray), blender (Blender 3+'s Z pass), window:NEAR,FAR "
+                    "(OpenGL's 0-1 window depth of a projection with those planes, metres)",
+                    [](R& o) -> OptionRef { return &o.backdropDepthKind; }));
     t.push_back(flagRow(row("noise", G::Extras, "",
                             "Surface noise and foam: small waves that travel with the particles, foam where they are "
                             "strong, rougher where velocities jump between frames (uses the files' id and velocity "
@@ -1082,6 +1096,27 @@ Result<std::shared_ptr<const EnvironmentImage>> renderEnvironment(const std::str
     return shared;
 }
 
+Result<std::shared_ptr<const BackdropImage>> renderBackdrop(const std::string& color, const std::string& depth,
+                                                            const std::string& depthKind) {
+    auto kind = parseBackdropDepth(depthKind);
+    if (!kind) return kind.error();
+    static std::mutex mutex;
+    static std::string lastKey;
+    static std::shared_ptr<const BackdropImage> last;
+    const std::string key = geometryKey(color) + '\n' + geometryKey(depth) + '\n' + depthKind;
+    {
+        std::lock_guard lock(mutex);
+        if (last && key == lastKey) return last;
+    }
+    auto image = readBackdrop(color, depth, *kind);
+    if (!image) return image.error();
+    auto shared = std::make_shared<const BackdropImage>(std::move(*image));
+    std::lock_guard lock(mutex);
+    lastKey = key;
+    last = shared;
+    return shared;
+}
+
 Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<std::string>& specs,
                                                             const glm::vec3& upAxis, bool cutAway) {
     auto up = upRotation(upAxis);
@@ -1211,6 +1246,17 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
     }
     s.scene.environmentRotationDeg = o.environmentRotation;
     s.scene.environmentIntensity = o.environmentIntensity;
+    if (auto kind = parseBackdropDepth(o.backdropDepthKind); !kind)
+        return makeUsageError("", "--backdrop-depth-kind " + kind.error().message);
+    if (!o.backdropDepth.empty() && o.backdrop.empty())
+        return makeUsageError("", "--backdrop-depth " + o.backdropDepth + ": give the colour with --backdrop");
+    if (!o.backdrop.empty()) {
+        auto backdrop = renderBackdrop(o.backdrop, o.backdropDepth, o.backdropDepthKind);
+        if (!backdrop) return makeError(backdrop.error().file, "--backdrop: " + backdrop.error().message);
+        if (auto st = checkBackdropSize(**backdrop, o.width, o.height); !st)
+            return makeUsageError(st.error().file, "--backdrop: " + st.error().message);
+        s.scene.backdrop = std::move(*backdrop);
+    }
     const bool noise = o.stages.noise.enabled, whiten = o.stages.whitening.enabled;
     const bool spray = o.stages.spray.enabled, silhouette = o.stages.silhouette.enabled;
     if (noise)

@@ -759,6 +759,8 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         return st;
     if (s.mesh)
         if (auto st = checkMesh(*s.mesh); !st) return st;
+    if (s.scene.backdrop)
+        if (auto st = checkBackdropSize(*s.scene.backdrop, s.camera.width, s.camera.height); !st) return st;
     // Each stage's parameters, and what the view needs of them (render/stages.cpp).
     if (auto st = checkStages(s); !st) return st;
     const int divisor = fluidDivisor(s.fluidScale);
@@ -846,6 +848,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         f.sprayVelocities = h.spray.dropVelocities;
     }
     f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
+    f.backdrop = s.scene.backdrop;
     f.environment = {};
     f.environmentImage = s.scene.environment;
     if (s.scene.environment && !s.scene.environment->rgb.empty()) {
