@@ -24,6 +24,8 @@
 #include "render_threads.h"
 #include "test_util.h"
 
+namespace anisotropy_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -566,3 +568,4 @@ TEST(AnisotropyPipeline, AOneParticleSheetShadesEvenlyWithoutHoles) {
     EXPECT_GT(sp.holes, 100);
     EXPECT_GT(sp.dark + sp.grey, 100);
 }
+}  // namespace anisotropy_test_local

@@ -17,7 +17,7 @@
 #include "meniscus/temporaries.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::atomic_file_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -147,4 +147,4 @@ TEST(AtomicFile, RemovesOnlyTheTemporariesOfDeadProcesses) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::atomic_file_test_local

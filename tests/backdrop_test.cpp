@@ -26,6 +26,8 @@
 #include "shared/studio.h"
 #include "test_util.h"
 
+namespace backdrop_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -362,3 +364,4 @@ TEST(Backdrop, OptionsReadTheFiles) {
     EXPECT_FALSE(missing.error().usage);
     EXPECT_EQ(missing.error().file, o.backdrop);
 }
+}  // namespace backdrop_test_local

@@ -22,6 +22,8 @@
 #include "meniscus/renderer.h"
 #include "test_util.h"
 
+namespace boundary_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -391,3 +393,4 @@ TEST(Boundary, DualSphysicsFixturesSplitByType) {
         EXPECT_LT(farthestVertex(*rod, taken->fixed), 0.02f) << file;
     }
 }
+}  // namespace boundary_test_local

@@ -10,6 +10,8 @@
 
 #include "meniscus/camera_path.h"
 
+namespace camera_path_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -174,3 +176,4 @@ TEST(CameraPath, AnOrbitTurnsThePathsEye) {
     EXPECT_EQ(c.eye, turnAboutVertical(k.eye, k.target, 67.5));
     EXPECT_NE(c.eye, k.eye);
 }
+}  // namespace camera_path_test_local

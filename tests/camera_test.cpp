@@ -8,6 +8,8 @@
 #include "meniscus/camera.h"
 #include "meniscus/particles.h"
 
+namespace camera_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -278,3 +280,4 @@ TEST(Camera, DefaultsAndSizeCapComeFromParams) {
     big.width = defaults::kMaxImageSizePx + 1;
     EXPECT_FALSE(validateCamera(big).ok());
 }
+}  // namespace camera_test_local

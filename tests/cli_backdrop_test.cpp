@@ -10,6 +10,8 @@
 
 #include "test_util.h"
 
+namespace cli_backdrop_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus::test;
 
@@ -91,3 +93,4 @@ TEST(CliBackdrop, SceneFileKeyIsRelativeToTheFile) {
     ASSERT_EQ(runCli("render " + shellQuote(dir / "scene.json"), &out), 0) << out;
     EXPECT_TRUE(fs::exists(dir / "a.png"));
 }
+}  // namespace cli_backdrop_test_local

@@ -14,6 +14,8 @@
 #include "meniscus/camera_path.h"
 #include "test_util.h"
 
+namespace cli_camera_path_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus;
 using namespace meniscus::test;
@@ -156,3 +158,4 @@ TEST(CliCameraPath, BadPathsAndOptionMixesAreErrorsThatSayWhere) {
     EXPECT_FALSE(fs::exists(dir / "x_0.png"));
     EXPECT_FALSE(fs::exists(dir / "y_1.png"));
 }
+}  // namespace cli_camera_path_test_local

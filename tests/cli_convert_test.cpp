@@ -14,6 +14,8 @@
 #include "meniscus/particles.h"
 #include "test_util.h"
 
+namespace cli_convert_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus;
 using namespace meniscus::test;
@@ -221,3 +223,4 @@ TEST(CliConvert, TheFilesOfOtherToolsConvertWithTheirAttributes) {
     expectSameSet(read(npz), read(dir / "pysph.ply"), "PySPH npz as PLY");
     ASSERT_NE(read(dir / "pysph.ply").find("h"), nullptr);  // the smoothing length goes along
 }
+}  // namespace cli_convert_test_local

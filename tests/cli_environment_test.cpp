@@ -7,6 +7,8 @@
 
 #include "test_util.h"
 
+namespace cli_environment_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus::test;
 
@@ -92,3 +94,4 @@ TEST(CliEnvironment, SceneFileKeyIsRelativeToTheFile) {
         << out;
     EXPECT_EQ(readBytes(dir / "a.png"), readBytes(dir / "b.png"));
 }
+}  // namespace cli_environment_test_local

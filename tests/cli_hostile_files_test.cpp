@@ -16,6 +16,8 @@
 
 #include "test_util.h"
 
+namespace cli_hostile_files_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus;
 using namespace meniscus::test;
@@ -152,3 +154,4 @@ TEST(CliHostileFiles, AFailedWriteSaysWhyAndLeavesNothing) {
     for (const auto& entry : fs::directory_iterator(dir))
         EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
 }
+}  // namespace cli_hostile_files_test_local

@@ -17,6 +17,8 @@
 
 #include "test_util.h"
 
+namespace cli_hostile_input_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus;
 using namespace meniscus::test;
@@ -188,3 +190,4 @@ TEST(CliHostileInput, BadSimulationSceneValuesExitTwo) {
         << out;
     EXPECT_FALSE(fs::exists(dir / "f_0000.bgeo"));
 }
+}  // namespace cli_hostile_input_test_local

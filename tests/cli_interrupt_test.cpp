@@ -23,6 +23,8 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
+namespace cli_interrupt_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus::test;
 
@@ -106,8 +108,9 @@ void expectSameFiles(const fs::path& a, const fs::path& b) {
     ASSERT_EQ(names, listDir(b));
     ASSERT_FALSE(names.empty());
     for (const std::string& f : names)
-        if (!f.ends_with(".checkpoint"))  // holds the run's timings beside its state
+        if (!f.ends_with(".checkpoint")) {  // holds the run's timings beside its state
             EXPECT_TRUE(readBytes(a / f) == readBytes(b / f)) << f << " differs";
+        }
 }
 
 // DIR/in/f_1.bgeo .. f_N.bgeo, symbolic links to the real demo frames 19 .. 23 in turn.
@@ -316,3 +319,4 @@ TEST(CliInterrupt, AnOutputFolderThatCannotBeMadeFailsFirst) {
         EXPECT_FALSE(fs::exists(dir / "s" / "f_0000.bgeo")) << "nothing simulated";
     }
 }
+}  // namespace cli_interrupt_test_local

@@ -13,6 +13,8 @@
 
 #include "test_util.h"
 
+namespace cli_long_runs_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus::test;
 
@@ -240,3 +242,4 @@ TEST(CliLongRuns, TheOverlappedRunIsTheSequentialRunByteForByte) {
         EXPECT_NE(parLog.find((bad / "in" / "f_3.bgeo").string()), std::string::npos) << parLog;
     }
 }
+}  // namespace cli_long_runs_test_local

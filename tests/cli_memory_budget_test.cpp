@@ -17,6 +17,8 @@
 
 #include "test_util.h"
 
+namespace cli_memory_budget_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus;
 using namespace meniscus::test;
@@ -243,3 +245,4 @@ TEST(CliMemoryBudget, FramesAreCheckedAgainstTheProcessBudget) {
     EXPECT_EQ(runUnder("8G", "info " + shellQuote(dir / "f.bgeo"), &out), 2) << out;
     EXPECT_TRUE(has(out, "MENISCUS_MEMORY_LIMIT=8G: a positive number of bytes is needed")) << out;
 }
+}  // namespace cli_memory_budget_test_local

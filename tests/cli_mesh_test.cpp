@@ -11,6 +11,8 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
+namespace cli_mesh_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus::test;
 
@@ -165,3 +167,4 @@ TEST(CliMesh, CompareWritesTwoLabelledPanels) {
     EXPECT_NE(runCli("compare " + shellQuote(kFrame) + " -o " + shellQuote(dir / "c.jpg"), &out), 0);
     EXPECT_FALSE(fs::exists(dir / "c.jpg"));
 }
+}  // namespace cli_mesh_test_local

@@ -15,6 +15,8 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
+namespace cli_mpi_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus;
 using namespace meniscus::test;
@@ -196,3 +198,4 @@ TEST(CliMpi, WhatSortLastCannotCompositeIsRefused) {
     EXPECT_NE(out.find("--shard"), std::string::npos) << out;
     EXPECT_TRUE(names(dir).empty()) << out;
 }
+}  // namespace cli_mpi_test_local

@@ -18,6 +18,8 @@
 #include "test_util.h"
 #include "view_ui.h"
 
+namespace cli_parts_test_local {
+
 using namespace meniscus;
 using namespace meniscus::app;
 using namespace meniscus::test;
@@ -229,3 +231,4 @@ TEST(ViewerTimeline, NumbersFramesAsTheFilesDo) {
     EXPECT_EQ(timelineLabel(0, 2, 0), "0 (1 of 2)");
     EXPECT_EQ(timelineLabel(1, 3, frameNumberOf("out/ParticleData_Fluid_21.bgeo")), "21 (2 of 3)");
 }
+}  // namespace cli_parts_test_local

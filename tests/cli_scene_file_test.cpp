@@ -10,6 +10,8 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
+namespace cli_scene_file_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus::test;
 
@@ -265,3 +267,4 @@ TEST(SceneFile, ShadowsOptionAutoOnOff) {
     EXPECT_NE(out.find("--shadows"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "g.png"));
 }
+}  // namespace cli_scene_file_test_local

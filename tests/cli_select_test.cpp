@@ -12,7 +12,7 @@
 
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::cli_select_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -161,11 +161,12 @@ TEST(CliSelect, HelpExplainsIt) {
         EXPECT_EQ(runCli(std::string(cmd) + " --help", &out), 0) << out;
         for (const char* word : {"--select", "Type==fluid", "&&", "velocity.x", "m/s"})
             EXPECT_NE(out.find(word), std::string::npos) << cmd << ": " << word;
-        if (std::string(cmd) != "mesh")
+        if (std::string(cmd) != "mesh") {
             for (const char* word : {"--boundary-particles", "walls", "hidden"})
                 EXPECT_NE(out.find(word), std::string::npos) << cmd << ": " << word;
+        }
     }
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::cli_select_test_local

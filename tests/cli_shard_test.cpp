@@ -12,6 +12,8 @@
 
 #include "test_util.h"
 
+namespace cli_shard_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus::test;
 
@@ -112,3 +114,4 @@ TEST(CliShard, BadSharesAreErrorsNamingTheOption) {
     EXPECT_NE(out.find("--shard"), std::string::npos) << out;
     EXPECT_TRUE(names(dir).size() == 1u) << "only in/ is there";
 }
+}  // namespace cli_shard_test_local

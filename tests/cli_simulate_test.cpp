@@ -11,6 +11,8 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
+namespace cli_simulate_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus::test;
 
@@ -310,3 +312,4 @@ TEST(CliSimulate, ResumeFromTheCheckpointIsExactWithAnEmitter) {
     EXPECT_NE(out.find("resuming after " + (dir / "c/f_0003.bgeo").string()), std::string::npos) << out;
     EXPECT_TRUE(fs::exists(dir / "c/f_0008.bgeo"));
 }
+}  // namespace cli_simulate_test_local

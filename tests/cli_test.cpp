@@ -13,6 +13,8 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
+namespace cli_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus::test;
 
@@ -714,3 +716,4 @@ TEST(Cli, RenderHelpGroupsInOrder) {
     EXPECT_EQ(out.find("README"), std::string::npos) << "scene files are docs/usage.md#scene-files";
     EXPECT_NE(out.find("docs/usage.md#scene-files"), std::string::npos);
 }
+}  // namespace cli_test_local

@@ -11,6 +11,8 @@
 #include "meniscus/whitewater.h"
 #include "test_util.h"
 
+namespace cli_whitewater_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus::test;
 
@@ -119,3 +121,4 @@ TEST(CliWhitewater, RenderDrawsTheDiffuseLayer) {
     EXPECT_NE(out.find("missing_0023.bgeo"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(dir / "x.png"));
 }
+}  // namespace cli_whitewater_test_local

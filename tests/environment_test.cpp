@@ -18,6 +18,8 @@
 #include "shared/studio.h"
 #include "test_util.h"
 
+namespace environment_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -378,7 +380,9 @@ TEST(EnvironmentIrradiance, RotationTurnsTheLightWithThePicture) {
         EXPECT_NEAR(irradiance(turned, t).x, irradiance(still, n).x, 1e-3f) << n.x << "," << n.y << "," << n.z;
         // The sampled radiance agrees: what the map showed along n it shows
         // along t (away from the poles, where the azimuth is undefined).
-        if (r > 1e-3f) EXPECT_NEAR(sample(turned, t).x, sample(still, n).x, 1e-2f);
+        if (r > 1e-3f) {
+            EXPECT_NEAR(sample(turned, t).x, sample(still, n).x, 1e-2f);
+        }
     }
 }
 
@@ -452,3 +456,4 @@ TEST(EnvironmentIrradiance, PipelineStudioTakesTheMapsColour) {
     ASSERT_TRUE(again.ok());
     EXPECT_EQ(differingBits(plain->color, again->color), 0);
 }
+}  // namespace environment_test_local

@@ -12,7 +12,7 @@
 #include "cpu/filters.h"
 #include "smoothing_test_util.h"
 
-namespace meniscus {
+namespace meniscus::filter_curvature_flow_test_local {
 namespace {
 
 using test::blockScene;
@@ -167,4 +167,4 @@ TEST(CurvatureFlow, BallGetsCloserToAnalyticNormals) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::filter_curvature_flow_test_local

@@ -13,7 +13,7 @@
 #include "shared/narrow_range.h"
 #include "smoothing_test_util.h"
 
-namespace meniscus {
+namespace meniscus::filter_narrow_range_test_local {
 namespace {
 
 using test::blockScene;
@@ -184,7 +184,7 @@ INSTANTIATE_TEST_SUITE_P(Filter, NarrowRange, ::testing::Values(false, true),
                          [](const ::testing::TestParamInfo<bool>& i) { return i.param ? "Separable" : "TwoD"; });
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::filter_narrow_range_test_local
 
 // The tap order both backends walk (src/shared/narrow_range.h): every offset
 // of the disc but the centre exactly once, with or as its mirror; sorted by

@@ -21,6 +21,8 @@
 #include "meniscus/particles.h"
 #include "test_util.h"
 
+namespace filter_separable_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -385,3 +387,4 @@ TEST(KernelTable, RangeGaussianMatchesExp) {
         EXPECT_NEAR(g(dz), expect, 1e-5 * expect) << dz;
     }
 }
+}  // namespace filter_separable_test_local

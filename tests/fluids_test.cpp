@@ -22,6 +22,8 @@
 #include "meniscus/renderer.h"
 #include "test_util.h"
 
+namespace fluids_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -434,3 +436,4 @@ TEST(SeveralFluids, TheTwoFluidFrameIsFrame21Split) {
         EXPECT_EQ(x->ints, y->ints) << name;
     }
 }
+}  // namespace fluids_test_local

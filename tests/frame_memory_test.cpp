@@ -6,7 +6,7 @@
 #include "core/frame_memory.h"
 #include "meniscus/renderer.h"
 
-namespace meniscus {
+namespace meniscus::frame_memory_test_local {
 namespace {
 
 TEST(FrameMemory, GrowsWithThePixelCount) {
@@ -57,4 +57,4 @@ TEST(FrameMemory, ThePipelineRefusesBeforeRendering) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::frame_memory_test_local

@@ -22,6 +22,8 @@
 #include "shared/sky.h"
 #include "test_util.h"
 
+namespace geometry_stage_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -400,3 +402,4 @@ TEST(GeometryOptions, RenderGeometryTurnsCutsAndCaches) {
     ASSERT_FALSE(wrong.ok());
     EXPECT_TRUE(wrong.error().usage) << wrong.error().describe();  // a value of the option: exit 2
 }
+}  // namespace geometry_stage_test_local

@@ -12,7 +12,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-namespace meniscus {
+namespace meniscus::geometry_test_local {
 namespace {
 
 TEST(GeometryShapes, BoxIsTwelveOutwardTrianglesOnTwentyFourVertices) {
@@ -109,12 +109,12 @@ TEST(GeometryShapes, SceneGeometryBoundsCountsAndAppend) {
     SceneGeometry g;
     EXPECT_TRUE(g.empty());
     EXPECT_TRUE(g.bounds().empty());
-    GeometryObject a{"a", makeBoxMesh(glm::vec3(0.0f), glm::vec3(1.0f)), {}, true, false};
-    GeometryObject hidden{"hidden", makeBoxMesh(glm::vec3(-10.0f), glm::vec3(-9.0f)), {}, false, false};
+    GeometryObject a{"a", makeBoxMesh(glm::vec3(0.0f), glm::vec3(1.0f)), {}, true, false, {}};
+    GeometryObject hidden{"hidden", makeBoxMesh(glm::vec3(-10.0f), glm::vec3(-9.0f)), {}, false, false, {}};
     g.objects.push_back(a);
     SceneGeometry more;
     more.objects.push_back(hidden);
-    more.objects.push_back({"plane", makePlaneMesh(glm::vec3(0, 2, 0), glm::vec3(0, 1, 0), 1.0f), {}, true, false});
+    more.objects.push_back({"plane", makePlaneMesh(glm::vec3(0, 2, 0), glm::vec3(0, 1, 0), 1.0f), {}, true, false, {}});
     g.append(std::move(more));
     ASSERT_EQ(g.objects.size(), 3u);
     EXPECT_EQ(g.objects[1].name, "hidden");
@@ -191,4 +191,4 @@ TEST(SimulationGeometry, AMissingMeshColliderIsAnErrorNamingTheFile) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::geometry_test_local

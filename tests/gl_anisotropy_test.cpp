@@ -40,6 +40,8 @@
 #include "meniscus/renderer.h"
 #include "test_util.h"
 
+namespace gl_anisotropy_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -251,3 +253,4 @@ TEST_F(GlAnisotropy, TheDriverChoosesWhereByDefault) {
     const bool onGpu = std::any_of(times.begin(), times.end(), [](const StageTime& t) { return t.stage == "host: anisotropy"; });
     EXPECT_EQ(onGpu, gl->backendName().find("llvmpipe") == std::string::npos) << gl->backendName();
 }
+}  // namespace gl_anisotropy_test_local

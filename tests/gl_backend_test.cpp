@@ -23,6 +23,8 @@
 #include "render/stages.h"
 #include "test_util.h"
 
+namespace gl_backend_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -611,3 +613,4 @@ TEST(GlStageDrivers, EveryImageStageHasItsGlDriver) {
         EXPECT_NE(s.gl->prepare, nullptr) << s.name << ": its GL programs are made before the first frame";
     }
 }
+}  // namespace gl_backend_test_local

@@ -19,6 +19,8 @@
 #include "gl/objects.h"
 #include "gl_test_util.h"
 
+namespace gl_buffer_fill_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -155,3 +157,4 @@ TEST_F(GlBufferFill, WholeFramesMatchWithAHardwareGpusSettings) {
 }
 
 }  // namespace
+}  // namespace gl_buffer_fill_test_local

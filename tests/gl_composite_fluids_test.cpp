@@ -21,6 +21,8 @@
 #include "meniscus/renderer.h"
 #include "test_util.h"
 
+namespace gl_composite_fluids_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -176,3 +178,4 @@ TEST_F(GlCompositeFluids, TheWholePipelineWithSeveralFluids) {
         }
     }
 }
+}  // namespace gl_composite_fluids_test_local

@@ -22,6 +22,8 @@
 #include "smoothing_test_util.h"
 #include "test_util.h"
 
+namespace gl_filter_curvature_flow_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -137,4 +139,4 @@ TEST_F(GlCurvatureFlow, ZeroIterationsCopies) {
     ASSERT_EQ(gl.size(), sc.depth.size());
     for (std::size_t i = 0; i < gl.size(); ++i) ASSERT_EQ(std::memcmp(&gl.pixels[i], &sc.depth.pixels[i], 4), 0) << i;
 }
-
+}  // namespace gl_filter_curvature_flow_test_local

@@ -24,6 +24,8 @@
 #include "smoothing_test_util.h"
 #include "test_util.h"
 
+namespace gl_filter_narrow_range_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -217,3 +219,4 @@ TEST_P(GlNarrowRange, ReusedAcrossSizesAndZeroIterations) {
 
 INSTANTIATE_TEST_SUITE_P(Variants, GlNarrowRange, ::testing::Bool(),
                          [](const ::testing::TestParamInfo<bool>& i) { return i.param ? "Separable" : "TwoD"; });
+}  // namespace gl_filter_narrow_range_test_local

@@ -27,6 +27,8 @@
 #include "gl_test_util.h"
 #include "test_util.h"
 
+namespace gl_filter_separable_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -353,4 +355,4 @@ TEST_F(GlSeparable, ThicknessBlurZeroSigmaIsNoOp) {
     const Image<float> gl = glBlurThickness(unblurred.depth, unblurred.thickness, f.camera, f.r, raw);
     EXPECT_EQ(gl.pixels, unblurred.thickness.pixels);
 }
-
+}  // namespace gl_filter_separable_test_local

@@ -11,6 +11,8 @@
 #include "gl/uniforms.h"
 #include "gl_test_util.h"
 
+namespace gl_frame_params_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -91,3 +93,4 @@ TEST_F(GlFrameParams, IncludesResolveAndMissingOnesAreErrors) {
     ASSERT_FALSE(missing.ok());
     EXPECT_NE(missing.error().describe().find("no_such_shader.comp"), std::string::npos);
 }
+}  // namespace gl_frame_params_test_local

@@ -20,6 +20,8 @@
 #include "meniscus/renderer.h"
 #include "test_util.h"
 
+namespace gl_hole_fill_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -93,3 +95,4 @@ TEST_F(GlHoleFill, APlateWithAHole) {
         for (int x = 30; x < 33; ++x) d.at(x, y) = kInf;
     expectSameFill(cam, 0.05f, d, t, nullptr);
 }
+}  // namespace gl_hole_fill_test_local

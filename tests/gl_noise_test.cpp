@@ -10,6 +10,8 @@
 #include "gl_test_util.h"
 #include "shared/noise.h"
 
+namespace gl_noise_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -64,3 +66,4 @@ void main() {
     EXPECT_EQ(off, 0) << "of " << 64 * 64 * 2 * 2 << " values differ in some bit";
     EXPECT_GT(nonZero, 64 * 64 * 3);
 }
+}  // namespace gl_noise_test_local

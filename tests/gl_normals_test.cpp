@@ -22,6 +22,8 @@
 #include "gl_test_util.h"
 #include "test_util.h"
 
+namespace gl_normals_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -185,4 +187,4 @@ TEST_F(GlNormals, WrongSizedDepthGivesZeros) {
     ASSERT_EQ(out.size(), std::size_t(32 * 24));
     for (const glm::vec3& v : out.pixels) ASSERT_EQ(v, glm::vec3(0.0f));
 }
-
+}  // namespace gl_normals_test_local

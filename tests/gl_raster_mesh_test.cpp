@@ -20,6 +20,8 @@
 #include "mesh_test_util.h"
 #include "test_util.h"
 
+namespace gl_raster_mesh_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -197,3 +199,4 @@ TEST_F(GlRasterMesh, RendererWithMeshMatchesCpu) {
         EXPECT_LE(col.maxSteps, 2);
     }
 }
+}  // namespace gl_raster_mesh_test_local

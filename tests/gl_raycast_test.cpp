@@ -17,6 +17,8 @@
 #include "gl_test_util.h"
 #include "test_util.h"
 
+namespace gl_raycast_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -132,3 +134,4 @@ TEST_F(GlRaycast, ThePipelineMatchesTheCpuBackend) {
 }
 
 }  // namespace
+}  // namespace gl_raycast_test_local

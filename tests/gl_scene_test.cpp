@@ -18,6 +18,8 @@
 #include "gl_test_util.h"
 #include "test_util.h"
 
+namespace gl_scene_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -287,3 +289,4 @@ TEST_F(GlScene, LightDirectionLightsThePlanesAndPlacesTheSunAsOnTheCpu) {
         EXPECT_GT(maxDiff, 0.1) << "light " << k;
     }
 }
+}  // namespace gl_scene_test_local

@@ -26,6 +26,8 @@
 #include "gl_test_util.h"
 #include "test_util.h"
 
+namespace gl_shading_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -367,3 +369,4 @@ TEST_F(GlShading, WhiteWaterMatchesCpu) {
         EXPECT_EQ(compareColor(plain.gl, none.gl).maxSteps, 0) << name;
     }
 }
+}  // namespace gl_shading_test_local

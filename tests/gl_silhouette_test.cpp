@@ -38,6 +38,8 @@
 #include "shared/kernel_radius.h"
 #include "test_util.h"
 
+namespace gl_silhouette_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -307,3 +309,4 @@ TEST_F(GlSilhouette, FadingTheSceneSlotKeepsTheCachedScene) {
         EXPECT_EQ(differingBits(clean, b->readColor(Slot::SceneColor)), 0) << b->name();
     }
 }
+}  // namespace gl_silhouette_test_local

@@ -24,6 +24,8 @@
 #include "gl_test_util.h"
 #include "test_util.h"
 
+namespace gl_splat_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -370,3 +372,4 @@ TEST_F(GlSplat, EllipsoidsAtTheEyeOffScreenAndLargeMatchCpu) {
     EXPECT_LE(d.maxRel, kDepthRel);
     EXPECT_GT(expectThicknessMatches(cam, pos, r, &scene, shapes), 1.0);
 }
+}  // namespace gl_splat_test_local

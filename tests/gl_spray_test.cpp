@@ -39,6 +39,8 @@
 #include "shared/spray.h"
 #include "test_util.h"
 
+namespace gl_spray_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -389,3 +391,4 @@ TEST_F(GlSpray, PaintingOverTheSceneSlotKeepsTheCachedScene) {
         EXPECT_EQ(differingBits(clean, b->readColor(Slot::SceneColor)), 0) << b->name();
     }
 }
+}  // namespace gl_spray_test_local

@@ -29,6 +29,8 @@
 #include "shared/surface_noise.h"
 #include "test_util.h"
 
+namespace gl_surface_noise_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -266,3 +268,4 @@ TEST_F(GlSurfaceNoise, TurbulenceAmplitudesMatchCpuThroughThePipeline) {
     // The jump really changed the amplitudes (else this tests nothing new).
     EXPECT_GT(differingBits(noiseGl[0], noiseGl[1]), 320 * 180 / 20);
 }
+}  // namespace gl_surface_noise_test_local

@@ -26,6 +26,8 @@
 #include "shared/upsample.h"
 #include "test_util.h"
 
+namespace gl_upsample_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -154,3 +156,4 @@ TEST_F(GlUpsample, TheWholePipelineAtHalfResolution) {
         EXPECT_GT(stageMs(f.glTimes, "fluid-edges"), -1.0);
     }
 }
+}  // namespace gl_upsample_test_local

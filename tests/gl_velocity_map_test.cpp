@@ -31,6 +31,8 @@
 #include "shared/velocity_map.h"
 #include "test_util.h"
 
+namespace gl_velocity_map_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -253,3 +255,4 @@ TEST_F(GlVelocityMap, PipelineWithWhiteningMatchesCpuOnTheRealFrame) {
     EXPECT_TRUE(plain->whitening.empty());
     EXPECT_GT(compareColor(plain->color, whitened->color).maxSteps, 10);
 }
+}  // namespace gl_velocity_map_test_local

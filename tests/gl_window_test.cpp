@@ -22,6 +22,8 @@
 #include "meniscus/renderer.h"
 #include "test_util.h"
 
+namespace gl_window_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -503,3 +505,4 @@ TEST_F(GlWindow, PanelsTuneTheLookAsRenderDoes) {
                   .worst,
               1);
 }
+}  // namespace gl_window_test_local

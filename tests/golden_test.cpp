@@ -23,7 +23,7 @@
 
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::golden_test_local {
 namespace {
 namespace fs = std::filesystem;
 
@@ -119,4 +119,4 @@ INSTANTIATE_TEST_SUITE_P(EveryLook, Golden,
                          });
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::golden_test_local

@@ -19,6 +19,8 @@
 #include "shared/hole_fill.h"
 #include "test_util.h"
 
+namespace hole_fill_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -290,3 +292,4 @@ TEST(ThinSheet, OneParticleThickRendersWholeAndEvenlyTinted) {
         EXPECT_GT(without.worstDarker, 0.3) << "tilt " << tilt;
     }
 }
+}  // namespace hole_fill_test_local

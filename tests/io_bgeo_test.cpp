@@ -14,7 +14,7 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_bgeo_test_local {
 namespace {
 
 using test::expectMatchesStats;
@@ -502,4 +502,4 @@ TEST(Gzip, RoundTripAndZlibHeader) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_bgeo_test_local

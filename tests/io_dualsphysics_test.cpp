@@ -14,7 +14,7 @@
 #include "meniscus/particles.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_dualsphysics_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -381,4 +381,4 @@ TEST(AttributeNames, PlyUsesTheTable) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_dualsphysics_test_local

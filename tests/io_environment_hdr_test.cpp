@@ -12,6 +12,8 @@
 #include "meniscus/environment.h"
 #include "test_util.h"
 
+namespace io_environment_hdr_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -249,3 +251,4 @@ TEST(RadianceHdr, DamagedPicturesAreErrorsThatNameTheFile) {
     expectError("exposure.hdr", Bytes(exposure.begin(), exposure.end()), "EXPOSURE");
     expectError("nothing.hdr", Bytes{}, "#?RADIANCE");
 }
+}  // namespace io_environment_hdr_test_local

@@ -17,7 +17,7 @@
 #include "meniscus/geometry.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_geometry_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -467,4 +467,4 @@ TEST(GeometrySplishSplash, RotationIsInRadiansAfterTheScale) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_geometry_test_local

@@ -18,7 +18,7 @@
 #include <hdf5.h>
 #endif
 
-namespace meniscus {
+namespace meniscus::io_hdf5_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -447,4 +447,4 @@ TEST(H5Part, StepTimesGiveTheFrameRate) {
 #endif
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_hdf5_test_local

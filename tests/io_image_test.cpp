@@ -26,7 +26,7 @@
 #include "shared/srgb.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_image_test_local {
 namespace {
 namespace fs = std::filesystem;
 using test::ExrData;
@@ -465,4 +465,4 @@ TEST(Srgb8, TheTableGivesTheFormulasBytes) {
     EXPECT_EQ(wrong, 0u) << "of " << values.size();
 }
 
-}  // namespace meniscus
+}  // namespace meniscus::io_image_test_local

@@ -12,6 +12,8 @@
 #include "meniscus/sim.h"
 #include "test_util.h"
 
+namespace io_json_text_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus;
 using namespace meniscus::test;
@@ -91,3 +93,4 @@ TEST(JsonText, EveryReaderRefusesTheDeepDocument) {
     EXPECT_TRUE(failsNaming(readGeometry((dir / "deep.json").string()), (dir / "deep.json").string(), "nested deeper"));
     EXPECT_TRUE(failsNaming(sim::readScene(dir / "deep.json"), (dir / "deep.json").string(), "nested deeper"));
 }
+}  // namespace io_json_text_test_local

@@ -12,7 +12,7 @@
 #include "mesh_test_util.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_mesh_reader_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -285,4 +285,4 @@ TEST(MeshReader, HugeFileOfZerosIsRefusedFromItsFirstBytes) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_mesh_reader_test_local

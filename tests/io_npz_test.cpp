@@ -12,7 +12,7 @@
 #include "meniscus/particles.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_npz_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -220,4 +220,4 @@ TEST(Npz, ARendererGetsRadiiFromPySphsSmoothingLength) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_npz_test_local

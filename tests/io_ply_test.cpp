@@ -12,7 +12,7 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_ply_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -500,4 +500,4 @@ TEST(PlyMalformed, RandomCorruptionNeverCrashes) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_ply_test_local

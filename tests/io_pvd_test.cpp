@@ -10,7 +10,7 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_pvd_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -187,4 +187,4 @@ TEST(Pvd, FrameRateOfEvenTimesteps) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_pvd_test_local

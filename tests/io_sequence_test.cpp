@@ -9,7 +9,7 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_sequence_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -237,4 +237,4 @@ TEST(FormatFramePattern, Errors) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_sequence_test_local

@@ -9,7 +9,7 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_text_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -222,4 +222,4 @@ TEST(XyzMalformed, TooFewCoordinates) {
 TEST(XyzMalformed, EmptyFile) { expectError(parseXyzText("empty.xyz", ""), "empty"); }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_text_test_local

@@ -14,7 +14,7 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_vtk_legacy_test_local {
 namespace {
 
 using test::readBytes;
@@ -525,4 +525,4 @@ TEST_F(VtkMalformed, RandomByteFlipsNeverCrash) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_vtk_legacy_test_local

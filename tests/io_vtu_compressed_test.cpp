@@ -23,7 +23,7 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_vtu_compressed_test_local {
 namespace {
 
 using test::readBytes;
@@ -410,4 +410,4 @@ TEST(VtuCompressedMalformed, UnknownCompressorNamed) {
 // Random corruption of these files: VtuMalformed.RandomCorruptionNeverCrashes (io_vtu_test.cpp).
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_vtu_compressed_test_local

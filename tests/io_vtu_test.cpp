@@ -22,7 +22,7 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_vtu_test_local {
 namespace {
 
 using test::readBytes;
@@ -655,4 +655,4 @@ TEST(VtuMalformed, RandomCorruptionNeverCrashes) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_vtu_test_local

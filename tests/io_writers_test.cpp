@@ -21,7 +21,7 @@
 #include "meniscus/io.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::io_writers_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -451,4 +451,4 @@ TEST(WriterParaView, VtksOwnReadersOpenEveryFile) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::io_writers_test_local

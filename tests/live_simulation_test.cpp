@@ -17,6 +17,8 @@
 #include "live_simulation.h"
 #include "meniscus/sim.h"
 
+namespace live_simulation_test_local {
+
 using namespace meniscus;
 using meniscus::app::LiveSimulation;
 
@@ -182,3 +184,4 @@ TEST(LiveSimulation, AFailingStepEndsTheWorkerWithItsError) {
     EXPECT_NE(live.error()->message.find("diverged"), std::string::npos) << live.error()->describe();
     EXPECT_EQ(seen.back().number, 0) << "no frame after the failing step";
 }
+}  // namespace live_simulation_test_local

@@ -11,7 +11,7 @@
 #include "meniscus/surface.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::memory_budget_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -164,4 +164,4 @@ TEST(MemoryBudget, TheMesherEstimatesBeforeExtracting) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::memory_budget_test_local

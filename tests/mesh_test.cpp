@@ -15,6 +15,8 @@
 #include "meniscus/mesh.h"
 #include "test_util.h"
 
+namespace mesh_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -125,3 +127,4 @@ TEST(MeshFormat, ByExtensionInAnyCase) {
         EXPECT_EQ(f.error().describe(), std::string(name) + ": output must end in .ply or .obj");
     }
 }
+}  // namespace mesh_test_local

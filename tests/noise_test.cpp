@@ -10,6 +10,8 @@
 
 #include "shared/noise.h"
 
+namespace noise_test_local {
+
 using meniscus::shared::fractalNoise3;
 using meniscus::shared::noise3;
 using meniscus::shared::noiseHash3;
@@ -134,3 +136,4 @@ TEST(Noise, FractalSumIsNormalisedAndHasFinerDetail) {
     for (int k = 0; k < 20000; ++k) peak = std::max(peak, double(std::abs(fractalNoise3({u(rng), u(rng), u(rng)}, 4, 2.0f, 0.5f))));
     EXPECT_LE(peak, 1.1);
 }
+}  // namespace noise_test_local

@@ -12,7 +12,7 @@
 #include "meniscus/params.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::normals_test_local {
 namespace {
 
 constexpr float kInf = INFINITY;
@@ -237,4 +237,4 @@ TEST(Normals, ScaleInvariant) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::normals_test_local

@@ -9,6 +9,8 @@
 #include "meniscus/particles.h"
 #include "meniscus/sim.h"
 
+namespace options_test_local {
+
 using namespace meniscus;
 
 TEST(OptionTable, EveryRowIsCompleteAndNamedOnce) {
@@ -316,3 +318,4 @@ TEST(OptionTable, TheOtherCommandsOptionsSetTypedAndRefused) {
     ASSERT_TRUE(setOptionIn(meshOptionTable(), m, "stats", true));
     EXPECT_TRUE(m.stats);
 }
+}  // namespace options_test_local

@@ -14,6 +14,8 @@
 #include "meniscus/particle_view.h"
 #include "test_util.h"
 
+namespace particles_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -287,3 +289,4 @@ TEST(Particles, DropNonFiniteKeepsAttributesAligned) {
     EXPECT_EQ(s.find("id")->ints, (std::vector<std::int64_t>{10, 12, 14}));
     EXPECT_EQ(s.find("velocity")->floats, (std::vector<float>{0, 0, 0, 2, 2, 2, 4, 4, 4}));
 }
+}  // namespace particles_test_local

@@ -24,7 +24,7 @@
 #include "meniscus/renderer.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::pipeline_test_local {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -451,4 +451,4 @@ TEST(PipelineDeathTest, OutOfMemoryIsAnErrorNotAnException) {
 #endif
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::pipeline_test_local

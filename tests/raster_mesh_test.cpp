@@ -24,6 +24,8 @@
 #include "shared/studio.h"
 #include "test_util.h"
 
+namespace raster_mesh_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -435,3 +437,4 @@ TEST(RasterMeshRenderer, OversizedImageIsRefusedBeforeRasterising) {
     ASSERT_FALSE(aovs.ok());
     EXPECT_NE(aovs.error().describe().find("image size"), std::string::npos) << aovs.error().describe();
 }
+}  // namespace raster_mesh_test_local

@@ -23,6 +23,8 @@
 #include "render_threads.h"
 #include "test_util.h"
 
+namespace raycast_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -361,3 +363,4 @@ TEST(RaycastCli, SurfaceRaycastRendersAndSaysWhatIsWrong) {
 }
 
 }  // namespace
+}  // namespace raycast_test_local

@@ -18,6 +18,8 @@
 #include "meniscus/renderer.h"
 #include "test_util.h"
 
+namespace scene_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -420,3 +422,4 @@ TEST(Scene, WallsSeenFromAFixedEyeStayPut) {
     fixed.wallsSeenFrom = a.eye;
     EXPECT_EQ(shared::makeStudio(box, kRadius, b, fixed, light), shared::makeStudio(box, kRadius, a, SceneParams{}, light));
 }
+}  // namespace scene_test_local

@@ -9,7 +9,7 @@
 
 #include "meniscus/particles.h"
 
-namespace meniscus {
+namespace meniscus::select_test_local {
 namespace {
 
 ParticleFilter parsed(const std::string& text) {
@@ -176,4 +176,4 @@ TEST(SelectApply, InconsistentAttributeIsAnError) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::select_test_local

@@ -22,7 +22,7 @@
 #include "meniscus/particles.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::shading_test_local {
 namespace {
 
 constexpr float kInf = INFINITY;
@@ -585,4 +585,4 @@ TEST(Shading, BitIdenticalForAnyThreadCount) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::shading_test_local

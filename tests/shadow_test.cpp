@@ -19,6 +19,8 @@
 #include "shared/studio_shade.h"
 #include "test_util.h"
 
+namespace shadow_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -231,7 +233,9 @@ TEST(Shadows, TheKeptCasterDepthFollowsTheGeometryAndTheCamera) {
         ASSERT_TRUE(a.ok() && fresh.ok());
         EXPECT_TRUE(same(a->color, fresh->color)) << "step " << step;
         if (step == 0) firstBox = a->color;
-        if (step == 2) EXPECT_FALSE(same(a->color, firstBox));  // the moved box's shadow is elsewhere
+        if (step == 2) {
+            EXPECT_FALSE(same(a->color, firstBox));  // the moved box's shadow is elsewhere
+        }
     }
 }
 
@@ -261,3 +265,4 @@ TEST(Shadows, TheLightCameraCoversTheBoundsAndStaysPutForSmallMoves) {
     f.particles = ParticleView(pts);
     EXPECT_EQ(shadowLight(f).camera, a.camera);
 }
+}  // namespace shadow_test_local

@@ -18,6 +18,8 @@
 #include "shared/kernel_radius.h"
 #include "test_util.h"
 
+namespace silhouette_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -238,3 +240,4 @@ TEST(Silhouette, RendererSoftensTheEdgesAlphaOnTheRealFrame) {
 }
 
 }  // namespace
+}  // namespace silhouette_test_local

@@ -14,6 +14,8 @@
 #include "meniscus/sim.h"
 #include "test_util.h"
 
+namespace sim_checkpoint_test_local {
+
 namespace fs = std::filesystem;
 using namespace meniscus;
 using namespace meniscus::test;
@@ -140,3 +142,4 @@ TEST(SimCheckpoint, DamagedFilesAreErrorsNamingTheFileAndChangeNothing) {
     EXPECT_TRUE(fresh->loadCheckpoint(path, 2).ok());
     EXPECT_TRUE(samePositions(*a, *fresh));
 }
+}  // namespace sim_checkpoint_test_local

@@ -20,7 +20,7 @@
 #include "meniscus/sim.h"
 #include "test_util.h"
 
-namespace meniscus::sim {
+namespace meniscus::sim::sim_scene_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -619,4 +619,4 @@ TEST(SimSceneDocs, EveryKeyIsDocumented) {
 }
 
 }  // namespace
-}  // namespace meniscus::sim
+}  // namespace meniscus::sim::sim_scene_test_local

@@ -19,6 +19,8 @@
 #include "sim/neighbour_search.h"
 #include "sim/parallel.h"
 
+namespace sim_test_local {
+
 using namespace meniscus;
 using namespace meniscus::sim;
 
@@ -970,3 +972,4 @@ TEST(SimPhysics, TheMeshGlassHoldsWhatTheNozzlePours) {
     EXPECT_LT(below, sim->size() / 20) << "outside the glass below its rim";
     EXPECT_GT(inCup, sim->size() * 85 / 100) << "most of it is in the cup (the rest still falling)";
 }
+}  // namespace sim_test_local

@@ -25,7 +25,7 @@
 #include "shared/splat_chords.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::sort_last_test_local {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -589,4 +589,4 @@ TEST(SortLast, WholeFrameSharesKeepNoiseWhiteningSprayAndDiffuse) {
     expectWholeFrameSharesMatch(s, "spray and diffuse alone (the body's share sliced)");
 }
 
-}  // namespace meniscus
+}  // namespace meniscus::sort_last_test_local

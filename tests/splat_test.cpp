@@ -10,6 +10,8 @@
 
 #include "cpu/splat.h"
 
+namespace splat_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -151,3 +153,4 @@ TEST(Splat, BitIdenticalForAnyThreadCount) {
     ASSERT_EQ(one.pixels.size(), all.pixels.size());
     EXPECT_EQ(0, std::memcmp(one.pixels.data(), all.pixels.data(), one.pixels.size() * sizeof(float)));
 }
+}  // namespace splat_test_local

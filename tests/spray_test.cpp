@@ -18,6 +18,8 @@
 #include "shared/spray.h"
 #include "test_util.h"
 
+namespace spray_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -255,3 +257,4 @@ TEST(SprayRenderer, DiffuseLayerDrawsSprayAndFoamNotBubbles) {
     s.diffuse.kind = kind;
     EXPECT_FALSE(r.render(ParticleView(p), s).ok());
 }
+}  // namespace spray_test_local

@@ -11,6 +11,8 @@
 #include "render/stages.h"
 #include "test_util.h"
 
+namespace stages_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -128,3 +130,4 @@ TEST(StageList, RunStageByName) {
     ASSERT_FALSE(unknown);
     EXPECT_NE(unknown.error().message.find("no-such-stage"), std::string::npos);
 }
+}  // namespace stages_test_local

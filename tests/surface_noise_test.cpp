@@ -23,6 +23,8 @@
 #include "shared/surface_noise.h"
 #include "test_util.h"
 
+namespace surface_noise_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -465,3 +467,4 @@ TEST(SurfaceNoiseRenderer, RealFrameGetsNoiseOnItsSurfaceOnly) {
     }
     EXPECT_GT(changed, fluid / 2);
 }
+}  // namespace surface_noise_test_local

@@ -22,7 +22,7 @@
 #include "surface/weld.h"
 #include "test_util.h"
 
-namespace meniscus {
+namespace meniscus::surface_test_local {
 namespace {
 
 using test::testData;
@@ -573,4 +573,4 @@ TEST(MeshWriter, PlyAndObjHoldTheMesh) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::surface_test_local

@@ -23,6 +23,8 @@
 #include "meniscus/particles.h"
 #include "test_util.h"
 
+namespace thickness_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -304,3 +306,4 @@ TEST(Thickness, DivisorAndBlurCap) {
     EXPECT_EQ(shared::thicknessBlurCapPx(32), 32);
     EXPECT_EQ(shared::thicknessBlurCapPx(1000), shared::kThicknessBlurMaxPx);
 }
+}  // namespace thickness_test_local

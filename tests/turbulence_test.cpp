@@ -8,6 +8,8 @@
 
 #include "core/turbulence.h"
 
+namespace turbulence_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -92,3 +94,4 @@ TEST(Turbulence, AbsentParticlesAreForgotten) {
     EXPECT_EQ(t.tracked(), 0u);
     EXPECT_EQ(t.update(std::vector<std::int64_t>{1}, std::vector<glm::vec3>{{0, 0, 0}})[0], 1.0f);
 }
+}  // namespace turbulence_test_local

@@ -27,6 +27,8 @@
 #include "shared/upsample.h"
 #include "test_util.h"
 
+namespace upsample_test_local {
+
 using namespace meniscus;
 using namespace meniscus::test;
 
@@ -298,3 +300,4 @@ TEST(FluidScale, TheRealFrameAtReducedResolution) {
     ASSERT_FALSE(bad.ok());
     EXPECT_NE(bad.error().message.find("fluidScale"), std::string::npos);
 }
+}  // namespace upsample_test_local

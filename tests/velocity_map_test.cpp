@@ -19,6 +19,8 @@
 #include "shared/velocity_map.h"
 #include "test_util.h"
 
+namespace velocity_map_test_local {
+
 using namespace meniscus;
 
 namespace {
@@ -201,3 +203,4 @@ TEST(VelocityMapRenderer, ReadsTheVelocitiesAndShowsTheMap) {
     ASSERT_FALSE(bad.ok());
     EXPECT_NE(bad.error().message.find("whitening"), std::string::npos);
 }
+}  // namespace velocity_map_test_local

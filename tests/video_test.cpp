@@ -19,7 +19,7 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
-namespace meniscus {
+namespace meniscus::video_test_local {
 namespace {
 
 namespace fs = std::filesystem;
@@ -342,4 +342,4 @@ TEST(Video, SimulationsRenderToMovies) {
 }
 
 }  // namespace
-}  // namespace meniscus
+}  // namespace meniscus::video_test_local

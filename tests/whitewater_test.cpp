@@ -19,6 +19,8 @@
 #include "meniscus/whitewater.h"
 #include "test_util.h"
 
+namespace whitewater_test_local {
+
 using namespace meniscus;
 using namespace meniscus::sim;
 
@@ -366,3 +368,4 @@ TEST(WhitewaterReal, WrittenAndReadBack) {
 }
 
 }  // namespace
+}  // namespace whitewater_test_local

@@ -62,7 +62,11 @@ Result<FrameImages> openImages(const SimulateJob& o, const sim::Scene& sc) {
     settings->colorOnly = !isExr(o.render);  // a PNG needs only the colour AOV
     auto renderer = makeRenderer(look);
     if (!renderer) return renderer.error();
-    FrameImages images{o.render, std::move(*settings), std::move(*renderer)};
+    FrameImages images{o.render, std::move(*settings), std::move(*renderer)
+#ifdef MENISCUS_HAVE_FFMPEG
+                       , std::nullopt
+#endif
+    };
 #ifdef MENISCUS_HAVE_FFMPEG
     if (movie) {
         if (auto st = prepareOutputFolder(o.render); !st) return st.error();  // a bad folder: exit 2

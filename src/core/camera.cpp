@@ -9,11 +9,11 @@
 
 #include "meniscus/params.h"
 #include "meniscus/particles.h"
+#include "shared/finite.h"
 
 namespace meniscus {
 
 namespace {
-bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 }  // namespace
 
 float Camera::focalPx() const {

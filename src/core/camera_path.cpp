@@ -4,6 +4,7 @@
 // key exactly (at a key the curve is evaluated at s = 0 of the segment that
 // starts there, where only that key's weight is non-zero).
 #include "meniscus/camera_path.h"
+#include "shared/finite.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +14,6 @@ namespace meniscus {
 
 namespace {
 
-bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 std::string seconds(double t) {
     std::ostringstream out;

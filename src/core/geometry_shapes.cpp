@@ -33,7 +33,7 @@ void SceneGeometry::append(SceneGeometry&& more) {
 
 namespace {
 
-bool usable(const glm::vec3& n) {
+bool usableNormal(const glm::vec3& n) {
     const float l2 = glm::dot(n, n);
     return std::isfinite(l2) && l2 > 0.0f;
 }
@@ -68,7 +68,7 @@ void transformMesh(TriangleMesh& mesh, const glm::mat4& m) {
     for (glm::vec3& p : mesh.positions) p = glm::vec3(m * glm::vec4(p, 1.0f));
     for (glm::vec3& n : mesh.normals) {
         const glm::vec3 t = normalMatrix * n;
-        n = usable(t) ? glm::normalize(t) : t;
+        n = usableNormal(t) ? glm::normalize(t) : t;
     }
     // A mirror turns counter-clockwise into clockwise: swap two corners of
     // every triangle so the outside stays where the normals point.
@@ -83,7 +83,7 @@ void fillMissingNormals(TriangleMesh& mesh) {
     bool any = false;
     for (std::size_t i = 0; i < n; ++i) {
         const glm::vec3& v = mesh.normals[i];
-        if (!usable(v)) bad[i] = 1, any = true;
+        if (!usableNormal(v)) bad[i] = 1, any = true;
     }
     if (!any) {
         for (glm::vec3& v : mesh.normals) v = glm::normalize(v);
@@ -95,12 +95,12 @@ void fillMissingNormals(TriangleMesh& mesh) {
         if (a >= n || b >= n || c >= n) continue;
         // The cross product's length is twice the area: an area-weighted sum.
         const glm::vec3 f = glm::cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
-        if (!usable(f)) continue;
+        if (!usableNormal(f)) continue;
         sum[a] += f, sum[b] += f, sum[c] += f;
     }
     for (std::size_t i = 0; i < n; ++i) {
         glm::vec3& v = mesh.normals[i];
-        if (bad[i]) v = usable(sum[i]) ? glm::normalize(sum[i]) : glm::vec3(0.0f, 1.0f, 0.0f);
+        if (bad[i]) v = usableNormal(sum[i]) ? glm::normalize(sum[i]) : glm::vec3(0.0f, 1.0f, 0.0f);
         else v = glm::normalize(v);
     }
 }
@@ -175,7 +175,7 @@ TriangleMesh makeSphereMesh(const glm::vec3& center, float radius) {
 
 TriangleMesh makePlaneMesh(const glm::vec3& point, const glm::vec3& normal, float halfSizeM) {
     TriangleMesh m;
-    const glm::vec3 n = usable(normal) ? glm::normalize(normal) : glm::vec3(0, 1, 0);
+    const glm::vec3 n = usableNormal(normal) ? glm::normalize(normal) : glm::vec3(0, 1, 0);
     glm::vec3 u, v;
     basis(n, u, v);
     addQuad(m, point, halfSizeM * u, halfSizeM * v, n);

@@ -49,7 +49,7 @@ constexpr double kBulkQuantile = 0.75;
 // is no bulk to measure (a single sheet, a spray): nearest-neighbour method.
 constexpr std::uint32_t kMinBulkNeighbours = 24;
 
-bool usable(const glm::vec3& p) {
+bool usablePosition(const glm::vec3& p) {
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) &&
            std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) <= kMaxCoordinateM;
 }
@@ -109,7 +109,7 @@ RadiusEstimate estimateRadius(std::span<const glm::vec3> positions) {
     std::vector<glm::vec3> pts;
     pts.reserve(positions.size());
     for (const glm::vec3& p : positions)
-        if (usable(p)) pts.push_back(p);
+        if (usablePosition(p)) pts.push_back(p);
     const Bounds b = computeBounds(pts);
     const double diag = b.empty() ? 0.0 : glm::length(glm::dvec3(b.extent()));
     const auto fallback = [&] {

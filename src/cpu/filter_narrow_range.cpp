@@ -52,12 +52,12 @@
 #include "cpu/filter_util.h"
 #include "cpu/filters.h"
 #include "shared/narrow_range.h"
+#include "cpu/no_depth.h"
 
 namespace meniscus::cpu {
 
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // One tap pair: +offset and −offset (linear, in the padded buffer), weight w.
 struct Tap {

@@ -24,11 +24,11 @@
 #include <tbb/parallel_for.h>
 
 #include "shared/hole_fill.h"
+#include "cpu/no_depth.h"
 
 namespace meniscus::cpu {
 
 namespace {
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
 struct LineEnd {
     int steps = 0;  // 0: no covered pixel within maxPx

@@ -42,13 +42,13 @@
 #include <tbb/parallel_for.h>
 
 #include "shared/raster_mesh.h"
+#include "cpu/no_depth.h"
 
 namespace meniscus::cpu {
 
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr int kTile = kRasterTilePx;
+constexpr int kRasterTile = kRasterTilePx;
 constexpr std::int64_t kOne = std::int64_t(1) << kRasterSubpixelBits;  // one pixel in fixed point
 constexpr std::int64_t kHalf = kOne / 2;                                // pixel centres at +0.5
 constexpr double kGuardPx = double(shared::kRasterMaxSidePx);  // guard band beyond each border
@@ -340,7 +340,7 @@ struct Box {
     bool empty() const { return pixels().empty(); }
     Rect tiles() const {
         const Rect p = pixels();
-        return {p.x0 / kTile, p.y0 / kTile, (p.x1 - 1) / kTile + 1, (p.y1 - 1) / kTile + 1};
+        return {p.x0 / kRasterTile, p.y0 / kRasterTile, (p.x1 - 1) / kRasterTile + 1, (p.y1 - 1) / kRasterTile + 1};
     }
 };
 
@@ -576,8 +576,8 @@ void rasterise(const Frame& fr, const MeshRef& mesh, const Targets& out, RasterW
     };
 
     Bins& bins = work.bins;
-    bins.tilesX = (fr.width + kTile - 1) / kTile;
-    bins.tilesY = (fr.height + kTile - 1) / kTile;
+    bins.tilesX = (fr.width + kRasterTile - 1) / kRasterTile;
+    bins.tilesY = (fr.height + kRasterTile - 1) / kRasterTile;
     const std::size_t triangles = mesh.triangleCount();
     for (std::size_t first = 0; first < triangles;) {
         // Boxes of the next triangles, in parallel.
@@ -632,8 +632,8 @@ void rasterise(const Frame& fr, const MeshRef& mesh, const Targets& out, RasterW
         tbb::parallel_for(0, bins.tilesX * bins.tilesY, [&](int t) {
             if (bins.start[t] == bins.start[t + 1]) return;
             const int tx = t % bins.tilesX, ty = t / bins.tilesX;
-            const Rect tile{tx * kTile, ty * kTile, std::min(fr.width, (tx + 1) * kTile),
-                            std::min(fr.height, (ty + 1) * kTile)};
+            const Rect tile{tx * kRasterTile, ty * kRasterTile, std::min(fr.width, (tx + 1) * kRasterTile),
+                            std::min(fr.height, (ty + 1) * kRasterTile)};
             for (std::uint32_t k = bins.start[t]; k < bins.start[t + 1]; ++k) {
                 const std::uint32_t tri = bins.items[k];
                 const Box& box = bins.boxes[tri - first];

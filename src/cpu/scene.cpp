@@ -20,12 +20,12 @@
 #include "cpu/sky.h"
 #include "shared/environment.h"
 #include "shared/studio_shade.h"
+#include "cpu/no_depth.h"
 
 namespace meniscus::cpu {
 
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
 using shared::studioCornerFall;
 using shared::studioFloorInt;
 using shared::studioFloorRadius;

@@ -19,6 +19,7 @@
 #include "shared/shadow.h"
 #include "shared/sky.h"
 #include "shared/studio_shade.h"
+#include "cpu/no_depth.h"
 
 namespace meniscus::cpu {
 
@@ -26,7 +27,6 @@ extern const StageDriver kSplatStage;
 
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // On the light's camera (the stage's row switched to it): io.at.sceneDepth
 // the geometry's depth, io.at.raw and io.at.thickness the liquid's.

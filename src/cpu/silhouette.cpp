@@ -15,6 +15,7 @@
 #include <tbb/parallel_for.h>
 
 #include "shared/silhouette.h"
+#include "cpu/no_depth.h"
 
 namespace meniscus::cpu {
 
@@ -42,7 +43,6 @@ std::vector<std::uint32_t> fluidSummedArea(const Image<float>& depth) {
 }
 
 namespace {
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // S of the window of pixel (x, y) sized at depth z, from the W x H mask's table.
 float windowFraction(const std::vector<std::uint32_t>& sat, int W, int H, int x, int y, float z, float radiusM,

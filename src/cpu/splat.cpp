@@ -31,12 +31,12 @@
 #include "shared/splat.h"
 #include "shared/splat_chords.h"
 #include "shared/thickness.h"
+#include "cpu/no_depth.h"
 
 namespace meniscus::cpu {
 
 namespace {
-constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr int kTile = kSplatTilePx;
+constexpr int kSplatTile = kSplatTilePx;
 }  // namespace
 
 namespace {
@@ -89,8 +89,8 @@ SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> position
                        std::span<const EllipsoidShape> shapes) {
     SplatBins bins;
     const int W = camera.width, H = camera.height;
-    bins.tilesX = (W + kTile - 1) / kTile;
-    bins.tilesY = (H + kTile - 1) / kTile;
+    bins.tilesX = (W + kSplatTile - 1) / kSplatTile;
+    bins.tilesY = (H + kSplatTile - 1) / kSplatTile;
 
     // View-space centres and screen rectangles, in parallel (independent per particle).
     const std::size_t n = positionsWorld.size();
@@ -124,8 +124,8 @@ SplatBins binParticles(const Camera& camera, std::span<const glm::vec3> position
     const std::size_t tiles = std::size_t(bins.tilesX) * std::size_t(bins.tilesY);
     auto forTiles = [&](const PixelRect& r, auto&& fn) {
         if (r.empty()) return;
-        for (int ty = r.y0 / kTile; ty <= (r.y1 - 1) / kTile; ++ty)
-            for (int tx = r.x0 / kTile; tx <= (r.x1 - 1) / kTile; ++tx) fn(std::size_t(ty) * tilesX + tx);
+        for (int ty = r.y0 / kSplatTile; ty <= (r.y1 - 1) / kSplatTile; ++ty)
+            for (int tx = r.x0 / kSplatTile; tx <= (r.x1 - 1) / kSplatTile; ++tx) fn(std::size_t(ty) * tilesX + tx);
     };
     std::vector<std::uint32_t> next(kSlices * tiles, 0);  // [slice][tile]: count, then fill position
     auto perSlice = [&](auto&& fn) {
@@ -184,8 +184,8 @@ inline void storeU(std::uint32_t* p, UintV v) { std::memcpy(p, &v, sizeof v); }
 // Tile-local arrays: rows of kStride floats, the last kLanes - 1 (+1 for
 // alignment) padding so that a group of kLanes pixels starting anywhere in the
 // row stays inside it; padding lanes are masked off.
-constexpr int kStride = kTile + kLanes;
-constexpr int kTileN = kTile * kStride;
+constexpr int kStride = kSplatTile + kLanes;
+constexpr int kTileN = kSplatTile * kStride;
 
 // One tile of the splat, kLanes pixels of a row at a time in GCC/Clang vector
 // types (the projected spheres are only a few pixels wide, so vectorising
@@ -198,20 +198,20 @@ constexpr int kTileN = kTile * kStride;
 //
 // kDiv > 1 (chords only): the output has one pixel per kDiv x kDiv block, its
 // ray through the block's centre, and the scene depth of the block is its
-// nearest. Tile t then covers the kTile / kDiv square of low-resolution pixels
+// nearest. Tile t then covers the kSplatTile / kDiv square of low-resolution pixels
 // under the full-resolution tile t, and the spheres of bin t are tested
 // against the low-resolution pixels of their rectangle grown by one full
 // pixel: that holds every low-resolution centre inside the projection.
 template <bool kDepth, bool kChord, int kDiv = 1, bool kEllipsoid = false>
 void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius, const Image<float>* sceneDepth,
                Image<float>* depth, Image<std::uint32_t>* chords) {
-    static_assert(kDiv == 1 || (!kDepth && kTile % kDiv == 0));
+    static_assert(kDiv == 1 || (!kDepth && kSplatTile % kDiv == 0));
     const int W = camera.width, H = camera.height;
     const int tx = t % bins.tilesX, ty = t / bins.tilesX;
     // This tile in output pixels (low-resolution ones when kDiv > 1).
-    const int bx0 = tx * (kTile / kDiv), by0 = ty * (kTile / kDiv);
-    const int bx1 = std::min((W + kDiv - 1) / kDiv, bx0 + kTile / kDiv);
-    const int by1 = std::min((H + kDiv - 1) / kDiv, by0 + kTile / kDiv);
+    const int bx0 = tx * (kSplatTile / kDiv), by0 = ty * (kSplatTile / kDiv);
+    const int bx1 = std::min((W + kDiv - 1) / kDiv, bx0 + kSplatTile / kDiv);
+    const int by1 = std::min((H + kDiv - 1) / kDiv, by0 + kSplatTile / kDiv);
 
     if (bins.start[t] == bins.start[t + 1]) {  // no sphere: nothing but the defaults
         for (int y = by0; y < by1; ++y)
@@ -235,7 +235,7 @@ void splatTile(int t, const Camera& camera, const SplatBins& bins, float radius,
     // Pixel centres in full-resolution coordinates: kDiv (i + 1/2).
     const FloatV lanesF = FloatV{0.5f, 1.5f, 2.5f, 3.5f} * float(kDiv);
     const float* scene = sceneDepth ? sceneDepth->pixels.data() : nullptr;
-    for (int y = 0; y < kTile / kDiv; ++y) {
+    for (int y = 0; y < kSplatTile / kDiv; ++y) {
         const float ry = shared::splatRayY(float(kDiv * (by0 + y)) + 0.5f * float(kDiv), halfH, invF);
         for (int x = 0; x < kStride; x += kLanes) {
             const int j = y * kStride + x;

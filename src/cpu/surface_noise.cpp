@@ -25,7 +25,7 @@
 namespace meniscus::cpu {
 
 namespace {
-constexpr int kTile = kSpriteTilePx;
+constexpr int kSpriteTile = kSpriteTilePx;
 
 struct Sprite {
     shared::NoiseSprite sprite;
@@ -33,7 +33,7 @@ struct Sprite {
     float idz;
 };
 
-// Adds sprite s's contributions to the n <= kTile pixels (x0 .. x0 + n - 1, y)
+// Adds sprite s's contributions to the n <= kSpriteTile pixels (x0 .. x0 + n - 1, y)
 // into sum: shared::noiseContribution per pixel, with the fractal's octaves
 // outside the loop over pixels so that the loops vectorise (AVX2 clone: eight
 // pixels at a time; no FMA in either clone, so both give the same bits).
@@ -45,8 +45,8 @@ void addSpriteSpan(const Sprite& s, int x0, int n, int y, const NoiseParams& p, 
     // remainder would cost as much as the vector part); the lanes past n are
     // computed and dropped.
     const int m = (n + 7) & ~7;
-    float sx[kTile], sy[kTile], g[kTile], acc[kTile];
-    std::uint32_t inside[kTile];  // all ones inside the disc, 0 outside or past n
+    float sx[kSpriteTile], sy[kSpriteTile], g[kSpriteTile], acc[kSpriteTile];
+    std::uint32_t inside[kSpriteTile];  // all ones inside the disc, 0 outside or past n
     for (int i = 0; i < m; ++i) {
         const glm::vec2 o = shared::noiseSpriteOffset(s.sprite, x0 + i, y);
         const float s2 = o.x * o.x + o.y * o.y;
@@ -66,7 +66,7 @@ void addSpriteSpan(const Sprite& s, int x0, int n, int y, const NoiseParams& p, 
         frequency = frequency * p.lacunarity;
     }
     const float normOr1 = norm > 0.0f ? norm : 1.0f, keep = norm > 0.0f ? 1.0f : 0.0f;
-    std::uint32_t add[kTile];
+    std::uint32_t add[kSpriteTile];
     for (int i = 0; i < m; ++i) {
         const float noise = (acc[i] * keep) / normOr1;  // fractalNoise3's sum / norm (0 without octaves)
         add[i] = std::uint32_t(shared::noiseToFixed(s.weight, g[i], noise)) & inside[i];
@@ -89,18 +89,18 @@ Image<float> splatNoise(const Camera& camera, std::span<const glm::vec3> positio
         if (sprites.start[t] == sprites.start[t + 1]) return;
         const glm::ivec4 tile = spriteTileRect(sprites, t, W, H);
         const int x0 = tile.x, y0 = tile.y, x1 = tile.z, y1 = tile.w;
-        std::uint32_t sum[kTile * kTile] = {};
+        std::uint32_t sum[kSpriteTile * kSpriteTile] = {};
         for (std::uint32_t k = sprites.start[t]; k < sprites.start[t + 1]; ++k) {
             const std::uint32_t i = sprites.items[k];
             const Sprite s{sprites.sprite[i], sprites.weight[i], i < idz.size() ? idz[i] : 0.0f};
             const int ax = std::max(x0, s.sprite.rect.x), bx = std::min(x1, s.sprite.rect.z);
             const int ay = std::max(y0, s.sprite.rect.y), by = std::min(y1, s.sprite.rect.w);
-            for (int y = ay; y < by; ++y) addSpriteSpan(s, ax, bx - ax, y, p, &sum[(y - y0) * kTile + (ax - x0)]);
+            for (int y = ay; y < by; ++y) addSpriteSpan(s, ax, bx - ax, y, p, &sum[(y - y0) * kSpriteTile + (ax - x0)]);
         }
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x)
                 if (isFluid(depth.at(x, y)))
-                    out.at(x, y) = shared::noiseFromFixed(std::int32_t(sum[(y - y0) * kTile + (x - x0)]));
+                    out.at(x, y) = shared::noiseFromFixed(std::int32_t(sum[(y - y0) * kSpriteTile + (x - x0)]));
     });
     return out;
 }

@@ -10,11 +10,11 @@
 
 #include "shared/fluids.h"
 #include "shared/upsample.h"
+#include "cpu/no_depth.h"
 
 namespace meniscus::cpu {
 
 namespace {
-constexpr float kInf = std::numeric_limits<float>::infinity();
 }  // namespace
 
 Image<float> reduceSceneDepth(const Image<float>& full, int lowW, int lowH, int d) {

@@ -18,7 +18,7 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr GLuint kGroup = 64;            // local_size_x of both shaders
+constexpr GLuint kAnisotropyGroup = 64;            // local_size_x of both shaders
 constexpr GLuint kChunk = 512;           // anisotropy_grid.comp's buckets per chunk of the prefix sum
 constexpr GLuint kParticlesPerInvocation = 4;  // grid-stride: llvmpipe pays per work group
 }  // namespace
@@ -61,7 +61,7 @@ void Anisotropy::run(std::span<const glm::vec3> positions, float radius, const A
 
     // The CPU's neighbourhood in its float arithmetic (core/anisotropy.cpp).
     const float R = params.neighbourRadii * radius;
-    const GLuint particleGroups = gridGroups(n, kGroup * kParticlesPerInvocation);
+    const GLuint particleGroups = gridGroups(n, kAnisotropyGroup * kParticlesPerInvocation);
 
     glUseProgram(grid_.id());
     glUniform1ui(0, n);
@@ -70,7 +70,7 @@ void Anisotropy::run(std::span<const glm::vec3> positions, float radius, const A
     const Buffer* gridBuffers[] = {&positions_, &counts_, &starts_, &chunks_, &unsorted_, &sorted_, &bucketOf_};
     for (GLuint b = 0; b < 7; ++b) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, gridBuffers[b]->id());
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-    const GLuint groupsOfPass[6] = {particleGroups, gridGroups(chunks, kGroup), 1, gridGroups(chunks, kGroup),
+    const GLuint groupsOfPass[6] = {particleGroups, gridGroups(chunks, kAnisotropyGroup), 1, gridGroups(chunks, kAnisotropyGroup),
                                     particleGroups, particleGroups};
     for (int pass = 0; pass < 6; ++pass) {
         glUniform1i(3, pass);

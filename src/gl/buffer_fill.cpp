@@ -10,7 +10,7 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr GLuint kGroup = 256;           // local_size_x of buffer_fill.comp
+constexpr GLuint kBufferFillGroup = 256;           // local_size_x of buffer_fill.comp
 constexpr GLuint kMaxGroupsX = 65535u;   // GL's guaranteed work-group count per dimension
 // Smaller fills and copies stay with the driver: their cost is the call, not
 // the bytes, and a shader pass adds a dispatch and two barriers (the
@@ -69,7 +69,7 @@ void BufferFill::run(GLuint dst, GLintptr dstOffset, GLuint src, GLintptr srcOff
     glUniform1ui(1, words);
     glUniform1i(2, mode);
     if (padded) glUniform3i(3, padded[0], padded[1], padded[2]);
-    const GLuint groups = (words + kGroup - 1) / kGroup;
+    const GLuint groups = (words + kBufferFillGroup - 1) / kBufferFillGroup;
     const GLuint gx = std::min(groups, kMaxGroupsX);
     glDispatchCompute(gx, (groups + gx - 1) / gx, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);

@@ -12,8 +12,8 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr GLuint kGroup = 64;         // local_size_x of the shader
-constexpr GLuint kPerInvocation = 4;  // pixels per invocation (llvmpipe pays per work group)
+constexpr GLuint kCompositeFluidsGroup = 64;         // local_size_x of the shader
+constexpr GLuint kCompositeFluidsPerInvocation = 4;  // pixels per invocation (llvmpipe pays per work group)
 }  // namespace
 
 Result<FluidCompositor> FluidCompositor::create() {
@@ -79,7 +79,7 @@ void FluidCompositor::run(std::span<const FluidLayerGpu> layers, const GpuImage&
         attachBufferTexture(outTex_[o], outputs[o].second, outputs[o].first->buffer, outputs[o].first->bytes());
         glBindImageTexture(GLuint(o), outTex_[o].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, outputs[o].second);
     }
-    glDispatchCompute(gridGroups(GLuint(W) * GLuint(H), kGroup * kPerInvocation), 1, 1);
+    glDispatchCompute(gridGroups(GLuint(W) * GLuint(H), kCompositeFluidsGroup * kCompositeFluidsPerInvocation), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_BUFFER_UPDATE_BARRIER_BIT);
     for (int o = 0; o < kOutputs; ++o) glBindImageTexture(GLuint(o), 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);

@@ -13,7 +13,7 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr GLuint kGroup = 64;                 // fluid_segments.comp's local_size_x
+constexpr GLuint kFluidSegmentsGroup = 64;                 // fluid_segments.comp's local_size_x
 constexpr GLuint kSegmentsPerInvocation = 4;  // fluid_segments.comp's kPerInvocation
 constexpr GLint kRoundsLocation = 15;         // fluid_segments.glsl's uSegmentRounds
 
@@ -56,7 +56,7 @@ void FluidSegments::build(const GpuImage& depth, int rounds) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, args_.id());
     if (segments > 0) {
         glUniform1i(1, 0);
-        glDispatchCompute(gridGroups(segments, kGroup * kSegmentsPerInvocation), 1, 1);
+        glDispatchCompute(gridGroups(segments, kFluidSegmentsGroup * kSegmentsPerInvocation), 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
     glUniform1i(1, 1);

@@ -15,7 +15,7 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr int kGroup = 64;  // local_size_x of geometry_shade.comp
+constexpr int kGeometryGroup = 64;  // local_size_x of geometry_shade.comp
 }  // namespace
 
 Result<GeometryDrawer> GeometryDrawer::create() {
@@ -96,7 +96,7 @@ void GeometryDrawer::drawObject(const FrameParams& frame, ObjectOnGpu& gpu, cons
     color.bind(3);
     depth.bind(4);
     (limit ? *limit : objectDepth_).bind(5);  // unread without uLimit
-    glDispatchCompute(ceilDiv(GLuint(W), kGroup), GLuint(H), 1);
+    glDispatchCompute(ceilDiv(GLuint(W), kGeometryGroup), GLuint(H), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
 }

@@ -15,7 +15,7 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr int kGroup = 64;  // local_size_x of hole_fill.comp: columns per work group; a row per group row
+constexpr int kHoleFillGroup = 64;  // local_size_x of hole_fill.comp: columns per work group; a row per group row
 }  // namespace
 
 Result<HoleFill> HoleFill::create() {
@@ -48,9 +48,9 @@ void HoleFill::run(const FrameParams& frame, const HoleFillParams& params, const
     const auto sweep = [&] {
         glUseProgram(sweep_.id());
         glUniform1i(0, 0);
-        glDispatchCompute(GLuint((H + kGroup - 1) / kGroup), 1, 1);
+        glDispatchCompute(GLuint((H + kHoleFillGroup - 1) / kHoleFillGroup), 1, 1);
         glUniform1i(0, 1);
-        glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), 1, 1);
+        glDispatchCompute(GLuint((W + kHoleFillGroup - 1) / kHoleFillGroup), 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         glUseProgram(program_.id());
     };
@@ -84,7 +84,7 @@ void HoleFill::run(const FrameParams& frame, const HoleFillParams& params, const
             (hasT ? thicknessOut_ : depthOut_).bind(4);
         }
         sweep();
-        glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint(H), 1);  // H <= 16384: in GL's guaranteed 65535
+        glDispatchCompute(GLuint((W + kHoleFillGroup - 1) / kHoleFillGroup), GLuint(H), 1);  // H <= 16384: in GL's guaranteed 65535
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     }
     for (int i = 2; i >= 0; --i) {

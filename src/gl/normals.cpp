@@ -10,7 +10,7 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr int kGroup = 64;  // local_size_x of normals.comp: columns per work group
+constexpr int kNormalsGroup = 64;  // local_size_x of normals.comp: columns per work group
 constexpr int kRows = 16;   // rows per work group's tile (<= kMaxRows in normals.comp)
 }  // namespace
 
@@ -43,7 +43,7 @@ void Normals::run(const FrameParams& frame, const GpuImage& depth, GpuImage& nor
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_BUFFER, depthTex_.id());
     normals.bind(2);
-    glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint((H + kRows - 1) / kRows), 1);
+    glDispatchCompute(GLuint((W + kNormalsGroup - 1) / kNormalsGroup), GLuint((H + kRows - 1) / kRows), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glBindTexture(GL_TEXTURE_BUFFER, 0);
     glUseProgram(0);

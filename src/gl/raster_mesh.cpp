@@ -20,7 +20,7 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr int kGroup = 64;  // local_size_x of raster_mesh_resolve.comp
+constexpr int kRasterMeshGroup = 64;  // local_size_x of raster_mesh_resolve.comp
 // The targets are image-sized textures: GL 4.3 guarantees GL_MAX_TEXTURE_SIZE
 // >= 16384, and validateCamera refuses any larger side.
 static_assert(defaults::kMaxImageSizePx <= 16384, "the GL mesh path needs a check against GL_MAX_TEXTURE_SIZE");
@@ -173,7 +173,7 @@ void MeshRasteriser::run(const FrameParams& frame, const GpuMesh& mesh, const Gp
     normal.bind(3);
     if (withUv) uv->bind(4);
     else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, empty_.id());
-    glDispatchCompute(ceilDiv(GLuint(W), kGroup), GLuint(H), 1);
+    glDispatchCompute(ceilDiv(GLuint(W), kRasterMeshGroup), GLuint(H), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glBindTexture(GL_TEXTURE_2D, 0);
     glActiveTexture(GL_TEXTURE1);

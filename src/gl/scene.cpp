@@ -14,7 +14,7 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr int kGroup = 64;  // local_size_x of scene.comp: columns per work group
+constexpr int kSceneGroup = 64;  // local_size_x of scene.comp: columns per work group
 constexpr int kRows = 8;    // rows per invocation (llvmpipe pays a fixed cost per work group)
 
 }  // namespace
@@ -55,7 +55,7 @@ void SceneCaster::run(const FrameParams& frame, const shared::Studio& studio, Gp
     else bindNoEnvironment(7, 9);
     color.bind(1);
     depth.bind(2);
-    glDispatchCompute(GLuint((W + kGroup - 1) / kGroup), GLuint((H + kRows - 1) / kRows), 1);
+    glDispatchCompute(GLuint((W + kSceneGroup - 1) / kSceneGroup), GLuint((H + kRows - 1) / kRows), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
 }

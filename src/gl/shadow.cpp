@@ -25,7 +25,7 @@ extern const StageDriver kSplatStage;
 
 namespace {
 
-constexpr int kGroup = 64;  // local_size_x of shadow.comp
+constexpr int kShadowGroup = 64;  // local_size_x of shadow.comp
 
 struct ShadowPasses {
     MeshRasteriser raster;
@@ -110,7 +110,7 @@ void runShadows(GlBackend& g, const StageIo& io) {
     g.img(Slot::LightRaw).bind(4);
     g.img(Slot::LightThickness).bind(5);
     g.environment().bind(7, 9);  // the map's ambient (docs/pipeline.md#environment-map)
-    glDispatchCompute(ceilDiv(GLuint(W), kGroup), GLuint(H), 1);
+    glDispatchCompute(ceilDiv(GLuint(W), kShadowGroup), GLuint(H), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
 }

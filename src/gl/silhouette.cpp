@@ -21,9 +21,9 @@ namespace meniscus::gl {
 
 namespace {
 constexpr GLuint kTableGroup = 16;  // local_size_x of the table passes: rows and columns spread over more groups
-constexpr GLuint kGroup = 64;       // local_size_x of the resolve
+constexpr GLuint kSilhouetteGroup = 64;       // local_size_x of the resolve
 // Pixels per invocation of the resolve (llvmpipe pays a fixed cost per work group).
-constexpr GLuint kResolvePerInvocation = 4;
+constexpr GLuint kSilhouetteResolvePerInvocation = 4;
 
 }  // namespace
 
@@ -108,7 +108,7 @@ void SilhouetteReduction::run(const Camera& camera, const GpuImage& depth, const
     glUniform1f(2, focal);
     glUniform1i(3, p.maxPx);
     glUniform1f(4, p.fadeFrom);
-    glDispatchCompute(gridGroups(pixels, kGroup * kResolvePerInvocation), 1, 1);
+    glDispatchCompute(gridGroups(pixels, kSilhouetteGroup * kSilhouetteResolvePerInvocation), 1, 1);
     glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |

@@ -31,7 +31,7 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr GLuint kGroup = 64;  // local_size_x of both shaders
+constexpr GLuint kSplatGroup = 64;  // local_size_x of both shaders
 constexpr GLuint kPixelsPerInvocation = 16;  // splat_resolve.comp (grid-stride)
 // Work groups per large sphere in splat.comp's pass 1: 4096 invocations, so a
 // full-screen rectangle even at 4K is a few hundred pixels per invocation,
@@ -94,7 +94,7 @@ void Splat::resolveChords(const FrameParams& frame, GpuImage& chords) {
     chords.bind(3);
     glUseProgram(resolve_.id());
     glUniform1ui(0, pixels);
-    glDispatchCompute(gridGroups(pixels, kGroup * kPixelsPerInvocation), 1, 1);
+    glDispatchCompute(gridGroups(pixels, kSplatGroup * kPixelsPerInvocation), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);
 }
@@ -150,7 +150,7 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, big_.id());
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         glUniform1i(3, 0);
-        glDispatchCompute(gridGroups(count_, kGroup), 1, 1);
+        glDispatchCompute(gridGroups(count_, kSplatGroup), 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         // Pass 1: each listed rectangle over kBigGroups work groups.
         glUniform1i(3, 1);
@@ -168,7 +168,7 @@ void Splat::runAt(const FrameParams& frame, const GpuImage* sceneDepth, GpuImage
     if (thickness && resolve) {
         glUseProgram(resolve_.id());
         glUniform1ui(0, pixels);
-        glDispatchCompute(gridGroups(pixels, kGroup * kPixelsPerInvocation), 1, 1);
+        glDispatchCompute(gridGroups(pixels, kSplatGroup * kPixelsPerInvocation), 1, 1);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glUseProgram(0);

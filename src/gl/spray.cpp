@@ -26,13 +26,13 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr GLuint kGroup = 64;  // local_size_x of both shaders
+constexpr GLuint kSprayGroup = 64;  // local_size_x of both shaders
 // Pixels per work item of spray_splat.comp (most drops are one to a few
 // dozen items), and the most items (one round of a kMaxGroups dispatch).
 constexpr GLuint kChunkPx = 64;
-constexpr std::uint64_t kMaxItems = std::uint64_t(kMaxGroups) * kGroup;
+constexpr std::uint64_t kMaxItems = std::uint64_t(kMaxGroups) * kSprayGroup;
 // Pixels per invocation of the resolve (llvmpipe pays a fixed cost per work group).
-constexpr GLuint kResolvePerInvocation = 4;
+constexpr GLuint kSprayResolvePerInvocation = 4;
 
 static_assert(sizeof(SprayDrops::Packed) == 48 && offsetof(SprayDrops::Packed, rect) == 32,
               "std430 layout of shared::SprayDrop");
@@ -133,7 +133,7 @@ void SprayDrops::run(const Camera& camera, std::span<const glm::vec3> positionsW
     glUniform1i(1, hasScene ? 1 : 0);
     glUniform1ui(2, chunks_);
     glUniform1ui(3, chunk);
-    glDispatchCompute(gridGroups(chunks_, kGroup), 1, 1);
+    glDispatchCompute(gridGroups(chunks_, kSprayGroup), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
 
     // Resolve, per pixel: the cover, and the drops' colour over the image.
@@ -148,7 +148,7 @@ void SprayDrops::run(const Camera& camera, std::span<const glm::vec3> positionsW
     glUniform3f(1, p.color.x, p.color.y, p.color.z);
     const glm::vec3 lit = shared::sprayLight(lightDirWorld, back, environment);
     glUniform3f(2, lit.x, lit.y, lit.z);
-    glDispatchCompute(gridGroups(pixels, kGroup * kResolvePerInvocation), 1, 1);
+    glDispatchCompute(gridGroups(pixels, kSprayGroup * kSprayResolvePerInvocation), 1, 1);
     glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |

@@ -25,7 +25,7 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr GLuint kGroup = 64;  // local_size_x of noise_splat.comp
+constexpr GLuint kSurfaceNoiseGroup = 64;  // local_size_x of noise_splat.comp
 // Work groups per large sprite in noise_splat.comp's pass 2 (as splat.cpp's):
 // 4096 invocations, so even a full-screen 4K sprite is ~2,000 pixels (x 7
 // loop iterations at 6 octaves) per invocation, below llvmpipe's cap of
@@ -93,7 +93,7 @@ void SurfaceNoise::scatter(const FrameParams& frame, const Camera& camera, const
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, lists_.id());
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glUniform1i(1, 0);
-    glDispatchCompute(gridGroups(count, kGroup), 1, 1);
+    glDispatchCompute(gridGroups(count, kSurfaceNoiseGroup), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     // Pass 1: the listed sprites of up to 4096 pixels, one per invocation;
     // pass 2: each listed larger one over kBigGroups work groups.

@@ -11,10 +11,10 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr GLuint kGroup = 64;          // local_size_x of the shader
-constexpr GLuint kPerInvocation = 16;  // pixels per invocation (the shader loops)
+constexpr GLuint kThicknessLowresGroup = 64;          // local_size_x of the shader
+constexpr GLuint kThicknessLowresPerInvocation = 16;  // pixels per invocation (the shader loops)
 
-void dispatchPixels(GLuint pixels) { glDispatchCompute(gridGroups(pixels, kGroup * kPerInvocation), 1, 1); }
+void dispatchPixels(GLuint pixels) { glDispatchCompute(gridGroups(pixels, kThicknessLowresGroup * kThicknessLowresPerInvocation), 1, 1); }
 }  // namespace
 
 Result<LowResThickness> LowResThickness::create() {

@@ -10,8 +10,8 @@
 namespace meniscus::gl {
 
 namespace {
-constexpr GLuint kGroup = 64;           // local_size_x of the three shaders
-constexpr GLuint kPerInvocation = 4;    // pixels per invocation (llvmpipe pays per work group)
+constexpr GLuint kUpsampleGroup = 64;           // local_size_x of the three shaders
+constexpr GLuint kUpsamplePerInvocation = 4;    // pixels per invocation (llvmpipe pays per work group)
 
 void bindTexture(GLuint unit, const Texture& tex, GLenum format, const Buffer& buf, GLsizeiptr bytes) {
     glActiveTexture(GL_TEXTURE0 + unit);
@@ -58,7 +58,7 @@ void Upsampling::reduceSceneDepth(const GpuImage& full, int lw, int lh, int d, G
     glUniform1i(2, d);
     bindTexture(0, tex_[0], GL_R32F, full.buffer, full.bytes());
     low.bind(0);
-    glDispatchCompute(gridGroups(GLuint(lw) * GLuint(lh), kGroup * kPerInvocation), 1, 1);
+    glDispatchCompute(gridGroups(GLuint(lw) * GLuint(lh), kUpsampleGroup * kUpsamplePerInvocation), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     unbindTextures(1);
     glUseProgram(0);
@@ -103,7 +103,7 @@ void Upsampling::upsample(const GpuImage& lowDepth, const GpuImage& lowNormal, c
     if (hasNoise) noise->bind(3);
     else glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 3, dummy_.id(), 0, 16);
     coverage.bind(4);
-    glDispatchCompute(gridGroups(GLuint(W) * GLuint(H), kGroup * kPerInvocation), 1, 1);
+    glDispatchCompute(gridGroups(GLuint(W) * GLuint(H), kUpsampleGroup * kUpsamplePerInvocation), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     unbindTextures(5);
     glUseProgram(0);
@@ -135,7 +135,7 @@ void Upsampling::blendEdges(const GpuImage& depth, const GpuImage& coverage, con
     bindTexture(1, tex_[1], GL_R32F, coverage.buffer, coverage.bytes());
     bindTexture(2, tex_[2], GL_RGBA32F, behind.buffer, behind.bytes());
     color.bind(0);
-    glDispatchCompute(gridGroups(GLuint(W) * GLuint(H), kGroup * kPerInvocation), 1, 1);
+    glDispatchCompute(gridGroups(GLuint(W) * GLuint(H), kUpsampleGroup * kUpsamplePerInvocation), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     unbindTextures(3);
     glUseProgram(0);

@@ -34,6 +34,8 @@
 #include "meniscus/io.h"
 #include "meniscus/json_text.h"
 #include "shared/text_lines.h"
+#include "shared/finite.h"
+#include "io/io_util.h"
 
 namespace meniscus {
 namespace {
@@ -42,10 +44,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 namespace lim = geometry_limits;
 
-std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
+using io_util::lower;
 
 std::string num(double v) {
     char buf[32];
@@ -53,7 +52,6 @@ std::string num(double v) {
     return buf;
 }
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // sRGB-encoded [0, 1] to linear (IEC 61966-2-1).
 float srgbToLinear(float c) {
@@ -103,7 +101,7 @@ std::optional<glm::vec3> materialColor(const aiMaterial* m) {
     if (m->Get(AI_MATKEY_BASE_COLOR, c) != aiReturn_SUCCESS && m->Get(AI_MATKEY_COLOR_DIFFUSE, c) != aiReturn_SUCCESS)
         return std::nullopt;
     const glm::vec3 v(c.r, c.g, c.b);
-    if (!finite(v)) return std::nullopt;
+    if (!finite3(v)) return std::nullopt;
     return glm::clamp(v, glm::vec3(0.0f), glm::vec3(1.0f));
 }
 
@@ -226,7 +224,7 @@ Result<GeometryObject> toObject(const aiScene* scene, const std::string& name, b
         for (unsigned v = 0; v < m->mNumVertices; ++v) {
             const aiVector3D& p = m->mVertices[v];
             const glm::vec3 q(p.x, p.y, p.z);
-            if (!finite(q))
+            if (!finite3(q))
                 return makeError(name, "vertex " + std::to_string(v) + " of mesh " + std::to_string(i) +
                                            " is not finite (" + num(p.x) + ", " + num(p.y) + ", " + num(p.z) + ")");
             out.positions.push_back(q);
@@ -291,7 +289,7 @@ Result<GeometryObject> importWith(Assimp::Importer& importer, const std::string&
             if (!m || !m->mVertices) continue;
             for (unsigned v = 0; v < m->mNumVertices; ++v) {
                 const aiVector3D& p = m->mVertices[v];
-                if (!finite(glm::vec3(p.x, p.y, p.z)))
+                if (!finite3(glm::vec3(p.x, p.y, p.z)))
                     return makeError(name, "vertex " + std::to_string(v) + " of mesh " + std::to_string(i) +
                                                " is not finite (" + num(p.x) + ", " + num(p.y) + ", " + num(p.z) + ")");
             }
@@ -406,7 +404,7 @@ struct Failure {
     std::string message;
     bool usage = true;
 };
-[[noreturn]] void fail(const std::string& file, const std::string& path, const std::string& message) {
+[[noreturn]] void failAt(const std::string& file, const std::string& path, const std::string& message) {
     throw Failure{file, path.empty() ? message : path + ": " + message};
 }
 
@@ -421,11 +419,11 @@ std::string element(const std::string& path, std::size_t i) { return path + "[" 
 // Size and nesting are checked before nlohmann-json builds anything
 // (json_text.h: the limits of geometry JSON).
 json parseJson(std::string_view text, const std::string& source) {
-    if (auto fits = checkJsonText(text, source, json_limits::kGeometry); !fits) fail(source, "", fits.error().message);
+    if (auto fits = checkJsonText(text, source, json_limits::kGeometry); !fits) failAt(source, "", fits.error().message);
     try {
         return json::parse(text.begin(), text.end());
     } catch (const json::exception& e) {
-        fail(source, "", std::string("not valid JSON: ") + e.what());
+        failAt(source, "", std::string("not valid JSON: ") + e.what());
     }
 }
 
@@ -436,27 +434,27 @@ struct Reader {
     std::string typeOf(const json& v) const { return v.is_null() ? "null" : std::string(v.type_name()); }
 
     float number(const json& v, const std::string& path) const {
-        if (!v.is_number()) fail(file, path, "expected a number, got " + typeOf(v));
+        if (!v.is_number()) failAt(file, path, "expected a number, got " + typeOf(v));
         const double d = v.get<double>();
-        if (!std::isfinite(d) || std::abs(d) > double(FLT_MAX)) fail(file, path, "not a finite number: " + num(d));
+        if (!std::isfinite(d) || std::abs(d) > double(FLT_MAX)) failAt(file, path, "not a finite number: " + num(d));
         return float(d);
     }
     bool boolean(const json& v, const std::string& path) const {
-        if (!v.is_boolean()) fail(file, path, "expected true or false, got " + typeOf(v));
+        if (!v.is_boolean()) failAt(file, path, "expected true or false, got " + typeOf(v));
         return v.get<bool>();
     }
     std::string string(const json& v, const std::string& path) const {
-        if (!v.is_string()) fail(file, path, "expected a string, got " + typeOf(v));
+        if (!v.is_string()) failAt(file, path, "expected a string, got " + typeOf(v));
         std::string s = v.get<std::string>();
-        if (s.empty()) fail(file, path, "is empty");
+        if (s.empty()) failAt(file, path, "is empty");
         return s;
     }
     glm::vec3 vec3(const json& v, const std::string& path) const {
-        if (!v.is_array() || v.size() != 3) fail(file, path, "expected three numbers [x, y, z], got " + typeOf(v));
+        if (!v.is_array() || v.size() != 3) failAt(file, path, "expected three numbers [x, y, z], got " + typeOf(v));
         return {number(v[0], element(path, 0)), number(v[1], element(path, 1)), number(v[2], element(path, 2))};
     }
     const json& object(const json& v, const std::string& path) const {
-        if (!v.is_object()) fail(file, path, "expected an object {...}, got " + typeOf(v));
+        if (!v.is_object()) failAt(file, path, "expected an object {...}, got " + typeOf(v));
         return v;
     }
     // Every key of `o` must be one of `known`.
@@ -466,7 +464,7 @@ struct Reader {
             if (!ok) {
                 std::string list;
                 for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-                fail(file, child(path, it.key()), "unknown key (known here: " + list + ")");
+                failAt(file, child(path, it.key()), "unknown key (known here: " + list + ")");
             }
         }
     }
@@ -495,13 +493,13 @@ void applyMaterial(const Reader& r, const json& m, const std::string& path, Geom
         const glm::vec3 c = r.vec3(m[key], child(path, key));
         for (int i = 0; i < 3; ++i)
             if (c[i] < 0.0f || c[i] > 1.0f)
-                fail(r.file, element(child(path, key), std::size_t(i)), "must be in [0, 1] (linear RGB), got " + num(c[i]));
+                failAt(r.file, element(child(path, key), std::size_t(i)), "must be in [0, 1] (linear RGB), got " + num(c[i]));
         dst = c;
     };
     auto ranged = [&](const char* key, float lo, float hi, float& dst) {
         if (!m.contains(key)) return;
         const float v = r.number(m[key], child(path, key));
-        if (v < lo || v > hi) fail(r.file, child(path, key), "must be in [" + num(lo) + ", " + num(hi) + "], got " + num(v));
+        if (v < lo || v > hi) failAt(r.file, child(path, key), "must be in [" + num(lo) + ", " + num(hi) + "], got " + num(v));
         dst = v;
     };
     unitColor("color", out.baseColor);
@@ -512,7 +510,7 @@ void applyMaterial(const Reader& r, const json& m, const std::string& path, Geom
     if (m.contains("glass")) out.glass = r.boolean(m["glass"], child(path, "glass"));
     if (m.contains("thickness")) {
         const float t = r.number(m["thickness"], child(path, "thickness"));
-        if (!(t > 0.0f)) fail(r.file, child(path, "thickness"), "must be > 0 metres, got " + num(t));
+        if (!(t > 0.0f)) failAt(r.file, child(path, "thickness"), "must be > 0 metres, got " + num(t));
         out.thicknessM = t;
     }
 }
@@ -543,43 +541,43 @@ SceneGeometry parseObject(const Reader& r, const json& o, const std::string& pat
     int kinds = 0;
     for (const char* k : {"file", "box", "sphere", "plane", "splishsplash"}) kinds += o.contains(k);
     if (kinds != 1)
-        fail(r.file, path, kinds == 0 ? "no shape: expected one of \"file\", \"box\", \"sphere\", \"plane\", \"splishsplash\""
+        failAt(r.file, path, kinds == 0 ? "no shape: expected one of \"file\", \"box\", \"sphere\", \"plane\", \"splishsplash\""
                                       : "more than one of \"file\", \"box\", \"sphere\", \"plane\", \"splishsplash\"");
 
     // The transform first, so a bad one is reported before any file is read.
     glm::mat4 m(1.0f);
     if (o.contains("up")) {
         const glm::vec3 up = r.vec3(o["up"], child(path, "up"));
-        if (!(glm::dot(up, up) > 0.0f)) fail(r.file, child(path, "up"), "must not be [0, 0, 0]");
+        if (!(glm::dot(up, up) > 0.0f)) failAt(r.file, child(path, "up"), "must not be [0, 0, 0]");
         m = upToY(up);
     }
     if (o.contains("scale")) {
         const std::string p = child(path, "scale");
         const glm::vec3 s = o["scale"].is_array() ? r.vec3(o["scale"], p) : glm::vec3(r.number(o["scale"], p));
         for (int i = 0; i < 3; ++i)
-            if (!(s[i] > 0.0f)) fail(r.file, p, "must be > 0, got " + num(s[i]));
+            if (!(s[i] > 0.0f)) failAt(r.file, p, "must be > 0, got " + num(s[i]));
         m = glm::scale(glm::mat4(1.0f), s) * m;
     }
     if (o.contains("rotate")) {
         const std::string p = child(path, "rotate");
         const json& rot = r.object(o["rotate"], p);
         r.onlyKeys(rot, p, {"axis", "degrees"});
-        if (!rot.contains("axis") || !rot.contains("degrees")) fail(r.file, p, "needs \"axis\" and \"degrees\"");
+        if (!rot.contains("axis") || !rot.contains("degrees")) failAt(r.file, p, "needs \"axis\" and \"degrees\"");
         const glm::vec3 axis = r.vec3(rot["axis"], child(p, "axis"));
-        if (!(glm::dot(axis, axis) > 0.0f)) fail(r.file, child(p, "axis"), "must not be [0, 0, 0]");
+        if (!(glm::dot(axis, axis) > 0.0f)) failAt(r.file, child(p, "axis"), "must not be [0, 0, 0]");
         const float degrees = r.number(rot["degrees"], child(p, "degrees"));
         m = rotation(axis, glm::radians(degrees)) * m;
     }
     if (o.contains("translate")) m = glm::translate(glm::mat4(1.0f), r.vec3(o["translate"], child(path, "translate"))) * m;
     for (int c = 0; c < 4; ++c)
-        if (!finite(glm::vec3(m[c])) || !std::isfinite(m[c][3])) fail(r.file, path, "the transform is not finite");
+        if (!finite3(glm::vec3(m[c])) || !std::isfinite(m[c][3])) failAt(r.file, path, "the transform is not finite");
 
     SceneGeometry out;
     if (o.contains("splishsplash")) {
         const std::string name = r.string(o["splishsplash"], child(path, "splishsplash"));
         const fs::path file = resolve(baseDir, name);
         if (lower(file.extension().string()) != ".json")
-            fail(r.file, child(path, "splishsplash"), "expected a SPlisHSPlasH scene file (.json), got " + name);
+            failAt(r.file, child(path, "splishsplash"), "expected a SPlisHSPlasH scene file (.json), got " + name);
         out = readGeometryFile(file, nesting + 1, true);
     } else if (o.contains("file")) {
         const std::string name = r.string(o["file"], child(path, "file"));
@@ -592,20 +590,20 @@ SceneGeometry parseObject(const Reader& r, const json& o, const std::string& pat
             const std::string p = child(path, "box");
             const json& b = r.object(o["box"], p);
             r.onlyKeys(b, p, {"min", "max"});
-            if (!b.contains("min") || !b.contains("max")) fail(r.file, p, "needs \"min\" and \"max\"");
+            if (!b.contains("min") || !b.contains("max")) failAt(r.file, p, "needs \"min\" and \"max\"");
             const glm::vec3 lo = r.vec3(b["min"], child(p, "min")), hi = r.vec3(b["max"], child(p, "max"));
             for (int i = 0; i < 3; ++i)
-                if (!(hi[i] > lo[i])) fail(r.file, element(child(p, "max"), std::size_t(i)), "must exceed min's, " + num(lo[i]));
+                if (!(hi[i] > lo[i])) failAt(r.file, element(child(p, "max"), std::size_t(i)), "must exceed min's, " + num(lo[i]));
             g.name = "box";
             g.mesh = makeBoxMesh(lo, hi);
         } else if (o.contains("sphere")) {
             const std::string p = child(path, "sphere");
             const json& s = r.object(o["sphere"], p);
             r.onlyKeys(s, p, {"center", "radius"});
-            if (!s.contains("radius")) fail(r.file, p, "needs \"radius\"");
+            if (!s.contains("radius")) failAt(r.file, p, "needs \"radius\"");
             const glm::vec3 c = s.contains("center") ? r.vec3(s["center"], child(p, "center")) : glm::vec3(0.0f);
             const float radius = r.number(s["radius"], child(p, "radius"));
-            if (!(radius > 0.0f)) fail(r.file, child(p, "radius"), "must be > 0 metres, got " + num(radius));
+            if (!(radius > 0.0f)) failAt(r.file, child(p, "radius"), "must be > 0 metres, got " + num(radius));
             g.name = "sphere";
             g.mesh = makeSphereMesh(c, radius);
         } else {
@@ -614,11 +612,11 @@ SceneGeometry parseObject(const Reader& r, const json& o, const std::string& pat
             r.onlyKeys(pl, p, {"point", "normal", "size"});
             const glm::vec3 point = pl.contains("point") ? r.vec3(pl["point"], child(p, "point")) : glm::vec3(0.0f);
             const glm::vec3 normal = pl.contains("normal") ? r.vec3(pl["normal"], child(p, "normal")) : glm::vec3(0, 1, 0);
-            if (!(glm::dot(normal, normal) > 0.0f)) fail(r.file, child(p, "normal"), "must not be [0, 0, 0]");
+            if (!(glm::dot(normal, normal) > 0.0f)) failAt(r.file, child(p, "normal"), "must not be [0, 0, 0]");
             float size = 10.0f;  // the side, metres
             if (pl.contains("size")) {
                 size = r.number(pl["size"], child(p, "size"));
-                if (!(size > 0.0f)) fail(r.file, child(p, "size"), "must be > 0 metres, got " + num(size));
+                if (!(size > 0.0f)) failAt(r.file, child(p, "size"), "must be > 0 metres, got " + num(size));
             }
             g.name = "plane";
             g.mesh = makePlaneMesh(point, normal, 0.5f * size);
@@ -633,7 +631,7 @@ SceneGeometry parseObject(const Reader& r, const json& o, const std::string& pat
         if (!identity) {
             transformMesh(g.mesh, m);
             for (const glm::vec3& p : g.mesh.positions)
-                if (!finite(p)) fail(r.file, path, "the transform moves a vertex of " + g.name + " out of float range");
+                if (!finite3(p)) failAt(r.file, path, "the transform moves a vertex of " + g.name + " out of float range");
         }
         if (o.contains("material")) applyMaterial(r, o["material"], child(path, "material"), g.material);
         if (o.contains("visible")) g.visible = r.boolean(o["visible"], child(path, "visible"));
@@ -655,7 +653,7 @@ SceneGeometry parseList(const json& root, const std::string& source, const fs::p
     } else if (root.is_object()) {
         out = parseObject(r, root, "", baseDir, nesting);
     } else {
-        fail(source, "", "expected a geometry object {...} or a list of them [...], got " + r.typeOf(root));
+        failAt(source, "", "expected a geometry object {...} or a list of them [...], got " + r.typeOf(root));
     }
     return out;
 }
@@ -679,22 +677,22 @@ SceneGeometry readSplishSplash(const json& root, const std::string& file, const 
     for (const char* list : {"RigidBodies", "Boundaries"}) {
         if (!root.contains(list)) continue;
         const json& bodies = root[list];
-        if (!bodies.is_array()) fail(file, list, "expected a list [...], got " + r.typeOf(bodies));
+        if (!bodies.is_array()) failAt(file, list, "expected a list [...], got " + r.typeOf(bodies));
         for (std::size_t i = 0; i < bodies.size(); ++i) {
             const std::string path = element(list, i);
             const json& b = r.object(bodies[i], path);
             if (!b.contains("geometryFile"))
-                fail(file, path, "no \"geometryFile\" (a body given only by its particles is not drawn)");
+                failAt(file, path, "no \"geometryFile\" (a body given only by its particles is not drawn)");
             const std::string geometry = r.string(b["geometryFile"], child(path, "geometryFile"));
             const glm::vec3 t = b.contains("translation") ? r.vec3(b["translation"], child(path, "translation")) : glm::vec3(0.0f);
             const glm::vec3 s = b.contains("scale") ? r.vec3(b["scale"], child(path, "scale")) : glm::vec3(1.0f);
             for (int k = 0; k < 3; ++k)
-                if (s[k] == 0.0f) fail(file, element(child(path, "scale"), std::size_t(k)), "must not be 0");
+                if (s[k] == 0.0f) failAt(file, element(child(path, "scale"), std::size_t(k)), "must not be 0");
             glm::vec3 axis(1.0f, 0.0f, 0.0f);  // SPlisHSPlasH's default axis
             if (b.contains("rotationAxis")) axis = r.vec3(b["rotationAxis"], child(path, "rotationAxis"));
             const float angle = b.contains("rotationAngle") ? r.number(b["rotationAngle"], child(path, "rotationAngle")) : 0.0f;
             if (angle != 0.0f && !(glm::dot(axis, axis) > 0.0f))
-                fail(file, child(path, "rotationAxis"), "must not be [0, 0, 0] when rotationAngle is not 0");
+                failAt(file, child(path, "rotationAxis"), "must not be [0, 0, 0] when rotationAngle is not 0");
             // SPlisHSPlasH writes its flags as JSON booleans; 0 and 1 are taken too.
             auto flag = [&](const char* key) {
                 if (!b.contains(key)) return false;
@@ -706,14 +704,14 @@ SceneGeometry readSplishSplash(const json& root, const std::string& file, const 
             transformMesh(g.mesh, glm::translate(glm::mat4(1.0f), t) * rotation(axis, angle) *
                                       glm::scale(glm::mat4(1.0f), s));
             for (const glm::vec3& p : g.mesh.positions)
-                if (!finite(p)) fail(file, path, "the transform moves a vertex out of float range");
+                if (!finite3(p)) failAt(file, path, "the transform moves a vertex out of float range");
             g.cutaway = flag("isWall") || flag("mapInvert");
             (void)flag("isDynamic");  // drawn where it starts: the reader has no motion
             if (b.contains("color")) {
                 const std::string p = child(path, "color");
                 const json& c = b["color"];
                 if (!c.is_array() || (c.size() != 3 && c.size() != 4))
-                    fail(file, p, "expected [r, g, b, a] or [r, g, b], got " + r.typeOf(c));
+                    failAt(file, p, "expected [r, g, b, a] or [r, g, b], got " + r.typeOf(c));
                 // SPlisHSPlasH's viewer puts these numbers on the screen as
                 // they are (no sRGB framebuffer), so they are the sRGB colour
                 // seen there: decoded to linear here.
@@ -727,14 +725,14 @@ SceneGeometry readSplishSplash(const json& root, const std::string& file, const 
             out.objects.push_back(std::move(g));
         }
     }
-    if (out.empty()) fail(file, "", "a SPlisHSPlasH scene with no rigid bodies or boundaries to draw");
+    if (out.empty()) failAt(file, "", "a SPlisHSPlasH scene with no rigid bodies or boundaries to draw");
     return out;
 }
 
 SceneGeometry readGeometryFile(const fs::path& path, int nesting, bool splishSplashOnly) {
     const std::string name = path.string();
     if (nesting > kMaxFileNesting)
-        fail(name, "", "geometry files name each other more than " + std::to_string(kMaxFileNesting) +
+        failAt(name, "", "geometry files name each other more than " + std::to_string(kMaxFileNesting) +
                            " deep (does one name itself?)");
     if (lower(path.extension().string()) != ".json") {
         SceneGeometry g;
@@ -745,7 +743,7 @@ SceneGeometry readGeometryFile(const fs::path& path, int nesting, bool splishSpl
     if (!text) throw Failure{text.error().file, text.error().message, text.error().usage};
     const json root = parseJson(text.value(), name);
     if (isSplishSplash(root)) return readSplishSplash(root, name, path.parent_path());
-    if (splishSplashOnly) fail(name, "", "not a SPlisHSPlasH scene (no \"RigidBodies\" or \"Boundaries\")");
+    if (splishSplashOnly) failAt(name, "", "not a SPlisHSPlasH scene (no \"RigidBodies\" or \"Boundaries\")");
     return parseList(root, name, path.parent_path(), nesting);
 }
 
@@ -774,7 +772,7 @@ Result<SceneGeometry> parseSplishSplashScene(std::string_view jsonText, const st
                                              const fs::path& baseDir) {
     return guarded(source, [&] {
         const json root = parseJson(jsonText, source);
-        if (!isSplishSplash(root)) fail(source, "", "not a SPlisHSPlasH scene (no \"RigidBodies\" or \"Boundaries\")");
+        if (!isSplishSplash(root)) failAt(source, "", "not a SPlisHSPlasH scene (no \"RigidBodies\" or \"Boundaries\")");
         return readSplishSplash(root, source, baseDir);
     });
 }

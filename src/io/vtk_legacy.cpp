@@ -58,11 +58,7 @@ constexpr std::string_view kKeywords[] = {
     "dimensions",  "dataset",
 };
 
-std::string lower(std::string_view s) {
-    std::string out(s);
-    for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return out;
-}
+using io_util::lower;
 
 std::string upper(std::string_view s) {
     std::string out(s);

@@ -39,6 +39,7 @@
 
 #include "meniscus/io.h"  // PendingFile: write-then-rename
 #include "sim/state.h"
+#include "shared/finite.h"
 
 namespace meniscus::sim {
 
@@ -179,7 +180,6 @@ std::uint64_t fingerprint(const Simulator::Impl& s) {
     return f.h;
 }
 
-bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace
 

@@ -17,6 +17,7 @@
 #include "meniscus/memory_budget.h"
 #include "sim/state.h"
 #include "sim/timer.h"
+#include "shared/finite.h"
 
 namespace meniscus::sim {
 
@@ -32,9 +33,8 @@ std::string vecStr(const glm::vec3& v) {
     return buf;
 }
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-bool boxOk(const Box& b) { return finite(b.min) && finite(b.max) && glm::all(glm::lessThan(b.min, b.max)); }
+bool boxOk(const Box& b) { return finite3(b.min) && finite3(b.max) && glm::all(glm::lessThan(b.min, b.max)); }
 
 bool inside(const Box& outer, const Box& inner) {
     return glm::all(glm::lessThanEqual(outer.min, inner.min)) && glm::all(glm::lessThanEqual(inner.max, outer.max));
@@ -112,18 +112,18 @@ Status validate(const Scene& sc) {
     if (!(p.cfl > 0.0f) || !(p.minDt > 0.0f) || !(p.maxDt >= p.minDt)) return bad("need cfl > 0 and 0 < min_dt <= max_dt");
     if (!(p.densityTolerance > 0.0f) || !(p.divergenceTolerance > 0.0f) || p.maxIterations < 2)
         return bad("need positive tolerances and max_iterations >= 2");
-    if (!finite(p.gravity) || !(p.viscosity >= 0.0f) || !(p.surfaceTension >= 0.0f) || !(p.stiffness > 0.0f))
+    if (!finite3(p.gravity) || !(p.viscosity >= 0.0f) || !(p.surfaceTension >= 0.0f) || !(p.stiffness > 0.0f))
         return bad("gravity must be finite, viscosity and surface_tension >= 0, stiffness > 0");
     for (std::size_t i = 0; i < sc.fluid.size(); ++i) {
         if (!boxOk(sc.fluid[i].box)) return bad("fluid[" + std::to_string(i) + "]: the box is empty or not finite");
         if (!inside(sc.domain, sc.fluid[i].box)) return bad("fluid[" + std::to_string(i) + "]: the box is not inside the domain");
-        if (!finite(sc.fluid[i].velocity)) return bad("fluid[" + std::to_string(i) + "]: velocity is not finite");
+        if (!finite3(sc.fluid[i].velocity)) return bad("fluid[" + std::to_string(i) + "]: velocity is not finite");
     }
     for (std::size_t i = 0; i < sc.emitters.size(); ++i) {
         const Emitter& e = sc.emitters[i];
         const Box point{e.position, e.position};
-        if (!finite(e.position) || !inside(sc.domain, point)) return bad("emitters[" + std::to_string(i) + "]: the position is not inside the domain");
-        if (!finite(e.direction) || glm::length(e.direction) < 1e-6f) return bad("emitters[" + std::to_string(i) + "]: the direction is zero");
+        if (!finite3(e.position) || !inside(sc.domain, point)) return bad("emitters[" + std::to_string(i) + "]: the position is not inside the domain");
+        if (!finite3(e.direction) || glm::length(e.direction) < 1e-6f) return bad("emitters[" + std::to_string(i) + "]: the direction is zero");
         if (!(e.speed > 0.0f) || !(e.radius >= 0.0f) || !(e.rate >= 0.0f) || !(e.end >= e.start))
             return bad("emitters[" + std::to_string(i) + "]: need speed > 0, radius >= 0, rate >= 0, end >= start");
         // One layer (every 2r / speed) holds rate * 2r / speed particles, or the disc's pi R^2 / (2r)^2.
@@ -134,8 +134,8 @@ Status validate(const Scene& sc) {
         const Collider& c = sc.colliders[i];
         const std::string at = "colliders[" + std::to_string(i) + "]: ";
         if (c.kind == Collider::Kind::Box && !boxOk(c.box)) return bad(at + "the box is empty or not finite");
-        if (c.kind == Collider::Kind::Sphere && !(c.radius > 0.0f && finite(c.center))) return bad(at + "the sphere needs a positive radius");
-        if (c.kind == Collider::Kind::Plane && !(finite(c.normal) && glm::length(c.normal) > 1e-6f && finite(c.point)))
+        if (c.kind == Collider::Kind::Sphere && !(c.radius > 0.0f && finite3(c.center))) return bad(at + "the sphere needs a positive radius");
+        if (c.kind == Collider::Kind::Plane && !(finite3(c.normal) && glm::length(c.normal) > 1e-6f && finite3(c.point)))
             return bad(at + "the plane needs a non-zero normal");
     }
     if (!(sc.duration >= 0.0) || !(sc.fps > 0.0)) return bad("need duration >= 0 s and fps > 0");
@@ -462,7 +462,7 @@ Status Simulator::step(double until) {
             },
             [](std::size_t l, std::size_t r) { return l + r; });
         for (std::size_t i = 0; i < s.n(); ++i)
-            if (!finite(s.v[i]) || !finite(s.x[i]))
+            if (!finite3(s.v[i]) || !finite3(s.x[i]))
                 return makeError(s.scene.file.string(), "the simulation diverged at t = " + std::to_string(s.t) +
                                                             " s (a non-finite velocity or position); try a smaller "
                                                             "max_dt or cfl");
@@ -536,7 +536,7 @@ Status Simulator::restore(const ParticleSet& set, double time) {
         return makeError("", "restore: the velocity attribute must be three floats per particle");
     if (!(time >= 0.0) || !std::isfinite(time)) return makeError("", "restore: the time must be finite and >= 0");
     for (const glm::vec3& p : set.positions)
-        if (!finite(p) || !inside(s.scene.domain, Box{p, p}))
+        if (!finite3(p) || !inside(s.scene.domain, Box{p, p}))
             return makeError("", "restore: a particle at " + vecStr(p) + " is outside the domain");
     s.x = set.positions;
     s.v.assign(n, glm::vec3(0.0f));
