@@ -40,4 +40,19 @@ timed "test_sanitizers.sh: the build ($cxx)" cmake --build build-asan -j"$jobs"
 # repeat the simulator's step (whose code the other simulation tests run here)
 # for thousands of steps, four minutes of this phase's two cores.
 skip='^SimPhysics\.(Pbf|Sph|Dfsph)ColumnStaysAtRest$'
-timed "test_sanitizers.sh: the tests" ctest --test-dir build-asan --output-on-failure -j"$jobs" -E "$skip"
+# LeakSanitizer's own tracer now and then crashes as a process exits ("Tracer
+# caught signal 11 ... LeakSanitizer has encountered a fatal error": an
+# intermittent fault of the sanitizer runtime, known upstream on many CI
+# machines, seen here in a CLI child process while llvmpipe's threads end),
+# which is no report about Meniscus. When a failed run shows it, the failed tests run
+# once more and decide; any other failure fails at once.
+log=build-asan/ctest.log
+if ! timed "test_sanitizers.sh: the tests" ctest --test-dir build-asan --output-on-failure -j"$jobs" -E "$skip" 2>&1 |
+    tee "$log"; then
+  if grep -q "LeakSanitizer has encountered a fatal error" "$log"; then
+    echo "test_sanitizers.sh: LeakSanitizer's tracer crashed (not a report); the failed tests once more:"
+    timed "test_sanitizers.sh: the failed tests again" ctest --test-dir build-asan --output-on-failure --rerun-failed
+  else
+    exit 1
+  fi
+fi

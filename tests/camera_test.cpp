@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "meniscus/camera.h"
@@ -280,4 +281,50 @@ TEST(Camera, DefaultsAndSizeCapComeFromParams) {
     big.width = defaults::kMaxImageSizePx + 1;
     EXPECT_FALSE(validateCamera(big).ok());
 }
+// An application's glm::lookAt and glm::perspective give back the camera that
+// projects every point to the pixel GL puts it at (window x, and y counted
+// from the top), with the same near and far planes.
+TEST(CameraFromGlMatrices, SeesWhatTheMatricesSee) {
+    const int W = 320, H = 180;
+    const glm::vec3 eye(1.5f, 0.8f, 2.5f), target(0.2f, 0.1f, -0.3f), up(0.1f, 1.0f, 0.0f);
+    const glm::mat4 view = glm::lookAt(eye, target, up);
+    const glm::mat4 proj = glm::perspective(glm::radians(50.0f), float(W) / float(H), 0.05f, 40.0f);
+    auto c = cameraFromGlMatrices(view, proj, W, H);
+    ASSERT_TRUE(c.ok()) << c.error().describe();
+    EXPECT_NEAR(c->fovYDegrees, 50.0f, 1e-4f);
+    EXPECT_NEAR(c->nearM, 0.05f, 1e-6f);
+    EXPECT_NEAR(c->farM, 40.0f, 4e-3f);  // the matrix's float P22 + 1 holds 1e-4 of it
+    EXPECT_EQ(c->width, W);
+    EXPECT_EQ(c->height, H);
+    for (const glm::vec3 p : {glm::vec3(0.0f), glm::vec3(0.5f, -0.2f, 0.3f), glm::vec3(-0.7f, 0.6f, -1.0f)}) {
+        const glm::vec4 clip = proj * view * glm::vec4(p, 1.0f);
+        const glm::vec3 ndc = glm::vec3(clip) / clip.w;
+        const glm::vec2 window((ndc.x + 1.0f) * 0.5f * W, (1.0f - (ndc.y + 1.0f) * 0.5f) * H);
+        const glm::vec3 v = c->toView(p);
+        const glm::vec2 px = c->projectView(v);
+        EXPECT_NEAR(px.x, window.x, 2e-3f);
+        EXPECT_NEAR(px.y, window.y, 2e-3f);
+        EXPECT_NEAR(-v.z, clip.w, 1e-4f);  // the eye depth is the clip w
+    }
+}
+
+TEST(CameraFromGlMatrices, WhatItCannotDescribeIsAnErrorSayingWhy) {
+    const glm::mat4 view = glm::lookAt(glm::vec3(0, 0, 3), glm::vec3(0.0f), glm::vec3(0, 1, 0));
+    const glm::mat4 proj = glm::perspective(glm::radians(45.0f), 2.0f, 0.1f, 10.0f);
+    auto expectError = [](const Result<Camera>& c, const std::string& words) {
+        ASSERT_FALSE(c.ok());
+        EXPECT_NE(c.error().describe().find(words), std::string::npos) << c.error().describe();
+    };
+    expectError(cameraFromGlMatrices(view, glm::ortho(-1.0f, 1.0f, -1.0f, 1.0f, 0.1f, 10.0f), 200, 100), "perspective");
+    expectError(cameraFromGlMatrices(view, glm::frustum(-0.1f, 0.3f, -0.1f, 0.1f, 0.1f, 10.0f), 200, 100), "off-centre");
+    expectError(cameraFromGlMatrices(view, proj, 100, 100), "aspect");
+    expectError(cameraFromGlMatrices(glm::scale(view, glm::vec3(2.0f)), proj, 200, 100), "rotation and a translation");
+    expectError(cameraFromGlMatrices(glm::scale(view, glm::vec3(-1.0f, 1.0f, 1.0f)), proj, 200, 100), "mirrors");
+    expectError(cameraFromGlMatrices(view, glm::infinitePerspective(glm::radians(45.0f), 2.0f, 0.1f), 200, 100), "far");
+    expectError(cameraFromGlMatrices(view, proj, 0, 100), "no pixels");
+    glm::mat4 bad = view;
+    bad[3][0] = NAN;
+    expectError(cameraFromGlMatrices(bad, proj, 200, 100), "finite");
+}
+
 }  // namespace camera_test_local

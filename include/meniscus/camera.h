@@ -55,6 +55,15 @@ struct Camera {
 // parallel to the view direction, 0 < fov < 180, 0 < near < far, W, H > 0.
 Status validateCamera(const Camera& camera);
 
+// The camera of an OpenGL application's view and projection matrices (glm's
+// column-major layout, as glm::lookAt and glm::perspective make them), for an
+// image of width x height pixels: the eye, view axes, vertical field of view
+// and near/far planes they encode. The view must be rigid (rotation and
+// translation, no scale or shear); the projection a symmetric perspective
+// one with finite planes, whose aspect is width / height (square pixels).
+// Anything else is an error saying what does not fit.
+Result<Camera> cameraFromGlMatrices(const glm::mat4& view, const glm::mat4& projection, int width, int height);
+
 // With no camera given: a pleasant three-quarter view (from the front-right,
 // above; angles in params.h) of the particles themselves. The distance is the
 // smallest at which all but the outermost kAutoOutlierFraction of the spheres

@@ -176,6 +176,27 @@ enum class BackendChoice { Cpu, Gl, Auto };
 bool backendFromName(const std::string& name, BackendChoice* out);
 std::string backendNames();
 
+// A host application's frame the liquid is drawn into (Renderer::drawIntoHost):
+// its colour and depth as textures of the GL context current on the calling
+// thread, with the camera that drew them. GL_TEXTURE_2D, single-sampled (a
+// multisampled target is resolved first), width x height texels, row 0 at
+// the bottom as GL has it; the depth texture's compare mode GL_NONE.
+struct HostLayers {
+    unsigned colorTexture = 0;  // GL texture name: RGBA or RGB, read by texelFetch
+    unsigned depthTexture = 0;  // GL texture name: a depth format, window depth 0 .. 1 (glDepthRange(0, 1))
+    int width = 0, height = 0;  // pixels: both textures', and the frame drawn
+    // The colour's values are 8-bit sRGB codes (an RGBA8 back buffer, not
+    // declared GL_SRGB8_ALPHA8): decoded on reading, and the result encoded
+    // again on writing, as the PNG writer does. False: linear values (a float
+    // target), written back linear.
+    bool colorIsSrgb = true;
+    // The host's camera (OpenGL conventions, glm's column-major layout): the
+    // liquid is drawn from it (cameraFromGlMatrices), and the depth texture's
+    // window depth is turned into eye depth with its near and far planes.
+    glm::mat4 view{1.0f};
+    glm::mat4 projection{1.0f};
+};
+
 class Backend;            // src/core/backend.h
 class TurbulenceTracker;  // src/core/turbulence.h
 struct HostFrame;         // src/render/pipeline.cpp
@@ -232,6 +253,22 @@ public:
     // others return an error. Does not swap the window's buffers.
     Status present(int framebufferWidth, int framebufferHeight, int left = 0);
 
+    // Embedding (docs/compositing.md): draws the liquid into a host
+    // application's frame. The host's colour and depth (HostLayers) are the
+    // scene the liquid is composited into, as a backdrop is (hidden where the
+    // host's depth is nearer, refracting and tinted by what lies behind), seen
+    // from the host's camera, which replaces settings.camera (its size too).
+    // The finished frame, the host's picture with the liquid in it, is then
+    // written over every pixel of the framebuffer bound for drawing when
+    // called (the host's: its colour attachment, not the textures read), with
+    // its viewport. Nothing goes to the CPU; every other setting works as in
+    // render(). Only a renderer made by createOnCurrentGlContext() can. GL
+    // state changed: the program, vertex array, textures of units 0 and 1 and
+    // shader storage bindings; depth test and blending are off afterwards; the
+    // framebuffer binding and viewport are the host's again.
+    Status drawIntoHost(const ParticleView& particles, const RenderSettings& settings, const HostLayers& host,
+                        std::vector<StageTime>* timings = nullptr);
+
 private:
     explicit Renderer(std::unique_ptr<Backend> backend);
     // Checks the settings and runs every stage; the images stay on the backend.
@@ -249,6 +286,8 @@ private:
     // The host stages' buffers and this frame's results (the spray's split,
     // the fluids, the field, the shapes, their times).
     std::unique_ptr<HostFrame> host_;
+    // The host's layers during a drawIntoHost call, else null.
+    const HostLayers* embed_ = nullptr;
 };
 
 // One frame with a fresh Renderer (nothing cached).

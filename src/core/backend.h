@@ -38,6 +38,18 @@ struct ShadowLight {
     float texelM = 0.0f;  // a texel's side at the bounds' centre (m)
 };
 
+// Where Backend::present draws: width x height pixels of the default
+// framebuffer with the image's top-left `left` pixels from its left edge, or
+// (hostFramebuffer: embedding) of the framebuffer that was bound for drawing
+// when the frame began, whose viewport is given back afterwards;
+// sRGB-encoded to 8-bit levels as the PNG writer does, or (srgb false) the
+// linear values as they are, for a float target.
+struct PresentTarget {
+    int width = 0, height = 0, left = 0;
+    bool hostFramebuffer = false;
+    bool srgb = true;
+};
+
 // Opaque handles of the images one frame passes between stages.
 // The Low* slots and Coverage hold the reduced-resolution pass
 // (docs/pipeline.md#reduced-resolution); FluidId and the layer slots after
@@ -127,6 +139,10 @@ struct FrameSettings : StageParams {
     // Renderer), or null: the studio. The scene stage makes its layer
     // (core/backdrop_layer.h) and keeps it while backdrop and camera stay.
     std::shared_ptr<const BackdropImage> backdrop;
+    // Embedding (Renderer::drawIntoHost): the host's colour and depth textures
+    // are the scene layer instead (read again every frame), or null. Only the
+    // GL backend has them.
+    const HostLayers* hostLayers = nullptr;
     // Reduced-resolution processing (docs/pipeline.md#reduced-resolution): the
     // divisor d of the fluid scale (1: off), and the depth jump (metres) the
     // upsampling does not blend across.
@@ -265,11 +281,11 @@ public:
     // ---- Display (a viewer's window).
     // Puts a host image into a colour slot (a debug view drawn on the host).
     virtual void writeColor(Slot slot, Image<glm::vec4> image) = 0;
-    // Draws the colour slot into the default framebuffer of the current GL
-    // context (framebufferWidth x framebufferHeight pixels), 8-bit sRGB as the
-    // PNG writer encodes. Only a GL backend made on a window's context can; the
-    // others return an error.
-    virtual Status present(Slot color, int framebufferWidth, int framebufferHeight, int left) = 0;
+    // Draws the colour slot into a framebuffer of the current GL context
+    // (PresentTarget: the window's, or the host's bound one when embedding).
+    // Only a GL backend made on a context that is not its own can; the others
+    // return an error.
+    virtual Status present(Slot color, const PresentTarget& target) = 0;
 };
 
 // The CPU reference backend (always available).

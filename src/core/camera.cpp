@@ -43,6 +43,59 @@ glm::vec2 Camera::projectView(const glm::vec3& v) const {
     return {0.5f * float(width) + f * v.x / z, 0.5f * float(height) - f * v.y / z};
 }
 
+Result<Camera> cameraFromGlMatrices(const glm::mat4& view, const glm::mat4& projection, int width, int height) {
+    const char* what = "the host's camera";
+    if (width <= 0 || height <= 0) return makeError(what, "the picture has no pixels");
+    for (int c = 0; c < 4; ++c)
+        if (!finite3(glm::vec3(view[c])) || !finite3(glm::vec3(projection[c])) || !std::isfinite(view[c][3]) ||
+            !std::isfinite(projection[c][3]))
+            return makeError(what, "the view and projection matrices must be finite");
+    // The projection, P[column][row]: glm::perspective(fovy, aspect, n, f) is
+    // P00 = 1 / (aspect tan(fovy / 2)), P11 = 1 / tan(fovy / 2),
+    // P22 = -(f + n) / (f - n), P32 = -2 f n / (f - n), P23 = -1, zeros elsewhere.
+    const glm::mat4& P = projection;
+    const float tol = 1e-5f;
+    const bool perspective = std::abs(P[2][3] + 1.0f) <= tol && std::abs(P[3][3]) <= tol &&
+                             std::abs(P[0][3]) <= tol && std::abs(P[1][3]) <= tol;
+    if (!perspective || !(P[0][0] > 0.0f) || !(P[1][1] > 0.0f))
+        return makeError(what, "the projection is not a perspective one (glm::perspective, gluPerspective)");
+    if (std::abs(P[2][0]) > tol || std::abs(P[2][1]) > tol || std::abs(P[1][0]) > tol || std::abs(P[0][1]) > tol)
+        return makeError(what, "the projection's frustum is off-centre or skewed; only a symmetric one is supported");
+    const float aspect = P[1][1] / P[0][0], want = float(width) / float(height);
+    if (std::abs(aspect - want) > 1e-3f * want)
+        return makeError(what, "the projection's aspect " + std::to_string(aspect) + " is not the picture's " +
+                                   std::to_string(width) + " / " + std::to_string(height) + " (pixels must be square)");
+    // In double: P22 + 1 is small for a far plane far beyond the near one.
+    const float nearM = float(double(P[3][2]) / (double(P[2][2]) - 1.0)),
+                farM = float(double(P[3][2]) / (double(P[2][2]) + 1.0));
+    if (!std::isfinite(nearM) || !std::isfinite(farM) || !(nearM > 0.0f) || !(farM > nearM))
+        return makeError(what, "the projection's near and far planes are not 0 < near < far, both finite "
+                               "(a far plane at infinity or a reversed depth range is not supported)");
+    // The view: world -> eye. Its inverse's columns are the camera's axes and
+    // its position in the world.
+    const glm::mat3 R(view);
+    const glm::mat3 RRt = R * glm::transpose(R);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (std::abs(RRt[i][j] - (i == j ? 1.0f : 0.0f)) > 1e-4f || std::abs(view[i][3]) > tol)
+                return makeError(what, "the view matrix is not a rotation and a translation (it scales, shears "
+                                       "or projects)");
+    if (glm::determinant(R) <= 0.0f) return makeError(what, "the view matrix mirrors the world");
+    const glm::mat4 inv = glm::inverse(view);
+    Camera c;
+    c.eye = glm::vec3(inv[3]);
+    const glm::vec3 back = glm::normalize(glm::vec3(inv[2]));
+    c.target = c.eye - back;  // one metre ahead: only the direction matters
+    c.up = glm::normalize(glm::vec3(inv[1]));
+    c.fovYDegrees = float(glm::degrees(2.0 * std::atan(1.0 / double(P[1][1]))));
+    c.nearM = nearM;
+    c.farM = farM;
+    c.width = width;
+    c.height = height;
+    if (auto st = validateCamera(c); !st) return st.error();
+    return c;
+}
+
 Status validateCamera(const Camera& c) {
     if (!finite3(c.eye) || !finite3(c.target) || !finite3(c.up))
         return makeError("", "camera: eye, target and up must be finite numbers");

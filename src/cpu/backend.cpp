@@ -45,7 +45,7 @@ void CpuBackend::writeColor(Slot slot, Image<glm::vec4> image) {
     colors_[int(slot)] = std::move(image);
 }
 
-Status CpuBackend::present(Slot, int, int, int) {
+Status CpuBackend::present(Slot, const PresentTarget&) {
     return makeError("", "the CPU backend cannot draw into a window (the viewer needs the GL backend)");
 }
 

@@ -35,7 +35,7 @@ public:
     Image<glm::vec3> readVec3(Slot slot) override { return std::move(vec3s_[int(slot)]); }
     Image<glm::vec4> readColor(Slot slot) override;
     void writeColor(Slot slot, Image<glm::vec4> image) override;
-    Status present(Slot, int, int, int) override;
+    Status present(Slot, const PresentTarget&) override;
 
     // ---- For the stage drivers.
     // The frame's settings (the current fluid's, at the current camera) and

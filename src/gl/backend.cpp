@@ -72,6 +72,12 @@ Status GlBackend::beginFrame(std::span<const glm::vec3> positions, const FrameSe
     while (glGetError() != GL_NO_ERROR) {
     }
     s_ = settings;
+    if (settings.hostLayers) {
+        // Embedding: the host's framebuffer and viewport as they are now,
+        // before any stage binds its own; present draws into them.
+        glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &hostFramebuffer_);
+        glGetIntegerv(GL_VIEWPORT, hostViewport_);
+    }
     upload();
     stage_ = 0;
     return uploadParticles(positions);
@@ -194,15 +200,17 @@ void GlBackend::writeColor(Slot slot, Image<glm::vec4> image) {
     img(slot).upload(image);
 }
 
-Status GlBackend::present(Slot color, int framebufferWidth, int framebufferHeight, int left) {
+Status GlBackend::present(Slot color, const PresentTarget& target) {
     const auto fills = bufferFills();
-    if (ctx_) return makeError("", "a headless GL backend has no window to draw into");
+    if (ctx_) return makeError("", "a headless GL backend has no window or host framebuffer to draw into "
+                                   "(Renderer::createOnCurrentGlContext makes one that has)");
     if (!presenter_) {  // compiled on first use: headless backends never need it
         auto p = Presenter::create();
         if (!p) return p.error();
         presenter_ = std::move(*p);
     }
-    presenter_->draw(img(color), framebufferWidth, framebufferHeight, left);
+    presenter_->draw(img(color), target, target.hostFramebuffer ? GLuint(hostFramebuffer_) : 0u);
+    if (target.hostFramebuffer) glViewport(hostViewport_[0], hostViewport_[1], hostViewport_[2], hostViewport_[3]);
     return okStatus();
 }
 

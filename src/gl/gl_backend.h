@@ -54,7 +54,7 @@ public:
     Image<glm::vec3> readVec3(Slot slot) override { return download<glm::vec3>(img(slot)); }
     Image<glm::vec4> readColor(Slot slot) override { return download<glm::vec4>(img(slot)); }
     void writeColor(Slot slot, Image<glm::vec4> image) override;
-    Status present(Slot color, int framebufferWidth, int framebufferHeight, int left) override;
+    Status present(Slot color, const PresentTarget& target) override;
 
     // ---- For the stage drivers.
     // The frame's settings (the current fluid's, at the current camera) and
@@ -124,6 +124,8 @@ private:
     std::unordered_map<std::type_index, std::shared_ptr<void>> passes_;
     std::optional<BufferFill> fill_;  // shader fills and copies; none: the driver's
     std::optional<Presenter> presenter_;
+    GLint hostFramebuffer_ = 0;            // embedding: the host's draw framebuffer when the frame began
+    GLint hostViewport_[4] = {0, 0, 0, 0};  // and its viewport
     FrameParamsBlock block_;
     FrameParams fp_{};
     FrameSettings s_;

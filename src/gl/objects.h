@@ -49,6 +49,7 @@ struct QueryDeleter { static void release(GLuint id) { glDeleteQueries(1, &id); 
 struct VertexArrayDeleter { static void release(GLuint id) { glDeleteVertexArrays(1, &id); } };
 struct ShaderDeleter { static void release(GLuint id) { glDeleteShader(id); } };
 struct ProgramDeleter { static void release(GLuint id) { glDeleteProgram(id); } };
+struct SamplerDeleter { static void release(GLuint id) { glDeleteSamplers(1, &id); } };
 }  // namespace detail
 
 using Texture = Handle<detail::TextureDeleter>;
@@ -57,11 +58,13 @@ using Query = Handle<detail::QueryDeleter>;
 using VertexArray = Handle<detail::VertexArrayDeleter>;
 using Shader = Handle<detail::ShaderDeleter>;
 using Program = Handle<detail::ProgramDeleter>;
+using Sampler = Handle<detail::SamplerDeleter>;
 
 inline Texture makeTexture() { GLuint id = 0; glGenTextures(1, &id); return Texture(id); }
 inline Framebuffer makeFramebuffer() { GLuint id = 0; glGenFramebuffers(1, &id); return Framebuffer(id); }
 inline Query makeQuery() { GLuint id = 0; glGenQueries(1, &id); return Query(id); }
 inline VertexArray makeVertexArray() { GLuint id = 0; glGenVertexArrays(1, &id); return VertexArray(id); }
+inline Sampler makeSampler() { GLuint id = 0; glGenSamplers(1, &id); return Sampler(id); }
 
 namespace detail {
 // The shader path of gl/buffer_fill.h: false (nothing done) when no BufferFill

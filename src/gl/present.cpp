@@ -18,17 +18,18 @@ Result<Presenter> Presenter::create() {
     return p;
 }
 
-void Presenter::draw(const GpuImage& color, int framebufferWidth, int framebufferHeight, int left) {
+void Presenter::draw(const GpuImage& color, const PresentTarget& target, GLuint framebuffer) {
     const bool rgba = color.channels == 4 && color.buffer.id() != 0;
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glViewport(0, 0, framebufferWidth, framebufferHeight);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glViewport(0, 0, target.width, target.height);
     glDisable(GL_FRAMEBUFFER_SRGB);  // the shader encodes; the framebuffer must store the levels as they are
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
     // The stages' last writes to the colour buffer reach the fragment shader.
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glUseProgram(program_.id());
-    glUniform4i(0, rgba ? color.width : 0, rgba ? color.height : 0, framebufferHeight, left);
+    glUniform4i(0, rgba ? color.width : 0, rgba ? color.height : 0, target.height, target.left);
+    glUniform1i(1, target.srgb ? 1 : 0);
     if (rgba) color.bind(0);
     else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, empty_.id());
     glBindVertexArray(vertexArray_.id());

@@ -3,6 +3,7 @@
 // the PNG writer does (shaders/present.frag).
 #pragma once
 
+#include "core/backend.h"
 #include "gl/gpu_image.h"
 #include "gl/objects.h"
 #include "meniscus/result.h"
@@ -14,13 +15,13 @@ public:
     // Compiles the program; an error carries the driver's log.
     static Result<Presenter> create();
 
-    // Fills the default framebuffer (framebufferWidth x framebufferHeight
-    // pixels) with `color` (W x H x 4 linear RGBA, row 0 = top), the image's
-    // top-left pixel `left` pixels right of the window's top-left; what the
-    // image does not cover is black. One pixel per pixel, no scaling: the
-    // viewer renders at the size of the area it shows the picture in. Does
-    // not swap buffers.
-    void draw(const GpuImage& color, int framebufferWidth, int framebufferHeight, int left);
+    // Fills `framebuffer` (0: the default one; target.width x target.height
+    // pixels) with `color` (W x H x 4
+    // linear RGBA, row 0 = top), the image's top-left pixel target.left
+    // pixels right of the framebuffer's top-left; what the image does not
+    // cover is black. One pixel per pixel, no scaling: the viewer renders at
+    // the size of the area it shows the picture in. Does not swap buffers.
+    void draw(const GpuImage& color, const PresentTarget& target, GLuint framebuffer);
 
 private:
     Program program_;

@@ -8,6 +8,7 @@
 #include "gl/scene.h"
 #include "core/backdrop_layer.h"
 #include "gl/gl_backend.h"
+#include "gl/host_layers.h"
 
 #include "gl/shaders.h"
 
@@ -68,6 +69,12 @@ namespace {
 // Cast again only when the camera, the studio or the slots changed.
 void runScene(GlBackend& g, const StageIo& io) {
     const StageSlots& at = io.at;
+    if (const HostLayers* host = g.frame().hostLayers) {
+        // Embedding: the host's picture, new every frame, is never kept.
+        g.forget(at.sceneColor);
+        g.pass<HostLayerImport>().run(*host, g.frame().camera, g.img(at.sceneColor), g.img(at.sceneDepth));
+        return;
+    }
     if (g.sceneCached(at.sceneColor, at.sceneDepth)) return;
     if (const BackdropImage* backdrop = g.frame().backdrop.get()) {
         // The backdrop's layer, made on the host as the CPU makes it
@@ -87,6 +94,6 @@ void runScene(GlBackend& g, const StageIo& io) {
 
 }  // namespace
 
-extern const StageDriver kSceneStage = {glPrepare<SceneCaster>, glRun<runScene>};
+extern const StageDriver kSceneStage = {glPrepare<SceneCaster, HostLayerImport>, glRun<runScene>};
 
 }  // namespace meniscus::gl

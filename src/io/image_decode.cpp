@@ -5,6 +5,7 @@
 // documentation prescribes (libjpeg.txt, "Error handling"), from a frame that
 // owns no C++ object.
 #include "meniscus/geometry.h"
+#include "shared/srgb.h"
 
 #include <array>
 #include <cmath>
@@ -26,17 +27,7 @@ namespace {
 namespace lim = geometry_limits;
 
 // sRGB 8-bit code to linear (IEC 61966-2-1), one table for every texel.
-const std::array<float, 256>& srgbTable() {
-    static const std::array<float, 256> table = [] {
-        std::array<float, 256> t{};
-        for (int i = 0; i < 256; ++i) {
-            const double c = double(i) / 255.0;
-            t[std::size_t(i)] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
-        }
-        return t;
-    }();
-    return table;
-}
+const std::array<float, 256>& srgbTable() { return shared::srgbDecodeTable(); }
 
 std::optional<Error> checkSize(const std::string& name, long long w, long long h) {
     if (w <= 0 || h <= 0) return makeError(name, "has no pixels (" + std::to_string(w) + " x " + std::to_string(h) + ")");

@@ -849,6 +849,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     }
     f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
     f.backdrop = s.scene.backdrop;
+    f.hostLayers = embed_;
     f.environment = {};
     f.environmentImage = s.scene.environment;
     if (s.scene.environment && !s.scene.environment->rgb.empty()) {
@@ -1015,7 +1016,34 @@ Status Renderer::draw(const ParticleView& particles, const RenderSettings& s, st
 
 Status Renderer::present(int framebufferWidth, int framebufferHeight, int left) {
     return guarded("presenting", [&]() -> Status {
-        return backend_->present(Slot::Color, framebufferWidth, framebufferHeight, left);
+        return backend_->present(Slot::Color, {framebufferWidth, framebufferHeight, left, false, true});
+    });
+}
+
+Status Renderer::drawIntoHost(const ParticleView& particles, const RenderSettings& settings, const HostLayers& host,
+                              std::vector<StageTime>* timings) {
+    return guarded("drawing into the host's frame", [&]() -> Status {
+        const char* what = "the host's layers";
+        if (backend_->kind() != BackendKind::Gl)
+            return makeError(what, "drawing into a host's frame needs a GL renderer (Renderer::createOnCurrentGlContext)");
+        if (host.colorTexture == 0 || host.depthTexture == 0)
+            return makeError(what, "both a colour and a depth texture are needed");
+        if (settings.scene.backdrop) return makeError(what, "a backdrop and a host's frame cannot both be the scene");
+        if (settings.compositor) return makeError(what, "sort-last rendering does not draw into a host's frame");
+        auto camera = cameraFromGlMatrices(host.view, host.projection, host.width, host.height);
+        if (!camera) return camera.error();
+        RenderSettings s = settings;
+        s.camera = *camera;
+        s.view = View::Final;
+        embed_ = &host;
+        struct Release {
+            const HostLayers*& embed;
+            ~Release() { embed = nullptr; }
+        } release{embed_};
+        if (auto st = runStages(particles, s, timings); !st) return st;
+        if (auto st = backend_->present(Slot::Color, {host.width, host.height, 0, true, host.colorIsSrgb}); !st)
+            return st;
+        return backend_->stageStatus("drawing into the host's frame");
     });
 }
 

@@ -10,7 +10,9 @@
 
 #ifdef __cplusplus
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstddef>
 namespace meniscus::shared {
 using SrgbReal = double;
 using std::min;
@@ -28,7 +30,25 @@ MENISCUS_SRGB_INLINE SrgbReal srgbEncode(SrgbReal linear) {
     return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055;
 }
 
+// The linear value of an sRGB-encoded value in [0, 1] (the inverse of
+// srgbEncode): the 8-bit images' decoding (PNG and JPEG textures and
+// backdrops, a host application's 8-bit colour).
+MENISCUS_SRGB_INLINE SrgbReal srgbDecode(SrgbReal encoded) {
+    return encoded <= 0.04045 ? encoded / 12.92 : pow((encoded + 0.055) / 1.055, 2.4);
+}
+
 #ifdef __cplusplus
+// The linear value of each 8-bit sRGB code k (srgbDecode(k / 255) rounded
+// once to float): the one table every 8-bit decoding reads, the CPU's and,
+// uploaded, the GL backend's, so both decode to the same bits.
+inline const std::array<float, 256>& srgbDecodeTable() {
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (int k = 0; k < 256; ++k) t[std::size_t(k)] = float(srgbDecode(double(k) / 255.0));
+        return t;
+    }();
+    return table;
+}
 }  // namespace meniscus::shared
 #else
 #undef SrgbReal

@@ -1,8 +1,8 @@
 #version 430 core
 #extension GL_GOOGLE_include_directive : require
-// The viewer's present pass (src/gl/present.cpp): copies the backend's final
-// colour (linear RGBA floats, row 0 = the TOP row, as every GpuImage) into the
-// window's default framebuffer (row 0 = the BOTTOM row), encoded to 8-bit sRGB
+// The present pass (src/gl/present.cpp): copies the backend's final colour
+// (linear RGBA floats, row 0 = the TOP row, as every GpuImage) into the
+// window's default framebuffer or an embedding host's (row 0 = the BOTTOM row), encoded to 8-bit sRGB
 // exactly as the PNG writer does: clamp, the transfer function of
 // src/shared/srgb.h, rounding to the nearest of the 256 levels (so the 8-bit
 // framebuffer stores the level as is). Alpha is dropped: a window shows RGB.
@@ -13,6 +13,9 @@ layout(std430, binding = 0) readonly buffer Color { vec4 color[]; };  // W*H lin
 // x, y = the image's width and height; z = the framebuffer's height; w = the
 // image's left edge in the framebuffer, pixels.
 layout(location = 0) uniform ivec4 uSize;
+// 1: encode to 8-bit sRGB levels (an 8-bit target); 0: write the linear
+// values as they are (a float target: an embedding host's HDR frame).
+layout(location = 1) uniform int uSrgb;
 
 layout(location = 0) out vec4 fragColor;
 
@@ -26,5 +29,5 @@ void main() {
         return;
     }
     const vec4 c = color[y * uSize.x + x];
-    fragColor = vec4(level(c.r), level(c.g), level(c.b), 1.0);
+    fragColor = uSrgb != 0 ? vec4(level(c.r), level(c.g), level(c.b), 1.0) : vec4(c.rgb, 1.0);
 }
