@@ -505,4 +505,52 @@ TEST_F(GlWindow, PanelsTuneTheLookAsRenderDoes) {
                   .worst,
               1);
 }
+#ifdef MENISCUS_EMBED_EXAMPLE
+// The embedding example (examples/embed_glfw.cpp) run as a user runs it: its
+// window after a few frames of the live simulation is the CPU reference's
+// compositing of the same frame (`meniscus render` of the host layers,
+// particles and camera it writes) within the whole pipeline's colour
+// tolerance, and the liquid is in the host's picture.
+TEST(GlWindowEmbedExample, ItsFrameIsTheCpuCompositeOfItsOwnLayers) {
+    if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
+        GTEST_SKIP() << "no display (DISPLAY unset); CI runs this test under xvfb-run -a";
+    const auto dir = tempDir();
+    std::string out;
+    const std::string run = std::string("ASAN_OPTIONS=\"${ASAN_OPTIONS:-}:detect_leaks=0\" ") + MENISCUS_EMBED_EXAMPLE +
+                            " --frames 8 --width 320 --height 180 --screenshot " + (dir / "window.png").string() +
+                            " --write-layers " + (dir / "layers").string();
+    ASSERT_EQ(runCommand(run, &out), 0) << out;
+    ASSERT_EQ(runCommand(cliPath() + " render " + (dir / "layers" / "scene.json").string() + " --backend cpu -o " +
+                             (dir / "cpu.png").string(),
+                         &out),
+              0)
+        << out;
+    const PngData window = readPng(dir / "window.png"), cpu = readPng(dir / "cpu.png"),
+                  host = readPng(dir / "layers" / "host_color.png");
+    ASSERT_EQ(window.width, 320);
+    ASSERT_EQ(window.height, 180);
+    ASSERT_EQ(cpu.bytes.size(), window.bytes.size());
+    ASSERT_EQ(host.bytes.size(), window.bytes.size());
+    const std::size_t channels = window.bytes.size() / (320 * 180);
+    int worst = 0;
+    std::size_t over1 = 0, liquid = 0;
+    for (std::size_t p = 0; p < std::size_t(320 * 180); ++p) {
+        int w = 0, fromHost = 0;
+        for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t k = p * channels + c;
+            w = std::max(w, std::abs(int(window.bytes[k]) - int(cpu.bytes[k])));
+            fromHost = std::max(fromHost, std::abs(int(window.bytes[k]) - int(host.bytes[k])));
+        }
+        worst = std::max(worst, w);
+        over1 += w > 1;
+        liquid += fromHost > 8;
+    }
+    std::printf("embed example vs CPU: max %d steps, %.4f%% over 1; %zu pixels show the liquid\n", worst,
+                100.0 * double(over1) / (320.0 * 180.0), liquid);
+    EXPECT_LE(worst, 2);
+    EXPECT_LE(double(over1) / (320.0 * 180.0), 1e-3);
+    EXPECT_GT(liquid, std::size_t(500));
+}
+#endif
+
 }  // namespace gl_window_test_local

@@ -245,6 +245,15 @@ TEST(GeometryMesh, TexturesBesideTheFileJpegAndBadImages) {
     expectError(readGeometryMesh(quadWith("cut.png")), quadWith("cut.png").string(), "PNG");
     writeText(dir / "cut.jpg", solidJpeg(16, 8, orange).substr(0, 200));
     expectError(readGeometryMesh(quadWith("cut.jpg")), quadWith("cut.jpg").string(), "JPEG");
+    // A progressive JPEG's header claiming 2112 x 14856 pixels with a few
+    // bytes of data behind it (found by the fuzzer): an error naming the
+    // file, not 31 million grey pixels made from nothing.
+    const auto nothing =
+        test::readBytes(fs::path(MENISCUS_SOURCE_DIR) / "fuzz/regressions/texture/progressive_31M_pixels_no_data.jpg");
+    const auto decoded = decodeTexture(ByteView(nothing.data(), nothing.size()), "nothing.jpg");
+    ASSERT_FALSE(decoded.ok());
+    EXPECT_NE(decoded.error().describe().find("nothing.jpg"), std::string::npos) << decoded.error().describe();
+    EXPECT_NE(decoded.error().describe().find("JPEG"), std::string::npos) << decoded.error().describe();
 }
 
 TEST(GeometryMesh, FromMemoryTakesTheSamePath) {

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include <jpeglib.h>
+#include <jerror.h>
 #include <png.h>
 
 namespace meniscus {
@@ -78,7 +79,15 @@ void jpegFatal(j_common_ptr c) {
     std::longjmp(e->jump, 1);
 }
 
-void jpegQuiet(j_common_ptr, int) {}  // warnings (a corrupt but readable stream) are not printed
+// Warnings (a corrupt but readable stream) are not printed, but one is an
+// error: the data ends before the image does (JWRN_JPEG_EOF). libjpeg would
+// fill the rest with grey, so a header of a few bytes claiming 30 million
+// pixels would be decoded to a picture of that size (and its floats) from
+// nothing; a progressive JPEG reads its whole data in
+// jpeg_start_decompress, before the picture's memory is asked for.
+void jpegWarning(j_common_ptr c, int level) {
+    if (level < 0 && c->err->msg_code == JWRN_JPEG_EOF) jpegFatal(c);
+}
 
 // The decode proper, with only C objects in its frame (longjmp skips no
 // destructor): the size goes to *w, *h, and `out` is allocated by `grow`
@@ -88,7 +97,7 @@ bool jpegRead(ByteView data, JpegError* e, int* w, int* h, bool (*check)(void*, 
     jpeg_decompress_struct d;
     d.err = jpeg_std_error(&e->mgr);
     e->mgr.error_exit = jpegFatal;
-    e->mgr.emit_message = jpegQuiet;
+    e->mgr.emit_message = jpegWarning;
     if (setjmp(e->jump)) {
         jpeg_destroy_decompress(&d);
         return false;
