@@ -104,6 +104,9 @@ def main():
     if camera is None:
         sys.exit("blender_camera.py: the scene has no active camera")
     fps = scene.render.fps / scene.render.fps_base
+    # The camera's world matrix as the scene now places it (a script before
+    # this one may have moved it: Blender updates matrix_world lazily).
+    bpy.context.view_layer.update()
     if args.path:
         out = []
         for frame in range(scene.frame_start, scene.frame_end + 1):

@@ -3,9 +3,11 @@
 // matrices, on the GL context the host renders with, checked against the CPU
 // reference compositing the same layers as a backdrop (kind window:NEAR,FAR),
 // within the whole pipeline's colour tolerance (gl_test_util.h).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -68,19 +70,24 @@ TEST(HostLayersDecoding, EveryCodeComesBackAsItWent) {
     EXPECT_EQ(table[255], 1.0f);
 }
 
+// The host's camera on the real frame, as an application holds it.
+HostLayers hostCamera(int W, int H) {
+    const Camera framed = test::realFrameCamera(W, H);
+    HostLayers host;
+    host.width = W;
+    host.height = H;
+    host.view = glm::lookAt(framed.eye, framed.target, framed.up);
+    host.projection = glm::perspective(glm::radians(framed.fovYDegrees), float(W) / float(H), framed.nearM, framed.farM);
+    return host;
+}
+
 TEST_F(GlHostLayers, TheLiquidInTheHostsFrameIsTheCpusCompositeOfItsLayers) {
     const int W = 320, H = 180;
     const std::vector<glm::vec3>& positions = test::realFrame().positions;
     ASSERT_FALSE(positions.empty());
     RenderSettings settings;
     settings.radiusM = test::realFrame().radius;
-    const Camera framed = test::realFrameCamera(W, H);
-    // The host's camera, as an application holds it.
-    HostLayers host;
-    host.width = W;
-    host.height = H;
-    host.view = glm::lookAt(framed.eye, framed.target, framed.up);
-    host.projection = glm::perspective(glm::radians(framed.fovYDegrees), float(W) / float(H), framed.nearM, framed.farM);
+    HostLayers host = hostCamera(W, H);
     auto camera = cameraFromGlMatrices(host.view, host.projection, W, H);
     ASSERT_TRUE(camera.ok()) << camera.error().describe();
     settings.camera = *camera;
@@ -179,6 +186,144 @@ TEST_F(GlHostLayers, TheLiquidInTheHostsFrameIsTheCpusCompositeOfItsLayers) {
     auto refused = cpu.drawIntoHost(positions, settings, host);
     ASSERT_FALSE(refused.ok());
     EXPECT_NE(refused.error().describe().find("GL renderer"), std::string::npos) << refused.error().describe();
+}
+
+// A host's frame of one colour with nothing in its depth (window depth 1),
+// its textures and the real frame's camera in `host`.
+struct PlainHost {
+    std::vector<std::uint8_t> rgba;
+    HostFrameGl frame;
+    HostLayers host;
+    static std::vector<std::uint8_t> colour(int W, int H) {
+        std::vector<std::uint8_t> out;
+        for (int i = 0; i < W * H; ++i) out.insert(out.end(), {90, 120, 150, 255});
+        return out;
+    }
+    PlainHost(int W, int H)
+        : rgba(colour(W, H)), frame(W, H, rgba, std::vector<float>(std::size_t(W) * std::size_t(H), 1.0f)),
+          host(hostCamera(W, H)) {
+        host.colorTexture = frame.color;
+        host.depthTexture = frame.depth;
+    }
+};
+
+// A host's particles in its own GL buffer, laid out as an application's
+// vertex buffer may be: a header of `offset` bytes, then per particle
+// x, y, z and a fourth float it uses for itself (NaN here: never read).
+struct HostParticlesGl {
+    GLuint buffer = 0;
+    HostParticleBuffer view;
+    HostParticlesGl(const std::vector<glm::vec3>& positions, std::size_t offset) {
+        std::vector<float> words(offset / 4, -7.0f);
+        for (const glm::vec3& p : positions) words.insert(words.end(), {p.x, p.y, p.z, NAN});
+        glGenBuffers(1, &buffer);
+        glBindBuffer(GL_ARRAY_BUFFER, buffer);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(words.size() * sizeof(float)), words.data(), GL_STATIC_DRAW);
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
+        view.buffer = buffer;
+        view.count = positions.size();
+        view.offsetBytes = offset;
+        view.strideBytes = 16;
+        for (const glm::vec3& p : positions) view.bounds.extend(p);
+    }
+    ~HostParticlesGl() { glDeleteBuffers(1, &buffer); }
+};
+
+// The particles from the host's own buffer draw the same frame, bit for bit,
+// as the same particles handed over from the CPU (both with the GPU's
+// anisotropic kernels, and both without them: the splat's spheres).
+TEST_F(GlHostLayers, ParticlesFromTheHostsBufferDrawAsFromTheCpu) {
+    const int W = 320, H = 180;
+    const std::vector<glm::vec3>& positions = test::realFrame().positions;
+    ASSERT_FALSE(positions.empty());
+    setenv("MENISCUS_GL_HOST_ANISOTROPY", "0", 1);  // the CPU's particles: the GPU's kernels too (SetUp restores)
+    auto gl = Renderer::createOnCurrentGlContext();
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    PlainHost plain(W, H);
+    const HostLayers& host = plain.host;
+    const HostFrameGl& frame = plain.frame;
+    const std::vector<std::uint8_t>& rgba = plain.rgba;
+    HostParticlesGl buffer(positions, 64);
+    for (const bool anisotropic : {true, false}) {
+        SCOPED_TRACE(anisotropic ? "anisotropic kernels" : "spheres");
+        RenderSettings settings;
+        settings.radiusM = test::realFrame().radius;
+        settings.anisotropy.enabled = anisotropic;
+        glBindFramebuffer(GL_FRAMEBUFFER, frame.framebuffer);
+        auto st = gl->drawIntoHost(positions, settings, host);
+        ASSERT_TRUE(st.ok()) << st.error().describe();
+        const std::vector<std::uint8_t> fromCpu = frame.readTarget();
+        std::vector<StageTime> times;
+        st = gl->drawIntoHost(buffer.view, settings, host, &times);
+        ASSERT_TRUE(st.ok()) << st.error().describe();
+        const std::vector<std::uint8_t> fromBuffer = frame.readTarget();
+        std::size_t differ = 0, liquid = 0;
+        for (std::size_t i = 0; i < fromCpu.size(); i += 4) {
+            differ += fromCpu[i] != fromBuffer[i] || fromCpu[i + 1] != fromBuffer[i + 1] ||
+                      fromCpu[i + 2] != fromBuffer[i + 2];
+            liquid += fromBuffer[i] != rgba[i] || fromBuffer[i + 1] != rgba[i + 1] || fromBuffer[i + 2] != rgba[i + 2];
+        }
+        EXPECT_EQ(differ, 0u);
+        EXPECT_GT(liquid, std::size_t(W * H / 20));  // the liquid is there
+        // The copy out of the host's buffer is timed as the GPU's first stage
+        // (within the anisotropy, or on its own), and reported (Renderer::drawIntoHost's timings).
+        const std::string first = anisotropic ? "anisotropy" : "host-particles";
+        const auto device = std::find_if(times.begin(), times.end(),
+                                         [](const StageTime& t) { return t.stage.rfind("host: ", 0) != 0; });
+        ASSERT_NE(device, times.end());
+        EXPECT_EQ(device->stage, first);
+    }
+}
+
+// What cannot be read as described, and what needs the particles on the
+// CPU, is refused with a message saying so.
+TEST_F(GlHostLayers, AHostsBufferThatCannotBeReadIsRefused) {
+    const int W = 64, H = 36;
+    const std::vector<glm::vec3> positions = {{0.1f, 0.2f, 0.3f}, {0.2f, 0.2f, 0.3f}};
+    auto gl = Renderer::createOnCurrentGlContext();
+    ASSERT_TRUE(gl.ok()) << gl.error().describe();
+    PlainHost plain(W, H);
+    const HostLayers& host = plain.host;
+    HostParticlesGl good(positions, 16);
+    RenderSettings settings;
+    settings.radiusM = 0.05f;
+    auto refused = [&](HostParticleBuffer p, const RenderSettings& s, const char* says) {
+        const Status st = gl->drawIntoHost(p, s, host);
+        ASSERT_FALSE(st.ok()) << says;
+        EXPECT_NE(st.error().describe().find(says), std::string::npos) << st.error().describe();
+        EXPECT_NE(st.error().describe().find("the host's particle buffer"), std::string::npos) << st.error().describe();
+    };
+    HostParticleBuffer p = good.view;
+    p.count = 3;  // one more than the buffer holds
+    refused(p, settings, "do not fit in its 48 bytes");
+    p = good.view;
+    p.offsetBytes = 1u << 20;
+    refused(p, settings, "do not fit");
+    p = good.view;
+    p.count = std::size_t(1) << 62;  // (count - 1) * stride would overflow
+    refused(p, settings, "do not fit");
+    p = good.view;
+    p.strideBytes = 8;
+    refused(p, settings, "12 bytes at least");
+    p = good.view;
+    p.offsetBytes = 2;
+    refused(p, settings, "multiples of 4");
+    p = good.view;
+    p.buffer = good.buffer + 1000;
+    refused(p, settings, "not a GL buffer");
+    RenderSettings spray = settings;
+    spray.spray.enabled = true;
+    refused(good.view, spray, "the spray");
+    RenderSettings noise = settings;
+    noise.noise.enabled = true;
+    refused(good.view, noise, "the surface noise");
+    RenderSettings shadows = settings;
+    shadows.shadows = ShadowMode::On;
+    p = good.view;
+    p.bounds = {};
+    refused(p, shadows, "HostParticleBuffer::bounds");
+    EXPECT_TRUE(gl->drawIntoHost(good.view, shadows, host).ok());  // with its box, shadows draw
+    EXPECT_TRUE(gl->drawIntoHost(good.view, settings, host).ok());
 }
 
 }  // namespace

@@ -197,6 +197,25 @@ struct HostLayers {
     glm::mat4 projection{1.0f};
 };
 
+// The particles in a GL buffer of the host's context (Renderer::drawIntoHost),
+// so that nothing crosses to the CPU: `count` positions of three floats
+// (metres, world space), the first `offsetBytes` into the buffer, each
+// `strideBytes` after the last (12: packed xyz; 16: xyzw, w ignored; more for
+// interleaved attributes). Offset and stride are multiples of 4; the buffer
+// must hold every position (checked against its GL_BUFFER_SIZE). Read, never
+// written, once per draw: the host may change it between draws.
+struct HostParticleBuffer {
+    unsigned buffer = 0;          // GL buffer name
+    std::size_t count = 0;        // particles
+    std::size_t offsetBytes = 0;  // bytes: of the first position
+    std::size_t strideBytes = 12; // bytes: from one position to the next
+    // A box (metres) holding every particle: what the shadows' light camera
+    // frames (the host knows its domain; the renderer does not look at the
+    // positions on the CPU). Needed only when shadows are drawn (scene
+    // geometry with shadows on); empty otherwise.
+    Bounds bounds;
+};
+
 class Backend;            // src/core/backend.h
 class TurbulenceTracker;  // src/core/turbulence.h
 struct HostFrame;         // src/render/pipeline.cpp
@@ -268,6 +287,14 @@ public:
     // framebuffer binding and viewport are the host's again.
     Status drawIntoHost(const ParticleView& particles, const RenderSettings& settings, const HostLayers& host,
                         std::vector<StageTime>* timings = nullptr);
+    // The same with the particles in the host's own GL buffer: copied on the
+    // GPU into the renderer's, the anisotropic kernels made there (the GL
+    // twin of the CPU's), nothing read back. The stages that need the
+    // particles on the CPU cannot run so and are refused by name: the spray,
+    // the surface noise, the velocity whitening, the ray cast, the mesh path;
+    // a buffer carries no fluid index, own radius or colour either.
+    Status drawIntoHost(const HostParticleBuffer& particles, const RenderSettings& settings, const HostLayers& host,
+                        std::vector<StageTime>* timings = nullptr);
 
 private:
     explicit Renderer(std::unique_ptr<Backend> backend);
@@ -276,6 +303,8 @@ private:
                      std::vector<StageTime>* timings);
     // The noise's per-particle inputs of this frame (FrameSettings::noiseIdz, noiseAmplitude).
     void prepareNoise(const ParticleView& particles, const RenderSettings& settings);
+    // The last runStages's stage times: the host's stages, then the backend's.
+    void collectTimes(std::vector<StageTime>& timings);
     // What the last runStages drew, for reading it back.
     Drawn drawn(const RenderSettings& settings) const;
     std::unique_ptr<Backend> backend_;
@@ -286,8 +315,13 @@ private:
     // The host stages' buffers and this frame's results (the spray's split,
     // the fluids, the field, the shapes, their times).
     std::unique_ptr<HostFrame> host_;
-    // The host's layers during a drawIntoHost call, else null.
+    // The host's layers during a drawIntoHost call, else null; and the host's
+    // particle buffer when the particles come from it.
     const HostLayers* embed_ = nullptr;
+    const HostParticleBuffer* hostParticles_ = nullptr;
+    // drawIntoHost's work, for either source of particles.
+    Status drawIntoHostWith(const ParticleView& particles, const RenderSettings& settings, const HostLayers& host,
+                            std::vector<StageTime>* timings);
 };
 
 // One frame with a fresh Renderer (nothing cached).

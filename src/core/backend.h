@@ -143,6 +143,10 @@ struct FrameSettings : StageParams {
     // are the scene layer instead (read again every frame), or null. Only the
     // GL backend has them.
     const HostLayers* hostLayers = nullptr;
+    // And the host's own particle buffer (drawIntoHost with a
+    // HostParticleBuffer): beginFrame's positions are then empty and the GL
+    // backend copies the particles from it on the GPU; or null.
+    const HostParticleBuffer* hostParticles = nullptr;
     // Reduced-resolution processing (docs/pipeline.md#reduced-resolution): the
     // divisor d of the fluid scale (1: off), and the depth jump (metres) the
     // upsampling does not blend across.

@@ -22,6 +22,11 @@ ShadowLight shadowLight(const FrameSettings& s) {
         const glm::vec3 q = p[i];
         if (std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z)) b.extend(q);
     }
+    // The particles of a host's GL buffer: the box the host gave for them.
+    if (s.hostParticles && !s.hostParticles->bounds.empty()) {
+        b.extend(s.hostParticles->bounds.min);
+        b.extend(s.hostParticles->bounds.max);
+    }
     const float r = std::isfinite(s.radius) ? std::max(s.radius, 0.0f) : 0.0f;
     if (!b.empty()) {
         b.extend(b.min - glm::vec3(r));

@@ -39,7 +39,12 @@ Result<Anisotropy> Anisotropy::create() {
 void Anisotropy::run(std::span<const glm::vec3> positions, float radius, const AnisotropyParams& params,
                      std::span<const float> radii, float shapeScale, Buffer& centres, Buffer& shapes) {
     static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "positions are uploaded as packed xyz floats");
-    const GLuint n = GLuint(positions.size());
+    if (!positions.empty()) positions_.upload(positions.data(), GLsizeiptr(positions.size_bytes()));
+    runOnDevice(GLuint(positions.size()), radius, params, radii, shapeScale, centres, shapes);
+}
+
+void Anisotropy::runOnDevice(GLuint n, float radius, const AnisotropyParams& params, std::span<const float> radii,
+                             float shapeScale, Buffer& centres, Buffer& shapes) {
     const GLsizeiptr n1 = GLsizeiptr(std::max<GLuint>(n, 1));  // binding an empty buffer is an error
     centres.reserve(n1 * 3 * GLsizeiptr(sizeof(float)));
     shapes.reserve(n1 * 12 * GLsizeiptr(sizeof(float)));
@@ -47,8 +52,7 @@ void Anisotropy::run(std::span<const glm::vec3> positions, float radius, const A
     // At least as many buckets as particles (a power of two): few cells share one.
     const GLuint buckets = std::bit_ceil(std::max<GLuint>(n, 1024));
     const GLuint chunks = ceilDiv(buckets, kChunk);
-    const bool own = radii.size() == positions.size();
-    positions_.upload(positions.data(), GLsizeiptr(positions.size_bytes()));
+    const bool own = radii.size() == n;
     if (own) radii_.upload(radii.data(), GLsizeiptr(radii.size_bytes()));
     else radii_.reserve(4);
     counts_.reserve(GLsizeiptr(buckets) * 4);

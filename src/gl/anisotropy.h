@@ -30,6 +30,11 @@ public:
     // needed. Asynchronous: nothing is read back.
     void run(std::span<const glm::vec3> positions, float radius, const AnisotropyParams& params,
              std::span<const float> radii, float shapeScale, Buffer& centres, Buffer& shapes);
+    // The same from `count` positions already in positionBuffer() (packed xyz
+    // floats, written on the GPU: a host's own buffer gathered into it).
+    void runOnDevice(GLuint count, float radius, const AnisotropyParams& params, std::span<const float> radii,
+                     float shapeScale, Buffer& centres, Buffer& shapes);
+    Buffer& positionBuffer() { return positions_; }
 
 private:
     Program grid_, pca_;

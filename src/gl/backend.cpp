@@ -84,9 +84,28 @@ Status GlBackend::beginFrame(std::span<const glm::vec3> positions, const FrameSe
 }
 
 Status GlBackend::uploadParticles(std::span<const glm::vec3> positions) {
+    // Embedding with the host's own particle buffer: its positions gathered
+    // on the GPU into the buffer the next pass reads (the anisotropy's, or
+    // the splat's), nothing uploaded from the host.
+    const HostParticleBuffer* fromHost = s_.hostParticles;
+    if (fromHost) {
+        if (auto st = HostParticleGather::check(*fromHost); !st) return st;
+        if (!hostParticles_) {
+            auto g = HostParticleGather::create();
+            if (!g) return g.error();
+            hostParticles_ = std::move(*g);
+        }
+    }
     if (!s_.deviceAnisotropy) {
-        splat_.uploadParticles(positions, s_.shapes);
-        return okStatus();
+        if (!fromHost) {
+            splat_.uploadParticles(positions, s_.shapes);
+            return okStatus();
+        }
+        if (s_.timed) beginStage("host-particles");
+        hostParticles_->run(*fromHost, splat_.particleBuffer());
+        splat_.useDeviceParticles(GLuint(fromHost->count));
+        if (s_.timed) endStage();
+        return stageStatus("host-particles");
     }
     if (!anisotropy_) {
         auto a = Anisotropy::create();
@@ -94,9 +113,17 @@ Status GlBackend::uploadParticles(std::span<const glm::vec3> positions) {
         anisotropy_ = std::move(*a);
     }
     if (s_.timed) beginStage("anisotropy");
-    anisotropy_->run(positions, s_.radius, *s_.deviceAnisotropy, s_.deviceRadii, s_.deviceShapeScale,
-                     splat_.particleBuffer(), splat_.shapeBuffer());
-    splat_.useDeviceShapes(GLuint(positions.size()));
+    GLuint count = GLuint(positions.size());
+    if (fromHost) {
+        hostParticles_->run(*fromHost, anisotropy_->positionBuffer());
+        count = GLuint(fromHost->count);
+        anisotropy_->runOnDevice(count, s_.radius, *s_.deviceAnisotropy, s_.deviceRadii, s_.deviceShapeScale,
+                                 splat_.particleBuffer(), splat_.shapeBuffer());
+    } else {
+        anisotropy_->run(positions, s_.radius, *s_.deviceAnisotropy, s_.deviceRadii, s_.deviceShapeScale,
+                         splat_.particleBuffer(), splat_.shapeBuffer());
+    }
+    splat_.useDeviceShapes(count);
     if (s_.timed) endStage();
     return stageStatus("anisotropy");
 }

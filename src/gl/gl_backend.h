@@ -22,6 +22,7 @@
 #include "gl/context.h"
 #include "gl/environment.h"
 #include "gl/gpu_image.h"
+#include "gl/host_layers.h"
 #include "gl/objects.h"
 #include "gl/present.h"
 #include "gl/splat.h"
@@ -121,6 +122,7 @@ private:
     bool hasResetStatus_;           // glGetGraphicsResetStatus exists (asked once, not per stage)
     Splat splat_;
     std::optional<Anisotropy> anisotropy_;  // made on first use
+    std::optional<HostParticleGather> hostParticles_;  // made on first use: particles from a host's buffer
     std::unordered_map<std::type_index, std::shared_ptr<void>> passes_;
     std::optional<BufferFill> fill_;  // shader fills and copies; none: the driver's
     std::optional<Presenter> presenter_;

@@ -37,4 +37,25 @@ private:
     Sampler sampler_;
 };
 
+// The particles of a host's own GL buffer (HostParticleBuffer) copied on the
+// GPU into a packed xyz buffer of the renderer's, whatever the host's offset
+// and stride: nothing crosses to the CPU.
+class HostParticleGather {
+public:
+    static Result<HostParticleGather> create();
+
+    // An error naming what is wrong when `particles` cannot be read as
+    // described: no such buffer, an offset or stride not a multiple of 4, a
+    // stride under 12 bytes, positions past the buffer's end (its
+    // GL_BUFFER_SIZE), or more words than 32-bit indices reach.
+    static Status check(const HostParticleBuffer& particles);
+
+    // `target` grown to the particles' packed positions and filled from the
+    // host's buffer (checked). Asynchronous.
+    void run(const HostParticleBuffer& particles, Buffer& target);
+
+private:
+    Program program_;
+};
+
 }  // namespace meniscus::gl

@@ -40,6 +40,12 @@ public:
         count_ = count;
         ellipsoids_ = true;
     }
+    // `count` positions written into particleBuffer() on the GPU (a host's
+    // own buffer gathered), splatted as spheres of frame.radius.
+    void useDeviceParticles(GLuint count) {
+        count_ = count;
+        ellipsoids_ = false;
+    }
     // The uploaded positions (packed xyz floats) and their count, for the
     // stages that read them too (the surface noise): uploaded once per frame.
     const Buffer& particleBuffer() const { return positions_; }

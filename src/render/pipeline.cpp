@@ -742,6 +742,27 @@ Result<Renderer> Renderer::createOnCurrentGlContext() {
 
 std::string Renderer::backendName() const { return backend_->name(); }
 
+namespace {
+// What the particles of a host's GL buffer cannot feed: the stages that read
+// the particles on the CPU (RenderSettings named, so the host knows what to
+// turn off), and shadows without the box they are framed on.
+Status checkHostParticleSettings(const HostParticleBuffer& p, const RenderSettings& s) {
+    const char* what = "the host's particle buffer";
+    const char* needsHost = s.spray.enabled       ? "the spray (spray.enabled)"
+                            : s.noise.enabled     ? "the surface noise (noise.enabled)"
+                            : s.whitening.enabled ? "the velocity whitening (whitening.enabled)"
+                            : s.raycast.enabled   ? "the ray-cast surface (raycast.enabled)"
+                            : s.mesh              ? "the mesh path (mesh)"
+                                                  : nullptr;
+    if (needsHost)
+        return makeError(what, std::string(needsHost) +
+                                   " reads the particles on the CPU: pass them as a ParticleView, or turn it off");
+    if (drawsShadows(s) && p.bounds.empty() && s.scene.studioBounds.empty())
+        return makeError(what, "shadows are drawn: HostParticleBuffer::bounds must give the box holding the particles");
+    return okStatus();
+}
+}  // namespace
+
 Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std::vector<StageTime>* timings) {
     if (auto st = validateCamera(s.camera); !st) return st.error();
     if (auto st = checkRadius(s.radiusM); !st) return st;
@@ -750,7 +771,10 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
         !st)
         return st;
     if (auto st = all.validate(); !st) return st;
-    if (auto st = checkRenderMemory(all.size(),
+    if (hostParticles_)
+        if (auto st = checkHostParticleSettings(*hostParticles_, s); !st) return st;
+    const std::size_t particleCount = hostParticles_ ? hostParticles_->count : all.size();
+    if (auto st = checkRenderMemory(particleCount,
                                     renderBytesPerParticle(all, s.anisotropy.enabled, s.raycast.enabled, s.noise.enabled),
                                     s.camera.width, s.camera.height,
                                     frameBytes(s.camera.width, s.camera.height, s.noise.enabled, s.whitening.enabled,
@@ -771,6 +795,10 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     Bounds box = s.scene.studioBounds;
     if (box.empty()) {
         for (std::size_t i = 0; i < all.size(); ++i) box.extend(all.positions[i]);
+        if (hostParticles_ && !hostParticles_->bounds.empty()) {
+            box.extend(hostParticles_->bounds.min);
+            box.extend(hostParticles_->bounds.max);
+        }
         // And around the scene's objects: the floor under the tank, not inside it.
         if (s.geometry)
             if (const Bounds g = s.geometry->bounds(); !g.empty()) {
@@ -794,7 +822,8 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     const bool gpuAnisotropy = hostAnisotropy && *hostAnisotropy
                                    ? std::string_view(hostAnisotropy) == "0"
                                    : backend_->name().find("llvmpipe") == std::string::npos;
-    h.deviceAnisotropy = backend_->kind() == BackendKind::Gl && !s.compositor && gpuAnisotropy;
+    // The host's own particle buffer never comes to the host: the GPU's, always.
+    h.deviceAnisotropy = backend_->kind() == BackendKind::Gl && !s.compositor && (gpuAnisotropy || hostParticles_);
     HostRun hostRun{s, all, h};
     if (auto st = runHostStages(StageWhen{s}, hostRun); !st) return st;
     const ParticleView& particles = *h.particles;
@@ -850,6 +879,7 @@ Status Renderer::runStages(const ParticleView& all, const RenderSettings& s, std
     f.studio = shared::makeStudio(box, s.radiusM, s.camera, s.scene, s.shading.lightDirWorld);
     f.backdrop = s.scene.backdrop;
     f.hostLayers = embed_;
+    f.hostParticles = hostParticles_;
     f.environment = {};
     f.environmentImage = s.scene.environment;
     if (s.scene.environment && !s.scene.environment->rgb.empty()) {
@@ -976,11 +1006,7 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
     return guarded("rendering", [&]() -> Result<Aovs> {
         if (auto st = runStages(particles, s, timings); !st) return st.error();
         Backend& b = *backend_;
-        // The host's own stages (not the backend's), first in the list.
-        auto hostTimes = [&] {
-            *timings = b.stageTimes();
-            if (host_) timings->insert(timings->begin(), host_->times.begin(), host_->times.end());
-        };
+        auto hostTimes = [&] { collectTimes(*timings); };
         // Sort-last, not the root: the frame ended after the composite.
         if (s.compositor && !s.compositor->root()) {
             if (timings) hostTimes();
@@ -1001,9 +1027,16 @@ Result<Aovs> Renderer::render(const ParticleView& particles, const RenderSetting
     });
 }
 
+void Renderer::collectTimes(std::vector<StageTime>& timings) {
+    // The host's own stages (not the backend's), first in the list.
+    timings = backend_->stageTimes();
+    if (host_) timings.insert(timings.begin(), host_->times.begin(), host_->times.end());
+}
+
 Status Renderer::draw(const ParticleView& particles, const RenderSettings& s, std::vector<StageTime>* timings) {
     return guarded("drawing", [&]() -> Status {
         if (auto st = runStages(particles, s, timings); !st) return st;
+        if (timings) collectTimes(*timings);
         if (s.compositor && !s.compositor->root()) return okStatus();  // sort-last: ended after the composite
         if (s.view == View::Final) return okStatus();  // the colour is already in its slot
         Aovs aovs = readAovs(*backend_, s.view, true, s.noise, drawn(s));
@@ -1022,29 +1055,46 @@ Status Renderer::present(int framebufferWidth, int framebufferHeight, int left) 
 
 Status Renderer::drawIntoHost(const ParticleView& particles, const RenderSettings& settings, const HostLayers& host,
                               std::vector<StageTime>* timings) {
+    return guarded("drawing into the host's frame",
+                   [&]() -> Status { return drawIntoHostWith(particles, settings, host, timings); });
+}
+
+Status Renderer::drawIntoHost(const HostParticleBuffer& particles, const RenderSettings& settings,
+                              const HostLayers& host, std::vector<StageTime>* timings) {
     return guarded("drawing into the host's frame", [&]() -> Status {
-        const char* what = "the host's layers";
-        if (backend_->kind() != BackendKind::Gl)
-            return makeError(what, "drawing into a host's frame needs a GL renderer (Renderer::createOnCurrentGlContext)");
-        if (host.colorTexture == 0 || host.depthTexture == 0)
-            return makeError(what, "both a colour and a depth texture are needed");
-        if (settings.scene.backdrop) return makeError(what, "a backdrop and a host's frame cannot both be the scene");
-        if (settings.compositor) return makeError(what, "sort-last rendering does not draw into a host's frame");
-        auto camera = cameraFromGlMatrices(host.view, host.projection, host.width, host.height);
-        if (!camera) return camera.error();
-        RenderSettings s = settings;
-        s.camera = *camera;
-        s.view = View::Final;
-        embed_ = &host;
+        hostParticles_ = &particles;
         struct Release {
-            const HostLayers*& embed;
-            ~Release() { embed = nullptr; }
-        } release{embed_};
-        if (auto st = runStages(particles, s, timings); !st) return st;
-        if (auto st = backend_->present(Slot::Color, {host.width, host.height, 0, true, host.colorIsSrgb}); !st)
-            return st;
-        return backend_->stageStatus("drawing into the host's frame");
+            const HostParticleBuffer*& particles;
+            ~Release() { particles = nullptr; }
+        } release{hostParticles_};
+        return drawIntoHostWith(ParticleView{}, settings, host, timings);
     });
+}
+
+Status Renderer::drawIntoHostWith(const ParticleView& particles, const RenderSettings& settings,
+                                  const HostLayers& host, std::vector<StageTime>* timings) {
+    const char* what = "the host's layers";
+    if (backend_->kind() != BackendKind::Gl)
+        return makeError(what, "drawing into a host's frame needs a GL renderer (Renderer::createOnCurrentGlContext)");
+    if (host.colorTexture == 0 || host.depthTexture == 0)
+        return makeError(what, "both a colour and a depth texture are needed");
+    if (settings.scene.backdrop) return makeError(what, "a backdrop and a host's frame cannot both be the scene");
+    if (settings.compositor) return makeError(what, "sort-last rendering does not draw into a host's frame");
+    auto camera = cameraFromGlMatrices(host.view, host.projection, host.width, host.height);
+    if (!camera) return camera.error();
+    RenderSettings s = settings;
+    s.camera = *camera;
+    s.view = View::Final;
+    embed_ = &host;
+    struct Release {
+        const HostLayers*& embed;
+        ~Release() { embed = nullptr; }
+    } release{embed_};
+    if (auto st = runStages(particles, s, timings); !st) return st;
+    if (timings) collectTimes(*timings);
+    if (auto st = backend_->present(Slot::Color, {host.width, host.height, 0, true, host.colorIsSrgb}); !st)
+        return st;
+    return backend_->stageStatus("drawing into the host's frame");
 }
 
 Result<Aovs> renderFrame(const ParticleView& particles, const RenderSettings& settings,
