@@ -4,6 +4,8 @@ Run headless inside Blender (3.0 or later), from the factory scene:
 
     blender -b --factory-startup --python examples/blender_set.py -- set.exr \
         --blend set.blend --png set.png --width 960 --height 540 --samples 64
+    blender -b --factory-startup --python examples/blender_set.py -- set_####.exr \
+        --blend set.blend --frames 61 --fps 15 --orbit 30
 
 The set is the tank of SPlisHSPlasH's dam break scene (a 4 x 3 x 1.5 m box,
 its floor at height 0, the liquid's data y-up, so Blender's (x, y, z) is the
@@ -16,6 +18,14 @@ Cycles renders it from the scene's camera into `set.exr`, an OpenEXR
 (docs/compositing.md). --blend saves the set for examples/blender_camera.py,
 which writes the camera in Meniscus's format (--particles-up y); --png also
 writes the Combined colour as 8-bit sRGB (the Standard view, no dither).
+
+With --frames N the camera moves: it turns --orbit degrees about the vertical
+through the point it looks at, over frames 1 to N at --fps frames per second
+(a Track To constraint keeps it level, without roll), and each frame is
+rendered to the output's name with its last run of '#' replaced by the frame
+number (set_0001.exr, ...): the backdrop sequence of `meniscus render
+--backdrop 'set_####.exr'`, with the camera path examples/blender_camera.py
+--path writes from the saved set.
 """
 import argparse
 import math
@@ -44,7 +54,24 @@ def arguments():
     p.add_argument("--width", type=int, default=960, help="pixels")
     p.add_argument("--height", type=int, default=540, help="pixels")
     p.add_argument("--samples", type=int, default=64, help="Cycles samples per pixel")
-    return p.parse_args(argv)
+    p.add_argument("--frames", type=int, default=1, help="frames of a moving camera (1: a still)")
+    p.add_argument("--fps", type=float, default=24.0, help="the animation's frames per second")
+    p.add_argument("--orbit", type=float, default=20.0, help="degrees the camera turns over the frames")
+    args = p.parse_args(argv)
+    if args.frames > 1 and "#" not in args.output:
+        p.error("--frames %d: the output's name needs a run of # for the frame number (set_####.exr)" % args.frames)
+    return args
+
+
+def frame_name(pattern, number):
+    """`pattern` with its last run of '#' replaced by `number`, zero-padded to the run's length."""
+    last = pattern.rfind("#")
+    if last < 0:
+        return pattern
+    first = last
+    while first > 0 and pattern[first - 1] == "#":
+        first -= 1
+    return pattern[:first] + str(number).zfill(last + 1 - first) + pattern[last + 1:]
 
 
 def blender_point(x, y, z):
@@ -121,13 +148,33 @@ def build_set():
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.6
 
 
-def place_camera(scene):
+def place_camera(scene, args):
     cam = scene.camera
     eye, target = blender_point(0.9, 2.3, 4.9), blender_point(-0.35, 0.25, 0.0)
-    cam.location = eye
-    cam.rotation_euler = (target - eye).to_track_quat("-Z", "Y").to_euler()  # no roll
     cam.data.lens, cam.data.sensor_width, cam.data.sensor_fit = 32.0, 36.0, "AUTO"
     cam.data.clip_start, cam.data.clip_end = 0.05, 100.0
+    if args.frames <= 1:
+        cam.location = eye
+        cam.rotation_euler = (target - eye).to_track_quat("-Z", "Y").to_euler()  # no roll
+        return
+    # Aimed at an empty at the target by a Track To constraint (level: its up
+    # is the world's), the eye keyed at every frame on the circle about the
+    # vertical through the target.
+    bpy.ops.object.empty_add(location=target)
+    aim = bpy.context.active_object
+    aim.name = "CameraTarget"
+    track = cam.constraints.new("TRACK_TO")
+    track.target, track.track_axis, track.up_axis = aim, "TRACK_NEGATIVE_Z", "UP_Y"
+    cam.rotation_euler = (0.0, 0.0, 0.0)
+    scene.frame_start, scene.frame_end = 1, args.frames
+    scene.render.fps = max(1, round(args.fps))
+    scene.render.fps_base = scene.render.fps / args.fps
+    offset = eye - target
+    for frame in range(1, args.frames + 1):
+        turn = math.radians(args.orbit) * (frame - 1) / (args.frames - 1)
+        c, s = math.cos(turn), math.sin(turn)
+        cam.location = target + Vector((c * offset.x - s * offset.y, s * offset.x + c * offset.y, offset.z))
+        cam.keyframe_insert("location", frame=frame)
 
 
 def configure(scene, args):
@@ -150,19 +197,25 @@ def configure(scene, args):
 
 
 def render(scene, args):
-    bpy.ops.render.render(write_still=True)
-    if args.png:
-        image = bpy.data.images["Render Result"]
-        settings = scene.render.image_settings
-        settings.file_format, settings.color_mode, settings.color_depth = "PNG", "RGB", "8"
-        image.save_render(args.png, scene=scene)
+    """Each frame (one for a still) to the output's name for it, and to --png's."""
+    exr = scene.render.image_settings
+    for frame in range(1, args.frames + 1):
+        scene.frame_set(frame)
+        scene.render.filepath = frame_name(args.output, frame)
+        bpy.ops.render.render(write_still=True)
+        if args.png:
+            image = bpy.data.images["Render Result"]
+            kept = (exr.file_format, exr.color_mode, exr.color_depth)
+            exr.file_format, exr.color_mode, exr.color_depth = "PNG", "RGB", "8"
+            image.save_render(frame_name(args.png, frame), scene=scene)
+            exr.file_format, exr.color_mode, exr.color_depth = kept
 
 
 def main():
     args = arguments()
     scene = bpy.context.scene
     build_set()
-    place_camera(scene)
+    place_camera(scene, args)
     configure(scene, args)
     if args.blend:
         bpy.ops.wm.save_as_mainfile(filepath=args.blend)

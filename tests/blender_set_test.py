@@ -7,8 +7,11 @@ examples/blender_set.py builds and renders the dam break's tank in Blender
 on the pictures: around the liquid the composite is Blender's own picture
 (within 3 codes of its PNG), the liquid is seen in the tank, and where the
 pillar in front of the tank stands (projected with the exported camera) the
-pillar hides the liquid. A wrong camera, field of view, up axis or depth
-convention puts the liquid over the pillar or outside the tank. Skipped
+pillar hides the liquid. The same for a camera turning over three frames:
+the camera path (blender_camera.py --path) and the backdrop sequence
+(--backdrop 'turn_####.exr'), each frame against its own picture. A wrong
+camera, field of view, up axis, depth convention or frame of the sequence
+puts the liquid over the pillar or outside the tank. Skipped
 (exit 77, ctest's SKIP_RETURN_CODE) where Blender is not installed.
 
 Usage: blender_set_test.py MENISCUS_EXECUTABLE
@@ -94,19 +97,9 @@ def project(camera, point):
     return (W / 2.0 + focal * dot(d, right) / dot(d, forward), H / 2.0 - focal * dot(d, up) / dot(d, forward))
 
 
-with tempfile.TemporaryDirectory() as tmp:
-    exr, png, blend = (os.path.join(tmp, n) for n in ("set.exr", "set.png", "set.blend"))
-    scene_file, composite = os.path.join(tmp, "scene.json"), os.path.join(tmp, "composite.png")
-    run([blender, "-b", "--factory-startup", "--python-exit-code", "2", "--python",
-         os.path.join(ROOT, "examples", "blender_set.py"), "--", exr, "--blend", blend, "--png", png,
-         "--width", str(W), "--height", str(H), "--samples", "4"])
-    run([blender, "-b", blend, "--python-exit-code", "2", "--python", os.path.join(ROOT, "examples", "blender_camera.py"),
-         "--", scene_file, "--particles-up", "y", "--particles", FRAME, "--backdrop", exr])
-    with open(scene_file) as f:
-        scene = json.load(f)
-    assert scene["width"] == W and scene["height"] == H, scene
-    run([meniscus, "render", scene_file, "-o", composite])
-    blender_rows, composite_rows = read_png(png), read_png(composite)
+def check(set_png, composite_png, camera, what):
+    """The composite against Blender's own picture of the set, seen by `camera`."""
+    blender_rows, composite_rows = read_png(set_png), read_png(composite_png)
 
     def difference(x, y):
         return max(abs(a - b) for a, b in zip(blender_rows[y][x], composite_rows[y][x]))
@@ -114,19 +107,51 @@ with tempfile.TemporaryDirectory() as tmp:
     diffs = [difference(x, y) for y in range(H) for x in range(W)]
     kept = sum(d <= 3 for d in diffs) / len(diffs)
     liquid = sum(d > 12 for d in diffs) / len(diffs)
-    print("Blender's own picture kept on %.1f%% of the pixels, the liquid on %.1f%%" % (100 * kept, 100 * liquid))
-    assert kept > 0.5, kept
-    assert liquid > 0.04, liquid
     # The pillar (examples/blender_set.py: radius 0.09 m at data x = -0.55,
     # z = 1.2, in front of the tank): its axis's pixels at the liquid's
     # heights show the pillar, and the liquid is seen just beside it.
     hidden = beside = 0
     for height in (0.45, 0.55, 0.65, 0.75):  # (lower, the rim in front of the tank is behind it)
-        x, y = project(scene["camera"], [-0.55, height, 1.2])
+        x, y = project(camera, [-0.55, height, 1.2])
         column, row = int(x), int(y)
         hidden += difference(column, row) <= 3
         beside += max(difference(column + k, row) for k in (-6, -5, 5, 6)) > 12
-    print("pillar: hides the liquid at %d of 4 heights, the liquid seen beside it at %d" % (hidden, beside))
-    assert hidden == 4, hidden
-    assert beside == 4, beside
-print("blender_set.py: the set composited with the liquid as Blender rendered it")
+    print("%s: Blender's own picture kept on %.1f%% of the pixels, the liquid on %.1f%%; the pillar hides the liquid "
+          "at %d of 4 heights, the liquid seen beside it at %d" % (what, 100 * kept, 100 * liquid, hidden, beside))
+    assert kept > 0.5, (what, kept)
+    assert liquid > 0.04, (what, liquid)
+    assert hidden == 4, (what, hidden)
+    assert beside == 4, (what, beside)
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    at = lambda name: os.path.join(tmp, name)
+    set_script, camera_script = (os.path.join(ROOT, "examples", n) for n in ("blender_set.py", "blender_camera.py"))
+    size = ["--width", str(W), "--height", str(H), "--samples", "4"]
+    # A still: the set, its camera as a render scene file, the composite.
+    run([blender, "-b", "--factory-startup", "--python-exit-code", "2", "--python", set_script, "--", at("set.exr"),
+         "--blend", at("set.blend"), "--png", at("set.png")] + size)
+    run([blender, "-b", at("set.blend"), "--python-exit-code", "2", "--python", camera_script, "--", at("scene.json"),
+         "--particles-up", "y", "--particles", FRAME, "--backdrop", at("set.exr")])
+    with open(at("scene.json")) as f:
+        scene = json.load(f)
+    assert scene["width"] == W and scene["height"] == H, scene
+    run([meniscus, "render", at("scene.json"), "-o", at("composite.png")])
+    check(at("set.png"), at("composite.png"), scene["camera"], "still")
+    # A moving camera: three frames of the set turning 30 degrees, the camera
+    # path, and the backdrop sequence, each frame over its own picture.
+    run([blender, "-b", "--factory-startup", "--python-exit-code", "2", "--python", set_script, "--",
+         at("turn_####.exr"), "--blend", at("turn.blend"), "--png", at("turn_####.png"), "--frames", "3", "--fps", "15",
+         "--orbit", "30"] + size)
+    run([blender, "-b", at("turn.blend"), "--python-exit-code", "2", "--python", camera_script, "--", at("path.json"),
+         "--particles-up", "y", "--path"])
+    with open(at("path.json")) as f:
+        path = json.load(f)
+    assert len(path) == 3 and abs(path[2]["time"] - 2.0 / 15.0) < 1e-9, path
+    run([meniscus, "render", FRAME, "--frames", "3", "--fps", "15", "--width", str(W), "--height", str(H),
+         "--camera-path", at("path.json"), "--backdrop", at("turn_####.exr"), "--backdrop-depth-kind", "blender",
+         "-o", at("turn_%d.png")])
+    for k in range(3):
+        check(at("turn_%04d.png" % (k + 1)), at("turn_%d.png" % k), path[k], "moving camera, frame %d" % (k + 1))
+    assert read_png(at("turn_0001.png")) != read_png(at("turn_0003.png"))  # the set seen from elsewhere
+print("blender_set.py: the set composited with the liquid as Blender rendered it, still and moving")

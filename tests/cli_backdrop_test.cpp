@@ -76,6 +76,47 @@ TEST(CliBackdrop, ErrorsNameTheFileOrTheSizes) {
     EXPECT_FALSE(fs::exists(dir / "f.png"));
 }
 
+// A backdrop sequence (a run of # in the name, as Blender names an
+// animation's frames): frame i of the render is drawn over file
+// --backdrop-first + i, exactly as over that file alone; a missing file fails
+// its frame, naming the file and the frame.
+TEST(CliBackdrop, ASequenceGivesEachFrameItsOwnPicture) {
+    const fs::path dir = tempDir() / "cli_backdrop_sequence";
+    fs::create_directories(dir);
+    const fs::path in = testData("splishsplash/partio/ParticleData_Fluid_21.bgeo");
+    const std::string base = "render " + shellQuote(in) + " --width 64 --height 36" + kCamera;
+    std::string out;
+    // Two pictures of the set: the studio, and the floor alone under another light.
+    ASSERT_EQ(runCli(base + " -o " + shellQuote(dir / "set_0001.exr"), &out), 0) << out;
+    ASSERT_EQ(runCli(base + " --background floor --light -1,2,-1 -o " + shellQuote(dir / "set_0002.exr"), &out), 0)
+        << out;
+    for (const char* n : {"0001", "0002"})
+        ASSERT_EQ(runCli(base + " --backdrop " + shellQuote(dir / ("set_" + std::string(n) + ".exr")) + " -o " +
+                             shellQuote(dir / ("alone_" + std::string(n) + ".png")),
+                         &out),
+                  0)
+            << out;
+    const std::string sequence = " --backdrop " + shellQuote(dir / "set_####.exr");
+    ASSERT_EQ(runCli(base + sequence + " --frames 2 -o " + shellQuote(dir / "seq_%d.png"), &out), 0) << out;
+    const auto first = readPng(dir / "seq_0.png"), second = readPng(dir / "seq_1.png");
+    EXPECT_EQ(first.bytes, readPng(dir / "alone_0001.png").bytes);
+    EXPECT_EQ(second.bytes, readPng(dir / "alone_0002.png").bytes);
+    EXPECT_NE(first.bytes, second.bytes);
+    // --backdrop-first: the sequence starts at another file.
+    ASSERT_EQ(runCli(base + sequence + " --backdrop-first 2 -o " + shellQuote(dir / "from2.png"), &out), 0) << out;
+    EXPECT_EQ(readPng(dir / "from2.png").bytes, second.bytes);
+    // A third frame has no picture: its frame fails, naming the file.
+    EXPECT_EQ(runCli(base + sequence + " --frames 3 -o " + shellQuote(dir / "three_%d.png"), &out), 1);
+    EXPECT_NE(out.find("set_0003.exr"), std::string::npos) << out;
+    EXPECT_NE(out.find("frame 3 of the sequence"), std::string::npos) << out;
+    EXPECT_NE(out.find("--on-error skip"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "three_2.png"));
+    // The first file is checked before any frame is drawn.
+    EXPECT_EQ(runCli(base + sequence + " --backdrop-first 5 -o " + shellQuote(dir / "none.png"), &out), 1);
+    EXPECT_NE(out.find("set_0005.exr"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "none.png"));
+}
+
 // A scene file's `backdrop` key is a path relative to the scene file.
 TEST(CliBackdrop, SceneFileKeyIsRelativeToTheFile) {
     const fs::path dir = dirWithFrame("scene_backdrop");

@@ -102,6 +102,21 @@ TEST(OptionTable, DefaultTextsAreTheFieldsDefaults) {
     EXPECT_EQ(findRenderOption("noise_bump"), findRenderOption("noise-bump"));
 }
 
+// Blender's frame names: the last run of '#' is the frame number, padded to
+// the run's length (longer numbers keep every digit).
+TEST(BackdropSequence, TheLastRunOfHashesIsTheFrameNumber) {
+    EXPECT_EQ(backdropFrameName("set_####.exr", 7), "set_0007.exr");
+    EXPECT_EQ(backdropFrameName("a#/set_##.exr", 12345), "a#/set_12345.exr");
+    EXPECT_EQ(backdropFrameName("##_frame.exr", 0), "00_frame.exr");
+    EXPECT_EQ(backdropFrameName("set.exr", 3), "set.exr");
+    RenderOptions o;
+    EXPECT_FALSE(backdropSequence(o));
+    o.backdrop = "set.png";
+    EXPECT_FALSE(backdropSequence(o));
+    o.backdropDepth = "z_###.exr";
+    EXPECT_TRUE(backdropSequence(o));
+}
+
 TEST(RenderSettingsFromOptions, TheDefaultsAreTheLibrarysDefaults) {
     const RenderOptions defaults;  // (a named object: GCC 12 misreads a temporary's strings as uninitialised)
     auto s = renderSettings(defaults);

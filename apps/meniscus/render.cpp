@@ -414,6 +414,14 @@ int renderFrames(Cluster& cluster, const RenderJob& o, const Frames& frames, con
             continue;
         }
         settings.camera = cameraForFrame(start, motion, i);
+        // A backdrop sequence: this frame's picture of the set (as Blender
+        // rendered it from the camera path's key of this frame).
+        if (backdropSequence(o))
+            if (auto st = backdropForFrame(o, i, settings); !st) {
+                if (auto code = settle()) return *code;
+                if (auto code = failedFrame(i, st.error())) return *code;
+                continue;
+            }
         Result<ParticleSet> set = next(i);
         // Composited: a frame one process cannot read is a failure on all (they
         // would otherwise wait for its splat).

@@ -103,9 +103,13 @@ struct RenderOptions {
     // of the set (colour, and its depth in the same file or in backdropDepth),
     // made by this camera at this size, drawn in the studio's place; its depth
     // values' meaning (parseBackdropDepth). Empty: the studio.
+    // A run of '#' in either file's name makes a sequence, as Blender names an
+    // animation's frames: frame i of a sequence is drawn over the files whose
+    // last run of '#' is backdropFirst + i, zero-padded to the run's length.
     std::string backdrop;
     std::string backdropDepth;
     std::string backdropDepthKind = "linear";
+    int backdropFirst = 1;  // frame number of the sequence's first file (Blender's default start)
     // Scene geometry drawn around the liquid (readGeometry, docs/geometry.md):
     // each a mesh file, a SPlisHSPlasH scene file, or geometry objects as JSON.
     std::vector<std::string> geometry;
@@ -411,6 +415,16 @@ Result<std::shared_ptr<const EnvironmentImage>> renderEnvironment(const std::str
 // files and depth kind stay the same.
 Result<std::shared_ptr<const BackdropImage>> renderBackdrop(const std::string& color, const std::string& depth,
                                                             const std::string& depthKind);
+// A backdrop sequence (RenderOptions::backdrop or backdropDepth naming a run
+// of '#'): whether `o` has one; the name of the file of frame number
+// `number` (the last run of '#' replaced by it, zero-padded to the run's
+// length; a name without '#' is returned as it is); and the backdrop of
+// frame i of a render (backdropFirst + i) read (renderBackdrop) and checked
+// against the picture's size into settings.scene.backdrop. Errors name the
+// option, the frame and the file.
+bool backdropSequence(const RenderOptions& o);
+std::string backdropFrameName(const std::string& pattern, std::int64_t number);
+Status backdropForFrame(const RenderOptions& o, std::size_t i, RenderSettings& settings);
 
 Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<std::string>& specs,
                                                             const glm::vec3& upAxis, bool cutAway = true);

@@ -243,6 +243,12 @@ std::vector<RenderOptionSpec> makeRenderTable() {
     t.push_back(row("backdrop-depth", G::Look, "",
                     "The backdrop's depth as its own OpenEXR file: its Z channel, or its only channel",
                     [](R& o) -> OptionRef { return &o.backdropDepth; }));
+    t.push_back(ranged(row("backdrop-first", G::Look, "frame number",
+                           "With a backdrop sequence (a run of # in --backdrop or --backdrop-depth, as Blender names "
+                           "an animation's frames: set_####.exr): the number of the file drawn behind the first "
+                           "frame; frame i is drawn over file backdrop-first + i",
+                           [](R& o) -> OptionRef { return &o.backdropFirst; }),
+                       0.0, 999999999.0));
     t.push_back(row("backdrop-depth-kind", G::Look, "",
                     "What the backdrop's depth values are: linear (metres from the camera's plane), ray (metres "
                     "from the camera along the pixel's ray), blender (Blender 3+'s Z pass), window:NEAR,FAR "
@@ -1117,6 +1123,37 @@ Result<std::shared_ptr<const BackdropImage>> renderBackdrop(const std::string& c
     return shared;
 }
 
+bool backdropSequence(const RenderOptions& o) {
+    return o.backdrop.find('#') != std::string::npos || o.backdropDepth.find('#') != std::string::npos;
+}
+
+std::string backdropFrameName(const std::string& pattern, std::int64_t number) {
+    const std::size_t last = pattern.rfind('#');
+    if (last == std::string::npos) return pattern;
+    std::size_t first = last;
+    while (first > 0 && pattern[first - 1] == '#') --first;
+    std::string digits = std::to_string(number < 0 ? -number : number);
+    const std::size_t width = last + 1 - first;
+    if (digits.size() < width) digits.insert(0, width - digits.size(), '0');
+    if (number < 0) digits.insert(0, 1, '-');
+    return pattern.substr(0, first) + digits + pattern.substr(last + 1);
+}
+
+Status backdropForFrame(const RenderOptions& o, std::size_t i, RenderSettings& s) {
+    const std::int64_t number = std::int64_t(o.backdropFirst) + std::int64_t(i);
+    const bool sequence = backdropSequence(o);
+    const std::string color = backdropFrameName(o.backdrop, number);
+    const std::string depth = backdropFrameName(o.backdropDepth, number);
+    const std::string which = sequence ? "--backdrop (frame " + std::to_string(number) + " of the sequence): "
+                                       : std::string("--backdrop: ");
+    auto backdrop = renderBackdrop(color, depth, o.backdropDepthKind);
+    if (!backdrop) return makeError(backdrop.error().file, which + backdrop.error().message);
+    if (auto st = checkBackdropSize(**backdrop, o.width, o.height); !st)
+        return makeUsageError(st.error().file, which + st.error().message);
+    s.scene.backdrop = std::move(*backdrop);
+    return okStatus();
+}
+
 Result<std::shared_ptr<const SceneGeometry>> renderGeometry(const std::vector<std::string>& specs,
                                                             const glm::vec3& upAxis, bool cutAway) {
     auto up = upRotation(upAxis);
@@ -1250,13 +1287,8 @@ Result<RenderSettings> renderSettings(const RenderOptions& o, bool diffuse) {
         return makeUsageError("", "--backdrop-depth-kind " + kind.error().message);
     if (!o.backdropDepth.empty() && o.backdrop.empty())
         return makeUsageError("", "--backdrop-depth " + o.backdropDepth + ": give the colour with --backdrop");
-    if (!o.backdrop.empty()) {
-        auto backdrop = renderBackdrop(o.backdrop, o.backdropDepth, o.backdropDepthKind);
-        if (!backdrop) return makeError(backdrop.error().file, "--backdrop: " + backdrop.error().message);
-        if (auto st = checkBackdropSize(**backdrop, o.width, o.height); !st)
-            return makeUsageError(st.error().file, "--backdrop: " + st.error().message);
-        s.scene.backdrop = std::move(*backdrop);
-    }
+    if (!o.backdrop.empty())  // (a sequence: its first file, checked here; the others per frame)
+        if (auto st = backdropForFrame(o, 0, s); !st) return st.error();
     const bool noise = o.stages.noise.enabled, whiten = o.stages.whitening.enabled;
     const bool spray = o.stages.spray.enabled, silhouette = o.stages.silhouette.enabled;
     if (noise)
