@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """Opens mesh files with VTK's own readers (what ParaView uses: vtkPLYReader,
-vtkOBJReader) and counts, from the triangles VTK read, the edges not shared by
-exactly two triangles (numpy; vtkFeatureEdges of VTK 9.1 runs out of memory on
-meshes of a million triangles). Needs python3-vtk9 and numpy (not part of CI).
-Exit 1 when a file does not load, has no normals, or has such an edge.
+vtkOBJReader, vtkXMLPolyDataReader for .vtp, vtkPolyDataReader for .vtk) and
+counts, from the triangles VTK read, the edges not shared by exactly two
+triangles (numpy; vtkFeatureEdges of VTK 9.1 runs out of memory on meshes of a
+million triangles), and lists the point data arrays VTK found (name,
+components, range). Needs python3-vtk9 and numpy (not part of CI). Exit 1 when
+a file does not load, has no normals, or has such an edge.
 
-    /usr/bin/python3 scripts/check_mesh_vtk.py f21.ply m_0021.obj
+    /usr/bin/python3 scripts/check_mesh_vtk.py f21.ply m_0021.obj m_0021.vtp m_0021.vtk
 """
 import sys
 
@@ -15,8 +17,14 @@ from vtk.util.numpy_support import vtk_to_numpy
 
 bad = 0
 for path in sys.argv[1:]:
-    reader = vtk.vtkOBJReader() if path.lower().endswith(".obj") else vtk.vtkPLYReader()
+    ext = path.lower().rsplit(".", 1)[-1]
+    reader = {"obj": vtk.vtkOBJReader, "vtp": vtk.vtkXMLPolyDataReader, "vtk": vtk.vtkPolyDataReader}.get(
+        ext, vtk.vtkPLYReader)()
     reader.SetFileName(path)
+    if ext == "vtk":
+        reader.ReadAllScalarsOn()
+        reader.ReadAllVectorsOn()
+        reader.ReadAllFieldsOn()
     reader.Update()
     mesh = reader.GetOutput()
     polys = mesh.GetPolys()
@@ -29,6 +37,12 @@ for path in sys.argv[1:]:
     open_edges = int(np.count_nonzero(uses != 2))
     print(f"{path}: {mesh.GetNumberOfPoints()} points, {mesh.GetNumberOfCells()} triangles, "
           f"normals {'yes' if normals else 'no'}, open or non-manifold edges {open_edges}")
+    data = mesh.GetPointData()
+    for k in range(data.GetNumberOfArrays()):
+        a = data.GetArray(k)
+        ranges = [a.GetRange(c) for c in range(a.GetNumberOfComponents())]
+        print(f"  point data {a.GetName()}: {a.GetNumberOfComponents()} components, "
+              + ", ".join(f"[{lo:.4g}, {hi:.4g}]" for lo, hi in ranges))
     if mesh.GetNumberOfCells() == 0 or not normals or open_edges:
         bad += 1
 sys.exit(1 if bad else 0)

@@ -66,6 +66,43 @@ TEST(CliMesh, SequenceToNumberedFiles) {
     EXPECT_FALSE(fs::exists(dir / "one.ply"));
 }
 
+// A sequence for ParaView: .vtp meshes with the attributes asked for, and the
+// collection beside them listing each at its frame's number; OBJ refuses
+// attributes, an unknown attribute is named with those the files have.
+TEST(CliMesh, VtkSequenceWithAttributesAndItsCollection) {
+    const fs::path dir = tempDir() / "cli_mesh_vtk";
+    fs::create_directories(dir / "in");
+    for (int k : {9, 21}) {
+        const std::string name = "ParticleData_Fluid_" + std::to_string(k) + ".bgeo";
+        fs::copy_file(testData("splishsplash/partio/" + name), dir / "in" / name, fs::copy_options::overwrite_existing);
+    }
+    std::string out;
+    ASSERT_EQ(runCli("mesh " + shellQuote(dir / "in") + " -o " + shellQuote(dir / "out" / "m_%04d.vtp") +
+                         " --cube-size 1 --interpolate velocity,density",
+                     &out),
+              0)
+        << out;
+    auto pvd = meniscus::readPvd(dir / "out" / "m.pvd");
+    ASSERT_TRUE(pvd.ok()) << pvd.error().describe();
+    ASSERT_EQ(pvd->files.size(), 2u);
+    EXPECT_EQ(pvd->files[0].filename(), "m_0009.vtp");
+    EXPECT_EQ(pvd->files[1].filename(), "m_0021.vtp");
+    auto back = meniscus::readParticles(dir / "out" / "m_0021.vtp");
+    ASSERT_TRUE(back.ok()) << back.error().describe();
+    EXPECT_NE(back->find("velocity"), nullptr);
+    EXPECT_NE(back->find("density"), nullptr);
+    EXPECT_NE(back->find("Normals"), nullptr);
+    EXPECT_EQ(runCli("mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / "f.obj") + " --interpolate velocity", &out),
+              2);
+    EXPECT_NE(out.find("OBJ has no place for vertex attributes"), std::string::npos) << out;
+    EXPECT_EQ(runCli("mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / "f.vtk") + " --interpolate pressure", &out),
+              1);
+    EXPECT_NE(out.find("--interpolate pressure: the particles have no such attribute (they have: "), std::string::npos)
+        << out;
+    EXPECT_FALSE(fs::exists(dir / "f.obj"));
+    EXPECT_FALSE(fs::exists(dir / "f.vtk"));
+}
+
 TEST(CliMesh, BadInputAndOptionsFailCleanly) {
     const fs::path dir = tempDir();
     std::string out;
@@ -99,7 +136,7 @@ TEST(CliMesh, OutputExtensionInAnyCase) {
     EXPECT_EQ(std::string(obj.begin(), obj.begin() + 21), "# written by meniscus");
     for (const char* name : {"x.stl", "x", "x.ply.gz"}) {
         EXPECT_EQ(runCli("mesh " + shellQuote(kFrame) + " -o " + shellQuote(dir / name), &out), 1) << name;
-        EXPECT_NE(out.find((dir / name).string() + ": output must end in .ply or .obj"), std::string::npos) << out;
+        EXPECT_NE(out.find((dir / name).string() + ": output must end in .ply, .obj, .vtp or .vtk"), std::string::npos) << out;
         EXPECT_FALSE(fs::exists(dir / name)) << name;
     }
 }

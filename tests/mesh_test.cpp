@@ -45,6 +45,12 @@ const Spoilt kSpoilt[] = {
      "vertex 2 has a non-finite normal"},
     {"a normal missing", [](TriangleMesh& m) { m.normals.pop_back(); }, "3 normals for 4 vertices"},
     {"a normal too many", [](TriangleMesh& m) { m.normals.push_back({0, 1, 0}); }, "5 normals for 4 vertices"},
+    {"an attribute short of a value",
+     [](TriangleMesh& m) { m.attributes.push_back({"speed", AttributeType::Float, 1, {1, 2, 3}, {}}); },
+     "vertex attribute speed: 3 float values for 4 vertices of 1 components"},
+    {"an attribute without a name",
+     [](TriangleMesh& m) { m.attributes.push_back({"", AttributeType::Float, 1, {1, 2, 3, 4}, {}}); },
+     "a vertex attribute has no name"},
 };
 
 }  // namespace
@@ -93,10 +99,11 @@ TEST(MeshValidate, NormalsCanBeRequired) {
 TEST(MeshValidate, WritersRefuseBrokenMeshes) {
     const auto dir = test::tempDir();
     for (const Spoilt& c : kSpoilt) {
-        for (MeshFormat format : {MeshFormat::Ply, MeshFormat::Obj}) {
+        for (const char* name : {"bad.ply", "bad.obj", "bad.vtp", "bad.vtk"}) {
+            const MeshFormat format = *meshFormatOf(name);
             TriangleMesh m = tetrahedron();
             c.spoil(m);
-            const std::filesystem::path out = dir / (format == MeshFormat::Ply ? "bad.ply" : "bad.obj");
+            const std::filesystem::path out = dir / name;
             const Status st = writeMesh(out, m, format);
             ASSERT_FALSE(st.ok()) << c.what;
             EXPECT_EQ(st.error().file, out.string());
@@ -115,16 +122,17 @@ TEST(MeshFormat, ByExtensionInAnyCase) {
     const std::pair<const char*, MeshFormat> known[] = {
         {"a.ply", MeshFormat::Ply}, {"dir.obj/A.PLY", MeshFormat::Ply}, {"mesh_%04d.Ply", MeshFormat::Ply},
         {"a.obj", MeshFormat::Obj}, {"A.OBJ", MeshFormat::Obj},         {"dir.ply/mesh_%04d.oBj", MeshFormat::Obj},
+        {"a.vtp", MeshFormat::Vtp}, {"m_%04d.VTP", MeshFormat::Vtp},    {"a.vtk", MeshFormat::VtkLegacy},
     };
     for (const auto& [name, format] : known) {
         auto f = meshFormatOf(name);
         ASSERT_TRUE(f.ok()) << name;
         EXPECT_EQ(*f, format) << name;
     }
-    for (const char* name : {"a.stl", "a", "a.ply.gz", ".obj", "dir.obj/a"}) {
+    for (const char* name : {"a.stl", "a", "a.ply.gz", ".obj", "dir.obj/a", "a.vtu"}) {
         auto f = meshFormatOf(name);
         ASSERT_FALSE(f.ok()) << name;
-        EXPECT_EQ(f.error().describe(), std::string(name) + ": output must end in .ply or .obj");
+        EXPECT_EQ(f.error().describe(), std::string(name) + ": output must end in .ply, .obj, .vtp or .vtk");
     }
 }
 }  // namespace mesh_test_local

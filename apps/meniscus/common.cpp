@@ -377,11 +377,15 @@ Status Frames::checkOutput(const std::string& output, const char* example) const
     return okStatus();
 }
 
+long Frames::outputNumber(std::size_t i) const {
+    if (renumber || repeat) return long(i);
+    const long number = embedded ? 0 : frameNumberOf(files[i]);  // run.h5part/Step#12 -> 12
+    return number >= 0 ? number : long(i);
+}
+
 Result<std::string> Frames::outputName(const std::string& output, std::size_t i) const {
     if (output.find('%') == std::string::npos) return output;
-    if (renumber || repeat) return formatFramePattern(output, long(i));
-    const long number = embedded ? 0 : frameNumberOf(files[i]);  // run.h5part/Step#12 -> 12
-    return formatFramePattern(output, number >= 0 ? number : long(i));
+    return formatFramePattern(output, outputNumber(i));
 }
 
 void printSmoothingLengthNote(const std::string& attribute, float hPerSpacing) {

@@ -163,6 +163,8 @@ struct Frames {
     // frame's own number (its file name's last digits), else its position
     // (always its position for a repeated input).
     Result<std::string> outputName(const std::string& output, std::size_t i) const;
+    // The number outputName gives frame i.
+    long outputNumber(std::size_t i) const;
 };
 Result<Frames> openFrames(const std::string& input, const ParticleSet* embedded,
                           float hPerSpacing = defaults::kHPerSpacing);

@@ -273,9 +273,13 @@ Status writeExrAovs(const std::filesystem::path& path, const Aovs& aovs);
 // Blender, Houdini, ParaView, MeshLab. Written to a temporary name and renamed;
 // a mesh TriangleMesh::validate() refuses (normals are optional) is an error
 // naming the file, and nothing is written.
-enum class MeshFormat { Ply, Obj };
-// The format a mesh file's extension names, in any case: .ply or .obj; any
-// other extension, or none, is an error naming the file.
+// Vertex attributes (TriangleMesh::attributes) go into PLY (float properties
+// NAME, or NAME_x/_y/_z) and both VTK formats (point data); OBJ has no place
+// for them.
+enum class MeshFormat { Ply, Obj, Vtp, VtkLegacy };
+// The format a mesh file's extension names, in any case: .ply, .obj, .vtp (VTK
+// XML PolyData) or .vtk (legacy binary POLYDATA); any other extension, or
+// none, is an error naming the file.
 Result<MeshFormat> meshFormatOf(const std::filesystem::path& path);
 Status writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh, MeshFormat format);
 

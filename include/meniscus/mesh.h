@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "meniscus/result.h"
+#include "meniscus/types.h"
 
 namespace meniscus {
 
@@ -17,6 +18,10 @@ struct TriangleMesh {
     std::vector<glm::vec3> positions;     // world space, metres
     std::vector<glm::vec3> normals;       // one unit normal per vertex, pointing out of the fluid
     std::vector<std::uint32_t> indices;   // three per triangle, counter-clockwise seen from outside
+    // Values per vertex (interpolateAttributes: the particles' attributes,
+    // Float): `components` values per vertex each, written by the PLY and VTK
+    // writers.
+    std::vector<Attribute> attributes;
 
     std::size_t vertexCount() const { return positions.size(); }
     std::size_t triangleCount() const { return indices.size() / 3; }
@@ -25,7 +30,8 @@ struct TriangleMesh {
     // OK when the mesh holds together, as every consumer (the writers, both
     // rasterisers) assumes: whole triangles, at most 2^32 - 1 of them, every
     // index below vertexCount(), one normal per vertex (or, unless
-    // `needNormals`, none at all), finite positions and normals. Otherwise an
+    // `needNormals`, none at all), finite positions and normals, each
+    // attribute named, Float, with its values for every vertex. Otherwise an
     // error (no file: the caller says whose mesh it is) naming the first
     // problem, e.g. "triangle 3 has vertex index 9, out of range (8 vertices)".
     Status validate(bool needNormals = false) const;

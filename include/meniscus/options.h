@@ -184,6 +184,9 @@ struct MeshOptions {
     float radius = 0.0f;  // metres; 0 = the file's radii, else estimated (resolveRadius)
     bool stats = false;   // each frame's phases, sizes and peak memory on stderr
     bool resume = false;  // leave outputs that are already complete (convert's --resume too)
+    // Particle attributes interpolated onto the vertices (interpolateAttributes),
+    // each a name or a comma-separated list of names.
+    std::vector<std::string> interpolate;
 };
 
 // `simulate`'s options besides the images' look (simulateOptionTable); view

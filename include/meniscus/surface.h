@@ -52,6 +52,19 @@ struct MeshStats {
 Result<TriangleMesh> extractSurface(const ParticleView& particles, const MeshParams& params,
                                     MeshStats* stats = nullptr);
 
+// Attributes on the vertices (docs/meshes.md#attributes): each particle
+// attribute named (velocity, density, fluid, any other the set carries)
+// interpolated at every vertex by the SPH cubic spline of support `supportM`
+// (metres; the mesher's SPH support, MeshStats::supportM) normalised by the
+// kernel sum, and appended to mesh.attributes as Float values of the same
+// name and components (an Int attribute, such as the fluid index, becomes a
+// weighted mean). The same values for any thread count (0: all cores). An
+// error names an attribute the particles do not have (listing those they
+// have), one named twice, or a vertex no particle reaches (a mesh not made
+// from these particles); mesh.attributes is then as it was.
+Status interpolateAttributes(const ParticleSet& particles, const std::vector<std::string>& names, float supportM,
+                             TriangleMesh& mesh, int threads = 0);
+
 // The field's value (normalised: 1 = fluid at rest) at a point, summed over all
 // particles directly (no grid): what the tests check vertices against.
 double surfaceFieldValue(const ParticleView& particles, const MeshParams& params, const glm::vec3& point);

@@ -30,6 +30,14 @@ Status TriangleMesh::validate(bool needNormals) const {
         if (!normals.empty() && !finite(normals[i]))
             return makeError("", "vertex " + std::to_string(i) + " has a non-finite normal");
     }
+    for (const Attribute& a : attributes) {
+        if (a.name.empty()) return makeError("", "a vertex attribute has no name");
+        if (a.type != AttributeType::Float || a.components < 1 || !a.ints.empty() ||
+            a.floats.size() != nv * std::size_t(a.components))
+            return makeError("", "vertex attribute " + a.name + ": " + std::to_string(a.floats.size()) +
+                                     " float values for " + std::to_string(nv) + " vertices of " +
+                                     std::to_string(a.components) + " components");
+    }
     return okStatus();
 }
 

@@ -1,7 +1,9 @@
 // Mesh files: binary little-endian PLY (the default; compact, what splashsurf
-// writes) and Wavefront OBJ. Written in one buffered pass through
-// writeAtomically, so a failed write leaves no file behind.
+// writes), Wavefront OBJ, and VTK PolyData for ParaView (.vtp, .vtk:
+// mesh_vtk_writer.cpp). Written in one buffered pass through writeAtomically,
+// so a failed write leaves no file behind.
 #include <bit>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -10,6 +12,8 @@
 #include <vector>
 
 #include "atomic_file.h"
+#include "io/byte_out.h"
+#include "io/particle_writers.h"
 #include "io_util.h"
 #include "meniscus/io.h"
 
@@ -34,19 +38,38 @@ Status writeWith(const std::filesystem::path& path, const std::function<bool(std
     });
 }
 
+// A PLY property name for component c of an attribute: the name (letters,
+// digits and '_' kept, anything else '_'), with _x, _y, _z for three
+// components and _0, _1, ... for other counts above one.
+std::string plyProperty(const Attribute& a, int c) {
+    std::string name;
+    for (const char ch : a.name) name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+    if (a.components == 3) return name + "_" + char('x' + c);
+    if (a.components > 1) return name + "_" + std::to_string(c);
+    return name;
+}
+
 bool writePly(std::FILE* fp, const TriangleMesh& m) {
     const bool normals = !m.normals.empty();
     std::string header = "ply\nformat binary_little_endian 1.0\ncomment written by meniscus (isosurface path)\n";
     header += "element vertex " + std::to_string(m.positions.size()) + "\n";
     header += "property float x\nproperty float y\nproperty float z\n";
     if (normals) header += "property float nx\nproperty float ny\nproperty float nz\n";
+    std::size_t extra = 0;
+    for (const Attribute& a : m.attributes)
+        for (int c = 0; c < a.components; ++c, ++extra) header += "property float " + plyProperty(a, c) + "\n";
     header += "element face " + std::to_string(m.triangleCount()) + "\n";
     header += "property list uchar uint vertex_indices\nend_header\n";
     if (std::fwrite(header.data(), 1, header.size(), fp) != header.size()) return false;
+    std::vector<float> rec(6 + extra);
     for (std::size_t v = 0; v < m.positions.size(); ++v) {
-        float rec[6] = {m.positions[v].x, m.positions[v].y, m.positions[v].z, 0, 0, 0};
-        if (normals) std::memcpy(rec + 3, &m.normals[v], sizeof(float) * 3);
-        if (std::fwrite(rec, sizeof(float), normals ? 6 : 3, fp) != (normals ? 6u : 3u)) return false;
+        std::size_t k = 0;
+        for (int c = 0; c < 3; ++c) rec[k++] = m.positions[v][c];
+        if (normals)
+            for (int c = 0; c < 3; ++c) rec[k++] = m.normals[v][c];
+        for (const Attribute& a : m.attributes)
+            for (int c = 0; c < a.components; ++c) rec[k++] = a.floats[v * std::size_t(a.components) + std::size_t(c)];
+        if (std::fwrite(rec.data(), sizeof(float), k, fp) != k) return false;
     }
     for (std::size_t t = 0; t < m.triangleCount(); ++t) {
         unsigned char rec[13];
@@ -83,11 +106,24 @@ Result<MeshFormat> meshFormatOf(const std::filesystem::path& path) {
     const std::string ext = io_util::lower(path.extension().string());
     if (ext == ".ply") return MeshFormat::Ply;
     if (ext == ".obj") return MeshFormat::Obj;
-    return makeError(path.string(), "output must end in .ply or .obj");
+    if (ext == ".vtp") return MeshFormat::Vtp;
+    if (ext == ".vtk") return MeshFormat::VtkLegacy;
+    return makeError(path.string(), "output must end in .ply, .obj, .vtp or .vtk");
 }
 
 Status writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh, MeshFormat format) {
     if (auto st = mesh.validate(); !st) return makeError(path.string(), "cannot write the mesh: " + st.error().message);
+    if (format == MeshFormat::Vtp || format == MeshFormat::VtkLegacy) {
+        if (format == MeshFormat::VtkLegacy)
+            if (auto st = io_write::checkMeshVtkLegacy(mesh, path.string()); !st) return st;
+        return writeAtomically(path, [&](const std::filesystem::path& tmp) -> Status {
+            io_write::ByteOut out(tmp, 0);
+            if (format == MeshFormat::Vtp) io_write::writeMeshVtp(mesh, out);
+            else io_write::writeMeshVtkLegacy(mesh, out);
+            out.finish();
+            return okStatus();
+        });
+    }
     return writeWith(path, [&](std::FILE* fp) { return format == MeshFormat::Obj ? writeObj(fp, mesh) : writePly(fp, mesh); });
 }
 

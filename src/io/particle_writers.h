@@ -9,6 +9,7 @@
 #include <string>
 
 #include "io/byte_out.h"
+#include "meniscus/mesh.h"
 #include "meniscus/result.h"
 #include "meniscus/types.h"
 
@@ -25,6 +26,10 @@ void writeVtkLegacy(const ParticleSet& set, ByteOut& out);
 void writeVtu(const ParticleSet& set, ByteOut& out, bool polyData);  // vtu_writer.cpp
 Status checkPly(const ParticleSet& set, const std::string& file);    // ply_writer.cpp
 void writePly(const ParticleSet& set, ByteOut& out);
+// Meshes as VTK PolyData (mesh_vtk_writer.cpp): XML (.vtp) and legacy (.vtk).
+void writeMeshVtp(const TriangleMesh& mesh, ByteOut& out);
+Status checkMeshVtkLegacy(const TriangleMesh& mesh, const std::string& file);
+void writeMeshVtkLegacy(const TriangleMesh& mesh, ByteOut& out);
 
 // Component c of particle i of `a` in the given byte order: int32 for an Int
 // attribute (writeParticles has checked that the values fit), float32 for Float.

@@ -21,25 +21,11 @@
 #include <limits>
 
 #include "io/particle_writers.h"
+#include "io/vtk_names.h"
 
 namespace meniscus::io_write {
 
 namespace {
-
-std::string encodeName(const std::string& name) {
-    std::string out;
-    for (const char ch : name) {
-        const auto c = static_cast<unsigned char>(ch);
-        if (c <= ' ' || c >= 127 || c == '%' || c == '"') {
-            char hex[4];
-            std::snprintf(hex, sizeof hex, "%%%02X", c);
-            out += hex;
-        } else {
-            out += ch;
-        }
-    }
-    return out;
-}
 
 // The values of `a`, big-endian, then the newline that ends a block.
 void values(const ParticleSet& set, const Attribute& a, ByteOut& out) {
@@ -90,7 +76,7 @@ void writeVtkLegacy(const ParticleSet& set, ByteOut& out) {
     if (fields.empty()) return;
     out.text("FIELD FieldData " + std::to_string(fields.size()) + "\n");
     for (const Attribute* a : fields) {
-        out.text(encodeName(a->name) + " " + std::to_string(a->components) + " " + n + " " +
+        out.text(vtkLegacyName(a->name) + " " + std::to_string(a->components) + " " + n + " " +
                  (a->type == AttributeType::Int ? "int" : "float") + "\n");
         values(set, *a, out);
     }

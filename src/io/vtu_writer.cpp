@@ -16,44 +16,11 @@
 #include <limits>
 
 #include "io/particle_writers.h"
+#include "io/vtk_names.h"
 
 namespace meniscus::io_write {
 
 namespace {
-
-std::string xmlEscaped(const std::string& s) {
-    std::string out;
-    for (const char c : s) {
-        switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            case '\'': out += "&apos;"; break;
-            default: out += c;
-        }
-    }
-    return out;
-}
-
-// One appended array: its header line and its place in the appended data.
-struct Block {
-    std::string xml;          // the <DataArray .../> element without offset
-    std::uint64_t bytes = 0;  // data bytes (after the UInt64 count)
-};
-
-std::string dataArray(const std::string& type, const std::string& name, int components) {
-    std::string s = "<DataArray type=\"" + type + "\" Name=\"" + xmlEscaped(name) + "\"";
-    if (components != 1) s += " NumberOfComponents=\"" + std::to_string(components) + "\"";
-    return s + " format=\"appended\"";
-}
-
-// The element for `b` at appended offset `offset`; advances it past the block.
-std::string place(const Block& b, std::uint64_t& offset, const std::string& indent) {
-    std::string s = indent + b.xml + " offset=\"" + std::to_string(offset) + "\"/>\n";
-    offset += 8 + b.bytes;
-    return s;
-}
 
 template <class Index>
 void cellArrays(std::size_t n, bool polyData, ByteOut& out) {

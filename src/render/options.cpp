@@ -577,6 +577,12 @@ std::vector<MeshOptionSpec> makeMeshTable() {
                                "Leave the outputs that already exist and are complete (after an interrupted run) "
                                "and write only the others, the same bytes as a whole run",
                                [](M& o) -> OptionRef { return &o.resume; })));
+    t.push_back(row<M>("interpolate", G::Output, "",
+                       "Particle attributes carried onto the vertices, NAME[,NAME...] (velocity, density, fluid or "
+                       "any other the files have): each interpolated by the SPH kernel of the sph field's support, "
+                       "normalised by the kernel sum; written into .ply (float properties), .vtp and .vtk (point "
+                       "data), not .obj",
+                       [](M& o) -> OptionRef { return &o.interpolate; }));
     return t;
 }
 

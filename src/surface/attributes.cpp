@@ -1,0 +1,188 @@
+// Particle attributes on the mesh's vertices (docs/meshes.md#attributes):
+// each named attribute interpolated at every vertex x by the SPH cubic spline
+// W of support h (shared/sph_kernels.h, the mesher's own SPH kernel),
+// normalised by the kernel sum (Shepard's interpolation, the "normalised" SPH
+// interpolant of Koschier et al.'s SPH tutorial, Eurographics 2019, §3.1):
+//
+//   A(x) = sum_j A_j W(|x - x_j|, h) / sum_j W(|x - x_j|, h)
+//
+// The plain SPH sum, sum_j (m_j / rho_j) A_j W, sees only half a
+// neighbourhood at a free surface, which is where every vertex lies, and
+// would give a vertex about half its particles' velocity; the normalised one
+// reproduces a constant field exactly and a linear one to first order. Sums
+// in double, over the particles in one fixed order (sorted by grid cell, then
+// index), so the values are the same for any thread count.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
+
+#include "meniscus/surface.h"
+#include "shared/sph_kernels.h"
+
+namespace meniscus {
+
+namespace {
+
+// Cell keys of a grid of cell h: 21 bits per axis, z major, so the three
+// cells of a row (x - 1 .. x + 1) are one run of keys. Coordinates are
+// clamped to the grid's 2^21 cells a side: a far outlier shares an edge
+// cell, and the distance test keeps it out of every sum it does not reach.
+constexpr std::int64_t kAxisCells = std::int64_t(1) << 21;
+
+struct CellGrid {
+    glm::dvec3 origin{0.0};
+    double invCell = 0.0;
+    std::vector<std::uint64_t> keys;       // sorted
+    std::vector<std::uint32_t> particles;  // the particle of each key
+    std::vector<glm::vec3> positions;      // and its position, in the same order
+
+    std::int64_t axis(double v, int a) const {
+        const double c = std::floor((v - origin[a]) * invCell) + double(kAxisCells / 2);
+        return std::int64_t(std::clamp(c, 0.0, double(kAxisCells - 1)));
+    }
+    static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
+        return (std::uint64_t(z) << 42) | (std::uint64_t(y) << 21) | std::uint64_t(x);
+    }
+};
+
+CellGrid makeGrid(const std::vector<glm::vec3>& positions, double cell) {
+    CellGrid g;
+    glm::dvec3 lo(INFINITY);
+    for (const glm::vec3& p : positions) lo = glm::min(lo, glm::dvec3(p));
+    g.origin = lo;
+    g.invCell = 1.0 / cell;
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(positions.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, positions.size()), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            const glm::vec3& p = positions[i];
+            keyed[i] = {CellGrid::key(g.axis(p.x, 0), g.axis(p.y, 1), g.axis(p.z, 2)), std::uint32_t(i)};
+        }
+    });
+    tbb::parallel_sort(keyed.begin(), keyed.end());  // unique pairs: one order for any split
+    g.keys.resize(keyed.size());
+    g.particles.resize(keyed.size());
+    g.positions.resize(keyed.size());
+    for (std::size_t i = 0; i < keyed.size(); ++i) {
+        g.keys[i] = keyed[i].first;
+        g.particles[i] = keyed[i].second;
+        g.positions[i] = positions[keyed[i].second];
+    }
+    return g;
+}
+
+}  // namespace
+
+Status interpolateAttributes(const ParticleSet& particles, const std::vector<std::string>& names, float supportM,
+                             TriangleMesh& mesh, int threads) {
+    if (names.empty()) return okStatus();
+    if (!(supportM > 0.0f) || !std::isfinite(supportM))
+        return makeError("", "the interpolation's support must be a positive length, not " + std::to_string(supportM));
+    if (particles.positions.size() >= std::size_t(UINT32_MAX))
+        return makeError("", "at most 2^32 - 1 particles can be interpolated from");
+    for (const glm::vec3& p : particles.positions)
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            return makeError("", "a particle position is not finite");
+    // The attributes asked for, each once, checked whole before any work.
+    std::vector<const Attribute*> sources;
+    for (const std::string& name : names) {
+        const Attribute* a = particles.find(name);
+        if (!a) {
+            std::string have;
+            for (const Attribute& b : particles.attributes) have += (have.empty() ? "" : ", ") + b.name;
+            return makeError("", "--interpolate " + name + ": the particles have no such attribute (they have: " +
+                                     (have.empty() ? std::string("none") : have) + ")");
+        }
+        if (a->components < 1 || a->count() != particles.size())
+            return makeError("", "--interpolate " + name + ": the attribute does not have one value per particle");
+        for (const Attribute& m : mesh.attributes)
+            if (m.name == name) return makeError("", "--interpolate " + name + ": named twice");
+        if (std::find(sources.begin(), sources.end(), a) != sources.end())
+            return makeError("", "--interpolate " + name + ": named twice");
+        sources.push_back(a);
+    }
+    const std::size_t V = mesh.positions.size();
+    const std::size_t first = mesh.attributes.size();
+    for (const Attribute* a : sources) {
+        Attribute out;
+        out.name = a->name;
+        out.type = AttributeType::Float;
+        out.components = a->components;
+        out.floats.assign(V * std::size_t(a->components), 0.0f);
+        mesh.attributes.push_back(std::move(out));
+    }
+    if (V == 0) return okStatus();
+    if (particles.size() == 0) {
+        mesh.attributes.resize(first);
+        return makeError("", "no particles to interpolate the attributes from");
+    }
+
+    const CellGrid grid = makeGrid(particles.positions, double(supportM));
+    const float h2 = supportM * supportM, invH = 1.0f / supportM;
+    std::size_t components = 0;
+    for (const Attribute* a : sources) components += std::size_t(a->components);
+    // The value of attribute a, component c, of particle p as a double.
+    auto value = [](const Attribute& a, std::size_t p, int c) {
+        const std::size_t k = p * std::size_t(a.components) + std::size_t(c);
+        return a.type == AttributeType::Int ? double(a.ints[k]) : double(a.floats[k]);
+    };
+    std::vector<std::uint8_t> unreached(V, 0);
+    auto work = [&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, V, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::vector<double> sums(components);
+            for (std::size_t v = r.begin(); v < r.end(); ++v) {
+                const glm::vec3 x = mesh.positions[v];
+                const std::int64_t cx = grid.axis(x.x, 0), cy = grid.axis(x.y, 1), cz = grid.axis(x.z, 2);
+                std::fill(sums.begin(), sums.end(), 0.0);
+                double weight = 0.0;
+                for (std::int64_t z = std::max<std::int64_t>(cz - 1, 0); z <= std::min(cz + 1, kAxisCells - 1); ++z)
+                    for (std::int64_t y = std::max<std::int64_t>(cy - 1, 0); y <= std::min(cy + 1, kAxisCells - 1);
+                         ++y) {
+                        const std::uint64_t lo = CellGrid::key(std::max<std::int64_t>(cx - 1, 0), y, z);
+                        const std::uint64_t hi = CellGrid::key(std::min(cx + 1, kAxisCells - 1), y, z);
+                        auto i = std::lower_bound(grid.keys.begin(), grid.keys.end(), lo);
+                        for (; i != grid.keys.end() && *i <= hi; ++i) {
+                            const std::size_t s = std::size_t(i - grid.keys.begin());
+                            const glm::vec3 d = grid.positions[s] - x;
+                            const float d2 = glm::dot(d, d);
+                            if (!(d2 < h2)) continue;
+                            const double w = double(shared::sphKernel(std::sqrt(d2) * invH));
+                            weight += w;
+                            const std::size_t p = grid.particles[s];
+                            std::size_t k = 0;
+                            for (const Attribute* a : sources)
+                                for (int c = 0; c < a->components; ++c) sums[k++] += w * value(*a, p, c);
+                        }
+                    }
+                if (!(weight > 0.0)) {
+                    unreached[v] = 1;
+                    continue;
+                }
+                std::size_t k = 0;
+                for (std::size_t m = 0; m < sources.size(); ++m) {
+                    Attribute& out = mesh.attributes[first + m];
+                    for (int c = 0; c < out.components; ++c)
+                        out.floats[v * std::size_t(out.components) + std::size_t(c)] = float(sums[k++] / weight);
+                }
+            }
+        });
+    };
+    if (threads > 0) tbb::task_arena(threads).execute(work);
+    else work();
+    const auto miss = std::find(unreached.begin(), unreached.end(), std::uint8_t(1));
+    if (miss != unreached.end()) {
+        mesh.attributes.resize(first);
+        return makeError("", "vertex " + std::to_string(miss - unreached.begin()) +
+                                 " is beyond the support of every particle: the mesh was not made from these "
+                                 "particles (or with a larger support)");
+    }
+    return okStatus();
+}
+
+}  // namespace meniscus
