@@ -9,9 +9,10 @@
 // The plain SPH sum, sum_j (m_j / rho_j) A_j W, sees only half a
 // neighbourhood at a free surface, which is where every vertex lies, and
 // would give a vertex about half its particles' velocity; the normalised one
-// reproduces a constant field exactly and a linear one to first order. Sums
-// in double, over the particles in one fixed order (sorted by grid cell, then
-// index), so the values are the same for any thread count.
+// reproduces a constant field exactly (a linear one up to its gradient times
+// the offset of the kernel-weighted centre, about 1.4 r inward at a flat
+// face). Sums in double, over the particles in one fixed order (sorted by
+// grid cell, then index), so the values are the same for any thread count.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -123,52 +124,85 @@ Status interpolateAttributes(const ParticleSet& particles, const std::vector<std
         return makeError("", "no particles to interpolate the attributes from");
     }
 
-    const CellGrid grid = makeGrid(particles.positions, double(supportM));
+    // The particles in cells of h / kSplit, so a vertex's candidates are the
+    // (2 kSplit + 1)^3 cells around its own: (2.5 h)^3 of space at kSplit = 2
+    // instead of the (3 h)^3 of cells of h. The vertices grouped by cell (one
+    // candidate list per group) and the groups spread over the threads.
+    constexpr int kSplit = 2;
+    const CellGrid grid = makeGrid(particles.positions, double(supportM) / kSplit);
     const float h2 = supportM * supportM, invH = 1.0f / supportM;
     std::size_t components = 0;
     for (const Attribute* a : sources) components += std::size_t(a->components);
-    // The value of attribute a, component c, of particle p as a double.
-    auto value = [](const Attribute& a, std::size_t p, int c) {
-        const std::size_t k = p * std::size_t(a.components) + std::size_t(c);
-        return a.type == AttributeType::Int ? double(a.ints[k]) : double(a.floats[k]);
-    };
+    // Every value asked for, as doubles, in the grid's order: components
+    // values per particle, read without indirection in the sums below.
+    std::vector<double> values(grid.particles.size() * components);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.particles.size()), [&](const auto& r) {
+        for (std::size_t s = r.begin(); s < r.end(); ++s) {
+            const std::size_t p = grid.particles[s];
+            double* out = &values[s * components];
+            for (const Attribute* a : sources)
+                for (int c = 0; c < a->components; ++c) {
+                    const std::size_t k = p * std::size_t(a->components) + std::size_t(c);
+                    *out++ = a->type == AttributeType::Int ? double(a->ints[k]) : double(a->floats[k]);
+                }
+        }
+    });
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> byCell(V);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, V), [&](const auto& r) {
+        for (std::size_t v = r.begin(); v < r.end(); ++v) {
+            const glm::vec3 x = mesh.positions[v];
+            byCell[v] = {CellGrid::key(grid.axis(x.x, 0), grid.axis(x.y, 1), grid.axis(x.z, 2)), std::uint32_t(v)};
+        }
+    });
+    tbb::parallel_sort(byCell.begin(), byCell.end());
+    std::vector<std::size_t> groups;  // the first vertex of each cell's run in byCell, and V
+    for (std::size_t i = 0; i < V; ++i)
+        if (i == 0 || byCell[i].first != byCell[i - 1].first) groups.push_back(i);
+    groups.push_back(V);
     std::vector<std::uint8_t> unreached(V, 0);
     auto work = [&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, V, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups.size() - 1, 16), [&](const auto& r) {
             std::vector<double> sums(components);
-            for (std::size_t v = r.begin(); v < r.end(); ++v) {
-                const glm::vec3 x = mesh.positions[v];
-                const std::int64_t cx = grid.axis(x.x, 0), cy = grid.axis(x.y, 1), cz = grid.axis(x.z, 2);
-                std::fill(sums.begin(), sums.end(), 0.0);
-                double weight = 0.0;
-                for (std::int64_t z = std::max<std::int64_t>(cz - 1, 0); z <= std::min(cz + 1, kAxisCells - 1); ++z)
-                    for (std::int64_t y = std::max<std::int64_t>(cy - 1, 0); y <= std::min(cy + 1, kAxisCells - 1);
-                         ++y) {
-                        const std::uint64_t lo = CellGrid::key(std::max<std::int64_t>(cx - 1, 0), y, z);
-                        const std::uint64_t hi = CellGrid::key(std::min(cx + 1, kAxisCells - 1), y, z);
-                        auto i = std::lower_bound(grid.keys.begin(), grid.keys.end(), lo);
-                        for (; i != grid.keys.end() && *i <= hi; ++i) {
-                            const std::size_t s = std::size_t(i - grid.keys.begin());
-                            const glm::vec3 d = grid.positions[s] - x;
-                            const float d2 = glm::dot(d, d);
-                            if (!(d2 < h2)) continue;
-                            const double w = double(shared::sphKernel(std::sqrt(d2) * invH));
-                            weight += w;
-                            const std::size_t p = grid.particles[s];
-                            std::size_t k = 0;
-                            for (const Attribute* a : sources)
-                                for (int c = 0; c < a->components; ++c) sums[k++] += w * value(*a, p, c);
-                        }
+            std::vector<std::uint32_t> candidates;  // indices into the grid's sorted arrays, in their order
+            for (std::size_t g = r.begin(); g < r.end(); ++g) {
+                const std::uint64_t key = byCell[groups[g]].first;
+                const auto cx = std::int64_t(key & (kAxisCells - 1)), cy = std::int64_t((key >> 21) & (kAxisCells - 1)),
+                           cz = std::int64_t(key >> 42);
+                candidates.clear();
+                for (std::int64_t z = std::max<std::int64_t>(cz - kSplit, 0); z <= std::min(cz + kSplit, kAxisCells - 1);
+                     ++z)
+                    for (std::int64_t y = std::max<std::int64_t>(cy - kSplit, 0);
+                         y <= std::min(cy + kSplit, kAxisCells - 1); ++y) {
+                        const std::uint64_t lo = CellGrid::key(std::max<std::int64_t>(cx - kSplit, 0), y, z);
+                        const std::uint64_t hi = CellGrid::key(std::min(cx + kSplit, kAxisCells - 1), y, z);
+                        for (auto i = std::lower_bound(grid.keys.begin(), grid.keys.end(), lo);
+                             i != grid.keys.end() && *i <= hi; ++i)
+                            candidates.push_back(std::uint32_t(i - grid.keys.begin()));
                     }
-                if (!(weight > 0.0)) {
-                    unreached[v] = 1;
-                    continue;
-                }
-                std::size_t k = 0;
-                for (std::size_t m = 0; m < sources.size(); ++m) {
-                    Attribute& out = mesh.attributes[first + m];
-                    for (int c = 0; c < out.components; ++c)
-                        out.floats[v * std::size_t(out.components) + std::size_t(c)] = float(sums[k++] / weight);
+                for (std::size_t k = groups[g]; k < groups[g + 1]; ++k) {
+                    const std::size_t v = byCell[k].second;
+                    const glm::vec3 x = mesh.positions[v];
+                    std::fill(sums.begin(), sums.end(), 0.0);
+                    double weight = 0.0;
+                    for (const std::uint32_t s : candidates) {
+                        const glm::vec3 d = grid.positions[s] - x;
+                        const float d2 = glm::dot(d, d);
+                        if (!(d2 < h2)) continue;
+                        const double w = double(shared::sphKernel(std::sqrt(d2) * invH));
+                        weight += w;
+                        const double* of = &values[std::size_t(s) * components];
+                        for (std::size_t c = 0; c < components; ++c) sums[c] += w * of[c];
+                    }
+                    if (!(weight > 0.0)) {
+                        unreached[v] = 1;
+                        continue;
+                    }
+                    std::size_t c = 0;
+                    for (std::size_t m = 0; m < sources.size(); ++m) {
+                        Attribute& out = mesh.attributes[first + m];
+                        for (int j = 0; j < out.components; ++j)
+                            out.floats[v * std::size_t(out.components) + std::size_t(j)] = float(sums[c++] / weight);
+                    }
                 }
             }
         });
