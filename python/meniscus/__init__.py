@@ -36,6 +36,7 @@ from ._meniscus import (
     sequence,
     settings,
     simulate,
+    write_mesh,
     write_png,
 )
 
@@ -52,6 +53,7 @@ __all__ = [
     "sequence",
     "settings",
     "simulate",
+    "write_mesh",
     "write_png",
 ]
 

@@ -50,6 +50,37 @@ class MeshTest(unittest.TestCase):
         v4, f4, _ = meniscus.mesh(p, radius=r)
         np.testing.assert_array_equal(f3, f4)
 
+    def test_attributes_and_write_mesh(self):
+        p = ball(n=9, spacing=0.02)
+        frame = {"position": p, "velocity": np.tile(np.float32([1.0, -2.0, 0.5]), (len(p), 1)),
+                 "fluid": np.zeros(len(p), dtype=np.int64), "temperature": p[:, 0] * 10.0}
+        vertices, faces, normals, attributes = meniscus.mesh(frame, radius=0.01,
+                                                             interpolate=["velocity", "fluid", "temperature"])
+        self.assertEqual(sorted(attributes), ["fluid", "temperature", "velocity"])
+        self.assertEqual(attributes["velocity"].shape, vertices.shape)
+        self.assertEqual(attributes["fluid"].shape, (len(vertices),))
+        # A constant comes back exactly; a linear field close to its value at the vertex.
+        np.testing.assert_allclose(attributes["velocity"], np.tile([1.0, -2.0, 0.5], (len(vertices), 1)), rtol=1e-6)
+        np.testing.assert_array_equal(attributes["fluid"], 0.0)
+        self.assertLess(float(np.abs(attributes["temperature"] - vertices[:, 0] * 10.0).max()), 10.0 * 0.04)
+        with self.assertRaisesRegex(ValueError, "no 'pressure' array"):
+            meniscus.mesh(frame, radius=0.01, interpolate=["pressure"])
+        with self.assertRaisesRegex(ValueError, "must be a dict"):
+            meniscus.mesh(p, radius=0.01, interpolate=["velocity"])
+        with tempfile.TemporaryDirectory() as tmp:
+            for name in ("m.vtp", "m.vtk", "m.ply"):
+                meniscus.write_mesh(os.path.join(tmp, name), vertices, faces, normals, attributes)
+            # The .vtp's points and point data through read() (VTK XML PolyData).
+            back = meniscus.read(os.path.join(tmp, "m.vtp"))
+            np.testing.assert_array_equal(back["position"], vertices)
+            np.testing.assert_array_equal(back["velocity"], attributes["velocity"])
+            np.testing.assert_array_equal(back["Normals"], normals)
+            with self.assertRaisesRegex(ValueError, "out of range"):
+                meniscus.write_mesh(os.path.join(tmp, "bad.ply"), vertices, faces + len(vertices))
+            with self.assertRaisesRegex(ValueError, "must end in"):
+                meniscus.write_mesh(os.path.join(tmp, "bad.stl"), vertices, faces)
+            self.assertEqual(sorted(os.listdir(tmp)), ["m.ply", "m.vtk", "m.vtp"])
+
     def test_bad_parameters(self):
         with self.assertRaises(ValueError):
             meniscus.mesh(ball(), radius=0.01, field="vdb")
