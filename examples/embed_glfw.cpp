@@ -8,7 +8,12 @@
 // writes the finished frame into the window: nothing of the frame goes to the
 // CPU.
 //
-//   meniscus_embed_example [--frames N] [--screenshot PATH] [--write-layers DIR]
+//   meniscus_embed_example [--frames N] [--screenshot PATH] [--write-layers DIR] [--particle-buffer]
+//
+// --particle-buffer keeps the particles in a GL buffer of the application's
+// own (a vertex buffer of x, y, z and a spare float each, as a game holds
+// its particles), updated each frame, and hands Meniscus that buffer
+// (HostParticleBuffer) instead of the positions: they are read on the GPU.
 //
 // --frames N stops after N frames (0: when the window is closed);
 // --screenshot PATH writes the last frame's window as a PNG; --write-layers
@@ -254,6 +259,9 @@ int main(int argc, char** argv) {
                    "Write the last frame's host layers, particles and a scene file for the CPU reference into DIR");
     app.add_option("--width", width, "Window width, pixels")->check(CLI::Range(16, 8192));
     app.add_option("--height", height, "Window height, pixels")->check(CLI::Range(16, 8192));
+    bool particleBuffer = false;
+    app.add_flag("--particle-buffer", particleBuffer,
+                 "Hand Meniscus the particles in the application's own GL buffer (read on the GPU)");
     CLI11_PARSE(app, argc, argv);
 
     // The simulation: a column of water in a small tank falls over around a block.
@@ -287,12 +295,17 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "embed example: %s\n", renderer.error().describe().c_str());
             return 1;
         }
-        std::printf("embed example: %s, %zu particles, %d x %d\n", renderer->backendName().c_str(),
-                    (*simulator)->size(), size.x, size.y);
+        std::printf("embed example: %s, %zu particles%s, %d x %d\n", renderer->backendName().c_str(),
+                    (*simulator)->size(), particleBuffer ? " from the application's GL buffer" : "", size.x, size.y);
         HostScene host(size.x, size.y, blockLo, blockHi);
         RenderSettings settings;
         settings.radiusM = scene.params.radius;
         Orbit orbit;
+        // --particle-buffer: the application's own particle buffer, x y z w per
+        // particle (w spare: its own use), and the staging copy it fills it from.
+        GLuint vbo = 0;
+        std::vector<glm::vec4> staged;
+        if (particleBuffer) glGenBuffers(1, &vbo);
         // Wall-clock time of each frame's two halves: the simulation's step
         // and the drawing (the host's scene, the liquid, the buffer swap).
         using Clock = std::chrono::steady_clock;
@@ -318,7 +331,25 @@ int main(int argc, char** argv) {
             host.draw(layers.projection * layers.view);
             glBindFramebuffer(GL_FRAMEBUFFER, 0);  // the finished frame goes to the window
             const std::span<const glm::vec3> positions = (*simulator)->positions();
-            if (auto st = renderer->drawIntoHost(ParticleView(positions), settings, layers); !st) {
+            Status st = okStatus();
+            if (particleBuffer) {
+                // The application's buffer (here filled from the CPU simulator;
+                // a GPU simulation would write it in place), handed over by name.
+                staged.resize(positions.size());
+                for (std::size_t i = 0; i < positions.size(); ++i) staged[i] = glm::vec4(positions[i], 1.0f);
+                glBindBuffer(GL_ARRAY_BUFFER, vbo);
+                glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(staged.size() * sizeof(glm::vec4)), staged.data(),
+                             GL_STREAM_DRAW);
+                glBindBuffer(GL_ARRAY_BUFFER, 0);
+                HostParticleBuffer buffer;
+                buffer.buffer = vbo;
+                buffer.count = positions.size();
+                buffer.strideBytes = sizeof(glm::vec4);
+                st = renderer->drawIntoHost(buffer, settings, layers);
+            } else {
+                st = renderer->drawIntoHost(ParticleView(positions), settings, layers);
+            }
+            if (!st) {
                 std::fprintf(stderr, "embed example: %s\n", st.error().describe().c_str());
                 status = 1;
                 break;
@@ -348,6 +379,7 @@ int main(int argc, char** argv) {
         if (drawn > 0)
             std::printf("embed example: %d frames, per frame %.1f ms simulating and %.1f ms drawing (wall clock)\n",
                         drawn, simulateMs / drawn, drawMs / drawn);
+        if (vbo) glDeleteBuffers(1, &vbo);
     }  // the renderer goes before the window's context
     return status;
 }

@@ -551,6 +551,25 @@ TEST(GlWindowEmbedExample, ItsFrameIsTheCpuCompositeOfItsOwnLayers) {
     EXPECT_LE(double(over1) / (320.0 * 180.0), 1e-3);
     EXPECT_GT(liquid, std::size_t(500));
 }
+
+// The example with its particles in its own GL buffer (--particle-buffer):
+// the same window, bit for bit, as with the positions handed over from the
+// CPU and the ellipsoids made on the GPU in both runs.
+TEST(GlWindowEmbedExample, ItsParticleBufferDrawsTheSameFrame) {
+    if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
+        GTEST_SKIP() << "no display (DISPLAY unset); CI runs this test under xvfb-run -a";
+    const auto dir = tempDir();
+    std::string out;
+    const std::string run = std::string("ASAN_OPTIONS=\"${ASAN_OPTIONS:-}:detect_leaks=0\" ") +
+                            "MENISCUS_GL_HOST_ANISOTROPY=0 " + MENISCUS_EMBED_EXAMPLE +
+                            " --frames 4 --width 320 --height 180 --screenshot ";
+    ASSERT_EQ(runCommand(run + (dir / "view.png").string(), &out), 0) << out;
+    ASSERT_EQ(runCommand(run + (dir / "buffer.png").string() + " --particle-buffer", &out), 0) << out;
+    EXPECT_NE(out.find("particles from the application's GL buffer"), std::string::npos) << out;
+    const PngData view = readPng(dir / "view.png"), buffer = readPng(dir / "buffer.png");
+    ASSERT_EQ(buffer.width, 320);
+    EXPECT_TRUE(view.bytes == buffer.bytes);
+}
 #endif
 
 }  // namespace gl_window_test_local
