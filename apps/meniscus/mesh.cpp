@@ -144,14 +144,24 @@ int runMesh(const MeshJob& o, int threads) {
         MeshStats stats;
         auto mesh = extractSurface(ParticleView::of(*set), params, &stats);
         if (!mesh) return fail(Error{name, mesh.error().message}.describe());
+        // The sph field's own kernel support; the thesis field's is shorter
+        // than the SPH neighbourhood, so its default h is used then.
+        const float sphSupport = params.field == SurfaceField::Sph ? stats.supportM
+                                                                   : defaults::kSphSupportRadii * params.radiusM;
+        double smoothingMs = 0.0;
+        if (o.smoothingIterations > 0) {
+            const auto t0 = std::chrono::steady_clock::now();
+            MeshSmoothing smoothing;
+            smoothing.iterations = o.smoothingIterations;
+            smoothing.weights = o.smoothingWeights != "off";
+            if (auto st = smoothMesh(*set, smoothing, sphSupport, *mesh, threads); !st)
+                return fail(Error{name, st.error().message}.describe());
+            smoothingMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        }
         double attributesMs = 0.0;
         if (!interpolate.empty()) {
             const auto t0 = std::chrono::steady_clock::now();
-            // The sph field's own kernel support; the thesis field's is shorter
-            // than the SPH neighbourhood, so its default h is used then.
-            const float support = params.field == SurfaceField::Sph ? stats.supportM
-                                                                    : defaults::kSphSupportRadii * params.radiusM;
-            if (auto st = interpolateAttributes(*set, interpolate, support, *mesh, threads); !st)
+            if (auto st = interpolateAttributes(*set, interpolate, sphSupport, *mesh, threads); !st)
                 return fail(Error{name, st.error().message}.describe());
             attributesMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         }
@@ -171,6 +181,8 @@ int runMesh(const MeshJob& o, int threads) {
         else
             std::cerr << "meniscus: wrote " << out << " (" << mesh->vertexCount() << " vertices, "
                       << mesh->triangleCount() << " triangles, " << int(stats.msTotal + 0.5) << " ms"
+                      << (o.smoothingIterations > 0
+                              ? "; smoothing " + std::to_string(int(smoothingMs + 0.5)) + " ms" : std::string())
                       << (interpolate.empty() ? std::string()
                                               : "; attributes " + std::to_string(int(attributesMs + 0.5)) + " ms")
                       << ")\n";

@@ -187,6 +187,10 @@ struct MeshOptions {
     // Particle attributes interpolated onto the vertices (interpolateAttributes),
     // each a name or a comma-separated list of names.
     std::vector<std::string> interpolate;
+    // Weighted Laplacian smoothing (smoothMesh): iterations (0: none) and
+    // whether the particles' weights keep splashes (on) or not (off).
+    int smoothingIterations = 0;
+    std::string smoothingWeights = "on";
 };
 
 // `simulate`'s options besides the images' look (simulateOptionTable); view

@@ -65,6 +65,23 @@ Result<TriangleMesh> extractSurface(const ParticleView& particles, const MeshPar
 Status interpolateAttributes(const ParticleSet& particles, const std::vector<std::string>& names, float supportM,
                              TriangleMesh& mesh, int threads = 0);
 
+// Weighted Laplacian smoothing (docs/meshes.md#smoothing; Löschner et al.
+// 2023): `iterations` steps moving each vertex toward the mean of its edge
+// neighbours by its weight, 1 on the bulk's surface and near 0 on splashes
+// and drops (the particles' distance-weighted neighbour counts, interpolated
+// onto the vertices, over `normalization`, eased), or 1 everywhere with
+// weights off; the normals made again from the smoothed triangles. The
+// particles are the mesh's own, supportM the sph field's support (metres).
+// The same mesh for any thread count (0: all cores). weightsOut, when given,
+// receives each vertex's weight.
+struct MeshSmoothing {
+    int iterations = 0;           // 0: none
+    bool weights = true;          // the particles' weights (off: plain Laplacian smoothing)
+    float normalization = 13.0f;  // the weighted neighbour count that gives a full weight
+};
+Status smoothMesh(const ParticleSet& particles, const MeshSmoothing& params, float supportM, TriangleMesh& mesh,
+                  int threads = 0, std::vector<float>* weightsOut = nullptr);
+
 // The field's value (normalised: 1 = fluid at rest) at a point, summed over all
 // particles directly (no grid): what the tests check vertices against.
 double surfaceFieldValue(const ParticleView& particles, const MeshParams& params, const glm::vec3& point);

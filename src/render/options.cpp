@@ -583,6 +583,17 @@ std::vector<MeshOptionSpec> makeMeshTable() {
                        "normalised by the kernel sum; written into .ply (float properties), .vtp and .vtk (point "
                        "data), not .obj",
                        [](M& o) -> OptionRef { return &o.interpolate; }));
+    t.push_back(ranged(row<M>("smoothing-iterations", G::Surface, "",
+                              "Weighted Laplacian smoothing steps (Löschner et al. 2023, as splashsurf's "
+                              "--mesh-smoothing-iters; 25 is splashsurf users' choice): the particle-scale bumps "
+                              "flatten; 0: none",
+                              [](M& o) -> OptionRef { return &o.smoothingIterations; }),
+                       0.0, 10000.0));
+    t.push_back(oneOf(row<M>("smoothing-weights", G::Surface, "",
+                             "on: each vertex smoothed by a weight from its particles' neighbour counts, so "
+                             "splashes and drops keep their shape and volume; off: every vertex fully (drops shrink)",
+                             [](M& o) -> OptionRef { return &o.smoothingWeights; }),
+                      {"on", "off"}));
     return t;
 }
 

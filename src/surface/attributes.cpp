@@ -26,57 +26,15 @@
 
 #include "meniscus/surface.h"
 #include "shared/sph_kernels.h"
+#include "surface/cell_grid.h"
 
 namespace meniscus {
 
 namespace {
 
-// Cell keys of a grid of cell h: 21 bits per axis, z major, so the three
-// cells of a row (x - 1 .. x + 1) are one run of keys. Coordinates are
-// clamped to the grid's 2^21 cells a side: a far outlier shares an edge
-// cell, and the distance test keeps it out of every sum it does not reach.
-constexpr std::int64_t kAxisCells = std::int64_t(1) << 21;
-
-struct CellGrid {
-    glm::dvec3 origin{0.0};
-    double invCell = 0.0;
-    std::vector<std::uint64_t> keys;       // sorted
-    std::vector<std::uint32_t> particles;  // the particle of each key
-    std::vector<glm::vec3> positions;      // and its position, in the same order
-
-    std::int64_t axis(double v, int a) const {
-        const double c = std::floor((v - origin[a]) * invCell) + double(kAxisCells / 2);
-        return std::int64_t(std::clamp(c, 0.0, double(kAxisCells - 1)));
-    }
-    static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
-        return (std::uint64_t(z) << 42) | (std::uint64_t(y) << 21) | std::uint64_t(x);
-    }
-};
-
-CellGrid makeGrid(const std::vector<glm::vec3>& positions, double cell) {
-    CellGrid g;
-    glm::dvec3 lo(INFINITY);
-    for (const glm::vec3& p : positions) lo = glm::min(lo, glm::dvec3(p));
-    g.origin = lo;
-    g.invCell = 1.0 / cell;
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(positions.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, positions.size()), [&](const auto& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            const glm::vec3& p = positions[i];
-            keyed[i] = {CellGrid::key(g.axis(p.x, 0), g.axis(p.y, 1), g.axis(p.z, 2)), std::uint32_t(i)};
-        }
-    });
-    tbb::parallel_sort(keyed.begin(), keyed.end());  // unique pairs: one order for any split
-    g.keys.resize(keyed.size());
-    g.particles.resize(keyed.size());
-    g.positions.resize(keyed.size());
-    for (std::size_t i = 0; i < keyed.size(); ++i) {
-        g.keys[i] = keyed[i].first;
-        g.particles[i] = keyed[i].second;
-        g.positions[i] = positions[keyed[i].second];
-    }
-    return g;
-}
+using surface::CellGrid;
+using surface::kAxisCells;
+using surface::makeGrid;
 
 }  // namespace
 
