@@ -33,7 +33,6 @@ namespace meniscus {
 namespace {
 
 using surface::CellGrid;
-using surface::kAxisCells;
 using surface::makeGrid;
 
 }  // namespace
@@ -123,20 +122,9 @@ Status interpolateAttributes(const ParticleSet& particles, const std::vector<std
             std::vector<double> sums(components);
             std::vector<std::uint32_t> candidates;  // indices into the grid's sorted arrays, in their order
             for (std::size_t g = r.begin(); g < r.end(); ++g) {
-                const std::uint64_t key = byCell[groups[g]].first;
-                const auto cx = std::int64_t(key & (kAxisCells - 1)), cy = std::int64_t((key >> 21) & (kAxisCells - 1)),
-                           cz = std::int64_t(key >> 42);
                 candidates.clear();
-                for (std::int64_t z = std::max<std::int64_t>(cz - kSplit, 0); z <= std::min(cz + kSplit, kAxisCells - 1);
-                     ++z)
-                    for (std::int64_t y = std::max<std::int64_t>(cy - kSplit, 0);
-                         y <= std::min(cy + kSplit, kAxisCells - 1); ++y) {
-                        const std::uint64_t lo = CellGrid::key(std::max<std::int64_t>(cx - kSplit, 0), y, z);
-                        const std::uint64_t hi = CellGrid::key(std::min(cx + kSplit, kAxisCells - 1), y, z);
-                        for (auto i = std::lower_bound(grid.keys.begin(), grid.keys.end(), lo);
-                             i != grid.keys.end() && *i <= hi; ++i)
-                            candidates.push_back(std::uint32_t(i - grid.keys.begin()));
-                    }
+                grid.forNear(byCell[groups[g]].first, kSplit,
+                             [&](std::size_t s) { candidates.push_back(std::uint32_t(s)); });
                 for (std::size_t k = groups[g]; k < groups[g + 1]; ++k) {
                     const std::size_t v = byCell[k].second;
                     const glm::vec3 x = mesh.positions[v];

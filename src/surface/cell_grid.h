@@ -37,6 +37,21 @@ struct CellGrid {
     static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
         return (std::uint64_t(z) << 42) | (std::uint64_t(y) << 21) | std::uint64_t(x);
     }
+    // Calls f(s) for every slot s of the sorted arrays whose cell is within
+    // `reach` cells of cell `cellKey` along each axis, in the arrays' order
+    // (row by row, z then y; each row's cells one run of keys).
+    template <class F>
+    void forNear(std::uint64_t cellKey, std::int64_t reach, F&& f) const {
+        const auto cx = std::int64_t(cellKey & (kAxisCells - 1)), cy = std::int64_t((cellKey >> 21) & (kAxisCells - 1)),
+                   cz = std::int64_t(cellKey >> 42);
+        for (std::int64_t z = std::max<std::int64_t>(cz - reach, 0); z <= std::min(cz + reach, kAxisCells - 1); ++z)
+            for (std::int64_t y = std::max<std::int64_t>(cy - reach, 0); y <= std::min(cy + reach, kAxisCells - 1); ++y) {
+                const std::uint64_t lo = key(std::max<std::int64_t>(cx - reach, 0), y, z);
+                const std::uint64_t hi = key(std::min(cx + reach, kAxisCells - 1), y, z);
+                for (auto i = std::lower_bound(keys.begin(), keys.end(), lo); i != keys.end() && *i <= hi; ++i)
+                    f(std::size_t(i - keys.begin()));
+            }
+    }
 };
 
 inline CellGrid makeGrid(const std::vector<glm::vec3>& positions, double cell) {

@@ -39,7 +39,6 @@ namespace meniscus {
 namespace {
 
 using surface::CellGrid;
-using surface::kAxisCells;
 
 // Step 1: each particle's distance-weighted neighbour count, in the input's order.
 std::vector<float> weightedNeighbourCounts(const std::vector<glm::vec3>& positions, float h) {
@@ -50,24 +49,13 @@ std::vector<float> weightedNeighbourCounts(const std::vector<glm::vec3>& positio
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.keys.size(), 256), [&](const auto& r) {
         for (std::size_t s = r.begin(); s < r.end(); ++s) {
             const glm::vec3 x = grid.positions[s];
-            const std::uint64_t key = grid.keys[s];
-            const auto cx = std::int64_t(key & (kAxisCells - 1)), cy = std::int64_t((key >> 21) & (kAxisCells - 1)),
-                       cz = std::int64_t(key >> 42);
             double n = 0.0;
-            for (std::int64_t z = std::max<std::int64_t>(cz - kSplit, 0); z <= std::min<std::int64_t>(cz + kSplit, kAxisCells - 1); ++z)
-                for (std::int64_t y = std::max<std::int64_t>(cy - kSplit, 0);
-                     y <= std::min<std::int64_t>(cy + kSplit, kAxisCells - 1); ++y) {
-                    const std::uint64_t lo = CellGrid::key(std::max<std::int64_t>(cx - kSplit, 0), y, z);
-                    const std::uint64_t hi = CellGrid::key(std::min<std::int64_t>(cx + kSplit, kAxisCells - 1), y, z);
-                    for (auto i = std::lower_bound(grid.keys.begin(), grid.keys.end(), lo);
-                         i != grid.keys.end() && *i <= hi; ++i) {
-                        const std::size_t t = std::size_t(i - grid.keys.begin());
-                        if (t == s) continue;
-                        const glm::vec3 d = grid.positions[t] - x;
-                        const float d2 = glm::dot(d, d);
-                        if (d2 < h2) n += double(1.0f - d2 * invH2);
-                    }
-                }
+            grid.forNear(grid.keys[s], kSplit, [&](std::size_t t) {
+                if (t == s) return;
+                const glm::vec3 d = grid.positions[t] - x;
+                const float d2 = glm::dot(d, d);
+                if (d2 < h2) n += double(1.0f - d2 * invH2);
+            });
             counts[grid.particles[s]] = float(n);
         }
     });
